@@ -1,0 +1,77 @@
+"""The error hierarchy of rprpr, and the exit-code policy (one home for both).
+
+The core and the loader raise; only the command line renders and exits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+
+class ExitCode(IntEnum):
+    """Process exit status of ``rprpr``; when several apply, the highest wins."""
+
+    PASSED = 0  # every task passed
+    FAILED = 1  # at least one task failed its audit
+    INPUT = 2  # bad invocation or a bad task file
+    INTERNAL = 3  # a bug in rprpr: please report
+
+
+class RprprError(Exception):
+    """Base class of every error rprpr raises on purpose."""
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where in a task file something is: 1-based line and column (0 when unknown)."""
+
+    line: int = 0
+    column: int = 0
+
+
+class TaskFileError(RprprError, ValueError):
+    """A task file that cannot be audited: names the file, the line, the column and the key.
+
+    ``key`` is a dotted key path such as ``robot.links.3.mass`` ('' for the whole file).
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str = "",
+        line: int = 0,
+        column: int = 0,
+        key: str = "",
+    ) -> None:
+        super().__init__(message)
+        self.message = message
+        self.file = file
+        self.line = line
+        self.column = column
+        self.key = key
+
+    def with_file(self, file: str) -> TaskFileError:
+        """The same error, naming ``file``."""
+        return TaskFileError(
+            self.message, file=file, line=self.line, column=self.column, key=self.key
+        )
+
+    def __str__(self) -> str:
+        where = self.file or "<task>"
+        if self.line:
+            where += f":{self.line}"
+            if self.column:
+                where += f":{self.column}"
+        key = f" {self.key}:" if self.key else ""
+        return f"{where}:{key} {self.message}"
+
+
+class ExpressionError(RprprError, ValueError):
+    """A polynomial expression that is not allowed; ``offset`` is the 0-based character."""
+
+    def __init__(self, message: str, offset: int = 0) -> None:
+        super().__init__(message)
+        self.message = message
+        self.offset = offset

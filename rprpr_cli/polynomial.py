@@ -1,0 +1,249 @@
+"""Exact polynomials from text: a small, safe parser (nothing is ever evaluated).
+
+Conventions: polynomials are ``flint.fmpq_poly`` (exact rational coefficients,
+low degree first, as in ``numpy.polynomial``). A decimal literal is taken by its
+text: ``0.8`` is exactly 4/5 and ``1e-3`` exactly 1/1000.
+
+Grammar (one variable, given by the caller)::
+
+    expr   := term (("+" | "-") term)*
+    term   := unary (("*" | "/") unary)*       # "/" only by a nonzero constant
+    unary  := ("+" | "-") unary | power
+    power  := atom (("^" | "**") INTEGER)?     # 0 <= INTEGER <= MAX_DEGREE
+    atom   := NUMBER | VARIABLE | "(" expr ")"
+"""
+
+from __future__ import annotations
+
+import re
+from fractions import Fraction
+
+from flint import fmpq, fmpq_poly
+
+from .errors import ExpressionError
+
+MAX_DEGREE = 60  # cap on the degree of every polynomial and of the composition y(x(t))
+MAX_LENGTH = 4000  # characters in one expression
+MAX_DEPTH = 50  # nesting of parentheses and unary signs
+MAX_DIGITS = 40  # significant characters in one number literal
+MAX_EXP10 = 30  # |e| in a literal such as 1.5e-3
+
+_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+
+
+def parse_decimal(text: str) -> fmpq:
+    """The exact rational of a decimal literal such as ``-0.1``, ``3``, ``2.5e-3`` or ``4/25``.
+
+    Raises ``ExpressionError`` for anything else (including nan and inf).
+    """
+    s = text.strip()
+    if "/" in s:
+        num, _, den = s.partition("/")
+        d = parse_decimal(den)
+        if d == 0:
+            raise ExpressionError("division by zero")
+        return parse_decimal(num) / d
+    sign = 1
+    if s[:1] in "+-":
+        sign = -1 if s[0] == "-" else 1
+        s = s[1:].strip()
+    m = _NUMBER.fullmatch(s)
+    if not m:
+        raise ExpressionError(f"expected a number, found {text.strip()!r}")
+    return sign * _literal(m.group(0))
+
+
+def _literal(text: str) -> fmpq:
+    mantissa, _, exp = text.lower().partition("e")
+    if len(mantissa.strip("0.")) > MAX_DIGITS:
+        raise ExpressionError(f"number {text!r} has more than {MAX_DIGITS} digits")
+    if exp and abs(int(exp)) > MAX_EXP10:
+        raise ExpressionError(f"number {text!r} has an exponent beyond ±{MAX_EXP10}")
+    f = Fraction(mantissa) * Fraction(10) ** int(exp or "0")
+    return fmpq(f.numerator, f.denominator)
+
+
+class _Parser:
+    def __init__(self, text: str, variable: str) -> None:
+        self.text = text
+        self.var = variable
+        self.pos = 0
+        self.depth = 0
+
+    # -- lexing --------------------------------------------------------------
+    def _skip(self) -> None:
+        while self.pos < len(self.text) and self.text[self.pos] in " \t\r\n":
+            self.pos += 1
+
+    def _peek(self) -> str:
+        self._skip()
+        if self.text.startswith("**", self.pos):
+            return "**"
+        return self.text[self.pos : self.pos + 1]
+
+    def _error(self, message: str, at: int | None = None) -> ExpressionError:
+        return ExpressionError(message, self.pos if at is None else at)
+
+    def _found(self) -> str:
+        self._skip()
+        if self.pos >= len(self.text):
+            return "end of expression"
+        m = _NAME.match(self.text, self.pos)
+        if m:
+            return f"name {m.group(0)!r}"
+        return repr(self.text[self.pos])
+
+    # -- grammar -------------------------------------------------------------
+    def parse(self) -> fmpq_poly:
+        p = self.expr()
+        self._skip()
+        if self.pos != len(self.text):
+            raise self._error(f"expected an operator, found {self._found()}")
+        return p
+
+    def expr(self) -> fmpq_poly:
+        p = self.term()
+        while self._peek() in ("+", "-"):
+            op = self._peek()
+            self.pos += 1
+            q = self.term()
+            p = p + q if op == "+" else p - q
+        return p
+
+    def term(self) -> fmpq_poly:
+        p = self.unary()
+        while self._peek() in ("*", "/") and self._peek() != "**":
+            op = self._peek()
+            at = self.pos
+            self.pos += 1
+            q = self.unary()
+            if op == "*":
+                if p.degree() + q.degree() > MAX_DEGREE:
+                    raise self._error(f"degree exceeds the cap of {MAX_DEGREE}", at)
+                p = p * q
+            else:
+                if q.degree() > 0:
+                    raise self._error(f"division by a non-constant (by a polynomial in {self.var})", at)
+                if q.is_zero():
+                    raise self._error("division by zero", at)
+                p = p / q[0]
+        return p
+
+    def unary(self) -> fmpq_poly:
+        op = self._peek()
+        if op in ("+", "-"):
+            self.pos += 1
+            self._enter()
+            p = self.unary()
+            self.depth -= 1
+            return -p if op == "-" else p
+        return self.power()
+
+    def _enter(self) -> None:
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise self._error(f"expression nested deeper than {MAX_DEPTH} levels")
+
+    def power(self) -> fmpq_poly:
+        base = self.atom()
+        op = self._peek()
+        if op in ("^", "**"):
+            at = self.pos
+            self.pos += len(op)
+            self._skip()
+            m = re.compile(r"\d+").match(self.text, self.pos)
+            if not m:
+                found = self._found()
+                if self._peek() == "-":
+                    raise self._error("negative exponent: exponents must be integers 0..60", at)
+                raise self._error(f"expected a non-negative integer exponent, found {found}", at)
+            end = m.end()
+            if end < len(self.text) and self.text[end] in ".eE":
+                raise self._error("fractional exponent: exponents must be integers 0..60", at)
+            if len(m.group(0)) > 3 or int(m.group(0)) > MAX_DEGREE:
+                raise self._error(f"exponent {m.group(0)} exceeds the cap of {MAX_DEGREE}", at)
+            n = int(m.group(0))
+            self.pos = end
+            if base.degree() > 0 and base.degree() * n > MAX_DEGREE:
+                raise self._error(f"degree exceeds the cap of {MAX_DEGREE}", at)
+            if self._peek() in ("^", "**"):
+                raise self._error("chained exponents are ambiguous: use parentheses", self.pos)
+            return base**n
+        return base
+
+    def atom(self) -> fmpq_poly:
+        self._skip()
+        start = self.pos
+        c = self.text[self.pos : self.pos + 1]
+        if c == "(":
+            self.pos += 1
+            self._enter()
+            p = self.expr()
+            self.depth -= 1
+            if self._peek() != ")":
+                raise self._error(f"expected ')', found {self._found()}")
+            self.pos += 1
+            return p
+        m = _NUMBER.match(self.text, self.pos)
+        if m:
+            self.pos = m.end()
+            if self.pos < len(self.text) and (
+                self.text[self.pos].isalpha() or self.text[self.pos] in "_("
+            ):
+                raise self._error(
+                    f"expected an operator after {m.group(0)!r}, found {self._found()}"
+                    " (write multiplication as '*')"
+                )
+            try:
+                return fmpq_poly([_literal(m.group(0))])
+            except ExpressionError as e:
+                raise self._error(e.message, start) from None
+        m = _NAME.match(self.text, self.pos)
+        if m:
+            name = m.group(0)
+            if name == self.var:
+                self.pos = m.end()
+                return fmpq_poly([0, 1])
+            raise self._error(
+                f"unknown name {name!r}: only numbers, {self.var}, + - * / ^ ** and parentheses"
+                " are allowed",
+                start,
+            )
+        if not c:
+            raise self._error("expected a number, the variable or '(', found end of expression")
+        raise self._error(
+            f"unexpected character {c!r}: only numbers, {self.var}, + - * / ^ ** and"
+            " parentheses are allowed"
+        )
+
+
+def parse_polynomial(text: str, variable: str) -> fmpq_poly:
+    """Parse ``text`` as an exact polynomial in ``variable`` (e.g. ``"x"`` or ``"t"``).
+
+    Raises ``ExpressionError`` (with the character offset) for anything outside the grammar.
+    """
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(f"expression longer than {MAX_LENGTH} characters")
+    if not text.strip():
+        raise ExpressionError("empty expression")
+    return _Parser(text, variable).parse()
+
+
+def poly_text(p: fmpq_poly, variable: str) -> str:
+    """``p`` written back as an expression in ``variable`` that ``parse_polynomial`` reads."""
+    terms = []
+    for k, c in reversed(list(enumerate(p.coeffs()))):
+        if c == 0:
+            continue
+        cs = str(c)
+        mono = "" if k == 0 else (variable if k == 1 else f"{variable}^{k}")
+        if not mono:
+            terms.append(cs)
+        elif c == 1:
+            terms.append(mono)
+        elif c == -1:
+            terms.append("-" + mono)
+        else:
+            terms.append(f"{cs}*{mono}")
+    return " + ".join(terms).replace("+ -", "- ") if terms else "0"

@@ -1,0 +1,240 @@
+"""Truncated power series in ε = t - t_s, exact or in floating point.
+
+The audit expands every quantity of the paper about a singular instant t_s. t_s is a
+real root of y(t), an algebraic number: exactly, the coefficients live in the number
+field K = Q[t]/(f) of the irreducible factor f of y(t) that vanishes at t_s, and an
+element of K is zero exactly when its reduced representative is the zero polynomial.
+``KElem`` is such an element; ``Series`` works over ``KElem`` (exact decisions) or over
+``float`` (evaluation near t_s), with the same formulas.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
+
+
+class KElem:
+    """An element of K = Q[t]/(f), f irreducible over Q; ``root`` is the arb ball of t_s."""
+
+    __slots__ = ("field", "p")
+
+    def __init__(self, p: fmpq_poly, field: NumberField) -> None:
+        self.p = p
+        self.field = field
+
+    def _wrap(self, p: fmpq_poly) -> KElem:
+        return KElem(p % self.field.f if p.degree() >= self.field.degree else p, self.field)
+
+    def _other(self, o: Any) -> fmpq_poly:
+        return o.p if isinstance(o, KElem) else fmpq_poly([o])
+
+    def __add__(self, o: Any) -> KElem:
+        return KElem(self.p + self._other(o), self.field)
+
+    __radd__ = __add__
+
+    def __sub__(self, o: Any) -> KElem:
+        return KElem(self.p - self._other(o), self.field)
+
+    def __rsub__(self, o: Any) -> KElem:
+        return KElem(self._other(o) - self.p, self.field)
+
+    def __neg__(self) -> KElem:
+        return KElem(-self.p, self.field)
+
+    def __mul__(self, o: Any) -> KElem:
+        if isinstance(o, KElem):
+            return self._wrap(self.p * o.p)
+        return KElem(self.p * o, self.field)
+
+    __rmul__ = __mul__
+
+    def inverse(self) -> KElem:
+        if self.p.is_zero():
+            raise ZeroDivisionError("division by zero in K")
+        g, s, _ = self.p.xgcd(self.field.f)  # s p + _ f = g, a nonzero constant
+        return KElem(s / g[0], self.field)
+
+    def __truediv__(self, o: Any) -> KElem:
+        if isinstance(o, KElem):
+            return self * o.inverse()
+        return KElem(self.p / o, self.field)
+
+    def __rtruediv__(self, o: Any) -> KElem:
+        return self.inverse() * o
+
+    def is_zero(self) -> bool:
+        return self.p.is_zero()
+
+    def ball(self) -> arb:
+        """An arb ball containing the value at t_s (current working precision)."""
+        return self.field.evaluate(self.p)
+
+    def sign(self) -> int:
+        """-1, 0 or 1, certified: the root is refined until the ball excludes zero."""
+        return self.field.sign(self.p)
+
+    def __float__(self) -> float:
+        return self.field.to_float(self.p)
+
+
+class NumberField:
+    """K = Q[t]/(f) with a certified isolating ball ``root`` for one real root t_s of f."""
+
+    def __init__(self, f: fmpq_poly, root_at: Callable[[int], arb]) -> None:
+        self.f = f
+        self.degree = f.degree()
+        self._root_at = root_at  # precision in bits -> arb ball of t_s
+
+    def elem(self, p: fmpq_poly | fmpq | int) -> KElem:
+        p = p if isinstance(p, fmpq_poly) else fmpq_poly([p])
+        return KElem(p % self.f if p.degree() >= self.degree else p, self)
+
+    def evaluate(self, p: fmpq_poly, prec: int = 128) -> arb:
+        old = ctx.prec
+        ctx.prec = prec
+        try:
+            if p.degree() <= 0:
+                return arb(p[0])
+            return arb_poly(p.coeffs())(self._root_at(prec))
+        finally:
+            ctx.prec = old
+
+    def sign(self, p: fmpq_poly) -> int:
+        if p.is_zero():
+            return 0
+        if p.degree() == 0:
+            return 1 if p[0] > 0 else -1
+        prec = 64
+        while True:
+            v = self.evaluate(p, prec)
+            if v > 0:
+                return 1
+            if v < 0:
+                return -1
+            prec *= 2  # p(t_s) != 0 since p is nonzero of degree < deg f and f irreducible
+
+    def to_float(self, p: fmpq_poly) -> float:
+        if p.is_zero():
+            return 0.0
+        if p.degree() == 0:
+            q = p[0]
+            return int(q.p) / int(q.q)  # correctly rounded by Python
+        prec = 64
+        while True:
+            v = self.evaluate(p, prec)
+            if v.rel_accuracy_bits() >= 56 or prec > 4096:
+                return float(v.mid())
+            prec *= 2
+
+
+Scalar = Any  # KElem or float
+
+
+class Series:
+    """A power series c_0 + c_1 ε + ... truncated after ``len(c)`` terms."""
+
+    __slots__ = ("c",)
+
+    def __init__(self, c: Sequence[Scalar]) -> None:
+        self.c = list(c)
+
+    def __len__(self) -> int:
+        return len(self.c)
+
+    def _co(self, o: Any) -> Series:
+        if isinstance(o, Series):
+            return o
+        return Series([o] + [self.c[0] * 0] * (len(self.c) - 1))
+
+    def __add__(self, o: Any) -> Series:
+        o = self._co(o)
+        n = min(len(self), len(o))
+        return Series([self.c[i] + o.c[i] for i in range(n)])
+
+    __radd__ = __add__
+
+    def __sub__(self, o: Any) -> Series:
+        o = self._co(o)
+        n = min(len(self), len(o))
+        return Series([self.c[i] - o.c[i] for i in range(n)])
+
+    def __rsub__(self, o: Any) -> Series:
+        return self._co(o) - self
+
+    def __neg__(self) -> Series:
+        return Series([-a for a in self.c])
+
+    def __mul__(self, o: Any) -> Series:
+        if not isinstance(o, Series):
+            return Series([a * o for a in self.c])
+        n = min(len(self), len(o))
+        a, b = self.c, o.c
+        return Series([_dot(a, b, k) for k in range(n)])
+
+    __rmul__ = __mul__
+
+    def inverse(self) -> Series:
+        """1/self; the constant term must be nonzero."""
+        a = self.c
+        b0 = 1 / a[0]
+        b = [b0]
+        for k in range(1, len(a)):
+            acc = a[1] * b[k - 1]
+            for i in range(2, k + 1):
+                acc = acc + a[i] * b[k - i]
+            b.append(-(acc * b0))
+        return Series(b)
+
+    def __truediv__(self, o: Any) -> Series:
+        if isinstance(o, Series):
+            return self * o.inverse()
+        return Series([a / o for a in self.c])
+
+    def __rtruediv__(self, o: Any) -> Series:
+        return self.inverse() * o
+
+    def sqrt_with(self, s0: Scalar) -> Series:
+        """The square root whose constant term is s0 (s0^2 = c_0, s0 nonzero)."""
+        p = self.c
+        s = [s0]
+        two_s0 = s0 * 2
+        for k in range(1, len(p)):
+            acc = p[k]
+            for i in range(1, k):
+                acc = acc - s[i] * s[k - i]
+            s.append(acc / two_s0)
+        return Series(s)
+
+    def valuation(self) -> int:
+        """Index of the first nonzero coefficient (exact series); len(self) when all vanish."""
+        for i, a in enumerate(self.c):
+            if not _is_zero(a):
+                return i
+        return len(self.c)
+
+
+def _dot(a: list[Scalar], b: list[Scalar], k: int) -> Scalar:
+    acc = a[0] * b[k]
+    for i in range(1, k + 1):
+        acc = acc + a[i] * b[k - i]
+    return acc
+
+
+def _is_zero(a: Scalar) -> bool:
+    return a.is_zero() if isinstance(a, KElem) else a == 0
+
+
+def taylor(p: fmpq_poly, n: int) -> list[fmpq_poly]:
+    """The first n Taylor coefficients of p about a symbolic point t: p^(k)(t)/k!."""
+    out = []
+    d = p
+    fact = fmpq(1)
+    for k in range(n):
+        out.append(d / fact)
+        d = d.derivative()
+        fact *= k + 1
+    return out

@@ -1,0 +1,308 @@
+"""Exact analysis of the Type II singular instants of a trajectory (Section 3 of the paper).
+
+δ = sin(θ1 - θ2) = -a1 y_E / (s1 s2) (eq. 29), so while s1, s2 != 0 the Type II singular
+instants are exactly the real roots of the polynomial y(t) = p(x(t)) in [0, t_f]. y(t) is
+factored over Q into irreducible factors f^m; each real root t_s of f is isolated by
+certified ball arithmetic (flint's ``complex_roots``: a root reported with an exactly
+zero imaginary part is proven real) and m is its multiplicity, the order of the
+singularity: δ, δ', ..., δ^(m-1) vanish at t_s and δ^(m) does not.
+
+About t_s every quantity of the paper is expanded as a power series in ε = t - t_s with
+coefficients in K = Q[t]/(f) (``series``), so that "vanishes" is decided exactly:
+ * consistency, eq. (34): σ (M22 s1'' + N2) + M44 s2'' + N4 = 0 at t_s, equivalently
+   μ1(t_s) = μ2(t_s) = 0 (eq. 35);
+ * boundedness: λ = μ/δ (eqs. 30-31) with δ of order m; λ is bounded exactly when μ1, μ2
+   and their first m-1 derivatives vanish (the m conditions behind eqs. 36-38). The
+   number k of these that hold, counted from the zeroth while they hold, leaves a pole of
+   order m - k.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from flint import acb, arb, ctx, fmpq, fmpq_poly, fmpz_poly
+
+from . import dynamics as dyn
+from .cases import Case, case_of
+from .series import KElem, NumberField, Series, taylor
+from .task import Checks, Robot
+from .trajectory import Trajectory
+
+
+@dataclass(frozen=True)
+class Principle:
+    """One design principle at one singular instant: passed, and why (or why not)."""
+
+    passed: bool
+    reason: str
+
+
+@dataclass(frozen=True)
+class SingularInstant:
+    """A Type II singular instant t_s and everything the audit decides there.
+
+    ``delta_derivatives[k]`` is d^k δ/dt^k at t_s for k = 0..order; ``conditions_met`` is k
+    above; ``torque_at_singularity`` is the finite limit (T1, T2) [N m] when bounded.
+    ``lambda_series`` holds, for the sampler, float Laurent coefficients of λ1 and λ2 in
+    ε with their leading powers (see ``expansion``).
+    """
+
+    t: float
+    x: float
+    y: float
+    t_exact: fmpq | None  # the exact time when t_s is rational, else None
+    case: Case
+    order: int
+    delta_derivatives: list[float]
+    slope: float
+    speed: float
+    slope_principle: Principle
+    velocity_principle: Principle
+    consistency_residual: float
+    consistent: bool
+    conditions_required: int
+    conditions_met: int
+    torque_at_singularity: tuple[float, float] | None
+    y_leading_sign: int  # sign of the first nonzero Taylor coefficient of y at t_s
+    field: NumberField = field(repr=False, compare=False)
+
+    @property
+    def kind(self) -> str:
+        return "crossing" if self.order % 2 else "touch"
+
+    @property
+    def torque_bounded(self) -> bool:
+        return self.conditions_met >= self.conditions_required
+
+    @property
+    def pole_order(self) -> int:
+        return self.conditions_required - self.conditions_met
+
+
+@dataclass(frozen=True)
+class KinematicSingularity:
+    """E at A (leg 1, s1 = 0) or at B (leg 2, s2 = 0) at time t: the inverse kinematics fail."""
+
+    t: float
+    x: float
+    y: float
+    leg: int
+
+
+@dataclass(frozen=True)
+class SingularAnalysis:
+    instants: list[SingularInstant]
+    kinematic: list[KinematicSingularity]
+    on_singular_line: bool  # y(t) is identically zero: the whole motion is singular
+
+
+def _real_roots(f: fmpq_poly) -> list[tuple[fmpq | None, callable]]:  # type: ignore[valid-type]
+    """The real roots of irreducible f: (exact value if rational, prec -> arb ball)."""
+    if f.degree() == 1:
+        r = -f[0] / f[1]
+        return [(r, lambda prec, r=r: arb(r))]
+    z = fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])
+    roots = [c for c, _ in z.complex_roots() if c.imag == 0]
+    out = []
+    for i in range(len(roots)):
+
+        def at(prec: int, i: int = i) -> arb:
+            if prec <= 53:
+                return roots[i].real
+            old = ctx.prec
+            ctx.prec = prec
+            try:
+                rs = sorted(
+                    (c.real for c, _ in z.complex_roots() if c.imag == 0), key=lambda b: b.mid()
+                )
+            finally:
+                ctx.prec = old
+            return rs[i]
+
+        out.append((None, at))
+    # real roots of an irreducible polynomial are simple and distinct: sort by midpoint
+    order = sorted(range(len(roots)), key=lambda j: roots[j].real.mid())
+    return [out[j] for j in order] if len(roots) > 1 else out
+
+
+def _in_span(exact: fmpq | None, at, duration: fmpq) -> bool:  # type: ignore[no-untyped-def]
+    if exact is not None:
+        return 0 <= exact <= duration
+    prec = 53
+    while True:  # an irrational root never equals 0 or t_f: refining decides
+        b = at(prec)
+        if b < 0 or b > arb(duration):
+            return False
+        if b > 0 and b < arb(duration):
+            return True
+        prec *= 2
+
+
+def _root_float(exact: fmpq | None, at) -> float:  # type: ignore[no-untyped-def]
+    if exact is not None:
+        return int(exact.p) / int(exact.q)
+    return float(at(128).mid())
+
+
+def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
+    """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f]."""
+    y = traj.y
+    if y.is_zero():
+        return SingularAnalysis([], _kinematic_on_line(traj), True)
+    instants: list[SingularInstant] = []
+    kinematic: list[KinematicSingularity] = []
+    _, factors = y.factor()
+    for f, m in factors:
+        if f.degree() < 1:
+            continue
+        for exact, at in _real_roots(f):
+            if not _in_span(exact, at, traj.duration):
+                continue
+            t = _root_float(exact, at)
+            if (traj.x % f).is_zero():
+                kinematic.append(KinematicSingularity(t, 0.0, 0.0, 1))
+                continue
+            if ((traj.x - traj.a1) % f).is_zero():
+                kinematic.append(KinematicSingularity(t, float(arb(traj.a1)), 0.0, 2))
+                continue
+            instants.append(_instant(traj, robot, checks, f, int(m), exact, at, t))
+    instants.sort(key=lambda s: s.t)
+    kinematic.sort(key=lambda k: k.t)
+    return SingularAnalysis(instants, kinematic, False)
+
+
+def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
+    """For a motion on y = 0: the instants at which E passes A or B."""
+    out = []
+    for poly, leg, xv in ((traj.x, 1, 0.0), (traj.x - traj.a1, 2, float(arb(traj.a1)))):
+        if poly.is_zero():
+            out.append(KinematicSingularity(0.0, xv, 0.0, leg))
+            continue
+        for f, _ in poly.factor()[1]:
+            if f.degree() < 1:
+                continue
+            for exact, at in _real_roots(f):
+                if _in_span(exact, at, traj.duration):
+                    out.append(KinematicSingularity(_root_float(exact, at), xv, 0.0, leg))
+    return sorted(out, key=lambda k: k.t)
+
+
+def expansion(
+    traj: Trajectory, field: NumberField, n: int, scalar: type = KElem
+) -> tuple[Series, Series, Series, Series, Series, Series]:
+    """Series (n terms) of x, x', x'', y, y', y'' about t_s, exact (KElem) or float."""
+    out = []
+    for p in (traj.x, traj.y):
+        c = taylor(p, n + 2)
+        if scalar is KElem:
+            e = [field.elem(ck) for ck in c]
+        else:
+            e = [field.to_float(ck % field.f) for ck in c]
+        out.append(Series(e[:n]))
+        out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
+        out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
+    return out[0], out[1], out[2], out[3], out[4], out[5]
+
+
+def legs(
+    X: Series, Xd: Series, Xdd: Series, Y: Series, Yd: Series, Ydd: Series,
+    a1: object, sx: int, sxa: int,
+) -> tuple[dyn.Leg, dyn.Leg]:  # fmt: skip
+    """Both legs' series; s1(t_s) = |x(t_s)| and s2(t_s) = |x(t_s) - a1| since y(t_s) = 0."""
+    U2 = X - a1
+
+    def hyp(sign: int):  # type: ignore[no-untyped-def]
+        return lambda u, v: (u * u + v * v).sqrt_with(u.c[0] * sign)
+
+    return (
+        dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hyp(sx)),
+        dyn.leg(U2, Xd, Xdd, Y, Yd, Ydd, hyp(sxa)),
+    )
+
+
+def _instant(
+    traj: Trajectory,
+    robot: Robot,
+    checks: Checks,
+    f: fmpq_poly,
+    m: int,
+    exact: fmpq | None,
+    at,  # type: ignore[no-untyped-def]
+    t: float,
+) -> SingularInstant:
+    K = NumberField(f, at)
+    n = m + 1  # orders 0..m: the m conditions and the limit
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n)
+    assert all(c.is_zero() for c in Y.c[:m]) and not Y.c[m].is_zero()
+    sx = X.c[0].sign()
+    sxa = (X.c[0] - traj.a1).sign()
+    case = case_of(sx, sxa)
+    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
+    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
+    if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
+        raise AssertionError("order of δ differs from the multiplicity of y")
+    delta_derivatives = [
+        float(d.delta.c[k]) * math.factorial(k) if k == m else 0.0 for k in range(m + 1)
+    ]
+    k = min(d.mu1.valuation(), d.mu2.valuation(), m)
+    residual = case.sigma * d.F1.c[0] + d.F2.c[0]  # eq. (34)
+    torque = None
+    if k >= m:
+        lam1 = Series([d.mu1.c[m] / d.delta.c[m]])
+        lam2 = Series([d.mu2.c[m] / d.delta.c[m]])
+        T1, T2 = dyn.torques(d, lam1, lam2)
+        torque = (float(T1.c[0]), float(T2.c[0]))
+    # the design principles: path slope dy/dx and end-point speed at t_s
+    slope = K.elem(traj.slope)
+    speed2 = Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0]
+    return SingularInstant(
+        t=t,
+        x=float(X.c[0]),
+        y=0.0,
+        t_exact=exact,
+        case=case,
+        order=m,
+        delta_derivatives=delta_derivatives,
+        slope=float(slope),
+        speed=math.sqrt(max(float(speed2), 0.0)),
+        slope_principle=_slope_principle(slope, checks.min_slope),
+        velocity_principle=_velocity_principle(speed2, checks.min_speed),
+        consistency_residual=float(residual),
+        consistent=residual.is_zero(),
+        conditions_required=m,
+        conditions_met=k,
+        torque_at_singularity=torque,
+        y_leading_sign=Y.c[m].sign(),
+        field=K,
+    )
+
+
+def _slope_principle(slope: KElem, min_slope: fmpq) -> Principle:
+    if min_slope == 0:
+        if slope.is_zero():
+            return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
+        return Principle(True, f"dy/dx = {float(slope):.6g} is nonzero")
+    diff = slope * slope - min_slope * min_slope
+    if diff.sign() > 0:
+        return Principle(True, f"|dy/dx| = {abs(float(slope)):.6g} exceeds checks.min_slope = {float(min_slope):g}")
+    if slope.is_zero():
+        return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
+    return Principle(
+        False, f"|dy/dx| = {abs(float(slope)):.6g} does not exceed the margin checks.min_slope = {float(min_slope):g}"
+    )
+
+
+def _velocity_principle(speed2: KElem, min_speed: fmpq) -> Principle:
+    if speed2.is_zero():
+        return Principle(False, "the end point is at rest here (speed 0, eq. 47): a high-order singularity")
+    speed = math.sqrt(float(speed2))
+    if min_speed == 0:
+        return Principle(True, f"speed {speed:.6g} m/s is nonzero")
+    if (speed2 - min_speed * min_speed).sign() > 0:
+        return Principle(True, f"speed {speed:.6g} m/s exceeds checks.min_speed = {float(min_speed):g} m/s")
+    return Principle(
+        False,
+        f"speed {speed:.6g} m/s does not exceed the margin checks.min_speed = {float(min_speed):g} m/s",
+    )
