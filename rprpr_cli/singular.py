@@ -66,6 +66,7 @@ class SingularInstant:
     conditions_met: int
     torque_at_singularity: tuple[float, float] | None
     y_leading_sign: int  # sign of the first nonzero Taylor coefficient of y at t_s
+    mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2 (<= order+1)
     field: NumberField = field(repr=False, compare=False)
 
     @property
@@ -275,6 +276,7 @@ def _instant(
         conditions_met=k,
         torque_at_singularity=torque,
         y_leading_sign=Y.c[m].sign(),
+        mu_valuations=(d.mu1.valuation(), d.mu2.valuation()),
         field=K,
     )
 

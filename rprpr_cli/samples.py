@@ -1,0 +1,255 @@
+"""The motion and its inverse dynamics on a grid of times, in floating point (numpy).
+
+Away from the singular instants every quantity is the paper's formula evaluated directly
+(``dynamics``), with δ taken in its product form δ = -a1 y/(s1 s2) (no cancellation).
+Near a Type II singular instant t_s, λ = μ/δ (eqs. 30-31) is a quotient of two small
+numbers and the direct formula loses digits to cancellation; there λ is taken from its
+Laurent series in ε = t - t_s, whose coefficients come from the exact expansion
+(``singular``). Each sample uses whichever of the two has the smaller error estimate:
+
+* direct:  16 u S_μ/|δ| + |λ| e_δ/|δ|, where u is the unit roundoff, S_μ the sum of the
+  absolute values of the terms of μ (the size of the terms that cancel), and e_δ the
+  rounding bound of δ (Horner's bound for y, relative to Σ|p_i||x|^i);
+* series:  the size of the last two terms kept, plus 16 u times the sum of the absolute
+  values of all terms.
+
+A sample exactly at an instant where λ has a pole (conditions not met) is NaN: the torque
+is unbounded there, never a large finite number.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+from flint import fmpq, fmpq_poly
+
+from . import dynamics as dyn
+from .series import Series, taylor
+from .singular import SingularAnalysis, SingularInstant, expansion, legs
+from .task import Robot
+from .trajectory import Trajectory
+
+EXTRA_TERMS = 12  # terms of the λ series kept beyond the pole/shift, for samples near t_s
+EPS = float(np.finfo(float).eps) / 2
+
+# the export columns, in order (SI units, angles in radians, θ continuous)
+COLUMNS = (
+    "t", "x", "y", "x_dot", "y_dot", "theta1", "s1", "theta2", "s2",
+    "theta1_dot", "s1_dot", "theta2_dot", "s2_dot", "delta", "delta_dot",
+    "lambda1", "lambda2", "T1", "T2",
+)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Samples:
+    """Sampled motion: one numpy array per quantity, all of the length of ``t``."""
+
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    x_dot: np.ndarray
+    y_dot: np.ndarray
+    x_ddot: np.ndarray
+    y_ddot: np.ndarray
+    theta1: np.ndarray
+    s1: np.ndarray
+    theta2: np.ndarray
+    s2: np.ndarray
+    theta1_dot: np.ndarray
+    s1_dot: np.ndarray
+    theta2_dot: np.ndarray
+    s2_dot: np.ndarray
+    theta1_ddot: np.ndarray
+    s1_ddot: np.ndarray
+    theta2_ddot: np.ndarray
+    s2_ddot: np.ndarray
+    delta: np.ndarray
+    delta_dot: np.ndarray
+    lambda1: np.ndarray
+    lambda2: np.ndarray
+    T1: np.ndarray
+    T2: np.ndarray
+
+    def column(self, name: str) -> np.ndarray:
+        return getattr(self, name)  # type: ignore[no-any-return]
+
+    def rows(self) -> np.ndarray:
+        """The export columns as a 2-D array, one row per sample."""
+        return np.column_stack([self.column(c) for c in COLUMNS])
+
+
+SAMPLE_FIELDS = tuple(f.name for f in fields(Samples))
+
+
+def grid(duration: fmpq, n: int) -> np.ndarray:
+    """n sample times t_i = i t_f/(n-1), i = 0..n-1, each the float nearest the exact value."""
+    if n < 2:
+        raise ValueError("at least 2 samples are needed")
+    num, den = int(duration.p), int(duration.q)
+    return np.array([(i * num) / ((n - 1) * den) for i in range(n)])
+
+
+def _coeffs(p: fmpq_poly) -> np.ndarray:
+    c = [int(q.p) / int(q.q) for q in p.coeffs()]
+    return np.array(c or [0.0])
+
+
+def _polyval(c: np.ndarray, x: np.ndarray) -> np.ndarray:
+    return np.polynomial.polynomial.polyval(x, c)
+
+
+@dataclass
+class _Laurent:
+    """λ_j(t_s + ε) = Σ c_i ε^(i + lead), i = 0..len(c)-1."""
+
+    t: float
+    c: np.ndarray
+    lead: int
+
+    def evaluate(self, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Value and error estimate at each ε (NaN at ε = 0 when lead < 0: a pole)."""
+        terms = self.c[None, :] * eps[:, None] ** np.arange(len(self.c))[None, :]
+        value = terms.sum(axis=1)
+        err = np.abs(terms[:, -1]) + np.abs(terms[:, -2]) + 16 * EPS * np.abs(terms).sum(axis=1)
+        if self.lead:
+            factor = np.where(eps == 0, np.nan, eps) ** float(self.lead)
+            value, err = value * factor, err * np.abs(factor)
+        return value, err
+
+
+def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_Laurent, _Laurent]:
+    """Float Laurent series of λ1 and λ2 about the singular instant ``s``."""
+    m, k = s.order, s.conditions_met
+    n = m + EXTRA_TERMS + 1
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, s.field, n, scalar=float)
+    sx = 1 if s.case.number != 2 else -1
+    sxa = 1 if s.case.number == 1 else -1
+    l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, float(int(traj.a1.p) / int(traj.a1.q)), sx, sxa)
+    d = dyn.dynamics(l1, l2, dyn.Params.of(robot, _float))
+    den = Series(d.delta.c[m:])
+    out = []
+    for mu, v in ((d.mu1, s.mu_valuations[0]), (d.mu2, s.mu_valuations[1])):
+        shift = min(v, m)
+        lam = Series(mu.c[shift:]) / den  # the exact zeros below the shift are dropped
+        out.append(_Laurent(s.t, np.array(lam.c[: n - m]), shift - m))
+    return out[0], out[1]
+
+
+def _float(q: fmpq) -> float:
+    return int(q.p) / int(q.q)
+
+
+def _continuous_angle(
+    raw: np.ndarray, t: np.ndarray, cuts: list[tuple[float, int, bool]]
+) -> np.ndarray:
+    """θ made continuous: atan2 jumps by 2π where the leg's line crosses its branch cut
+    (y = 0 on the far side of its base joint). ``cuts`` = (t_c, sign of y after, crossing?)
+    for each singular instant on the cut; the crossings are known exactly, so no
+    threshold on sample spacing is involved. A sample at t_c takes the limit from the left.
+    """
+    out = raw.copy()
+    width = 64 * EPS * max(1.0, float(t[-1]) if len(t) else 1.0)
+    for tc, after, crossing in cuts:
+        at = np.abs(t - tc) <= width
+        out[at] = -np.pi * after if crossing else np.pi * after  # the side before t_c
+        if crossing:
+            out[t > tc + width] -= 2 * np.pi * after
+    return out
+
+
+def sample(
+    traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray
+) -> Samples:
+    """The motion, joints, δ, λ and torques at the times ``t`` (seconds)."""
+    p = dyn.Params.of(robot, _float)
+    xc = _coeffs(traj.x)
+    pc = _coeffs(traj.path)
+    with np.errstate(all="ignore"):
+        x = _polyval(xc, t)
+        xd = _polyval(np.polynomial.polynomial.polyder(xc), t)
+        xdd = _polyval(np.polynomial.polynomial.polyder(xc, 2), t)
+        y = _polyval(pc, x)
+        p1 = _polyval(np.polynomial.polynomial.polyder(pc), x)
+        p2 = _polyval(np.polynomial.polynomial.polyder(pc, 2), x)
+        yd = p1 * xd
+        ydd = p2 * xd * xd + p1 * xdd
+        # near a singular instant y(t) is small and Horner's rule on the path loses its
+        # digits: there y, y', y'' come from y's exact Taylor polynomial about t_s
+        ycond = _polyval(np.abs(pc), np.abs(x))
+        near = _nearest(t, analysis)
+        for i, s in enumerate(analysis.instants):
+            zone = (near == i) & (np.abs(y) < 1e6 * len(pc) * EPS * ycond)
+            if np.any(zone):
+                _recentered(traj, s, t[zone] - s.t, zone, y, yd, ydd)
+        leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, np.hypot)
+        leg2 = dyn.leg(x - p.a1, xd, xdd, y, yd, ydd, np.hypot)
+        d = dyn.dynamics(leg1, leg2, p)
+        delta = -p.a1 * y / (leg1.s * leg2.s)  # eq. (29) in product form
+        lam1 = d.mu1 / delta
+        lam2 = d.mu2 / delta
+        # error estimate of the direct quotient (module docstring)
+        f1 = p.m3 * (xd * xd + yd * yd + np.abs(x * xdd) + np.abs(y * ydd) + leg1.s_d**2) / leg1.s
+        f1 += p.m3 * (np.abs(leg1.s - p.r3) * leg1.th_d**2 + p.g)
+        f2 = p.m5 * (xd * xd + yd * yd + np.abs((x - p.a1) * xdd) + np.abs(y * ydd) + leg2.s_d**2) / leg2.s
+        f2 += p.m5 * (np.abs(leg2.s - p.r5) * leg2.th_d**2 + p.g)
+        e_delta = np.abs(delta) * (3 * EPS + 2 * len(pc) * EPS * ycond / np.abs(y)) + 4 * EPS
+        e_mu = 16 * EPS * (f1 + f2)
+        ad = np.abs(delta)
+        err1 = e_mu / ad + np.abs(lam1) * e_delta / ad
+        err2 = e_mu / ad + np.abs(lam2) * e_delta / ad
+        err1 = np.where(np.isfinite(err1), err1, np.inf)
+        err2 = np.where(np.isfinite(err2), err2, np.inf)
+        for i, s in enumerate(analysis.instants):
+            inaccurate = ~(err1 <= 1e-9 * (1 + np.abs(lam1))) | ~(err2 <= 1e-9 * (1 + np.abs(lam2)))
+            if not np.any(inaccurate & (near == i)):
+                continue  # the direct formula is accurate near this instant
+            eps_t = t - s.t
+            for lam, err, L in zip((lam1, lam2), (err1, err2), lambda_series(traj, robot, s), strict=True):
+                v, e = L.evaluate(eps_t)
+                better = (near == i) & ((e < err) | (eps_t == 0))
+                lam[better] = v[better]
+                err[better] = e[better]
+        T1, T2 = dyn.torques(d, lam1, lam2)
+        theta1 = _continuous_angle(np.arctan2(y, x), t, _cuts(analysis, 1))
+        theta2 = _continuous_angle(np.arctan2(y, x - p.a1), t, _cuts(analysis, 2))
+        delta_dot = np.cos(theta1 - theta2) * (leg1.th_d - leg2.th_d)
+    return Samples(
+        t=t, x=x, y=y, x_dot=xd, y_dot=yd, x_ddot=xdd, y_ddot=ydd,
+        theta1=theta1, s1=leg1.s, theta2=theta2, s2=leg2.s,
+        theta1_dot=leg1.th_d, s1_dot=leg1.s_d, theta2_dot=leg2.th_d, s2_dot=leg2.s_d,
+        theta1_ddot=leg1.th_dd, s1_ddot=leg1.s_dd, theta2_ddot=leg2.th_dd, s2_ddot=leg2.s_dd,
+        delta=delta, delta_dot=delta_dot, lambda1=lam1, lambda2=lam2, T1=T1, T2=T2,
+    )  # fmt: skip
+
+
+def _nearest(t: np.ndarray, analysis: SingularAnalysis) -> np.ndarray:
+    """Index of the singular instant nearest each sample (-1 when there is none)."""
+    if not analysis.instants:
+        return np.full(len(t), -1)
+    ts = np.array([s.t for s in analysis.instants])
+    return np.argmin(np.abs(t[:, None] - ts[None, :]), axis=1)  # type: ignore[no-any-return]
+
+
+def _recentered(
+    traj: Trajectory, s: SingularInstant, eps: np.ndarray, zone: np.ndarray,
+    y: np.ndarray, yd: np.ndarray, ydd: np.ndarray,
+) -> None:  # fmt: skip
+    """y, y', y'' at t_s + ε from the Taylor polynomial of y(t) about t_s (exact
+    coefficients, the first ``order`` of them zero), written into the zone."""
+    c = np.array([s.field.to_float(ck % s.field.f) for ck in taylor(traj.y, traj.y.degree() + 1)])
+    y[zone] = _polyval(c, eps)
+    dc = np.polynomial.polynomial.polyder(c)
+    yd[zone] = _polyval(dc, eps)
+    ydd[zone] = _polyval(np.polynomial.polynomial.polyder(dc), eps)
+
+
+def _cuts(analysis: SingularAnalysis, leg: int) -> list[tuple[float, int, bool]]:
+    """Singular instants on leg ``leg``'s branch cut: behind A (case 2) for leg 1;
+    behind B (cases 2 and 3) for leg 2."""
+    on_cut = (2,) if leg == 1 else (2, 3)
+    return [
+        (s.t, s.y_leading_sign, s.order % 2 == 1)
+        for s in analysis.instants
+        if s.case.number in on_cut
+    ]

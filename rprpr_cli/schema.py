@@ -1,0 +1,152 @@
+"""The task-file schema, as data: the one home of what a task file may contain.
+
+The loader validates against it (``loader``) and ``rprpr schema`` prints it as a JSON
+Schema (draft 2020-12) for editors (``json_schema``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Spec:
+    """One key of the task file.
+
+    kind: "mapping", "number", "polynomial", "string", "bool", "enum" or "pair" (a list
+    of two numbers). For numbers, ``minimum`` with ``exclusive`` bounds the value.
+    """
+
+    kind: str
+    description: str
+    required: bool = False
+    default: Any = None
+    minimum: float | None = None
+    exclusive: bool = False
+    variable: str = ""  # of a polynomial
+    choices: tuple[str, ...] = ()
+    children: dict[str, Spec] = field(default_factory=dict)
+
+
+def _num(description: str, *, required: bool = False, minimum: float | None = None,
+         exclusive: bool = False, default: Any = None) -> Spec:  # fmt: skip
+    return Spec("number", description, required, default, minimum, exclusive)
+
+
+def _link(i: int, r_means: str) -> Spec:
+    return Spec(
+        "mapping",
+        f"Link {i}: mass, centroidal moment of inertia and r{i} = {r_means}.",
+        required=True,
+        children={
+            "mass": _num(f"m{i} [kg]", required=True, minimum=0),
+            "inertia": _num(f"I{i}, centroidal [kg m^2]", required=True, minimum=0),
+            "r": _num(f"r{i} = {r_means} [m]", required=True, minimum=0),
+        },
+    )
+
+
+TASK = Spec(
+    "mapping",
+    "An rprpr task: an RPRPR planar parallel robot and a planned end-point motion.",
+    children={
+        "name": Spec("string", "A name for reports (default: the file's stem)."),
+        "robot": Spec(
+            "mapping",
+            "The robot: A at the origin, B at (a1, 0); actuated revolute joints at A and B.",
+            required=True,
+            children={
+                "a1": _num("|AB| [m]", required=True, minimum=0, exclusive=True),
+                "gravity": _num("g [m/s^2], along -y", minimum=0, default="9.81"),
+                "links": Spec(
+                    "mapping",
+                    "The paper's moving links 2..5.",
+                    required=True,
+                    children={
+                        "2": _link(2, "|AG2|"),
+                        "3": _link(3, "|EG3|"),
+                        "4": _link(4, "|BG4|"),
+                        "5": _link(5, "|EG5|"),
+                    },
+                ),
+            },
+        ),
+        "path": Spec(
+            "mapping",
+            "The end-point path y = p(x).",
+            required=True,
+            children={
+                "y": Spec("polynomial", "p(x) [m]: numbers, x, + - * / ^ ** and parentheses.",
+                          required=True, variable="x"),  # fmt: skip
+                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path."),
+                "to": Spec("pair", "End point [x, y] [m]; must lie on the path."),
+            },
+        ),
+        "timing": Spec(
+            "mapping",
+            "How x_E moves in time: a rest-to-rest law between path.from and path.to, or x.",
+            required=True,
+            children={
+                "duration": _num("t_f [s]", required=True, minimum=0, exclusive=True),
+                "law": Spec("enum", "Rest-to-rest law in x (eq. 49 is the quintic).",
+                            choices=("quintic", "cubic")),  # fmt: skip
+                "x": Spec("polynomial", "x_E(t) [m], explicitly, instead of law.", variable="t"),
+            },
+        ),
+        "checks": Spec(
+            "mapping",
+            "Margins and limits.",
+            children={
+                "min_slope": _num("|dy/dx| at a singular point must exceed this", minimum=0, default=0),
+                "min_speed": _num("End-point speed [m/s] at a singular instant must exceed this",
+                                  minimum=0, default=0),  # fmt: skip
+                "torque_limit": Spec("pair", "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
+                                     minimum=0, exclusive=True),  # fmt: skip
+                "strict": Spec("bool", "Also fail on inconsistency and torque limits.", default=False),
+            },
+        ),
+    },
+)
+
+
+def json_schema() -> dict[str, Any]:
+    """The task schema as a JSON Schema (draft 2020-12) document."""
+    doc = _json(TASK)
+    doc["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    doc["$id"] = "https://rprpr.dev/schema/task.json"
+    doc["title"] = "rprpr task file"
+    timing = doc["properties"]["timing"]
+    timing["oneOf"] = [{"required": ["law"]}, {"required": ["x"]}]
+    return doc
+
+
+def _json(s: Spec) -> dict[str, Any]:
+    out: dict[str, Any] = {"description": s.description}
+    if s.kind == "mapping":
+        out["type"] = "object"
+        out["properties"] = {k: _json(v) for k, v in s.children.items()}
+        out["required"] = [k for k, v in s.children.items() if v.required]
+        out["additionalProperties"] = False
+    elif s.kind == "number":
+        out["type"] = "number"
+        if s.minimum is not None:
+            out["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
+    elif s.kind == "polynomial":
+        out["type"] = ["string", "number"]
+        if isinstance(out["type"], list):
+            out["pattern"] = rf"^[0-9{s.variable}+\-*/^(). \teE]+$"
+    elif s.kind == "string":
+        out["type"] = "string"
+    elif s.kind == "bool":
+        out["type"] = "boolean"
+    elif s.kind == "enum":
+        out["enum"] = list(s.choices)
+    elif s.kind == "pair":
+        item: dict[str, Any] = {"type": "number"}
+        if s.minimum is not None:
+            item["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
+        out.update(type="array", items=item, minItems=2, maxItems=2)
+    if s.default is not None:
+        out["default"] = float(s.default) if isinstance(s.default, str) else s.default
+    return out
