@@ -1,0 +1,105 @@
+"""The human report of ``rprpr check`` (rich), from the plain reports of ``report``."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rich.console import Console
+from rich.table import Table
+from rich.text import Text
+
+from .report import Run
+
+
+def _g(v: float | None, fmt: str = ".4g") -> str:
+    return "—" if v is None else format(v, fmt)
+
+
+def _pf(v: str) -> Text:
+    return Text("pass", style="green") if v == "pass" else Text("FAIL", style="bold red")
+
+
+def singularity_table(rep: dict[str, Any]) -> Table:
+    table = Table(title=None, show_lines=False, header_style="bold", pad_edge=False)
+    for col, just in (
+        ("t [s]", "right"), ("(x, y) [m]", "left"), ("case σ ψ", "left"), ("order", "left"),
+        ("dy/dx", "right"), ("speed [m/s]", "right"), ("slope", "left"), ("velocity", "left"),
+        ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
+    ):  # fmt: skip
+        table.add_column(Text(col), justify=just)  # type: ignore[arg-type]
+    for s in rep["singularities"]:
+        order = f"{s['order']} {s['kind']}"
+        order_text = Text(order, style="bold red" if s["order"] >= 2 else "")
+        bounded = f"{s['conditions_met']}/{s['conditions_required']}"
+        bounded_text = Text(
+            bounded + (" yes" if s["torque_bounded"] else f" no, pole {s['pole_order']}"),
+            style="green" if s["torque_bounded"] else "yellow",
+        )
+        torque = (
+            f"{s['torque_at_singularity'][0]:.4g}, {s['torque_at_singularity'][1]:.4g}"
+            if s["torque_at_singularity"]
+            else "unbounded"
+        )
+        table.add_row(
+            f"{s['t']:.6g}",
+            f"({s['x']:.4g}, 0)",
+            f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}",
+            order_text,
+            _g(s["slope"]),
+            _g(s["speed"]),
+            _pf(s["slope_principle"]),
+            _pf(s["velocity_principle"]),
+            _g(s["consistency_residual"]),
+            bounded_text,
+            torque,
+        )
+    return table
+
+
+def render(run: Run, console: Console, err_console: Console, quiet: bool = False) -> None:
+    """Print each task's report in task order; input and internal errors to ``err_console``."""
+    for kind, i in run.order:
+        if kind == "input":
+            err_console.print(Text(run.input_errors[i]["text"], style="red"), soft_wrap=True)
+            continue
+        if kind == "internal":
+            err_console.print(Text(run.internal_errors[i]["text"], style="bold red"), soft_wrap=True)
+            continue
+        rep = run.reports[i]
+        if quiet and rep["verdict"] == "pass":
+            continue
+        _task(rep, console)
+    s = run.summary()
+    if s["tasks"] > 1:
+        console.print(
+            f"{s['tasks']} tasks: {s['passed']} passed, {s['failed']} failed, {s['errors']} errors",
+            style="bold",
+        )
+
+
+def _task(rep: dict[str, Any], console: Console) -> None:
+    console.print(Text.assemble((rep["task"], "bold"), " — ", rep["name"]))
+    n = len(rep["singularities"])
+    if n:
+        console.print(singularity_table(rep))
+    elif rep["on_singular_line"]:
+        console.print("  the path lies on the singular line y = 0", style="red")
+    else:
+        console.print("  no Type II singular instant in [0, t_f]")
+    for k in rep["kinematic_singularities"]:
+        joint = "A" if k["leg"] == 1 else "B"
+        console.print(f"  inverse-kinematic singularity at t = {k['t']:.6g} s: E at {joint}", style="red")
+    for f in rep["findings"]:
+        style = "red" if f["severity"] == "error" else "yellow"
+        console.print(Text.assemble("  ", (f"{f['rule']} {f['name']}", style), f": {f['message']}"), soft_wrap=True)
+    peak = rep["torque_peak"]
+    peak_text = f"; peak |T1|, |T2| = {peak[0]:.4g}, {peak[1]:.4g} N m" if peak else ""
+    verdict = Text("PASS", style="bold green") if rep["verdict"] == "pass" else Text("FAIL", style="bold red")
+    high = sum(s["order"] >= 2 for s in rep["singularities"])
+    console.print(
+        Text.assemble(
+            "  verdict: ", verdict,
+            f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order{peak_text}",
+            " (strict)" if rep["strict"] else "",
+        )
+    )  # fmt: skip
