@@ -109,9 +109,14 @@ class _Laurent:
 
     def evaluate(self, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Value and error estimate at each ε (NaN at ε = 0 when lead < 0: a pole)."""
-        terms = self.c[None, :] * eps[:, None] ** np.arange(len(self.c))[None, :]
-        value = terms.sum(axis=1)
-        err = np.abs(terms[:, -1]) + np.abs(terms[:, -2]) + 16 * EPS * np.abs(terms).sum(axis=1)
+        c = self.c
+        n = len(c)
+        value = np.full_like(eps, c[-1])
+        for ck in c[-2::-1]:  # Horner
+            value = value * eps + ck
+        absum = _polyval(np.abs(c), np.abs(eps))
+        last = np.abs(c[-1]) * np.abs(eps) ** (n - 1) + np.abs(c[-2]) * np.abs(eps) ** (n - 2)
+        err = last + 16 * EPS * absum
         if self.lead:
             factor = np.where(eps == 0, np.nan, eps) ** float(self.lead)
             value, err = value * factor, err * np.abs(factor)

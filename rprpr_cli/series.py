@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
 
@@ -173,6 +174,8 @@ class Series:
             return Series([a * o for a in self.c])
         n = min(len(self), len(o))
         a, b = self.c, o.c
+        if isinstance(a[0], float) and isinstance(b[0], float):
+            return Series(np.convolve(a[:n], b[:n])[:n].tolist())
         return Series([_dot(a, b, k) for k in range(n)])
 
     __rmul__ = __mul__
@@ -180,6 +183,13 @@ class Series:
     def inverse(self) -> Series:
         """1/self; the constant term must be nonzero."""
         a = self.c
+        if isinstance(a[0], float):
+            av = np.array(a)
+            bv = np.zeros(len(a))
+            bv[0] = 1 / a[0]
+            for k in range(1, len(a)):
+                bv[k] = -bv[0] * np.dot(av[1 : k + 1], bv[k - 1 :: -1][:k])
+            return Series(bv.tolist())
         b0 = 1 / a[0]
         b = [b0]
         for k in range(1, len(a)):

@@ -128,6 +128,18 @@ def _real_roots(f: fmpq_poly) -> list[tuple[fmpq | None, callable]]:  # type: ig
     return [out[j] for j in order] if len(roots) > 1 else out
 
 
+def _no_root_inside(f: fmpq_poly, duration: fmpq) -> bool:
+    """True when f certainly has no root in the open interval (0, t_f): Descartes' rule of
+    signs on g(u) = (1 + u)^d f(t_f u / (1 + u)), whose positive roots are the images of
+    the roots of f in (0, t_f). (False means "maybe": the caller isolates the roots.)"""
+    d = f.degree()
+    h = f(fmpq_poly([0, duration]))  # roots scaled to (0, 1)
+    c = h.coeffs() + [fmpq(0)] * (d + 1 - len(h.coeffs()))
+    g = fmpq_poly(c[::-1])(fmpq_poly([1, 1])).coeffs()  # x^d h(1/x) at x = 1 + u, reversed
+    signs = [1 if a > 0 else -1 for a in g if a != 0]
+    return all(a == signs[0] for a in signs)
+
+
 def _in_span(exact: fmpq | None, at, duration: fmpq) -> bool:  # type: ignore[no-untyped-def]
     if exact is not None:
         return 0 <= exact <= duration
@@ -157,6 +169,8 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
     _, factors = y.factor()
     for f, m in factors:
         if f.degree() < 1:
+            continue
+        if f.degree() > 1 and f(0) != 0 and f(traj.duration) != 0 and _no_root_inside(f, traj.duration):
             continue
         for exact, at in _real_roots(f):
             if not _in_span(exact, at, traj.duration):
