@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import difflib
 import os
+import re
+import stat
 from pathlib import Path
 from typing import Any
 
@@ -19,78 +21,161 @@ import yaml
 from flint import fmpq, fmpq_poly
 
 from .errors import ExpressionError, TaskFileError
-from .polynomial import MAX_DEGREE, parse_decimal, parse_polynomial
+from .polynomial import MAX_DEGREE, height, parse_decimal, parse_polynomial
 from .schema import TASK, Spec
 from .task import Checks, Link, Robot, Task
 from .trajectory import timing_law
 
-MAX_BYTES = 1 << 20  # 1 MiB
-MAX_NODES = 10_000  # nodes visited, aliases followed included
-MAX_DEPTH = 32
+MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
+MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
+MAX_DEPTH = 32  # nesting of mappings and lists
+MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _check_composition
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
+# Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
+# here first so the message names the line and column whichever YAML parser runs.
+_NON_PRINTABLE = re.compile("[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+# YAML 1.2 reads 1e3 as a number; PyYAML (YAML 1.1) resolves it to text. A plain scalar
+# in this form is taken as the number it means (editors using the shipped schema agree).
+_YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
+_DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
+_RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
+_NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
+_INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
     """Read and validate the task file at ``path``; raises ``TaskFileError``."""
     name = os.fspath(path)
-    p = Path(name)
     try:
-        if not p.exists():
-            raise TaskFileError("no such file", file=name)
-        if not p.is_file():
-            raise TaskFileError("not a regular file", file=name)
-        if p.stat().st_size > MAX_BYTES:
-            raise TaskFileError(f"file larger than {MAX_BYTES // 1024} KiB", file=name)
-        with p.open("rb") as fh:
-            data = fh.read(MAX_BYTES + 1)
+        st = os.stat(name)
+        if stat.S_ISDIR(st.st_mode):
+            raise TaskFileError("is a directory, expected a task file (YAML)", file=name)
+        if not stat.S_ISREG(st.st_mode):
+            raise TaskFileError(
+                "not a regular file (a device, pipe or socket), expected a task file (YAML)",
+                file=name,
+            )
+        if st.st_size > MAX_BYTES:
+            raise TaskFileError(_too_large(st.st_size), file=name)
+        with open(name, "rb") as fh:
+            data = fh.read(MAX_BYTES + 1)  # the file may have grown since stat
+    except FileNotFoundError:
+        raise TaskFileError("no such file", file=name) from None
     except OSError as e:
-        raise TaskFileError(f"cannot read: {e.strerror or e}", file=name) from None
+        raise TaskFileError(f"cannot read the file: {e.strerror or e}", file=name) from None
+    except ValueError as e:  # e.g. a NUL byte in the name
+        raise TaskFileError(f"not a usable file name: {e}", file=name) from None
     return parse_task(data, name)
 
 
 def parse_task(data: bytes | str, file: str = "<task>") -> Task:
-    """Validate a task given as bytes or text; ``file`` names it in errors."""
+    """Validate a task given as bytes or text; ``file`` names it in errors.
+
+    Raises ``TaskFileError`` and nothing else, whatever ``data`` holds.
+    """
     try:
         return _parse(data, file)
     except TaskFileError as e:
         raise e.with_file(file) from None
+    except RecursionError:
+        raise TaskFileError(f"nested deeper than {MAX_DEPTH} levels", file=file) from None
 
 
-def _parse(data: bytes | str, file: str) -> Task:
-    if isinstance(data, bytes):
-        if len(data) > MAX_BYTES:
-            raise TaskFileError(f"file larger than {MAX_BYTES // 1024} KiB")
-        if b"\x00" in data:
-            raise TaskFileError("binary file (contains NUL bytes), expected YAML text")
+def _too_large(size: int) -> str:
+    return f"file too large: {size} bytes, the cap is {MAX_BYTES} bytes (1 MiB)"
+
+
+def _line_col(text: str, index: int) -> dict[str, int]:
+    line = text.count("\n", 0, index) + 1
+    return {"line": line, "column": index - (text.rfind("\n", 0, index) + 1) + 1}
+
+
+def _decode(data: bytes | str) -> str:
+    """The task file as text: size cap, binary and encoding checks."""
+    if isinstance(data, str):
         try:
-            text = data.decode("utf-8")
-        except UnicodeDecodeError as e:
-            line = data[: e.start].count(b"\n") + 1
-            raise TaskFileError(f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start})", line=line) from None
-    else:
-        text = data
-    text = text.removeprefix("\ufeff")
-    if not text.strip() or all(
-        not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()
-    ):
-        raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
+            data = data.encode("utf-8")
+        except UnicodeEncodeError as e:
+            raise TaskFileError(
+                f"not valid Unicode text (lone surrogate at character {e.start})"
+            ) from None
+    if len(data) > MAX_BYTES:
+        raise TaskFileError(_too_large(len(data)))
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise TaskFileError("UTF-16 text, expected UTF-8: save the file as UTF-8")
+    nul = data.find(b"\x00")
+    if nul >= 0:
+        line = data.count(b"\n", 0, nul) + 1
+        raise TaskFileError(
+            f"binary file (NUL byte at offset {nul}), expected YAML text", line=line
+        )
     try:
-        root = yaml.compose(text, Loader=_Loader)
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1  # in bytes
+        raise TaskFileError(
+            f"not UTF-8 text: byte 0x{data[e.start]:02x} at offset {e.start} ({e.reason})",
+            line=line,
+            column=column,
+        ) from None
+    text = text.removeprefix("\ufeff")
+    bad = _NON_PRINTABLE.search(text)
+    if bad:
+        raise TaskFileError(
+            f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
+            " (a binary file?)",
+            **_line_col(text, bad.start()),
+        )
+    return text
+
+
+def _compose(text: str) -> yaml.Node | None:
+    """The YAML node tree, after a streaming pass that bounds nesting and size.
+
+    libyaml's composer recurses in C: a deeply nested flow list would crash the
+    process, so the depth is checked on the event stream before composing.
+    """
+    try:
+        depth = nodes = 0
+        for ev in yaml.parse(text, Loader=_Loader):
+            if isinstance(ev, yaml.NodeEvent):
+                nodes += 1
+                if nodes > MAX_NODES:
+                    raise TaskFileError(
+                        f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
+                        line=ev.start_mark.line + 1, column=ev.start_mark.column + 1,
+                    )  # fmt: skip
+            if isinstance(ev, yaml.CollectionStartEvent):
+                depth += 1
+                if depth > MAX_DEPTH:
+                    raise TaskFileError(
+                        f"nested deeper than {MAX_DEPTH} levels",
+                        line=ev.start_mark.line + 1, column=ev.start_mark.column + 1,
+                    )  # fmt: skip
+            elif isinstance(ev, yaml.CollectionEndEvent):
+                depth -= 1
+        return yaml.compose(text, Loader=_Loader)  # type: ignore[no-any-return]
     except yaml.MarkedYAMLError as e:
         mark = e.problem_mark or e.context_mark
-        problem = " ".join(str(x) for x in (e.context, e.problem) if x)
+        problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
         raise TaskFileError(
             f"YAML syntax error: {problem}",
             line=mark.line + 1 if mark else 0,
             column=mark.column + 1 if mark else 0,
         ) from None
     except yaml.YAMLError as e:
-        raise TaskFileError(f"YAML error: {e}") from None
-    except RecursionError:
-        raise TaskFileError("YAML nested too deeply") from None
+        raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
+
+
+def _parse(data: bytes | str, file: str) -> Task:
+    text = _decode(data)
+    if all(not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()):
+        raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
+    root = _compose(text)
     if root is None:
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     return _Builder(file).task(root, Path(file).stem)
@@ -100,22 +185,36 @@ def _where(node: yaml.Node) -> dict[str, int]:
     return {"line": node.start_mark.line + 1, "column": node.start_mark.column + 1}
 
 
+def _short(text: str, n: int = 40) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
 def _kind_of(node: yaml.Node) -> str:
+    """What a node is, for "found ..." in messages."""
     if isinstance(node, yaml.MappingNode):
         return "a mapping"
     if isinstance(node, yaml.SequenceNode):
-        return "a list"
+        return f"a list of {len(node.value)}"
     tag = node.tag.removeprefix(_TAG)
+    value = _short(str(node.value))
     if tag == "null":
         return "null"
     if tag == "bool":
-        return f"a boolean ({node.value})"
+        return f"a boolean ({value})"
     if tag in ("int", "float"):
-        return f"the number {node.value}"
-    return f"the text {node.value!r}"
+        return f"the number {value}"
+    if tag == "str":
+        return f"the text {value!r}"
+    return f"{value!r} (tagged {node.tag.replace(_TAG, '!!')})"
 
 
 class _Builder:
+    """Walks the node tree along the schema (``schema.TASK``), building a ``Task``.
+
+    Only the nodes the schema knows are visited, each counted against ``MAX_NODES``
+    (an alias counts every time it is followed), so aliasing cannot blow up the work.
+    """
+
     def __init__(self, file: str) -> None:
         self.file = file
         self.visited = 0
@@ -135,101 +234,160 @@ class _Builder:
             )  # fmt: skip
         if depth > MAX_DEPTH:
             raise self.error(f"nested deeper than {MAX_DEPTH} levels", node, key)
-        if node.tag not in _PLAIN_TAGS:
+        if node.tag == _TAG + "merge":
             raise self.error(
-                f"YAML tag {node.tag.replace(_TAG, '!!')} is not allowed: only plain text, numbers, "
-                "booleans, null, mappings and lists",
+                "merge keys (<<) are not supported: write the keys out (an alias of a whole"
+                " value, such as 3: *link, is fine)",
+                node, key,
+            )  # fmt: skip
+        if node.tag not in _PLAIN_TAGS:
+            what = ""
+            if node.tag == _TAG + "timestamp":
+                what = f" ({_short(str(node.value))!r} reads as a date)"
+            raise self.error(
+                f"YAML tag {node.tag.replace(_TAG, '!!')} is not allowed{what}: only plain text,"
+                " numbers, booleans, null, mappings and lists",
                 node, key,
             )  # fmt: skip
 
     def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> dict[str, yaml.Node]:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.MappingNode):
-            what = "the task file's top level" if not key else key
-            raise self.error(f"expected a mapping for {what}, found {_kind_of(node)}", node, key)
+            keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(spec.children)
+            what = f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
+            raise self.error(f"expected {what}, found {_kind_of(node)}", node, key)
         out: dict[str, yaml.Node] = {}
         for knode, vnode in node.value:
             self.visit(knode, key, depth + 1)
-            if not isinstance(knode, yaml.ScalarNode):
+            if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
                 raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
             k = str(knode.value)
             full = f"{key}.{k}" if key else k
             if k in out:
-                first = out[k].start_mark.line + 1
-                raise self.error(f"duplicate key {k!r} (first given on line {first})", knode, full)
+                first = self.lines.get(full, 0)
+                raise self.error(
+                    f"duplicate key {k!r} (first given on line {first}); YAML would silently"
+                    " keep the last",
+                    knode, full,
+                )  # fmt: skip
             if k not in spec.children:
                 allowed = list(spec.children)
                 near = difflib.get_close_matches(k, allowed, n=1, cutoff=0.6)
-                hint = f"; did you mean {near[0]!r}?" if near else f"; expected one of: {', '.join(allowed)}"
-                raise self.error(f"unknown key {k!r}{hint}", knode, full)
+                hint = (
+                    f"; did you mean {near[0]!r}?"
+                    if near
+                    else f"; expected one of: {', '.join(allowed)}"
+                )
+                raise self.error(f"unknown key {_short(k)!r}{hint}", knode, full)
             out[k] = vnode
             self.lines[full] = knode.start_mark.line + 1
         for k, child in spec.children.items():
             if child.required and k not in out:
                 full = f"{key}.{k}" if key else k
-                raise self.error(f"missing required key {k!r} ({child.description})", node, full)
+                where = f"in {key}" if key else "at the top level"
+                raise self.error(
+                    f"missing required key {k!r} {where} ({child.description.rstrip('.')})",
+                    node, full,
+                )  # fmt: skip
         return out
 
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in (_TAG + "int", _TAG + "float"):
-            raise self.error(f"expected a number ({spec.description}), found {_kind_of(node)}", node, key)
-        text = str(node.value).replace("_", "")
-        low = text.lower().lstrip("+-")
-        if low in (".nan",):
-            raise self.error("expected a finite number, found NaN", node, key)
-        if low in (".inf",):
-            raise self.error("expected a finite number, found infinity", node, key)
-        try:
-            if node.tag == _TAG + "int":
-                body = text.lstrip("+-")
-                octal = body.startswith("0") and body.strip("0") != ""
-                value = fmpq(_int8(text) if octal else int(text, 10))
-            else:
-                value = parse_decimal(text)
-        except (ValueError, ExpressionError):
-            raise self.error(f"expected a number, found {node.value!r}", node, key) from None
+        expected = f"a number ({spec.description})"
+        if not isinstance(node, yaml.ScalarNode):
+            raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
+        text = str(node.value).strip()
+        tag = node.tag.removeprefix(_TAG)
+        if tag == "str" and node.style is None and _YAML12_FLOAT.fullmatch(text):
+            tag = "float"
+        if tag not in ("int", "float"):
+            raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
+        if _NAN.fullmatch(text):
+            raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
+        if _INF.fullmatch(text):
+            raise self.error(
+                f"expected a finite number ({spec.description}), found infinity ({text})", node, key
+            )
+        value = self._number_value(node, text.replace("_", ""), tag, key)
         if spec.minimum is not None:
-            lo = fmpq(int(spec.minimum)) if float(spec.minimum).is_integer() else parse_decimal(str(spec.minimum))
-            if spec.exclusive and not value > lo:
-                raise self.error(f"expected a number > {spec.minimum:g} ({spec.description}), found {node.value}", node, key)
-            if not spec.exclusive and not value >= lo:
-                raise self.error(f"expected a number >= {spec.minimum:g} ({spec.description}), found {node.value}", node, key)
+            lo = parse_decimal(repr(spec.minimum))
+            op = ">" if spec.exclusive else ">="
+            if not (value > lo if spec.exclusive else value >= lo):
+                raise self.error(
+                    f"expected a number {op} {spec.minimum:g} ({spec.description}),"
+                    f" found {_short(text)}",
+                    node, key,
+                )  # fmt: skip
         return value
+
+    def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
+        try:
+            if _RADIX_INT.fullmatch(text) and tag == "int":
+                if len(text) > 40:
+                    raise ExpressionError(f"number {_short(text)!r} has more than 40 digits")
+                return fmpq(int(text, 0))
+            if tag == "int" and _DECIMAL_INT.fullmatch(text):
+                body = text.lstrip("+-")
+                if len(body) > 1 and body.startswith("0"):
+                    raise self.error(
+                        f"ambiguous number {text}: a leading 0 means octal in YAML 1.1 and decimal"
+                        " in YAML 1.2; write it without the leading 0 (or as 0o... for octal)",
+                        node, key,
+                    )  # fmt: skip
+                return parse_decimal(text)
+            if tag == "float":
+                return parse_decimal(text)
+        except ExpressionError as e:
+            raise self.error(f"expected a number, found {_short(text)!r}: {e.message}", node, key) from None
+        raise self.error(f"expected a decimal number, found {_short(text)!r}", node, key)
 
     def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            n = f"a list of {len(node.value)}" if isinstance(node, yaml.SequenceNode) else _kind_of(node)
-            raise self.error(f"expected a list of two numbers [{'a, b'}], found {n}", node, key)
+            raise self.error(
+                f"expected a list of two numbers ({spec.description}), found {_kind_of(node)}",
+                node, key,
+            )  # fmt: skip
         item = Spec("number", spec.description, minimum=spec.minimum, exclusive=spec.exclusive)
         a, b = (self.number(v, item, f"{key}[{i}]", depth + 1) for i, v in enumerate(node.value))
         return a, b
 
     def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
         self.visit(node, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in (_TAG + "str", _TAG + "int", _TAG + "float"):
-            raise self.error(f"expected a polynomial in {spec.variable}, found {_kind_of(node)}", node, key)
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in (
+            _TAG + "str", _TAG + "int", _TAG + "float"
+        ):  # fmt: skip
+            raise self.error(
+                f"expected a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1'),"
+                f" found {_kind_of(node)}",
+                node, key,
+            )  # fmt: skip
+        text = str(node.value)
         try:
-            return parse_polynomial(str(node.value), spec.variable)
+            return parse_polynomial(text, spec.variable)
         except ExpressionError as e:
             w = _where(node)
-            col = w["column"]
-            if node.style is None and "\n" not in str(node.value):
-                col += e.offset
-            elif node.style in ("'", '"') and "\n" not in str(node.value):
-                col += e.offset + 1
+            # Point at the offending character when the scalar is written on one line
+            # exactly as its value reads (no escapes, no folding); else at the scalar.
+            start, end = node.start_mark, node.end_mark
+            quote = 1 if node.style in ("'", '"') else 0
+            if node.style in (None, "'", '"') and start.line == end.line and (
+                end.index - start.index == len(text) + 2 * quote
+            ):
+                w["column"] += quote + e.offset
             raise TaskFileError(
-                f"bad polynomial in {spec.variable}: {e.message}", line=w["line"], column=col, key=key
+                f"bad polynomial in {spec.variable}: {e.message}", key=key, **w
             ) from None
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         self.visit(node, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag == _TAG + "null":
-            raise self.error(f"expected text, found {_kind_of(node)}", node, key)
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in (
+            _TAG + "str", _TAG + "int", _TAG + "float"
+        ):  # fmt: skip
+            raise self.error(f"expected text ({spec.description}), found {_kind_of(node)}", node, key)
         return str(node.value)
 
-    def boolean(self, node: yaml.Node, key: str, depth: int) -> bool:
+    def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag != _TAG + "bool":
             raise self.error(f"expected true or false, found {_kind_of(node)}", node, key)
@@ -237,9 +395,9 @@ class _Builder:
 
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         self.visit(node, key, depth)
-        v = str(node.value) if isinstance(node, yaml.ScalarNode) else None
+        v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
         if v not in spec.choices or node.tag != _TAG + "str":
-            near = difflib.get_close_matches(v or "", spec.choices, n=1, cutoff=0.6)
+            near = difflib.get_close_matches(v.lower(), spec.choices, n=1, cutoff=0.6)
             hint = f"; did you mean {near[0]!r}?" if near else ""
             raise self.error(
                 f"expected one of {', '.join(spec.choices)}, found {_kind_of(node)}{hint}", node, key
@@ -255,7 +413,9 @@ class _Builder:
         rs = S["robot"]
         rob = self.mapping(top["robot"], rs, "robot", 1)
         a1 = self.number(rob["a1"], rs.children["a1"], "robot.a1", 2)
-        g = self.number(rob["gravity"], rs.children["gravity"], "robot.gravity", 2) if "gravity" in rob else fmpq(981, 100)
+        g = fmpq(981, 100)
+        if "gravity" in rob:
+            g = self.number(rob["gravity"], rs.children["gravity"], "robot.gravity", 2)
         ls = rs.children["links"]
         lnodes = self.mapping(rob["links"], ls, "robot.links", 2)
         links = {}
@@ -263,7 +423,9 @@ class _Builder:
             lk = f"robot.links.{i}"
             spec = ls.children[str(i)]
             ln = self.mapping(lnodes[str(i)], spec, lk, 3)
-            links[i] = Link(*(self.number(ln[f], spec.children[f], f"{lk}.{f}", 4) for f in ("mass", "inertia", "r")))
+            links[i] = Link(
+                *(self.number(ln[f], spec.children[f], f"{lk}.{f}", 4) for f in ("mass", "inertia", "r"))
+            )
         robot = Robot(a1=a1, links=links, gravity=g)
 
         ps = S["path"]
@@ -276,7 +438,8 @@ class _Builder:
                 x0, y0 = ends[end]
                 if p(x0) != y0:
                     raise self.error(
-                        f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))}, found {_q(y0)}",
+                        f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
+                        f" found y = {_q(y0)}",
                         pth[end], f"path.{end}",
                     )  # fmt: skip
 
@@ -284,32 +447,37 @@ class _Builder:
         tim = self.mapping(top["timing"], ts, "timing", 1)
         duration = self.number(tim["duration"], ts.children["duration"], "timing.duration", 2)
         if "law" in tim and "x" in tim:
-            raise self.error("give either law or x, not both", top["timing"], "timing")
+            raise self.error(
+                "give either law or x, not both (law moves x between path.from and path.to;"
+                " x gives x(t) explicitly)",
+                top["timing"], "timing",
+            )  # fmt: skip
         if "law" in tim:
             law = self.enum(tim["law"], ts.children["law"], "timing.law", 2)
             missing = [e for e in ("from", "to") if e not in ends]
             if missing:
                 raise self.error(
-                    f"law {law} needs path.{' and path.'.join(missing)} (the points it moves between)",
+                    f"law {law} needs path.{' and path.'.join(missing)} (the points it moves"
+                    " between)",
                     tim["law"], "timing.law",
                 )  # fmt: skip
             x_of_t = timing_law(law, ends["from"][0], ends["to"][0], duration)
         elif "x" in tim:
             law = "explicit"
             x_of_t = self.polynomial(tim["x"], ts.children["x"], "timing.x", 2)
-            for end, at in (("from", fmpq(0)), ("to", duration)):
+            for end, at, when in (("from", fmpq(0), "0"), ("to", duration, "t_f")):
                 if end in ends and x_of_t(at) != ends[end][0]:
                     raise self.error(
-                        f"path.{end} has x = {_q(ends[end][0])} but timing.x gives x({_q(at)}) = {_q(x_of_t(at))}",
+                        f"path.{end} has x = {_q(ends[end][0])} but timing.x gives"
+                        f" x({when} = {_q(at)}) = {_q(x_of_t(at))}",
                         pth[end], f"path.{end}",
                     )  # fmt: skip
         else:
-            raise self.error("missing timing law: give law (quintic or cubic) or x (a polynomial in t)", top["timing"], "timing")
-        degree = max(p.degree(), 0) * max(x_of_t.degree(), 0)
-        if degree > MAX_DEGREE:
             raise self.error(
-                f"the composition y(x(t)) has degree {degree}, beyond the cap of {MAX_DEGREE}", pth["y"], "path.y"
-            )
+                "missing timing law: give law (quintic or cubic) or x (a polynomial in t)",
+                top["timing"], "timing",
+            )  # fmt: skip
+        self._check_composition(p, x_of_t, pth["y"])
 
         checks = Checks()
         if "checks" in top:
@@ -320,23 +488,38 @@ class _Builder:
                 if k in ch:
                     kw[k] = self.number(ch[k], cs.children[k], f"checks.{k}", 2)
             if "torque_limit" in ch:
-                kw["torque_limit"] = self.pair(ch["torque_limit"], cs.children["torque_limit"], "checks.torque_limit", 2)
+                kw["torque_limit"] = self.pair(
+                    ch["torque_limit"], cs.children["torque_limit"], "checks.torque_limit", 2
+                )
             if "strict" in ch:
-                kw["strict"] = self.boolean(ch["strict"], "checks.strict", 2)
+                kw["strict"] = self.boolean(ch["strict"], cs.children["strict"], "checks.strict", 2)
             checks = Checks(**kw)
         return Task(
             name=name, robot=robot, path=p, x_of_t=x_of_t, duration=duration, law=law,
             checks=checks, lines=dict(self.lines), source=self.file,
         )  # fmt: skip
 
+    def _check_composition(self, p: fmpq_poly, x: fmpq_poly, node: yaml.Node) -> None:
+        """Cap the degree of y(x(t)) and bound the size of its coefficients.
 
-def _int8(text: str) -> int:
-    """YAML 1.1 integers with a leading 0 are octal (0o17 or 017)."""
-    sign = -1 if text.startswith("-") else 1
-    body = text.lstrip("+-")
-    if body[:2].lower() in ("0x", "0o", "0b"):
-        return sign * int(body, 0)
-    return sign * int(body, 8)
+        With p = P/dp and x = X/dx (integer polynomials over their common denominators),
+        p(x) = sum P_k X^k dx^(d-k) / (dp dx^d), so every integer in it has at most
+        h(p) + d (h(x) + log2 len(X)) + log2 (d + 1) bits, h = ``polynomial.height``.
+        """
+        dp, dx = max(p.degree(), 0), max(x.degree(), 0)
+        if dp * dx > MAX_DEGREE:
+            raise self.error(
+                f"the composition y(x(t)) has degree {dp * dx} (path degree {dp} × timing degree"
+                f" {dx}), beyond the cap of {MAX_DEGREE}",
+                node, "path.y",
+            )  # fmt: skip
+        bits = height(p) + dp * (height(x) + len(x.coeffs()).bit_length()) + (dp + 1).bit_length()
+        if bits > MAX_COMPOSED_BITS:
+            raise self.error(
+                f"numbers too large: the coefficients of y(x(t)) may reach {bits} bits, beyond the"
+                f" cap of {MAX_COMPOSED_BITS}",
+                node, "path.y",
+            )  # fmt: skip
 
 
 def _q(v: fmpq) -> str:
@@ -348,7 +531,6 @@ def _q(v: fmpq) -> str:
         d //= 5
     if d == 1:
         s = f"{float(int(v.p) / int(v.q)):.15g}"
-        if parse_decimal(s) == v:
+        if "e" not in s and "inf" not in s and parse_decimal(s) == v:
             return s
     return str(v)
-

@@ -27,9 +27,22 @@ MAX_LENGTH = 4000  # characters in one expression
 MAX_DEPTH = 50  # nesting of parentheses and unary signs
 MAX_DIGITS = 40  # significant characters in one number literal
 MAX_EXP10 = 30  # |e| in a literal such as 1.5e-3
+MAX_BITS = 16384  # bits of any numerator or the common denominator of a parsed polynomial
 
-_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+# ASCII digits only: "\d" would also take Arabic-Indic or full-width digits.
+_NUMBER = re.compile(r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+_EXPONENT = re.compile(r"[0-9]+")
+
+
+def height(p: fmpq_poly) -> int:
+    """Bits of the largest integer in ``p`` written as (integer polynomial) / (common denominator)."""
+    num = max((abs(int(c)).bit_length() for c in p.numer().coeffs()), default=0)
+    return max(num, int(p.denom()).bit_length())
+
+
+def _bits_of(n: int) -> int:
+    return max(n, 1).bit_length()
 
 
 def parse_decimal(text: str) -> fmpq:
@@ -56,9 +69,12 @@ def parse_decimal(text: str) -> fmpq:
 
 def _literal(text: str) -> fmpq:
     mantissa, _, exp = text.lower().partition("e")
-    if len(mantissa.strip("0.")) > MAX_DIGITS:
-        raise ExpressionError(f"number {text!r} has more than {MAX_DIGITS} digits")
-    if exp and abs(int(exp)) > MAX_EXP10:
+    digits = mantissa.replace(".", "").lstrip("0")
+    if len(digits) > MAX_DIGITS:
+        shown = text if len(text) <= 24 else text[:20] + "..."
+        raise ExpressionError(f"number {shown!r} has more than {MAX_DIGITS} digits")
+    # the exponent text is bounded first, so int() never sees a huge string
+    if exp and (len(exp.lstrip("+-").lstrip("0")) > 3 or abs(int(exp)) > MAX_EXP10):
         raise ExpressionError(f"number {text!r} has an exponent beyond ±{MAX_EXP10}")
     f = Fraction(mantissa) * Fraction(10) ** int(exp or "0")
     return fmpq(f.numerator, f.denominator)
@@ -107,8 +123,9 @@ class _Parser:
         while self._peek() in ("+", "-"):
             op = self._peek()
             self.pos += 1
+            at = self.pos - 1
             q = self.term()
-            p = p + q if op == "+" else p - q
+            p = self._bounded(p + q if op == "+" else p - q, at)
         return p
 
     def term(self) -> fmpq_poly:
@@ -120,14 +137,25 @@ class _Parser:
             q = self.unary()
             if op == "*":
                 if p.degree() + q.degree() > MAX_DEGREE:
-                    raise self._error(f"degree exceeds the cap of {MAX_DEGREE}", at)
-                p = p * q
+                    raise self._error(
+                        f"degree {p.degree() + q.degree()} exceeds the cap of {MAX_DEGREE}", at
+                    )
+                p = self._bounded(p * q, at)
             else:
                 if q.degree() > 0:
-                    raise self._error(f"division by a non-constant (by a polynomial in {self.var})", at)
+                    raise self._error(
+                        f"division by a non-constant (by a polynomial of degree {q.degree()} in"
+                        f" {self.var}): only division by a nonzero number is allowed",
+                        at,
+                    )
                 if q.is_zero():
                     raise self._error("division by zero", at)
-                p = p / q[0]
+                p = self._bounded(p / q[0], at)
+        return p
+
+    def _bounded(self, p: fmpq_poly, at: int) -> fmpq_poly:
+        if height(p) > MAX_BITS:
+            raise self._error(f"numbers too large: coefficients beyond {MAX_BITS} bits", at)
         return p
 
     def unary(self) -> fmpq_poly:
@@ -152,23 +180,37 @@ class _Parser:
             at = self.pos
             self.pos += len(op)
             self._skip()
-            m = re.compile(r"\d+").match(self.text, self.pos)
+            m = _EXPONENT.match(self.text, self.pos)
             if not m:
-                found = self._found()
                 if self._peek() == "-":
-                    raise self._error("negative exponent: exponents must be integers 0..60", at)
-                raise self._error(f"expected a non-negative integer exponent, found {found}", at)
+                    raise self._error(
+                        f"negative exponent: exponents must be integers 0..{MAX_DEGREE}", at
+                    )
+                raise self._error(
+                    f"expected a non-negative integer exponent (0..{MAX_DEGREE}),"
+                    f" found {self._found()}",
+                    at,
+                )
             end = m.end()
             if end < len(self.text) and self.text[end] in ".eE":
-                raise self._error("fractional exponent: exponents must be integers 0..60", at)
-            if len(m.group(0)) > 3 or int(m.group(0)) > MAX_DEGREE:
-                raise self._error(f"exponent {m.group(0)} exceeds the cap of {MAX_DEGREE}", at)
-            n = int(m.group(0))
+                raise self._error(
+                    f"fractional exponent: exponents must be integers 0..{MAX_DEGREE}", at
+                )
+            digits = m.group(0).lstrip("0") or "0"
+            if len(digits) > 3 or int(digits) > MAX_DEGREE:
+                shown = digits if len(digits) <= 12 else digits[:8] + "..."
+                raise self._error(f"exponent {shown} exceeds the cap of {MAX_DEGREE}", at)
+            n = int(digits)
             self.pos = end
             if base.degree() > 0 and base.degree() * n > MAX_DEGREE:
-                raise self._error(f"degree exceeds the cap of {MAX_DEGREE}", at)
+                raise self._error(
+                    f"degree {base.degree() * n} exceeds the cap of {MAX_DEGREE}", at
+                )
             if self._peek() in ("^", "**"):
                 raise self._error("chained exponents are ambiguous: use parentheses", self.pos)
+            # bound the result before computing it: height(b^n) <= n * (height(b) + log2 len(b))
+            if n * (height(base) + _bits_of(len(base.coeffs()))) > MAX_BITS:
+                raise self._error(f"numbers too large: coefficients beyond {MAX_BITS} bits", at)
             return base**n
         return base
 
@@ -196,7 +238,7 @@ class _Parser:
                     " (write multiplication as '*')"
                 )
             try:
-                return fmpq_poly([_literal(m.group(0))])
+                return self._bounded(fmpq_poly([_literal(m.group(0))]), start)
             except ExpressionError as e:
                 raise self._error(e.message, start) from None
         m = _NAME.match(self.text, self.pos)

@@ -111,13 +111,23 @@ TASK = Spec(
 
 
 def json_schema() -> dict[str, Any]:
-    """The task schema as a JSON Schema (draft 2020-12) document."""
+    """The task schema as a JSON Schema (draft 2020-12) document.
+
+    Shipped as ``rprpr_cli/task.schema.json`` (a test keeps the two equal). JSON Schema
+    cannot say everything the loader checks: the exact polynomial grammar (the pattern
+    below only admits the right characters), the degree caps, ``from``/``to`` lying on
+    the path and agreeing with an explicit x(t), finite numbers, duplicate keys and
+    YAML tags are the loader's alone.
+    """
     doc = _json(TASK)
     doc["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     doc["$id"] = "https://rprpr.dev/schema/task.json"
     doc["title"] = "rprpr task file"
     timing = doc["properties"]["timing"]
     timing["oneOf"] = [{"required": ["law"]}, {"required": ["x"]}]
+    # A rest-to-rest law moves between path.from and path.to, so it needs both.
+    doc["if"] = {"required": ["timing"], "properties": {"timing": {"required": ["law"]}}}
+    doc["then"] = {"properties": {"path": {"required": ["from", "to"]}}}
     return doc
 
 
@@ -134,10 +144,9 @@ def _json(s: Spec) -> dict[str, Any]:
             out["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
     elif s.kind == "polynomial":
         out["type"] = ["string", "number"]
-        if isinstance(out["type"], list):
-            out["pattern"] = rf"^[0-9{s.variable}+\-*/^(). \teE]+$"
+        out["pattern"] = rf"^[0-9{s.variable}+\-*/^(). \t\r\neE]*[0-9{s.variable}][0-9{s.variable}+\-*/^(). \t\r\neE]*$"
     elif s.kind == "string":
-        out["type"] = "string"
+        out["type"] = ["string", "number"]  # a name such as 2024 is taken as written
     elif s.kind == "bool":
         out["type"] = "boolean"
     elif s.kind == "enum":
