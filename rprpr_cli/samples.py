@@ -72,7 +72,7 @@ class Samples:
     T2: np.ndarray
 
     def column(self, name: str) -> np.ndarray:
-        return getattr(self, name)  # type: ignore[no-any-return]
+        return getattr(self, name)
 
     def rows(self) -> np.ndarray:
         """The export columns as a 2-D array, one row per sample."""
@@ -233,7 +233,7 @@ def _nearest(t: np.ndarray, analysis: SingularAnalysis) -> np.ndarray:
     if not analysis.instants:
         return np.full(len(t), -1)
     ts = np.array([s.t for s in analysis.instants])
-    return np.argmin(np.abs(t[:, None] - ts[None, :]), axis=1)  # type: ignore[no-any-return]
+    return np.argmin(np.abs(t[:, None] - ts[None, :]), axis=1)
 
 
 def _recentered(

@@ -20,9 +20,11 @@ coefficients in K = Q[t]/(f) (``series``), so that "vanishes" is decided exactly
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
-from flint import acb, arb, ctx, fmpq, fmpq_poly, fmpz_poly
+from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
 
 from . import dynamics as dyn
 from .cases import Case, case_of
@@ -99,33 +101,39 @@ class SingularAnalysis:
     on_singular_line: bool  # y(t) is identically zero: the whole motion is singular
 
 
-def _real_roots(f: fmpq_poly) -> list[tuple[fmpq | None, callable]]:  # type: ignore[valid-type]
-    """The real roots of irreducible f: (exact value if rational, prec -> arb ball)."""
+RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
+
+
+def _real_roots(f: fmpq_poly) -> list[tuple[fmpq | None, RootAt]]:
+    """The real roots of irreducible f in increasing order: (exact value when rational,
+    precision -> certified ball). Balls at higher precision are computed once and cached."""
     if f.degree() == 1:
         r = -f[0] / f[1]
-        return [(r, lambda prec, r=r: arb(r))]
-    z = fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])
-    roots = [c for c, _ in z.complex_roots() if c.imag == 0]
-    out = []
-    for i in range(len(roots)):
 
-        def at(prec: int, i: int = i) -> arb:
-            if prec <= 53:
-                return roots[i].real
+        def exact_ball(prec: int) -> arb:
+            return arb(r)
+
+        return [(r, exact_ball)]
+    z = fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])
+    cache: dict[int, list[arb]] = {}
+
+    def balls(prec: int) -> list[arb]:
+        prec = max(prec, 53)
+        if prec not in cache:
             old = ctx.prec
             ctx.prec = prec
             try:
-                rs = sorted(
-                    (c.real for c, _ in z.complex_roots() if c.imag == 0), key=lambda b: b.mid()
-                )
+                found = [c.real for c, _ in z.complex_roots() if c.imag == 0]
             finally:
                 ctx.prec = old
-            return rs[i]
+            # real roots of an irreducible polynomial are simple and distinct
+            cache[prec] = sorted(found, key=lambda b: b.mid())
+        return cache[prec]
 
-        out.append((None, at))
-    # real roots of an irreducible polynomial are simple and distinct: sort by midpoint
-    order = sorted(range(len(roots)), key=lambda j: roots[j].real.mid())
-    return [out[j] for j in order] if len(roots) > 1 else out
+    def ball(i: int) -> RootAt:
+        return lambda prec: balls(prec)[i]
+
+    return [(None, ball(i)) for i in range(len(balls(53)))]
 
 
 def _no_root_inside(f: fmpq_poly, duration: fmpq) -> bool:
@@ -140,7 +148,7 @@ def _no_root_inside(f: fmpq_poly, duration: fmpq) -> bool:
     return all(a == signs[0] for a in signs)
 
 
-def _in_span(exact: fmpq | None, at, duration: fmpq) -> bool:  # type: ignore[no-untyped-def]
+def _in_span(exact: fmpq | None, at: RootAt, duration: fmpq) -> bool:
     if exact is not None:
         return 0 <= exact <= duration
     prec = 53
@@ -153,7 +161,7 @@ def _in_span(exact: fmpq | None, at, duration: fmpq) -> bool:  # type: ignore[no
         prec *= 2
 
 
-def _root_float(exact: fmpq | None, at) -> float:  # type: ignore[no-untyped-def]
+def _root_float(exact: fmpq | None, at: RootAt) -> float:
     if exact is not None:
         return int(exact.p) / int(exact.q)
     return float(at(128).mid())
@@ -211,10 +219,11 @@ def expansion(
     out = []
     for p in (traj.x, traj.y):
         c = taylor(p, n + 2)
-        if scalar is KElem:
-            e = [field.elem(ck) for ck in c]
-        else:
-            e = [field.to_float(ck % field.f) for ck in c]
+        e: list[Any] = (
+            [field.elem(ck) for ck in c]
+            if scalar is KElem
+            else [field.to_float(ck % field.f) for ck in c]
+        )
         out.append(Series(e[:n]))
         out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -228,7 +237,7 @@ def legs(
     """Both legs' series; s1(t_s) = |x(t_s)| and s2(t_s) = |x(t_s) - a1| since y(t_s) = 0."""
     U2 = X - a1
 
-    def hyp(sign: int):  # type: ignore[no-untyped-def]
+    def hyp(sign: int) -> Callable[[Series, Series], Series]:
         return lambda u, v: (u * u + v * v).sqrt_with(u.c[0] * sign)
 
     return (
@@ -244,7 +253,7 @@ def _instant(
     f: fmpq_poly,
     m: int,
     exact: fmpq | None,
-    at,  # type: ignore[no-untyped-def]
+    at: RootAt,
     t: float,
 ) -> SingularInstant:
     K = NumberField(f, at)
