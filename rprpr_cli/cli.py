@@ -10,121 +10,169 @@ from __future__ import annotations
 import json
 import os
 import sys
+import time
 import traceback
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TextIO
 
 import click
 
 from . import __version__
 from .errors import ExitCode, TaskFileError
 
+if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
+    from .report import Run
+
 FORMATS = ("text", "json", "junit", "github")
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
+TASK_SUFFIXES = (".yaml", ".yml")
+NON_TTY_WIDTH = 160  # text report width when not writing to a terminal (COLUMNS overrides)
 
 
 def collect_tasks(paths: Sequence[str]) -> list[str]:
-    """Files as given; directories searched recursively for *.yaml and *.yml, sorted."""
+    """The task files to check, in order: each file as given; each directory searched
+    recursively for *.yaml and *.yml, sorted by path, skipping hidden files and
+    directories (.git, .venv, .github, .pre-commit-config.yaml ...). A file named twice
+    is checked once, at its first place."""
     out: list[str] = []
     for p in paths:
         if os.path.isdir(p):
-            found = [
-                str(f) for f in Path(p).rglob("*") if f.suffix in (".yaml", ".yml") and f.is_file()
-            ]
-            out.extend(sorted(found))
+            found: list[tuple[tuple[str, ...], str]] = []
+            for top, dirs, files in os.walk(p):
+                dirs[:] = [d for d in dirs if not d.startswith(".")]
+                for f in files:
+                    if f.endswith(TASK_SUFFIXES) and not f.startswith("."):
+                        full = os.path.join(top, f)
+                        found.append((Path(os.path.relpath(full, p)).parts, full))
+            out.extend(full for _, full in sorted(found))
         else:
             out.append(p)
-    return out
+    seen: set[str] = set()
+    unique = []
+    for f in out:
+        key = os.path.normcase(os.path.normpath(f))
+        if key not in seen:
+            seen.add(key)
+            unique.append(f)
+    return unique
 
 
-def check_one(path: str, samples: int, strict: bool | None) -> tuple[str, dict[str, Any]]:
-    """Audit one task file: ("report", report) | ("input", error) | ("internal", error)."""
+def check_one(path: str, samples: int, strict: bool | None) -> tuple[str, dict[str, Any], float]:
+    """Load and audit one task file: (kind, item, seconds), kind "report" (item: the
+    report), "input" (a bad task file) or "internal" (a bug; the item names the file)."""
     from .audit import audit
     from .loader import load_task
-    from .report import input_error, task_report
+    from .report import INPUT, INTERNAL, REPORT, input_error, internal_error, task_report
 
+    start = time.perf_counter()
     try:
         task = load_task(path)
     except TaskFileError as e:
-        return "input", input_error(e, path)
+        return INPUT, input_error(e, path), time.perf_counter() - start
     except Exception as e:  # a bug while reading: still name the file
-        return "internal", _internal(path, e)
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start
     try:
-        return "report", task_report(audit(task, samples=samples, strict=strict), path)
+        report = task_report(audit(task, samples=samples, strict=strict), path)
     except Exception as e:
-        return "internal", _internal(path, e)
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start
+    return REPORT, report, time.perf_counter() - start
 
 
-def _internal(path: str, e: BaseException) -> dict[str, Any]:
-    return {
-        "task": path,
-        "message": f"{type(e).__name__}: {e}",
-        "text": f"{path}: internal error ({type(e).__name__}: {e}); please report it to the"
-        " rprpr maintainers with this task file",
-        "traceback": "".join(traceback.format_exception(e)),
-    }
-
-
-def _check_star(args: tuple[str, int, bool | None]) -> tuple[str, dict[str, Any]]:
+def _check_star(args: tuple[str, int, bool | None]) -> tuple[str, dict[str, Any], float]:
     return check_one(*args)
 
 
 def run_checks(
-    files: Sequence[str], samples: int, strict: bool | None, jobs: int, progress: bool
-) -> Any:
+    files: Sequence[str], samples: int, strict: bool | None, jobs: int, progress: Any = None
+) -> Run:
+    """Audit ``files`` in ``jobs`` worker processes (1: in this process); the outcomes come
+    back in task order, so the report does not depend on ``jobs``. ``progress`` is a
+    rich Console to draw a progress bar on, or None."""
+    from . import audit, loader  # noqa: F401  (imported before forking: workers inherit them)
     from .report import Run
 
     run = Run()
     args = [(f, samples, strict) for f in files]
-    results: Iterable[tuple[str, dict[str, Any]]]
+    results: Iterable[tuple[str, dict[str, Any], float]]
     pool = None
-    if jobs > 1 and len(files) > 1:
+    jobs = min(jobs, len(files))
+    if jobs > 1:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
+        # fork: workers start in milliseconds with the modules above already imported
         ctx = multiprocessing.get_context("fork" if sys.platform.startswith("linux") else "spawn")
         pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
-        chunk = max(1, min(32, len(files) // (4 * jobs)))
-        results = pool.map(_check_star, args, chunksize=chunk)
+        chunk = max(1, min(16, len(files) // (8 * jobs)))
+        results = pool.map(_check_star, args, chunksize=chunk)  # submits (and forks) now
     else:
         results = map(_check_star, args)
     try:
-        if progress:
+        if progress is not None:
             from rich.progress import Progress
 
-            with Progress(console=_console(sys.stderr, "auto"), transient=True) as bar:
+            with Progress(console=progress, transient=True) as bar:
                 job = bar.add_task("checking", total=len(files))
-                for kind, item in results:
-                    _add(run, kind, item)
+                for result in results:
+                    run.add(*result)
                     bar.advance(job)
         else:
-            for kind, item in results:
-                _add(run, kind, item)
+            for result in results:
+                run.add(*result)
     finally:
         if pool is not None:
-            pool.shutdown()
+            pool.shutdown(cancel_futures=True)
     return run
 
 
-def _add(run: Any, kind: str, item: dict[str, Any]) -> None:
-    target = {"report": run.reports, "input": run.input_errors, "internal": run.internal_errors}[kind]
-    run.order.append((kind, len(target)))
-    target.append(item)
+def color_enabled(color: str, stream: Any, environ: Mapping[str, str] = os.environ) -> bool:
+    """Whether to colour output on ``stream``: ``--color always``/``never`` win; else
+    NO_COLOR (set and not empty) turns colour off, then FORCE_COLOR (set and not empty)
+    turns it on; else colour only on a terminal (TERM not ``dumb``)."""
+    if color != "auto":
+        return color == "always"
+    if environ.get("NO_COLOR"):
+        return False
+    if environ.get("FORCE_COLOR"):
+        return True
+    try:
+        tty = bool(stream.isatty())
+    except (AttributeError, ValueError):
+        tty = False
+    return tty and environ.get("TERM", "") not in ("dumb", "unknown")
 
 
-def _console(stream: Any, color: str, width: int | None = None) -> Any:
+def make_console(stream: Any, colored: bool, environ: Mapping[str, str] = os.environ) -> Any:
+    """A rich Console on ``stream``: ANSI styles only when ``colored``; no markup, emoji or
+    highlighting (task names and messages are printed as they are)."""
     from rich.console import Console
 
-    kw: dict[str, Any] = {"file": stream, "highlight": False}
-    if color == "always":
-        kw["force_terminal"] = True
-    elif color == "never":
-        kw["no_color"] = True
-        kw["color_system"] = None
-    if not stream.isatty():
-        kw["width"] = width or 160
-    return Console(**kw)
+    try:
+        tty = bool(stream.isatty())
+    except (AttributeError, ValueError):
+        tty = False
+    kw: dict[str, Any] = {"file": stream, "highlight": False, "markup": False, "emoji": False}
+    if colored:
+        kw.update(force_terminal=True, no_color=False, color_system="auto")
+    else:
+        kw.update(force_terminal=tty, no_color=True, color_system=None)
+    if not tty:
+        cols = environ.get("COLUMNS", "")
+        kw["width"] = int(cols) if cols.isdigit() and int(cols) > 0 else NON_TTY_WIDTH
+    console = Console(**kw)
+    if colored and console.color_system is None:  # colour forced on a dumb terminal
+        console = Console(**{**kw, "color_system": "standard"})
+    return console
+
+
+def want_progress(n_tasks: int, stream: Any, quiet: bool) -> bool:
+    """A progress bar only on a terminal, for more than a handful of tasks, unless -q."""
+    try:
+        tty = bool(stream.isatty())
+    except (AttributeError, ValueError):
+        tty = False
+    return tty and n_tasks > PROGRESS_MIN_TASKS and not quiet
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -136,57 +184,124 @@ def main_group() -> None:
 
 @main_group.command()
 @click.argument("tasks", nargs=-1, required=True, type=click.Path())
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
-              help="Report format.")
-@click.option("-o", "--output-file", type=click.Path(dir_okay=False, writable=True),
-              help="Write the report here instead of standard output.")
-@click.option("--strict", is_flag=True, default=None,
-              help="Also fail on inconsistent/unbounded singular instants and torque limits.")
-@click.option("--samples", type=click.IntRange(2, 1_000_000), default=1001, show_default=True,
-              help="Sample points t = 0 .. t_f for the torques.")
-@click.option("-j", "--jobs", type=click.IntRange(1, 256), default=1, show_default=True,
-              help="Worker processes.")
-@click.option("-q", "--quiet", is_flag=True, help="Report only failures and errors.")
-@click.option("--exit-zero", is_flag=True,
-              help="Exit 0 even when a task fails (bad input and internal errors still count).")
-@click.option("--color", type=click.Choice(["auto", "always", "never"]), default="auto",
-              show_default=True, help="Colour in the text report (NO_COLOR and FORCE_COLOR are honoured).")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FORMATS),
+    default="text",
+    show_default=True,
+    help="Report format: text (rich), json, junit (JUnit XML) or github "
+    "(GitHub Actions annotations).",
+)
+@click.option(
+    "-o",
+    "--output-file",
+    type=click.Path(dir_okay=False),
+    help="Write the report to this file instead of standard output.",
+)
+@click.option(
+    "--strict",
+    is_flag=True,
+    default=None,
+    help="Also fail on inconsistent/unbounded singular instants and torque limits.",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(2, 1_000_000),
+    default=1001,
+    show_default=True,
+    help="Sample points t = 0 .. t_f for the torques.",
+)
+@click.option(
+    "-j",
+    "--jobs",
+    type=click.IntRange(0, 256),
+    default=1,
+    show_default=True,
+    help="Worker processes (0: one per CPU). The report is the same for any N.",
+)
+@click.option(
+    "-q",
+    "--quiet",
+    is_flag=True,
+    help="Report only failures and errors (text, json, github; JUnit lists every task).",
+)
+@click.option(
+    "--exit-zero",
+    is_flag=True,
+    help="Exit 0 even when a task fails (bad input and internal errors still count).",
+)
+@click.option(
+    "--color",
+    type=click.Choice(["auto", "always", "never"]),
+    default="auto",
+    show_default=True,
+    help="Colour in the text report; auto honours NO_COLOR, FORCE_COLOR and a non-terminal output.",
+)
 def check(
     tasks: tuple[str, ...], fmt: str, output_file: str | None, strict: bool | None,
     samples: int, jobs: int, quiet: bool, exit_zero: bool, color: str,
 ) -> None:  # fmt: skip
-    """Audit every Type II singular instant of each TASK (files or directories)."""
+    """Audit every Type II singular instant of each TASK (task files, or directories
+    searched recursively for *.yaml and *.yml).
+
+    Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
+    file, 3 internal error (the highest that applies)."""
     files = collect_tasks(tasks)
     if not files:
         raise click.UsageError(f"no task files (*.yaml, *.yml) found in {', '.join(tasks)}")
-    progress = sys.stderr.isatty() and len(files) > PROGRESS_MIN_TASKS and fmt == "text"
-    run = run_checks(files, samples, strict or None, jobs, progress)
-    out = open(output_file, "w", encoding="utf-8") if output_file else sys.stdout  # noqa: SIM115
+    out = _open_output(output_file)
     try:
-        if fmt == "text":
-            from .render_text import render
-
-            render(run, _console(out, color), _console(sys.stderr, color), quiet=quiet)
-        elif fmt == "json":
-            doc = run.document()
-            if quiet:
-                doc["reports"] = [r for r in doc["reports"] if r["verdict"] != "pass"]
-            out.write(json.dumps(doc, indent=2) + "\n")
-        elif fmt == "junit":
-            from .render_junit import render as junit
-
-            out.write(junit(run))
-        else:
-            from .render_github import render as github
-
-            out.write(github(run))
+        show = want_progress(len(files), sys.stderr, quiet)
+        progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
+        run = run_checks(files, samples, strict or None, jobs or (os.cpu_count() or 1), progress)
+        _write_report(run, fmt, out, output_file, quiet, color)
     finally:
         if output_file:
             out.close()
-    if fmt != "text":
+    if fmt != "text" or output_file:  # the one-line errors also go to stderr for the log
         for e in run.input_errors + run.internal_errors:
             click.echo(e["text"], err=True)
     raise SystemExit(int(run.exit_code(exit_zero)))
+
+
+def _open_output(output_file: str | None) -> TextIO:
+    """The report's stream; a file that cannot be written is a usage error, found before
+    any task is audited."""
+    if not output_file:
+        return sys.stdout
+    try:
+        return open(output_file, "w", encoding="utf-8", newline="\n")
+    except OSError as e:
+        raise click.UsageError(
+            f"cannot write the output file {output_file}: {e.strerror or e}"
+        ) from None
+
+
+def _write_report(
+    run: Run, fmt: str, out: TextIO, output_file: str | None, quiet: bool, color: str
+) -> None:
+    if fmt == "text":
+        from .render_text import render
+
+        # colour in a file only when asked for (--color always), never from the environment
+        colored = color == "always" if output_file else color_enabled(color, out)
+        err = make_console(sys.stderr, color_enabled(color, sys.stderr))
+        # bad task files: on stderr, and in the report too when it goes to a file
+        render(run, make_console(out, colored), err, quiet=quiet, errors_inline=bool(output_file))
+        return
+    if fmt == "json":
+        text = json.dumps(run.document(quiet=quiet), indent=2) + "\n"
+    elif fmt == "junit":
+        from .render_junit import render as junit
+
+        text = junit(run)
+    else:
+        from .render_github import render as github
+
+        text = github(run, quiet=quiet)
+    out.write(text)
+    out.flush()
 
 
 @main_group.command()

@@ -56,23 +56,28 @@ def singularity_table(rep: dict[str, Any]) -> Table:
     return table
 
 
-def render(run: Run, console: Console, err_console: Console, quiet: bool = False) -> None:
-    """Print each task's report in task order; input and internal errors to ``err_console``."""
-    for kind, i in run.order:
-        if kind == "input":
-            err_console.print(Text(run.input_errors[i]["text"], style="red"), soft_wrap=True)
+def render(
+    run: Run, console: Console, err_console: Console, quiet: bool = False,
+    errors_inline: bool = False,
+) -> None:  # fmt: skip
+    """Print each task's report in task order, then a summary line when more than one
+    task was checked. A task file that could not be read (or met a bug) is one line on
+    ``err_console``, or in the report itself when ``errors_inline``. ``quiet`` leaves out
+    passing tasks, and the summary when every task passed."""
+    for kind, item, _ in run.entries():
+        if kind != "report":
+            style = "red" if kind == "input" else "bold red"
+            target = console if errors_inline else err_console
+            target.print(Text(item["text"], style=style), soft_wrap=True)
             continue
-        if kind == "internal":
-            err_console.print(Text(run.internal_errors[i]["text"], style="bold red"), soft_wrap=True)
+        if quiet and item["verdict"] == "pass":
             continue
-        rep = run.reports[i]
-        if quiet and rep["verdict"] == "pass":
-            continue
-        _task(rep, console)
+        _task(item, console)
     s = run.summary()
-    if s["tasks"] > 1:
+    if s["tasks"] > 1 and not (quiet and s["passed"] == s["tasks"]):
+        errors = f"{s['errors']} error{'s' if s['errors'] != 1 else ''}"
         console.print(
-            f"{s['tasks']} tasks: {s['passed']} passed, {s['failed']} failed, {s['errors']} errors",
+            f"{s['tasks']} tasks: {s['passed']} passed, {s['failed']} failed, {errors}",
             style="bold",
         )
 
@@ -88,13 +93,22 @@ def _task(rep: dict[str, Any], console: Console) -> None:
         console.print("  no Type II singular instant in [0, t_f]")
     for k in rep["kinematic_singularities"]:
         joint = "A" if k["leg"] == 1 else "B"
-        console.print(f"  inverse-kinematic singularity at t = {k['t']:.6g} s: E at {joint}", style="red")
+        console.print(
+            f"  inverse-kinematic singularity at t = {k['t']:.6g} s: E at {joint}", style="red"
+        )
     for f in rep["findings"]:
-        style = "red" if f["severity"] == "error" else "yellow"
-        console.print(Text.assemble("  ", (f"{f['rule']} {f['name']}", style), f": {f['message']}"), soft_wrap=True)
+        if f["severity"] == "error":
+            title = (f"{f['rule']} {f['name']}", "red")
+        else:  # strict-mode-only, not strict: shown, does not fail the task
+            title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
+        console.print(Text.assemble("  ", title, f": {f['message']}"), soft_wrap=True)
     peak = rep["torque_peak"]
     peak_text = f"; peak |T1|, |T2| = {peak[0]:.4g}, {peak[1]:.4g} N m" if peak else ""
-    verdict = Text("PASS", style="bold green") if rep["verdict"] == "pass" else Text("FAIL", style="bold red")
+    verdict = (
+        Text("PASS", style="bold green")
+        if rep["verdict"] == "pass"
+        else Text("FAIL", style="bold red")
+    )
     high = sum(s["order"] >= 2 for s in rep["singularities"])
     console.print(
         Text.assemble(

@@ -7,6 +7,8 @@ Floats that are not finite become None (JSON null).
 from __future__ import annotations
 
 import math
+import traceback
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -14,6 +16,8 @@ from . import __version__
 from .audit import AuditResult
 from .errors import ExitCode, TaskFileError
 from .rules import RULES
+
+INVALID_TASK = "RPR001"  # the rule of every input error
 
 
 def _f(v: float | None) -> float | None:
@@ -86,26 +90,66 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
 
 
 def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
-    """An input error as data (``input_errors[]`` of ``--format json``)."""
+    """An input error as data (``input_errors[]`` of ``--format json``).
+
+    ``line``/``column`` are 1-based, None when unknown; ``key`` is the dotted key path,
+    None for the whole file. ``text`` is the one-line message of the command line.
+    """
     return {
         "task": task_path,
-        "line": e.line,
-        "column": e.column,
-        "key": e.key,
+        "line": e.line or None,
+        "column": e.column or None,
+        "key": e.key or None,
         "message": e.message,
-        "rule": "RPR001",
-        "text": str(e.with_file(task_path)),
+        "rule": INVALID_TASK,
+        "text": f"{e.with_file(task_path)} [{INVALID_TASK}]",
     }
+
+
+def internal_error(e: BaseException, task_path: str) -> dict[str, Any]:
+    """A bug met while auditing one task, as data (``internal_errors[]``)."""
+    return {
+        "task": task_path,
+        "message": f"{type(e).__name__}: {e}",
+        "text": f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
+        " the rprpr maintainers with this task file",
+        "traceback": "".join(traceback.format_exception(e)),
+    }
+
+
+REPORT, INPUT, INTERNAL = "report", "input", "internal"  # the kinds of a task's outcome
 
 
 @dataclass
 class Run:
-    """The outcome of one ``rprpr check`` run: reports, input errors, internal errors."""
+    """The outcome of one ``rprpr check`` run, in task order: a report per audited task,
+    an input error per task file that could not be read, an internal error per bug met.
+
+    ``order[i]`` = (kind, index into that kind's list) of the i-th task; ``times[i]`` its
+    load-and-audit time in seconds (JUnit reports it; the JSON document leaves it out so
+    that the same tasks always give the same bytes).
+    """
 
     reports: list[dict[str, Any]] = field(default_factory=list)
     input_errors: list[dict[str, Any]] = field(default_factory=list)
     internal_errors: list[dict[str, Any]] = field(default_factory=list)
-    order: list[tuple[str, int]] = field(default_factory=list)  # (kind, index) in task order
+    order: list[tuple[str, int]] = field(default_factory=list)
+    times: list[float] = field(default_factory=list)
+
+    def add(self, kind: str, item: dict[str, Any], seconds: float = 0.0) -> None:
+        """Append the next task's outcome; ``kind`` is REPORT, INPUT or INTERNAL."""
+        target = {REPORT: self.reports, INPUT: self.input_errors, INTERNAL: self.internal_errors}[
+            kind
+        ]
+        self.order.append((kind, len(target)))
+        target.append(item)
+        self.times.append(seconds)
+
+    def entries(self) -> Iterator[tuple[str, dict[str, Any], float]]:
+        """(kind, item, seconds) for every task, in task order."""
+        lists = {REPORT: self.reports, INPUT: self.input_errors, INTERNAL: self.internal_errors}
+        for (kind, i), seconds in zip(self.order, self.times, strict=True):
+            yield kind, lists[kind][i], seconds
 
     def summary(self) -> dict[str, int]:
         passed = sum(r["verdict"] == "pass" for r in self.reports)
@@ -127,11 +171,13 @@ class Run:
             return ExitCode.FAILED
         return ExitCode.PASSED
 
-    def document(self) -> dict[str, Any]:
-        """The ``--format json`` document."""
+    def document(self, quiet: bool = False) -> dict[str, Any]:
+        """The ``--format json`` document; ``quiet`` leaves passing reports out (the
+        summary still counts every task)."""
+        reports = [r for r in self.reports if r["verdict"] != "pass"] if quiet else self.reports
         return {
             "rprpr": __version__,
-            "reports": self.reports,
+            "reports": reports,
             "summary": self.summary(),
             "input_errors": self.input_errors,
             "internal_errors": self.internal_errors,

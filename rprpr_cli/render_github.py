@@ -1,0 +1,81 @@
+"""``rprpr check --format github``: GitHub Actions workflow commands, one line per finding.
+
+    ::error file=configs/paper_path1.yaml,line=19,title=RPR101 slope-principle::t = 2.5 s, ...
+
+A finding that fails the task is an ``::error``; a strict-mode-only finding (RPR201,
+RPR202) when not strict is a ``::warning``. ``line`` is the line of the task-file key
+the finding belongs to (``path.y``, ``timing``, ...), or of the offending key for a task
+file that could not be read (then with ``col`` when known). Passing tasks print nothing.
+
+Escaping is that of the Actions toolkit (``@actions/core``, ``command.ts``): in the
+message ``%`` -> ``%25``, ``\\r`` -> ``%0D``, ``\\n`` -> ``%0A``; in a property value
+also ``:`` -> ``%3A`` and ``,`` -> ``%2C``.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from .report import INTERNAL, Run
+from .rules import RULES
+
+
+def escape_data(s: str) -> str:
+    """A workflow command's message, escaped as ``escapeData`` of the toolkit."""
+    return s.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def escape_property(s: str) -> str:
+    """A workflow command's property value, escaped as ``escapeProperty`` of the toolkit."""
+    return escape_data(s).replace(":", "%3A").replace(",", "%2C")
+
+
+def command(name: str, properties: dict[str, Any], message: str) -> str:
+    """``::name key=value,...::message``; properties that are None are left out."""
+    props = ",".join(
+        f"{k}={escape_property(str(v))}" for k, v in properties.items() if v is not None
+    )
+    return f"::{name}{' ' + props if props else ''}::{escape_data(message)}"
+
+
+def annotation_path(path: str, root: str | None = None) -> str:
+    """The task path as GitHub wants it: relative to the workspace, with forward slashes.
+
+    A relative path is normalised (``./configs/a.yaml`` -> ``configs/a.yaml``); an absolute
+    path inside ``root`` (default: the working directory) is made relative to it."""
+    if os.path.isabs(path):
+        base = os.path.abspath(root or os.getcwd())
+        rel = os.path.relpath(path, base)
+        if not rel.startswith(os.pardir):
+            path = rel
+    else:
+        path = os.path.normpath(path)
+    return path.replace(os.sep, "/")
+
+
+def render(run: Run, *, quiet: bool = False, root: str | None = None) -> str:
+    """The annotations of ``run``, in task order; ``quiet`` leaves out the warnings."""
+    lines = []
+    for kind, item, _ in run.entries():
+        file = annotation_path(item["task"], root)
+        if kind == "report":
+            for f in item["findings"]:
+                if f["severity"] != "error" and quiet:
+                    continue
+                props = {"file": file, "line": f["line"], "title": RULES[f["rule"]].title}
+                lines.append(command(f["severity"], props, f["message"]))
+        elif kind == INTERNAL:
+            lines.append(
+                command("error", {"file": file, "title": "rprpr internal error"}, item["text"])
+            )
+        else:
+            props = {
+                "file": file,
+                "line": item["line"],
+                "col": item["column"] if item["line"] else None,
+                "title": RULES[item["rule"]].title,
+            }
+            message = f"{item['key']}: {item['message']}" if item["key"] else item["message"]
+            lines.append(command("error", props, message))
+    return "".join(line + "\n" for line in lines)

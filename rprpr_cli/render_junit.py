@@ -1,0 +1,131 @@
+"""``rprpr check --format junit``: JUnit XML, as GitHub, GitLab and Jenkins read it.
+
+One ``testsuite`` per run (inside a ``testsuites`` root), one ``testcase`` per task::
+
+    <testcase classname="configs/paper_path1.yaml" name="Example 1 of the paper, path 1"
+              file="configs/paper_path1.yaml" time="0.004">
+      <failure type="RPR101" message="RPR101 slope-principle: t = 2.5 s, ...">...</failure>
+      <system-out>...</system-out>
+    </testcase>
+
+* a ``failure`` per finding that fails the task (each failing singular instant's broken
+  principle, an inverse-kinematic singularity, ...; in strict mode also RPR201/RPR202),
+  ``type`` = the rule id, ``message`` = rule and reason, the text = file:line and reason;
+* an ``error`` (type RPR001) for a task file that could not be read, with the file,
+  line, column and key; an ``error`` of type ``internal-error`` for a bug, with the
+  traceback;
+* ``system-out``: one line per singular instant, then the strict-mode-only findings that
+  do not fail the task (RPR201, RPR202 when not strict), marked ``warning``, and the
+  verdict. They are not failures, so a CI dashboard stays green, but they are shown.
+
+Counts: ``tests`` = testcases, ``failures`` = testcases with a failure, ``errors`` =
+testcases with an error, ``skipped`` = 0; ``time`` = seconds to load and audit the task
+(a testsuite's: the sum). There is no timestamp or hostname, so the document only
+varies from run to run in its times. The elements and attributes are those of the
+Jenkins ``junit-10.xsd`` schema, plus ``file`` on a testcase (read by GitLab).
+"""
+
+from __future__ import annotations
+
+import re
+import xml.etree.ElementTree as ET
+from typing import Any
+
+from .report import INPUT, INTERNAL, Run
+from .rules import RULES
+
+SUITE_NAME = "rprpr check"
+
+# characters XML 1.0 cannot carry, not even as &#...; references
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def xml_text(s: str) -> str:
+    """``s`` with the characters XML 1.0 forbids written as ``\\xNN`` / ``\\uNNNN``."""
+    return _NOT_XML.sub(
+        lambda m: f"\\x{ord(m[0]):02x}" if ord(m[0]) < 256 else f"\\u{ord(m[0]):04x}", s
+    )
+
+
+def _seconds(t: float) -> str:
+    return f"{t:.3f}"
+
+
+def _el(parent: ET.Element, tag: str, text: str | None = None, **attrs: str) -> ET.Element:
+    e = ET.SubElement(parent, tag, {k: xml_text(v) for k, v in attrs.items()})
+    if text is not None:
+        e.text = xml_text(text)
+    return e
+
+
+def _where(file: str, line: int | None, key: str | None) -> str:
+    loc = f"{file}:{line}" if line else file
+    return f"{loc}: {key}:" if key else f"{loc}:"
+
+
+def _instant_line(s: dict[str, Any]) -> str:
+    bounded = (
+        "torque bounded"
+        if s["torque_bounded"]
+        else f"torque unbounded (pole of order {s['pole_order']})"
+    )
+    return (
+        f"t = {s['t']:.6g} s: (x, y) = ({s['x']:.6g}, 0), case {s['case']}, order {s['order']}"
+        f" {s['kind']}; slope principle {s['slope_principle']}, velocity principle"
+        f" {s['velocity_principle']}; {bounded}"
+    )
+
+
+def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
+    """Fill the testcase of an audited task; True when it failed."""
+    out = [_instant_line(s) for s in rep["singularities"]]
+    failed = False
+    for f in rep["findings"]:
+        title = RULES[f["rule"]].title
+        where = _where(rep["task"], f["line"], f["key"])
+        if f["severity"] == "error":
+            failed = True
+            _el(case, "failure", f"{where} {title}: {f['message']}",
+                type=f["rule"], message=f"{title}: {f['message']}")  # fmt: skip
+        else:
+            out.append(f"warning: {where} {title}: {f['message']} (fails only with --strict)")
+    n = len(rep["singularities"])
+    out.append(
+        f"verdict: {rep['verdict']}{' (strict)' if rep['strict'] else ''}, "
+        f"{n} singular instant{'s' if n != 1 else ''}"
+    )
+    _el(case, "system-out", "\n".join(out) + "\n")
+    return failed
+
+
+def render(run: Run) -> str:
+    """The JUnit XML document of ``run`` (UTF-8 text with its XML declaration)."""
+    root = ET.Element("testsuites", {"name": SUITE_NAME})
+    suite = ET.SubElement(root, "testsuite", {"name": SUITE_NAME})
+    failures = errors = 0
+    total = 0.0
+    for kind, item, seconds in run.entries():
+        total += seconds
+        path = item["task"]
+        name = item.get("name", path) if kind not in (INPUT, INTERNAL) else path
+        case = _el(suite, "testcase", classname=path, name=name, file=path, time=_seconds(seconds))
+        if kind == INPUT:
+            errors += 1
+            rule = RULES[item["rule"]].title
+            where = _where(path, item["line"], item["key"])
+            _el(case, "error", f"{item['text']}\n", type=item["rule"],
+                message=f"{rule}: {where} {item['message']}")  # fmt: skip
+        elif kind == INTERNAL:
+            errors += 1
+            _el(case, "error", item["traceback"], type="internal-error", message=item["text"])
+        elif _report_case(case, item):
+            failures += 1
+    counts = {
+        "tests": str(len(run.order)),
+        "failures": str(failures),
+        "errors": str(errors),
+    }
+    root.attrib.update(counts, time=_seconds(total))
+    suite.attrib.update(counts, skipped="0", time=_seconds(total))
+    ET.indent(root, space="  ")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
