@@ -51,7 +51,7 @@ def collect_tasks(paths: Sequence[str]) -> list[str]:
     seen: set[str] = set()
     unique = []
     for f in out:
-        key = os.path.normcase(os.path.normpath(f))
+        key = os.path.normcase(os.path.abspath(f))
         if key not in seen:
             seen.add(key)
             unique.append(f)
