@@ -433,7 +433,9 @@ def test_progress_only_on_a_terminal_for_more_than_a_handful() -> None:
     assert not want_progress(n + 1, _Stream(True), quiet=True)
 
 
-def _run_with_ptys(args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: dict[str, str]) -> tuple[int, bytes, bytes]:  # fmt: skip
+def _run_with_ptys(
+    args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: dict[str, str]
+) -> tuple[int, bytes, bytes]:
     """Run ``python -m rprpr_cli ARGS`` with stdout/stderr on pseudo-terminals as asked."""
     fds: dict[str, tuple[int, int]] = {}
     for name, tty in (("out", stdout_tty), ("err", stderr_tty)):
@@ -447,7 +449,7 @@ def _run_with_ptys(args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: 
     )
     for _, w in fds.values():
         os.close(w)
-    data = {name: b"" for name in fds}
+    data = dict.fromkeys(fds, b"")
     readers = {r: name for name, (r, _) in fds.items()}
     while readers:
         ready, _, _ = select.select(list(readers), [], [], 30)
