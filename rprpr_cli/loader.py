@@ -62,6 +62,8 @@ def load_task(path: str | os.PathLike[str]) -> Task:
             raise TaskFileError(_too_large(st.st_size), file=name)
         with open(name, "rb") as fh:
             data = fh.read(MAX_BYTES + 1)  # the file may have grown since stat
+    except TaskFileError:
+        raise
     except FileNotFoundError:
         raise TaskFileError("no such file", file=name) from None
     except OSError as e:
@@ -162,6 +164,11 @@ def _compose(text: str) -> yaml.Node | None:
     except yaml.MarkedYAMLError as e:
         mark = e.problem_mark or e.context_mark
         problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
+        alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
+        if "undefined alias" in problem and alias:
+            problem += f" *{alias.group(1)} (no anchor &{alias.group(1)} before it)"
+        if mark and text[mark.index : mark.index + 1] == "\t":
+            problem += " (a tab: YAML indents with spaces only)"
         raise TaskFileError(
             f"YAML syntax error: {problem}",
             line=mark.line + 1 if mark else 0,
@@ -176,7 +183,7 @@ def _parse(data: bytes | str, file: str) -> Task:
     if all(not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     root = _compose(text)
-    if root is None:
+    if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     return _Builder(file).task(root, Path(file).stem)
 
@@ -293,12 +300,12 @@ class _Builder:
 
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
-        expected = f"a number ({spec.description})"
+        expected = f"a number ({spec.description.rstrip('.')})"
         if not isinstance(node, yaml.ScalarNode):
             raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
         tag = node.tag.removeprefix(_TAG)
-        if tag == "str" and node.style is None and _YAML12_FLOAT.fullmatch(text):
+        if tag == "str" and not node.style and _YAML12_FLOAT.fullmatch(text):  # plain: None or ""
             tag = "float"
         if tag not in ("int", "float"):
             raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
@@ -338,18 +345,26 @@ class _Builder:
             if tag == "float":
                 return parse_decimal(text)
         except ExpressionError as e:
-            raise self.error(f"expected a number, found {_short(text)!r}: {e.message}", node, key) from None
+            raise self.error(e.message, node, key) from None
         raise self.error(f"expected a decimal number, found {_short(text)!r}", node, key)
 
-    def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
+    def pair(
+        self, node: yaml.Node, spec: Spec, key: str, depth: int, items: tuple[str, str]
+    ) -> tuple[fmpq, fmpq]:
+        """A list of two numbers; ``items`` describes each, for messages."""
         self.visit(node, key, depth)
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
             raise self.error(
-                f"expected a list of two numbers ({spec.description}), found {_kind_of(node)}",
+                f"expected a list of two numbers [{', '.join(items)}], found {_kind_of(node)}",
                 node, key,
             )  # fmt: skip
-        item = Spec("number", spec.description, minimum=spec.minimum, exclusive=spec.exclusive)
-        a, b = (self.number(v, item, f"{key}[{i}]", depth + 1) for i, v in enumerate(node.value))
+        a, b = (
+            self.number(
+                v, Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive),
+                f"{key}[{i}]", depth + 1,
+            )  # fmt: skip
+            for i, (v, what) in enumerate(zip(node.value, items, strict=True))
+        )
         return a, b
 
     def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
@@ -371,7 +386,7 @@ class _Builder:
             # exactly as its value reads (no escapes, no folding); else at the scalar.
             start, end = node.start_mark, node.end_mark
             quote = 1 if node.style in ("'", '"') else 0
-            if node.style in (None, "'", '"') and start.line == end.line and (
+            if node.style in (None, "", "'", '"') and start.line == end.line and (
                 end.index - start.index == len(text) + 2 * quote
             ):
                 w["column"] += quote + e.offset
@@ -384,7 +399,7 @@ class _Builder:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in (
             _TAG + "str", _TAG + "int", _TAG + "float"
         ):  # fmt: skip
-            raise self.error(f"expected text ({spec.description}), found {_kind_of(node)}", node, key)
+            raise self.error(f"expected text (a name for reports), found {_kind_of(node)}", node, key)
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
@@ -434,7 +449,7 @@ class _Builder:
         ends = {}
         for end in ("from", "to"):
             if end in pth:
-                ends[end] = self.pair(pth[end], ps.children[end], f"path.{end}", 2)
+                ends[end] = self.pair(pth[end], ps.children[end], f"path.{end}", 2, ("x [m]", "y [m]"))
                 x0, y0 = ends[end]
                 if p(x0) != y0:
                     raise self.error(
@@ -465,11 +480,11 @@ class _Builder:
         elif "x" in tim:
             law = "explicit"
             x_of_t = self.polynomial(tim["x"], ts.children["x"], "timing.x", 2)
-            for end, at, when in (("from", fmpq(0), "0"), ("to", duration, "t_f")):
+            for end, at, when in (("from", fmpq(0), "0"), ("to", duration, f"t_f = {_q(duration)}")):
                 if end in ends and x_of_t(at) != ends[end][0]:
                     raise self.error(
                         f"path.{end} has x = {_q(ends[end][0])} but timing.x gives"
-                        f" x({when} = {_q(at)}) = {_q(x_of_t(at))}",
+                        f" x({when}) = {_q(x_of_t(at))}: they must agree",
                         pth[end], f"path.{end}",
                     )  # fmt: skip
         else:
@@ -489,8 +504,9 @@ class _Builder:
                     kw[k] = self.number(ch[k], cs.children[k], f"checks.{k}", 2)
             if "torque_limit" in ch:
                 kw["torque_limit"] = self.pair(
-                    ch["torque_limit"], cs.children["torque_limit"], "checks.torque_limit", 2
-                )
+                    ch["torque_limit"], cs.children["torque_limit"], "checks.torque_limit", 2,
+                    ("|T1| limit [N m]", "|T2| limit [N m]"),
+                )  # fmt: skip
             if "strict" in ch:
                 kw["strict"] = self.boolean(ch["strict"], cs.children["strict"], "checks.strict", 2)
             checks = Checks(**kw)

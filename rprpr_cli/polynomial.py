@@ -115,6 +115,18 @@ class _Parser:
         p = self.expr()
         self._skip()
         if self.pos != len(self.text):
+            rest = self.text[self.pos :]
+            m = _NAME.match(rest, 1)
+            if rest[0] == "." and m:
+                raise self._error(
+                    f"attribute access ('.{m.group(0)}') is not allowed: only numbers,"
+                    f" {self.var}, + - * / ^ ** and parentheses"
+                )
+            if rest[0] == "(":
+                raise self._error(
+                    "a call (a name or value followed by '(') is not allowed: write"
+                    " multiplication as '*'"
+                )
             raise self._error(f"expected an operator, found {self._found()}")
         return p
 
