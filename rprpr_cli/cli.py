@@ -262,6 +262,14 @@ def check(
     if fmt != "text" or output_file:  # the one-line errors also go to stderr for the log
         for e in run.input_errors + run.internal_errors:
             click.echo(e["text"], err=True)
+    if output_file and not quiet:  # the log still says what the report file holds
+        s = run.summary()
+        click.echo(
+            f"rprpr: {s['tasks']} task{'s' if s['tasks'] != 1 else ''}: {s['passed']} passed,"
+            f" {s['failed']} failed, {s['errors']} error{'s' if s['errors'] != 1 else ''};"
+            f" {fmt} report written to {output_file}",
+            err=True,
+        )
     raise SystemExit(int(run.exit_code(exit_zero)))
 
 

@@ -1,0 +1,211 @@
+"""The CI integration files: the pre-commit hook, the composite GitHub Action, docs/ci.md."""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from rprpr_cli.rules import RULES
+
+from .conftest import CONFIGS, ROOT
+
+HOOKS = ROOT / ".pre-commit-hooks.yaml"
+ACTION = ROOT / "action.yml"
+DOC = ROOT / "docs" / "ci.md"
+BIN = Path(sys.executable).parent  # where pip put the rprpr console script
+
+
+def load(path: Path) -> Any:
+    return yaml.safe_load(path.read_text(encoding="utf-8"))
+
+
+def env_without_colour(**extra: str) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")}
+    env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"
+    env.update(extra)
+    return env
+
+
+# -- .pre-commit-hooks.yaml -------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def hook() -> dict[str, Any]:
+    hooks = load(HOOKS)
+    assert isinstance(hooks, list)
+    [h] = hooks
+    return h  # type: ignore[no-any-return]
+
+
+def test_pre_commit_hook_has_the_required_keys(hook: dict[str, Any]) -> None:
+    assert {"id", "name", "entry", "language"} <= set(hook)
+    assert hook["id"] == "rprpr-check"
+    assert hook["language"] == "python"
+    assert hook["files"] == r"\.(ya?ml)$"
+    entry = shlex.split(hook["entry"])
+    assert entry[:2] == ["rprpr", "check"]
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"][
+        "scripts"
+    ]
+    assert scripts["rprpr"] == "rprpr_cli.cli:main"  # what `language: python` installs
+    assert hook.get("pass_filenames", True) is True
+
+
+def _selected(hook: dict[str, Any], files: list[str]) -> list[str]:
+    """The files pre-commit would pass: ``files`` matches and ``exclude`` does not."""
+    inc, exc = re.compile(hook["files"]), re.compile(hook.get("exclude", "^$"))
+    return [f for f in files if inc.search(f) and not exc.search(f)]
+
+
+def test_pre_commit_hook_selects_task_files_not_hidden_configs(hook: dict[str, Any]) -> None:
+    files = [
+        "tasks/a.yaml", "tasks/sub/b.yml", "tasks/c.json", "README.md", "tasks/yaml",
+        ".pre-commit-config.yaml", ".github/workflows/ci.yml", "tasks/.draft.yaml",
+        ".gitlab-ci.yml",
+    ]  # fmt: skip
+    assert _selected(hook, files) == ["tasks/a.yaml", "tasks/sub/b.yml"]
+
+
+def test_pre_commit_hook_entry_checks_the_files_it_is_given(
+    hook: dict[str, Any], tmp_path: Path
+) -> None:
+    repo = tmp_path / "repo"
+    (repo / "tasks").mkdir(parents=True)
+    (repo / ".github" / "workflows").mkdir(parents=True)
+    shutil.copy(CONFIGS / "paper_path2.yaml", repo / "tasks" / "good.yaml")
+    shutil.copy(CONFIGS / "paper_path1.yaml", repo / "tasks" / "bad_plan.yml")
+    (repo / ".pre-commit-config.yaml").write_text("repos: []\n", encoding="utf-8")
+    (repo / ".github" / "workflows" / "ci.yml").write_text("on: push\n", encoding="utf-8")
+    staged = [
+        "tasks/good.yaml",
+        "tasks/bad_plan.yml",
+        ".pre-commit-config.yaml",
+        ".github/workflows/ci.yml",
+    ]
+    args = [*shlex.split(hook["entry"]), *hook.get("args", []), *_selected(hook, staged)]
+    assert args[2:] == ["--quiet", "tasks/good.yaml", "tasks/bad_plan.yml"]
+    p = subprocess.run(
+        [str(BIN / args[0]), *args[1:], "--samples", "101"],
+        cwd=repo, capture_output=True, text=True, env=env_without_colour(), check=False,
+    )  # fmt: skip
+    assert p.returncode == 1
+    assert p.stderr == ""
+    assert "tasks/bad_plan.yml — Example 1 of the paper, path 1" in p.stdout
+    assert "tasks/good.yaml" not in p.stdout  # --quiet: only what fails
+    assert p.stdout.splitlines()[-1] == "2 tasks: 1 passed, 1 failed, 0 errors"
+
+
+# -- action.yml -------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def action() -> dict[str, Any]:
+    a = load(ACTION)
+    assert isinstance(a, dict)
+    return a
+
+
+def test_action_has_the_required_keys_and_inputs(action: dict[str, Any]) -> None:
+    assert {"name", "description", "inputs", "runs"} <= set(action)
+    inputs = action["inputs"]
+    assert set(inputs) == {"paths", "strict", "args", "python-version"}
+    assert all("description" in v for v in inputs.values())
+    assert {k: v["default"] for k, v in inputs.items()} == {
+        "paths": ".", "strict": "false", "args": "", "python-version": "3.11",
+    }  # fmt: skip
+    runs = action["runs"]
+    assert runs["using"] == "composite"
+    steps = runs["steps"]
+    assert all("shell" in s for s in steps if "run" in s)  # composite run steps need a shell
+    setup, install, check = steps
+    assert setup["uses"].startswith("actions/setup-python@")
+    assert setup["with"]["python-version"] == "${{ inputs.python-version }}"
+    assert install["env"]["RPRPR_SOURCE"] == "${{ github.action_path }}"
+    assert "pip install" in install["run"] and '"$RPRPR_SOURCE"' in install["run"]
+    assert "rprpr check --format github" in check["run"]
+    # inputs reach the script through the environment, never pasted into it
+    assert "${{" not in check["run"] and "${{" not in install["run"]
+
+
+def _run_check_step(action: dict[str, Any], **inputs: str) -> subprocess.CompletedProcess[str]:
+    bash = shutil.which("bash")
+    if bash is None:
+        pytest.skip("bash is not installed")
+    script = action["runs"]["steps"][2]["run"]
+    env = env_without_colour(**{f"INPUT_{k.upper()}": v for k, v in inputs.items()})
+    return subprocess.run(
+        [bash, "--noprofile", "--norc", "-eo", "pipefail", "-c", script],  # as Actions runs it
+        cwd=ROOT, capture_output=True, text=True, env=env, check=False,
+    )  # fmt: skip
+
+
+def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]) -> None:
+    paths = (
+        "configs/paper_path2.yaml\n  configs/case1_crossing.yaml"  # newline- and space-separated
+    )
+    p = _run_check_step(action, paths=paths, strict="false", args="--samples 101")
+    assert p.returncode == 0
+    assert p.stdout.startswith("::warning file=configs/case1_crossing.yaml,line=")
+    assert len(p.stdout.splitlines()) == 1
+    p = _run_check_step(action, paths=paths, strict="true", args="--samples 101")
+    assert p.returncode == 1
+    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert "title=RPR201 inconsistent-crossing::" in p.stdout
+
+
+def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str, Any]) -> None:
+    p = _run_check_step(action, paths="configs", strict="maybe", args="")
+    assert p.returncode == 2
+    assert (
+        p.stdout == "::error title=rprpr check::input strict must be true or false, not 'maybe'\n"
+    )
+    p = _run_check_step(action, paths="configs/*.yaml", strict="false", args="--samples 101")
+    assert p.returncode == 2  # the literal name "configs/*.yaml": no such file
+    assert p.stdout.startswith(
+        "::error file=configs/*.yaml,title=RPR001 invalid-task::no such file"
+    )
+
+
+# -- docs/ci.md -------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def doc() -> str:
+    return DOC.read_text(encoding="utf-8")
+
+
+def test_doc_rule_table_lists_exactly_the_rules(doc: str) -> None:
+    rows = re.findall(r"^\| `(RPR\d{3}) ([a-z-]+)` \| (always|strict) \|", doc, flags=re.M)
+    assert [r[0] for r in rows] == list(RULES)
+    for rid, name, fails in rows:
+        assert name == RULES[rid].name
+        assert (fails == "strict") is RULES[rid].strict_only
+    assert set(re.findall(r"\bRPR\d{3}\b", doc)) == set(RULES)  # no stale id anywhere
+
+
+def _yaml_blocks(doc: str) -> list[Any]:
+    return [yaml.safe_load(b) for b in re.findall(r"```yaml\n(.*?)```", doc, flags=re.S)]
+
+
+def test_doc_examples_are_valid_and_agree_with_the_files(
+    doc: str, action: dict[str, Any], hook: dict[str, Any]
+) -> None:
+    workflow, precommit, gitlab = _yaml_blocks(doc)
+    steps = workflow["jobs"]["rprpr"]["steps"]
+    [uses] = [s for s in steps if s.get("uses", "").startswith("OWNER/rprpr@")]
+    assert set(uses["with"]) <= set(action["inputs"])
+    [repo] = precommit["repos"]
+    assert [h["id"] for h in repo["hooks"]] == [hook["id"]]
+    assert _selected(
+        repo["hooks"][0] | {"exclude": hook["exclude"]}, ["tasks/a.yaml", "x.yaml"]
+    ) == ["tasks/a.yaml"]
+    job = gitlab["rprpr"]
+    [check] = [c for c in job["script"] if c.startswith("rprpr check")]
+    out = shlex.split(check)[shlex.split(check).index("-o") + 1]
+    assert "--format junit" in check
+    assert job["artifacts"]["reports"]["junit"] == out
+    assert job["artifacts"]["when"] == "always"
