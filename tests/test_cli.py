@@ -293,7 +293,8 @@ def test_output_file_holds_what_stdout_would(
     code2, out2, err2 = run(capsys, "check", "--format", fmt, "-o", str(target), *FAST, *files)
     assert (code, code2) == (1, 1)
     assert (out2, err) == ("", "")
-    assert err2 == f"rprpr: 2 tasks: 1 passed, 1 failed, 0 errors; {fmt} report written to {target}\n"
+    summary = f"rprpr: 2 tasks: 1 passed, 1 failed, 0 errors; {fmt} report written to {target}"
+    assert err2 == summary + "\n"
     assert _untimed(target.read_text(encoding="utf-8")) == _untimed(out)
 
 
@@ -307,7 +308,8 @@ def test_text_output_file_also_lists_bad_files(
     assert code == 2
     assert out == ""
     assert err.splitlines() == [
-        line, f"rprpr: 2 tasks: 1 passed, 0 failed, 1 error; text report written to {target}"
+        line,
+        f"rprpr: 2 tasks: 1 passed, 0 failed, 1 error; text report written to {target}",
     ]
     report = target.read_text(encoding="utf-8").splitlines()
     assert line in report
