@@ -155,9 +155,9 @@ def _continuous_angle(
     """
     out = raw.copy()
     width = 64 * EPS * max(1.0, float(t[-1]) if len(t) else 1.0)
-    for tc, after, crossing in cuts:
-        at = np.abs(t - tc) <= width
-        out[at] = -np.pi * after if crossing else np.pi * after  # the side before t_c
+    for tc, after, crossing in cuts:  # samples on the cut: atan2's value from the left
+        out[np.abs(t - tc) <= width] = -np.pi * after if crossing else np.pi * after
+    for tc, after, crossing in cuts:  # past a crossing, the branch is 2π further on
         if crossing:
             out[t > tc + width] -= 2 * np.pi * after
     return out

@@ -311,6 +311,10 @@ def test_singular_instants_at_both_ends(write_task):  # type: ignore[no-untyped-
     r = audit(load_task(write_task(text)), samples=21)
     assert [s.t_exact for s in r.singularities] == [0, 2]
     assert all(np.isfinite(r.samples.x)) and all(np.isfinite(r.samples.theta1))
+    # both instants lie on leg 2's branch cut (x < a1): θ2 stays continuous to the end
+    th2 = r.samples.theta2
+    assert th2[0] == pytest.approx(-math.pi) and th2[-1] == pytest.approx(-math.pi)
+    assert np.max(np.abs(np.diff(th2))) < 0.1
 
 
 def test_path_through_A_is_a_kinematic_singularity(write_task):  # type: ignore[no-untyped-def]
