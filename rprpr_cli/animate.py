@@ -1,0 +1,248 @@
+"""``rprpr plot --animate``: the robot moving along its planned motion, as an animated GIF.
+
+Each task gets a column: the workspace on top (base joints A and B, the singular line,
+the planned path, the legs drawn from A and B to E, the trace of E so far, the current t
+and δ) and δ(t) below with a cursor. While the robot is near a Type II singular
+configuration (|δ| < ``plot.NEAR_DELTA``) the workspace turns amber and says so; at a
+singular instant itself (always one of the frames) it turns red, names the order and the
+verdict, and the frame is held for ``HOLD`` seconds.
+
+Frames are drawn with ``matplotlib.animation.FuncAnimation`` and written by a Pillow
+movie writer (``GifWriter``) that gives each frame its own duration. The size is bounded:
+``FRAMES`` frames (at most ``MAX_FRAMES``) at ``FPS``, a few seconds, each
+``COLUMN_SIZE`` inches at ``DPI``. Several tasks play side by side, each over its own
+[0, t_f] (frame k shows t = k t_f/(frames - 1), a singular instant replacing the nearest).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import matplotlib
+import numpy as np
+from matplotlib.animation import AbstractMovieWriter
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
+from PIL import Image
+
+from . import plot as P
+from .samples import Samples
+from .singular import SingularInstant
+
+FRAMES = 100  # default frame count: 5 s at FPS
+MAX_FRAMES = 120
+FPS = 20
+HOLD = 0.6  # s, a singular instant's frame stays this long
+DPI = 90
+COLUMN_SIZE = (5.0, 4.6)  # in, per task
+MAX_COLUMNS = 3
+
+NEAR_FACE = "#FFF1D0"  # workspace background near a singular configuration
+AT_FACE = "#FFD9D9"  # ... at a singular instant
+
+
+class GifWriter(AbstractMovieWriter):
+    """matplotlib movie writer for a GIF through Pillow, with a duration per frame
+    (``durations``, ms) and endless looping.
+
+    ``grab_frame`` takes the canvas as last drawn (the caller blits each frame onto an Agg
+    canvas, ``write_gif``): no full redraw per frame."""
+
+    def __init__(self, durations: Sequence[int], fps: int = FPS) -> None:
+        super().__init__(fps=fps)
+        self.durations = [int(d) for d in durations]
+        self._frames: list[Image.Image] = []
+
+    def setup(self, fig: Figure, outfile: Any, dpi: float | None = None) -> None:
+        super().setup(fig, outfile, dpi=dpi)
+        self._frames = []
+
+    def grab_frame(self, **savefig_kwargs: Any) -> None:
+        canvas = self.fig.canvas
+        w, h = canvas.get_width_height(physical=True)
+        im = Image.frombuffer("RGBA", (w, h), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        self._frames.append(im.convert("RGB"))  # RGB quantises better to a GIF palette
+
+    def finish(self) -> None:
+        if not self._frames:
+            return
+        durations = self.durations[: len(self._frames)]
+        durations += [int(1000 / self.fps)] * (len(self._frames) - len(durations))
+        self._frames[0].save(self.outfile, format="GIF", save_all=True,
+                             append_images=self._frames[1:], duration=durations, loop=0)  # fmt: skip
+
+
+def frame_times(m: P.Motion, frames: int) -> tuple[np.ndarray, list[SingularInstant | None]]:
+    """``frames`` times evenly over [0, t_f], each singular instant replacing the nearest
+    frame time; and, per frame, the singular instant it shows (or None)."""
+    tf = m.duration
+    t = np.linspace(0.0, tf, frames)
+    at: list[SingularInstant | None] = [None] * frames
+    for s in m.result.singularities:
+        k = int(np.argmin(np.abs(t - s.t)))
+        if at[k] is not None:  # two instants closer than a frame: the next free frame
+            free = [j for j in (k - 1, k + 1) if 0 <= j < frames and at[j] is None]
+            if not free:
+                continue
+            k = free[0]
+        t[k] = s.t
+        at[k] = s
+    t = np.sort(t)  # a replacement keeps the order; sorting guards the rare collision
+    at = [next((s for s in m.result.singularities if s.t == v), None) for v in t]
+    return t, at
+
+
+def _time_format(tf: float, frames: int) -> str:
+    """Enough decimals that consecutive frame times differ."""
+    step = tf / max(frames - 1, 1)
+    return f".{max(0, 1 - math.floor(math.log10(step)))}f" if step > 0 else ".3g"
+
+
+class _Column:
+    """One task's workspace and δ strip, and the artists each frame moves."""
+
+    def __init__(self, sf: Any, m: P.Motion, frames: int) -> None:
+        self.m = m
+        self.t, self.at = frame_times(m, frames)
+        self.f: Samples = P.resample(m, self.t)
+        self.fmt = _time_format(m.duration, frames)
+        ax, strip = sf.subplots(2, 1, height_ratios=[3.2, 1])
+        self.ax: Axes = ax
+        self.strip: Axes = strip
+        sf.suptitle(P._short(m.name, 48), fontsize=9, fontweight="bold")
+        self._workspace(ax)
+        self._strip(strip)
+
+    def _workspace(self, ax: Axes) -> None:
+        m = self.m
+        x0, x1, y0, y1 = P._view([m])
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.margins(0)
+        ax.update_datalim([(x0, y0), (x1, y1)])
+        ax.set_xlabel("x [m]", labelpad=1)
+        ax.set_ylabel("y [m]", labelpad=1)
+        ax.tick_params(labelsize=7)
+        size = 0.028 * (x1 - x0)
+        ax.axhline(0, color=P.LINE, lw=1.0, ls=(0, (7, 2, 1.5, 2)), zorder=1)
+        P._ground(ax, 0.0, size, "A")
+        P._ground(ax, float(m.task.robot.a1), size, "B")
+        ax.plot(m.s.x, m.s.y, color="#AAAAAA", lw=1.0, ls="--", zorder=2)
+        for s in m.result.singularities:
+            ax.plot([s.x], [0], **{**P._marker_kw(s, P.status(m.result, s)), "alpha": 0.9})
+        lengths = {1: self.f.s1[np.isfinite(self.f.s1)], 2: self.f.s2[np.isfinite(self.f.s2)]}
+        self.cyl = {k: 0.45 * float(v.min()) if v.size else 0.5 for k, v in lengths.items()}
+        self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
+        self.legs = [
+            (ax.plot([], [], color=c, lw=6, alpha=0.45, solid_capstyle="butt", zorder=3.5)[0],
+             ax.plot([], [], color=c, lw=2.2, solid_capstyle="round", zorder=3.6)[0])
+            for c in (P.LEG1, P.LEG2)
+        ]  # fmt: skip
+        self.E = ax.plot([], [], "o", ms=6, mfc="white", mec=P.POINT, mew=1.3, zorder=7)[0]
+        self.clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8,
+                             family="monospace", zorder=9,
+                             bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.5})  # fmt: skip
+        self.cue = ax.text(0.98, 0.03, "", transform=ax.transAxes, ha="right", va="bottom",
+                           fontsize=8, fontweight="bold", zorder=9)  # fmt: skip
+        # the cue: a wash over the workspace, drawn under the moving robot
+        self.tint = Rectangle((0, 0), 1, 1, transform=ax.transAxes, lw=0, alpha=0.0, zorder=0)
+        ax.add_patch(self.tint)
+
+    def _strip(self, ax: Axes) -> None:
+        m = self.m
+        ax.plot(m.s.t, P._finite(m.s.delta), color=P.DELTA, lw=1.4)
+        ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
+        ax.axhline(0, color="#444444", lw=0.7)
+        for s in m.result.singularities:
+            ax.plot([s.t], [0], **{**P._marker_kw(s, P.status(m.result, s)), "markersize": 6 if s.order < 2 else 11})
+        ax.set_xlim(0, m.duration)
+        ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
+        ax.set_ylabel("δ", fontsize=8)
+        ax.tick_params(labelsize=7)
+        self.cursor = ax.axvline(0, color="black", lw=1.0)
+        self.dot = ax.plot([], [], "o", ms=4, color="black")[0]
+        self.moving = [self.tint, self.trace, *[a for leg in self.legs for a in leg], self.E,
+                       self.clock, self.cue, self.cursor, self.dot]  # fmt: skip
+
+    def update(self, k: int) -> list[Any]:
+        f, m = self.f, self.m
+        a1 = float(m.task.robot.a1)
+        E = np.array([f.x[k], f.y[k]])
+        upto = m.s.t <= self.t[k]
+        self.trace.set_data(m.s.x[upto], m.s.y[upto])
+        for (cyl, rod), base, n in zip(self.legs, ((0.0, 0.0), (a1, 0.0)), (1, 2), strict=True):
+            Pb = np.array(base)
+            d = E - Pb
+            length = float(np.hypot(*d)) if np.all(np.isfinite(d)) else 0.0
+            if length == 0:
+                cyl.set_data([], [])
+                rod.set_data([], [])
+                continue
+            C = Pb + min(self.cyl[n], 0.8 * length) * d / length
+            cyl.set_data([Pb[0], C[0]], [Pb[1], C[1]])
+            rod.set_data([Pb[0], E[0]], [Pb[1], E[1]])
+        self.E.set_data([E[0]], [E[1]])
+        delta = float(f.delta[k]) + 0.0  # no "-0.0000"
+        self.clock.set_text(f"t = {self.t[k]:{self.fmt}} s\nδ = {delta:+.4f}")
+        self.cursor.set_xdata([self.t[k], self.t[k]])
+        self.dot.set_data([self.t[k]], [delta])
+        s = self.at[k]
+        if s is not None:
+            st = P.status(m.result, s)
+            self.tint.set_facecolor(AT_FACE)
+            self.tint.set_alpha(0.55)
+            self.cue.set_text(f"TYPE II SINGULARITY: {P.order_text(s)} — {P.STATUS_WORD[st]}")
+            self.cue.set_color(P.STATUS_COLOUR["fail"])
+        elif np.isfinite(delta) and abs(delta) < P.NEAR_DELTA:
+            self.tint.set_facecolor(NEAR_FACE)
+            self.tint.set_alpha(0.55)
+            self.cue.set_text(f"near a singular configuration: |δ| < {P.NEAR_DELTA:g}")
+            self.cue.set_color("#9A6200")
+        else:
+            self.tint.set_alpha(0.0)
+            self.cue.set_text("")
+        return self.moving
+
+
+def write_gif(
+    motions: Sequence[P.Motion], path: str, *, frames: int = FRAMES, fps: int = FPS,
+    dpi: int = DPI,
+) -> int:  # fmt: skip
+    """Write the animation of ``motions`` (side by side) to the file ``path`` as a GIF;
+    returns the number of frames (``frames``, clamped to 2..MAX_FRAMES).
+
+    The static parts are drawn once on an Agg canvas; each frame restores them and draws
+    only the moving artists (blitting), which keeps a 100-frame GIF to a second or two."""
+    frames = int(min(max(frames, 2), MAX_FRAMES))
+    ncols = min(len(motions), MAX_COLUMNS)
+    nrows = math.ceil(len(motions) / ncols)
+    if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
+        dpi = max(40, int(dpi / math.sqrt(nrows)))
+    with matplotlib.rc_context({**P.RC, "font.size": 8}):
+        fig = Figure(figsize=(COLUMN_SIZE[0] * ncols, COLUMN_SIZE[1] * nrows), dpi=dpi,
+                     layout="constrained")  # fmt: skip
+        canvas = FigureCanvasAgg(fig)
+        subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
+        columns = [_Column(sf, m, frames) for sf, m in zip(subs, motions, strict=False)]
+        for sf in subs[len(motions):]:
+            sf.set_visible(False)
+        moving = [a for c in columns for a in c.moving]
+        for a in moving:
+            a.set_animated(True)
+        canvas.draw()  # lays out (once) and draws everything that does not move
+        fig.set_layout_engine("none")
+        background = canvas.copy_from_bbox(fig.bbox)
+        hold = [any(c.at[k] is not None for c in columns) for k in range(frames)]
+        durations = [int(1000 * HOLD) if h else int(1000 / fps) for h in hold]
+        writer = GifWriter(durations, fps=fps)
+        with writer.saving(fig, path, dpi):
+            for k in range(frames):
+                canvas.restore_region(background)
+                for c in columns:
+                    for a in c.update(k):
+                        fig.draw_artist(a)
+                writer.grab_frame()
+    return frames

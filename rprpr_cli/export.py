@@ -1,0 +1,144 @@
+"""``rprpr export``: the sampled motion of an audit as CSV or JSON text.
+
+One row per sample, t = 0 .. t_f inclusive, the columns of ``samples.COLUMNS`` in that
+order, SI units (m, s, rad, N, N m; θ continuous). The numbers are the engine's own
+(``AuditResult.samples``), written with Python's shortest round-trip ``repr``, so reading
+the file back gives the very same floats. Where the torque is unbounded exactly at a
+singular instant the engine holds NaN; CSV writes ``nan``, JSON ``null`` (the JSON is
+strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
+
+Both formats name the task and the rprpr version: CSV in one leading ``#`` comment line
+(read with ``pandas.read_csv(f, comment="#")`` or ``numpy.genfromtxt(f, delimiter=",",
+names=True, skip_header=1)``), JSON in the fields ``rprpr`` and ``task``.
+
+No click, no matplotlib here: the command line (``cli_plot``) picks the stream and format.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable
+from typing import Any, TextIO
+
+import numpy as np
+
+from . import __version__
+from .audit import AuditResult
+from .samples import COLUMNS
+
+FORMATS = {".csv": "csv", ".json": "json"}
+
+UNITS = {
+    "t": "s", "x": "m", "y": "m", "x_dot": "m/s", "y_dot": "m/s",
+    "theta1": "rad", "s1": "m", "theta2": "rad", "s2": "m",
+    "theta1_dot": "rad/s", "s1_dot": "m/s", "theta2_dot": "rad/s", "s2_dot": "m/s",
+    "delta": "1", "delta_dot": "1/s",
+    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m",
+}  # fmt: skip
+
+
+def rows(result: AuditResult) -> np.ndarray:
+    """The exported table: one row per sample, the columns of ``COLUMNS`` in order."""
+    return result.samples.rows()
+
+
+def _csv_number(v: float) -> str:
+    if v == 0:
+        return "0.0"  # -0.0 too: a spreadsheet would show "-0"
+    return repr(float(v))  # shortest round-trip; nan, inf as such
+
+
+def _json_number(v: float) -> float | None:
+    if not math.isfinite(v):
+        return None
+    return float(v) + 0.0  # -0.0 -> 0.0
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def comment(result: AuditResult, source: str) -> str:
+    """The CSV's header comment (one line, no newline): version, task, file, grid, units."""
+    t = result.samples.t
+    name = json.dumps(_one_line(result.task.name), ensure_ascii=False)
+    where = f" ({_one_line(source)})" if source else ""
+    return (
+        f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
+        f"t = 0 .. {float(t[-1]):g} s; SI units (m, s, rad, N, N m); "
+        "nan = unbounded at a singular instant (see rprpr check)"
+    )
+
+
+def write_csv(result: AuditResult, out: TextIO, source: str = "") -> None:
+    """Write the samples as CSV: the comment line, the column names, one line per sample."""
+    out.write(comment(result, source) + "\n")
+    out.write(",".join(COLUMNS) + "\n")
+    for row in rows(result):
+        out.write(",".join(_csv_number(v) for v in row.tolist()) + "\n")
+
+
+def _singularities(result: AuditResult) -> list[dict[str, Any]]:
+    out = []
+    for s in result.singularities:
+        limit = s.torque_at_singularity
+        out.append(
+            {
+                "t": s.t,
+                "x": s.x,
+                "case": s.case.number,
+                "order": s.order,
+                "high_order": s.order >= 2,
+                "torque_bounded": s.torque_bounded,
+                "pole_order": s.pole_order,
+                "torque_at_singularity": (
+                    [_json_number(limit[0]), _json_number(limit[1])] if limit else None
+                ),
+            }
+        )
+    return out
+
+
+def document_head(result: AuditResult, source: str) -> dict[str, Any]:
+    """Every field of the JSON document but ``rows``."""
+    t = result.samples.t
+    return {
+        "rprpr": __version__,
+        "task": result.task.name,
+        "file": source,
+        "samples": len(t),
+        "duration": float(t[-1]),
+        "verdict": result.verdict,
+        "columns": list(COLUMNS),
+        "units": {c: UNITS[c] for c in COLUMNS},
+        "singularities": _singularities(result),
+    }
+
+
+def _json_rows(table: np.ndarray) -> Iterable[str]:
+    for row in table.tolist():
+        yield json.dumps([_json_number(v) for v in row], allow_nan=False)
+
+
+def write_json(result: AuditResult, out: TextIO, source: str = "") -> None:
+    """Write the samples as one JSON object: the fields of ``document_head`` and ``rows``
+    (a list of rows, each a list in the order of ``columns``; null where unbounded).
+    One row per line, so that the file stays readable and diffs well."""
+    head = json.dumps(document_head(result, source), indent=2, ensure_ascii=False, allow_nan=False)
+    out.write(head[:-2] + ',\n  "rows": [\n')  # head ends in "\n}"
+    first = True
+    for line in _json_rows(rows(result)):
+        out.write(("    " if first else ",\n    ") + line)
+        first = False
+    out.write("\n  ]\n}\n")
+
+
+def write(result: AuditResult, out: TextIO, fmt: str, source: str = "") -> None:
+    """Write ``result``'s samples to ``out`` as ``fmt`` ("csv" or "json")."""
+    if fmt == "csv":
+        write_csv(result, out, source)
+    elif fmt == "json":
+        write_json(result, out, source)
+    else:
+        raise ValueError(f"unknown export format {fmt!r}; expected csv or json")
