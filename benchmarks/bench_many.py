@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import random
+import resource
 import subprocess
 import sys
 import tempfile
@@ -28,6 +29,7 @@ import time
 from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 RPRPR = [sys.executable, "-m", "rprpr_cli"]
@@ -225,18 +227,109 @@ def generate(folder: Path, n: int = 1000, seed: int = 4) -> Counter[str]:
 
 
 # -- timing -------------------------------------------------------------------------------
-def _run(args: list[str]) -> tuple[float, bytes, int]:
-    t0 = time.perf_counter()
+def _cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def _run(args: list[str]) -> tuple[float, float, bytes, int]:
+    """(wall s, CPU s of the process and its workers, stdout, exit status)."""
+    c0, t0 = _cpu(), time.perf_counter()
     p = subprocess.run(args, capture_output=True, cwd=ROOT, check=False)
-    return time.perf_counter() - t0, p.stdout, p.returncode
+    return time.perf_counter() - t0, _cpu() - c0, p.stdout, p.returncode
 
 
-def best_of(args: list[str], repeat: int) -> tuple[float, bytes, int]:
+def best_of(args: list[str], repeat: int) -> tuple[float, float, bytes, int]:
+    """The fastest of ``repeat`` runs (wall time; its CPU time alongside)."""
     runs = [_run(args) for _ in range(repeat)]
-    outs = {out for _, out, _ in runs}
-    if len(outs) != 1:
+    if len({out for _, _, out, _ in runs}) != 1:
         raise SystemExit(f"outputs differ between repeated runs of {' '.join(args)}")
-    return min(t for t, _, _ in runs), runs[0][1], runs[0][2]
+    return min(runs, key=lambda r: r[0])
+
+
+# -- where the time goes ----------------------------------------------------------------------
+# (label, module, function): each is timed inclusively, outermost call only (so recursion and
+# nested calls of the same function are not counted twice), in every rprpr_cli module that
+# imported it by name. Indentation in the label shows what contains what.
+STAGES = [
+    ("load_task (read + YAML + validate)", "rprpr_cli.loader", "load_task"),
+    ("  YAML compose (libyaml + node scan)", "rprpr_cli.loader", "_compose"),
+    ("  numbers (parse_decimal)", "rprpr_cli.polynomial", "parse_decimal"),
+    ("  polynomials (parse_polynomial)", "rprpr_cli.polynomial", "parse_polynomial"),
+    ("  timing law", "rprpr_cli.trajectory", "timing_law"),
+    ("audit", "rprpr_cli.audit", "audit"),
+    ("  trajectory (compose y(x(t)))", "rprpr_cli.trajectory", "trajectory"),
+    ("  analyse (exact)", "rprpr_cli.singular", "analyse"),
+    ("    root isolation", "rprpr_cli.singular", "_real_roots"),
+    ("    per instant (exact series)", "rprpr_cli.singular", "_instant"),
+    ("      expansion (Taylor in K)", "rprpr_cli.singular", "expansion"),
+    ("      legs (series sqrt, / in K)", "rprpr_cli.singular", "legs"),
+    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics"),
+    ("  sample (float, --samples points)", "rprpr_cli.samples", "sample"),
+    ("    grid", "rprpr_cli.samples", "grid"),
+    ("    lambda_series (float series)", "rprpr_cli.samples", "lambda_series"),
+    ("    recentred y near t_s", "rprpr_cli.samples", "_recentered"),
+    ("  findings", "rprpr_cli.audit", "_findings"),
+    ("report dict (task_report)", "rprpr_cli.report", "task_report"),
+]
+
+
+def _instrument(totals: dict[str, float]) -> None:
+    import importlib
+
+    for label, modname, attr in STAGES:
+        mod = importlib.import_module(modname)
+        f = getattr(mod, attr, None)
+        if f is None:  # renamed in the engine: leave the stage out
+            continue
+        active = [0]
+
+        def timed(
+            *a: Any, _f: Any = f, _label: str = label, _active: list[int] = active, **k: Any
+        ) -> Any:
+            if _active[0]:
+                return _f(*a, **k)
+            _active[0] += 1
+            t0 = time.perf_counter()
+            try:
+                return _f(*a, **k)
+            finally:
+                totals[_label] += time.perf_counter() - t0
+                _active[0] -= 1
+
+        for m in list(sys.modules.values()):
+            if getattr(m, "__name__", "").startswith("rprpr_cli") and getattr(m, attr, None) is f:
+                setattr(m, attr, timed)
+
+
+def stages(folder: Path, samples: int) -> None:
+    """Audit the folder in this process with timers around the stages; print ms/task."""
+    import json
+
+    sys.path.insert(0, str(ROOT))
+    from rprpr_cli.cli import check_one, collect_tasks
+    from rprpr_cli.report import Run
+
+    files = collect_tasks([str(folder)])
+    for f in files[:20]:  # warm up (first-call costs are the imports' business)
+        check_one(f, samples, None)
+    totals: dict[str, float] = dict.fromkeys((lbl for lbl, _, _ in STAGES), 0.0)
+    _instrument(totals)
+    run = Run()
+    t0 = time.perf_counter()
+    for f in files:
+        run.add(*check_one(f, samples, None))
+    t1 = time.perf_counter()
+    text = json.dumps(run.document(quiet=True), indent=2)
+    t2 = time.perf_counter()
+    n = len(files)
+    print(f"\nin-process, {n} tasks, --samples {samples}: {(t1 - t0) / n * 1000:.2f} ms/task")
+    print(f"  {'stage':42s} {'ms/task':>8s} {'share':>6s}")
+    rows = list(totals.items())
+    rows.append(("JSON rendering (-q, indent 2)", t2 - t1))
+    for label, v in rows:
+        print(f"  {label:42s} {v / n * 1000:8.3f} {v / (t1 - t0):6.1%}")
+    print(f"  ({len(text)} bytes of JSON)")
 
 
 def main() -> int:
@@ -246,6 +339,11 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, nargs="+", default=[1, 2], help="-j values (1 2)")
     ap.add_argument("--samples", type=int, default=None, help="--samples (default: rprpr's)")
     ap.add_argument("--keep", type=Path, help="write the tasks here and keep them")
+    ap.add_argument(
+        "--stages",
+        action="store_true",
+        help="also time the stages in-process (where the time goes)",
+    )
     opts = ap.parse_args()
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -255,8 +353,8 @@ def main() -> int:
         for kind, _, _ in KINDS:
             print(f"  {counts[kind]:5d}  {kind}")
 
-        base, _, _ = best_of([sys.executable, "-c", "import numpy, yaml, click, rich"], opts.repeat)
-        one, _, _ = best_of([*RPRPR, "check", "configs/paper_path2.yaml"], opts.repeat)
+        base = best_of([sys.executable, "-c", "import numpy, yaml, click, rich"], opts.repeat)[0]
+        one = best_of([*RPRPR, "check", "configs/paper_path2.yaml"], opts.repeat)[0]
         print(f"\nimport numpy, yaml, click, rich: {base * 1000:6.0f} ms")
         print(
             f"rprpr check configs/paper_path2.yaml: {one * 1000:6.0f} ms"
@@ -267,16 +365,18 @@ def main() -> int:
         extra = ["--samples", str(opts.samples)] if opts.samples else []
         for j in opts.jobs:
             args = [*RPRPR, "check", "--format", "json", "-q", "-j", str(j), *extra, str(folder)]
-            wall, out, rc = best_of(args, opts.repeat)
+            wall, cpu, out, rc = best_of(args, opts.repeat)
             outputs[j] = out
             print(
                 f"-j {j}: {wall:6.2f} s for {opts.n} tasks = {opts.n / wall:6.0f} tasks/s"
-                f"  (exit {rc}, {len(out)} bytes of JSON)"
+                f"  (CPU {cpu:.2f} s; exit {rc}, {len(out)} bytes of JSON)"
             )
         if len(set(outputs.values())) != 1:
             print("FAIL: the -j runs produced different outputs")
             return 1
         print("outputs of all -j runs agree byte for byte")
+        if opts.stages:
+            stages(folder, opts.samples or 1001)
     return 0
 
 
