@@ -68,7 +68,7 @@ STYLES: tuple[Any, ...] = (
 
 NEAR_DELTA = 0.1  # |δ| below this is "near" a Type II singularity (band on δ, cue in the GIF)
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
-LIMIT_SHOWN = 3.0  # a torque limit beyond this multiple of the plotted range is only noted
+LIMIT_SHOWN = 10.0  # a torque limit beyond this multiple of the plotted range is only noted
 WIDTH = 11.0  # sheet width [in]
 
 RC: dict[str, Any] = {
@@ -257,7 +257,9 @@ def _legend(
 _OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0}  # full-width panels
 
 
-def _time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str) -> None:
+def _time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str, name: str) -> None:
+    """A time axis over [0, max t_f] with a line at each singular instant (gid
+    ``<name>-tsline-<task>-<k>``) and each inverse-kinematic one."""
     ax.set_title(title)
     ax.set_xlabel("t [s]")
     ax.set_ylabel(ylabel)
@@ -267,7 +269,10 @@ def _time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str) -> 
             st = status(m.result, s)
             ax.axvline(s.t, color="#888888" if st == "ok" else STATUS_COLOUR[st],
                        ls=(0, (4, 3)), lw=0.9, zorder=0.6 + 0.01 * _SEVERITY[st],
-                       gid=f"tsline-{i}-{k}")  # fmt: skip
+                       gid=f"{name}-tsline-{i}-{k}")  # fmt: skip
+        for k, ks in enumerate(m.result.kinematic_singularities):
+            ax.axvline(ks.t, color=STATUS_COLOUR["fail"], ls=":", lw=1.2, zorder=0.65,
+                       gid=f"{name}-kinematic-{i}-{k}")  # fmt: skip
 
 
 def _mark(ax: Axes, panel: str, motions: Sequence[Motion],
@@ -336,7 +341,7 @@ def _robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str) -> np.ndarray:
         return np.empty((0, 2))
     pts = []
     a1 = float(m.task.robot.a1)
-    for base, colour, lengths in (((0.0, 0.0), LEG1, s.s1), ((a1, 0.0), LEG2, s.s2)):
+    for n, base, colour, lengths in ((1, (0.0, 0.0), LEG1, s.s1), (2, (a1, 0.0), LEG2, s.s2)):
         P = np.array(base)
         d = E - P
         length = float(np.hypot(*d))
@@ -348,9 +353,9 @@ def _robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str) -> np.ndarray:
         cyl = min(cyl, 0.8 * length)
         C = P + cyl * u
         ax.plot([P[0], C[0]], [P[1], C[1]], color=colour, lw=7, alpha=0.45 * alpha,
-                solid_capstyle="butt", zorder=3.5, gid=f"{gid}-cylinder")  # fmt: skip
+                solid_capstyle="butt", zorder=3.5, gid=f"{gid}-cylinder{n}")  # fmt: skip
         ax.plot([P[0], E[0]], [P[1], E[1]], color=colour, lw=2.2, alpha=alpha,
-                solid_capstyle="round", zorder=3.6, gid=f"{gid}-leg")  # fmt: skip
+                solid_capstyle="round", zorder=3.6, gid=f"{gid}-leg{n}")  # fmt: skip
         pts.append(P + along * (E - P))
     ax.plot([E[0]], [E[1]], "o", ms=6, mfc="white", mec=POINT, mew=1.3, alpha=alpha, zorder=5)
     return np.concatenate(pts) if pts else np.empty((0, 2))
@@ -430,7 +435,7 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
             continue
         cx = _case_label_x(lo, hi, avoid)
         ax.annotate(text, (cx, 0), xytext=(0, 3), textcoords="offset points", ha="center",
-                    va="bottom", fontsize=7.5, color=LINE, gid="case-label")  # fmt: skip
+                    va="bottom", fontsize=7.5, color=LINE, gid=f"case-label-{text[5]}")  # fmt: skip
 
     # the base joints, once per distinct a1
     _ground(ax, 0.0, size, "A")
@@ -519,8 +524,8 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
 def _panel_x(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "End-point coordinates (paper Fig. 2)", motions)
     ax_x, ax_y = sf.subplots(1, 2)
-    _time_axes(ax_x, motions, "$x_E(t)$", "$x_E$ [m]")
-    _time_axes(ax_y, motions, "$y_E(t)$", "$y_E$ [m]")
+    _time_axes(ax_x, motions, "$x_E(t)$", "$x_E$ [m]", "x")
+    _time_axes(ax_y, motions, "$y_E(t)$", "$y_E$ [m]", "y")
     ax_y.axhline(0, color=LINE, lw=1.0, ls=(0, (7, 2, 1.5, 2)), zorder=1)
     for i, m in enumerate(motions):
         ax_x.plot(m.s.t, _finite(m.s.x), color=POINT, ls=_style(i), lw=1.6, gid=f"x-{i}")
@@ -585,7 +590,7 @@ class _Rows:
 def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "Type II determinant (paper Fig. 4)", motions)
     ax = sf.subplots()
-    _time_axes(ax, motions, r"$\delta(t) = \sin(\theta_1 - \theta_2)$, eq. (29)", r"$\delta$ [–]")
+    _time_axes(ax, motions, r"$\delta(t) = \sin(\theta_1 - \theta_2)$, eq. (29)", r"$\delta$ [–]", "delta")
     ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)
     ax.axhline(0, color="#444444", lw=0.8, zorder=0.7)
     for i, m in enumerate(motions):
@@ -618,8 +623,8 @@ def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
 def _panel_joints(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "Actuated joints (paper Fig. 5) and leg lengths", motions)
     ax_t, ax_s = sf.subplots(1, 2)
-    _time_axes(ax_t, motions, r"$\theta_1(t)$, $\theta_2(t)$ (continuous)", r"$\theta$ [deg]")
-    _time_axes(ax_s, motions, r"$s_1(t)$, $s_2(t)$", "$s$ [m]")
+    _time_axes(ax_t, motions, r"$\theta_1(t)$, $\theta_2(t)$ (continuous)", r"$\theta$ [deg]", "theta")
+    _time_axes(ax_s, motions, r"$s_1(t)$, $s_2(t)$", "$s$ [m]", "s")
     lo, hi = np.inf, -np.inf
     for i, m in enumerate(motions):
         for ax, v, c, name in ((ax_t, np.degrees(m.s.theta1), LEG1, "theta1"),
@@ -667,7 +672,7 @@ def _torque_range(motions: Sequence[Motion]) -> tuple[float, float] | None:
 def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "Motor torques (eq. 28)", motions)
     ax = sf.subplots()
-    _time_axes(ax, motions, r"$T_1(t)$, $T_2(t)$", "$T$ [N m]")
+    _time_axes(ax, motions, r"$T_1(t)$, $T_2(t)$", "$T$ [N m]", "torques")
     extra: list[Any] = []
     rng = _torque_range(motions)
     lo, hi = rng if rng is not None else (-1.0, 1.0)
@@ -677,18 +682,23 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     limits = sorted({(float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
                      for m in motions if m.task.checks.torque_limit is not None})  # fmt: skip
     notes = []
+    shown: list[tuple[float, str, str, str]] = []  # limit, colour, who, gid tag
     for L1, L2 in limits:
-        for L, colour, who in (((L1, "#D62728", "|T1|, |T2|"),) if L1 == L2 else
-                               ((L1, LEG1, "|T1|"), (L2, LEG2, "|T2|"))):  # fmt: skip
+        pairs = ([(L1, LINE, "|T1|, |T2|", "T")] if L1 == L2
+                 else [(L1, LEG1, "|T1|", "T1"), (L2, LEG2, "|T2|", "T2")])  # fmt: skip
+        for L, colour, who, tag in pairs:
             if L > LIMIT_SHOWN * scale:
                 notes.append(f"{who} limit {L:g} N m: above the plotted range")
                 continue
             lo, hi = min(lo, -1.08 * L), max(hi, 1.08 * L)
-            for sign in (1, -1):
-                ax.axhspan(sign * L, sign * 1e30, color=colour, alpha=0.09, lw=0, zorder=0.3,
-                           gid="torque-limit-band")  # fmt: skip
-                ax.axhline(sign * L, color=colour, lw=0.9, ls="-", alpha=0.8, zorder=0.4)
-            extra.append(Line2D([], [], color=colour, alpha=0.5, lw=6, label=f"beyond the {who} limit ±{L:g} N m"))
+            shown.append((L, colour, who, f"{tag}-{L:g}"))
+    for L, colour, who, tag in shown:
+        ax.axhspan(L, hi, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-upper")
+        ax.axhspan(lo, -L, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-lower")
+        for v in (L, -L):
+            ax.axhline(v, color=colour, lw=0.9, alpha=0.8, zorder=0.4)
+        extra.append(Line2D([], [], color=colour, alpha=0.5, lw=6,
+                            label=f"beyond the {who} limit ±{L:g} N m"))  # fmt: skip
     ax.set_ylim(lo, hi)
 
     for i, m in enumerate(motions):
@@ -702,9 +712,9 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     for i, m in enumerate(motions):
         for k, s in enumerate(m.result.singularities):
             if s.torque_at_singularity is not None:
-                for v, c in zip(s.torque_at_singularity, (LEG1, LEG2), strict=True):
+                for v, c, q in zip(s.torque_at_singularity, (LEG1, LEG2), ("T1", "T2"), strict=True):
                     ax.plot([s.t], [v], "o", ms=6, mfc="white", mec=c, mew=1.6, zorder=6,
-                            gid=f"torques-limit-{i}-{k}")  # fmt: skip
+                            gid=f"torques-limit-{i}-{k}-{q}")  # fmt: skip
                 continue
             diverging = True
             ax.axvline(s.t, color=STATUS_COLOUR["fail"], lw=1.4, ls="--", zorder=5,
@@ -717,11 +727,12 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
                     fontsize=7.5, color=STATUS_COLOUR["fail"], fontweight="bold",
                     bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
                     zorder=9)  # fmt: skip
-            for v, c in ((m.s.T1, LEG1), (m.s.T2, LEG2)):
+            for v, c, q in ((m.s.T1, LEG1, "T1"), (m.s.T2, LEG2, "T2")):
                 for tx, up in _exits(m.s.t, v, s.t, m.duration, lo, hi):
+                    side = "before" if tx < s.t else "after"
                     ax.plot([tx], [hi if up else lo], marker="^" if up else "v", ms=8, color=c,
                             mec="black", mew=0.6, ls="none", clip_on=False, zorder=9,
-                            gid=f"torques-exit-{i}-{k}")  # fmt: skip
+                            gid=f"torques-exit-{i}-{k}-{q}-{side}")  # fmt: skip
     if any(s.torque_at_singularity is not None for m in motions for s in m.result.singularities):
         extra.append(Line2D([], [], marker="o", ms=6, mfc="white", mec="#555555", mew=1.6,
                             ls="none", label="finite limit at t_s"))  # fmt: skip
