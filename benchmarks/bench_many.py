@@ -248,54 +248,67 @@ def best_of(args: list[str], repeat: int) -> tuple[float, float, bytes, int]:
 
 
 # -- where the time goes ----------------------------------------------------------------------
-# (label, module, function): each is timed inclusively, outermost call only (so recursion and
-# nested calls of the same function are not counted twice), in every rprpr_cli module that
-# imported it by name. Indentation in the label shows what contains what.
-STAGES = [
-    ("load_task (read + YAML + validate)", "rprpr_cli.loader", "load_task"),
-    ("  YAML compose (libyaml + node scan)", "rprpr_cli.loader", "_compose"),
-    ("  numbers (parse_decimal)", "rprpr_cli.polynomial", "parse_decimal"),
-    ("  polynomials (parse_polynomial)", "rprpr_cli.polynomial", "parse_polynomial"),
-    ("  timing law", "rprpr_cli.trajectory", "timing_law"),
-    ("audit", "rprpr_cli.audit", "audit"),
-    ("  trajectory (compose y(x(t)))", "rprpr_cli.trajectory", "trajectory"),
-    ("  analyse (exact)", "rprpr_cli.singular", "analyse"),
-    ("    root isolation", "rprpr_cli.singular", "_real_roots"),
-    ("    per instant (exact series)", "rprpr_cli.singular", "_instant"),
-    ("      expansion (Taylor in K)", "rprpr_cli.singular", "expansion"),
-    ("      legs (series sqrt, / in K)", "rprpr_cli.singular", "legs"),
-    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics"),
-    ("  sample (float, --samples points)", "rprpr_cli.samples", "sample"),
-    ("    grid", "rprpr_cli.samples", "grid"),
-    ("    lambda_series (float series)", "rprpr_cli.samples", "lambda_series"),
-    ("    recentred y near t_s", "rprpr_cli.samples", "_recentered"),
-    ("  findings", "rprpr_cli.audit", "_findings"),
-    ("report dict (task_report)", "rprpr_cli.report", "task_report"),
+# (label, module, function, context): each stage is timed inclusively, outermost call only (so
+# recursion is not counted twice), in every rprpr_cli module that imported the function by
+# name. A stage with a context counts only the calls made directly from that (timed) function: the
+# formulas of ``dynamics`` run on exact series, float series and numpy arrays alike, and the
+# rows say which. Indentation shows what contains what.
+STAGES: list[tuple[str, str, str, str]] = [
+    ("load_task (read + YAML + validate)", "rprpr_cli.loader", "load_task", ""),
+    ("  YAML compose (libyaml + node scan)", "rprpr_cli.loader", "_compose", ""),
+    ("  numbers (parse_decimal)", "rprpr_cli.polynomial", "parse_decimal", ""),
+    ("  polynomials (parse_polynomial)", "rprpr_cli.polynomial", "parse_polynomial", ""),
+    ("  timing law", "rprpr_cli.trajectory", "timing_law", ""),
+    ("audit", "rprpr_cli.audit", "audit", ""),
+    ("  trajectory (compose y(x(t)))", "rprpr_cli.trajectory", "trajectory", ""),
+    ("  analyse (exact)", "rprpr_cli.singular", "analyse", ""),
+    ("    root isolation", "rprpr_cli.singular", "_real_roots", ""),
+    ("    per instant (exact series in K)", "rprpr_cli.singular", "_instant", ""),
+    ("      expansion (Taylor coefficients)", "rprpr_cli.singular", "expansion", "_instant"),
+    ("      legs (series sqrt, /)", "rprpr_cli.singular", "legs", "_instant"),
+    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics", "_instant"),
+    ("  sample (float, --samples points)", "rprpr_cli.samples", "sample", ""),
+    ("    grid", "rprpr_cli.samples", "grid", ""),
+    ("    lambda_series (float series)", "rprpr_cli.samples", "lambda_series", ""),
+    ("      expansion (Taylor coefficients)", "rprpr_cli.singular", "expansion", "lambda_series"),
+    ("      legs (series sqrt, /)", "rprpr_cli.singular", "legs", "lambda_series"),
+    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics", "lambda_series"),
+    ("    recentred y near t_s", "rprpr_cli.samples", "_recentered", ""),
+    ("    legs (numpy)", "rprpr_cli.dynamics", "leg", "sample"),
+    ("    dynamics (numpy)", "rprpr_cli.dynamics", "dynamics", "sample"),
+    ("  findings", "rprpr_cli.audit", "_findings", ""),
+    ("report dict (task_report)", "rprpr_cli.report", "task_report", ""),
 ]
 
 
-def _instrument(totals: dict[str, float]) -> None:
+def _instrument(totals: list[float]) -> None:
+    """Wrap the STAGES' functions so that ``totals[i]`` sums the seconds of stage i."""
     import importlib
 
-    for label, modname, attr in STAGES:
-        mod = importlib.import_module(modname)
-        f = getattr(mod, attr, None)
+    stack: list[str] = []  # the timed functions being run, outermost first
+    by_function: dict[tuple[str, str], list[tuple[int, str]]] = {}
+    for i, (_, modname, attr, context) in enumerate(STAGES):
+        by_function.setdefault((modname, attr), []).append((i, context))
+    for (modname, attr), rows in by_function.items():
+        f = getattr(importlib.import_module(modname), attr, None)
         if f is None:  # renamed in the engine: leave the stage out
             continue
-        active = [0]
 
-        def timed(
-            *a: Any, _f: Any = f, _label: str = label, _active: list[int] = active, **k: Any
-        ) -> Any:
-            if _active[0]:
+        def timed(*a: Any, _f: Any = f, _name: str = attr, _rows: Any = rows, **k: Any) -> Any:
+            if _name in stack:  # recursion: counted by the outer call
                 return _f(*a, **k)
-            _active[0] += 1
+            context = stack[-1] if stack else ""  # the innermost timed caller
+            row = next((i for i, r in _rows if r == context), None)
+            if row is None:  # a row without a context counts every call
+                row = next((i for i, r in _rows if not r), None)
+            stack.append(_name)
             t0 = time.perf_counter()
             try:
                 return _f(*a, **k)
             finally:
-                totals[_label] += time.perf_counter() - t0
-                _active[0] -= 1
+                if row is not None:
+                    totals[row] += time.perf_counter() - t0
+                stack.pop()
 
         for m in list(sys.modules.values()):
             if getattr(m, "__name__", "").startswith("rprpr_cli") and getattr(m, attr, None) is f:
@@ -313,7 +326,7 @@ def stages(folder: Path, samples: int) -> None:
     files = collect_tasks([str(folder)])
     for f in files[:20]:  # warm up (first-call costs are the imports' business)
         check_one(f, samples, None)
-    totals: dict[str, float] = dict.fromkeys((lbl for lbl, _, _ in STAGES), 0.0)
+    totals = [0.0] * len(STAGES)
     _instrument(totals)
     run = Run()
     t0 = time.perf_counter()
@@ -325,7 +338,7 @@ def stages(folder: Path, samples: int) -> None:
     n = len(files)
     print(f"\nin-process, {n} tasks, --samples {samples}: {(t1 - t0) / n * 1000:.2f} ms/task")
     print(f"  {'stage':42s} {'ms/task':>8s} {'share':>6s}")
-    rows = list(totals.items())
+    rows = [(label, v) for (label, _, _, _), v in zip(STAGES, totals, strict=True)]
     rows.append(("JSON rendering (-q, indent 2)", t2 - t1))
     for label, v in rows:
         print(f"  {label:42s} {v / n * 1000:8.3f} {v / (t1 - t0):6.1%}")
