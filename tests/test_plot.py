@@ -1,0 +1,445 @@
+"""rprpr plot: the audit sheet's content — panels, titles, labels with units, the markers at
+the singular instants, the overlay's legend — in PNG, SVG and PDF, and the paper's
+Figs. 3-5 in the drawn data."""
+
+from __future__ import annotations
+
+import math
+import re
+import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from PIL import Image
+
+from rprpr_cli import plot as P
+from rprpr_cli.cli import main
+from rprpr_cli.loader import load_task
+
+from .conftest import CONFIGS, task_text
+
+PATH1 = str(CONFIGS / "paper_path1.yaml")
+PATH2 = str(CONFIGS / "paper_path2.yaml")
+NAME1 = "Example 1 of the paper, path 1"
+NAME2 = "Example 2 of the paper, path 2"
+CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
+SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2]]  # each config, and the paper's overlay
+AXES_PER_PANEL = {"path": 1, "x": 2, "delta": 1, "joints": 2, "torques": 1}
+SAMPLES = 101  # enough for the checks below, and fast
+HEAVY5 = """\
+  links:
+    2: {mass: 2.0, inertia: 0.10, r: 0.5}
+    3: {mass: 1.0, inertia: 0.05, r: 0.5}
+    4: {mass: 2.0, inertia: 0.10, r: 0.5}
+    5: {mass: 3.0, inertia: 0.05, r: 0.5}
+"""
+PATH2_Y = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
+QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"
+
+_cache: dict[str, P.Motion] = {}
+
+
+def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
+    out = []
+    for p in paths:
+        key = f"{p}@{samples}"
+        if key not in _cache:
+            _cache[key] = P.motion(load_task(p), p, samples)
+        out.append(_cache[key])
+    return out
+
+
+def panel_axes(fig: Figure) -> dict[str, list[Any]]:
+    return {sf.get_gid().removeprefix("panel-"): list(sf.axes) for sf in fig.subfigs}
+
+
+def by_gid(ax: Any, gid: str) -> Any:
+    hits = [a for a in ax.get_children() if a.get_gid() == gid]
+    assert len(hits) == 1, f"{gid}: {len(hits)} artists"
+    return hits[0]
+
+
+def legend_texts(ax: Any) -> list[str]:
+    legend = ax.get_legend()
+    assert legend is not None
+    return [t.get_text() for t in legend.get_texts()]
+
+
+def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    with pytest.raises(SystemExit) as e:
+        main(args)
+    out, err = capsys.readouterr()
+    return int(e.value.code or 0), out, err
+
+
+def svg_texts(path: Path) -> tuple[str, set[str]]:
+    """All text of an SVG's <text> elements, and every id."""
+    root = ET.parse(path).getroot()
+    texts = " ".join("".join(t.itertext()) for t in root.iter("{http://www.w3.org/2000/svg}text"))
+    ids = {e.get("id") for e in root.iter() if e.get("id")}
+    return texts, ids  # type: ignore[return-value]
+
+
+# ---------------------------------------------------------------------------------------
+# every panel, every config and the overlay, each format
+
+
+def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
+    axes = panel_axes(fig)
+    assert list(axes) == list(P.PANELS)
+    many = len(ms) > 1
+    for name, axs in axes.items():
+        assert len(axs) == AXES_PER_PANEL[name]
+        sf = next(s for s in fig.subfigs if s.get_gid() == f"panel-{name}")
+        title = sf._suptitle.get_text()
+        for m in ms:
+            assert m.name in title  # the panel's title names the task(s)
+        for ax in axs:
+            assert ax.get_title()
+            assert re.search(r"\[.+\]", ax.get_ylabel()), ax.get_ylabel()  # units
+            assert ax.get_xlabel() == ("x [m]" if name == "path" else "t [s]")
+            texts = legend_texts(ax)
+            if many:
+                assert all(m.name in texts for m in ms), texts
+    assert axes["path"][0].get_ylabel() == "y [m]"
+    assert [ax.get_ylabel() for ax in axes["joints"]] == [r"$\theta$ [deg]", "$s$ [m]"]
+    assert axes["torques"][0].get_ylabel() == "$T$ [N m]"
+    for i, m in enumerate(ms):
+        for k, s in enumerate(m.result.singularities):
+            shape = "*" if s.order >= 2 else "D"
+            for panel, gid, xy in (
+                ("path", f"path-singular-{i}-{k}", (s.x, 0.0)),
+                ("delta", f"delta-singular-{i}-{k}", (s.t, 0.0)),
+                ("x", f"x-singular-{i}-{k}", (s.t, s.x)),
+            ):
+                ax = next(a for a in axes[panel] if any(c.get_gid() == gid for c in a.get_children()))
+                mark = by_gid(ax, gid)
+                assert mark.get_marker() == shape
+                assert tuple(mark.get_xydata()[0]) == pytest.approx(xy)
+                assert mark.get_markerfacecolor() == P.STATUS_COLOUR[P.status(m.result, s)]
+            label = by_gid(axes["delta"][0], f"delta-label-{i}-{k}").get_text()
+            assert f"order {s.order}" in label
+            assert ("high-order" in label) == (s.order >= 2)
+
+
+@pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
+def test_every_panel_renders_in_png_svg_and_pdf(paths: list[str], tmp_path: Path) -> None:
+    ms = motions(paths)
+    fig = P.render(ms)
+    check_content(fig, ms)
+    names = [m.name for m in ms]
+
+    png = tmp_path / "sheet.png"
+    P.save(fig, str(png), "png", dpi=40, motions=ms)
+    with Image.open(png) as im:
+        im.verify()
+    with Image.open(png) as im:
+        w, h = fig.get_size_inches()
+        assert im.size == (round(w * 40), round(h * 40))
+        assert all(n in im.text["Title"] for n in names)
+        assert im.text["Software"].startswith("rprpr ")
+
+    svg = tmp_path / "sheet.svg"
+    P.save(fig, str(svg), "svg", motions=ms)
+    texts, ids = svg_texts(svg)
+    for words in ("Workspace (paper Fig. 3)", "End-point coordinates (paper Fig. 2)",
+                  "Type II determinant (paper Fig. 4)", "Actuated joints (paper Fig. 5)",
+                  "Motor torques (eq. 28)", "t [s]", "x [m]", "y [m]", *names):  # fmt: skip
+        assert words in texts, words
+    for i, m in enumerate(ms):
+        assert {f"path-{i}", f"delta-{i}", f"theta1-{i}", f"T1-{i}", f"T2-{i}"} <= ids
+        for k in range(len(m.result.singularities)):
+            assert {f"path-singular-{i}-{k}", f"delta-singular-{i}-{k}", f"delta-label-{i}-{k}"} <= ids
+
+    pdf = tmp_path / "sheet.pdf"
+    P.save(fig, str(pdf), "pdf", motions=ms)
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF")
+    title = re.search(rb"/Title \((.*?)\)", data)
+    assert title and all(n.encode() in title.group(1) for n in names)
+    assert b"/Count 1" in data  # one page
+    assert b"DejaVuSans" in data  # the text is there, as embedded TrueType (fonttype 42)
+
+
+# ---------------------------------------------------------------------------------------
+# the paper's figures in the drawn data
+
+
+def quintic_x(t: np.ndarray) -> np.ndarray:
+    return 2 + 4 / 25 * t**3 - 6 / 125 * t**4 + 12 / 3125 * t**5  # eq. (49)
+
+
+def test_fig4_path1_flattens_at_2_5_while_path2_crosses_with_slope() -> None:
+    ms = motions([PATH1, PATH2], samples=1001)
+    fig = P.render(ms, ["delta"])
+    ax = panel_axes(fig)["delta"][0]
+    for i, (path, slope) in enumerate(((lambda x: (x - 3) ** 3, 0.0),
+                                       (lambda x: 0.8 * x**3 - 7.2 * x**2 + 21.8 * x - 22.2, -0.1))):  # fmt: skip
+        t, d = by_gid(ax, f"delta-{i}").get_data()
+        t, d = np.asarray(t), np.asarray(d)
+        # independently: δ = -a1 y / (s1 s2), eq. (29) in product form, from eqs. (49)-(51)
+        x = quintic_x(t)
+        y = path(x)
+        assert np.allclose(d, -6 * y / (np.hypot(x, y) * np.hypot(x - 6, y)), atol=1e-12)
+        j = int(np.argmin(np.abs(t - 2.5)))
+        assert t[j] == 2.5 and d[j] == 0.0
+        h = t[j + 1] - t[j]
+        d1 = (d[j + 1] - d[j - 1]) / (2 * h)
+        d2 = (d[j + 1] - 2 * d[j] + d[j - 1]) / h**2
+        assert d1 == pytest.approx(slope, abs=1e-4)
+        if i == 0:  # δ = δ' = δ'' = 0: the curve is flat at t_s (third order)
+            assert abs(d2) < 1e-2
+    assert by_gid(ax, "delta-singular-0-0").get_marker() == "*"  # high order stands out
+    assert by_gid(ax, "delta-singular-1-0").get_marker() == "D"
+    assert "δ = δ' = δ'' = 0" in by_gid(ax, "delta-label-0-0").get_text()
+    assert legend_texts(ax)[:2] == [NAME1, NAME2]
+
+
+def test_fig5_joint_angles_in_degrees_are_continuous() -> None:
+    (m,) = motions([PATH2], samples=1001)
+    fig = P.render([m], ["joints"])
+    ax_theta, ax_s = panel_axes(fig)["joints"]
+    _, th1 = by_gid(ax_theta, "theta1-0").get_data()
+    _, th2 = by_gid(ax_theta, "theta2-0").get_data()
+    assert th1[0] == pytest.approx(-26.5651, abs=5e-5)
+    assert th2[0] == pytest.approx(-165.9638, abs=5e-5)
+    assert th1[-1] == pytest.approx(math.degrees(math.atan2(1, 4)), abs=1e-9)
+    assert th2[-1] == pytest.approx(math.degrees(math.atan2(1, -2)) - 360, abs=1e-9)  # no 2π jump
+    assert np.max(np.abs(np.diff(th1))) < 0.5 and np.max(np.abs(np.diff(th2))) < 0.5
+    _, s1 = by_gid(ax_s, "s1-0").get_data()
+    assert s1[0] == pytest.approx(math.sqrt(5)) and s1[-1] == pytest.approx(math.sqrt(17))
+
+
+def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
+    ms = motions([PATH1, PATH2])
+    fig = P.render(ms, ["path"])
+    ax = panel_axes(fig)["path"][0]
+    assert ax.get_aspect() == 1.0
+    texts = {t.get_text() for t in ax.texts}
+    assert {"A", "B"} <= texts
+    assert {"case 1\nθ1 = θ2 = 0", "case 2\nθ1 = θ2 = π", "case 3\nθ1 = 0, θ2 = π"} <= texts
+    x, y = by_gid(ax, "path-0").get_data()
+    assert (x[0], y[0], x[-1], y[-1]) == pytest.approx((2, -1, 4, 1))
+    # the robot at t_s: both legs on the singular line, meeting at E = (3, 0)
+    for n, base in ((1, 0.0), (2, 6.0)):
+        lx, ly = by_gid(ax, f"robot-0-singular-0-leg{n}").get_data()
+        assert (lx[0], ly[0]) == pytest.approx((base, 0.0))
+        assert (lx[1], ly[1]) == pytest.approx((3.0, 0.0), abs=1e-12)
+        by_gid(ax, f"robot-0-start-leg{n}")
+        by_gid(ax, f"robot-0-end-leg{n}")
+    by_gid(ax, "path-ring-0-0")  # the high-order point of path 1 is ringed
+    assert not [a for a in ax.get_children() if a.get_gid() == "path-ring-1-0"]
+    label = by_gid(ax, "path-label-0-0").get_text()
+    assert "order 3, high-order — FAILS" in label and "slope principle fails" in label
+    assert "T → (63.23, -5.445) N m" in by_gid(ax, "path-label-1-0").get_text()
+    entries = legend_texts(ax)
+    assert {NAME1, NAME2, "high-order singular instant (fails)",
+            "first-order singular instant (passes)", "singular line y = 0 (δ = 0)"} <= set(entries)  # fmt: skip
+
+
+def test_torques_clip_to_the_bounded_part_and_mark_the_divergence() -> None:
+    (m,) = motions([PATH1])
+    assert np.nanmax(np.abs(m.s.T1)) > 1e6  # the samples beside t_s are huge ...
+    fig = P.render([m], ["torques"])
+    ax = panel_axes(fig)["torques"][0]
+    lo, hi = ax.get_ylim()
+    assert -200 < lo < -60 and 60 < hi < 200  # ... the axis keeps the bounded part
+    assert by_gid(ax, "torques-unbounded-0-0").get_xdata()[0] == 2.5
+    for q in ("T1", "T2"):
+        for side in ("before", "after"):
+            mark = by_gid(ax, f"torques-exit-0-0-{q}-{side}")
+            tx, ty = mark.get_xydata()[0]
+            assert ty == hi and mark.get_marker() == "^"  # pole of order 2: +∞ on both sides
+            assert 0 < abs(tx - 2.5) < 0.5
+    notes = [t.get_text() for t in ax.texts]
+    assert any("T → ∞ at t = 2.5 s (pole of order 2)" in n for n in notes)
+    assert "leaves the axis: diverges" in legend_texts(ax)
+
+
+def test_torques_bounded_limit_and_torque_limit_bands() -> None:
+    (m,) = motions([PATH2])
+    fig = P.render([m], ["torques"])
+    ax = panel_axes(fig)["torques"][0]
+    assert tuple(by_gid(ax, "torques-limit-0-0-T1").get_xydata()[0]) == pytest.approx((2.5, 63.225))
+    assert tuple(by_gid(ax, "torques-limit-0-0-T2").get_xydata()[0]) == pytest.approx((2.5, -5.445))
+    lo, hi = ax.get_ylim()
+    assert lo < -300 and hi > 300
+    upper = by_gid(ax, "torque-limit-T-300-upper")
+    lower = by_gid(ax, "torque-limit-T-300-lower")
+    assert upper.get_path().get_extents(upper.get_transform()).height > 0
+    assert lower is not upper
+    assert "beyond the |T1|, |T2| limit ±300 N m" in legend_texts(ax)
+    assert not [a for a in ax.get_children() if str(a.get_gid()).startswith("torques-unbounded")]
+
+
+def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:  # type: ignore[no-untyped-def]
+    """Path 2 with link 5 heavier: eq. (34) fails at t_s, a pole of order 1: T changes
+    sign through infinity, and the instant is a warning (amber), not a failure."""
+    task = write_task(task_text(PATH2_Y, QUINTIC, links=HEAVY5).replace("name: test", "name: heavy link 5"))
+    m = P.motion(load_task(task), str(task), SAMPLES)
+    (s,) = m.result.singularities
+    assert not s.consistent and s.pole_order == 1
+    fig = P.render([m], ["delta", "torques"])
+    axes = panel_axes(fig)
+    mark = by_gid(axes["delta"][0], "delta-singular-0-0")
+    assert mark.get_markerfacecolor() == P.STATUS_COLOUR["warn"]
+    ax = axes["torques"][0]
+    shapes = {by_gid(ax, f"torques-exit-0-0-T2-{side}").get_marker() for side in ("before", "after")}
+    assert shapes == {"^", "v"}
+
+
+@pytest.mark.parametrize(
+    ("y", "timing", "expect"),
+    [
+        ("0\n  from: [2, 0]\n  to: [4, 0]", QUINTIC, "no bounded torque sample"),  # δ ≡ 0
+        ("x - 10\n  from: [2, -8]\n  to: [4, -6]", QUINTIC, None),  # never singular
+        ("x\n  from: [-1, -1]\n  to: [1, 1]", "timing:\n  duration: 2\n  law: quintic\n", "E at A or B (s = 0)"),
+        ("(x - 2.5)*(x - 3.5)\n  from: [2, 0.75]\n  to: [4, 0.75]", QUINTIC, "t = 3.203 s"),
+    ],
+    ids=["on-the-singular-line", "no-singularity", "through-A", "two-crossings"],
+)
+def test_unusual_motions_render_without_warnings(write_task, y: str, timing: str, expect: str | None) -> None:  # type: ignore[no-untyped-def]
+    task = write_task(task_text(y, timing))
+    m = P.motion(load_task(task), str(task), SAMPLES)
+    fig = P.render([m])
+    fig.draw_without_rendering()  # warnings are errors here (pytest's filterwarnings)
+    if expect is not None:
+        texts = [t.get_text() for ax in fig.get_axes() for t in ax.texts]
+        texts += [t for ax in fig.get_axes() if ax.get_legend() for t in legend_texts(ax)]
+        assert any(expect in t for t in texts), expect
+
+
+# ---------------------------------------------------------------------------------------
+# the command line
+
+
+def test_the_issues_overlay_command_writes_figs_3_and_4(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "fig.png"
+    code, stdout, err = run(["plot", PATH1, PATH2, "--panels", "path,delta", "-o", str(out),
+                             "--samples", str(SAMPLES), "--dpi", "60"], capsys)  # fmt: skip
+    assert code == 0 and stdout == "" and f"wrote {out}" in err
+    with Image.open(out) as im:
+        assert im.format == "PNG"
+        assert NAME1 in im.text["Title"] and NAME2 in im.text["Title"]
+        assert "t = 2.5 s order 3 fail" in im.text["Description"]
+        assert "t = 2.5 s order 1 ok" in im.text["Description"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.png"]
+
+
+def test_panels_pick_and_order(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    fig = P.render(motions([PATH2]), ["torques", "path"])
+    assert list(panel_axes(fig)) == ["torques", "path"]
+    out = tmp_path / "two.svg"
+    code, _, _ = run(["plot", PATH2, "--panels", " torques , PATH", "-o", str(out),
+                      "--samples", str(SAMPLES)], capsys)  # fmt: skip
+    assert code == 0
+    text = out.read_text(encoding="utf-8")
+    assert text.index('id="T1-0"') < text.index('id="path-0"')
+    assert 'id="delta-0"' not in text and 'id="theta1-0"' not in text
+
+
+def test_default_output_is_the_first_tasks_stem_in_the_cwd(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(["plot", PATH2, PATH1, "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys)
+    assert code == 0 and "wrote paper_path2.png" in err
+    assert [p.name for p in tmp_path.iterdir()] == ["paper_path2.png"]
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["-o", "sheet.jpg"], "'.jpg'"),
+        (["-o", "sheet"], "(none)"),
+        (["--panels", "path,torque"], "unknown panel 'torque'"),
+        (["--panels", "delta,delta"], "given twice"),
+        (["--panels", ","], "no panel"),
+        (["--animate", "robot.mp4"], "'.mp4'"),
+        (["--samples", "5"], "--samples"),
+    ],
+)
+def test_bad_invocation_exits_2_with_one_line(
+    args: list[str], says: str, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:  # fmt: skip
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(["plot", PATH2, *args], capsys)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and says in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_task_file_exits_2_with_one_line(write_task, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
+    bad = write_task(task_text("x - 3\n  from: [2, 5]\n  to: [4, 1]", QUINTIC))
+    code, out, err = run(["plot", PATH2, str(bad), "-o", str(tmp_path / "s.png")], capsys)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and f"{bad}:" in err and "path.from" in err
+    assert not (tmp_path / "s.png").exists()
+
+
+def test_at_most_eight_tasks_overlay(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    for i in range(9):
+        (tmp_path / f"t{i}.yaml").write_text(Path(PATH2).read_text())
+    code, _, err = run(["plot", str(tmp_path), "-o", str(tmp_path / "s.png")], capsys)
+    assert code == 2 and "at most 8" in err
+
+
+def test_show_without_a_display_writes_the_default_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(P, "can_show", lambda: False)
+    code, _, err = run(["plot", PATH2, "--show", "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys)
+    assert code == 0 and "no display for --show" in err
+    assert (tmp_path / "paper_path2.png").exists()
+
+
+def test_show_opens_a_pyplot_window_and_writes_o(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import matplotlib.pyplot as plt
+
+    shown: list[Figure] = []
+    monkeypatch.setattr(P, "can_show", lambda: True)
+    monkeypatch.setattr(plt, "show", lambda: shown.extend(plt.get_fignums()))
+    try:
+        out = tmp_path / "s.pdf"
+        code, _, _ = run(["plot", PATH2, "--show", "-o", str(out), "--panels", "x", "--samples", "21"], capsys)
+        assert code == 0 and out.read_bytes().startswith(b"%PDF-")
+        assert len(shown) == 1
+        fig = plt.figure(shown[0])
+        assert list(panel_axes(fig)) == ["x"]
+    finally:
+        plt.close("all")
+
+
+def test_plot_loads_matplotlib_only_when_plotting() -> None:
+    import subprocess
+    import sys
+
+    probe = (
+        "import sys\n"
+        "import rprpr_cli.cli, rprpr_cli.cli_plot\n"
+        "print(any(m.split('.')[0] == 'matplotlib' for m in sys.modules))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert done.stdout.strip() == "False", done.stderr
+
+
+def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:
+    fig = P.render(motions([PATH1, PATH2]), ["joints", "torques"])
+    axes = panel_axes(fig)
+    th = axes["joints"][0]
+    assert by_gid(th, "theta1-0").get_color() == by_gid(th, "theta1-1").get_color() == P.LEG1
+    assert by_gid(th, "theta2-0").get_color() == P.LEG2
+    assert by_gid(th, "theta1-0").get_linestyle() == "-"
+    assert by_gid(th, "theta1-1").get_linestyle() == "--"
+    tq = axes["torques"][0]
+    assert by_gid(tq, "T1-0").get_color() == P.LEG1 and by_gid(tq, "T2-1").get_color() == P.LEG2
+    assert isinstance(by_gid(tq, "T1-1"), Line2D)
