@@ -23,8 +23,8 @@ from typing import Any
 import matplotlib
 import numpy as np
 from matplotlib.animation import AbstractMovieWriter
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 from PIL import Image
@@ -63,8 +63,10 @@ class GifWriter(AbstractMovieWriter):
 
     def grab_frame(self, **savefig_kwargs: Any) -> None:
         canvas = self.fig.canvas
+        assert isinstance(canvas, FigureCanvasAgg), "draw the frame on an Agg canvas first"
         w, h = canvas.get_width_height(physical=True)
-        im = Image.frombuffer("RGBA", (w, h), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        rgba = canvas.buffer_rgba()  # type: ignore[no-untyped-call]
+        im = Image.frombuffer("RGBA", (w, h), rgba, "raw", "RGBA", 0, 1)
         self._frames.append(im.convert("RGB"))  # RGB quantises better to a GIF palette
 
     def finish(self) -> None:
@@ -72,8 +74,14 @@ class GifWriter(AbstractMovieWriter):
             return
         durations = self.durations[: len(self._frames)]
         durations += [int(1000 / self.fps)] * (len(self._frames) - len(durations))
-        self._frames[0].save(self.outfile, format="GIF", save_all=True,
-                             append_images=self._frames[1:], duration=durations, loop=0)  # fmt: skip
+        self._frames[0].save(
+            self.outfile,
+            format="GIF",
+            save_all=True,
+            append_images=self._frames[1:],
+            duration=durations,
+            loop=0,
+        )
 
 
 def frame_times(m: P.Motion, frames: int) -> tuple[np.ndarray, list[SingularInstant | None]]:
@@ -137,16 +145,35 @@ class _Column:
         self.cyl = {k: 0.45 * float(v.min()) if v.size else 0.5 for k, v in lengths.items()}
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
         self.legs = [
-            (ax.plot([], [], color=c, lw=6, alpha=0.45, solid_capstyle="butt", zorder=3.5)[0],
-             ax.plot([], [], color=c, lw=2.2, solid_capstyle="round", zorder=3.6)[0])
+            (
+                ax.plot([], [], color=c, lw=6, alpha=0.45, solid_capstyle="butt", zorder=3.5)[0],
+                ax.plot([], [], color=c, lw=2.2, solid_capstyle="round", zorder=3.6)[0],
+            )
             for c in (P.LEG1, P.LEG2)
-        ]  # fmt: skip
+        ]
         self.E = ax.plot([], [], "o", ms=6, mfc="white", mec=P.POINT, mew=1.3, zorder=7)[0]
-        self.clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8,
-                             family="monospace", zorder=9,
-                             bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.5})  # fmt: skip
-        self.cue = ax.text(0.98, 0.03, "", transform=ax.transAxes, ha="right", va="bottom",
-                           fontsize=8, fontweight="bold", zorder=9)  # fmt: skip
+        self.clock = ax.text(
+            0.02,
+            0.97,
+            "",
+            transform=ax.transAxes,
+            va="top",
+            fontsize=8,
+            family="monospace",
+            zorder=9,
+            bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.5},
+        )
+        self.cue = ax.text(
+            0.98,
+            0.03,
+            "",
+            transform=ax.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=8,
+            fontweight="bold",
+            zorder=9,
+        )
         # the cue: a wash over the workspace, drawn under the moving robot
         self.tint = Rectangle((0, 0), 1, 1, transform=ax.transAxes, lw=0, alpha=0.0, zorder=0)
         ax.add_patch(self.tint)
@@ -157,15 +184,30 @@ class _Column:
         ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
         ax.axhline(0, color="#444444", lw=0.7)
         for s in m.result.singularities:
-            ax.plot([s.t], [0], **{**P._marker_kw(s, P.status(m.result, s)), "markersize": 6 if s.order < 2 else 11})
+            ax.plot(
+                [s.t],
+                [0],
+                **{
+                    **P._marker_kw(s, P.status(m.result, s)),
+                    "markersize": 6 if s.order < 2 else 11,
+                },
+            )
         ax.set_xlim(0, m.duration)
         ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
         ax.set_ylabel("δ", fontsize=8)
         ax.tick_params(labelsize=7)
         self.cursor = ax.axvline(0, color="black", lw=1.0)
         self.dot = ax.plot([], [], "o", ms=4, color="black")[0]
-        self.moving = [self.tint, self.trace, *[a for leg in self.legs for a in leg], self.E,
-                       self.clock, self.cue, self.cursor, self.dot]  # fmt: skip
+        self.moving = [
+            self.tint,
+            self.trace,
+            *[a for leg in self.legs for a in leg],
+            self.E,
+            self.clock,
+            self.cue,
+            self.cursor,
+            self.dot,
+        ]
 
     def update(self, k: int) -> list[Any]:
         f, m = self.f, self.m
@@ -208,9 +250,13 @@ class _Column:
 
 
 def write_gif(
-    motions: Sequence[P.Motion], path: str, *, frames: int = FRAMES, fps: int = FPS,
+    motions: Sequence[P.Motion],
+    path: str,
+    *,
+    frames: int = FRAMES,
+    fps: int = FPS,
     dpi: int = DPI,
-) -> int:  # fmt: skip
+) -> int:
     """Write the animation of ``motions`` (side by side) to the file ``path`` as a GIF;
     returns the number of frames (``frames``, clamped to 2..MAX_FRAMES).
 
@@ -222,25 +268,26 @@ def write_gif(
     if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
         dpi = max(40, int(dpi / math.sqrt(nrows)))
     with matplotlib.rc_context({**P.RC, "font.size": 8}):
-        fig = Figure(figsize=(COLUMN_SIZE[0] * ncols, COLUMN_SIZE[1] * nrows), dpi=dpi,
-                     layout="constrained")  # fmt: skip
+        fig = Figure(
+            figsize=(COLUMN_SIZE[0] * ncols, COLUMN_SIZE[1] * nrows), dpi=dpi, layout="constrained"
+        )
         canvas = FigureCanvasAgg(fig)
         subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
         columns = [_Column(sf, m, frames) for sf, m in zip(subs, motions, strict=False)]
-        for sf in subs[len(motions):]:
+        for sf in subs[len(motions) :]:
             sf.set_visible(False)
         moving = [a for c in columns for a in c.moving]
         for a in moving:
             a.set_animated(True)
-        canvas.draw()  # lays out (once) and draws everything that does not move
+        canvas.draw()  # type: ignore[no-untyped-call]  # lays out (once), draws what stays
         fig.set_layout_engine("none")
-        background = canvas.copy_from_bbox(fig.bbox)
+        background = canvas.copy_from_bbox(fig.bbox)  # type: ignore[no-untyped-call]
         hold = [any(c.at[k] is not None for c in columns) for k in range(frames)]
         durations = [int(1000 * HOLD) if h else int(1000 / fps) for h in hold]
         writer = GifWriter(durations, fps=fps)
         with writer.saving(fig, path, dpi):
             for k in range(frames):
-                canvas.restore_region(background)
+                canvas.restore_region(background)  # type: ignore[no-untyped-call]
                 for c in columns:
                     for a in c.update(k):
                         fig.draw_artist(a)

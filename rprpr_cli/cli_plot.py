@@ -78,12 +78,14 @@ def _panels(spec: str | None, known: Sequence[str]) -> list[str]:
         return list(known)
     names = [p.strip().lower() for p in spec.split(",") if p.strip()]
     if not names:
-        raise click.BadParameter(f"no panel named; choose from {', '.join(known)}",
-                                 param_hint="--panels")  # fmt: skip
+        raise click.BadParameter(
+            f"no panel named; choose from {', '.join(known)}", param_hint="--panels"
+        )
     for n in names:
         if n not in known:
-            raise click.BadParameter(f"unknown panel {n!r}; choose from {', '.join(known)}",
-                                     param_hint="--panels")  # fmt: skip
+            raise click.BadParameter(
+                f"unknown panel {n!r}; choose from {', '.join(known)}", param_hint="--panels"
+            )
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
         raise click.BadParameter(f"panel {', '.join(dup)} given twice", param_hint="--panels")
@@ -95,24 +97,54 @@ PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = plot.PANELS, with
 
 @click.command()
 @click.argument("tasks", nargs=-1, required=True, type=click.Path())
-@click.option("-o", "--output-file", type=click.Path(dir_okay=False),
-              help="The sheet, as .png, .svg or .pdf (format from the extension). "
-                   "Default: <first task's stem>.png in the current directory.")
-@click.option("--panels", "panels_spec", metavar="LIST",
-              help="Comma-separated panels, drawn in this order: "
-                   f"{','.join(PANEL_NAMES)} (default: all).")
-@click.option("--animate", "animate_file", type=click.Path(dir_okay=False), metavar="FILE.gif",
-              help="Also write an animated GIF of the robot moving along the motion.")
-@click.option("--show", is_flag=True,
-              help="Open the sheet in a window (where a display exists); with -o, also write it.")
-@click.option("--samples", type=click.IntRange(11, 100_000), default=1001, show_default=True,
-              help="Sample points t = 0 .. t_f per task (the singular instants are added).")
-@click.option("--dpi", type=click.IntRange(50, 600), default=150, show_default=True,
-              help="Resolution of a .png sheet.")
+@click.option(
+    "-o",
+    "--output-file",
+    type=click.Path(dir_okay=False),
+    help="The sheet, as .png, .svg or .pdf (format from the extension). "
+    "Default: <first task's stem>.png in the current directory.",
+)
+@click.option(
+    "--panels",
+    "panels_spec",
+    metavar="LIST",
+    help=f"Comma-separated panels, drawn in this order: {','.join(PANEL_NAMES)} (default: all).",
+)
+@click.option(
+    "--animate",
+    "animate_file",
+    type=click.Path(dir_okay=False),
+    metavar="FILE.gif",
+    help="Also write an animated GIF of the robot moving along the motion.",
+)
+@click.option(
+    "--show",
+    is_flag=True,
+    help="Open the sheet in a window (where a display exists); with -o, also write it.",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(11, 100_000),
+    default=1001,
+    show_default=True,
+    help="Sample points t = 0 .. t_f per task (the singular instants are added).",
+)
+@click.option(
+    "--dpi",
+    type=click.IntRange(50, 600),
+    default=150,
+    show_default=True,
+    help="Resolution of a .png sheet.",
+)
 def plot(
-    tasks: tuple[str, ...], output_file: str | None, panels_spec: str | None,
-    animate_file: str | None, show: bool, samples: int, dpi: int,
-) -> None:  # fmt: skip
+    tasks: tuple[str, ...],
+    output_file: str | None,
+    panels_spec: str | None,
+    animate_file: str | None,
+    show: bool,
+    samples: int,
+    dpi: int,
+) -> None:
     """Draw the audit sheet of TASK (files or directories; several tasks overlay on the same
     axes): the workspace, x_E(t) and y_E(t), δ(t), the joints and the torques, as in the
     paper's Figs. 2-5. Exits 0 once written, whatever the verdict."""
@@ -146,14 +178,18 @@ def plot(
     if animate_file is not None:
         from . import animate as A
 
-        _write_atomic(animate_file, lambda tmp: A.write_gif(motions, tmp))
+        def gif(tmp: str) -> None:
+            A.write_gif(motions, tmp)
+
+        _write_atomic(animate_file, gif)
         written.append(animate_file)
     for w in written:
         click.echo(f"rprpr: wrote {w}", err=True)
 
 
-def _show(motions: list[Any], panels: list[str], output_file: str | None, first: str,
-          dpi: int) -> list[str]:  # fmt: skip
+def _show(
+    motions: list[Any], panels: list[str], output_file: str | None, first: str, dpi: int
+) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""
     from . import plot as P
@@ -169,8 +205,10 @@ def _show(motions: list[Any], panels: list[str], output_file: str | None, first:
     fig = P.render(motions, panels, figure=plt.figure())
     written = []
     if output_file is not None:
-        _write_atomic(output_file, lambda tmp: P.save(fig, tmp, P.format_of(output_file),
-                                                      dpi=dpi, motions=motions))  # fmt: skip
+        _write_atomic(
+            output_file,
+            lambda tmp: P.save(fig, tmp, P.format_of(output_file), dpi=dpi, motions=motions),
+        )
         written.append(output_file)
     plt.show()
     return written
@@ -178,13 +216,25 @@ def _show(motions: list[Any], panels: list[str], output_file: str | None, first:
 
 @click.command()
 @click.argument("task", type=click.Path())
-@click.option("-o", "--output-file", type=click.Path(dir_okay=False),
-              help="Write here, as .csv or .json (format from the extension); "
-                   "standard output when omitted.")
-@click.option("--format", "fmt", type=click.Choice(EXPORT_FORMATS),
-              help="Output format (default: from the -o extension, else csv).")
-@click.option("--samples", type=click.IntRange(2, 1_000_000), default=1001, show_default=True,
-              help="Sample points t_i = i t_f/(N-1), i = 0..N-1.")
+@click.option(
+    "-o",
+    "--output-file",
+    type=click.Path(dir_okay=False),
+    help="Write here, as .csv or .json (format from the extension); standard output when omitted.",
+)
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(EXPORT_FORMATS),
+    help="Output format (default: from the -o extension, else csv).",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(2, 1_000_000),
+    default=1001,
+    show_default=True,
+    help="Sample points t_i = i t_f/(N-1), i = 0..N-1.",
+)
 def export(task: str, output_file: str | None, fmt: str | None, samples: int) -> None:
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
@@ -210,6 +260,7 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
         E.write(result, sys.stdout, fmt, task)
         sys.stdout.flush()
     else:
+
         def write(tmp: str) -> None:
             with open(tmp, "w", encoding="utf-8", newline="") as fh:
                 E.write(result, fh, fmt, task)

@@ -63,15 +63,22 @@ STATUS_COLOUR = {"fail": "#D62728", "warn": "#E69F00", "ok": "#F0E442"}
 STATUS_WORD = {"fail": "fails", "warn": "warning", "ok": "passes"}
 _SEVERITY = {"ok": 0, "warn": 1, "fail": 2}
 STYLES: tuple[Any, ...] = (
-    "-", "--", "-.", ":", (0, (8, 2, 2, 2, 2, 2)), (0, (1, 1)), (0, (6, 2)), (0, (3, 4, 1, 4)),
-)  # fmt: skip
+    "-",
+    "--",
+    "-.",
+    ":",
+    (0, (8, 2, 2, 2, 2, 2)),
+    (0, (1, 1)),
+    (0, (6, 2)),
+    (0, (3, 4, 1, 4)),
+)
 
 NEAR_DELTA = 0.1  # |δ| below this is "near" a Type II singularity (band on δ, cue in the GIF)
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
 LIMIT_SHOWN = 10.0  # a torque limit beyond this multiple of the plotted range is only noted
 WIDTH = 11.0  # sheet width [in]
 
-RC: dict[str, Any] = {
+RC: Any = {  # matplotlib's rcParams for the sheet (Any: its stubs want literal keys)
     "font.size": 9,
     "axes.titlesize": 9.5,
     "axes.labelsize": 9,
@@ -136,7 +143,7 @@ def resample(m: Motion, t: np.ndarray) -> Samples:
 
 
 def status(result: AuditResult, s: SingularInstant) -> str:
-    """"fail" when a finding at t_s fails the task, "warn" when one only warns, else "ok"."""
+    """ "fail" when a finding at t_s fails the task, "warn" when one only warns, else "ok"."""
     hits = [f for f in result.findings if f.t is not None and f.t == s.t]
     if any(f.fails(result.strict) for f in hits):
         return "fail"
@@ -176,7 +183,9 @@ def summary(m: Motion) -> str:
         parts.append("inverse-kinematic singularity")
     unbounded = [s for s in r.singularities if not s.torque_bounded]
     if unbounded:
-        parts.append("torques unbounded at t = " + ", ".join(f"{s.t:.4g}" for s in unbounded) + " s")
+        parts.append(
+            "torques unbounded at t = " + ", ".join(f"{s.t:.4g}" for s in unbounded) + " s"
+        )
     elif r.torque_peak is not None:
         parts.append(f"peak |T1|, |T2| = {r.torque_peak[0]:.4g}, {r.torque_peak[1]:.4g} N m")
     where = f" ({m.source})" if m.source else ""
@@ -231,30 +240,45 @@ def _marker_handles(motions: Sequence[Motion]) -> list[Line2D]:
             key = (s.order >= 2, st)
             if key not in seen:
                 kind = "high-order" if key[0] else "first-order"
-                seen[key] = Line2D([], [], label=f"{kind} singular instant ({STATUS_WORD[st]})",
-                                   **_marker_kw(s, st))  # fmt: skip
+                seen[key] = Line2D(
+                    [],
+                    [],
+                    label=f"{kind} singular instant ({STATUS_WORD[st]})",
+                    **_marker_kw(s, st),
+                )
     return [seen[k] for k in sorted(seen, key=lambda k: (not k[0], k[1]))]
 
 
 def _legend(
-    ax: Axes, quantities: Sequence[tuple[str, str]], motions: Sequence[Motion],
-    extra: Sequence[Any] = (), **kw: Any,
-) -> None:  # fmt: skip
+    ax: Axes,
+    quantities: Sequence[tuple[str, str]],
+    motions: Sequence[Motion],
+    extra: Sequence[Any] = (),
+    **kw: Any,
+) -> None:
     """Quantities by colour; with several tasks, tasks by line style."""
     if len(motions) == 1:
         handles = [Line2D([], [], color=c, label=q) for q, c in quantities]
     elif len(quantities) == 1:
         c = quantities[0][1]
-        handles = [Line2D([], [], color=c, ls=_style(i), label=m.name) for i, m in enumerate(motions)]
+        handles = [
+            Line2D([], [], color=c, ls=_style(i), label=m.name) for i, m in enumerate(motions)
+        ]
     else:
         handles = [Line2D([], [], color=c, label=q) for q, c in quantities]
-        handles += [Line2D([], [], color="#555555", ls=_style(i), label=m.name)
-                    for i, m in enumerate(motions)]  # fmt: skip
+        handles += [
+            Line2D([], [], color="#555555", ls=_style(i), label=m.name)
+            for i, m in enumerate(motions)
+        ]
     handles += list(extra)
     ax.legend(handles=handles, **{"loc": "best", "framealpha": 0.88, **kw})
 
 
-_OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0}  # full-width panels
+_OUTSIDE = {
+    "loc": "upper left",
+    "bbox_to_anchor": (1.01, 1.0),
+    "borderaxespad": 0,
+}  # full-width panels
 
 
 def _time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str, name: str) -> None:
@@ -267,21 +291,40 @@ def _time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str, nam
     for i, m in enumerate(motions):
         for k, s in enumerate(m.result.singularities):
             st = status(m.result, s)
-            ax.axvline(s.t, color="#888888" if st == "ok" else STATUS_COLOUR[st],
-                       ls=(0, (4, 3)), lw=0.9, zorder=0.6 + 0.01 * _SEVERITY[st],
-                       gid=f"{name}-tsline-{i}-{k}")  # fmt: skip
+            ax.axvline(
+                s.t,
+                color="#888888" if st == "ok" else STATUS_COLOUR[st],
+                ls=(0, (4, 3)),
+                lw=0.9,
+                zorder=0.6 + 0.01 * _SEVERITY[st],
+                gid=f"{name}-tsline-{i}-{k}",
+            )
         for k, ks in enumerate(m.result.kinematic_singularities):
-            ax.axvline(ks.t, color=STATUS_COLOUR["fail"], ls=":", lw=1.2, zorder=0.65,
-                       gid=f"{name}-kinematic-{i}-{k}")  # fmt: skip
+            ax.axvline(
+                ks.t,
+                color=STATUS_COLOUR["fail"],
+                ls=":",
+                lw=1.2,
+                zorder=0.65,
+                gid=f"{name}-kinematic-{i}-{k}",
+            )
 
 
-def _mark(ax: Axes, panel: str, motions: Sequence[Motion],
-          value: Callable[[Motion, SingularInstant], float]) -> None:  # fmt: skip
+def _mark(
+    ax: Axes,
+    panel: str,
+    motions: Sequence[Motion],
+    value: Callable[[Motion, SingularInstant], float],
+) -> None:
     """A marker at each singular instant at (t_s, value); gid panel-singular-task-k."""
     for i, m in enumerate(motions):
         for k, s in enumerate(m.result.singularities):
-            ax.plot([s.t], [value(m, s)], gid=f"{panel}-singular-{i}-{k}",
-                    **_marker_kw(s, status(m.result, s)))  # fmt: skip
+            ax.plot(
+                [s.t],
+                [value(m, s)],
+                gid=f"{panel}-singular-{i}-{k}",
+                **_marker_kw(s, status(m.result, s)),
+            )
 
 
 def _at(m: Motion, t: float) -> int:
@@ -301,7 +344,9 @@ def _degree_ticks(ax: Axes, lo: float, hi: float) -> None:
 
 
 def _view(motions: Sequence[Motion]) -> tuple[float, float, float, float]:
-    xs = np.concatenate([m.s.x for m in motions] + [np.array([0.0, float(m.task.robot.a1)]) for m in motions])
+    xs = np.concatenate(
+        [m.s.x for m in motions] + [np.array([0.0, float(m.task.robot.a1)]) for m in motions]
+    )
     ys = np.concatenate([m.s.y for m in motions] + [np.zeros(1)])
     xs, ys = xs[np.isfinite(xs)], ys[np.isfinite(ys)]
     x0, x1 = float(xs.min()), float(xs.max())
@@ -320,15 +365,31 @@ def _path_height(motions: Sequence[Motion]) -> float:
 def _ground(ax: Axes, x: float, size: float, label: str) -> None:
     """A base joint: a grounded triangle under a revolute joint at (x, 0)."""
     h = size
-    ax.add_patch(Polygon([(x, 0), (x - 0.6 * h, -h), (x + 0.6 * h, -h)], closed=True,
-                         facecolor="#BBBBBB", edgecolor="#333333", lw=0.8, zorder=3))  # fmt: skip
+    ax.add_patch(
+        Polygon(
+            [(x, 0), (x - 0.6 * h, -h), (x + 0.6 * h, -h)],
+            closed=True,
+            facecolor="#BBBBBB",
+            edgecolor="#333333",
+            lw=0.8,
+            zorder=3,
+        )
+    )
     ax.plot([x - 0.9 * h, x + 0.9 * h], [-h, -h], color="#333333", lw=1.2, zorder=3)
     for k in range(5):
         xx = x - 0.9 * h + k * 0.45 * h
         ax.plot([xx, xx - 0.35 * h], [-h, -1.4 * h], color="#333333", lw=0.7, zorder=3)
     ax.plot([x], [0], "o", ms=6, mfc="white", mec="#333333", mew=1.2, zorder=7)
-    ax.annotate(label, (x, -1.4 * h), xytext=(0, -3), textcoords="offset points",
-                ha="center", va="top", fontsize=10, fontweight="bold")  # fmt: skip
+    ax.annotate(
+        label,
+        (x, -1.4 * h),
+        xytext=(0, -3),
+        textcoords="offset points",
+        ha="center",
+        va="top",
+        fontsize=10,
+        fontweight="bold",
+    )
 
 
 def _robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str) -> np.ndarray:
@@ -352,20 +413,40 @@ def _robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str) -> np.ndarray:
         cyl = 0.45 * float(finite.min()) if finite.size else 0.3 * length
         cyl = min(cyl, 0.8 * length)
         C = P + cyl * u
-        ax.plot([P[0], C[0]], [P[1], C[1]], color=colour, lw=7, alpha=0.45 * alpha,
-                solid_capstyle="butt", zorder=3.5, gid=f"{gid}-cylinder{n}")  # fmt: skip
-        ax.plot([P[0], E[0]], [P[1], E[1]], color=colour, lw=2.2, alpha=alpha,
-                solid_capstyle="round", zorder=3.6, gid=f"{gid}-leg{n}")  # fmt: skip
+        ax.plot(
+            [P[0], C[0]],
+            [P[1], C[1]],
+            color=colour,
+            lw=7,
+            alpha=0.45 * alpha,
+            solid_capstyle="butt",
+            zorder=3.5,
+            gid=f"{gid}-cylinder{n}",
+        )
+        ax.plot(
+            [P[0], E[0]],
+            [P[1], E[1]],
+            color=colour,
+            lw=2.2,
+            alpha=alpha,
+            solid_capstyle="round",
+            zorder=3.6,
+            gid=f"{gid}-leg{n}",
+        )
         pts.append(P + along * (E - P))
     ax.plot([E[0]], [E[1]], "o", ms=6, mfc="white", mec=POINT, mew=1.3, alpha=alpha, zorder=5)
     return np.concatenate(pts) if pts else np.empty((0, 2))
 
 
 def _place(
-    text: str, at: tuple[float, float], obstacles: np.ndarray,
-    boxes: list[tuple[float, float, float, float]], ppu: float,
-    view: tuple[float, float, float, float], fontsize: float = 7.5,
-) -> tuple[tuple[float, float], tuple[float, float, float, float]]:  # fmt: skip
+    text: str,
+    at: tuple[float, float],
+    obstacles: np.ndarray,
+    boxes: list[tuple[float, float, float, float]],
+    ppu: float,
+    view: tuple[float, float, float, float],
+    fontsize: float = 7.5,
+) -> tuple[tuple[float, float], tuple[float, float, float, float]]:
     """An offset (points) for a label at ``at`` whose box covers the fewest obstacle
     points, overlaps no placed box and stays in the view; and that box (data units).
     ``ppu`` is points per data unit (an estimate: the layout is not yet done)."""
@@ -379,10 +460,22 @@ def _place(
             dx, dy = 14 * sx, dist * sy
             bx = at[0] + dx / ppu
             by = at[1] + dy / ppu
-            box = (min(bx, bx + sx * w), max(bx, bx + sx * w), min(by, by + sy * h), max(by, by + sy * h))
-            inside = np.sum((obstacles[:, 0] >= box[0]) & (obstacles[:, 0] <= box[1])
-                            & (obstacles[:, 1] >= box[2]) & (obstacles[:, 1] <= box[3]))  # fmt: skip
-            clash = sum(not (box[1] < b[0] or b[1] < box[0] or box[3] < b[2] or b[3] < box[2]) for b in boxes)
+            box = (
+                min(bx, bx + sx * w),
+                max(bx, bx + sx * w),
+                min(by, by + sy * h),
+                max(by, by + sy * h),
+            )
+            inside = np.sum(
+                (obstacles[:, 0] >= box[0])
+                & (obstacles[:, 0] <= box[1])
+                & (obstacles[:, 1] >= box[2])
+                & (obstacles[:, 1] <= box[3])
+            )
+            clash = sum(
+                not (box[1] < b[0] or b[1] < box[0] or box[3] < b[2] or b[3] < box[2])
+                for b in boxes
+            )
             out = box[0] < view[0] or box[1] > view[1] or box[2] < view[2] or box[3] > view[3]
             score = float(inside) + 1000.0 * clash + 500.0 * out + 0.5 * rank
             rank += 1
@@ -434,8 +527,17 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
         if hi <= lo:
             continue
         cx = _case_label_x(lo, hi, avoid)
-        ax.annotate(text, (cx, 0), xytext=(0, 3), textcoords="offset points", ha="center",
-                    va="bottom", fontsize=7.5, color=LINE, gid=f"case-label-{text[5]}")  # fmt: skip
+        ax.annotate(
+            text,
+            (cx, 0),
+            xytext=(0, 3),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=7.5,
+            color=LINE,
+            gid=f"case-label-{text[5]}",
+        )
 
     # the base joints, once per distinct a1
     _ground(ax, 0.0, size, "A")
@@ -459,11 +561,23 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
             if key in labelled or not np.isfinite(m.s.x[j]):
                 continue
             labelled.add(key)
-            obstacles.append(np.array([(m.s.x[j] + size * k, m.s.y[j] + (-size if word == "start" else size))
-                                       for k in (1, 3, 5)]))  # fmt: skip
-            ax.annotate(f"{word}, t = {m.s.t[j]:.3g} s", (m.s.x[j], m.s.y[j]),
-                        xytext=(7, -7 if word == "start" else 5), textcoords="offset points",
-                        fontsize=7.5, color="#444444", va="top" if word == "start" else "bottom")  # fmt: skip
+            obstacles.append(
+                np.array(
+                    [
+                        (m.s.x[j] + size * k, m.s.y[j] + (-size if word == "start" else size))
+                        for k in (1, 3, 5)
+                    ]
+                )
+            )
+            ax.annotate(
+                f"{word}, t = {m.s.t[j]:.3g} s",
+                (m.s.x[j], m.s.y[j]),
+                xytext=(7, -7 if word == "start" else 5),
+                textcoords="offset points",
+                fontsize=7.5,
+                color="#444444",
+                va="top" if word == "start" else "bottom",
+            )
 
     # the paths, with the direction of motion
     for i, m in enumerate(motions):
@@ -471,9 +585,13 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
         x, y = m.s.x, m.s.y
         j = int(0.3 * (len(x) - 1))
         if np.all(np.isfinite([x[j], y[j], x[j + 1], y[j + 1]])):
-            ax.annotate("", xy=(x[j + 1], y[j + 1]), xytext=(x[j], y[j]), zorder=4,
-                        arrowprops={"arrowstyle": "-|>", "color": POINT, "lw": 1.2,
-                                    "mutation_scale": 14})  # fmt: skip
+            ax.annotate(
+                "",
+                xy=(x[j + 1], y[j + 1]),
+                xytext=(x[j], y[j]),
+                zorder=4,
+                arrowprops={"arrowstyle": "-|>", "color": POINT, "lw": 1.2, "mutation_scale": 14},
+            )
 
     # singular points: marker, and order and verdict beside it, where the label hides least
     obs = np.concatenate([o for o in obstacles if o.size])
@@ -484,35 +602,86 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
         for k, s in enumerate(m.result.singularities):
             st = status(m.result, s)
             if s.order >= 2:  # a high-order point must stand out: a red ring around it
-                ax.plot([s.x], [0], "o", ms=30, mfc="none", mec=STATUS_COLOUR["fail"], mew=2,
-                        alpha=0.8, zorder=5.5, gid=f"path-ring-{i}-{k}")  # fmt: skip
+                ax.plot(
+                    [s.x],
+                    [0],
+                    "o",
+                    ms=30,
+                    mfc="none",
+                    mec=STATUS_COLOUR["fail"],
+                    mew=2,
+                    alpha=0.8,
+                    zorder=5.5,
+                    gid=f"path-ring-{i}-{k}",
+                )
             ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **_marker_kw(s, st))
             who = f"{_short(m.name)}\n" if len(motions) > 1 else ""
-            text = (f"{who}t = {s.t:.4g} s: {order_text(s)} — {STATUS_WORD[st].upper()}\n"
-                    f"{verdict_text(m.result, s)}")
+            text = (
+                f"{who}t = {s.t:.4g} s: {order_text(s)} — {STATUS_WORD[st].upper()}\n"
+                f"{verdict_text(m.result, s)}"
+            )
             (dx, dy), box = _place(text, (s.x, 0.0), obs, boxes, ppu, (x0, x1, y0, y1))
             boxes.append(box)
             ax.annotate(
-                text, (s.x, 0), xytext=(dx, dy), textcoords="offset points", fontsize=7.5,
-                va="top" if dy < 0 else "bottom", ha="left" if dx > 0 else "right", multialignment="left",
-                color="black", fontweight="bold" if st != "ok" else "normal",
-                bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": STATUS_COLOUR[st] if st != "ok" else "#999999", "alpha": 0.9},
-                arrowprops={"arrowstyle": "-", "color": "#666666", "lw": 0.7, "shrinkA": 0, "shrinkB": 6},
-                zorder=8, gid=f"path-label-{i}-{k}",
-            )  # fmt: skip
+                text,
+                (s.x, 0),
+                xytext=(dx, dy),
+                textcoords="offset points",
+                fontsize=7.5,
+                va="top" if dy < 0 else "bottom",
+                ha="left" if dx > 0 else "right",
+                multialignment="left",
+                color="black",
+                fontweight="bold" if st != "ok" else "normal",
+                bbox={
+                    "boxstyle": "round,pad=0.25",
+                    "fc": "white",
+                    "ec": STATUS_COLOUR[st] if st != "ok" else "#999999",
+                    "alpha": 0.9,
+                },
+                arrowprops={
+                    "arrowstyle": "-",
+                    "color": "#666666",
+                    "lw": 0.7,
+                    "shrinkA": 0,
+                    "shrinkB": 6,
+                },
+                zorder=8,
+                gid=f"path-label-{i}-{k}",
+            )
         for k, ks in enumerate(m.result.kinematic_singularities):
-            ax.plot([ks.x], [ks.y], "X", ms=11, mfc=STATUS_COLOUR["fail"], mec="black", zorder=6,
-                    gid=f"path-kinematic-{i}-{k}")  # fmt: skip
+            ax.plot(
+                [ks.x],
+                [ks.y],
+                "X",
+                ms=11,
+                mfc=STATUS_COLOUR["fail"],
+                mec="black",
+                zorder=6,
+                gid=f"path-kinematic-{i}-{k}",
+            )
 
     extra: list[Any] = [
-        Line2D([], [], color=LINE, lw=1.1, ls=(0, (7, 2, 1.5, 2)), label="singular line y = 0 (δ = 0)"),
+        Line2D(
+            [], [], color=LINE, lw=1.1, ls=(0, (7, 2, 1.5, 2)), label="singular line y = 0 (δ = 0)"
+        ),
         Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
         Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
         *_marker_handles(motions),
     ]
     if any(m.result.kinematic_singularities for m in motions):
-        extra.append(Line2D([], [], marker="X", ms=9, mfc=STATUS_COLOUR["fail"], mec="black",
-                            ls="none", label="E at A or B (s = 0)"))  # fmt: skip
+        extra.append(
+            Line2D(
+                [],
+                [],
+                marker="X",
+                ms=9,
+                mfc=STATUS_COLOUR["fail"],
+                mec="black",
+                ls="none",
+                label="E at A or B (s = 0)",
+            )
+        )
     _legend(ax, [("end-point path", POINT)], motions, extra, **_OUTSIDE)
     return [ax]
 
@@ -533,8 +702,12 @@ def _panel_x(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _mark(ax_x, "x", motions, lambda m, s: s.x)
     _mark(ax_y, "y", motions, lambda m, s: 0.0)
     _legend(ax_x, [("$x_E$", POINT)], motions)
-    _legend(ax_y, [("$y_E$", POINT)], motions,
-            [Line2D([], [], color=LINE, lw=1.0, ls=(0, (7, 2, 1.5, 2)), label="singular line y = 0")])  # fmt: skip
+    _legend(
+        ax_y,
+        [("$y_E$", POINT)],
+        motions,
+        [Line2D([], [], color=LINE, lw=1.0, ls=(0, (7, 2, 1.5, 2)), label="singular line y = 0")],
+    )
     return [ax_x, ax_y]
 
 
@@ -554,8 +727,14 @@ class _Rows:
 
     LINE = 10.5  # points per line of 7.5-point text, with leading
 
-    def __init__(self, tmax: float, *, below: bool = False, axes_inches: float = WIDTH - 4.0,
-                 fontsize: float = 7.5) -> None:  # fmt: skip
+    def __init__(
+        self,
+        tmax: float,
+        *,
+        below: bool = False,
+        axes_inches: float = WIDTH - 4.0,
+        fontsize: float = 7.5,
+    ) -> None:
         self.per_char = 0.62 * fontsize / 72 / axes_inches * tmax
         self.pad = 14 / 72 / axes_inches * tmax
         self.tmax = tmax
@@ -574,8 +753,11 @@ class _Rows:
         for side in self.sides:
             level = 0.0
             while True:
-                hits = [p for p in self.placed[side]
-                        if p[0] < hi and lo < p[1] and p[2] < level + height and level < p[3]]  # fmt: skip
+                hits = [
+                    p
+                    for p in self.placed[side]
+                    if p[0] < hi and lo < p[1] and p[2] < level + height and level < p[3]
+                ]
                 if not hits:
                     break
                 level = max(p[3] for p in hits)
@@ -590,7 +772,9 @@ class _Rows:
 def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "Type II determinant (paper Fig. 4)", motions)
     ax = sf.subplots()
-    _time_axes(ax, motions, r"$\delta(t) = \sin(\theta_1 - \theta_2)$, eq. (29)", r"$\delta$ [–]", "delta")
+    _time_axes(
+        ax, motions, r"$\delta(t) = \sin(\theta_1 - \theta_2)$, eq. (29)", r"$\delta$ [–]", "delta"
+    )
     ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)
     ax.axhline(0, color="#444444", lw=0.8, zorder=0.7)
     for i, m in enumerate(motions):
@@ -607,15 +791,26 @@ def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
             else:  # many tasks: one line each, or the labels outgrow the axes
                 text = f"{_short(m.name, 28)}: {order_text(s)}"
             side, level, right = rows.place(s.t, text)
-            ax.annotate(text, (s.t, 0), ha="right" if right else "left",
-                        va="bottom" if side > 0 else "top",
-                        xytext=(-10 if right else 10, side * (8 + level)), textcoords="offset points", fontsize=7.5,
-                        color=STATUS_COLOUR["fail"] if st == "fail" else "black",
-                        fontweight="bold" if s.order >= 2 else "normal",
-                        bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.6},
-                        zorder=8, gid=f"delta-label-{i}-{k}")  # fmt: skip
-    extra = [*_marker_handles(motions),
-             Line2D([], [], color="#999999", alpha=0.35, lw=6, label=f"near singular: |δ| < {NEAR_DELTA:g}")]  # fmt: skip
+            ax.annotate(
+                text,
+                (s.t, 0),
+                ha="right" if right else "left",
+                va="bottom" if side > 0 else "top",
+                xytext=(-10 if right else 10, side * (8 + level)),
+                textcoords="offset points",
+                fontsize=7.5,
+                color=STATUS_COLOUR["fail"] if st == "fail" else "black",
+                fontweight="bold" if s.order >= 2 else "normal",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.6},
+                zorder=8,
+                gid=f"delta-label-{i}-{k}",
+            )
+    extra = [
+        *_marker_handles(motions),
+        Line2D(
+            [], [], color="#999999", alpha=0.35, lw=6, label=f"near singular: |δ| < {NEAR_DELTA:g}"
+        ),
+    ]
     _legend(ax, [("δ", DELTA)], motions, extra, **_OUTSIDE)
     return [ax]
 
@@ -623,13 +818,18 @@ def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
 def _panel_joints(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     _title(sf, "Actuated joints (paper Fig. 5) and leg lengths", motions)
     ax_t, ax_s = sf.subplots(1, 2)
-    _time_axes(ax_t, motions, r"$\theta_1(t)$, $\theta_2(t)$ (continuous)", r"$\theta$ [deg]", "theta")
+    _time_axes(
+        ax_t, motions, r"$\theta_1(t)$, $\theta_2(t)$ (continuous)", r"$\theta$ [deg]", "theta"
+    )
     _time_axes(ax_s, motions, r"$s_1(t)$, $s_2(t)$", "$s$ [m]", "s")
     lo, hi = np.inf, -np.inf
     for i, m in enumerate(motions):
-        for ax, v, c, name in ((ax_t, np.degrees(m.s.theta1), LEG1, "theta1"),
-                               (ax_t, np.degrees(m.s.theta2), LEG2, "theta2"),
-                               (ax_s, m.s.s1, LEG1, "s1"), (ax_s, m.s.s2, LEG2, "s2")):  # fmt: skip
+        for ax, v, c, name in (
+            (ax_t, np.degrees(m.s.theta1), LEG1, "theta1"),
+            (ax_t, np.degrees(m.s.theta2), LEG2, "theta2"),
+            (ax_s, m.s.s1, LEG1, "s1"),
+            (ax_s, m.s.s2, LEG2, "s2"),
+        ):
             v = _finite(v)
             ax.plot(m.s.t, v, color=c, ls=_style(i), lw=1.7, gid=f"{name}-{i}")
             if ax is ax_t and np.any(np.isfinite(v)):
@@ -679,26 +879,41 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     scale = max(abs(lo), abs(hi))
 
     # torque limits, as bands beyond ±limit
-    limits = sorted({(float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
-                     for m in motions if m.task.checks.torque_limit is not None})  # fmt: skip
+    limits = sorted(
+        {
+            (float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
+            for m in motions
+            if m.task.checks.torque_limit is not None
+        }
+    )
     notes = []
     shown: list[tuple[float, str, str, str]] = []  # limit, colour, who, gid tag
     for L1, L2 in limits:
-        pairs = ([(L1, LINE, "|T1|, |T2|", "T")] if L1 == L2
-                 else [(L1, LEG1, "|T1|", "T1"), (L2, LEG2, "|T2|", "T2")])  # fmt: skip
+        pairs = (
+            [(L1, LINE, "|T1|, |T2|", "T")]
+            if L1 == L2
+            else [(L1, LEG1, "|T1|", "T1"), (L2, LEG2, "|T2|", "T2")]
+        )
         for L, colour, who, tag in pairs:
-            if L > LIMIT_SHOWN * scale:
+            if LIMIT_SHOWN * scale < L:
                 notes.append(f"{who} limit {L:g} N m: above the plotted range")
                 continue
             lo, hi = min(lo, -1.08 * L), max(hi, 1.08 * L)
             shown.append((L, colour, who, f"{tag}-{L:g}"))
     for L, colour, who, tag in shown:
-        ax.axhspan(L, hi, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-upper")
-        ax.axhspan(lo, -L, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-lower")
+        ax.axhspan(
+            L, hi, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-upper"
+        )
+        ax.axhspan(
+            lo, -L, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-lower"
+        )
         for v in (L, -L):
             ax.axhline(v, color=colour, lw=0.9, alpha=0.8, zorder=0.4)
-        extra.append(Line2D([], [], color=colour, alpha=0.5, lw=6,
-                            label=f"beyond the {who} limit ±{L:g} N m"))  # fmt: skip
+        extra.append(
+            Line2D(
+                [], [], color=colour, alpha=0.5, lw=6, label=f"beyond the {who} limit ±{L:g} N m"
+            )
+        )
     ax.set_ylim(lo, hi)
 
     for i, m in enumerate(motions):
@@ -712,44 +927,108 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     for i, m in enumerate(motions):
         for k, s in enumerate(m.result.singularities):
             if s.torque_at_singularity is not None:
-                for v, c, q in zip(s.torque_at_singularity, (LEG1, LEG2), ("T1", "T2"), strict=True):
-                    ax.plot([s.t], [v], "o", ms=6, mfc="white", mec=c, mew=1.6, zorder=6,
-                            gid=f"torques-limit-{i}-{k}-{q}")  # fmt: skip
+                for v, c, q in zip(
+                    s.torque_at_singularity, (LEG1, LEG2), ("T1", "T2"), strict=True
+                ):
+                    ax.plot(
+                        [s.t],
+                        [v],
+                        "o",
+                        ms=6,
+                        mfc="white",
+                        mec=c,
+                        mew=1.6,
+                        zorder=6,
+                        gid=f"torques-limit-{i}-{k}-{q}",
+                    )
                 continue
             diverging = True
-            ax.axvline(s.t, color=STATUS_COLOUR["fail"], lw=1.4, ls="--", zorder=5,
-                       gid=f"torques-unbounded-{i}-{k}")  # fmt: skip
+            ax.axvline(
+                s.t,
+                color=STATUS_COLOUR["fail"],
+                lw=1.4,
+                ls="--",
+                zorder=5,
+                gid=f"torques-unbounded-{i}-{k}",
+            )
             who = f"{_short(m.name, 28)}: " if len(motions) > 1 else ""
             note = f"{who}T → ∞ at t = {s.t:.4g} s (pole of order {s.pole_order})"
             _, level, right = rows.place(s.t, note)
-            ax.annotate(note, (s.t, 1.0), xycoords=top, xytext=(-4 if right else 4, -4 - level),
-                    textcoords="offset points", ha="right" if right else "left", va="top",
-                    fontsize=7.5, color=STATUS_COLOUR["fail"], fontweight="bold",
-                    bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
-                    zorder=9)  # fmt: skip
-            for v, c, q in ((m.s.T1, LEG1, "T1"), (m.s.T2, LEG2, "T2")):
-                for tx, up in _exits(m.s.t, v, s.t, m.duration, lo, hi):
+            ax.annotate(
+                note,
+                (s.t, 1.0),
+                xycoords=top,
+                xytext=(-4 if right else 4, -4 - level),
+                textcoords="offset points",
+                ha="right" if right else "left",
+                va="top",
+                fontsize=7.5,
+                color=STATUS_COLOUR["fail"],
+                fontweight="bold",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
+                zorder=9,
+            )
+            for series, c, q in ((m.s.T1, LEG1, "T1"), (m.s.T2, LEG2, "T2")):
+                for tx, up in _exits(m.s.t, series, s.t, m.duration, lo, hi):
                     side = "before" if tx < s.t else "after"
-                    ax.plot([tx], [hi if up else lo], marker="^" if up else "v", ms=8, color=c,
-                            mec="black", mew=0.6, ls="none", clip_on=False, zorder=9,
-                            gid=f"torques-exit-{i}-{k}-{q}-{side}")  # fmt: skip
+                    ax.plot(
+                        [tx],
+                        [hi if up else lo],
+                        marker="^" if up else "v",
+                        ms=8,
+                        color=c,
+                        mec="black",
+                        mew=0.6,
+                        ls="none",
+                        clip_on=False,
+                        zorder=9,
+                        gid=f"torques-exit-{i}-{k}-{q}-{side}",
+                    )
     if any(s.torque_at_singularity is not None for m in motions for s in m.result.singularities):
-        extra.append(Line2D([], [], marker="o", ms=6, mfc="white", mec="#555555", mew=1.6,
-                            ls="none", label="finite limit at t_s"))  # fmt: skip
+        extra.append(
+            Line2D(
+                [],
+                [],
+                marker="o",
+                ms=6,
+                mfc="white",
+                mec="#555555",
+                mew=1.6,
+                ls="none",
+                label="finite limit at t_s",
+            )
+        )
     if diverging:
-        extra.append(Line2D([], [], marker="^", ms=7, color="#777777", mec="black", ls="none",
-                            label="leaves the axis: diverges"))  # fmt: skip
+        extra.append(
+            Line2D(
+                [],
+                [],
+                marker="^",
+                ms=7,
+                color="#777777",
+                mec="black",
+                ls="none",
+                label="leaves the axis: diverges",
+            )
+        )
     if rng is None:
-        ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center",
-                color=STATUS_COLOUR["fail"])  # fmt: skip
+        ax.text(
+            0.5,
+            0.5,
+            "no bounded torque sample",
+            transform=ax.transAxes,
+            ha="center",
+            color=STATUS_COLOUR["fail"],
+        )
     for j, note in enumerate(notes):
         ax.text(0.01, 0.03 + 0.07 * j, note, transform=ax.transAxes, fontsize=7.5, color="#8B0000")
     _legend(ax, [("$T_1$ (joint A)", LEG1), ("$T_2$ (joint B)", LEG2)], motions, extra, **_OUTSIDE)
     return [ax]
 
 
-def _exits(t: np.ndarray, v: np.ndarray, ts: float, duration: float, lo: float,
-           hi: float) -> list[tuple[float, bool]]:  # fmt: skip
+def _exits(
+    t: np.ndarray, v: np.ndarray, ts: float, duration: float, lo: float, hi: float
+) -> list[tuple[float, bool]]:
     """Where, approaching t_s from each side, the curve v first leaves [lo, hi]:
     (time, leaves upwards?)."""
     out = []
@@ -852,8 +1131,14 @@ def metadata(motions: Sequence[Motion], fmt: str) -> dict[str, Any]:
     return {"Title": title, "Creator": creator, "Subject": desc, "CreationDate": None}
 
 
-def save(fig: Figure, target: str | IO[bytes], fmt: str, *, dpi: int = 150,
-         motions: Sequence[Motion] = ()) -> None:  # fmt: skip
+def save(
+    fig: Figure,
+    target: str | IO[bytes],
+    fmt: str,
+    *,
+    dpi: int = 150,
+    motions: Sequence[Motion] = (),
+) -> None:
     """Write the sheet as ``fmt`` ("png", "svg", "pdf") to a path or binary stream, with
     ``metadata(motions)`` when the motions are given."""
     meta = metadata(motions, fmt) if motions else None
@@ -864,6 +1149,7 @@ def save(fig: Figure, target: str | IO[bytes], fmt: str, *, dpi: int = 150,
 def can_show() -> bool:
     """Whether pyplot has an interactive backend (a window can open)."""
     import matplotlib.pyplot as plt
-    from matplotlib.backends import BackendFilter, backend_registry
+    from matplotlib.backends.registry import BackendFilter, backend_registry
 
-    return plt.get_backend().lower() in backend_registry.list_builtin(BackendFilter.INTERACTIVE)
+    interactive = backend_registry.list_builtin(BackendFilter.INTERACTIVE)  # type: ignore[no-untyped-call]
+    return plt.get_backend().lower() in interactive

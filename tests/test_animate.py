@@ -35,7 +35,10 @@ def frames_of(path: Path) -> list[tuple[np.ndarray, int]]:
     """Every frame as an RGB array, with its duration [ms]."""
     with Image.open(path) as im:
         assert im.format == "GIF"
-        return [(np.asarray(f.convert("RGB")), int(f.info["duration"])) for f in ImageSequence.Iterator(im)]
+        return [
+            (np.asarray(f.convert("RGB")), int(f.info["duration"]))
+            for f in ImageSequence.Iterator(im)
+        ]
 
 
 def tinted(rgb: np.ndarray, face: str) -> float:
@@ -100,11 +103,27 @@ def test_frame_count_is_clamped(asked: int, written: int, tmp_path: Path) -> Non
         assert im.n_frames == written <= 120
 
 
-def test_the_command_line_writes_a_bounded_gif(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_command_line_writes_a_bounded_gif(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     gif = tmp_path / "robot.gif"
     with pytest.raises(SystemExit) as e:
-        main(["plot", PATH1, "--panels", "delta", "--samples", "101", "--dpi", "50",
-              "-o", str(tmp_path / "sheet.png"), "--animate", str(gif)])  # fmt: skip
+        main(
+            [
+                "plot",
+                PATH1,
+                "--panels",
+                "delta",
+                "--samples",
+                "101",
+                "--dpi",
+                "50",
+                "-o",
+                str(tmp_path / "sheet.png"),
+                "--animate",
+                str(gif),
+            ]
+        )
     assert e.value.code == 0
     assert f"wrote {gif}" in capsys.readouterr().err
     with Image.open(gif) as im:

@@ -24,10 +24,11 @@ PATH1 = str(CONFIGS / "paper_path1.yaml")
 PATH2 = str(CONFIGS / "paper_path2.yaml")
 
 # the issue's column list, written out independently of samples.COLUMNS
-ISSUE_COLUMNS = (
-    "t, x, y, x_dot, y_dot, theta1, s1, theta2, s2, theta1_dot, s1_dot, theta2_dot, s2_dot, "
-    "delta, delta_dot, lambda1, lambda2, T1, T2"
-).split(", ")
+ISSUE_COLUMNS = [
+    "t", "x", "y", "x_dot", "y_dot", "theta1", "s1", "theta2", "s2",
+    "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
+    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+]  # fmt: skip
 
 
 def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
@@ -56,7 +57,7 @@ def engine_rows(path: str, n: int) -> np.ndarray:
 def test_columns_are_the_issues_in_order(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = run(["export", PATH2, "--samples", "5"], capsys)
     assert code == 0
-    comments, names, values = read_csv(out)
+    _, names, values = read_csv(out)
     assert names == ISSUE_COLUMNS
     assert values.shape == (5, 19)
 
@@ -84,7 +85,9 @@ def test_first_row_is_the_papers_initial_configuration(
         assert row[rate] == 0.0  # rest-to-rest quintic (eq. 49)
 
 
-def test_samples_11_hit_t_2_5_and_write_the_bounded_limit(capsys: pytest.CaptureFixture[str]) -> None:
+def test_samples_11_hit_t_2_5_and_write_the_bounded_limit(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
     """Path 2, alike legs: consistent first-order crossing at t = 2.5 s; the torques there
     are the finite limit (63.225, -5.445) N m, not NaN and not a cancellation artefact."""
     _, out, _ = run(["export", PATH2, "--samples", "11"], capsys)
@@ -167,7 +170,9 @@ def test_header_names_the_task_and_the_version(capsys: pytest.CaptureFixture[str
     assert doc["singularities"][0]["torque_at_singularity"] == pytest.approx([63.225, -5.445])
 
 
-def test_csv_reads_back_with_numpy_as_documented(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_csv_reads_back_with_numpy_as_documented(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     dest = tmp_path / "m.csv"
     run(["export", PATH1, "--samples", "11", "-o", str(dest)], capsys)
     data = np.genfromtxt(dest, delimiter=",", names=True, skip_header=1)
@@ -182,7 +187,9 @@ def test_default_is_1001_samples_from_0_to_tf(capsys: pytest.CaptureFixture[str]
     assert v[0, 0] == 0.0 and v[-1, 0] == 5.0 and v[500, 0] == 2.5
 
 
-def test_stdout_only_without_output_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_stdout_only_without_output_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     code, out, err = run(["export", PATH2, "--samples", "4"], capsys)
     assert code == 0 and out.startswith("# rprpr") and err == ""
     dest = tmp_path / "m.csv"
@@ -207,9 +214,12 @@ def test_stdout_only_without_output_file(tmp_path: Path, capsys: pytest.CaptureF
     ],
 )
 def test_bad_invocation_exits_2_with_one_line(
-    args: list[str], says: str, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+    args: list[str],
+    says: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
-) -> None:  # fmt: skip
+) -> None:
     monkeypatch.chdir(tmp_path)
     code, out, err = run(["export", PATH2, *args], capsys)
     assert code == 2 and out == ""
@@ -220,8 +230,13 @@ def test_bad_invocation_exits_2_with_one_line(
 def test_bad_task_file_exits_2_naming_file_line_and_key(
     write_task, capsys: pytest.CaptureFixture[str]
 ) -> None:  # type: ignore[no-untyped-def]
-    bad = write_task(task_text("x - 3\n  from: [2, -1]\n  to: [4, 1]",
-                               "timing:\n  duration: 5\n  law: quintic\n", a1="-6"))
+    bad = write_task(
+        task_text(
+            "x - 3\n  from: [2, -1]\n  to: [4, 1]",
+            "timing:\n  duration: 5\n  law: quintic\n",
+            a1="-6",
+        )
+    )
     code, out, err = run(["export", str(bad)], capsys)
     assert code == 2 and out == ""
     assert len(err.strip().splitlines()) == 1
@@ -251,8 +266,9 @@ def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path:
         "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
         "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n"
     )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                          cwd=tmp_path, timeout=60)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, cwd=tmp_path, timeout=60
+    )
     tail = done.stderr.strip().splitlines()[-1]
     assert tail.startswith("EXIT=0 "), done.stderr
     assert tail.endswith("LOADED=[]"), tail
@@ -261,7 +277,8 @@ def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path:
 def test_export_module_is_free_of_click_and_matplotlib() -> None:
     probe = (
         "import sys, rprpr_cli.export\n"
-        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('click', 'matplotlib', 'yaml')))\n"
+        "banned = ('click', 'matplotlib', 'yaml')\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in banned))\n"
     )
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert done.stdout.strip() == "[]", done.stderr

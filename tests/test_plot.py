@@ -117,7 +117,9 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
                 ("delta", f"delta-singular-{i}-{k}", (s.t, 0.0)),
                 ("x", f"x-singular-{i}-{k}", (s.t, s.x)),
             ):
-                ax = next(a for a in axes[panel] if any(c.get_gid() == gid for c in a.get_children()))
+                ax = next(
+                    a for a in axes[panel] if any(c.get_gid() == gid for c in a.get_children())
+                )
                 mark = by_gid(ax, gid)
                 assert mark.get_marker() == shape
                 assert tuple(mark.get_xydata()[0]) == pytest.approx(xy)
@@ -147,14 +149,26 @@ def test_every_panel_renders_in_png_svg_and_pdf(paths: list[str], tmp_path: Path
     svg = tmp_path / "sheet.svg"
     P.save(fig, str(svg), "svg", motions=ms)
     texts, ids = svg_texts(svg)
-    for words in ("Workspace (paper Fig. 3)", "End-point coordinates (paper Fig. 2)",
-                  "Type II determinant (paper Fig. 4)", "Actuated joints (paper Fig. 5)",
-                  "Motor torques (eq. 28)", "t [s]", "x [m]", "y [m]", *names):  # fmt: skip
+    for words in (
+        "Workspace (paper Fig. 3)",
+        "End-point coordinates (paper Fig. 2)",
+        "Type II determinant (paper Fig. 4)",
+        "Actuated joints (paper Fig. 5)",
+        "Motor torques (eq. 28)",
+        "t [s]",
+        "x [m]",
+        "y [m]",
+        *names,
+    ):
         assert words in texts, words
     for i, m in enumerate(ms):
         assert {f"path-{i}", f"delta-{i}", f"theta1-{i}", f"T1-{i}", f"T2-{i}"} <= ids
         for k in range(len(m.result.singularities)):
-            assert {f"path-singular-{i}-{k}", f"delta-singular-{i}-{k}", f"delta-label-{i}-{k}"} <= ids
+            assert {
+                f"path-singular-{i}-{k}",
+                f"delta-singular-{i}-{k}",
+                f"delta-label-{i}-{k}",
+            } <= ids
 
     pdf = tmp_path / "sheet.pdf"
     P.save(fig, str(pdf), "pdf", motions=ms)
@@ -178,8 +192,9 @@ def test_fig4_path1_flattens_at_2_5_while_path2_crosses_with_slope() -> None:
     ms = motions([PATH1, PATH2], samples=1001)
     fig = P.render(ms, ["delta"])
     ax = panel_axes(fig)["delta"][0]
-    for i, (path, slope) in enumerate(((lambda x: (x - 3) ** 3, 0.0),
-                                       (lambda x: 0.8 * x**3 - 7.2 * x**2 + 21.8 * x - 22.2, -0.1))):  # fmt: skip
+    for i, (path, slope) in enumerate(
+        ((lambda x: (x - 3) ** 3, 0.0), (lambda x: 0.8 * x**3 - 7.2 * x**2 + 21.8 * x - 22.2, -0.1))
+    ):
         t, d = by_gid(ax, f"delta-{i}").get_data()
         t, d = np.asarray(t), np.asarray(d)
         # independently: δ = -a1 y / (s1 s2), eq. (29) in product form, from eqs. (49)-(51)
@@ -238,8 +253,13 @@ def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
     assert "order 3, high-order — FAILS" in label and "slope principle fails" in label
     assert "T → (63.23, -5.445) N m" in by_gid(ax, "path-label-1-0").get_text()
     entries = legend_texts(ax)
-    assert {NAME1, NAME2, "high-order singular instant (fails)",
-            "first-order singular instant (passes)", "singular line y = 0 (δ = 0)"} <= set(entries)  # fmt: skip
+    assert {
+        NAME1,
+        NAME2,
+        "high-order singular instant (fails)",
+        "first-order singular instant (passes)",
+        "singular line y = 0 (δ = 0)",
+    } <= set(entries)
 
 
 def test_torques_clip_to_the_bounded_part_and_mark_the_divergence() -> None:
@@ -280,7 +300,9 @@ def test_torques_bounded_limit_and_torque_limit_bands() -> None:
 def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:  # type: ignore[no-untyped-def]
     """Path 2 with link 5 heavier: eq. (34) fails at t_s, a pole of order 1: T changes
     sign through infinity, and the instant is a warning (amber), not a failure."""
-    task = write_task(task_text(PATH2_Y, QUINTIC, links=HEAVY5).replace("name: test", "name: heavy link 5"))
+    task = write_task(
+        task_text(PATH2_Y, QUINTIC, links=HEAVY5).replace("name: test", "name: heavy link 5")
+    )
     m = P.motion(load_task(task), str(task), SAMPLES)
     (s,) = m.result.singularities
     assert not s.consistent and s.pole_order == 1
@@ -289,7 +311,9 @@ def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:
     mark = by_gid(axes["delta"][0], "delta-singular-0-0")
     assert mark.get_markerfacecolor() == P.STATUS_COLOUR["warn"]
     ax = axes["torques"][0]
-    shapes = {by_gid(ax, f"torques-exit-0-0-T2-{side}").get_marker() for side in ("before", "after")}
+    shapes = {
+        by_gid(ax, f"torques-exit-0-0-T2-{side}").get_marker() for side in ("before", "after")
+    }
     assert shapes == {"^", "v"}
 
 
@@ -298,12 +322,18 @@ def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:
     [
         ("0\n  from: [2, 0]\n  to: [4, 0]", QUINTIC, "no bounded torque sample"),  # δ ≡ 0
         ("x - 10\n  from: [2, -8]\n  to: [4, -6]", QUINTIC, None),  # never singular
-        ("x\n  from: [-1, -1]\n  to: [1, 1]", "timing:\n  duration: 2\n  law: quintic\n", "E at A or B (s = 0)"),
+        (
+            "x\n  from: [-1, -1]\n  to: [1, 1]",
+            "timing:\n  duration: 2\n  law: quintic\n",
+            "E at A or B (s = 0)",
+        ),
         ("(x - 2.5)*(x - 3.5)\n  from: [2, 0.75]\n  to: [4, 0.75]", QUINTIC, "t = 3.203 s"),
     ],
     ids=["on-the-singular-line", "no-singularity", "through-A", "two-crossings"],
 )
-def test_unusual_motions_render_without_warnings(write_task, y: str, timing: str, expect: str | None) -> None:  # type: ignore[no-untyped-def]
+def test_unusual_motions_render_without_warnings(
+    write_task, y: str, timing: str, expect: str | None
+) -> None:  # type: ignore[no-untyped-def]
     task = write_task(task_text(y, timing))
     m = P.motion(load_task(task), str(task), SAMPLES)
     fig = P.render([m])
@@ -318,10 +348,26 @@ def test_unusual_motions_render_without_warnings(write_task, y: str, timing: str
 # the command line
 
 
-def test_the_issues_overlay_command_writes_figs_3_and_4(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_issues_overlay_command_writes_figs_3_and_4(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "fig.png"
-    code, stdout, err = run(["plot", PATH1, PATH2, "--panels", "path,delta", "-o", str(out),
-                             "--samples", str(SAMPLES), "--dpi", "60"], capsys)  # fmt: skip
+    code, stdout, err = run(
+        [
+            "plot",
+            PATH1,
+            PATH2,
+            "--panels",
+            "path,delta",
+            "-o",
+            str(out),
+            "--samples",
+            str(SAMPLES),
+            "--dpi",
+            "60",
+        ],
+        capsys,
+    )
     assert code == 0 and stdout == "" and f"wrote {out}" in err
     with Image.open(out) as im:
         assert im.format == "PNG"
@@ -335,8 +381,10 @@ def test_panels_pick_and_order(tmp_path: Path, capsys: pytest.CaptureFixture[str
     fig = P.render(motions([PATH2]), ["torques", "path"])
     assert list(panel_axes(fig)) == ["torques", "path"]
     out = tmp_path / "two.svg"
-    code, _, _ = run(["plot", PATH2, "--panels", " torques , PATH", "-o", str(out),
-                      "--samples", str(SAMPLES)], capsys)  # fmt: skip
+    code, _, _ = run(
+        ["plot", PATH2, "--panels", " torques , PATH", "-o", str(out), "--samples", str(SAMPLES)],
+        capsys,
+    )
     assert code == 0
     text = out.read_text(encoding="utf-8")
     assert text.index('id="T1-0"') < text.index('id="path-0"')
@@ -347,7 +395,9 @@ def test_default_output_is_the_first_tasks_stem_in_the_cwd(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    code, _, err = run(["plot", PATH2, PATH1, "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys)
+    code, _, err = run(
+        ["plot", PATH2, PATH1, "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys
+    )
     assert code == 0 and "wrote paper_path2.png" in err
     assert [p.name for p in tmp_path.iterdir()] == ["paper_path2.png"]
 
@@ -365,9 +415,12 @@ def test_default_output_is_the_first_tasks_stem_in_the_cwd(
     ],
 )
 def test_bad_invocation_exits_2_with_one_line(
-    args: list[str], says: str, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+    args: list[str],
+    says: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
-) -> None:  # fmt: skip
+) -> None:
     monkeypatch.chdir(tmp_path)
     code, out, err = run(["plot", PATH2, *args], capsys)
     assert code == 2 and out == ""
@@ -375,7 +428,9 @@ def test_bad_invocation_exits_2_with_one_line(
     assert list(tmp_path.iterdir()) == []
 
 
-def test_bad_task_file_exits_2_with_one_line(write_task, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
+def test_bad_task_file_exits_2_with_one_line(
+    write_task, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:  # type: ignore[no-untyped-def]
     bad = write_task(task_text("x - 3\n  from: [2, 5]\n  to: [4, 1]", QUINTIC))
     code, out, err = run(["plot", PATH2, str(bad), "-o", str(tmp_path / "s.png")], capsys)
     assert code == 2 and out == ""
@@ -395,7 +450,9 @@ def test_show_without_a_display_writes_the_default_file(
 ) -> None:
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(P, "can_show", lambda: False)
-    code, _, err = run(["plot", PATH2, "--show", "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys)
+    code, _, err = run(
+        ["plot", PATH2, "--show", "--panels", "delta", "--samples", "21", "--dpi", "50"], capsys
+    )
     assert code == 0 and "no display for --show" in err
     assert (tmp_path / "paper_path2.png").exists()
 
@@ -410,7 +467,9 @@ def test_show_opens_a_pyplot_window_and_writes_o(
     monkeypatch.setattr(plt, "show", lambda: shown.extend(plt.get_fignums()))
     try:
         out = tmp_path / "s.pdf"
-        code, _, _ = run(["plot", PATH2, "--show", "-o", str(out), "--panels", "x", "--samples", "21"], capsys)
+        code, _, _ = run(
+            ["plot", PATH2, "--show", "-o", str(out), "--panels", "x", "--samples", "21"], capsys
+        )
         assert code == 0 and out.read_bytes().startswith(b"%PDF-")
         assert len(shown) == 1
         fig = plt.figure(shown[0])
