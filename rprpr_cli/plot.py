@@ -879,13 +879,13 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     scale = max(abs(lo), abs(hi))
 
     # torque limits, as bands beyond ±limit
-    limits = sorted(
-        {
-            (float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
-            for m in motions
-            if m.task.checks.torque_limit is not None
-        }
-    )
+    # the distinct limits, each with the tasks that set it
+    owners: dict[tuple[float, float], list[str]] = {}
+    for m in motions:
+        if m.task.checks.torque_limit is not None:
+            pair = (float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
+            owners.setdefault(pair, []).append(m.name)
+    limits = sorted(owners)
     notes = []
     shown: list[tuple[float, str, str, str]] = []  # limit, colour, who, gid tag
     for L1, L2 in limits:
@@ -894,12 +894,13 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
             if L1 == L2
             else [(L1, LEG1, "|T1|", "T1"), (L2, LEG2, "|T2|", "T2")]
         )
+        whose = "" if len(owners[L1, L2]) == len(motions) else f" ({', '.join(owners[L1, L2])})"
         for L, colour, who, tag in pairs:
             if LIMIT_SHOWN * scale < L:
-                notes.append(f"{who} limit {L:g} N m: above the plotted range")
+                notes.append(f"{who} limit {L:g} N m{whose}: above the plotted range")
                 continue
             lo, hi = min(lo, -1.08 * L), max(hi, 1.08 * L)
-            shown.append((L, colour, who, f"{tag}-{L:g}"))
+            shown.append((L, colour, f"{who} limit ±{L:g} N m{whose}", f"{tag}-{L:g}"))
     for L, colour, who, tag in shown:
         ax.axhspan(
             L, hi, color=colour, alpha=0.09, lw=0, zorder=0.3, gid=f"torque-limit-{tag}-upper"
@@ -909,11 +910,7 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
         )
         for v in (L, -L):
             ax.axhline(v, color=colour, lw=0.9, alpha=0.8, zorder=0.4)
-        extra.append(
-            Line2D(
-                [], [], color=colour, alpha=0.5, lw=6, label=f"beyond the {who} limit ±{L:g} N m"
-            )
-        )
+        extra.append(Line2D([], [], color=colour, alpha=0.5, lw=6, label=f"beyond the {who}"))
     ax.set_ylim(lo, hi)
 
     for i, m in enumerate(motions):
@@ -951,7 +948,7 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
                 zorder=5,
                 gid=f"torques-unbounded-{i}-{k}",
             )
-            who = f"{_short(m.name, 28)}: " if len(motions) > 1 else ""
+            who = f"{_short(m.name)}:\n" if len(motions) > 1 else ""
             note = f"{who}T → ∞ at t = {s.t:.4g} s (pole of order {s.pole_order})"
             _, level, right = rows.place(s.t, note)
             ax.annotate(
