@@ -254,7 +254,7 @@ def check(
     try:
         show = want_progress(len(files), sys.stderr, quiet)
         progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
-        run = run_checks(files, samples, strict or None, jobs or (os.cpu_count() or 1), progress)
+        run = run_checks(files, samples, strict or None, jobs or _cpus(), progress)
         _write_report(run, fmt, out, output_file, quiet, color)
     finally:
         if output_file:
@@ -262,6 +262,9 @@ def check(
     if fmt != "text" or output_file:  # the one-line errors also go to stderr for the log
         for e in run.input_errors + run.internal_errors:
             click.echo(e["text"], err=True)
+    if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
+        for e in run.internal_errors:
+            click.echo(e["traceback"], err=True)
     if output_file and not quiet:  # the log still says what the report file holds
         s = run.summary()
         click.echo(
@@ -271,6 +274,14 @@ def check(
             err=True,
         )
     raise SystemExit(int(run.exit_code(exit_zero)))
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on (``-j 0``)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 def _open_output(output_file: str | None) -> TextIO:
@@ -330,12 +341,17 @@ def _register_plot_commands() -> None:
 _register_plot_commands()
 
 
+# click >= 8.2 raises this for a bare ``rprpr``; on 8.1 the name does not exist, and an
+# ``except`` naming it would itself fail while handling any other error
+_NO_ARGS_IS_HELP: Any = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+
 def main(argv: Sequence[str] | None = None) -> None:
     """Entry point: run the command and exit with rprpr's status (never click's own 1)."""
     try:
         main_group.main(args=list(argv) if argv is not None else None, prog_name="rprpr",
                         standalone_mode=False)  # fmt: skip
-    except click.exceptions.NoArgsIsHelpError as e:  # type: ignore[attr-defined]
+    except _NO_ARGS_IS_HELP as e:
         click.echo(e.format_message() if hasattr(e, "format_message") else str(e), err=True)
         sys.exit(ExitCode.INPUT)
     except click.UsageError as e:

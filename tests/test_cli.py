@@ -49,7 +49,9 @@ def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
 @pytest.fixture(autouse=True)
 def _plain_env(monkeypatch: pytest.MonkeyPatch) -> None:
     """The runner's own colour settings must not leak into the tests."""
-    for name in ("NO_COLOR", "FORCE_COLOR", "COLUMNS", "TTY_COMPATIBLE", "TTY_INTERACTIVE"):
+    for name in (
+        "NO_COLOR", "FORCE_COLOR", "COLUMNS", "TTY_COMPATIBLE", "TTY_INTERACTIVE", "RPRPR_DEBUG",
+    ):  # fmt: skip
         monkeypatch.delenv(name, raising=False)
 
 
@@ -203,6 +205,11 @@ def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
     assert err.splitlines()[-1].startswith(
         f"{files[0]}: internal error (RuntimeError: simulated bug)"
     )
+    assert "Traceback" not in err
+    monkeypatch.setenv("RPRPR_DEBUG", "1")  # the traceback, for a bug report
+    _, _, err = run(capsys, "check", "--format", "json", *FAST, *files)
+    assert "Traceback (most recent call last)" in err
+    assert "RuntimeError: simulated bug" in err
 
 
 def test_exit_zero_hides_failures_but_not_errors(
