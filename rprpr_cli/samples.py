@@ -87,6 +87,8 @@ def grid(duration: fmpq, n: int) -> np.ndarray:
     if n < 2:
         raise ValueError("at least 2 samples are needed")
     num, den = int(duration.p), int(duration.q)
+    if num * (n - 1) < 2**53 and den * (n - 1) < 2**53:  # exact products, one rounding
+        return np.arange(n) * float(num) / float((n - 1) * den)
     return np.array([(i * num) / ((n - 1) * den) for i in range(n)])
 
 
@@ -124,13 +126,18 @@ class _Laurent:
 
 
 def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_Laurent, _Laurent]:
-    """Float Laurent series of λ1 and λ2 about the singular instant ``s``."""
-    m, k = s.order, s.conditions_met
+    """Laurent series of λ1 and λ2 about the singular instant ``s``, in floating point.
+
+    Computed from the rounded Taylor coefficients of x and y, with the coefficients of μ
+    below its exact order dropped (they are exactly zero). (Exact rational series would
+    be exact but their coefficients grow to thousands of digits at this length.)
+    """
+    m = s.order
     n = m + EXTRA_TERMS + 1
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, s.field, n, scalar=float)
     sx = 1 if s.case.number != 2 else -1
     sxa = 1 if s.case.number == 1 else -1
-    l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, float(int(traj.a1.p) / int(traj.a1.q)), sx, sxa)
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, s.field, n, scalar=float)
+    l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, _float(traj.a1), sx, sxa)
     d = dyn.dynamics(l1, l2, dyn.Params.of(robot, _float))
     den = Series(d.delta.c[m:])
     out = []

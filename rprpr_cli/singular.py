@@ -28,7 +28,7 @@ from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
 
 from . import dynamics as dyn
 from .cases import Case, case_of
-from .series import KElem, NumberField, Series, taylor
+from .series import KElem, NumberField, Series, is_zero, sign, taylor
 from .task import Checks, Robot
 from .trajectory import Trajectory
 
@@ -213,17 +213,20 @@ def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
 
 
 def expansion(
-    traj: Trajectory, field: NumberField, n: int, scalar: type = KElem
+    traj: Trajectory, field: NumberField, n: int, scalar: type = KElem, exact: fmpq | None = None
 ) -> tuple[Series, Series, Series, Series, Series, Series]:
-    """Series (n terms) of x, x', x'', y, y', y'' about t_s, exact (KElem) or float."""
+    """Series (n terms) of x, x', x'', y, y', y'' about t_s: exact (in Q when the rational
+    t_s = ``exact`` is given, else in K) or, with ``scalar=float``, in floating point."""
     out = []
     for p in (traj.x, traj.y):
         c = taylor(p, n + 2)
-        e: list[Any] = (
-            [field.elem(ck) for ck in c]
-            if scalar is KElem
-            else [field.to_float(ck % field.f) for ck in c]
-        )
+        e: list[Any]
+        if scalar is not KElem:
+            e = [field.to_float(ck % field.f) for ck in c]
+        elif exact is not None:
+            e = [ck(exact) for ck in c]
+        else:
+            e = [field.elem(ck) for ck in c]
         out.append(Series(e[:n]))
         out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -258,10 +261,10 @@ def _instant(
 ) -> SingularInstant:
     K = NumberField(f, at)
     n = m + 1  # orders 0..m: the m conditions and the limit
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n)
-    assert all(c.is_zero() for c in Y.c[:m]) and not Y.c[m].is_zero()
-    sx = X.c[0].sign()
-    sxa = (X.c[0] - traj.a1).sign()
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n, exact=exact)
+    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
+    sx = sign(X.c[0])
+    sxa = sign(X.c[0] - traj.a1)
     case = case_of(sx, sxa)
     leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
     d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
@@ -271,7 +274,7 @@ def _instant(
         float(d.delta.c[k]) * math.factorial(k) if k == m else 0.0 for k in range(m + 1)
     ]
     k = min(d.mu1.valuation(), d.mu2.valuation(), m)
-    residual = case.sigma * d.F1.c[0] + d.F2.c[0]  # eq. (34)
+    residual = case.sigma * d.F1.c[0] + d.F2.c[0]  # eq. (34), exact
     torque = None
     if k >= m:
         lam1 = Series([d.mu1.c[m] / d.delta.c[m]])
@@ -279,7 +282,7 @@ def _instant(
         T1, T2 = dyn.torques(d, lam1, lam2)
         torque = (float(T1.c[0]), float(T2.c[0]))
     # the design principles: path slope dy/dx and end-point speed at t_s
-    slope = K.elem(traj.slope)
+    slope = traj.slope(exact) if exact is not None else K.elem(traj.slope)
     speed2 = Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0]
     return SingularInstant(
         t=t,
@@ -294,38 +297,40 @@ def _instant(
         slope_principle=_slope_principle(slope, checks.min_slope),
         velocity_principle=_velocity_principle(speed2, checks.min_speed),
         consistency_residual=float(residual),
-        consistent=residual.is_zero(),
+        consistent=is_zero(residual),
         conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
-        y_leading_sign=Y.c[m].sign(),
+        y_leading_sign=sign(Y.c[m]),
         mu_valuations=(d.mu1.valuation(), d.mu2.valuation()),
         field=K,
     )
 
 
-def _slope_principle(slope: KElem, min_slope: fmpq) -> Principle:
+def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
+    """|dy/dx| > min_slope, decided exactly (slope: KElem or fmpq)."""
     if min_slope == 0:
-        if slope.is_zero():
+        if is_zero(slope):
             return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
         return Principle(True, f"dy/dx = {float(slope):.6g} is nonzero")
     diff = slope * slope - min_slope * min_slope
-    if diff.sign() > 0:
+    if sign(diff) > 0:
         return Principle(True, f"|dy/dx| = {abs(float(slope)):.6g} exceeds checks.min_slope = {float(min_slope):g}")
-    if slope.is_zero():
+    if is_zero(slope):
         return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
     return Principle(
         False, f"|dy/dx| = {abs(float(slope)):.6g} does not exceed the margin checks.min_slope = {float(min_slope):g}"
     )
 
 
-def _velocity_principle(speed2: KElem, min_speed: fmpq) -> Principle:
-    if speed2.is_zero():
+def _velocity_principle(speed2: Any, min_speed: fmpq) -> Principle:
+    """speed > min_speed, decided exactly on speed^2 (KElem or fmpq)."""
+    if is_zero(speed2):
         return Principle(False, "the end point is at rest here (speed 0, eq. 47): a high-order singularity")
     speed = math.sqrt(float(speed2))
     if min_speed == 0:
         return Principle(True, f"speed {speed:.6g} m/s is nonzero")
-    if (speed2 - min_speed * min_speed).sign() > 0:
+    if sign(speed2 - min_speed * min_speed) > 0:
         return Principle(True, f"speed {speed:.6g} m/s exceeds checks.min_speed = {float(min_speed):g} m/s")
     return Principle(
         False,
