@@ -42,6 +42,7 @@ _NON_PRINTABLE = re.compile("[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd
 _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
 _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
+_PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
 
@@ -81,9 +82,18 @@ def parse_task(data: bytes | str, file: str = "<task>") -> Task:
     try:
         return _parse(data, file)
     except TaskFileError as e:
-        raise e.with_file(file) from None
+        raise TaskFileError(
+            _one_line(e.message), file=file, line=e.line, column=e.column, key=_one_line(e.key)
+        ) from None
     except RecursionError:
         raise TaskFileError(f"nested deeper than {MAX_DEPTH} levels", file=file) from None
+
+
+def _one_line(text: str) -> str:
+    """``text`` with line breaks and other unprintable characters escaped: one line."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def _too_large(size: int) -> str:
@@ -269,7 +279,8 @@ class _Builder:
             if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
                 raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
             k = str(knode.value)
-            full = f"{key}.{k}" if key else k
+            shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
+            full = f"{key}.{shown}" if key else shown
             if k in out:
                 first = self.lines.get(full, 0)
                 raise self.error(
