@@ -146,6 +146,9 @@ def test_every_panel_renders_in_png_svg_and_pdf(paths: list[str], tmp_path: Path
         assert all(n in im.text["Title"] for n in names)
         assert im.text["Software"].startswith("rprpr ")
 
+    # The PNG above laid the sheet out; keep that layout for the other two files (saves
+    # two layout passes; the command-line tests below save through the full path).
+    fig.set_layout_engine(None)
     svg = tmp_path / "sheet.svg"
     P.save(fig, str(svg), "svg", motions=ms)
     texts, ids = svg_texts(svg)
