@@ -3,9 +3,10 @@
 One row per sample, t = 0 .. t_f inclusive, the columns of ``samples.COLUMNS`` in that
 order, SI units (m, s, rad, N, N m; θ continuous). The numbers are the engine's own
 (``AuditResult.samples``), written with Python's shortest round-trip ``repr``, so reading
-the file back gives the very same floats. Where the torque is unbounded exactly at a
-singular instant the engine holds NaN; CSV writes ``nan``, JSON ``null`` (the JSON is
-strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
+the file back gives the very same floats. Where a quantity has no finite value — the
+torques and λ exactly at a singular instant where they are unbounded, the rates where E
+is at a base joint — the engine holds NaN; CSV writes ``nan``, JSON ``null`` (the JSON
+is strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
 
 Both formats name the task and the rprpr version: CSV in one leading ``#`` comment line
 (read with ``pandas.read_csv(f, comment="#")`` or ``numpy.genfromtxt(f, delimiter=",",
@@ -67,7 +68,8 @@ def comment(result: AuditResult, source: str) -> str:
     return (
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {float(t[-1]):g} s; SI units (m, s, rad, N, N m); "
-        "nan = unbounded at a singular instant (see rprpr check)"
+        "nan = no finite value: unbounded at a singular instant, or E at A or B "
+        "(see rprpr check)"
     )
 
 
