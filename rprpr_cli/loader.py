@@ -319,7 +319,10 @@ class _Builder:
         if tag == "str" and not node.style and _YAML12_FLOAT.fullmatch(text):  # plain: None or ""
             tag = "float"
         if tag not in ("int", "float"):
-            raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
+            hint = ""
+            if tag == "str" and re.fullmatch(r"[-+]?[0-9.]+\s*/\s*[0-9.]+", text):
+                hint = " (a fraction is only allowed in path.y and timing.x: write a decimal here)"
+            raise self.error(f"expected {expected}, found {_kind_of(node)}{hint}", node, key)
         if _NAN.fullmatch(text):
             raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
         if _INF.fullmatch(text):
