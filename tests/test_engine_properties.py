@@ -66,11 +66,13 @@ def test_singular_instants_are_the_real_roots_with_their_multiplicity(task):  # 
         assert s.kind == ("crossing" if s.order % 2 else "touch")
         assert s.conditions_met <= s.conditions_required == s.order
         assert s.torque_bounded == (s.torque_at_singularity is not None)
-    # every sign change of y on a fine grid lies next to a reported instant
+    # every sign change of y on a fine grid lies next to a reported instant (within one
+    # step: next to a multiple root the floating-point sign of y is noise)
     t = np.linspace(0, _f(task.duration), 2001)
+    dt = t[1] - t[0]
     yv = np.polynomial.polynomial.polyval(t, [_f(c) for c in y.coeffs()])
     for i in np.nonzero(np.sign(yv[:-1]) * np.sign(yv[1:]) < 0)[0]:
-        assert any(t[i] - 1e-9 <= tc <= t[i + 1] + 1e-9 for tc in ts)
+        assert any(t[i] - dt <= tc <= t[i + 1] + dt for tc in ts)
 
 
 @SETTINGS
