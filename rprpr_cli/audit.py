@@ -109,7 +109,14 @@ def _findings(
                 Finding("RPR201", f"{where}: {why}: torques unbounded (pole of order {s.pole_order})", s.t, "robot.links")
             )
     limit = task.checks.torque_limit
-    if limit is not None and peak is not None:
+    unbounded = [s for s in a.instants if not s.torque_bounded]
+    if limit is not None and unbounded:
+        # near a pole the sampled peak only says where the grid fell: report the pole
+        for s in unbounded:
+            out.append(
+                Finding("RPR202", f"{_at(s.t)}: the torques are unbounded (pole of order {s.pole_order}): beyond any limit", s.t, "checks.torque_limit")
+            )
+    elif limit is not None and peak is not None:
         for j in (0, 1):
             lim = float(limit[j])
             if peak[j] > lim:

@@ -225,6 +225,8 @@ def sample(
         T1, T2 = dyn.torques(d, lam1, lam2)
         theta1 = _continuous_angle(np.arctan2(y, x), t, _cuts(analysis, 1))
         theta2 = _continuous_angle(np.arctan2(y, x - p.a1), t, _cuts(analysis, 2))
+        theta1[leg1.s == 0] = np.nan  # E at A: θ1 undefined
+        theta2[leg2.s == 0] = np.nan  # E at B: θ2 undefined
         delta_dot = np.cos(theta1 - theta2) * (leg1.th_d - leg2.th_d)
     return Samples(
         t=t, x=x, y=y, x_dot=xd, y_dot=yd, x_ddot=xdd, y_ddot=ydd,

@@ -323,6 +323,8 @@ def test_path_through_A_is_a_kinematic_singularity(write_task):  # type: ignore[
     assert r.singularities == []
     assert [(k.t, k.leg) for k in r.kinematic_singularities] == [(1.0, 1)]
     assert r.verdict == "fail" and [f.rule for f in r.findings] == ["RPR103"]
+    assert r.samples.t[10] == 1.0 and np.isnan(r.samples.theta1[10])  # θ1 undefined at A
+    assert np.isfinite(r.samples.theta2[10]) and np.isfinite(r.samples.theta1[9])
 
 
 def test_path_on_the_singular_line_fails_cleanly(write_task):  # type: ignore[no-untyped-def]
@@ -351,6 +353,13 @@ def test_torque_limit_gates_only_in_strict_mode(write_task):  # type: ignore[no-
     assert r.torque_peak[0] > 50 and r.verdict == "pass"
     assert [f.rule for f in r.findings] == ["RPR202"]
     assert audit(r.task, strict=True).verdict == "fail"
+
+
+def test_torque_limit_with_an_unbounded_instant_names_the_pole(write_task):  # type: ignore[no-untyped-def]
+    text = (CONFIGS / "paper_path1.yaml").read_text() + "checks:\n  torque_limit: [300, 300]\n"
+    r = audit(load_task(write_task(text)))
+    msgs = [f.message for f in r.findings if f.rule == "RPR202"]
+    assert msgs == ["t = 2.5 s: the torques are unbounded (pole of order 2): beyond any limit"]
 
 
 def test_decimal_text_is_exact():  # type: ignore[no-untyped-def]
