@@ -36,7 +36,9 @@ _TAG = "tag:yaml.org,2002:"
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
 # Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
 # here first so the message names the line and column whichever YAML parser runs.
-_NON_PRINTABLE = re.compile("[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+_NON_PRINTABLE = re.compile(
+    "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
+)
 # YAML 1.2 reads 1e3 as a number; PyYAML (YAML 1.1) resolves it to text. A plain scalar
 # in this form is taken as the number it means (editors using the shipped schema agree).
 _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
@@ -100,9 +102,10 @@ def _too_large(size: int) -> str:
     return f"file too large: {size} bytes, the cap is {MAX_BYTES} bytes (1 MiB)"
 
 
-def _line_col(text: str, index: int) -> dict[str, int]:
+def _line_col(text: str, index: int) -> tuple[int, int]:
+    """1-based (line, column) of the character at ``index``."""
     line = text.count("\n", 0, index) + 1
-    return {"line": line, "column": index - (text.rfind("\n", 0, index) + 1) + 1}
+    return line, index - (text.rfind("\n", 0, index) + 1) + 1
 
 
 def _decode(data: bytes | str) -> str:
@@ -137,10 +140,12 @@ def _decode(data: bytes | str) -> str:
     text = text.removeprefix("\ufeff")
     bad = _NON_PRINTABLE.search(text)
     if bad:
+        line, column = _line_col(text, bad.start())
         raise TaskFileError(
             f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
             " (a binary file?)",
-            **_line_col(text, bad.start()),
+            line=line,
+            column=column,
         )
     return text
 
@@ -159,18 +164,20 @@ def _compose(text: str) -> yaml.Node | None:
                 if nodes > MAX_NODES:
                     raise TaskFileError(
                         f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
-                        line=ev.start_mark.line + 1, column=ev.start_mark.column + 1,
-                    )  # fmt: skip
+                        line=ev.start_mark.line + 1,
+                        column=ev.start_mark.column + 1,
+                    )
             if isinstance(ev, yaml.CollectionStartEvent):
                 depth += 1
                 if depth > MAX_DEPTH:
                     raise TaskFileError(
                         f"nested deeper than {MAX_DEPTH} levels",
-                        line=ev.start_mark.line + 1, column=ev.start_mark.column + 1,
-                    )  # fmt: skip
+                        line=ev.start_mark.line + 1,
+                        column=ev.start_mark.column + 1,
+                    )
             elif isinstance(ev, yaml.CollectionEndEvent):
                 depth -= 1
-        return yaml.compose(text, Loader=_Loader)  # type: ignore[no-any-return]
+        return yaml.compose(text, Loader=_Loader)
     except yaml.MarkedYAMLError as e:
         mark = e.problem_mark or e.context_mark
         problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
@@ -198,8 +205,9 @@ def _parse(data: bytes | str, file: str) -> Task:
     return _Builder(file).task(root, Path(file).stem)
 
 
-def _where(node: yaml.Node) -> dict[str, int]:
-    return {"line": node.start_mark.line + 1, "column": node.start_mark.column + 1}
+def _where(node: yaml.Node) -> tuple[int, int]:
+    """1-based (line, column) where ``node`` starts."""
+    return node.start_mark.line + 1, node.start_mark.column + 1
 
 
 def _short(text: str, n: int = 40) -> str:
@@ -239,24 +247,27 @@ class _Builder:
 
     # -- generic validation against the schema -----------------------------------
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
-        w = _where(node) if node is not None else {"line": 0, "column": 0}
-        return TaskFileError(message, key=key, **w)
+        line, column = _where(node) if node is not None else (0, 0)
+        return TaskFileError(message, key=key, line=line, column=column)
 
     def visit(self, node: yaml.Node, key: str, depth: int) -> None:
         self.visited += 1
         if self.visited > MAX_NODES:
             raise self.error(
-                f"too many YAML nodes (over {MAX_NODES}, aliases included): excessive aliasing rejected",
-                node, key,
-            )  # fmt: skip
+                f"too many YAML nodes (over {MAX_NODES}, aliases included):"
+                " excessive aliasing rejected",
+                node,
+                key,
+            )
         if depth > MAX_DEPTH:
             raise self.error(f"nested deeper than {MAX_DEPTH} levels", node, key)
         if node.tag == _TAG + "merge":
             raise self.error(
                 "merge keys (<<) are not supported: write the keys out (an alias of a whole"
                 " value, such as 3: *link, is fine)",
-                node, key,
-            )  # fmt: skip
+                node,
+                key,
+            )
         if node.tag not in _PLAIN_TAGS:
             what = ""
             if node.tag == _TAG + "timestamp":
@@ -264,19 +275,25 @@ class _Builder:
             raise self.error(
                 f"YAML tag {node.tag.replace(_TAG, '!!')} is not allowed{what}: only plain text,"
                 " numbers, booleans, null, mappings and lists",
-                node, key,
-            )  # fmt: skip
+                node,
+                key,
+            )
 
     def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> dict[str, yaml.Node]:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.MappingNode):
-            keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(spec.children)
+            keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(
+                spec.children
+            )
             what = f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
             raise self.error(f"expected {what}, found {_kind_of(node)}", node, key)
         out: dict[str, yaml.Node] = {}
         for knode, vnode in node.value:
             self.visit(knode, key, depth + 1)
-            if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
+            if not isinstance(knode, yaml.ScalarNode) or knode.tag in (
+                _TAG + "null",
+                _TAG + "bool",
+            ):
                 raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
             k = str(knode.value)
             shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
@@ -286,8 +303,9 @@ class _Builder:
                 raise self.error(
                     f"duplicate key {k!r} (first given on line {first}); YAML would silently"
                     " keep the last",
-                    knode, full,
-                )  # fmt: skip
+                    knode,
+                    full,
+                )
             if k not in spec.children:
                 allowed = list(spec.children)
                 near = difflib.get_close_matches(k, allowed, n=1, cutoff=0.6)
@@ -305,8 +323,9 @@ class _Builder:
                 where = f"in {key}" if key else "at the top level"
                 raise self.error(
                     f"missing required key {k!r} {where} ({child.description.rstrip('.')})",
-                    node, full,
-                )  # fmt: skip
+                    node,
+                    full,
+                )
         return out
 
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
@@ -337,8 +356,9 @@ class _Builder:
                 raise self.error(
                     f"expected a number {op} {spec.minimum:g} ({spec.description}),"
                     f" found {_short(text)}",
-                    node, key,
-                )  # fmt: skip
+                    node,
+                    key,
+                )
         return value
 
     def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
@@ -353,8 +373,9 @@ class _Builder:
                     raise self.error(
                         f"ambiguous number {text}: a leading 0 means octal in YAML 1.1 and decimal"
                         " in YAML 1.2; write it without the leading 0 (or as 0o... for octal)",
-                        node, key,
-                    )  # fmt: skip
+                        node,
+                        key,
+                    )
                 return parse_decimal(text)
             if tag == "float":
                 return parse_decimal(text)
@@ -370,13 +391,16 @@ class _Builder:
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
             raise self.error(
                 f"expected a list of two numbers [{', '.join(items)}], found {_kind_of(node)}",
-                node, key,
-            )  # fmt: skip
+                node,
+                key,
+            )
         a, b = (
             self.number(
-                v, Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive),
-                f"{key}[{i}]", depth + 1,
-            )  # fmt: skip
+                v,
+                Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive),
+                f"{key}[{i}]",
+                depth + 1,
+            )
             for i, (v, what) in enumerate(zip(node.value, items, strict=True))
         )
         return a, b
@@ -384,36 +408,46 @@ class _Builder:
     def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag not in (
-            _TAG + "str", _TAG + "int", _TAG + "float"
-        ):  # fmt: skip
+            _TAG + "str",
+            _TAG + "int",
+            _TAG + "float",
+        ):
             raise self.error(
-                f"expected a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1'),"
+                f"expected a polynomial in {spec.variable}"
+                f" (text such as '2*{spec.variable}^2 - 1'),"
                 f" found {_kind_of(node)}",
-                node, key,
-            )  # fmt: skip
+                node,
+                key,
+            )
         text = str(node.value)
         try:
             return parse_polynomial(text, spec.variable)
         except ExpressionError as e:
-            w = _where(node)
+            line, column = _where(node)
             # Point at the offending character when the scalar is written on one line
             # exactly as its value reads (no escapes, no folding); else at the scalar.
             start, end = node.start_mark, node.end_mark
             quote = 1 if node.style in ("'", '"') else 0
-            if node.style in (None, "", "'", '"') and start.line == end.line and (
-                end.index - start.index == len(text) + 2 * quote
+            if (
+                node.style in (None, "", "'", '"')
+                and start.line == end.line
+                and (end.index - start.index == len(text) + 2 * quote)
             ):
-                w["column"] += quote + e.offset
+                column += quote + e.offset
             raise TaskFileError(
-                f"bad polynomial in {spec.variable}: {e.message}", key=key, **w
+                f"bad polynomial in {spec.variable}: {e.message}", key=key, line=line, column=column
             ) from None
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         self.visit(node, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag not in (
-            _TAG + "str", _TAG + "int", _TAG + "float"
-        ):  # fmt: skip
-            raise self.error(f"expected text (a name for reports), found {_kind_of(node)}", node, key)
+            _TAG + "str",
+            _TAG + "int",
+            _TAG + "float",
+        ):
+            raise self.error(
+                f"expected text (a name for reports), found {_kind_of(node)}", node, key
+            )
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
@@ -429,7 +463,9 @@ class _Builder:
             near = difflib.get_close_matches(v.lower(), spec.choices, n=1, cutoff=0.6)
             hint = f"; did you mean {near[0]!r}?" if near else ""
             raise self.error(
-                f"expected one of {', '.join(spec.choices)}, found {_kind_of(node)}{hint}", node, key
+                f"expected one of {', '.join(spec.choices)}, found {_kind_of(node)}{hint}",
+                node,
+                key,
             )
         return v
 
@@ -453,7 +489,10 @@ class _Builder:
             spec = ls.children[str(i)]
             ln = self.mapping(lnodes[str(i)], spec, lk, 3)
             links[i] = Link(
-                *(self.number(ln[f], spec.children[f], f"{lk}.{f}", 4) for f in ("mass", "inertia", "r"))
+                *(
+                    self.number(ln[f], spec.children[f], f"{lk}.{f}", 4)
+                    for f in ("mass", "inertia", "r")
+                )
             )
         robot = Robot(a1=a1, links=links, gravity=g)
 
@@ -463,14 +502,17 @@ class _Builder:
         ends = {}
         for end in ("from", "to"):
             if end in pth:
-                ends[end] = self.pair(pth[end], ps.children[end], f"path.{end}", 2, ("x [m]", "y [m]"))
+                ends[end] = self.pair(
+                    pth[end], ps.children[end], f"path.{end}", 2, ("x [m]", "y [m]")
+                )
                 x0, y0 = ends[end]
                 if p(x0) != y0:
                     raise self.error(
                         f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
                         f" found y = {_q(y0)}",
-                        pth[end], f"path.{end}",
-                    )  # fmt: skip
+                        pth[end],
+                        f"path.{end}",
+                    )
 
         ts = S["timing"]
         tim = self.mapping(top["timing"], ts, "timing", 1)
@@ -479,8 +521,9 @@ class _Builder:
             raise self.error(
                 "give either law or x, not both (law moves x between path.from and path.to;"
                 " x gives x(t) explicitly)",
-                top["timing"], "timing",
-            )  # fmt: skip
+                top["timing"],
+                "timing",
+            )
         if "law" in tim:
             law = self.enum(tim["law"], ts.children["law"], "timing.law", 2)
             missing = [e for e in ("from", "to") if e not in ends]
@@ -488,24 +531,30 @@ class _Builder:
                 raise self.error(
                     f"law {law} needs path.{' and path.'.join(missing)} (the points it moves"
                     " between)",
-                    tim["law"], "timing.law",
-                )  # fmt: skip
+                    tim["law"],
+                    "timing.law",
+                )
             x_of_t = timing_law(law, ends["from"][0], ends["to"][0], duration)
         elif "x" in tim:
             law = "explicit"
             x_of_t = self.polynomial(tim["x"], ts.children["x"], "timing.x", 2)
-            for end, at, when in (("from", fmpq(0), "0"), ("to", duration, f"t_f = {_q(duration)}")):
+            for end, at, when in (
+                ("from", fmpq(0), "0"),
+                ("to", duration, f"t_f = {_q(duration)}"),
+            ):
                 if end in ends and x_of_t(at) != ends[end][0]:
                     raise self.error(
                         f"path.{end} has x = {_q(ends[end][0])} but timing.x gives"
                         f" x({when}) = {_q(x_of_t(at))}: they must agree",
-                        pth[end], f"path.{end}",
-                    )  # fmt: skip
+                        pth[end],
+                        f"path.{end}",
+                    )
         else:
             raise self.error(
                 "missing timing law: give law (quintic or cubic) or x (a polynomial in t)",
-                top["timing"], "timing",
-            )  # fmt: skip
+                top["timing"],
+                "timing",
+            )
         self._check_composition(p, x_of_t, pth["y"])
 
         checks = Checks()
@@ -518,16 +567,26 @@ class _Builder:
                     kw[k] = self.number(ch[k], cs.children[k], f"checks.{k}", 2)
             if "torque_limit" in ch:
                 kw["torque_limit"] = self.pair(
-                    ch["torque_limit"], cs.children["torque_limit"], "checks.torque_limit", 2,
+                    ch["torque_limit"],
+                    cs.children["torque_limit"],
+                    "checks.torque_limit",
+                    2,
                     ("|T1| limit [N m]", "|T2| limit [N m]"),
-                )  # fmt: skip
+                )
             if "strict" in ch:
                 kw["strict"] = self.boolean(ch["strict"], cs.children["strict"], "checks.strict", 2)
             checks = Checks(**kw)
         return Task(
-            name=name, robot=robot, path=p, x_of_t=x_of_t, duration=duration, law=law,
-            checks=checks, lines=dict(self.lines), source=self.file,
-        )  # fmt: skip
+            name=name,
+            robot=robot,
+            path=p,
+            x_of_t=x_of_t,
+            duration=duration,
+            law=law,
+            checks=checks,
+            lines=dict(self.lines),
+            source=self.file,
+        )
 
     def _check_composition(self, p: fmpq_poly, x: fmpq_poly, node: yaml.Node) -> None:
         """Cap the degree of y(x(t)) and bound the size of its coefficients.
@@ -541,15 +600,17 @@ class _Builder:
             raise self.error(
                 f"the composition y(x(t)) has degree {dp * dx} (path degree {dp} × timing degree"
                 f" {dx}), beyond the cap of {MAX_DEGREE}",
-                node, "path.y",
-            )  # fmt: skip
+                node,
+                "path.y",
+            )
         bits = height(p) + dp * (height(x) + len(x.coeffs()).bit_length()) + (dp + 1).bit_length()
         if bits > MAX_COMPOSED_BITS:
             raise self.error(
                 f"numbers too large: the coefficients of y(x(t)) may reach {bits} bits, beyond the"
                 f" cap of {MAX_COMPOSED_BITS}",
-                node, "path.y",
-            )  # fmt: skip
+                node,
+                "path.y",
+            )
 
 
 def _q(v: fmpq) -> str:

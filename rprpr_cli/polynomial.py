@@ -36,7 +36,7 @@ _EXPONENT = re.compile(r"[0-9]+")
 
 
 def height(p: fmpq_poly) -> int:
-    """Bits of the largest integer in ``p`` written as (integer polynomial) / (common denominator)."""
+    """Bits of the largest integer in ``p`` = (integer polynomial) / (common denominator)."""
     num = max((abs(int(c)).bit_length() for c in p.numer().coeffs()), default=0)
     return max(num, int(p.denom()).bit_length())
 
@@ -215,9 +215,7 @@ class _Parser:
             n = int(digits)
             self.pos = end
             if base.degree() > 0 and base.degree() * n > MAX_DEGREE:
-                raise self._error(
-                    f"degree {base.degree() * n} exceeds the cap of {MAX_DEGREE}", at
-                )
+                raise self._error(f"degree {base.degree() * n} exceeds the cap of {MAX_DEGREE}", at)
             if self._peek() in ("^", "**"):
                 raise self._error("chained exponents are ambiguous: use parentheses", self.pos)
             # bound the result before computing it: height(b^n) <= n * (height(b) + log2 len(b))

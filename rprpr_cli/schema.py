@@ -29,8 +29,14 @@ class Spec:
     children: dict[str, Spec] = field(default_factory=dict)
 
 
-def _num(description: str, *, required: bool = False, minimum: float | None = None,
-         exclusive: bool = False, default: Any = None) -> Spec:  # fmt: skip
+def _num(
+    description: str,
+    *,
+    required: bool = False,
+    minimum: float | None = None,
+    exclusive: bool = False,
+    default: Any = None,
+) -> Spec:
     return Spec("number", description, required, default, minimum, exclusive)
 
 
@@ -77,8 +83,12 @@ TASK = Spec(
             "The end-point path y = p(x).",
             required=True,
             children={
-                "y": Spec("polynomial", "p(x) [m]: numbers, x, + - * / ^ ** and parentheses.",
-                          required=True, variable="x"),  # fmt: skip
+                "y": Spec(
+                    "polynomial",
+                    "p(x) [m]: numbers, x, + - * / ^ ** and parentheses.",
+                    required=True,
+                    variable="x",
+                ),
                 "from": Spec("pair", "Start point [x, y] [m]; must lie on the path."),
                 "to": Spec("pair", "End point [x, y] [m]; must lie on the path."),
             },
@@ -89,8 +99,11 @@ TASK = Spec(
             required=True,
             children={
                 "duration": _num("t_f [s]", required=True, minimum=0, exclusive=True),
-                "law": Spec("enum", "Rest-to-rest law in x (eq. 49 is the quintic).",
-                            choices=("quintic", "cubic")),  # fmt: skip
+                "law": Spec(
+                    "enum",
+                    "Rest-to-rest law in x (eq. 49 is the quintic).",
+                    choices=("quintic", "cubic"),
+                ),
                 "x": Spec("polynomial", "x_E(t) [m], explicitly, instead of law.", variable="t"),
             },
         ),
@@ -98,12 +111,23 @@ TASK = Spec(
             "mapping",
             "Margins and limits.",
             children={
-                "min_slope": _num("|dy/dx| at a singular point must exceed this", minimum=0, default=0),
-                "min_speed": _num("End-point speed [m/s] at a singular instant must exceed this",
-                                  minimum=0, default=0),  # fmt: skip
-                "torque_limit": Spec("pair", "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
-                                     minimum=0, exclusive=True),  # fmt: skip
-                "strict": Spec("bool", "Also fail on inconsistency and torque limits.", default=False),
+                "min_slope": _num(
+                    "|dy/dx| at a singular point must exceed this", minimum=0, default=0
+                ),
+                "min_speed": _num(
+                    "End-point speed [m/s] at a singular instant must exceed this",
+                    minimum=0,
+                    default=0,
+                ),
+                "torque_limit": Spec(
+                    "pair",
+                    "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
+                    minimum=0,
+                    exclusive=True,
+                ),
+                "strict": Spec(
+                    "bool", "Also fail on inconsistency and torque limits.", default=False
+                ),
             },
         ),
     },
@@ -144,7 +168,9 @@ def _json(s: Spec) -> dict[str, Any]:
             out["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
     elif s.kind == "polynomial":
         out["type"] = ["string", "number"]
-        out["pattern"] = rf"^[0-9{s.variable}+\-*/^(). \t\r\neE]*[0-9{s.variable}][0-9{s.variable}+\-*/^(). \t\r\neE]*$"
+        # the grammar's characters only, with at least one digit or the variable
+        chars = rf"[0-9{s.variable}+\-*/^(). \t\r\neE]*"
+        out["pattern"] = rf"^{chars}[0-9{s.variable}]{chars}$"
     elif s.kind == "string":
         out["type"] = ["string", "number"]  # a name such as 2024 is taken as written
     elif s.kind == "bool":

@@ -57,19 +57,39 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "syntax_bad_indent": ("", 5, 11, ("YAML syntax error", "mapping values are not allowed")),
     "multi_document": ("", 18, 1, ("YAML syntax error", "single document")),
     "alias_undefined": ("", 4, 7, ("undefined alias *nowhere",)),
-    "top_level_list": ("", 2, 1, ("expected a mapping with keys robot, path, timing", "found a list of 3")),
+    "top_level_list": (
+        "",
+        2,
+        1,
+        ("expected a mapping with keys robot, path, timing", "found a list of 3"),
+    ),
     "top_level_text": ("", 2, 1, ("expected a mapping", "found the text 'just some text'")),
     "top_level_null": ("", 2, 1, ("expected a mapping", "found null")),
     "comments_only": ("", 0, 0, ("empty task file",)),
     # -- tags, aliases, duplicates ---------------------------------------------------------
-    "tag_python_object": ("robot.a1", 4, 7, ("YAML tag !!python/object/apply:os.system is not allowed",)),
+    "tag_python_object": (
+        "robot.a1",
+        4,
+        7,
+        ("YAML tag !!python/object/apply:os.system is not allowed",),
+    ),
     "tag_python_name": ("robot.a1", 4, 7, ("YAML tag !!python/name:os.getcwd is not allowed",)),
     "tag_custom": ("robot.a1", 4, 7, ("YAML tag !metres is not allowed",)),
     "tag_binary": ("name", 2, 7, ("YAML tag !!binary is not allowed",)),
     "tag_set": ("timing.law", 17, 8, ("YAML tag !!set is not allowed",)),
-    "timestamp": ("timing.duration", 16, 13, ("!!timestamp is not allowed", "'2001-12-14' reads as a date")),
+    "timestamp": (
+        "timing.duration",
+        16,
+        13,
+        ("!!timestamp is not allowed", "'2001-12-14' reads as a date"),
+    ),
     "alias_bomb": ("a1", 3, 1, ("unknown key 'a1'",)),
-    "alias_bomb_in_value": ("robot.a1", 4, 7, ("expected a number (|AB| [m])", "found a list of 9")),
+    "alias_bomb_in_value": (
+        "robot.a1",
+        4,
+        7,
+        ("expected a number (|AB| [m])", "found a list of 9"),
+    ),
     "merge_key": ("robot.links.4", 9, 9, ("merge keys (<<) are not supported",)),
     "duplicate_key": ("robot.a1", 6, 3, ("duplicate key 'a1' (first given on line 4)",)),
     "duplicate_top_key": ("path", 15, 1, ("duplicate key 'path' (first given on line 11)",)),
@@ -78,17 +98,32 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "unknown_timming": ("timming", 15, 1, ("unknown key 'timming'; did you mean 'timing'?",)),
     "unknown_mas": ("robot.links.3.mas", 8, 9, ("unknown key 'mas'; did you mean 'mass'?",)),
     "unknown_link_6": ("robot.links.6", 11, 5, ("unknown key '6'; expected one of: 2, 3, 4, 5",)),
-    "unknown_key_far": ("timing.velocity", 18, 3, ("unknown key 'velocity'; expected one of: duration, law, x",)),
+    "unknown_key_far": (
+        "timing.velocity",
+        18,
+        3,
+        ("unknown key 'velocity'; expected one of: duration, law, x",),
+    ),
     "null_key": ("timing", 18, 3, ("expected a plain key, found null",)),
     "missing_a1": ("robot.a1", 4, 3, ("missing required key 'a1' in robot", "|AB| [m]")),
     "missing_links": ("robot.links", 4, 3, ("missing required key 'links' in robot",)),
     "missing_link_4": ("robot.links.4", 7, 5, ("missing required key '4' in robot.links",)),
-    "missing_inertia": ("robot.links.5.inertia", 10, 8, ("missing required key 'inertia' in robot.links.5",)),
+    "missing_inertia": (
+        "robot.links.5.inertia",
+        10,
+        8,
+        ("missing required key 'inertia' in robot.links.5",),
+    ),
     "missing_path_y": ("path.y", 12, 3, ("missing required key 'y' in path",)),
     "missing_duration": ("timing.duration", 16, 3, ("missing required key 'duration' in timing",)),
     "missing_timing": ("timing", 2, 1, ("missing required key 'timing' at the top level",)),
     # -- wrong types -------------------------------------------------------------------------
-    "duration_five": ("timing.duration", 16, 13, ("expected a number (t_f [s])", "found the text 'five'")),
+    "duration_five": (
+        "timing.duration",
+        16,
+        13,
+        ("expected a number (t_f [s])", "found the text 'five'"),
+    ),
     "duration_quoted": ("timing.duration", 16, 13, ("expected a number", "found the text '5'")),
     "a1_boolean": ("robot.a1", 4, 7, ("expected a number (|AB| [m])", "found a boolean (yes)")),
     "a1_true": ("robot.a1", 4, 7, ("expected a number", "found a boolean (true)")),
@@ -97,13 +132,43 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "a1_list": ("robot.a1", 4, 7, ("expected a number", "found a list of 1")),
     "name_mapping": ("name", 2, 7, ("expected text", "found a mapping")),
     "robot_scalar": ("robot", 3, 8, ("expected a mapping (keys a1, links)", "found the number 6")),
-    "links_list": ("robot.links", 7, 5, ("expected a mapping (keys 2, 3, 4, 5)", "found a list of 4")),
-    "from_scalar": ("path.from", 13, 9, ("expected a list of two numbers [x [m], y [m]]", "found the number 2")),
-    "from_boolean": ("path.from[0]", 13, 10, ("expected a number (x [m])", "found a boolean (true)")),
+    "links_list": (
+        "robot.links",
+        7,
+        5,
+        ("expected a mapping (keys 2, 3, 4, 5)", "found a list of 4"),
+    ),
+    "from_scalar": (
+        "path.from",
+        13,
+        9,
+        ("expected a list of two numbers [x [m], y [m]]", "found the number 2"),
+    ),
+    "from_boolean": (
+        "path.from[0]",
+        13,
+        10,
+        ("expected a number (x [m])", "found a boolean (true)"),
+    ),
     "strict_maybe": ("checks.strict", 19, 11, ("expected true or false", "found the text 'maybe'")),
-    "law_misspelt": ("timing.law", 17, 8, ("expected one of quintic, cubic", "did you mean 'quintic'?")),
-    "torque_limit_three": ("checks.torque_limit", 19, 17, ("expected a list of two numbers", "found a list of 3")),
-    "torque_limit_scalar": ("checks.torque_limit", 19, 17, ("expected a list of two numbers", "found the number 300")),
+    "law_misspelt": (
+        "timing.law",
+        17,
+        8,
+        ("expected one of quintic, cubic", "did you mean 'quintic'?"),
+    ),
+    "torque_limit_three": (
+        "checks.torque_limit",
+        19,
+        17,
+        ("expected a list of two numbers", "found a list of 3"),
+    ),
+    "torque_limit_scalar": (
+        "checks.torque_limit",
+        19,
+        17,
+        ("expected a list of two numbers", "found the number 300"),
+    ),
     "octal_ambiguous": ("robot.a1", 4, 7, ("ambiguous number 010", "octal in YAML 1.1")),
     "sexagesimal": ("timing.duration", 16, 13, ("expected a decimal number, found '1:30'",)),
     "number_too_long": ("robot.a1", 4, 7, ("more than 40 digits",)),
@@ -112,18 +177,48 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "a1_nan": ("robot.a1", 4, 7, ("expected a finite number (|AB| [m]), found NaN",)),
     "a1_nan_tagged": ("robot.a1", 4, 7, ("expected a finite number", "found NaN")),
     "a1_inf": ("robot.a1", 4, 7, ("expected a finite number", "found infinity (.inf)")),
-    "mass_minus_inf": ("robot.links.2.mass", 7, 15, ("expected a finite number", "found infinity (-.inf)")),
+    "mass_minus_inf": (
+        "robot.links.2.mass",
+        7,
+        15,
+        ("expected a finite number", "found infinity (-.inf)"),
+    ),
     "from_nan": ("path.from[0]", 13, 10, ("expected a finite number (x [m]), found NaN",)),
     "a1_zero": ("robot.a1", 4, 7, ("expected a number > 0 (|AB| [m]), found 0",)),
     "a1_negative": ("robot.a1", 4, 7, ("expected a number > 0 (|AB| [m]), found -6",)),
-    "mass_negative": ("robot.links.3.mass", 8, 15, ("expected a number >= 0 (m3 [kg]), found -1.0",)),
+    "mass_negative": (
+        "robot.links.3.mass",
+        8,
+        15,
+        ("expected a number >= 0 (m3 [kg]), found -1.0",),
+    ),
     "inertia_negative": ("robot.links.4.inertia", 9, 29, ("expected a number >= 0", "found -0.10")),
-    "r_negative": ("robot.links.5.r", 10, 38, ("expected a number >= 0 (r5 = |EG5| [m]), found -0.5",)),
+    "r_negative": (
+        "robot.links.5.r",
+        10,
+        38,
+        ("expected a number >= 0 (r5 = |EG5| [m]), found -0.5",),
+    ),
     "gravity_negative": ("robot.gravity", 5, 12, ("expected a number >= 0", "found -9.81")),
     "duration_zero": ("timing.duration", 16, 13, ("expected a number > 0 (t_f [s]), found 0",)),
-    "duration_negative": ("timing.duration", 16, 13, ("expected a number > 0 (t_f [s]), found -5",)),
-    "torque_limit_zero": ("checks.torque_limit[0]", 19, 18, ("expected a number > 0 (|T1| limit [N m]), found 0",)),
-    "torque_limit_negative": ("checks.torque_limit[1]", 19, 23, ("expected a number > 0 (|T2| limit [N m]), found -1",)),
+    "duration_negative": (
+        "timing.duration",
+        16,
+        13,
+        ("expected a number > 0 (t_f [s]), found -5",),
+    ),
+    "torque_limit_zero": (
+        "checks.torque_limit[0]",
+        19,
+        18,
+        ("expected a number > 0 (|T1| limit [N m]), found 0",),
+    ),
+    "torque_limit_negative": (
+        "checks.torque_limit[1]",
+        19,
+        23,
+        ("expected a number > 0 (|T2| limit [N m]), found -1",),
+    ),
     "min_slope_negative": ("checks.min_slope", 19, 14, ("expected a number >= 0", "found -0.1")),
     # -- polynomial expressions (the column points at the offending character) -----------------
     "poly_name": ("path.y", 12, 6, ("unknown name 'sin'",)),
@@ -131,7 +226,7 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "poly_environ": ("path.y", 12, 7, ("unknown name '__import__'",)),
     "poly_timing_open": ("timing.x", 17, 15, ("bad polynomial in t", "unknown name 'len'")),
     "poly_attribute": ("path.y", 12, 7, ("attribute access ('.__class__') is not allowed",)),
-    "poly_string": ("path.y", 12, 11, ("unexpected character \"'\"",)),
+    "poly_string": ("path.y", 12, 11, ('unexpected character "\'"',)),
     "poly_lambda": ("path.y", 12, 8, ("unknown name 'lambda'",)),
     "poly_negative_exponent": ("path.y", 12, 7, ("negative exponent", "integers 0..60")),
     "poly_fractional_exponent": ("path.y", 12, 7, ("fractional exponent", "integers 0..60")),
@@ -143,19 +238,49 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "poly_division_by_zero": ("path.y", 12, 7, ("division by zero",)),
     "poly_division_by_zero_expr": ("path.y", 12, 7, ("division by zero",)),
     "poly_division_by_x": ("path.y", 12, 7, ("division by a non-constant",)),
-    "poly_implicit_product": ("path.y", 12, 7, ("expected an operator after '2', found name 'x'", "'*'")),
+    "poly_implicit_product": (
+        "path.y",
+        12,
+        7,
+        ("expected an operator after '2', found name 'x'", "'*'"),
+    ),
     "poly_unbalanced": ("path.y", 12, 12, ("expected ')', found end of expression",)),
     "poly_empty": ("path.y", 12, 7, ("empty expression",)),
     "poly_boolean": ("path.y", 12, 6, ("expected a polynomial in x", "found a boolean (true)")),
     "poly_deep": ("path.y", 12, 57, ("nested deeper than 50 levels",)),
     "poly_wrong_variable": ("timing.x", 17, 10, ("bad polynomial in t", "unknown name 'x'")),
-    "composition_degree_law": ("path.y", 12, 6, ("y(x(t)) has degree 65", "path degree 13 × timing degree 5", "cap of 60")),
+    "composition_degree_law": (
+        "path.y",
+        12,
+        6,
+        ("y(x(t)) has degree 65", "path degree 13 × timing degree 5", "cap of 60"),
+    ),
     "composition_degree_explicit": ("path.y", 12, 6, ("y(x(t)) has degree 64", "cap of 60")),
     # -- the motion: from/to and the timing law -------------------------------------------------
-    "from_off_path": ("path.from", 13, 9, ("point (2, 0) is not on the path: y(2) = -1, found y = 0",)),
-    "to_off_path": ("path.to", 14, 7, ("point (4, 1.5) is not on the path: y(4) = 1, found y = 1.5",)),
-    "x_mismatch_start": ("path.from", 13, 9, ("path.from has x = 2 but timing.x gives x(0) = 2.5",)),
-    "x_mismatch_end": ("path.to", 14, 7, ("path.to has x = 4 but timing.x gives x(t_f = 5) = 3.5",)),
+    "from_off_path": (
+        "path.from",
+        13,
+        9,
+        ("point (2, 0) is not on the path: y(2) = -1, found y = 0",),
+    ),
+    "to_off_path": (
+        "path.to",
+        14,
+        7,
+        ("point (4, 1.5) is not on the path: y(4) = 1, found y = 1.5",),
+    ),
+    "x_mismatch_start": (
+        "path.from",
+        13,
+        9,
+        ("path.from has x = 2 but timing.x gives x(0) = 2.5",),
+    ),
+    "x_mismatch_end": (
+        "path.to",
+        14,
+        7,
+        ("path.to has x = 4 but timing.x gives x(t_f = 5) = 3.5",),
+    ),
     "law_without_from": ("timing.law", 16, 8, ("law quintic needs path.from",)),
     "law_without_from_to": ("timing.law", 15, 8, ("law quintic needs path.from and path.to",)),
     "law_and_x": ("timing", 16, 3, ("give either law or x, not both",)),
@@ -262,7 +387,9 @@ def test_unreadable_file_for_real(tmp_path: Path) -> None:
         load_task(path)
 
 
-@pytest.mark.parametrize("content", [b"", b"\n\n   \n", b"# only a comment\n", b"---\n", b"\xef\xbb\xbf"])
+@pytest.mark.parametrize(
+    "content", [b"", b"\n\n   \n", b"# only a comment\n", b"---\n", b"\xef\xbb\xbf"]
+)
 def test_empty_file(content: bytes, capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     path = tmp_path / "empty.yaml"
     path.write_bytes(content)
@@ -392,18 +519,21 @@ HOSTILE = [
     ("path.y", f"\"__import__('os').mkdir('{CANARY}')\""),
     ("path.y", f"\"__import__('os').environ.__setitem__('{CANARY_ENV}', '1')\""),
     ("path.y", f"\"open('{CANARY}', 'w').write('x') and x\""),
-    ("path.y", "\"[c for c in ().__class__.__base__.__subclasses__()]\""),
+    ("path.y", '"[c for c in ().__class__.__base__.__subclasses__()]"'),
     ("path.y", f"\"eval(\\\"__import__('os').mkdir('{CANARY}')\\\")\""),
     ("path.y", f"\"x; __import__('os').mkdir('{CANARY}')\""),
-    ("timing.x", f"\"2 + t*0 + exec(\\\"import os; os.mkdir('{CANARY}')\\\")\""),
+    ("timing.x", f'"2 + t*0 + exec(\\"import os; os.mkdir(\'{CANARY}\')\\")"'),
 ]
 
 
 @pytest.mark.parametrize(("key", "value"), HOSTILE)
 def test_hostile_input_has_no_side_effect(
-    key: str, value: str, capsys: pytest.CaptureFixture[str], tmp_path: Path,
+    key: str,
+    value: str,
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
     monkeypatch: pytest.MonkeyPatch,
-) -> None:  # fmt: skip
+) -> None:
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv(CANARY_ENV, raising=False)
     if key == "name":
@@ -411,7 +541,9 @@ def test_hostile_input_has_no_side_effect(
     elif key == "path.y":
         text = GOOD.replace("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", value)
     else:
-        text = GOOD.replace("  law: quintic", f"  x: {value}").replace("  from: [2, -1]\n  to: [4, 1]\n", "")
+        text = GOOD.replace("  law: quintic", f"  x: {value}").replace(
+            "  from: [2, -1]\n  to: [4, 1]\n", ""
+        )
     path = tmp_path / "hostile.yaml"
     path.write_text(text)
     e = input_error(capsys, path)
@@ -421,7 +553,9 @@ def test_hostile_input_has_no_side_effect(
     assert os.getenv(CANARY_ENV) is None
 
 
-def test_the_canary_would_catch_a_loader_that_constructs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_the_canary_would_catch_a_loader_that_constructs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Control: the same YAML through an unsafe loader does create the canary."""
     monkeypatch.chdir(tmp_path)
     yaml.unsafe_load(f"name: !!python/object/apply:os.mkdir [{CANARY}]")
@@ -479,8 +613,12 @@ def _smoke_files() -> list[Path]:
 def test_process_exits_2_with_one_line(path: Path, tmp_path: Path) -> None:
     proc = subprocess.run(
         [sys.executable, "-m", "rprpr_cli", "check", str(path)],
-        capture_output=True, text=True, cwd=tmp_path, timeout=60, check=False,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=60,
+        check=False,
+    )
     assert proc.returncode == 2, proc
     assert "Traceback" not in proc.stdout + proc.stderr
     lines = proc.stderr.strip().splitlines()

@@ -38,9 +38,14 @@ QUINTIC = "  duration: 5\n  law: quintic\n"
 
 
 def task_text(
-    y: str, timing: str, *, ends: tuple[str, str] | None = None, a1: str = "6",
-    m2: str = "2.0", m3: str = "1.0",
-) -> str:  # fmt: skip
+    y: str,
+    timing: str,
+    *,
+    ends: tuple[str, str] | None = None,
+    a1: str = "6",
+    m2: str = "2.0",
+    m3: str = "1.0",
+) -> str:
     """A task with legs A and B alike (links 2 = 4, 3 = 5)."""
     e = "" if ends is None else f"  from: {ends[0]}\n  to: {ends[1]}\n"
     links = LINKS.replace("M2", m2).replace("M3", m3)
@@ -74,114 +79,178 @@ F = Fraction
 R2 = 2**0.5
 
 HARD: dict[str, Hard] = {
-    # -- singular instants at the ends of the motion ---------------------------------------------
+    # -- singular instants at the ends of the motion ------------------------------------------
     # rest-to-rest: x(t) - 2 = 2 (10 τ^3 - 15 τ^4 + 6 τ^5) has a triple root at t = 0; zero speed
     "instant_at_t0_from_rest": Hard(
-        task_text("x - 2", QUINTIC, ends=("[2, 0]", "[4, 2]")), "fail",
+        task_text("x - 2", QUINTIC, ends=("[2, 0]", "[4, 2]")),
+        "fail",
         [Instant(F(0), 3, "crossing", 3, velocity="fail", bounded=False)],
-    ),  # fmt: skip
+    ),
     "instant_at_t0_moving": Hard(
-        task_text("x - 2", "  duration: 2\n  x: 2 + t\n", ends=("[2, 0]", "[4, 2]")), "pass",
+        task_text("x - 2", "  duration: 2\n  x: 2 + t\n", ends=("[2, 0]", "[4, 2]")),
+        "pass",
         [Instant(F(0), 1, "crossing", 3, bounded=False)],
-    ),  # fmt: skip
+    ),
     "instant_at_tf_at_rest": Hard(
-        task_text("x - 4", QUINTIC, ends=("[2, -2]", "[4, 0]")), "fail",
+        task_text("x - 4", QUINTIC, ends=("[2, -2]", "[4, 0]")),
+        "fail",
         [Instant(F(5), 3, "crossing", 3, velocity="fail", bounded=False)],
-    ),  # fmt: skip
+    ),
     "instant_at_tf_moving": Hard(
-        task_text("x - 4", "  duration: 4\n  x: 2 + 0.5*t\n"), "pass",
+        task_text("x - 4", "  duration: 4\n  x: 2 + 0.5*t\n"),
+        "pass",
         [Instant(F(4), 1, "crossing", 3, bounded=False)],
-    ),  # fmt: skip
-    # -- several close together ------------------------------------------------------------------
+    ),
+    # -- several close together ---------------------------------------------------------------
     "three_within_5_microseconds": Hard(
-        task_text("(x - 3)*(x - 3.000001)*(x - 3.000002)", "  duration: 5\n  x: 2 + 0.4*t\n"), "pass",
-        [Instant(F(5, 2), 1, "crossing", 3), Instant(F(1000001, 400000), 1, "crossing", 3, bounded=False),
-         Instant(F(500001, 200000), 1, "crossing", 3, bounded=False)],
-    ),  # fmt: skip
+        task_text("(x - 3)*(x - 3.000001)*(x - 3.000002)", "  duration: 5\n  x: 2 + 0.4*t\n"),
+        "pass",
+        [
+            Instant(F(5, 2), 1, "crossing", 3),
+            Instant(F(1000001, 400000), 1, "crossing", 3, bounded=False),
+            Instant(F(500001, 200000), 1, "crossing", 3, bounded=False),
+        ],
+    ),
     "two_2p5e-12_s_apart": Hard(
-        task_text("(x - 3)*(x - 3.000000000001)", "  duration: 5\n  x: 2 + 0.4*t\n"), "pass",
-        [Instant(F(5, 2), 1, "crossing", 3),
-         Instant(F(5, 2) + F(25, 10**13), 1, "crossing", 3, bounded=False)],
-    ),  # fmt: skip
+        task_text("(x - 3)*(x - 3.000000000001)", "  duration: 5\n  x: 2 + 0.4*t\n"),
+        "pass",
+        [
+            Instant(F(5, 2), 1, "crossing", 3),
+            Instant(F(5, 2) + F(25, 10**13), 1, "crossing", 3, bounded=False),
+        ],
+    ),
     "twelve_crossings": Hard(
         task_text(
             "(x-2.1)*(x-2.2)*(x-2.3)*(x-2.4)*(x-2.5)*(x-2.6)*(x-2.7)*(x-2.8)*(x-2.9)*(x-3.1)*(x-3.2)*(x-3.3)",
-            QUINTIC, ends=("[2, 0.00062270208]", "[4, 16.89515283456]"),
+            QUINTIC,
+            ends=("[2, 0.00062270208]", "[4, 16.89515283456]"),
         ),
         "pass",
-        [Instant(t, 1, "crossing", 3, bounded=False) for t in (
-            0.946277, 1.233182, 1.449589, 1.632990, 1.797181, 1.949092,
-            2.092858, 2.231270, 2.366413, 2.633587, 2.768730, 2.907142)],
-    ),  # fmt: skip
-    # -- very high multiplicity --------------------------------------------------------------------
+        [
+            Instant(t, 1, "crossing", 3, bounded=False)
+            for t in (
+                0.946277,
+                1.233182,
+                1.449589,
+                1.632990,
+                1.797181,
+                1.949092,
+                2.092858,
+                2.231270,
+                2.366413,
+                2.633587,
+                2.768730,
+                2.907142,
+            )
+        ],
+    ),
+    # -- very high multiplicity ---------------------------------------------------------------
     # (x - 3)^9 after the quintic: order 9, only the consistency condition holds: pole of order 8
     "multiplicity_9_quintic": Hard(
-        task_text("(x - 3)^9", QUINTIC, ends=("[2, -1]", "[4, 1]")), "fail",
+        task_text("(x - 3)^9", QUINTIC, ends=("[2, -1]", "[4, 1]")),
+        "fail",
         [Instant(F(5, 2), 9, "crossing", 3, slope="fail", bounded=False)],
-    ),  # fmt: skip
+    ),
     # the same path at constant speed: odd in t - t_s about the midpoint, all 9 conditions hold
     "multiplicity_9_linear": Hard(
-        task_text("(x - 3)^9", "  duration: 5\n  x: 2 + 0.4*t\n"), "fail",
+        task_text("(x - 3)^9", "  duration: 5\n  x: 2 + 0.4*t\n"),
+        "fail",
         [Instant(F(5, 2), 9, "crossing", 3, slope="fail")],
-    ),  # fmt: skip
+    ),
     "multiplicity_60": Hard(
-        task_text("(x - 3)^60", "  duration: 5\n  x: 2 + 0.4*t\n"), "fail",
+        task_text("(x - 3)^60", "  duration: 5\n  x: 2 + 0.4*t\n"),
+        "fail",
         [Instant(F(5, 2), 60, "touch", 3, slope="fail")],
-    ),  # fmt: skip
+    ),
     "touch_at_zero_speed": Hard(
-        task_text("x - 3", "  duration: 5\n  x: 3 + (t - 2.5)^2\n"), "fail",
+        task_text("x - 3", "  duration: 5\n  x: 3 + (t - 2.5)^2\n"),
+        "fail",
         [Instant(F(5, 2), 2, "touch", 3, velocity="fail", bounded=False)],
-    ),  # fmt: skip
-    # -- irrational instants (number-field arithmetic) -------------------------------------------
-    # y = (x^2 - 2)^2 (x + 1), x = t - 3: touches at x = -√2 (case 2) and √2 (case 3), crossing at -1
+    ),
+    # -- irrational instants (number-field arithmetic) ----------------------------------------
+    # y = (x^2 - 2)^2 (x + 1), x = t - 3: touches at x = -√2 (case 2) and √2 (case 3),
+    # a crossing at x = -1
     "irrational_touches": Hard(
-        task_text("(x^2 - 2)^2*(x + 1)", "  duration: 5\n  x: -3 + t\n"), "fail",
-        [Instant(3 - R2, 2, "touch", 2, slope="fail"), Instant(F(2), 1, "crossing", 2, bounded=False),
-         Instant(3 + R2, 2, "touch", 3, slope="fail")],
-    ),  # fmt: skip
-    # -- the singular line, and A and B -------------------------------------------------------------
+        task_text("(x^2 - 2)^2*(x + 1)", "  duration: 5\n  x: -3 + t\n"),
+        "fail",
+        [
+            Instant(3 - R2, 2, "touch", 2, slope="fail"),
+            Instant(F(2), 1, "crossing", 2, bounded=False),
+            Instant(3 + R2, 2, "touch", 3, slope="fail"),
+        ],
+    ),
+    # -- the singular line, and A and B -------------------------------------------------------
     "path_on_the_singular_line": Hard(
         task_text("0", QUINTIC, ends=("[2, 0]", "[4, 0]")), "fail", on_line=True
     ),
     "standing_still_on_the_line": Hard(
         task_text("x - 3", QUINTIC, ends=("[3, 0]", "[3, 0]")), "fail", on_line=True
     ),
-    "through_A": Hard(task_text("x", QUINTIC, ends=("[-1, -1]", "[1, 1]")), "fail", kinematic=[(F(5, 2), 1)]),
-    "through_B": Hard(task_text("x - 6", QUINTIC, ends=("[5, -1]", "[7, 1]")), "fail", kinematic=[(F(5, 2), 2)]),
+    "through_A": Hard(
+        task_text("x", QUINTIC, ends=("[-1, -1]", "[1, 1]")), "fail", kinematic=[(F(5, 2), 1)]
+    ),
+    "through_B": Hard(
+        task_text("x - 6", QUINTIC, ends=("[5, -1]", "[7, 1]")), "fail", kinematic=[(F(5, 2), 2)]
+    ),
     "touching_the_line_at_A": Hard(
         task_text("x^2", QUINTIC, ends=("[-1, 1]", "[1, 1]")), "fail", kinematic=[(F(5, 2), 1)]
     ),
-    "ending_at_B": Hard(task_text("x - 6", QUINTIC, ends=("[5, -1]", "[6, 0]")), "fail", kinematic=[(F(5), 2)]),
-    # -- scale, time and mass ------------------------------------------------------------------------
+    "ending_at_B": Hard(
+        task_text("x - 6", QUINTIC, ends=("[5, -1]", "[6, 0]")), "fail", kinematic=[(F(5), 2)]
+    ),
+    # -- scale, time and mass -----------------------------------------------------------------
     "a1_1cm": Hard(
-        task_text("0.2*x - 0.001", QUINTIC, a1="0.01", ends=("[0.0025, -0.0005]", "[0.0075, 0.0005]")),
-        "pass", [Instant(F(5, 2), 1, "crossing", 3)],
-    ),  # fmt: skip
+        task_text(
+            "0.2*x - 0.001", QUINTIC, a1="0.01", ends=("[0.0025, -0.0005]", "[0.0075, 0.0005]")
+        ),
+        "pass",
+        [Instant(F(5, 2), 1, "crossing", 3)],
+    ),
     "a1_1km": Hard(
         task_text("0.2*x - 100", QUINTIC, a1="1000", ends=("[250, -50]", "[750, 50]")),
-        "pass", [Instant(F(5, 2), 1, "crossing", 3)],
-    ),  # fmt: skip
+        "pass",
+        [Instant(F(5, 2), 1, "crossing", 3)],
+    ),
     "duration_1e6_s": Hard(
-        task_text("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  duration: 1000000\n  law: quintic\n",
-                  ends=("[2, -1]", "[4, 1]")),
-        "pass", [Instant(F(500000), 1, "crossing", 3)],
-    ),  # fmt: skip
+        task_text(
+            "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2",
+            "  duration: 1000000\n  law: quintic\n",
+            ends=("[2, -1]", "[4, 1]"),
+        ),
+        "pass",
+        [Instant(F(500000), 1, "crossing", 3)],
+    ),
     "masses_1e-9_kg": Hard(
-        task_text("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", QUINTIC, m2="1e-9", m3="1e-9", ends=("[2, -1]", "[4, 1]")),
-        "pass", [Instant(F(5, 2), 1, "crossing", 3)],
-    ),  # fmt: skip
+        task_text(
+            "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2",
+            QUINTIC,
+            m2="1e-9",
+            m3="1e-9",
+            ends=("[2, -1]", "[4, 1]"),
+        ),
+        "pass",
+        [Instant(F(5, 2), 1, "crossing", 3)],
+    ),
     "masses_1e9_kg": Hard(
-        task_text("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", QUINTIC, m2="1e9", m3="1e9", ends=("[2, -1]", "[4, 1]")),
-        "pass", [Instant(F(5, 2), 1, "crossing", 3)],
-    ),  # fmt: skip
+        task_text(
+            "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2",
+            QUINTIC,
+            m2="1e9",
+            m3="1e9",
+            ends=("[2, -1]", "[4, 1]"),
+        ),
+        "pass",
+        [Instant(F(5, 2), 1, "crossing", 3)],
+    ),
     "degree_60_with_17_digit_coefficients": Hard(
         task_text(
             "(1.2345678901234567*x - 3.7037036703703701)^12",
             "  duration: 5.123456789\n"
             "  x: 2 + 0.0987654321098765*t^3 - 0.0123456789012345*t^4 + 0.00049382716049382*t^5\n",
         ),
-        "fail", [Instant(2.404465088, 12, "touch", 3, slope="fail", bounded=False)],
-    ),  # fmt: skip
+        "fail",
+        [Instant(2.404465088, 12, "touch", 3, slope="fail", bounded=False)],
+    ),
 }
 
 TIME_LIMIT = 5.0  # seconds per audit: "bounded time" (each takes milliseconds today)
@@ -213,7 +282,9 @@ def test_hard_input_audit_is_exact_and_bounded(name: str, audited: dict) -> None
     assert seconds < TIME_LIMIT
     assert r.verdict == case.verdict
     assert r.on_singular_line is case.on_line
-    assert [(k.t, k.leg) for k in r.kinematic_singularities] == [(float(t), leg) for t, leg in case.kinematic]
+    assert [(k.t, k.leg) for k in r.kinematic_singularities] == [
+        (float(t), leg) for t, leg in case.kinematic
+    ]
     assert len(r.singularities) == len(case.instants)
     times = [s.t for s in r.singularities]
     assert times == sorted(times)
@@ -243,7 +314,9 @@ def test_hard_input_audit_is_exact_and_bounded(name: str, audited: dict) -> None
 
 @pytest.mark.parametrize("name", sorted(HARD))
 def test_hard_input_cli_exit_status_and_strict_json(
-    name: str, audited: dict, capsys: pytest.CaptureFixture[str]  # type: ignore[type-arg]
+    name: str,
+    audited: dict,
+    capsys: pytest.CaptureFixture[str],  # type: ignore[type-arg]
 ) -> None:
     path, r, _ = audited[name]
     with pytest.raises(SystemExit) as exc:
@@ -260,7 +333,9 @@ def test_hard_input_cli_exit_status_and_strict_json(
     assert rep["verdict"] == r.verdict
     assert [s["order"] for s in rep["singularities"]] == [s.order for s in r.singularities]
     assert [s["kind"] for s in rep["singularities"]] == [s.kind for s in r.singularities]
-    assert [s["torque_bounded"] for s in rep["singularities"]] == [s.torque_bounded for s in r.singularities]
+    assert [s["torque_bounded"] for s in rep["singularities"]] == [
+        s.torque_bounded for s in r.singularities
+    ]
     assert rep["on_singular_line"] is r.on_singular_line
     assert len(rep["kinematic_singularities"]) == len(r.kinematic_singularities)
 
@@ -285,13 +360,19 @@ def torques_eq28(task, t: arb) -> tuple[float, float]:  # type: ignore[no-untype
 
     def q(t: arb) -> list[arb]:
         x, yy = _ev(task.x_of_t, t), _ev(y, t)
-        return [arb.atan2(yy, x), (x * x + yy * yy).sqrt(), arb.atan2(yy, x - a1), ((x - a1) ** 2 + yy * yy).sqrt()]
+        return [
+            arb.atan2(yy, x),
+            (x * x + yy * yy).sqrt(),
+            arb.atan2(yy, x - a1),
+            ((x - a1) ** 2 + yy * yy).sqrt(),
+        ]
 
     q0, qp, qm = q(t), q(t + h), q(t - h)
     d = [(a - b) / (2 * h) for a, b in zip(qp, qm, strict=True)]
     dd = [(a - 2 * c + b) / (h * h) for a, b, c in zip(qp, qm, q0, strict=True)]
     (m2, i2, r2), (m3, i3, r3), (m4, i4, r4), (m5, i5, r5) = (
-        (arb(lk.mass), arb(lk.inertia), arb(lk.r)) for lk in (task.robot.links[i] for i in (2, 3, 4, 5))
+        (arb(lk.mass), arb(lk.inertia), arb(lk.r))
+        for lk in (task.robot.links[i] for i in (2, 3, 4, 5))
     )
     th1, s1, th2, s2 = q0
     m11 = m2 * r2**2 + i2 + m3 * (s1 - r3) ** 2 + i3  # eq. (7)
@@ -305,9 +386,13 @@ def torques_eq28(task, t: arb) -> tuple[float, float]:  # type: ignore[no-untype
     a, b, c, e = th1.cos(), th1.sin(), -th2.cos(), -th2.sin()
     det = a * e - b * c  # = -δ
     l1, l2 = (e * u1 - b * u2) / det, (a * u2 - c * u1) / det
-    t1 = m11 * dd[0] + n1 - (-s1 * th1.sin() * l1 + s1 * th1.cos() * l2)  # eq. (28), J_a of eq. (23)
+    t1 = (
+        m11 * dd[0] + n1 - (-s1 * th1.sin() * l1 + s1 * th1.cos() * l2)
+    )  # eq. (28), J_a of eq. (23)
     t2 = m33 * dd[2] + n3 - (s2 * th2.sin() * l1 - s2 * th2.cos() * l2)
-    assert t1.rad() < 1e-9 * (1 + abs(t1.mid())) and t2.rad() < 1e-9 * (1 + abs(t2.mid())), "precision"
+    assert t1.rad() < 1e-9 * (1 + abs(t1.mid())) and t2.rad() < 1e-9 * (1 + abs(t2.mid())), (
+        "precision"
+    )
     return float(t1.mid()), float(t2.mid())
 
 

@@ -55,7 +55,9 @@ def _only_task_file_errors(data: bytes | str) -> None:
         return
     # whatever is accepted is a task the engine can trust
     assert task.robot.a1 > 0 and task.duration > 0
-    assert all(v >= 0 for link in task.robot.links.values() for v in (link.mass, link.inertia, link.r))
+    assert all(
+        v >= 0 for link in task.robot.links.values() for v in (link.mass, link.inertia, link.r)
+    )
     assert max(task.path.degree(), 0) * max(task.x_of_t.degree(), 0) <= MAX_DEGREE
 
 
@@ -89,14 +91,88 @@ def test_random_bytes_raise_only_task_file_error(data: bytes) -> None:
 # YAML-ish tokens: random task-shaped documents reach far deeper into the loader than
 # random characters do.
 _TOKENS = [
-    "\n", "\n  ", "\n    ", " ", ": ", "- ", "{", "}", "[", "]", ", ", "&a ", "*a", "&b ", "*b",
-    "<<: ", "!!python/object/apply:os.system ", "!!str ", "!!float ", "!!int ", "!!binary ",
-    "!custom ", "? ", "---\n", "...\n", "# c\n", '"', "'", "|\n  ", ">\n  ",
-    "name", "robot", "a1", "gravity", "links", "2", "3", "4", "5", "mass", "inertia", "r",
-    "path", "y", "from", "to", "timing", "duration", "law", "x", "checks", "min_slope",
-    "min_speed", "torque_limit", "strict", "quintic", "cubic", "true", "no", "null", "~",
-    "0", "-1", "6", "0.5", ".nan", "-.inf", "1e3", "010", "0x1f", "1:30", "2001-01-01",
-    "x^2", "t^3", "x**61", "1/0", "(x - 3)", "__import__('os')", "sin(x)", "2x", "*", "/",
+    "\n",
+    "\n  ",
+    "\n    ",
+    " ",
+    ": ",
+    "- ",
+    "{",
+    "}",
+    "[",
+    "]",
+    ", ",
+    "&a ",
+    "*a",
+    "&b ",
+    "*b",
+    "<<: ",
+    "!!python/object/apply:os.system ",
+    "!!str ",
+    "!!float ",
+    "!!int ",
+    "!!binary ",
+    "!custom ",
+    "? ",
+    "---\n",
+    "...\n",
+    "# c\n",
+    '"',
+    "'",
+    "|\n  ",
+    ">\n  ",
+    "name",
+    "robot",
+    "a1",
+    "gravity",
+    "links",
+    "2",
+    "3",
+    "4",
+    "5",
+    "mass",
+    "inertia",
+    "r",
+    "path",
+    "y",
+    "from",
+    "to",
+    "timing",
+    "duration",
+    "law",
+    "x",
+    "checks",
+    "min_slope",
+    "min_speed",
+    "torque_limit",
+    "strict",
+    "quintic",
+    "cubic",
+    "true",
+    "no",
+    "null",
+    "~",
+    "0",
+    "-1",
+    "6",
+    "0.5",
+    ".nan",
+    "-.inf",
+    "1e3",
+    "010",
+    "0x1f",
+    "1:30",
+    "2001-01-01",
+    "x^2",
+    "t^3",
+    "x**61",
+    "1/0",
+    "(x - 3)",
+    "__import__('os')",
+    "sin(x)",
+    "2x",
+    "*",
+    "/",
 ]
 
 
@@ -110,8 +186,9 @@ def test_random_yaml_shaped_text_raises_only_task_file_error(tokens: list[str]) 
 @given(
     st.lists(
         st.tuples(st.integers(0, len(GOOD)), st.integers(0, 8), st.sampled_from(_TOKENS)),
-        min_size=1, max_size=4,
-    )  # fmt: skip
+        min_size=1,
+        max_size=4,
+    )
 )
 def test_mutated_valid_task_raises_only_task_file_error(edits: list[tuple[int, int, str]]) -> None:
     text = GOOD
@@ -155,7 +232,9 @@ def _deg(p: Poly) -> int:
 
 def _add(p: Poly, q: Poly, sign: int = 1) -> Poly:
     n = max(len(p), len(q))
-    return _trim([(p[i] if i < len(p) else 0) + sign * (q[i] if i < len(q) else 0) for i in range(n)])
+    return _trim(
+        [(p[i] if i < len(p) else 0) + sign * (q[i] if i < len(q) else 0) for i in range(n)]
+    )
 
 
 def _mul(p: Poly, q: Poly) -> Poly:
@@ -306,7 +385,9 @@ _trees = st.recursive(_leaves, _extend, max_leaves=14)
 
 @settings(max_examples=300, deadline=None)
 @given(tree=_trees, var=st.sampled_from(["x", "t"]), data=st.data())
-def test_random_polynomial_parses_to_the_exact_polynomial(tree: object, var: str, data: st.DataObject) -> None:
+def test_random_polynomial_parses_to_the_exact_polynomial(
+    tree: object, var: str, data: st.DataObject
+) -> None:
     text = render(tree, var, data.draw)
     try:
         expected = evaluate(tree)
@@ -314,7 +395,11 @@ def test_random_polynomial_parses_to_the_exact_polynomial(tree: object, var: str
         try:
             parse_polynomial(text, var)
         except ExpressionError as e:
-            word = {"cap": f"cap of {MAX_DEGREE}", "zero": "division by zero", "non-constant": "non-constant"}
+            word = {
+                "cap": f"cap of {MAX_DEGREE}",
+                "zero": "division by zero",
+                "non-constant": "non-constant",
+            }
             assert word[r.kind] in e.message, (text, e.message)
             return
         raise AssertionError(f"{text!r} should be rejected ({r.kind})") from None
@@ -323,7 +408,11 @@ def test_random_polynomial_parses_to_the_exact_polynomial(tree: object, var: str
 
 
 @settings(max_examples=100, deadline=None)
-@given(st.lists(st.fractions(min_value=-100, max_value=100, max_denominator=50), min_size=1, max_size=8))
+@given(
+    st.lists(
+        st.fractions(min_value=-100, max_value=100, max_denominator=50), min_size=1, max_size=8
+    )
+)
 def test_coefficient_list_round_trips(coeffs: list[Fraction]) -> None:
     terms = " + ".join(f"({c.numerator}/{c.denominator})*x^{k}" for k, c in enumerate(coeffs))
     got = parse_polynomial(terms, "x")
@@ -341,9 +430,13 @@ def test_coefficient_list_round_trips(coeffs: list[Fraction]) -> None:
 def test_numbers_are_read_exactly_as_written(a1: float, mass: object) -> None:
     a1_text, mass_text = repr(a1), str(mass)
     assume("e" not in mass_text.lower())
-    text = GOOD.replace("  a1: 6", f"  a1: {a1_text}").replace("{mass: 2.0, inertia: 0.10", f"{{mass: {mass_text}, inertia: 0.10", 1)
+    text = GOOD.replace("  a1: 6", f"  a1: {a1_text}").replace(
+        "{mass: 2.0, inertia: 0.10", f"{{mass: {mass_text}, inertia: 0.10", 1
+    )
     task = parse_task(text)
-    assert Fraction(int(task.robot.a1.p), int(task.robot.a1.q)) == Fraction(a1_text)  # decimal, not binary
+    assert Fraction(int(task.robot.a1.p), int(task.robot.a1.q)) == Fraction(
+        a1_text
+    )  # decimal, not binary
     m = task.robot.links[2].mass
     assert Fraction(int(m.p), int(m.q)) == Fraction(mass_text)
     assert task.robot.links[2].inertia * 10 == 1  # 0.10 is exactly 1/10

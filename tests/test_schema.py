@@ -82,19 +82,34 @@ VALID: dict[str, str] = {
     "explicit_x_with_ends": _EXPLICIT,
     "explicit_x_without_ends": _EXPLICIT.replace("  from: [2, -1]\n  to: [4, 1]\n", ""),
     "cubic": _variant("law: quintic", "law: cubic"),
-    "all_checks": GOOD + "checks:\n  min_slope: 0.1\n  min_speed: 0\n  torque_limit: [300, 250.5]\n  strict: true\n",
+    "all_checks": GOOD
+    + "checks:\n  min_slope: 0.1\n  min_speed: 0\n  torque_limit: [300, 250.5]\n  strict: true\n",
     "strict_yes": GOOD + "checks:\n  strict: yes\n",
     "numeric_name": _variant("name: good", "name: 2024"),
     "no_name": _variant("name: good\n", ""),
     "no_gravity": _variant("  links:", "  gravity: 0\n  links:").replace("  gravity: 0\n", ""),
-    "zero_gravity_and_mass": _variant("  links:", "  gravity: 0\n  links:").replace("{mass: 1.0,", "{mass: 0,"),
-    "aliases": _variant("    2: {", "    2: &leg {").replace("    4: {mass: 2.0, inertia: 0.10, r: 0.5}", "    4: *leg"),
+    "zero_gravity_and_mass": _variant("  links:", "  gravity: 0\n  links:").replace(
+        "{mass: 1.0,", "{mass: 0,"
+    ),
+    "aliases": _variant("    2: {", "    2: &leg {").replace(
+        "    4: {mass: 2.0, inertia: 0.10, r: 0.5}", "    4: *leg"
+    ),
     "hex_and_underscores": _variant("  a1: 6", "  a1: 0x6").replace("duration: 5", "duration: 1_0"),
     "signed_and_float": _variant("  a1: 6", "  a1: +6.0"),
-    "block_mappings": _variant("    5: {mass: 1.0, inertia: 0.05, r: 0.5}", "    5:\n      mass: 1.0\n      inertia: 0.05\n      r: 0.5"),
-    "folded_polynomial": _variant("  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  y: >-\n    0.8*x^3 - 7.2*x^2\n    + 21.8*x - 22.2"),
-    "quoted_polynomial": _variant("  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  y: '0.8*x**3 - 7.2*x**2 + 21.8*x - 22.2'"),
-    "constant_path": _variant("  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  y: 0.5").replace("[2, -1]", "[2, 0.5]").replace("[4, 1]", "[4, 0.5]"),
+    "block_mappings": _variant(
+        "    5: {mass: 1.0, inertia: 0.05, r: 0.5}",
+        "    5:\n      mass: 1.0\n      inertia: 0.05\n      r: 0.5",
+    ),
+    "folded_polynomial": _variant(
+        "  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2",
+        "  y: >-\n    0.8*x^3 - 7.2*x^2\n    + 21.8*x - 22.2",
+    ),
+    "quoted_polynomial": _variant(
+        "  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  y: '0.8*x**3 - 7.2*x**2 + 21.8*x - 22.2'"
+    ),
+    "constant_path": _variant("  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "  y: 0.5")
+    .replace("[2, -1]", "[2, 0.5]")
+    .replace("[4, 1]", "[4, 0.5]"),
     "comments_and_document_marker": "# a task\n---\n" + GOOD + "...\n",
 }
 # Valid files the loader accepts but the schema, as PyYAML reads the file, does not.
@@ -167,7 +182,9 @@ def test_rprpr_schema_prints_the_shipped_file(capsys: pytest.CaptureFixture[str]
 @pytest.mark.parametrize("config", CONFIGS, ids=lambda p: p.name)
 def test_every_config_validates_and_points_at_the_schema(config: Path) -> None:
     text = config.read_text(encoding="utf-8")
-    jsonschema.validate(_jsonish(yaml.safe_load(text)), json_schema(), cls=jsonschema.Draft202012Validator)
+    jsonschema.validate(
+        _jsonish(yaml.safe_load(text)), json_schema(), cls=jsonschema.Draft202012Validator
+    )
     modeline = "# yaml-language-server: $schema=../rprpr_cli/task.schema.json"
     assert text.splitlines()[0] == modeline
     assert (config.parent / "../rprpr_cli/task.schema.json").resolve() == SHIPPED.resolve()
@@ -188,7 +205,9 @@ _BAD = sorted(p.stem for p in BAD.glob("*.yaml"))
 def test_loader_and_schema_both_reject(name: str) -> None:
     text = (BAD / f"{name}.yaml").read_text(encoding="utf-8")
     assert not loader_accepts(text)
-    assert not schema_accepts(text), f"the schema accepts {name}: add a rule, or list it in LOADER_ONLY"
+    assert not schema_accepts(text), (
+        f"the schema accepts {name}: add a rule, or list it in LOADER_ONLY"
+    )
 
 
 @pytest.mark.parametrize("name", sorted(LOADER_ONLY))
