@@ -44,6 +44,7 @@ _NON_PRINTABLE = re.compile(
 _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
 _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
+_RESOLVER = yaml.resolver.Resolver()
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
@@ -205,6 +206,11 @@ def _parse(data: bytes | str, file: str) -> Task:
     return _Builder(file).task(root, Path(file).stem)
 
 
+def _resolve(text: str) -> str:
+    """The tag YAML 1.1 (PyYAML) gives the plain scalar ``text``."""
+    return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
+
+
 def _where(node: yaml.Node) -> tuple[int, int]:
     """1-based (line, column) where ``node`` starts."""
     return node.start_mark.line + 1, node.start_mark.column + 1
@@ -335,8 +341,14 @@ class _Builder:
             raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
         tag = node.tag.removeprefix(_TAG)
-        if tag == "str" and not node.style and _YAML12_FLOAT.fullmatch(text):  # plain: None or ""
-            tag = "float"
+        # A plain (style None or "") scalar that YAML 1.1 reads as text but YAML 1.2 as a
+        # number. (A plain scalar that YAML 1.1 itself reads as a number but that carries
+        # the str tag was tagged !!str on purpose: it stays text.)
+        if tag == "str" and not node.style and _resolve(text) == _TAG + "str":
+            if _YAML12_FLOAT.fullmatch(text):
+                tag = "float"
+            elif _RADIX_INT.fullmatch(text):  # 0o17 is YAML 1.2 octal
+                tag = "int"
         if tag not in ("int", "float"):
             hint = ""
             if tag == "str" and re.fullmatch(r"[-+]?[0-9.]+\s*/\s*[0-9.]+", text):

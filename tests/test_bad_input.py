@@ -13,6 +13,7 @@ import os
 import subprocess
 import sys
 import time
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -494,6 +495,45 @@ def test_aliases_of_whole_values_are_fine() -> None:
     )
     task = parse_task(text)
     assert task.robot.links[4] == task.robot.links[2]
+
+
+@pytest.mark.parametrize(
+    ("spelling", "value"),
+    [
+        ("6", Fraction(6)),
+        ("+6.", Fraction(6)),
+        ("0.1", Fraction(1, 10)),  # the decimal, not the nearest binary float
+        ("1e3", Fraction(1000)),  # YAML 1.2 (and editors) read it as a number
+        ("1E-3", Fraction(1, 1000)),
+        ("0x1f", Fraction(31)),
+        ("0o17", Fraction(15)),
+        ("1_000", Fraction(1000)),
+        ("!!float 6", Fraction(6)),
+    ],
+)
+def test_number_spellings_that_are_read_exactly(spelling: str, value: Fraction) -> None:
+    a1 = parse_task(GOOD.replace("  a1: 6", f"  a1: {spelling}")).robot.a1
+    assert Fraction(int(a1.p), int(a1.q)) == value
+
+
+@pytest.mark.parametrize(
+    ("spelling", "message"),
+    [
+        ("017", "ambiguous number 017"),
+        ("!!str 6", "found the text '6'"),
+        ("'6'", "found the text '6'"),
+        ("4/25", "a fraction is only allowed in path.y and timing.x"),
+        ("6 m", "found the text '6 m'"),
+        ("1:30", "expected a decimal number"),
+        ("-.INF", "found infinity"),
+        (".NaN", "found NaN"),
+    ],
+)
+def test_number_spellings_that_are_rejected(spelling: str, message: str) -> None:
+    with pytest.raises(TaskFileError) as exc:
+        parse_task(GOOD.replace("  a1: 6", f"  a1: {spelling}"))
+    assert exc.value.key == "robot.a1"
+    assert message in exc.value.message
 
 
 def test_expression_longer_than_the_cap() -> None:
