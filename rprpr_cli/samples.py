@@ -4,8 +4,9 @@ Away from the singular instants every quantity is the paper's formula evaluated 
 (``dynamics``), with δ taken in its product form δ = -a1 y/(s1 s2) (no cancellation).
 Near a Type II singular instant t_s, λ = μ/δ (eqs. 30-31) is a quotient of two small
 numbers and the direct formula loses digits to cancellation; there λ is taken from its
-Laurent series in ε = t - t_s, whose coefficients come from the exact expansion
-(``singular``). Each sample uses whichever of the two has the smaller error estimate:
+Laurent series in ε = t - t_s, computed in 128-bit ball arithmetic from the exact Taylor
+coefficients of x and y at t_s, with the orders that vanish exactly (``singular``)
+removed. Each sample uses whichever of the two has the smaller error estimate:
 
 * direct:  16 u S_μ/|δ| + |λ| e_δ/|δ|, where u is the unit roundoff, S_μ the sum of the
   absolute values of the terms of μ (the size of the terms that cancel), and e_δ the
@@ -22,11 +23,11 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 
 import numpy as np
-from flint import fmpq, fmpq_poly
+from flint import arb, arb_series, ctx, fmpq, fmpq_poly
 
 from . import dynamics as dyn
-from .series import Series, taylor
-from .singular import SingularAnalysis, SingularInstant, expansion, legs
+from .series import taylor
+from .singular import SingularAnalysis, SingularInstant
 from .task import Robot
 from .trajectory import Trajectory
 
@@ -125,26 +126,47 @@ class _Laurent:
         return value, err
 
 
-def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_Laurent, _Laurent]:
-    """Laurent series of λ1 and λ2 about the singular instant ``s``, in floating point.
+SERIES_PREC = 128  # bits of the ball arithmetic behind the λ series
 
-    Computed from the rounded Taylor coefficients of x and y, with the coefficients of μ
-    below its exact order dropped (they are exactly zero). (Exact rational series would
-    be exact but their coefficients grow to thousands of digits at this length.)
+
+def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_Laurent, _Laurent]:
+    """Laurent series of λ1 and λ2 about the singular instant ``s``, rounded to floats.
+
+    Computed in ball arithmetic (flint's arb_series, 128 bits) from the exact Taylor
+    coefficients of x and y at t_s, with the coefficients of μ below its exact order
+    dropped (they are exactly zero); the same formulas as everywhere (``dynamics``).
     """
     m = s.order
     n = m + EXTRA_TERMS + 1
-    sx = 1 if s.case.number != 2 else -1
-    sxa = 1 if s.case.number == 1 else -1
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, s.field, n, scalar=float)
-    l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, _float(traj.a1), sx, sxa)
-    d = dyn.dynamics(l1, l2, dyn.Params.of(robot, _float))
-    den = Series(d.delta.c[m:])
-    out = []
-    for mu, v in ((d.mu1, s.mu_valuations[0]), (d.mu2, s.mu_valuations[1])):
-        shift = min(v, m)
-        lam = Series(mu.c[shift:]) / den  # the exact zeros below the shift are dropped
-        out.append(_Laurent(s.t, np.array(lam.c[: n - m]), shift - m))
+    old_prec, old_cap = ctx.prec, ctx.cap
+    ctx.prec, ctx.cap = SERIES_PREC, n
+    try:
+        def value(ck: fmpq_poly) -> arb:
+            if s.t_exact is not None:
+                return arb(ck(s.t_exact))
+            return s.field.evaluate(ck % s.field.f, SERIES_PREC)
+
+        ser = []
+        for p in (traj.x, traj.y):
+            tc = [value(ck) for ck in taylor(p, n + 2)]
+            ser.append(arb_series(tc[:n]))
+            ser.append(arb_series([(k + 1) * tc[k + 1] for k in range(n)]))
+            ser.append(arb_series([(k + 1) * (k + 2) * tc[k + 2] for k in range(n)]))
+        X, Xd, Xdd, Y, Yd, Ydd = ser
+        hypot = lambda u, v: (u * u + v * v).sqrt()  # noqa: E731  s > 0 at t_s (no kinematic singularity)
+        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hypot)
+        l2 = dyn.leg(X - traj.a1, Xd, Xdd, Y, Yd, Ydd, hypot)
+        d = dyn.dynamics(l1, l2, dyn.Params.of(robot))
+        den = arb_series(d.delta.coeffs()[m:])
+        out = []
+        for mu, v in ((d.mu1, s.mu_valuations[0]), (d.mu2, s.mu_valuations[1])):
+            shift = min(v, m)
+            lam = arb_series(mu.coeffs()[shift:]) / den  # exact zeros below the shift dropped
+            c = np.array([float(a.mid()) for a in lam.coeffs()[: n - m]])
+            c = np.concatenate([c, np.zeros(max(0, n - m - len(c)))])
+            out.append(_Laurent(s.t, c, shift - m))
+    finally:
+        ctx.prec, ctx.cap = old_prec, old_cap
     return out[0], out[1]
 
 

@@ -5,8 +5,9 @@ real root of y(t), an algebraic number: exactly, the coefficients live in the nu
 field K = Q[t]/(f) of the irreducible factor f of y(t) that vanishes at t_s, and an
 element of K is zero exactly when its reduced representative is the zero polynomial.
 ``KElem`` is such an element; when t_s is rational, K = Q and the coefficients are plain
-``fmpq`` (several times faster). ``Series`` works over ``KElem`` or ``fmpq`` (exact
-decisions) or over ``float`` (evaluation near t_s), with the same formulas.
+``fmpq`` (several times faster). ``Series`` works over either, with the formulas of
+``dynamics``; the floating-point expansion used for sampling near t_s runs the same
+formulas on flint's ``arb_series`` (``samples.lambda_series``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
 
@@ -133,7 +133,7 @@ class NumberField:
             prec *= 2
 
 
-Scalar = Any  # KElem or float
+Scalar = Any  # KElem or fmpq
 
 
 class Series:
@@ -175,8 +175,6 @@ class Series:
             return Series([a * o for a in self.c])
         n = min(len(self), len(o))
         a, b = self.c, o.c
-        if isinstance(a[0], float) and isinstance(b[0], float):
-            return Series(np.convolve(a[:n], b[:n])[:n].tolist())
         return Series([_dot(a, b, k) for k in range(n)])
 
     __rmul__ = __mul__
@@ -184,13 +182,6 @@ class Series:
     def inverse(self) -> Series:
         """1/self; the constant term must be nonzero."""
         a = self.c
-        if isinstance(a[0], float):
-            av = np.array(a)
-            bv = np.zeros(len(a))
-            bv[0] = 1 / a[0]
-            for k in range(1, len(a)):
-                bv[k] = -bv[0] * np.dot(av[1 : k + 1], bv[k - 1 :: -1][:k])
-            return Series(bv.tolist())
         b0 = 1 / a[0]
         b = [b0]
         for k in range(1, len(a)):

@@ -28,7 +28,7 @@ from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
 
 from . import dynamics as dyn
 from .cases import Case, case_of
-from .series import KElem, NumberField, Series, is_zero, sign, taylor
+from .series import NumberField, Series, is_zero, sign, taylor
 from .task import Checks, Robot
 from .trajectory import Trajectory
 
@@ -213,20 +213,14 @@ def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
 
 
 def expansion(
-    traj: Trajectory, field: NumberField, n: int, scalar: type = KElem, exact: fmpq | None = None
+    traj: Trajectory, field: NumberField, n: int, exact: fmpq | None = None
 ) -> tuple[Series, Series, Series, Series, Series, Series]:
-    """Series (n terms) of x, x', x'', y, y', y'' about t_s: exact (in Q when the rational
-    t_s = ``exact`` is given, else in K) or, with ``scalar=float``, in floating point."""
+    """Exact series (n terms) of x, x', x'', y, y', y'' about t_s: in Q when the rational
+    t_s = ``exact`` is given, else in K = Q[t]/(f)."""
     out = []
     for p in (traj.x, traj.y):
         c = taylor(p, n + 2)
-        e: list[Any]
-        if scalar is not KElem:
-            e = [field.to_float(ck % field.f) for ck in c]
-        elif exact is not None:
-            e = [ck(exact) for ck in c]
-        else:
-            e = [field.elem(ck) for ck in c]
+        e: list[Any] = [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
         out.append(Series(e[:n]))
         out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
