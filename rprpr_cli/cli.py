@@ -175,7 +175,24 @@ def want_progress(n_tasks: int, stream: Any, quiet: bool) -> bool:
     return tty and n_tasks > PROGRESS_MIN_TASKS and not quiet
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _LazyGroup(click.Group):
+    """A group whose ``plot`` and ``export`` commands are imported only when used, so that
+    ``rprpr check`` pays nothing for them at start-up."""
+
+    LAZY = ("export", "plot")
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted([*super().list_commands(ctx), *self.LAZY])
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name in self.LAZY:
+            from . import cli_plot
+
+            return getattr(cli_plot, name)
+        return super().get_command(ctx, name)
+
+
+@click.group(cls=_LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="rprpr")
 def main_group() -> None:
     """rprpr: audit planned motions of an RPRPR planar parallel robot for Type II and
@@ -329,16 +346,6 @@ def schema() -> None:
     from .schema import json_schema
 
     click.echo(json.dumps(json_schema(), indent=2))
-
-
-def _register_plot_commands() -> None:
-    from .cli_plot import export, plot
-
-    main_group.add_command(plot)
-    main_group.add_command(export)
-
-
-_register_plot_commands()
 
 
 # click >= 8.2 raises this for a bare ``rprpr``; on 8.1 the name does not exist, and an
