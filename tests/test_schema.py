@@ -23,6 +23,8 @@ from rprpr_cli.errors import TaskFileError
 from rprpr_cli.loader import parse_task
 from rprpr_cli.schema import json_schema
 
+from .test_bad_input import GOOD  # the paper's path 2: the corpus's starting point
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 SHIPPED = ROOT / "rprpr_cli" / "task.schema.json"
@@ -30,7 +32,6 @@ BAD = HERE / "bad_tasks"
 CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
 VALIDATOR = jsonschema.Draft202012Validator(json_schema())
 
-GOOD = (BAD.parent / "test_bad_input.py").read_text().split('GOOD = """\\\n')[1].split('"""')[0]
 
 # Bad files the loader rejects but JSON Schema cannot: name -> why the schema cannot say it.
 _GRAMMAR = "the exact polynomial grammar (the schema's pattern admits only the right characters)"
