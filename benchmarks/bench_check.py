@@ -30,16 +30,23 @@ def wall(cmd: list[str], repeat: int) -> float:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--repeat", type=int, default=15)
     ap.add_argument("--config", default="configs/paper_path2.yaml")
     args = ap.parse_args()
     base = wall([sys.executable, "-c", "import numpy, yaml, click, rich"], args.repeat)
     text = wall([sys.executable, "-m", "rprpr_cli", "check", args.config], args.repeat)
-    js = wall([sys.executable, "-m", "rprpr_cli", "check", "--format", "json", args.config], args.repeat)
+    js = wall(
+        [sys.executable, "-m", "rprpr_cli", "check", "--format", "json", args.config], args.repeat
+    )
     print(f"python -c 'import numpy, yaml, click, rich'   {base * 1000:7.1f} ms")
     print(f"rprpr check {args.config}  {text * 1000:7.1f} ms  (+{(text - base) * 1000:.1f} ms)")
-    print(f"rprpr check --format json ...             {js * 1000:7.1f} ms  (+{(js - base) * 1000:.1f} ms)")
+    print(
+        f"rprpr check --format json ...             {js * 1000:7.1f} ms"
+        f"  (+{(js - base) * 1000:.1f} ms)"
+    )
     print("aim: at most about +100 ms")
 
 

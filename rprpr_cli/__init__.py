@@ -25,7 +25,15 @@ _API = {
     "TaskFileError": "errors",
 }
 
-__all__ = ["AuditResult", "RprprError", "TaskFileError", "__version__", "audit", "load_task", "parse_task"]
+__all__ = [
+    "AuditResult",
+    "RprprError",
+    "TaskFileError",
+    "__version__",
+    "audit",
+    "load_task",
+    "parse_task",
+]
 
 
 def __getattr__(name: str) -> Any:

@@ -80,33 +80,63 @@ def _at(t: float) -> str:
     return f"t = {t:.6g} s"
 
 
-def _findings(
-    task: Task, a: SingularAnalysis, peak: tuple[float, float] | None
-) -> list[Finding]:
+def _findings(task: Task, a: SingularAnalysis, peak: tuple[float, float] | None) -> list[Finding]:
     out: list[Finding] = []
     if a.on_singular_line:
         out.append(
-            Finding("RPR104", "the path lies on the singular line y = 0 (δ ≡ 0): every instant is a Type II singularity", None, "path.y")
+            Finding(
+                "RPR104",
+                "the path lies on the singular line y = 0 (δ ≡ 0):"
+                " every instant is a Type II singularity",
+                None,
+                "path.y",
+            )
         )
     for k in a.kinematic:
         joint = "A" if k.leg == 1 else "B"
         out.append(
-            Finding("RPR103", f"{_at(k.t)}: the end point is at {joint} (s{k.leg} = 0): inverse-kinematic singularity", k.t, "path.y")
+            Finding(
+                "RPR103",
+                f"{_at(k.t)}: the end point is at {joint} (s{k.leg} = 0):"
+                " inverse-kinematic singularity",
+                k.t,
+                "path.y",
+            )
         )
     for s in a.instants:
         where = f"{_at(s.t)}, (x, y) = ({s.x:.6g}, 0), case {s.case.number}, order {s.order}"
         if not s.slope_principle.passed:
-            out.append(Finding("RPR101", f"{where}: slope principle fails: {s.slope_principle.reason}", s.t, "path.y"))
+            out.append(
+                Finding(
+                    "RPR101",
+                    f"{where}: slope principle fails: {s.slope_principle.reason}",
+                    s.t,
+                    "path.y",
+                )
+            )
         if not s.velocity_principle.passed:
-            out.append(Finding("RPR102", f"{where}: velocity principle fails: {s.velocity_principle.reason}", s.t, "timing"))
+            out.append(
+                Finding(
+                    "RPR102",
+                    f"{where}: velocity principle fails: {s.velocity_principle.reason}",
+                    s.t,
+                    "timing",
+                )
+            )
         if not s.torque_bounded:
             why = (
                 f"inconsistent (eq. 34 residual {s.consistency_residual:.6g} N)"
                 if not s.consistent
-                else f"consistent, but only {s.conditions_met} of {s.conditions_required} boundedness conditions hold"
+                else f"consistent, but only {s.conditions_met} of {s.conditions_required}"
+                " boundedness conditions hold"
             )
             out.append(
-                Finding("RPR201", f"{where}: {why}: torques unbounded (pole of order {s.pole_order})", s.t, "robot.links")
+                Finding(
+                    "RPR201",
+                    f"{where}: {why}: torques unbounded (pole of order {s.pole_order})",
+                    s.t,
+                    "robot.links",
+                )
             )
     limit = task.checks.torque_limit
     unbounded = [s for s in a.instants if not s.torque_bounded]
@@ -114,13 +144,24 @@ def _findings(
         # near a pole the sampled peak only says where the grid fell: report the pole
         for s in unbounded:
             out.append(
-                Finding("RPR202", f"{_at(s.t)}: the torques are unbounded (pole of order {s.pole_order}): beyond any limit", s.t, "checks.torque_limit")
+                Finding(
+                    "RPR202",
+                    f"{_at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
+                    " beyond any limit",
+                    s.t,
+                    "checks.torque_limit",
+                )
             )
     elif limit is not None and peak is not None:
         for j in (0, 1):
             lim = float(limit[j])
             if peak[j] > lim:
                 out.append(
-                    Finding("RPR202", f"|T{j + 1}| reaches {peak[j]:.6g} N m, beyond the limit {lim:g} N m", None, "checks.torque_limit")
+                    Finding(
+                        "RPR202",
+                        f"|T{j + 1}| reaches {peak[j]:.6g} N m, beyond the limit {lim:g} N m",
+                        None,
+                        "checks.torque_limit",
+                    )
                 )
     return out

@@ -37,7 +37,9 @@ class Leg:
     th_dd: Num
 
 
-def leg(u: Num, ud: Num, udd: Num, v: Num, vd: Num, vdd: Num, hypot: Callable[[Num, Num], Num]) -> Leg:
+def leg(
+    u: Num, ud: Num, udd: Num, v: Num, vd: Num, vdd: Num, hypot: Callable[[Num, Num], Num]
+) -> Leg:
     """Inverse kinematics of one leg from its end-point offset (u, v) and derivatives."""
     s = hypot(u, v)
     s2 = s * s

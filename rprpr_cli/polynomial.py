@@ -16,7 +16,6 @@ Grammar (one variable, given by the caller)::
 from __future__ import annotations
 
 import re
-from fractions import Fraction
 
 from flint import fmpq, fmpq_poly
 
@@ -76,8 +75,10 @@ def _literal(text: str) -> fmpq:
     # the exponent text is bounded first, so int() never sees a huge string
     if exp and (len(exp.lstrip("+-").lstrip("0")) > 3 or abs(int(exp)) > MAX_EXP10):
         raise ExpressionError(f"number {text!r} has an exponent beyond ±{MAX_EXP10}")
-    f = Fraction(mantissa) * Fraction(10) ** int(exp or "0")
-    return fmpq(f.numerator, f.denominator)
+    whole, _, frac = mantissa.partition(".")
+    num = int(whole + frac or "0")  # digits only: the literal matched _NUMBER
+    scale = int(exp or "0") - len(frac)  # value = num * 10^scale
+    return fmpq(num * 10**scale) if scale >= 0 else fmpq(num, 10**-scale)
 
 
 class _Parser:

@@ -141,6 +141,7 @@ def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_
     old_prec, old_cap = ctx.prec, ctx.cap
     ctx.prec, ctx.cap = SERIES_PREC, n
     try:
+
         def value(ck: fmpq_poly) -> arb:
             if s.t_exact is not None:
                 return arb(ck(s.t_exact))
@@ -192,9 +193,7 @@ def _continuous_angle(
     return out
 
 
-def sample(
-    traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray
-) -> Samples:
+def sample(traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray) -> Samples:
     """The motion, joints, δ, λ and torques at the times ``t`` (seconds)."""
     p = dyn.Params.of(robot, _float)
     xc = _coeffs(traj.x)
@@ -225,7 +224,11 @@ def sample(
         # error estimate of the direct quotient (module docstring)
         f1 = p.m3 * (xd * xd + yd * yd + np.abs(x * xdd) + np.abs(y * ydd) + leg1.s_d**2) / leg1.s
         f1 += p.m3 * (np.abs(leg1.s - p.r3) * leg1.th_d**2 + p.g)
-        f2 = p.m5 * (xd * xd + yd * yd + np.abs((x - p.a1) * xdd) + np.abs(y * ydd) + leg2.s_d**2) / leg2.s
+        f2 = (
+            p.m5
+            * (xd * xd + yd * yd + np.abs((x - p.a1) * xdd) + np.abs(y * ydd) + leg2.s_d**2)
+            / leg2.s
+        )
         f2 += p.m5 * (np.abs(leg2.s - p.r5) * leg2.th_d**2 + p.g)
         e_delta = np.abs(delta) * (3 * EPS + 2 * len(pc) * EPS * ycond / np.abs(y)) + 4 * EPS
         e_mu = 16 * EPS * (f1 + f2)
@@ -239,7 +242,9 @@ def sample(
             if not np.any(inaccurate & (near == i)):
                 continue  # the direct formula is accurate near this instant
             eps_t = t - s.t
-            for lam, err, L in zip((lam1, lam2), (err1, err2), lambda_series(traj, robot, s), strict=True):
+            for lam, err, L in zip(
+                (lam1, lam2), (err1, err2), lambda_series(traj, robot, s), strict=True
+            ):
                 v, e = L.evaluate(eps_t)
                 better = (near == i) & ((e < err) | (eps_t == 0))
                 lam[better] = v[better]

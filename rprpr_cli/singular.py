@@ -178,7 +178,12 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
     for f, m in factors:
         if f.degree() < 1:
             continue
-        if f.degree() > 1 and f(0) != 0 and f(traj.duration) != 0 and _no_root_inside(f, traj.duration):
+        if (
+            f.degree() > 1
+            and f(0) != 0
+            and f(traj.duration) != 0
+            and _no_root_inside(f, traj.duration)
+        ):
             continue
         for exact, at in _real_roots(f):
             if not _in_span(exact, at, traj.duration):
@@ -220,7 +225,9 @@ def expansion(
     out = []
     for p in (traj.x, traj.y):
         c = taylor(p, n + 2)
-        e: list[Any] = [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
+        e: list[Any] = (
+            [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
+        )
         out.append(Series(e[:n]))
         out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -305,28 +312,42 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
     """|dy/dx| > min_slope, decided exactly (slope: KElem or fmpq)."""
     if min_slope == 0:
         if is_zero(slope):
-            return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
+            return Principle(
+                False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity"
+            )
         return Principle(True, f"dy/dx = {float(slope):.6g} is nonzero")
     diff = slope * slope - min_slope * min_slope
     if sign(diff) > 0:
-        return Principle(True, f"|dy/dx| = {abs(float(slope)):.6g} exceeds checks.min_slope = {float(min_slope):g}")
+        return Principle(
+            True,
+            f"|dy/dx| = {abs(float(slope)):.6g} exceeds checks.min_slope = {float(min_slope):g}",
+        )
     if is_zero(slope):
-        return Principle(False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity")
+        return Principle(
+            False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity"
+        )
     return Principle(
-        False, f"|dy/dx| = {abs(float(slope)):.6g} does not exceed the margin checks.min_slope = {float(min_slope):g}"
+        False,
+        f"|dy/dx| = {abs(float(slope)):.6g} does not exceed the margin"
+        f" checks.min_slope = {float(min_slope):g}",
     )
 
 
 def _velocity_principle(speed2: Any, min_speed: fmpq) -> Principle:
     """speed > min_speed, decided exactly on speed^2 (KElem or fmpq)."""
     if is_zero(speed2):
-        return Principle(False, "the end point is at rest here (speed 0, eq. 47): a high-order singularity")
+        return Principle(
+            False, "the end point is at rest here (speed 0, eq. 47): a high-order singularity"
+        )
     speed = math.sqrt(float(speed2))
     if min_speed == 0:
         return Principle(True, f"speed {speed:.6g} m/s is nonzero")
     if sign(speed2 - min_speed * min_speed) > 0:
-        return Principle(True, f"speed {speed:.6g} m/s exceeds checks.min_speed = {float(min_speed):g} m/s")
+        return Principle(
+            True, f"speed {speed:.6g} m/s exceeds checks.min_speed = {float(min_speed):g} m/s"
+        )
     return Principle(
         False,
-        f"speed {speed:.6g} m/s does not exceed the margin checks.min_speed = {float(min_speed):g} m/s",
+        f"speed {speed:.6g} m/s does not exceed the margin"
+        f" checks.min_speed = {float(min_speed):g} m/s",
     )

@@ -18,7 +18,9 @@ LINKS_ALIKE = """\
 """
 
 
-def task_text(y: str, timing: str, *, a1: str = "6", links: str = LINKS_ALIKE, extra: str = "") -> str:
+def task_text(
+    y: str, timing: str, *, a1: str = "6", links: str = LINKS_ALIKE, extra: str = ""
+) -> str:
     """A task file's text with the given path, timing block and links."""
     return f"name: test\nrobot:\n  a1: {a1}\n{links}path:\n  y: {y}\n{timing}{extra}"
 

@@ -208,8 +208,8 @@ def test_path2_alike_legs_torque_limit_is_finite_and_continuous(path2):  # type:
     # an independent estimate of the limit: the direct formula at t_s ± 1e-3 s, averaged
     # (the first-order terms cancel; the remainder is O(1e-6) of T'')
     side = at_times(path2, [2.5 - 1e-3, 2.5 + 1e-3])
-    assert T1 == pytest.approx(side.T1.mean(), abs=1e-4)
-    assert T2 == pytest.approx(side.T2.mean(), abs=1e-4)
+    assert pytest.approx(side.T1.mean(), abs=1e-4) == T1
+    assert pytest.approx(side.T2.mean(), abs=1e-4) == T2
     near = at_times(path2, [2.5 - 1e-6, 2.5 - 1e-9, 2.5, 2.5 + 1e-9, 2.5 + 1e-6])
     assert np.all(np.isfinite(near.T1)) and np.all(np.isfinite(near.T2))
     assert np.allclose(near.T1, T1, atol=1e-4) and np.allclose(near.T2, T2, atol=1e-4)
@@ -340,10 +340,15 @@ def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped
     r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=11)
     (s,) = r.singularities
     assert not s.slope_principle.passed and "checks.min_slope = 0.25" in s.slope_principle.reason
-    assert not s.velocity_principle.passed and "checks.min_speed = 0.8" in s.velocity_principle.reason
+    assert (
+        not s.velocity_principle.passed and "checks.min_speed = 0.8" in s.velocity_principle.reason
+    )
     assert r.verdict == "fail"
     # exactly at the margin is not beyond it: slope 0.2 vs min_slope 0.2
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra="checks:\n  min_slope: 0.2\n"))), samples=11)
+    r = audit(
+        load_task(write_task(task_text(PATH2, QUINTIC, extra="checks:\n  min_slope: 0.2\n"))),
+        samples=11,
+    )
     assert not r.singularities[0].slope_principle.passed
 
 

@@ -36,9 +36,7 @@ def tasks(draw):  # type: ignore[no-untyped-def]
     else:
         p = fmpq_poly(draw(st.lists(frac, min_size=1, max_size=4)))
     assume(not p.is_zero())
-    links = {
-        i: Link(draw(positive), draw(positive) / 10, draw(positive) / 4) for i in (2, 3, 4, 5)
-    }
+    links = {i: Link(draw(positive), draw(positive) / 10, draw(positive) / 4) for i in (2, 3, 4, 5)}
     return Task("random", Robot(a1, links), p, x, draw(positive))
 
 
@@ -62,7 +60,10 @@ def test_singular_instants_are_the_real_roots_with_their_multiplicity(task):  # 
             assert d(s.t_exact) != 0
         else:  # irrational root: y^(m) is clearly nonzero there, y is zero to rounding
             scale = max(abs(_f(c)) for c in y.coeffs()) * max(1.0, abs(s.t)) ** y.degree()
-            assert abs(np.polynomial.polynomial.polyval(s.t, [_f(c) for c in y.coeffs()])) < 1e-9 * scale
+            assert (
+                abs(np.polynomial.polynomial.polyval(s.t, [_f(c) for c in y.coeffs()]))
+                < 1e-9 * scale
+            )
         assert s.kind == ("crossing" if s.order % 2 else "touch")
         assert s.conditions_met <= s.conditions_required == s.order
         assert s.torque_bounded == (s.torque_at_singularity is not None)
@@ -88,7 +89,9 @@ def test_joint_values_reproduce_the_end_point(task):  # type: ignore[no-untyped-
     assert np.allclose(a1 + s.s2 * np.cos(s.theta2), s.x, atol=1e-12 * scale)
     assert np.allclose(s.s2 * np.sin(s.theta2), s.y, atol=1e-12 * scale)
     # θ continuous: no jump of about 2π between samples
-    assert np.all(np.abs(np.diff(s.theta1)) < math.pi) and np.all(np.abs(np.diff(s.theta2)) < math.pi)
+    assert np.all(np.abs(np.diff(s.theta1)) < math.pi) and np.all(
+        np.abs(np.diff(s.theta2)) < math.pi
+    )
 
 
 @SETTINGS
