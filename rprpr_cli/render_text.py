@@ -20,7 +20,7 @@ def _pf(v: str) -> Text:
 
 
 def singularity_table(rep: dict[str, Any]) -> Table:
-    table = Table(title=None, show_lines=False, header_style="bold", pad_edge=False)
+    table = Table(title=None, show_lines=False, header_style="bold")
     for col, just in (
         ("t [s]", "right"), ("(x, y) [m]", "left"), ("case σ ψ", "left"), ("order", "left"),
         ("dy/dx", "right"), ("speed [m/s]", "right"), ("slope", "left"), ("velocity", "left"),
@@ -103,7 +103,11 @@ def _task(rep: dict[str, Any], console: Console) -> None:
             title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
         console.print(Text.assemble("  ", title, f": {f['message']}"), soft_wrap=True)
     peak = rep["torque_peak"]
-    peak_text = f"; peak |T1|, |T2| = {peak[0]:.4g}, {peak[1]:.4g} N m" if peak else ""
+    poles = [f"{s['t']:.6g} s" for s in rep["singularities"] if not s["torque_bounded"]]
+    if poles:  # next to a pole the sampled peak only says where the grid fell
+        peak_text = f"; torques unbounded at t = {', '.join(poles)}"
+    else:
+        peak_text = f"; peak |T1|, |T2| = {peak[0]:.4g}, {peak[1]:.4g} N m" if peak else ""
     verdict = (
         Text("PASS", style="bold green")
         if rep["verdict"] == "pass"

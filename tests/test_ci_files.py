@@ -1,4 +1,5 @@
-"""The CI integration files: the pre-commit hook, the composite GitHub Action, docs/ci.md."""
+"""The CI integration files: the pre-commit hook, the composite GitHub Action, and the
+README's CI section."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from .conftest import CONFIGS, ROOT
 
 HOOKS = ROOT / ".pre-commit-hooks.yaml"
 ACTION = ROOT / "action.yml"
-DOC = ROOT / "docs" / "ci.md"
+DOC = ROOT / "README.md"
 BIN = Path(sys.executable).parent  # where pip put the rprpr console script
 
 
@@ -172,7 +173,7 @@ def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str
     )
 
 
-# -- docs/ci.md -------------------------------------------------------------------------------
+# -- README: rprpr in CI -------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def doc() -> str:
     return DOC.read_text(encoding="utf-8")
@@ -194,7 +195,10 @@ def _yaml_blocks(doc: str) -> list[Any]:
 def test_doc_examples_are_valid_and_agree_with_the_files(
     doc: str, action: dict[str, Any], hook: dict[str, Any]
 ) -> None:
-    workflow, precommit, gitlab = _yaml_blocks(doc)
+    blocks = [b for b in _yaml_blocks(doc) if isinstance(b, dict)]
+    [workflow] = [b for b in blocks if "jobs" in b]
+    [precommit] = [b for b in blocks if "repos" in b]
+    [gitlab] = [b for b in blocks if "rprpr" in b]
     steps = workflow["jobs"]["rprpr"]["steps"]
     [uses] = [s for s in steps if s.get("uses", "").startswith("OWNER/rprpr@")]
     assert set(uses["with"]) <= set(action["inputs"])
