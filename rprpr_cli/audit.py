@@ -26,7 +26,8 @@ class AuditResult:
     """Everything ``rprpr check`` reports for one task.
 
     ``torque_peak`` = (max |T1|, max |T2|) [N m] over the samples at which the torques are
-    bounded (None when there is no such sample); ``verdict`` is "pass" or "fail".
+    finite and the limits at bounded singular instants (None when there is none);
+    ``verdict`` is "pass" or "fail".
     """
 
     task: Task
@@ -54,7 +55,7 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
     traj = trajectory(task)
     analysis = analyse(traj, task.robot, task.checks)
     s = sample(traj, task.robot, analysis, grid(task.duration, samples))
-    peak = _torque_peak(s)
+    peak = _torque_peak(s, analysis.instants)
     findings = _findings(task, analysis, peak)
     return AuditResult(
         task=task,
@@ -69,11 +70,19 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
     )
 
 
-def _torque_peak(s: Samples) -> tuple[float, float] | None:
+def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, float] | None:
+    """max |T1|, max |T2| over the samples with finite torques and the finite limits at
+    the bounded singular instants (which the grid may miss)."""
     ok = np.isfinite(s.T1) & np.isfinite(s.T2)
-    if not np.any(ok):
+    t1 = [float(v) for v in np.abs(s.T1[ok])]
+    t2 = [float(v) for v in np.abs(s.T2[ok])]
+    for i in instants:
+        if i.torque_at_singularity is not None:
+            t1.append(abs(i.torque_at_singularity[0]))
+            t2.append(abs(i.torque_at_singularity[1]))
+    if not t1:
         return None
-    return float(np.max(np.abs(s.T1[ok]))), float(np.max(np.abs(s.T2[ok])))
+    return max(t1), max(t2)
 
 
 def _at(t: float) -> str:

@@ -21,9 +21,10 @@ is unbounded there, never a large finite number.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
-from flint import arb, arb_series, ctx, fmpq, fmpq_poly
+from flint import arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
 from . import dynamics as dyn
 from .series import taylor
@@ -126,26 +127,48 @@ class _Laurent:
         return value, err
 
 
-SERIES_PREC = 128  # bits of the ball arithmetic behind the λ series
+SERIES_PREC = 128  # bits of the ball arithmetic behind the λ series, to start with
+MAX_PREC = 4096  # ... doubled up to this while a coefficient is not certified
+TOLERANCE = 1e-9  # relative error estimate a sample of λ must meet (else ball arithmetic)
+MAX_BALL_SAMPLES = 2000  # samples evaluated in ball arithmetic per task, at most
 
 
-def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_Laurent, _Laurent]:
+def lambda_series(
+    traj: Trajectory, robot: Robot, s: SingularInstant
+) -> tuple[_Laurent, _Laurent] | None:
     """Laurent series of λ1 and λ2 about the singular instant ``s``, rounded to floats.
 
-    Computed in ball arithmetic (flint's arb_series, 128 bits) from the exact Taylor
-    coefficients of x and y at t_s, with the coefficients of μ below its exact order
-    dropped (they are exactly zero); the same formulas as everywhere (``dynamics``).
+    Computed in ball arithmetic (flint's arb_series) from the exact Taylor coefficients of
+    x and y at t_s, with the coefficients of μ below its exact order dropped (they are
+    exactly zero); the same formulas as everywhere (``dynamics``). The precision is
+    doubled until every coefficient is known to about 53 bits; None when even MAX_PREC
+    bits do not certify them (then the samples fall back on ball arithmetic).
     """
+    prec = SERIES_PREC
+    while prec <= MAX_PREC:
+        try:
+            out = _lambda_series_at(traj, robot, s, prec)
+        except (ValueError, ZeroDivisionError):  # a leading coefficient not yet nonzero
+            out = None
+        if out is not None:
+            return out
+        prec *= 2
+    return None
+
+
+def _lambda_series_at(
+    traj: Trajectory, robot: Robot, s: SingularInstant, prec: int
+) -> tuple[_Laurent, _Laurent] | None:
     m = s.order
     n = m + EXTRA_TERMS + 1
     old_prec, old_cap = ctx.prec, ctx.cap
-    ctx.prec, ctx.cap = SERIES_PREC, n
+    ctx.prec, ctx.cap = prec, n
     try:
 
         def value(ck: fmpq_poly) -> arb:
             if s.t_exact is not None:
                 return arb(ck(s.t_exact))
-            return s.field.evaluate(ck % s.field.f, SERIES_PREC)
+            return s.field.evaluate(ck % s.field.f, prec)
 
         ser = []
         for p in (traj.x, traj.y):
@@ -154,21 +177,58 @@ def lambda_series(traj: Trajectory, robot: Robot, s: SingularInstant) -> tuple[_
             ser.append(arb_series([(k + 1) * tc[k + 1] for k in range(n)]))
             ser.append(arb_series([(k + 1) * (k + 2) * tc[k + 2] for k in range(n)]))
         X, Xd, Xdd, Y, Yd, Ydd = ser
-        hypot = lambda u, v: (u * u + v * v).sqrt()  # noqa: E731  s > 0 at t_s (no kinematic singularity)
-        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hypot)
-        l2 = dyn.leg(X - traj.a1, Xd, Xdd, Y, Yd, Ydd, hypot)
+        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _arb_hypot)
+        l2 = dyn.leg(X - traj.a1, Xd, Xdd, Y, Yd, Ydd, _arb_hypot)
         d = dyn.dynamics(l1, l2, dyn.Params.of(robot))
         den = arb_series(d.delta.coeffs()[m:])
         out = []
         for mu, v in ((d.mu1, s.mu_valuations[0]), (d.mu2, s.mu_valuations[1])):
             shift = min(v, m)
             lam = arb_series(mu.coeffs()[shift:]) / den  # exact zeros below the shift dropped
-            c = np.array([float(a.mid()) for a in lam.coeffs()[: n - m]])
+            coeffs = lam.coeffs()[: n - m]
+            scale = max((abs(float(a.mid())) for a in coeffs), default=0.0)
+            if any(float(a.rad()) > 1e-16 * scale for a in coeffs):
+                return None  # not certified to double precision at this working precision
+            c = np.array([float(a.mid()) for a in coeffs])
             c = np.concatenate([c, np.zeros(max(0, n - m - len(c)))])
             out.append(_Laurent(s.t, c, shift - m))
+        return out[0], out[1]
     finally:
         ctx.prec, ctx.cap = old_prec, old_cap
-    return out[0], out[1]
+
+
+def _arb_hypot(u: Any, v: Any) -> Any:
+    """s = |(u, v)| for arb numbers or series (s > 0 away from A and B)."""
+    return (u * u + v * v).sqrt()
+
+
+def _lambda_ball(traj: Trajectory, robot: Robot, t: float) -> tuple[float, float] | None:
+    """λ1, λ2 at the time t (a float, taken exactly) by the direct formulas (27)-(33) in
+    ball arithmetic, the precision doubled until both are known to double precision;
+    None when δ cannot be told from zero even at MAX_PREC bits."""
+    polys = [traj.x, traj.x.derivative(), traj.x.derivative().derivative()]
+    polys += [traj.y, traj.y.derivative(), traj.y.derivative().derivative()]
+    params = dyn.Params.of(robot)
+    prec = SERIES_PREC
+    old = ctx.prec
+    try:
+        while prec <= MAX_PREC:
+            ctx.prec = prec
+            tb = arb(t)
+            x, xd, xdd, y, yd, ydd = (arb_poly(p.coeffs())(tb) for p in polys)
+            if not ((x * x + y * y) > 0 and ((x - traj.a1) ** 2 + y * y) > 0):
+                return None
+            l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
+            l2 = dyn.leg(x - traj.a1, xd, xdd, y, yd, ydd, _arb_hypot)
+            d = dyn.dynamics(l1, l2, params)
+            if d.delta != 0 and not d.delta.contains(0):
+                lam = (d.mu1 / d.delta, d.mu2 / d.delta)
+                if all(float(v.rad()) <= 1e-16 * abs(float(v.mid())) for v in lam):
+                    return float(lam[0].mid()), float(lam[1].mid())
+            prec *= 2
+        return None
+    finally:
+        ctx.prec = old
 
 
 def _float(q: fmpq) -> float:
@@ -214,7 +274,7 @@ def sample(traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.nda
         for i, s in enumerate(analysis.instants):
             zone = (near == i) & (np.abs(y) < 1e6 * len(pc) * EPS * ycond)
             if np.any(zone):
-                _recentered(traj, s, t[zone] - s.t, zone, y, yd, ydd)
+                _recentered(traj, s, t[zone] - s.t, zone, y, yd, ydd, ycond)
         leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, np.hypot)
         leg2 = dyn.leg(x - p.a1, xd, xdd, y, yd, ydd, np.hypot)
         d = dyn.dynamics(leg1, leg2, p)
@@ -230,7 +290,8 @@ def sample(traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.nda
             / leg2.s
         )
         f2 += p.m5 * (np.abs(leg2.s - p.r5) * leg2.th_d**2 + p.g)
-        e_delta = np.abs(delta) * (3 * EPS + 2 * len(pc) * EPS * ycond / np.abs(y)) + 4 * EPS
+        degree = max(len(pc), traj.y.degree() + 1)
+        e_delta = np.abs(delta) * (3 * EPS + 2 * degree * EPS * ycond / np.abs(y)) + 4 * EPS
         e_mu = 16 * EPS * (f1 + f2)
         ad = np.abs(delta)
         err1 = e_mu / ad + np.abs(lam1) * e_delta / ad
@@ -241,14 +302,32 @@ def sample(traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.nda
             inaccurate = ~(err1 <= 1e-9 * (1 + np.abs(lam1))) | ~(err2 <= 1e-9 * (1 + np.abs(lam2)))
             if not np.any(inaccurate & (near == i)):
                 continue  # the direct formula is accurate near this instant
+            series = lambda_series(traj, robot, s)
+            if series is None:
+                continue  # no certified series here: the ball-arithmetic fallback below
             eps_t = t - s.t
-            for lam, err, L in zip(
-                (lam1, lam2), (err1, err2), lambda_series(traj, robot, s), strict=True
-            ):
+            for lam, err, L in zip((lam1, lam2), (err1, err2), series, strict=True):
                 v, e = L.evaluate(eps_t)
                 better = (near == i) & ((e < err) | (eps_t == 0))
                 lam[better] = v[better]
                 err[better] = e[better]
+        # where neither estimate is good enough, evaluate λ in ball arithmetic at the
+        # sample's own time (slow, so only there); a pole or a base joint stays non-finite
+        poles = np.zeros(len(t), dtype=bool)
+        for s in analysis.instants:
+            if not s.torque_bounded:
+                poles |= t == s.t
+        doubtful = (
+            ~((err1 <= TOLERANCE * (1 + np.abs(lam1))) & (err2 <= TOLERANCE * (1 + np.abs(lam2))))
+            & ~poles
+            & (leg1.s > 0)
+            & (leg2.s > 0)
+        )
+        if not analysis.on_singular_line:
+            for j in np.nonzero(doubtful)[0][:MAX_BALL_SAMPLES]:
+                ball = _lambda_ball(traj, robot, float(t[j]))
+                if ball is not None:
+                    lam1[j], lam2[j] = ball
         T1, T2 = dyn.torques(d, lam1, lam2)
         theta1 = _continuous_angle(np.arctan2(y, x), t, _cuts(analysis, 1))
         theta2 = _continuous_angle(np.arctan2(y, x - p.a1), t, _cuts(analysis, 2))
@@ -274,23 +353,31 @@ def _nearest(t: np.ndarray, analysis: SingularAnalysis) -> np.ndarray:
 
 def _recentered(
     traj: Trajectory, s: SingularInstant, eps: np.ndarray, zone: np.ndarray,
-    y: np.ndarray, yd: np.ndarray, ydd: np.ndarray,
+    y: np.ndarray, yd: np.ndarray, ydd: np.ndarray, ycond: np.ndarray,
 ) -> None:  # fmt: skip
     """y, y', y'' at t_s + ε from the Taylor polynomial of y(t) about t_s (exact
-    coefficients, the first ``order`` of them zero), written into the zone."""
+    coefficients, the first ``order`` of them zero), written into the zone, with the
+    matching rounding scale Σ|c_k||ε|^k in ``ycond``."""
     c = np.array([s.field.to_float(ck % s.field.f) for ck in taylor(traj.y, traj.y.degree() + 1)])
     y[zone] = _polyval(c, eps)
+    ycond[zone] = _polyval(np.abs(c), np.abs(eps))
     dc = np.polynomial.polynomial.polyder(c)
     yd[zone] = _polyval(dc, eps)
     ydd[zone] = _polyval(np.polynomial.polynomial.polyder(dc), eps)
 
 
 def _cuts(analysis: SingularAnalysis, leg: int) -> list[tuple[float, int, bool]]:
-    """Singular instants on leg ``leg``'s branch cut: behind A (case 2) for leg 1;
-    behind B (cases 2 and 3) for leg 2."""
+    """Instants at which y = 0 on leg ``leg``'s branch cut (the far side of its base
+    joint): Type II instants behind A (case 2) for leg 1; behind B (cases 2 and 3) for
+    leg 2, and also E passing A (a kinematic singularity of leg 1 only)."""
     on_cut = (2,) if leg == 1 else (2, 3)
-    return [
+    cuts = [
         (s.t, s.y_leading_sign, s.order % 2 == 1)
         for s in analysis.instants
         if s.case.number in on_cut
     ]
+    if leg == 2:
+        cuts += [
+            (k.t, k.y_leading_sign, k.order % 2 == 1) for k in analysis.kinematic if k.leg == 1
+        ]
+    return sorted(cuts)

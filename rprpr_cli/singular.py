@@ -92,6 +92,8 @@ class KinematicSingularity:
     x: float
     y: float
     leg: int
+    order: int = 1  # multiplicity of the root of y(t) there
+    y_leading_sign: int = 1  # sign of the first nonzero Taylor coefficient of y (0: unknown)
 
 
 @dataclass(frozen=True)
@@ -190,7 +192,10 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
                 continue
             t = _root_float(exact, at)
             if (traj.x % f).is_zero():
-                kinematic.append(KinematicSingularity(t, 0.0, 0.0, 1))
+                # E at A lies on leg 2's branch cut: its sign change keeps θ2 continuous
+                lead = taylor(traj.y, int(m) + 1)[int(m)]
+                ys = sign(lead(exact)) if exact is not None else NumberField(f, at).sign(lead % f)
+                kinematic.append(KinematicSingularity(t, 0.0, 0.0, 1, int(m), ys))
                 continue
             if ((traj.x - traj.a1) % f).is_zero():
                 kinematic.append(KinematicSingularity(t, float(arb(traj.a1)), 0.0, 2))
@@ -320,7 +325,9 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
     if sign(diff) > 0:
         return Principle(
             True,
-            f"|dy/dx| = {abs(float(slope)):.6g} exceeds checks.min_slope = {float(min_slope):g}",
+            "|dy/dx| = {} exceeds checks.min_slope = {}".format(
+                *_apart(abs(float(slope)), float(min_slope))
+            ),
         )
     if is_zero(slope):
         return Principle(
@@ -328,8 +335,9 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
         )
     return Principle(
         False,
-        f"|dy/dx| = {abs(float(slope)):.6g} does not exceed the margin"
-        f" checks.min_slope = {float(min_slope):g}",
+        "|dy/dx| = {} does not exceed the margin checks.min_slope = {}".format(
+            *_apart(abs(float(slope)), float(min_slope))
+        ),
     )
 
 
@@ -344,10 +352,23 @@ def _velocity_principle(speed2: Any, min_speed: fmpq) -> Principle:
         return Principle(True, f"speed {speed:.6g} m/s is nonzero")
     if sign(speed2 - min_speed * min_speed) > 0:
         return Principle(
-            True, f"speed {speed:.6g} m/s exceeds checks.min_speed = {float(min_speed):g} m/s"
+            True,
+            "speed {} m/s exceeds checks.min_speed = {} m/s".format(
+                *_apart(speed, float(min_speed))
+            ),
         )
     return Principle(
         False,
-        f"speed {speed:.6g} m/s does not exceed the margin"
-        f" checks.min_speed = {float(min_speed):g} m/s",
+        "speed {} m/s does not exceed the margin checks.min_speed = {} m/s".format(
+            *_apart(speed, float(min_speed))
+        ),
     )
+
+
+def _apart(value: float, margin: float) -> tuple[str, str]:
+    """value and margin for a message, with enough digits to tell them apart."""
+    for digits in (6, 10, 17):
+        a, b = f"{value:.{digits}g}", f"{margin:.{digits}g}"
+        if a != b:
+            break
+    return a, b

@@ -173,7 +173,7 @@ def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str
     )
 
 
-# -- README: rprpr in CI -------------------------------------------------------------------------------
+# -- README: rprpr in CI ------------------------------------------------------------
 @pytest.fixture(scope="module")
 def doc() -> str:
     return DOC.read_text(encoding="utf-8")

@@ -398,3 +398,59 @@ def test_check_path_never_imports_matplotlib():  # type: ignore[no-untyped-def]
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.stderr.strip().endswith("CLEAN")
+
+
+# -- regressions from review --------------------------------------------------------------
+
+
+def _chebyshev_task(n: int) -> str:
+    """The path T_n(x - 3) + 1/7 along x = 2 + t: n/2 pairs of close instants and huge
+    coefficients (an ill-conditioned path polynomial)."""
+    from flint import fmpq_poly, fmpz_poly
+
+    from rprpr_cli.polynomial import poly_text
+
+    t_n = fmpq_poly([int(c) for c in fmpz_poly.chebyshev_t(n).coeffs()])
+    path = t_n(fmpq_poly([-3, 1])) + fmpq(1, 7)
+    return task_text(poly_text(path, "x"), "timing:\n  duration: 2\n  x: 2 + t\n")
+
+
+def test_ill_conditioned_path_samples_match_a_high_precision_reference(write_task):  # type: ignore[no-untyped-def]
+    # reference: eq. (4) solved as a 4x4 system in 600-bit ball arithmetic at these times
+    r = audit(load_task(write_task(_chebyshev_task(40))), samples=11)
+    near = at_times(r, [0.010, 0.012])
+    assert near.lambda2[0] == pytest.approx(-21926.028, rel=1e-7)
+    assert near.lambda2[1] == pytest.approx(-22272.461, rel=1e-7)
+
+
+def test_instants_closer_than_double_precision_do_not_crash(write_task):  # type: ignore[no-untyped-def]
+    # two irrational roots 2.8e-40 s apart: no float can tell them apart
+    text = task_text("(x-3)^2 - 2*(1e-10)^8", "timing:\n  duration: 2\n  x: 2 + t\n")
+    r = audit(load_task(write_task(text)), samples=101)
+    assert [s.order for s in r.singularities] == [1, 1]
+    assert [s.t_exact for s in r.singularities] == [None, None]
+    assert all(s.t == 1.0 for s in r.singularities)
+
+
+def test_torque_peak_includes_the_limit_at_a_bounded_instant(write_task):  # type: ignore[no-untyped-def]
+    extra = "checks:\n  torque_limit: [63.2, 1000]\n  strict: true\n"
+    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=2)
+    assert r.torque_peak[0] == pytest.approx(63.225)  # the two grid samples are lower
+    assert r.verdict == "fail" and [f.rule for f in r.findings] == ["RPR202"]
+
+
+def test_theta2_continuous_when_E_passes_A(write_task):  # type: ignore[no-untyped-def]
+    r = audit(
+        load_task(write_task(task_text("x", "timing:\n  duration: 2\n  x: -1 + t\n"))), samples=5
+    )
+    th2 = r.samples.theta2
+    assert np.all(np.isfinite(th2)) and np.max(np.abs(np.diff(th2))) < 0.2
+    assert th2[2] == pytest.approx(-math.pi)  # E at A, on leg 2's cut, y rising
+
+
+def test_margin_messages_tell_value_and_margin_apart(write_task):  # type: ignore[no-untyped-def]
+    extra = "checks:\n  min_slope: 0.19999999\n"
+    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=11)
+    reason = r.singularities[0].slope_principle.reason
+    assert r.singularities[0].slope_principle.passed
+    assert reason == "|dy/dx| = 0.2 exceeds checks.min_slope = 0.19999999"
