@@ -41,6 +41,14 @@ class AuditResult:
     trajectory: Trajectory = field(repr=False)
 
     @property
+    def analysis(self) -> SingularAnalysis:
+        """The exact analysis behind the result, e.g. to sample the motion elsewhere
+        (``samples.sample(result.trajectory, result.task.robot, result.analysis, t)``)."""
+        return SingularAnalysis(
+            self.singularities, self.kinematic_singularities, self.on_singular_line
+        )
+
+    @property
     def verdict(self) -> str:
         return "fail" if any(f.fails(self.strict) for f in self.findings) else "pass"
 

@@ -48,7 +48,7 @@ from matplotlib.transforms import blended_transform_factory
 from . import __version__
 from .audit import AuditResult, audit
 from .samples import Samples, sample
-from .singular import SingularAnalysis, SingularInstant
+from .singular import SingularInstant
 from .task import Task
 
 PANELS = ("path", "x", "delta", "joints", "torques")
@@ -138,8 +138,7 @@ def motion(task: Task, source: str = "", samples: int = 1001) -> Motion:
 def resample(m: Motion, t: np.ndarray) -> Samples:
     """The engine's samples of ``m``'s motion at the times ``t`` [s] (no new analysis)."""
     r = m.result
-    analysis = SingularAnalysis(r.singularities, r.kinematic_singularities, r.on_singular_line)
-    return sample(r.trajectory, r.task.robot, analysis, np.asarray(t, dtype=float))
+    return sample(r.trajectory, r.task.robot, r.analysis, np.asarray(t, dtype=float))
 
 
 def status(result: AuditResult, s: SingularInstant) -> str:

@@ -13,7 +13,6 @@ from flint import fmpq
 from rprpr_cli.audit import audit
 from rprpr_cli.loader import load_task, parse_task
 from rprpr_cli.samples import grid, sample
-from rprpr_cli.singular import analyse
 
 from .conftest import CONFIGS, task_text
 
@@ -44,8 +43,7 @@ def _f(q: fmpq) -> float:
 
 def at_times(result, t):  # type: ignore[no-untyped-def]
     """Samples of an audited task at the given times."""
-    an = analyse(result.trajectory, result.task.robot, result.task.checks)
-    return sample(result.trajectory, result.task.robot, an, np.asarray(t, dtype=float))
+    return sample(result.trajectory, result.task.robot, result.analysis, np.asarray(t, dtype=float))
 
 
 # -- the paper's numbers (Section 4) ------------------------------------------------
