@@ -6,8 +6,9 @@ Python API::
     result = audit(load_task("configs/paper_path2.yaml"))
     result.verdict, result.singularities[0].order
 
-The names are imported lazily, so that importing the numerical core (``rprpr_cli.audit``
-and below) never pulls in the YAML loader or the command line.
+The numerical core (``audit`` and what it uses) is imported with the package; the YAML
+loader only when ``load_task`` or ``parse_task`` is first used, so that the core stays
+free of YAML, click and rich.
 """
 
 from __future__ import annotations
@@ -16,14 +17,11 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-_API = {
-    "audit": "audit",
-    "AuditResult": "audit",
-    "load_task": "loader",
-    "parse_task": "loader",
-    "RprprError": "errors",
-    "TaskFileError": "errors",
-}
+# the function ``audit`` shadows the submodule of the same name on purpose
+from .audit import AuditResult, audit  # noqa: E402
+from .errors import RprprError, TaskFileError  # noqa: E402
+
+_LAZY = {"load_task": "loader", "parse_task": "loader"}
 
 __all__ = [
     "AuditResult",
@@ -37,8 +35,10 @@ __all__ = [
 
 
 def __getattr__(name: str) -> Any:
-    if name in _API:
+    if name in _LAZY:
         import importlib
 
-        return getattr(importlib.import_module(f".{_API[name]}", __name__), name)
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'rprpr_cli' has no attribute {name!r}")

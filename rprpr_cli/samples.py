@@ -27,7 +27,7 @@ import numpy as np
 from flint import arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
 from . import dynamics as dyn
-from .series import taylor
+from .series import taylor, to_float
 from .singular import SingularAnalysis, SingularInstant
 from .task import Robot
 from .trajectory import Trajectory
@@ -95,7 +95,7 @@ def grid(duration: fmpq, n: int) -> np.ndarray:
 
 
 def _coeffs(p: fmpq_poly) -> np.ndarray:
-    c = [int(q.p) / int(q.q) for q in p.coeffs()]
+    c = [to_float(q) for q in p.coeffs()]
     return np.array(c or [0.0])
 
 
@@ -105,21 +105,25 @@ def _polyval(c: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 @dataclass
 class _Laurent:
-    """λ_j(t_s + ε) = Σ c_i ε^(i + lead), i = 0..len(c)-1."""
+    """λ_j(t_s + ε) = ε^lead Σ c_i (ε/h)^i, i = 0..len(c)-1: the coefficients are those of
+    the series in ε scaled by h^i (h = t_f), so that they stay within the double range
+    for any time scale."""
 
     t: float
     c: np.ndarray
     lead: int
+    h: float
 
     def evaluate(self, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Value and error estimate at each ε (NaN at ε = 0 when lead < 0: a pole)."""
         c = self.c
         n = len(c)
-        value = np.full_like(eps, c[-1])
+        u = eps / self.h
+        value = np.full_like(u, c[-1])
         for ck in c[-2::-1]:  # Horner
-            value = value * eps + ck
-        absum = _polyval(np.abs(c), np.abs(eps))
-        last = np.abs(c[-1]) * np.abs(eps) ** (n - 1) + np.abs(c[-2]) * np.abs(eps) ** (n - 2)
+            value = value * u + ck
+        absum = _polyval(np.abs(c), np.abs(u))
+        last = np.abs(c[-1]) * np.abs(u) ** (n - 1) + np.abs(c[-2]) * np.abs(u) ** (n - 2)
         err = last + 16 * EPS * absum
         if self.lead:
             factor = np.where(eps == 0, np.nan, eps) ** float(self.lead)
@@ -185,13 +189,14 @@ def _lambda_series_at(
         for mu, v in ((d.mu1, s.mu_valuations[0]), (d.mu2, s.mu_valuations[1])):
             shift = min(v, m)
             lam = arb_series(mu.coeffs()[shift:]) / den  # exact zeros below the shift dropped
-            coeffs = lam.coeffs()[: n - m]
+            h = arb(traj.duration)
+            coeffs = [a * h**i for i, a in enumerate(lam.coeffs()[: n - m])]  # in ε/h
             scale = max((abs(float(a.mid())) for a in coeffs), default=0.0)
             if any(float(a.rad()) > 1e-16 * scale for a in coeffs):
                 return None  # not certified to double precision at this working precision
             c = np.array([float(a.mid()) for a in coeffs])
             c = np.concatenate([c, np.zeros(max(0, n - m - len(c)))])
-            out.append(_Laurent(s.t, c, shift - m))
+            out.append(_Laurent(s.t, c, shift - m, _float(traj.duration)))
         return out[0], out[1]
     finally:
         ctx.prec, ctx.cap = old_prec, old_cap
@@ -232,7 +237,7 @@ def _lambda_ball(traj: Trajectory, robot: Robot, t: float) -> tuple[float, float
 
 
 def _float(q: fmpq) -> float:
-    return int(q.p) / int(q.q)
+    return to_float(q)
 
 
 def _continuous_angle(
@@ -358,12 +363,16 @@ def _recentered(
     """y, y', y'' at t_s + ε from the Taylor polynomial of y(t) about t_s (exact
     coefficients, the first ``order`` of them zero), written into the zone, with the
     matching rounding scale Σ|c_k||ε|^k in ``ycond``."""
-    c = np.array([s.field.to_float(ck % s.field.f) for ck in taylor(traj.y, traj.y.degree() + 1)])
-    y[zone] = _polyval(c, eps)
-    ycond[zone] = _polyval(np.abs(c), np.abs(eps))
+    # in u = ε/h (h = t_f) the coefficients c_k h^k stay within the double range
+    h = traj.duration
+    taylor_c = taylor(traj.y, traj.y.degree() + 1)
+    c = np.array([s.field.to_float((ck % s.field.f) * h**k) for k, ck in enumerate(taylor_c)])
+    u = eps / _float(h)
+    y[zone] = _polyval(c, u)
+    ycond[zone] = _polyval(np.abs(c), np.abs(u))
     dc = np.polynomial.polynomial.polyder(c)
-    yd[zone] = _polyval(dc, eps)
-    ydd[zone] = _polyval(np.polynomial.polynomial.polyder(dc), eps)
+    yd[zone] = _polyval(dc, u) / _float(h)
+    ydd[zone] = _polyval(np.polynomial.polynomial.polyder(dc), u) / _float(h) ** 2
 
 
 def _cuts(analysis: SingularAnalysis, leg: int) -> list[tuple[float, int, bool]]:

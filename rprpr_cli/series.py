@@ -12,6 +12,7 @@ formulas on flint's ``arb_series`` (``samples.lambda_series``).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -123,8 +124,7 @@ class NumberField:
         if p.is_zero():
             return 0.0
         if p.degree() == 0:
-            q = p[0]
-            return int(q.p) / int(q.q)  # correctly rounded by Python
+            return to_float(p[0])
         prec = 64
         while True:
             v = self.evaluate(p, prec)
@@ -224,6 +224,14 @@ def _dot(a: list[Scalar], b: list[Scalar], k: int) -> Scalar:
     for i in range(1, k + 1):
         acc = acc + a[i] * b[k - i]
     return acc
+
+
+def to_float(q: fmpq) -> float:
+    """The double nearest the rational q (correctly rounded); ±inf beyond the double range."""
+    try:
+        return int(q.p) / int(q.q)
+    except OverflowError:
+        return math.copysign(math.inf, int(q.p))
 
 
 def _is_zero(a: Scalar) -> bool:

@@ -28,7 +28,7 @@ from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
 
 from . import dynamics as dyn
 from .cases import Case, case_of
-from .series import NumberField, Series, is_zero, sign, taylor
+from .series import NumberField, Series, is_zero, sign, taylor, to_float
 from .task import Checks, Robot
 from .trajectory import Trajectory
 
@@ -165,7 +165,7 @@ def _in_span(exact: fmpq | None, at: RootAt, duration: fmpq) -> bool:
 
 def _root_float(exact: fmpq | None, at: RootAt) -> float:
     if exact is not None:
-        return int(exact.p) / int(exact.q)
+        return to_float(exact)
     return float(at(128).mid())
 
 

@@ -452,3 +452,33 @@ def test_margin_messages_tell_value_and_margin_apart(write_task):  # type: ignor
     reason = r.singularities[0].slope_principle.reason
     assert r.singularities[0].slope_principle.passed
     assert reason == "|dy/dx| = 0.2 exceeds checks.min_slope = 0.19999999"
+
+
+def test_readme_python_api_example_runs_as_written(monkeypatch):  # type: ignore[no-untyped-def]
+    import re
+
+    from .conftest import ROOT
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = re.search(r"## Python API.*?```python\n(.*?)```", readme, flags=re.S)
+    assert block is not None
+    monkeypatch.chdir(ROOT)
+    scope: dict[str, object] = {}
+    exec(block.group(1), scope)  # the README's own snippet, as a user would paste it
+    result = scope["result"]
+    assert result.verdict == "fail"  # type: ignore[attr-defined]
+    assert scope["s"].order == 3 and scope["s"].t_exact == fmpq(5, 2)  # type: ignore[attr-defined]
+
+
+def test_audit_scales_with_time_down_to_tiny_durations(write_task):  # type: ignore[no-untyped-def]
+    """Without gravity the torques scale as 1/t_f^2 (time scaling of eq. 4); the series
+    about t_s must stay within the double range even for t_f = 1e-30 s."""
+    base = (CONFIGS / "paper_path2.yaml").read_text().replace("gravity: 9.81", "gravity: 0")
+    ref = audit(load_task(write_task(base.replace("duration: 5 ", "duration: 1 "))), samples=11)
+    for tf in ("1e-10", "1e-30"):
+        r = audit(load_task(write_task(base.replace("duration: 5 ", f"duration: {tf} "))), samples=11)
+        k = float(tf) ** 2
+        (s,) = r.singularities
+        assert s.torque_at_singularity[0] * k == pytest.approx(722.25, rel=1e-12)
+        assert np.allclose(r.samples.T1 * k, ref.samples.T1, rtol=1e-9)
+        assert np.allclose(r.samples.T2 * k, ref.samples.T2, rtol=1e-9)
