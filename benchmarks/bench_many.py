@@ -259,7 +259,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("  numbers (parse_decimal)", "rprpr_cli.polynomial", "parse_decimal", ""),
     ("  polynomials (parse_polynomial)", "rprpr_cli.polynomial", "parse_polynomial", ""),
     ("  timing law", "rprpr_cli.trajectory", "timing_law", ""),
-    ("audit", "rprpr_cli.audit", "audit", ""),
+    ("audit", "rprpr_cli.auditing", "audit", ""),
     ("  trajectory (compose y(x(t)))", "rprpr_cli.trajectory", "trajectory", ""),
     ("  analyse (exact)", "rprpr_cli.singular", "analyse", ""),
     ("    root isolation", "rprpr_cli.singular", "_real_roots", ""),
@@ -276,7 +276,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("    recentred y near t_s", "rprpr_cli.samples", "_recentered", ""),
     ("    legs (numpy)", "rprpr_cli.dynamics", "leg", "sample"),
     ("    dynamics (numpy)", "rprpr_cli.dynamics", "dynamics", "sample"),
-    ("  findings", "rprpr_cli.audit", "_findings", ""),
+    ("  findings", "rprpr_cli.auditing", "_findings", ""),
     ("report dict (task_report)", "rprpr_cli.report", "task_report", ""),
 ]
 

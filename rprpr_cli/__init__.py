@@ -6,7 +6,7 @@ Python API::
     result = audit(load_task("configs/paper_path2.yaml"))
     result.verdict, result.singularities[0].order
 
-The numerical core (``audit`` and what it uses) is imported with the package; the YAML
+The numerical core (``auditing`` and what it uses) is imported with the package; the YAML
 loader only when ``load_task`` or ``parse_task`` is first used, so that the core stays
 free of YAML, click and rich.
 """
@@ -17,9 +17,8 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-# the function ``audit`` shadows the submodule of the same name on purpose
-from .audit import AuditResult, audit  # noqa: E402
-from .errors import RprprError, TaskFileError  # noqa: E402
+from .auditing import AuditResult, audit
+from .errors import RprprError, TaskFileError
 
 _LAZY = {"load_task": "loader", "parse_task": "loader"}
 

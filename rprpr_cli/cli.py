@@ -7,6 +7,7 @@ their own; ``main`` routes both.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import sys
@@ -61,7 +62,7 @@ def collect_tasks(paths: Sequence[str]) -> list[str]:
 def check_one(path: str, samples: int, strict: bool | None) -> tuple[str, dict[str, Any], float]:
     """Load and audit one task file: (kind, item, seconds), kind "report" (item: the
     report), "input" (a bad task file) or "internal" (a bug; the item names the file)."""
-    from .audit import audit
+    from .auditing import audit
     from .loader import load_task
     from .report import INPUT, INTERNAL, REPORT, input_error, internal_error, task_report
 
@@ -89,7 +90,7 @@ def run_checks(
     """Audit ``files`` in ``jobs`` worker processes (1: in this process); the outcomes come
     back in task order, so the report does not depend on ``jobs``. ``progress`` is a
     rich Console to draw a progress bar on, or None."""
-    from . import audit, loader  # noqa: F401  (imported before forking: workers inherit them)
+    from . import auditing, loader  # noqa: F401  (imported before forking: workers inherit them)
     from .report import Run
 
     run = Run()
@@ -163,7 +164,12 @@ def make_console(stream: Any, colored: bool, environ: Mapping[str, str] = os.env
     console = Console(**kw)
     if colored and console.color_system is None:  # colour forced on a dumb terminal
         console = Console(**{**kw, "color_system": "standard"})
+    console.on_broken_pipe = _broken_pipe  # type: ignore[method-assign]  # rich: exit 1
     return console
+
+
+def _broken_pipe() -> None:
+    raise BrokenPipeError("the report's reader closed the pipe")
 
 
 def want_progress(n_tasks: int, stream: Any, quiet: bool) -> bool:
@@ -267,15 +273,33 @@ def check(
     files = collect_tasks(tasks)
     if not files:
         raise click.UsageError(f"no task files (*.yaml, *.yml) found in {', '.join(tasks)}")
+    if output_file == "-":
+        output_file = None  # the usual spelling of standard output
+    if output_file and os.path.exists(output_file):
+        for f in files:
+            if os.path.exists(f) and os.path.samefile(output_file, f):
+                raise click.UsageError(
+                    f"the output file {output_file} is also a task file: it would be overwritten"
+                )
     out = _open_output(output_file)
     try:
         show = want_progress(len(files), sys.stderr, quiet)
         progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
         run = run_checks(files, samples, strict or None, jobs or _cpus(), progress)
-        _write_report(run, fmt, out, output_file, quiet, color)
+        try:
+            _write_report(run, fmt, out, output_file, quiet, color)
+        except BrokenPipeError:  # the reader went away (| head): the verdict still stands
+            _silence_stdout()
+            raise SystemExit(int(run.exit_code(exit_zero))) from None
+        except OSError as err:  # disk full and the like: the environment, not rprpr
+            where = output_file or "standard output"
+            raise click.ClickException(
+                f"cannot write the report to {where}: {err.strerror or err}"
+            ) from None
     finally:
         if output_file:
-            out.close()
+            with contextlib.suppress(OSError):
+                out.close()
     if fmt != "text" or output_file:  # the one-line errors also go to stderr for the log
         for e in run.input_errors + run.internal_errors:
             click.echo(e["text"], err=True)
@@ -291,6 +315,16 @@ def check(
             err=True,
         )
     raise SystemExit(int(run.exit_code(exit_zero)))
+
+
+def _silence_stdout() -> None:
+    """Point standard output at /dev/null, so that the interpreter's last flush into a
+    closed pipe raises nothing more."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 def _cpus() -> int:
@@ -345,7 +379,11 @@ def schema() -> None:
     """Print the JSON Schema (draft 2020-12) of the task file."""
     from .schema import json_schema
 
-    click.echo(json.dumps(json_schema(), indent=2))
+    try:
+        click.echo(json.dumps(json_schema(), indent=2))
+        sys.stdout.flush()
+    except BrokenPipeError:  # | head: click would exit 1 by itself
+        _silence_stdout()
 
 
 # click >= 8.2 raises this for a bare ``rprpr``; on 8.1 the name does not exist, and an
@@ -364,9 +402,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     except click.UsageError as e:
         click.echo(f"rprpr: usage error: {e.format_message()}", err=True)
         sys.exit(ExitCode.INPUT)
-    except click.ClickException as e:
+    except click.ClickException as e:  # a bad input (2), or a bug met in a named task (3)
         click.echo(f"rprpr: {e.format_message()}", err=True)
-        sys.exit(ExitCode.INPUT)
+        sys.exit(ExitCode.INTERNAL if e.exit_code == ExitCode.INTERNAL else ExitCode.INPUT)
     except click.exceptions.Abort:
         click.echo("rprpr: aborted", err=True)
         sys.exit(ExitCode.INPUT)
@@ -376,7 +414,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         raise
     except KeyboardInterrupt:
         sys.exit(130)
-    except BrokenPipeError:
+    except BrokenPipeError:  # e.g. rprpr schema | head: nothing failed but the reader
+        _silence_stdout()
         sys.exit(ExitCode.PASSED)
     except Exception as e:
         click.echo(f"rprpr: internal error ({type(e).__name__}: {e}); please report it", err=True)

@@ -11,7 +11,9 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Callable, Sequence
+import traceback
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +30,28 @@ class InputError(click.ClickException):
     """A bad task file or an unwritable output: one line, exit 2."""
 
     exit_code = int(ExitCode.INPUT)
+
+
+class InternalError(click.ClickException):
+    """A bug met while working on a named task file: one line, exit 3."""
+
+    exit_code = int(ExitCode.INTERNAL)
+
+
+@contextmanager
+def _task_named(path: str) -> Iterator[None]:
+    """Name the task file in the one-line report of a bug met while auditing it."""
+    try:
+        yield
+    except click.ClickException:
+        raise
+    except Exception as e:
+        if os.environ.get("RPRPR_DEBUG"):
+            traceback.print_exc()
+        raise InternalError(
+            f"{path}: internal error ({type(e).__name__}: {e}); please report it to the"
+            " rprpr maintainers with this task file"
+        ) from None
 
 
 def _load(path: str) -> Any:
@@ -166,7 +190,10 @@ def plot(
 
     from . import plot as P
 
-    motions = [P.motion(task, src, samples) for task, src in loaded]
+    motions = []
+    for task, src in loaded:
+        with _task_named(src):
+            motions.append(P.motion(task, src, samples))
     written = []
     if show:
         written += _show(motions, panels, output_file, files[0], dpi)
@@ -253,12 +280,18 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     loaded = _load(task)
 
     from . import export as E
-    from .audit import audit
+    from .auditing import audit
 
-    result = audit(loaded, samples=samples)
+    with _task_named(task):
+        result = audit(loaded, samples=samples)
     if output_file is None:
-        E.write(result, sys.stdout, fmt, task)
-        sys.stdout.flush()
+        try:
+            E.write(result, sys.stdout, fmt, task)
+            sys.stdout.flush()
+        except BrokenPipeError:  # | head: click would exit 1 by itself
+            from .cli import _silence_stdout
+
+            _silence_stdout()
     else:
 
         def write(tmp: str) -> None:

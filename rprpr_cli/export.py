@@ -25,7 +25,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from . import __version__
-from .audit import AuditResult
+from .auditing import AuditResult
 from .samples import COLUMNS
 
 FORMATS = {".csv": "csv", ".json": "json"}

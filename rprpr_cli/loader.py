@@ -36,6 +36,9 @@ _TAG = "tag:yaml.org,2002:"
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
 # Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
 # here first so the message names the line and column whichever YAML parser runs.
+# in values after YAML's escapes are decoded: C0 but tab and line feed, DEL, C1, and the
+# noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML)
+_ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ufffe\uffff]")
 _NON_PRINTABLE = re.compile(
     "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
 )
@@ -274,6 +277,15 @@ class _Builder:
                 node,
                 key,
             )
+        if isinstance(node, yaml.ScalarNode):
+            bad = _ESCAPED_CONTROL.search(str(node.value))
+            if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
+                raise self.error(
+                    f"control character U+{ord(bad.group(0)):04X} in a value (written as a"
+                    " YAML escape) is not allowed",
+                    node,
+                    key,
+                )
         if node.tag not in _PLAIN_TAGS:
             what = ""
             if node.tag == _TAG + "timestamp":

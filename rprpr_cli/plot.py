@@ -46,7 +46,7 @@ from matplotlib.patches import Polygon
 from matplotlib.transforms import blended_transform_factory
 
 from . import __version__
-from .audit import AuditResult, audit
+from .auditing import AuditResult, audit
 from .samples import Samples, sample
 from .singular import SingularInstant
 from .task import Task

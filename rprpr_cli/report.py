@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from . import __version__
-from .audit import AuditResult
+from .auditing import AuditResult
 from .errors import ExitCode, TaskFileError
 from .rules import RULES
 

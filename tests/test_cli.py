@@ -182,16 +182,16 @@ def test_exit_status_is_the_highest_that_applies(
 def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    import rprpr_cli.audit
+    import rprpr_cli.auditing
 
-    real = rprpr_cli.audit.audit
+    real = rprpr_cli.auditing.audit
 
     def flaky(task: Any, **kw: Any) -> Any:
         if task.name == "boom":
             raise RuntimeError("simulated bug")
         return real(task, **kw)
 
-    monkeypatch.setattr(rprpr_cli.audit, "audit", flaky)
+    monkeypatch.setattr(rprpr_cli.auditing, "audit", flaky)
     boom = task_text(PATH2, QUINTIC).replace("name: test", "name: boom")
     files = _write(tmp_path, a=boom, b=task_text(PATH1, QUINTIC), c=BAD_A1)
     code, out, err = run(capsys, "check", "--format", "json", *FAST, *files)

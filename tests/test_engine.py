@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from flint import fmpq
 
-from rprpr_cli.audit import audit
+from rprpr_cli.auditing import audit
 from rprpr_cli.loader import load_task, parse_task
 from rprpr_cli.samples import grid, sample
 
@@ -379,7 +379,7 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
 
 def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
     code = (
-        "import sys, rprpr_cli.audit, rprpr_cli.samples, rprpr_cli.singular;"
+        "import sys, rprpr_cli.auditing, rprpr_cli.samples, rprpr_cli.singular;"
         "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules];"
         "print(','.join(bad))"
     )
@@ -476,7 +476,9 @@ def test_audit_scales_with_time_down_to_tiny_durations(write_task):  # type: ign
     base = (CONFIGS / "paper_path2.yaml").read_text().replace("gravity: 9.81", "gravity: 0")
     ref = audit(load_task(write_task(base.replace("duration: 5 ", "duration: 1 "))), samples=11)
     for tf in ("1e-10", "1e-30"):
-        r = audit(load_task(write_task(base.replace("duration: 5 ", f"duration: {tf} "))), samples=11)
+        r = audit(
+            load_task(write_task(base.replace("duration: 5 ", f"duration: {tf} "))), samples=11
+        )
         k = float(tf) ** 2
         (s,) = r.singularities
         assert s.torque_at_singularity[0] * k == pytest.approx(722.25, rel=1e-12)

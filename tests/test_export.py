@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from rprpr_cli import __version__
-from rprpr_cli.audit import audit
+from rprpr_cli.auditing import audit
 from rprpr_cli.cli import main
 from rprpr_cli.loader import load_task
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 from flint import arb, ctx, fmpq, fmpq_poly
 
-from rprpr_cli.audit import audit
+from rprpr_cli.auditing import audit
 from rprpr_cli.cli import main
 from rprpr_cli.loader import load_task
 
