@@ -1,0 +1,114 @@
+"""The command line where the world misbehaves: closed pipes, full disks, an output file
+that is also a task, control characters smuggled in through YAML escapes, bugs."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from rprpr_cli.cli import main
+
+from .conftest import CONFIGS
+
+RPRPR = [sys.executable, "-m", "rprpr_cli"]
+
+
+def _run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    with pytest.raises(SystemExit) as e:
+        main(list(args))
+    out, err = capsys.readouterr()
+    return int(e.value.code or 0), out, err
+
+
+def test_output_file_that_is_a_task_is_refused_and_left_intact(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    task = tmp_path / "plan.yaml"
+    shutil.copy(CONFIGS / "paper_path2.yaml", task)
+    before = task.read_bytes()
+    code, out, err = _run(capsys, "check", "-o", str(task), str(tmp_path))
+    assert code == 2 and out == ""
+    assert err.strip().splitlines() == [
+        f"rprpr: usage error: the output file {task} is also a task file: it would be overwritten"
+    ]
+    assert task.read_bytes() == before
+
+
+def test_dash_is_standard_output(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path2 = str(CONFIGS / "paper_path2.yaml")
+    code, out, _ = _run(capsys, "check", "--format", "json", "-o", "-", "--samples", "11", path2)
+    assert code == 0 and out.startswith("{") and '"verdict": "pass"' in out
+
+
+@pytest.mark.parametrize(("config", "status"), [("paper_path2.yaml", 0), ("paper_path1.yaml", 1)])
+@pytest.mark.parametrize("fmt", ["text", "json"])
+def test_a_closed_pipe_keeps_the_verdicts_exit_status(config: str, status: int, fmt: str) -> None:
+    cmd = [*RPRPR, "check", "--format", fmt, "--samples", "11", str(CONFIGS / config)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout is not None
+    proc.stdout.close()  # the reader goes away before anything is written
+    _, err = proc.communicate()
+    assert proc.returncode == status, err
+    assert b"Traceback" not in err
+
+
+def test_schema_into_a_closed_pipe_exits_0() -> None:
+    proc = subprocess.Popen([*RPRPR, "schema"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout is not None
+    proc.stdout.close()
+    _, err = proc.communicate()
+    assert proc.returncode == 0 and b"Traceback" not in err
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_full_disk_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = _run(capsys, "check", "-o", "/dev/full", str(CONFIGS / "paper_path2.yaml"))
+    assert code == 2
+    assert err.strip().splitlines()[0] == (
+        "rprpr: cannot write the report to /dev/full: No space left on device"
+    )
+
+
+@pytest.mark.parametrize("escape", ["\\e[8m", "\\x07", "\\r", "\\uFFFE", "\\0"])
+def test_control_characters_written_as_yaml_escapes_are_rejected(
+    escape: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    text = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
+    text = text.replace("name: Example 2 of the paper, path 2", f'name: "ok{escape} hidden"')
+    task = tmp_path / "esc.yaml"
+    task.write_text(text, encoding="utf-8")
+    code, out, err = _run(capsys, "check", str(task))
+    assert code == 2 and out == ""
+    [line] = err.strip().splitlines()
+    assert line.startswith(f"{task}:") and " name: control character U+" in line
+    assert "\x1b" not in err
+
+
+@pytest.mark.parametrize("command", ["export", "plot"])
+def test_plot_and_export_name_the_task_in_an_internal_error(
+    command: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import rprpr_cli.auditing
+
+    def broken(*a: Any, **k: Any) -> Any:
+        raise RuntimeError("simulated bug")
+
+    monkeypatch.setattr(rprpr_cli.auditing, "audit", broken)
+    if command == "plot":
+        import rprpr_cli.plot
+
+        monkeypatch.setattr(rprpr_cli.plot, "audit", broken)
+    monkeypatch.chdir(tmp_path)
+    task = str(CONFIGS / "paper_path2.yaml")
+    code, _, err = _run(capsys, command, task)
+    assert code == 3
+    [line] = err.strip().splitlines()
+    assert line.startswith(f"rprpr: {task}: internal error (RuntimeError: simulated bug)")
