@@ -23,6 +23,7 @@ from flint import fmpq, fmpq_poly
 from .errors import ExpressionError, TaskFileError
 from .polynomial import MAX_DEGREE, height, parse_decimal, parse_polynomial
 from .schema import TASK, Spec
+from .series import to_float
 from .task import Checks, Link, Robot, Task
 from .trajectory import timing_law
 
@@ -645,7 +646,10 @@ def _q(v: fmpq) -> str:
     while d % 5 == 0:
         d //= 5
     if d == 1:
-        s = f"{float(int(v.p) / int(v.q)):.15g}"
+        s = f"{to_float(v):.15g}"
         if "e" not in s and "inf" not in s and parse_decimal(s) == v:
             return s
-    return str(v)
+    text = str(v)
+    if len(text) > 60:  # an exact rational of thousands of digits helps nobody
+        return f"{to_float(v):.17g} (≈; exactly a rational of {len(text)} characters)"
+    return text

@@ -19,6 +19,15 @@ def _pf(v: str) -> Text:
     return Text("pass", style="green") if v == "pass" else Text("FAIL", style="bold red")
 
 
+def _distinct(values: list[float]) -> list[str]:
+    """The values with 6 significant digits, or more where neighbours would look alike."""
+    for digits in (6, 10, 17):
+        texts = [f"{v:.{digits}g}" for v in values]
+        if len(set(texts)) == len(set(values)):
+            break
+    return texts
+
+
 def singularity_table(rep: dict[str, Any]) -> Table:
     table = Table(title=None, show_lines=False, header_style="bold")
     for col, just in (
@@ -27,7 +36,8 @@ def singularity_table(rep: dict[str, Any]) -> Table:
         ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
     ):  # fmt: skip
         table.add_column(Text(col), justify=just)  # type: ignore[arg-type]
-    for s in rep["singularities"]:
+    times = _distinct([s["t"] for s in rep["singularities"]])
+    for s, t_text in zip(rep["singularities"], times, strict=True):
         order = f"{s['order']} {s['kind']}"
         order_text = Text(order, style="bold red" if s["order"] >= 2 else "")
         bounded = f"{s['conditions_met']}/{s['conditions_required']}"
@@ -41,7 +51,7 @@ def singularity_table(rep: dict[str, Any]) -> Table:
             else "unbounded"
         )
         table.add_row(
-            f"{s['t']:.6g}",
+            t_text,
             f"({s['x']:.4g}, 0)",
             f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}",
             order_text,

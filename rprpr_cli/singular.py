@@ -370,5 +370,5 @@ def _apart(value: float, margin: float) -> tuple[str, str]:
     for digits in (6, 10, 17):
         a, b = f"{value:.{digits}g}", f"{margin:.{digits}g}"
         if a != b:
-            break
-    return a, b
+            return a, b
+    return f"{value:.6g}", f"{margin:.6g}"  # equal as doubles: say so plainly

@@ -112,3 +112,17 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
     assert code == 3
     [line] = err.strip().splitlines()
     assert line.startswith(f"rprpr: {task}: internal error (RuntimeError: simulated bug)")
+
+
+def test_text_report_tells_close_instants_apart(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from .conftest import task_text
+
+    task = tmp_path / "close.yaml"
+    text = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+    task.write_text(text, encoding="utf-8")
+    code, out, _ = _run(capsys, "check", "--samples", "11", str(task))
+    assert code == 0  # two first-order crossings; the inconsistency is a warning
+    rows = [ln for ln in out.splitlines() if ln.startswith("│")]
+    assert [r.split("│")[1].strip() for r in rows] == ["1", "1.000001"]
