@@ -32,6 +32,7 @@ Conventions, stated once:
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import IO, Any
@@ -181,7 +182,9 @@ def summary(m: Motion) -> str:
     if r.kinematic_singularities:
         parts.append("inverse-kinematic singularity")
     unbounded = [s for s in r.singularities if not s.torque_bounded]
-    if unbounded:
+    if len(unbounded) > 4:
+        parts.append(f"torques unbounded at {len(unbounded)} instants")
+    elif unbounded:
         parts.append(
             "torques unbounded at t = " + ", ".join(f"{s.t:.4g}" for s in unbounded) + " s"
         )
@@ -324,6 +327,14 @@ def _mark(
                 gid=f"{panel}-singular-{i}-{k}",
                 **_marker_kw(s, status(m.result, s)),
             )
+
+
+MAX_LABELS = 12  # singular instants labelled one by one; beyond, the markers speak alone
+
+
+def _labelled(motions: Sequence[Motion]) -> bool:
+    """Whether the singular instants get text labels (not when they would pile up)."""
+    return sum(len(m.result.singularities) for m in motions) <= MAX_LABELS
 
 
 def _at(m: Motion, t: float) -> int:
@@ -614,6 +625,8 @@ def _panel_path(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
                     gid=f"path-ring-{i}-{k}",
                 )
             ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **_marker_kw(s, st))
+            if not _labelled(motions):
+                continue
             who = f"{_short(m.name)}\n" if len(motions) > 1 else ""
             text = (
                 f"{who}t = {s.t:.4g} s: {order_text(s)} — {STATUS_WORD[st].upper()}\n"
@@ -783,6 +796,8 @@ def _panel_delta(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
     for i, m in enumerate(motions):
         for k, s in enumerate(m.result.singularities):
             st = status(m.result, s)
+            if not _labelled(motions):
+                continue
             if len(motions) == 1:
                 text = f"t = {s.t:.4g} s: {order_text(s)} ({_vanishing(s.order)})"
             elif len(motions) == 2:
@@ -947,6 +962,8 @@ def _panel_torques(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
                 zorder=5,
                 gid=f"torques-unbounded-{i}-{k}",
             )
+            if not _labelled(motions):
+                continue
             who = f"{_short(m.name)}:\n" if len(motions) > 1 else ""
             note = f"{who}T → ∞ at t = {s.t:.4g} s (pole of order {s.pole_order})"
             _, level, right = rows.place(s.t, note)
@@ -1138,7 +1155,10 @@ def save(
     """Write the sheet as ``fmt`` ("png", "svg", "pdf") to a path or binary stream, with
     ``metadata(motions)`` when the motions are given."""
     meta = metadata(motions, fmt) if motions else None
-    with matplotlib.rc_context(RC):
+    with matplotlib.rc_context(RC), warnings.catch_warnings():
+        # a crowded sheet (dozens of instants) still draws; matplotlib's layout note
+        # about it is no news to the user
+        warnings.filterwarnings("ignore", message="constrained_layout not applied")
         fig.savefig(target, format=fmt, dpi=dpi, metadata=meta)
 
 

@@ -126,3 +126,29 @@ def test_text_report_tells_close_instants_apart(
     assert code == 0  # two first-order crossings; the inconsistency is a warning
     rows = [ln for ln in out.splitlines() if ln.startswith("│")]
     assert [r.split("│")[1].strip() for r in rows] == ["1", "1.000001"]
+
+
+def test_a_crowded_sheet_keeps_markers_and_drops_per_instant_labels(tmp_path: Path) -> None:
+    """16 singular instants (T_16 of x - 3 along x = 2 + t): every instant keeps its
+    marker, the one-by-one labels give way, and drawing warns of nothing."""
+    import io
+
+    from flint import fmpq_poly, fmpz_poly
+
+    from rprpr_cli import plot as P
+    from rprpr_cli.loader import parse_task
+    from rprpr_cli.polynomial import poly_text
+
+    from .conftest import task_text
+
+    t16 = fmpq_poly([int(c) for c in fmpz_poly.chebyshev_t(16).coeffs()])(fmpq_poly([-3, 1]))
+    task = parse_task(task_text(poly_text(t16, "x"), "timing:\n  duration: 2\n  x: 2 + t\n"))
+    m = P.motion(task, "t16.yaml", samples=201)
+    assert len(m.result.singularities) == 16 > P.MAX_LABELS
+    fig = P.render([m])
+    P.save(fig, io.BytesIO(), "png", dpi=40, motions=[m])  # filterwarnings = error
+    gids = [a.get_gid() or "" for ax in fig.get_axes() for a in ax.get_children()]
+    assert sum(g.startswith("delta-singular-0-") for g in gids) == 16
+    assert not any(g.startswith("delta-label-") for g in gids)
+    texts = [t.get_text() for ax in fig.get_axes() for t in ax.texts]
+    assert not any("order 1" in t for t in texts)
