@@ -93,12 +93,23 @@ def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, fl
     return max(t1), max(t2)
 
 
-def _at(t: float) -> str:
-    return f"t = {t:.6g} s"
+def distinct_times(values: list[float]) -> list[str]:
+    """The times with 6 significant digits, or more where two would otherwise read alike."""
+    for digits in (6, 10, 17):
+        texts = [f"{v:.{digits}g}" for v in values]
+        if len(set(texts)) == len(set(values)):
+            break
+    return texts
 
 
 def _findings(task: Task, a: SingularAnalysis, peak: tuple[float, float] | None) -> list[Finding]:
     out: list[Finding] = []
+    times = [k.t for k in a.kinematic] + [s.t for s in a.instants]
+    label = dict(zip(times, distinct_times(times), strict=True))
+
+    def _at(t: float) -> str:
+        return f"t = {label[t]} s"
+
     if a.on_singular_line:
         out.append(
             Finding(

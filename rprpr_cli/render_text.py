@@ -8,6 +8,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from .auditing import distinct_times
 from .report import Run
 
 
@@ -19,15 +20,6 @@ def _pf(v: str) -> Text:
     return Text("pass", style="green") if v == "pass" else Text("FAIL", style="bold red")
 
 
-def _distinct(values: list[float]) -> list[str]:
-    """The values with 6 significant digits, or more where neighbours would look alike."""
-    for digits in (6, 10, 17):
-        texts = [f"{v:.{digits}g}" for v in values]
-        if len(set(texts)) == len(set(values)):
-            break
-    return texts
-
-
 def singularity_table(rep: dict[str, Any]) -> Table:
     table = Table(title=None, show_lines=False, header_style="bold")
     for col, just in (
@@ -36,7 +28,7 @@ def singularity_table(rep: dict[str, Any]) -> Table:
         ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
     ):  # fmt: skip
         table.add_column(Text(col), justify=just)  # type: ignore[arg-type]
-    times = _distinct([s["t"] for s in rep["singularities"]])
+    times = distinct_times([s["t"] for s in rep["singularities"]])
     for s, t_text in zip(rep["singularities"], times, strict=True):
         order = f"{s['order']} {s['kind']}"
         order_text = Text(order, style="bold red" if s["order"] >= 2 else "")

@@ -126,6 +126,8 @@ def test_text_report_tells_close_instants_apart(
     assert code == 0  # two first-order crossings; the inconsistency is a warning
     rows = [ln for ln in out.splitlines() if ln.startswith("│")]
     assert [r.split("│")[1].strip() for r in rows] == ["1", "1.000001"]
+    findings = [ln for ln in out.splitlines() if "RPR201" in ln]
+    assert [f.split("t = ")[1].split(" s,")[0] for f in findings] == ["1", "1.000001"]
 
 
 def test_a_crowded_sheet_keeps_markers_and_drops_per_instant_labels(tmp_path: Path) -> None:
