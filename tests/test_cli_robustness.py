@@ -97,15 +97,13 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     import rprpr_cli.auditing
+    import rprpr_cli.plot  # before patching: it binds ``audit`` when first imported
 
     def broken(*a: Any, **k: Any) -> Any:
         raise RuntimeError("simulated bug")
 
     monkeypatch.setattr(rprpr_cli.auditing, "audit", broken)
-    if command == "plot":
-        import rprpr_cli.plot
-
-        monkeypatch.setattr(rprpr_cli.plot, "audit", broken)
+    monkeypatch.setattr(rprpr_cli.plot, "audit", broken)
     monkeypatch.chdir(tmp_path)
     task = str(CONFIGS / "paper_path2.yaml")
     code, _, err = _run(capsys, command, task)
