@@ -5,7 +5,6 @@ The core and the loader raise; only the command line renders and exits.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import IntEnum
 
 
@@ -20,14 +19,6 @@ class ExitCode(IntEnum):
 
 class RprprError(Exception):
     """Base class of every error rprpr raises on purpose."""
-
-
-@dataclass(frozen=True)
-class Location:
-    """Where in a task file something is: 1-based line and column (0 when unknown)."""
-
-    line: int = 0
-    column: int = 0
 
 
 class TaskFileError(RprprError, ValueError):

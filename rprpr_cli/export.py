@@ -26,6 +26,7 @@ import numpy as np
 
 from . import __version__
 from .auditing import AuditResult
+from .report import singularity_record
 from .samples import COLUMNS
 
 FORMATS = {".csv": "csv", ".json": "json"}
@@ -81,25 +82,16 @@ def write_csv(result: AuditResult, out: TextIO, source: str = "") -> None:
         out.write(",".join(_csv_number(v) for v in row.tolist()) + "\n")
 
 
+# the fields of each singular instant in the JSON export (a subset of ``rprpr check``'s)
+SINGULARITY_FIELDS = (
+    "t", "x", "case", "order", "high_order", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
 def _singularities(result: AuditResult) -> list[dict[str, Any]]:
-    out = []
-    for s in result.singularities:
-        limit = s.torque_at_singularity
-        out.append(
-            {
-                "t": s.t,
-                "x": s.x,
-                "case": s.case.number,
-                "order": s.order,
-                "high_order": s.order >= 2,
-                "torque_bounded": s.torque_bounded,
-                "pole_order": s.pole_order,
-                "torque_at_singularity": (
-                    [_json_number(limit[0]), _json_number(limit[1])] if limit else None
-                ),
-            }
-        )
-    return out
+    records = (singularity_record(s) for s in result.singularities)
+    return [{k: r[k] for k in SINGULARITY_FIELDS} for r in records]
 
 
 def document_head(result: AuditResult, source: str) -> dict[str, Any]:

@@ -16,6 +16,7 @@ from . import __version__
 from .auditing import AuditResult
 from .errors import ExitCode, TaskFileError
 from .rules import RULES
+from .singular import SingularInstant
 
 INVALID_TASK = "RPR001"  # the rule of every input error
 
@@ -24,42 +25,43 @@ def _f(v: float | None) -> float | None:
     return None if v is None or not math.isfinite(v) else float(v)
 
 
+def singularity_record(s: SingularInstant) -> dict[str, Any]:
+    """One singular instant as JSON-ready data (``singularities[]`` of a report)."""
+    return {
+        "t": s.t,
+        "x": s.x,
+        "y": s.y,
+        "case": s.case.number,
+        "sigma": s.case.sigma,
+        "psi": s.case.psi,
+        "order": s.order,
+        "kind": s.kind,
+        "high_order": s.order >= 2,
+        "delta_derivatives": [_f(v) for v in s.delta_derivatives],
+        "slope": _f(s.slope),
+        "speed": _f(s.speed),
+        "slope_principle": "pass" if s.slope_principle.passed else "fail",
+        "slope_reason": s.slope_principle.reason,
+        "velocity_principle": "pass" if s.velocity_principle.passed else "fail",
+        "velocity_reason": s.velocity_principle.reason,
+        "consistency_residual": _f(s.consistency_residual),
+        "consistent": s.consistent,
+        "conditions_required": s.conditions_required,
+        "conditions_met": s.conditions_met,
+        "torque_bounded": s.torque_bounded,
+        "pole_order": s.pole_order,
+        "torque_at_singularity": (
+            [_f(s.torque_at_singularity[0]), _f(s.torque_at_singularity[1])]
+            if s.torque_at_singularity
+            else None
+        ),
+    }
+
+
 def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
     """The report of one audited task (the ``reports[]`` entries of ``--format json``)."""
     task = result.task
-    sings = []
-    for s in result.singularities:
-        sings.append(
-            {
-                "t": s.t,
-                "x": s.x,
-                "y": s.y,
-                "case": s.case.number,
-                "sigma": s.case.sigma,
-                "psi": s.case.psi,
-                "order": s.order,
-                "kind": s.kind,
-                "high_order": s.order >= 2,
-                "delta_derivatives": [_f(v) for v in s.delta_derivatives],
-                "slope": _f(s.slope),
-                "speed": _f(s.speed),
-                "slope_principle": "pass" if s.slope_principle.passed else "fail",
-                "slope_reason": s.slope_principle.reason,
-                "velocity_principle": "pass" if s.velocity_principle.passed else "fail",
-                "velocity_reason": s.velocity_principle.reason,
-                "consistency_residual": _f(s.consistency_residual),
-                "consistent": s.consistent,
-                "conditions_required": s.conditions_required,
-                "conditions_met": s.conditions_met,
-                "torque_bounded": s.torque_bounded,
-                "pole_order": s.pole_order,
-                "torque_at_singularity": (
-                    [_f(s.torque_at_singularity[0]), _f(s.torque_at_singularity[1])]
-                    if s.torque_at_singularity
-                    else None
-                ),
-            }
-        )
+    sings = [singularity_record(s) for s in result.singularities]
     findings = []
     for f in result.findings:
         rule = RULES[f.rule]

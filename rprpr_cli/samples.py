@@ -20,7 +20,7 @@ is unbounded there, never a large finite number.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -79,9 +79,6 @@ class Samples:
     def rows(self) -> np.ndarray:
         """The export columns as a 2-D array, one row per sample."""
         return np.column_stack([self.column(c) for c in COLUMNS])
-
-
-SAMPLE_FIELDS = tuple(f.name for f in fields(Samples))
 
 
 def grid(duration: fmpq, n: int) -> np.ndarray:

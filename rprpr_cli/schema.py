@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from .trajectory import LAWS
+
 
 @dataclass(frozen=True)
 class Spec:
@@ -102,7 +104,7 @@ TASK = Spec(
                 "law": Spec(
                     "enum",
                     "Rest-to-rest law in x (eq. 49 is the quintic).",
-                    choices=("quintic", "cubic"),
+                    choices=LAWS,
                 ),
                 "x": Spec("polynomial", "x_E(t) [m], explicitly, instead of law.", variable="t"),
             },

@@ -27,7 +27,7 @@ from rprpr_cli.loader import MAX_BYTES, load_task, parse_task
 HERE = Path(__file__).resolve().parent
 BAD = HERE / "bad_tasks"
 ROOT = HERE.parent
-SMOKE = Path("/work/shared/smoke")
+SMOKE = Path(__file__).resolve().parents[2] / "shared" / "smoke"  # shared/ beside the clone
 CANARY = "rprpr-pwned"  # the file a hostile input would create if it ran
 CANARY_ENV = "RPRPR_PWNED"  # the variable a hostile input would set if it ran
 
