@@ -37,9 +37,9 @@ def main() -> None:
     ap.add_argument("--config", default="configs/paper_path2.yaml")
     args = ap.parse_args()
     base = wall([sys.executable, "-c", "import numpy, yaml, click, rich"], args.repeat)
-    text = wall([sys.executable, "-m", "rprpr_cli", "check", args.config], args.repeat)
+    text = wall([sys.executable, "-m", "rprpr", "check", args.config], args.repeat)
     js = wall(
-        [sys.executable, "-m", "rprpr_cli", "check", "--format", "json", args.config], args.repeat
+        [sys.executable, "-m", "rprpr", "check", "--format", "json", args.config], args.repeat
     )
     print(f"python -c 'import numpy, yaml, click, rich'   {base * 1000:7.1f} ms")
     print(f"rprpr check {args.config}  {text * 1000:7.1f} ms  (+{(text - base) * 1000:.1f} ms)")

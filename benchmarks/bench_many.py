@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-RPRPR = [sys.executable, "-m", "rprpr_cli"]
+RPRPR = [sys.executable, "-m", "rprpr"]
 
 
 # -- the task files -----------------------------------------------------------------------
@@ -249,35 +249,40 @@ def best_of(args: list[str], repeat: int) -> tuple[float, float, bytes, int]:
 
 # -- where the time goes ----------------------------------------------------------------------
 # (label, module, function, context): each stage is timed inclusively, outermost call only (so
-# recursion is not counted twice), in every rprpr_cli module that imported the function by
+# recursion is not counted twice), in every rprpr module that imported the function by
 # name. A stage with a context counts only the calls made directly from that (timed) function: the
 # formulas of ``dynamics`` run on exact series, float series and numpy arrays alike, and the
 # rows say which. Indentation shows what contains what.
 STAGES: list[tuple[str, str, str, str]] = [
-    ("load_task (read + YAML + validate)", "rprpr_cli.loader", "load_task", ""),
-    ("  YAML compose (libyaml + node scan)", "rprpr_cli.loader", "_compose", ""),
-    ("  numbers (parse_decimal)", "rprpr_cli.polynomial", "parse_decimal", ""),
-    ("  polynomials (parse_polynomial)", "rprpr_cli.polynomial", "parse_polynomial", ""),
-    ("  timing law", "rprpr_cli.trajectory", "timing_law", ""),
-    ("audit", "rprpr_cli.auditing", "audit", ""),
-    ("  trajectory (compose y(x(t)))", "rprpr_cli.trajectory", "trajectory", ""),
-    ("  analyse (exact)", "rprpr_cli.singular", "analyse", ""),
-    ("    root isolation", "rprpr_cli.singular", "_real_roots", ""),
-    ("    per instant (exact series in K)", "rprpr_cli.singular", "_instant", ""),
-    ("      expansion (Taylor coefficients)", "rprpr_cli.singular", "expansion", "_instant"),
-    ("      legs (series sqrt, /)", "rprpr_cli.singular", "legs", "_instant"),
-    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics", "_instant"),
-    ("  sample (float, --samples points)", "rprpr_cli.samples", "sample", ""),
-    ("    grid", "rprpr_cli.samples", "grid", ""),
-    ("    lambda_series (float series)", "rprpr_cli.samples", "lambda_series", ""),
-    ("      expansion (Taylor coefficients)", "rprpr_cli.singular", "expansion", "lambda_series"),
-    ("      legs (series sqrt, /)", "rprpr_cli.singular", "legs", "lambda_series"),
-    ("      dynamics (series)", "rprpr_cli.dynamics", "dynamics", "lambda_series"),
-    ("    recentred y near t_s", "rprpr_cli.samples", "_recentered", ""),
-    ("    legs (numpy)", "rprpr_cli.dynamics", "leg", "sample"),
-    ("    dynamics (numpy)", "rprpr_cli.dynamics", "dynamics", "sample"),
-    ("  findings", "rprpr_cli.auditing", "_findings", ""),
-    ("report dict (task_report)", "rprpr_cli.report", "task_report", ""),
+    ("load_task (read + YAML + validate)", "rprpr.io.loader", "load_task", ""),
+    ("  YAML compose (libyaml + node scan)", "rprpr.io.loader", "_compose", ""),
+    ("  numbers (parse_decimal)", "rprpr.io.expression", "parse_decimal", ""),
+    ("  polynomials (parse_polynomial)", "rprpr.io.expression", "parse_polynomial", ""),
+    ("  timing law", "rprpr.engine.trajectory", "timing_law", ""),
+    ("audit", "rprpr.engine.audit", "audit", ""),
+    ("  trajectory (compose y(x(t)))", "rprpr.engine.trajectory", "trajectory", ""),
+    ("  analyse (exact)", "rprpr.engine.singular", "analyse", ""),
+    ("    root isolation", "rprpr.engine.singular", "_real_roots", ""),
+    ("    per instant (exact series in K)", "rprpr.engine.singular", "_instant", ""),
+    ("      expansion (Taylor coefficients)", "rprpr.engine.singular", "expansion", "_instant"),
+    ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "_instant"),
+    ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "_instant"),
+    ("  sample (float, --samples points)", "rprpr.engine.sampling", "sample", ""),
+    ("    grid", "rprpr.engine.sampling", "grid", ""),
+    ("    lambda_series (float series)", "rprpr.engine.sampling", "lambda_series", ""),
+    (
+        "      expansion (Taylor coefficients)",
+        "rprpr.engine.singular",
+        "expansion",
+        "lambda_series",
+    ),
+    ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "lambda_series"),
+    ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "lambda_series"),
+    ("    recentred y near t_s", "rprpr.engine.sampling", "_recentered", ""),
+    ("    legs (numpy)", "rprpr.engine.equations", "leg", "sample"),
+    ("    dynamics (numpy)", "rprpr.engine.equations", "dynamics", "sample"),
+    ("  findings", "rprpr.engine.audit", "_findings", ""),
+    ("report dict (task_report)", "rprpr.report.records", "task_report", ""),
 ]
 
 
@@ -311,7 +316,7 @@ def _instrument(totals: list[float]) -> None:
                 stack.pop()
 
         for m in list(sys.modules.values()):
-            if getattr(m, "__name__", "").startswith("rprpr_cli") and getattr(m, attr, None) is f:
+            if getattr(m, "__name__", "").startswith("rprpr") and getattr(m, attr, None) is f:
                 setattr(m, attr, timed)
 
 
@@ -320,8 +325,8 @@ def stages(folder: Path, samples: int) -> None:
     import json
 
     sys.path.insert(0, str(ROOT))
-    from rprpr_cli.cli import check_one, collect_tasks
-    from rprpr_cli.report import Run
+    from rprpr.cli.main import check_one, collect_tasks
+    from rprpr.report.run import Run
 
     files = collect_tasks([str(folder)])
     for f in files[:20]:  # warm up (first-call costs are the imports' business)

@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 from PIL import Image, ImageSequence
 
-from rprpr_cli import animate as A
-from rprpr_cli import plot as P
-from rprpr_cli.cli import main
-from rprpr_cli.loader import load_task
+from rprpr.cli.main import main
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
+from rprpr.render import animation as A
+from rprpr.render import sheet as P
 
 from .conftest import CONFIGS
 
@@ -27,7 +28,7 @@ _cache: dict[str, P.Motion] = {}
 def motions(paths: Sequence[str]) -> list[P.Motion]:
     for p in paths:
         if p not in _cache:
-            _cache[p] = P.motion(load_task(p), p, 101)
+            _cache[p] = P.motion(audit(load_task(p), samples=101), p)
     return [_cache[p] for p in paths]
 
 

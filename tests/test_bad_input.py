@@ -19,10 +19,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from rprpr_cli import loader
-from rprpr_cli.cli import main
-from rprpr_cli.errors import TaskFileError
-from rprpr_cli.loader import MAX_BYTES, load_task, parse_task
+from rprpr.cli.main import main
+from rprpr.io import loader
+from rprpr.io.loader import MAX_BYTES, load_task, parse_task
+from rprpr.model.errors import TaskFileError
 
 HERE = Path(__file__).resolve().parent
 BAD = HERE / "bad_tasks"
@@ -652,7 +652,7 @@ def _smoke_files() -> list[Path]:
 )
 def test_process_exits_2_with_one_line(path: Path, tmp_path: Path) -> None:
     proc = subprocess.run(
-        [sys.executable, "-m", "rprpr_cli", "check", str(path)],
+        [sys.executable, "-m", "rprpr", "check", str(path)],
         capture_output=True,
         text=True,
         cwd=tmp_path,

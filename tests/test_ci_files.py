@@ -16,7 +16,7 @@ from typing import Any
 import pytest
 import yaml
 
-from rprpr_cli.rules import RULES
+from rprpr.model.rules import RULES
 
 from .conftest import CONFIGS, ROOT
 
@@ -56,7 +56,7 @@ def test_pre_commit_hook_has_the_required_keys(hook: dict[str, Any]) -> None:
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"][
         "scripts"
     ]
-    assert scripts["rprpr"] == "rprpr_cli.cli:main"  # what `language: python` installs
+    assert scripts["rprpr"] == "rprpr.cli.main:main"  # what `language: python` installs
     assert hook.get("pass_filenames", True) is True
 
 

@@ -18,7 +18,7 @@ from typing import Any
 
 import pytest
 
-from rprpr_cli.cli import (
+from rprpr.cli.main import (
     PROGRESS_MIN_TASKS,
     collect_tasks,
     color_enabled,
@@ -182,16 +182,16 @@ def test_exit_status_is_the_highest_that_applies(
 def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    import rprpr_cli.auditing
+    import rprpr.engine.audit
 
-    real = rprpr_cli.auditing.audit
+    real = rprpr.engine.audit.audit
 
     def flaky(task: Any, **kw: Any) -> Any:
         if task.name == "boom":
             raise RuntimeError("simulated bug")
         return real(task, **kw)
 
-    monkeypatch.setattr(rprpr_cli.auditing, "audit", flaky)
+    monkeypatch.setattr(rprpr.engine.audit, "audit", flaky)
     boom = task_text(PATH2, QUINTIC).replace("name: test", "name: boom")
     files = _write(tmp_path, a=boom, b=task_text(PATH1, QUINTIC), c=BAD_A1)
     code, out, err = run(capsys, "check", "--format", "json", *FAST, *files)
@@ -254,8 +254,8 @@ def test_quiet_text_shows_only_failures_and_errors(
 
 
 def _bad_message() -> str:
-    from rprpr_cli.errors import TaskFileError
-    from rprpr_cli.loader import parse_task
+    from rprpr.io.loader import parse_task
+    from rprpr.model.errors import TaskFileError
 
     with pytest.raises(TaskFileError) as e:
         parse_task(BAD_A1)
@@ -448,12 +448,12 @@ def test_progress_only_on_a_terminal_for_more_than_a_handful() -> None:
 def _run_with_ptys(
     args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: dict[str, str]
 ) -> tuple[int, bytes, bytes]:
-    """Run ``python -m rprpr_cli ARGS`` with stdout/stderr on pseudo-terminals as asked."""
+    """Run ``python -m rprpr ARGS`` with stdout/stderr on pseudo-terminals as asked."""
     fds: dict[str, tuple[int, int]] = {}
     for name, tty in (("out", stdout_tty), ("err", stderr_tty)):
         fds[name] = pty.openpty() if tty else os.pipe()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "rprpr_cli", *args],
+        [sys.executable, "-m", "rprpr", *args],
         stdout=fds["out"][1],
         stderr=fds["err"][1],
         cwd=ROOT,

@@ -11,11 +11,11 @@ from typing import Any
 
 import pytest
 
-from rprpr_cli.cli import main
+from rprpr.cli.main import main
 
 from .conftest import CONFIGS
 
-RPRPR = [sys.executable, "-m", "rprpr_cli"]
+RPRPR = [sys.executable, "-m", "rprpr"]
 
 
 def _run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
@@ -96,14 +96,12 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
     capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    import rprpr_cli.auditing
-    import rprpr_cli.plot  # before patching: it binds ``audit`` when first imported
+    import rprpr.engine.audit
 
     def broken(*a: Any, **k: Any) -> Any:
         raise RuntimeError("simulated bug")
 
-    monkeypatch.setattr(rprpr_cli.auditing, "audit", broken)
-    monkeypatch.setattr(rprpr_cli.plot, "audit", broken)
+    monkeypatch.setattr(rprpr.engine.audit, "audit", broken)
     monkeypatch.chdir(tmp_path)
     task = str(CONFIGS / "paper_path2.yaml")
     code, _, err = _run(capsys, command, task)
@@ -136,15 +134,16 @@ def test_a_crowded_sheet_keeps_markers_and_drops_per_instant_labels(tmp_path: Pa
 
     from flint import fmpq_poly, fmpz_poly
 
-    from rprpr_cli import plot as P
-    from rprpr_cli.loader import parse_task
-    from rprpr_cli.polynomial import poly_text
+    from rprpr.engine.audit import audit
+    from rprpr.io.expression import poly_text
+    from rprpr.io.loader import parse_task
+    from rprpr.render import sheet as P
 
     from .conftest import task_text
 
     t16 = fmpq_poly([int(c) for c in fmpz_poly.chebyshev_t(16).coeffs()])(fmpq_poly([-3, 1]))
     task = parse_task(task_text(poly_text(t16, "x"), "timing:\n  duration: 2\n  x: 2 + t\n"))
-    m = P.motion(task, "t16.yaml", samples=201)
+    m = P.motion(audit(task, samples=201), "t16.yaml")
     assert len(m.result.singularities) == 16 > P.MAX_LABELS
     fig = P.render([m])
     P.save(fig, io.BytesIO(), "png", dpi=40, motions=[m])  # filterwarnings = error

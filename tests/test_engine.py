@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from flint import fmpq
 
-from rprpr_cli.auditing import audit
-from rprpr_cli.loader import load_task, parse_task
-from rprpr_cli.samples import grid, sample
+from rprpr.engine.audit import audit
+from rprpr.engine.sampling import grid, sample
+from rprpr.io.loader import load_task, parse_task
 
 from .conftest import CONFIGS, task_text
 
@@ -379,7 +379,7 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
 
 def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
     code = (
-        "import sys, rprpr_cli.auditing, rprpr_cli.samples, rprpr_cli.singular;"
+        "import sys, rprpr.engine.audit, rprpr.engine.sampling, rprpr.engine.singular;"
         "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules];"
         "print(','.join(bad))"
     )
@@ -389,7 +389,7 @@ def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
 
 def test_check_path_never_imports_matplotlib():  # type: ignore[no-untyped-def]
     code = (
-        "import sys\nfrom rprpr_cli.cli import main\n"
+        "import sys\nfrom rprpr.cli.main import main\n"
         f"try:\n    main(['check', '--format', 'json', {str(CONFIGS / 'paper_path2.yaml')!r}])\n"
         "except SystemExit:\n    pass\n"
         "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)"
@@ -406,7 +406,7 @@ def _chebyshev_task(n: int) -> str:
     coefficients (an ill-conditioned path polynomial)."""
     from flint import fmpq_poly, fmpz_poly
 
-    from rprpr_cli.polynomial import poly_text
+    from rprpr.io.expression import poly_text
 
     t_n = fmpq_poly([int(c) for c in fmpz_poly.chebyshev_t(n).coeffs()])
     path = t_n(fmpq_poly([-3, 1])) + fmpq(1, 7)

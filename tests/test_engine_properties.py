@@ -9,8 +9,8 @@ from flint import fmpq, fmpq_poly
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from rprpr_cli.auditing import audit
-from rprpr_cli.task import Link, Robot, Task
+from rprpr.engine.audit import audit
+from rprpr.model.task import Link, Robot, Task
 
 from .test_engine import at_times, mechanical_energy
 

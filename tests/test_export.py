@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rprpr_cli import __version__
-from rprpr_cli.auditing import audit
-from rprpr_cli.cli import main
-from rprpr_cli.loader import load_task
+from rprpr import __version__
+from rprpr.cli.main import main
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
 
 from .conftest import CONFIGS, task_text
 
@@ -258,7 +258,7 @@ def test_unwritable_output_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture
 def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path: Path) -> None:
     probe = (
         "import sys\n"
-        "from rprpr_cli.cli import main\n"
+        "from rprpr.cli.main import main\n"
         "try:\n"
         f"    main({command!r})\n"
         "except SystemExit as e:\n"
@@ -276,7 +276,7 @@ def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path:
 
 def test_export_module_is_free_of_click_and_matplotlib() -> None:
     probe = (
-        "import sys, rprpr_cli.export\n"
+        "import sys, rprpr.render.export\n"
         "banned = ('click', 'matplotlib', 'yaml')\n"
         "print(sorted(m for m in sys.modules if m.split('.')[0] in banned))\n"
     )

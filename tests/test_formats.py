@@ -15,15 +15,15 @@ from pathlib import Path
 
 import pytest
 
-from rprpr_cli.cli import check_one, main
-from rprpr_cli.errors import TaskFileError
-from rprpr_cli.loader import parse_task
-from rprpr_cli.render_github import annotation_path, command, escape_data, escape_property
-from rprpr_cli.render_github import render as github
-from rprpr_cli.render_junit import render as junit
-from rprpr_cli.render_junit import xml_text
-from rprpr_cli.report import Run
-from rprpr_cli.rules import RULES
+from rprpr.cli.main import check_one, main
+from rprpr.io.loader import parse_task
+from rprpr.model.errors import TaskFileError
+from rprpr.model.rules import RULES
+from rprpr.render.github import annotation_path, command, escape_data, escape_property
+from rprpr.render.github import render as github
+from rprpr.render.junit import render as junit
+from rprpr.render.junit import xml_text
+from rprpr.report.run import Run
 
 from .conftest import ROOT, task_text
 
@@ -348,7 +348,7 @@ def test_junit_internal_error_is_an_error_with_the_traceback() -> None:
     try:
         raise ValueError("boom")
     except ValueError as e:
-        from rprpr_cli.report import internal_error
+        from rprpr.report.records import internal_error
 
         r.add("internal", internal_error(e, "t.yaml"), 0.25)
     root = validate_junit(junit(r))

@@ -23,9 +23,9 @@ from pathlib import Path
 import pytest
 from flint import arb, ctx, fmpq, fmpq_poly
 
-from rprpr_cli.auditing import audit
-from rprpr_cli.cli import main
-from rprpr_cli.loader import load_task
+from rprpr.cli.main import main
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
 
 LINKS = """\
   links:

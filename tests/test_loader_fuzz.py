@@ -17,9 +17,9 @@ from fractions import Fraction
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
-from rprpr_cli.errors import ExpressionError, TaskFileError
-from rprpr_cli.loader import parse_task
-from rprpr_cli.polynomial import MAX_DEGREE, parse_polynomial
+from rprpr.io.expression import MAX_DEGREE, parse_polynomial
+from rprpr.io.loader import parse_task
+from rprpr.model.errors import ExpressionError, TaskFileError
 
 FUZZ = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

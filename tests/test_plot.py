@@ -17,9 +17,10 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from PIL import Image
 
-from rprpr_cli import plot as P
-from rprpr_cli.cli import main
-from rprpr_cli.loader import load_task
+from rprpr.cli.main import main
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
+from rprpr.render import sheet as P
 
 from .conftest import CONFIGS, task_text
 
@@ -49,7 +50,7 @@ def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
     for p in paths:
         key = f"{p}@{samples}"
         if key not in _cache:
-            _cache[key] = P.motion(load_task(p), p, samples)
+            _cache[key] = P.motion(audit(load_task(p), samples=samples), p)
         out.append(_cache[key])
     return out
 
@@ -306,7 +307,7 @@ def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:
     task = write_task(
         task_text(PATH2_Y, QUINTIC, links=HEAVY5).replace("name: test", "name: heavy link 5")
     )
-    m = P.motion(load_task(task), str(task), SAMPLES)
+    m = P.motion(audit(load_task(task), samples=SAMPLES), str(task))
     (s,) = m.result.singularities
     assert not s.consistent and s.pole_order == 1
     fig = P.render([m], ["delta", "torques"])
@@ -338,7 +339,7 @@ def test_unusual_motions_render_without_warnings(
     write_task, y: str, timing: str, expect: str | None
 ) -> None:  # type: ignore[no-untyped-def]
     task = write_task(task_text(y, timing))
-    m = P.motion(load_task(task), str(task), SAMPLES)
+    m = P.motion(audit(load_task(task), samples=SAMPLES), str(task))
     fig = P.render([m])
     fig.draw_without_rendering()  # warnings are errors here (pytest's filterwarnings)
     if expect is not None:
@@ -487,7 +488,7 @@ def test_plot_loads_matplotlib_only_when_plotting() -> None:
 
     probe = (
         "import sys\n"
-        "import rprpr_cli.cli, rprpr_cli.cli_plot\n"
+        "import rprpr.cli.main, rprpr.cli.plot_export\n"
         "print(any(m.split('.')[0] == 'matplotlib' for m in sys.modules))\n"
     )
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)

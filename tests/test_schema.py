@@ -1,7 +1,7 @@
 """The task-file JSON Schema: shipped, used by the configs, and in agreement with the loader.
 
-The loader (``rprpr_cli.loader``) and the JSON Schema (``schema.json_schema``, shipped as
-``rprpr_cli/task.schema.json`` for editors) come from the same ``schema.TASK``. They must
+The loader (``rprpr.io.loader``) and the JSON Schema (``schema.json_schema``, shipped as
+``rprpr/io/task.schema.json`` for editors) come from the same ``schema.TASK``. They must
 agree on every file JSON Schema can judge: both reject the bad-task corpus, both accept
 the valid files below. Where JSON Schema cannot express a rule, the case is listed in
 ``LOADER_ONLY`` with the reason, and the test checks that the schema really accepts it
@@ -19,15 +19,15 @@ import jsonschema
 import pytest
 import yaml
 
-from rprpr_cli.errors import TaskFileError
-from rprpr_cli.loader import parse_task
-from rprpr_cli.schema import json_schema
+from rprpr.io.loader import parse_task
+from rprpr.io.schema import json_schema
+from rprpr.model.errors import TaskFileError
 
 from .test_bad_input import GOOD  # the paper's path 2: the corpus's starting point
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-SHIPPED = ROOT / "rprpr_cli" / "task.schema.json"
+SHIPPED = ROOT / "rprpr" / "io" / "task.schema.json"
 BAD = HERE / "bad_tasks"
 CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
 VALIDATOR = jsonschema.Draft202012Validator(json_schema())
@@ -160,19 +160,19 @@ def test_shipped_schema_equals_json_schema() -> None:
     shipped = json.loads(SHIPPED.read_text(encoding="utf-8"))
     assert shipped == json_schema()
     assert SHIPPED.read_text(encoding="utf-8") == json.dumps(json_schema(), indent=2) + "\n", (
-        "regenerate with: rprpr schema > rprpr_cli/task.schema.json"
+        "regenerate with: rprpr schema > rprpr/io/task.schema.json"
     )
 
 
 def test_shipped_schema_is_package_data_and_a_valid_draft_2020_12_schema() -> None:
-    text = (resources.files("rprpr_cli") / "task.schema.json").read_text(encoding="utf-8")
+    text = (resources.files("rprpr.io") / "task.schema.json").read_text(encoding="utf-8")
     doc = json.loads(text)
     jsonschema.Draft202012Validator.check_schema(doc)
     assert doc["$schema"] == "https://json-schema.org/draft/2020-12/schema"
 
 
 def test_rprpr_schema_prints_the_shipped_file(capsys: pytest.CaptureFixture[str]) -> None:
-    from rprpr_cli.cli import main
+    from rprpr.cli.main import main
 
     with pytest.raises(SystemExit) as exc:
         main(["schema"])
@@ -186,9 +186,9 @@ def test_every_config_validates_and_points_at_the_schema(config: Path) -> None:
     jsonschema.validate(
         _jsonish(yaml.safe_load(text)), json_schema(), cls=jsonschema.Draft202012Validator
     )
-    modeline = "# yaml-language-server: $schema=../rprpr_cli/task.schema.json"
+    modeline = "# yaml-language-server: $schema=../rprpr/io/task.schema.json"
     assert text.splitlines()[0] == modeline
-    assert (config.parent / "../rprpr_cli/task.schema.json").resolve() == SHIPPED.resolve()
+    assert (config.parent / "../rprpr/io/task.schema.json").resolve() == SHIPPED.resolve()
     assert loader_accepts(text)
 
 

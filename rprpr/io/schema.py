@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .trajectory import LAWS
+from ..model.timing import LAWS
 
 
 @dataclass(frozen=True)

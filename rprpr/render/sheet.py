@@ -46,11 +46,11 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 from matplotlib.transforms import blended_transform_factory
 
-from . import __version__
-from .auditing import AuditResult, audit
-from .samples import Samples, sample
-from .singular import SingularInstant
-from .task import Task
+from .._version import __version__
+from ..engine.audit import AuditResult
+from ..engine.sampling import Samples
+from ..engine.singular import SingularInstant
+from ..model.task import Task
 
 PANELS = ("path", "x", "delta", "joints", "torques")
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
@@ -117,11 +117,10 @@ class Motion:
         return float(self.s.t[-1])
 
 
-def motion(task: Task, source: str = "", samples: int = 1001) -> Motion:
-    """Audit ``task`` on ``samples`` points; add its singular instants to the grid and,
-    about an unbounded one, the times t_s ± 10^-k t_f (k = 3..8), so that the curves
-    visibly diverge however fine or coarse the grid."""
-    result = audit(task, samples=samples)
+def motion(result: AuditResult, source: str = "") -> Motion:
+    """The audited task ``result``, ready to draw: its samples with its singular instants
+    added to the grid and, about an unbounded one, the times t_s ± 10^-k t_f (k = 3..8),
+    so that the curves visibly diverge however fine or coarse the grid."""
     s = result.samples
     tf = float(s.t[-1])
     tol = 1e-12 * max(1.0, tf)
@@ -138,16 +137,12 @@ def motion(task: Task, source: str = "", samples: int = 1001) -> Motion:
 
 def resample(m: Motion, t: np.ndarray) -> Samples:
     """The engine's samples of ``m``'s motion at the times ``t`` [s] (no new analysis)."""
-    r = m.result
-    return sample(r.trajectory, r.task.robot, r.analysis, np.asarray(t, dtype=float))
+    return m.result.resample(t)
 
 
 def status(result: AuditResult, s: SingularInstant) -> str:
-    """ "fail" when a finding at t_s fails the task, "warn" when one only warns, else "ok"."""
-    hits = [f for f in result.findings if f.t is not None and f.t == s.t]
-    if any(f.fails(result.strict) for f in hits):
-        return "fail"
-    return "warn" if hits else "ok"
+    """The audit's status of the singular instant ``s`` ("fail", "warn" or "ok")."""
+    return result.status_of(s)
 
 
 def order_text(s: SingularInstant) -> str:

@@ -1,9 +1,5 @@
-"""The planned motion as exact polynomials: x_E(t), y_E(t) = p(x_E(t)) and their derivatives.
-
-Timing laws (eq. 49): the rest-to-rest quintic x(t) = x0 + (x1 - x0)(10 τ^3 - 15 τ^4 + 6 τ^5),
-τ = t / t_f, with zero velocity and acceleration at both ends; and the rest-to-rest cubic
-x0 + (x1 - x0)(3 τ^2 - 2 τ^3), with zero velocity at both ends.
-"""
+"""The planned motion as exact polynomials: x_E(t), y_E(t) = p(x_E(t)) and their derivatives
+(the timing laws themselves are ``model.timing``)."""
 
 from __future__ import annotations
 
@@ -11,21 +7,7 @@ from dataclasses import dataclass
 
 from flint import fmpq, fmpq_poly
 
-from .task import Task
-
-LAWS = ("quintic", "cubic")
-
-
-def timing_law(law: str, x0: fmpq, x1: fmpq, duration: fmpq) -> fmpq_poly:
-    """x_E(t) of a rest-to-rest ``law`` from x0 to x1 in ``duration`` seconds (exact)."""
-    tau = fmpq_poly([0, 1 / duration])
-    if law == "quintic":
-        shape = 10 * tau**3 - 15 * tau**4 + 6 * tau**5  # eq. (49) for x0=2, x1=4, t_f=5
-    elif law == "cubic":
-        shape = 3 * tau**2 - 2 * tau**3
-    else:
-        raise ValueError(f"unknown timing law {law!r}; expected one of {', '.join(LAWS)}")
-    return x0 + (x1 - x0) * shape
+from ..model.task import Task
 
 
 @dataclass(frozen=True)

@@ -31,8 +31,8 @@ import re
 import xml.etree.ElementTree as ET
 from typing import Any
 
-from .report import INPUT, INTERNAL, Run
-from .rules import RULES
+from ..model.rules import RULES
+from ..report.run import INPUT, INTERNAL, Run
 
 SUITE_NAME = "rprpr check"
 

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from .task import Robot
+from ..model.task import Robot
 
 Num = Any  # numpy array, float, or Series
 

@@ -19,7 +19,7 @@ import re
 
 from flint import fmpq, fmpq_poly
 
-from .errors import ExpressionError
+from ..model.errors import ExpressionError
 
 MAX_DEGREE = 60  # cap on the degree of every polynomial and of the composition y(x(t))
 MAX_LENGTH = 4000  # characters in one expression

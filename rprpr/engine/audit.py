@@ -12,10 +12,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .rules import Finding
-from .samples import Samples, grid, sample
+from ..model.numbers import distinct as distinct_times
+from ..model.rules import Finding
+from ..model.task import Task
+from .sampling import Samples, grid, sample
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant, analyse
-from .task import Task
 from .trajectory import Trajectory, trajectory
 
 DEFAULT_SAMPLES = 1001
@@ -42,11 +43,28 @@ class AuditResult:
 
     @property
     def analysis(self) -> SingularAnalysis:
-        """The exact analysis behind the result, e.g. to sample the motion elsewhere
-        (``samples.sample(result.trajectory, result.task.robot, result.analysis, t)``)."""
+        """The exact analysis behind the result (``resample`` samples the motion elsewhere)."""
         return SingularAnalysis(
             self.singularities, self.kinematic_singularities, self.on_singular_line
         )
+
+    def resample(self, t: np.ndarray) -> Samples:
+        """The motion, joints, δ, λ and torques at the times ``t`` [s], from the exact
+        analysis already made (no new analysis; the value at a time never depends on
+        the other times asked for)."""
+        return sample(self.trajectory, self.task.robot, self.analysis, np.asarray(t, dtype=float))
+
+    def findings_at(self, s: SingularInstant) -> list[Finding]:
+        """The findings the audit made at the singular instant ``s``."""
+        return [f for f in self.findings if f.t is not None and f.t == s.t]
+
+    def status_of(self, s: SingularInstant) -> str:
+        """ "fail" when a finding at ``s`` fails the task, "warn" when one only warns,
+        else "ok" (decided here once; renderers only read it)."""
+        hits = self.findings_at(s)
+        if any(f.fails(self.strict) for f in hits):
+            return "fail"
+        return "warn" if hits else "ok"
 
     @property
     def verdict(self) -> str:
@@ -91,15 +109,6 @@ def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, fl
     if not t1:
         return None
     return max(t1), max(t2)
-
-
-def distinct_times(values: list[float]) -> list[str]:
-    """The times with 6 significant digits, or more where two would otherwise read alike."""
-    for digits in (6, 10, 17):
-        texts = [f"{v:.{digits}g}" for v in values]
-        if len(set(texts)) == len(set(values)):
-            break
-    return texts
 
 
 def _findings(task: Task, a: SingularAnalysis, peak: tuple[float, float] | None) -> list[Finding]:

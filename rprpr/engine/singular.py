@@ -26,10 +26,12 @@ from typing import Any
 
 from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
 
-from . import dynamics as dyn
-from .cases import Case, case_of
-from .series import NumberField, Series, is_zero, sign, taylor, to_float
-from .task import Checks, Robot
+from ..model.cases import Case, case_of
+from ..model.numbers import apart as _apart
+from ..model.numbers import to_float
+from ..model.task import Checks, Robot
+from . import equations as dyn
+from .series import NumberField, Series, is_zero, sign, taylor
 from .trajectory import Trajectory
 
 
@@ -74,6 +76,11 @@ class SingularInstant:
     @property
     def kind(self) -> str:
         return "crossing" if self.order % 2 else "touch"
+
+    @property
+    def high_order(self) -> bool:
+        """δ' = 0 at t_s (eq. 39): a high-order singularity."""
+        return self.order >= 2
 
     @property
     def torque_bounded(self) -> bool:
@@ -363,12 +370,3 @@ def _velocity_principle(speed2: Any, min_speed: fmpq) -> Principle:
             *_apart(speed, float(min_speed))
         ),
     )
-
-
-def _apart(value: float, margin: float) -> tuple[str, str]:
-    """value and margin for a message, with enough digits to tell them apart."""
-    for digits in (6, 10, 17):
-        a, b = f"{value:.{digits}g}", f"{margin:.{digits}g}"
-        if a != b:
-            return a, b
-    return f"{value:.6g}", f"{margin:.6g}"  # equal as doubles: say so plainly

@@ -20,12 +20,12 @@ from typing import Any
 import yaml
 from flint import fmpq, fmpq_poly
 
-from .errors import ExpressionError, TaskFileError
-from .polynomial import MAX_DEGREE, height, parse_decimal, parse_polynomial
+from ..model.errors import ExpressionError, TaskFileError
+from ..model.numbers import rational as _q
+from ..model.task import Checks, Link, Robot, Task
+from ..model.timing import timing_law
+from .expression import MAX_DEGREE, height, parse_decimal, parse_polynomial
 from .schema import TASK, Spec
-from .series import to_float
-from .task import Checks, Link, Robot, Task
-from .trajectory import timing_law
 
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
 MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
@@ -636,20 +636,3 @@ class _Builder:
                 node,
                 "path.y",
             )
-
-
-def _q(v: fmpq) -> str:
-    """A rational for messages: as a decimal when it is one, else p/q."""
-    d = int(v.q)
-    while d % 2 == 0:
-        d //= 2
-    while d % 5 == 0:
-        d //= 5
-    if d == 1:
-        s = f"{to_float(v):.15g}"
-        if "e" not in s and "inf" not in s and parse_decimal(s) == v:
-            return s
-    text = str(v)
-    if len(text) > 60:  # an exact rational of thousands of digits helps nobody
-        return f"{to_float(v):.17g} (≈; exactly a rational of {len(text)} characters)"
-    return text

@@ -1,20 +1,9 @@
-"""The error hierarchy of rprpr, and the exit-code policy (one home for both).
+"""The error hierarchy of rprpr (the exit-code policy is ``report.exit``).
 
 The core and the loader raise; only the command line renders and exits.
 """
 
 from __future__ import annotations
-
-from enum import IntEnum
-
-
-class ExitCode(IntEnum):
-    """Process exit status of ``rprpr``; when several apply, the highest wins."""
-
-    PASSED = 0  # every task passed
-    FAILED = 1  # at least one task failed its audit
-    INPUT = 2  # bad invocation or a bad task file
-    INTERNAL = 3  # a bug in rprpr: please report
 
 
 class RprprError(Exception):

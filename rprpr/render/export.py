@@ -24,10 +24,10 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from . import __version__
-from .auditing import AuditResult
-from .report import singularity_record
-from .samples import COLUMNS
+from .._version import __version__
+from ..engine.audit import AuditResult
+from ..engine.sampling import COLUMNS
+from ..report.records import singularity_record
 
 FORMATS = {".csv": "csv", ".json": "json"}
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 import os
 from typing import Any
 
-from .report import INTERNAL, Run
-from .rules import RULES
+from ..model.rules import RULES
+from ..report.run import INTERNAL, Run
 
 
 def escape_data(s: str) -> str:

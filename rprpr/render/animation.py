@@ -29,9 +29,9 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 from PIL import Image
 
-from . import plot as P
-from .samples import Samples
-from .singular import SingularInstant
+from ..engine.sampling import Samples
+from ..engine.singular import SingularInstant
+from . import sheet as P
 
 FRAMES = 100  # default frame count: 5 s at FPS
 MAX_FRAMES = 120

@@ -26,10 +26,11 @@ from typing import Any
 import numpy as np
 from flint import arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
-from . import dynamics as dyn
-from .series import taylor, to_float
+from ..model.numbers import to_float
+from ..model.task import Robot
+from . import equations as dyn
+from .series import taylor
 from .singular import SingularAnalysis, SingularInstant
-from .task import Robot
 from .trajectory import Trajectory
 
 EXTRA_TERMS = 12  # terms of the λ series kept beyond the pole/shift, for samples near t_s

@@ -12,11 +12,12 @@ formulas on flint's ``arb_series`` (``samples.lambda_series``).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
+
+from ..model.numbers import to_float
 
 
 class KElem:
@@ -224,14 +225,6 @@ def _dot(a: list[Scalar], b: list[Scalar], k: int) -> Scalar:
     for i in range(1, k + 1):
         acc = acc + a[i] * b[k - i]
     return acc
-
-
-def to_float(q: fmpq) -> float:
-    """The double nearest the rational q (correctly rounded); ±inf beyond the double range."""
-    try:
-        return int(q.p) / int(q.q)
-    except OverflowError:
-        return math.copysign(math.inf, int(q.p))
 
 
 def _is_zero(a: Scalar) -> bool:

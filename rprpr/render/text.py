@@ -8,8 +8,8 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from .auditing import distinct_times
-from .report import Run
+from ..model.numbers import distinct as distinct_times
+from ..report.run import Run
 
 
 def _g(v: float | None, fmt: str = ".4g") -> str:

@@ -19,11 +19,12 @@ from typing import TYPE_CHECKING, Any, TextIO
 
 import click
 
-from . import __version__
-from .errors import ExitCode, TaskFileError
+from .._version import __version__
+from ..model.errors import TaskFileError
+from ..report.exit import ExitCode
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
-    from .report import Run
+    from ..report.run import Run
 
 FORMATS = ("text", "json", "junit", "github")
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
@@ -62,9 +63,10 @@ def collect_tasks(paths: Sequence[str]) -> list[str]:
 def check_one(path: str, samples: int, strict: bool | None) -> tuple[str, dict[str, Any], float]:
     """Load and audit one task file: (kind, item, seconds), kind "report" (item: the
     report), "input" (a bad task file) or "internal" (a bug; the item names the file)."""
-    from .auditing import audit
-    from .loader import load_task
-    from .report import INPUT, INTERNAL, REPORT, input_error, internal_error, task_report
+    from ..engine.audit import audit
+    from ..io.loader import load_task
+    from ..report.records import input_error, internal_error, task_report
+    from ..report.run import INPUT, INTERNAL, REPORT
 
     start = time.perf_counter()
     try:
@@ -90,8 +92,9 @@ def run_checks(
     """Audit ``files`` in ``jobs`` worker processes (1: in this process); the outcomes come
     back in task order, so the report does not depend on ``jobs``. ``progress`` is a
     rich Console to draw a progress bar on, or None."""
-    from . import auditing, loader  # noqa: F401  (imported before forking: workers inherit them)
-    from .report import Run
+    from ..engine import audit as auditing  # noqa: F401  (imported before forking: workers inherit them)
+    from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
+    from ..report.run import Run
 
     run = Run()
     args = [(f, samples, strict) for f in files]
@@ -192,7 +195,7 @@ class _LazyGroup(click.Group):
 
     def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
         if name in self.LAZY:
-            from . import cli_plot
+            from . import plot_export as cli_plot
 
             return getattr(cli_plot, name)
         return super().get_command(ctx, name)
@@ -352,7 +355,7 @@ def _write_report(
     run: Run, fmt: str, out: TextIO, output_file: str | None, quiet: bool, color: str
 ) -> None:
     if fmt == "text":
-        from .render_text import render
+        from ..render.text import render
 
         # colour in a file only when asked for (--color always), never from the environment
         colored = color == "always" if output_file else color_enabled(color, out)
@@ -363,11 +366,11 @@ def _write_report(
     if fmt == "json":
         text = json.dumps(run.document(quiet=quiet), indent=2) + "\n"
     elif fmt == "junit":
-        from .render_junit import render as junit
+        from ..render.junit import render as junit
 
         text = junit(run)
     else:
-        from .render_github import render as github
+        from ..render.github import render as github
 
         text = github(run, quiet=quiet)
     out.write(text)
@@ -377,7 +380,7 @@ def _write_report(
 @main_group.command()
 def schema() -> None:
     """Print the JSON Schema (draft 2020-12) of the task file."""
-    from .schema import json_schema
+    from ..io.schema import json_schema
 
     try:
         click.echo(json.dumps(json_schema(), indent=2))

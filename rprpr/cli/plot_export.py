@@ -19,7 +19,8 @@ from typing import Any
 
 import click
 
-from .errors import ExitCode, TaskFileError
+from ..model.errors import TaskFileError
+from ..report.exit import ExitCode
 
 SHEET_FORMATS = (".png", ".svg", ".pdf")
 EXPORT_FORMATS = ("csv", "json")
@@ -55,7 +56,7 @@ def _task_named(path: str) -> Iterator[None]:
 
 
 def _load(path: str) -> Any:
-    from .loader import load_task
+    from ..io.loader import load_task
 
     try:
         return load_task(path)
@@ -172,7 +173,7 @@ def plot(
     """Draw the audit sheet of TASK (files or directories; several tasks overlay on the same
     axes): the workspace, x_E(t) and y_E(t), δ(t), the joints and the torques, as in the
     paper's Figs. 2-5. Exits 0 once written, whatever the verdict."""
-    from .cli import collect_tasks
+    from .main import collect_tasks
 
     if output_file is not None:
         _suffix_choice(output_file, SHEET_FORMATS, "the sheet", "-o")
@@ -188,12 +189,13 @@ def plot(
         )
     loaded = [(_load(f), f) for f in files]
 
-    from . import plot as P
+    from ..engine.audit import audit
+    from ..render import sheet as P
 
     motions = []
     for task, src in loaded:
         with _task_named(src):
-            motions.append(P.motion(task, src, samples))
+            motions.append(P.motion(audit(task, samples=samples), src))
     written = []
     if show:
         written += _show(motions, panels, output_file, files[0], dpi)
@@ -203,7 +205,7 @@ def plot(
         _write_atomic(out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions))
         written.append(out)
     if animate_file is not None:
-        from . import animate as A
+        from ..render import animation as A
 
         def gif(tmp: str) -> None:
             A.write_gif(motions, tmp)
@@ -219,7 +221,7 @@ def _show(
 ) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""
-    from . import plot as P
+    from ..render import sheet as P
 
     if not P.can_show():
         out = output_file or f"{Path(first).stem}.png"
@@ -279,8 +281,8 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     fmt = fmt or "csv"
     loaded = _load(task)
 
-    from . import export as E
-    from .auditing import audit
+    from ..engine.audit import audit
+    from ..render import export as E
 
     with _task_named(task):
         result = audit(loaded, samples=samples)
@@ -289,7 +291,7 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
             E.write(result, sys.stdout, fmt, task)
             sys.stdout.flush()
         except BrokenPipeError:  # | head: click would exit 1 by itself
-            from .cli import _silence_stdout
+            from .main import _silence_stdout
 
             _silence_stdout()
     else:

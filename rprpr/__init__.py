@@ -1,0 +1,58 @@
+"""rprpr: an exact trajectory auditor for the RPRPR planar parallel robot.
+
+Python API::
+
+    from rprpr import load_task, audit
+    result = audit(load_task("configs/paper_path2.yaml"))
+    result.verdict, result.singularities[0].order
+
+Importing the package costs nothing: ``audit`` and the engine (numpy, python-flint) load
+when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so that
+``rprpr --version`` stays light and the core stays free of YAML, click and rich.
+
+The stages, in the order the data flows (see CONTRIBUTING.md)::
+
+    io (task file -> Task) -> model (Task, the paper's tables, rules)
+       -> engine (exact trajectory, singular instants, samples, findings, audit)
+       -> report (records, the run, the exit policy) -> render (text, JSON, JUnit, GitHub,
+          export, sheet, animation) -> cli (one module per command)
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from ._version import __version__
+
+if TYPE_CHECKING:
+    from .engine.audit import AuditResult, audit
+    from .io.loader import load_task, parse_task
+    from .model.errors import RprprError, TaskFileError
+
+_LAZY = {
+    "AuditResult": ".engine.audit",
+    "audit": ".engine.audit",
+    "load_task": ".io.loader",
+    "parse_task": ".io.loader",
+    "RprprError": ".model.errors",
+    "TaskFileError": ".model.errors",
+}
+
+__all__ = [
+    "AuditResult",
+    "RprprError",
+    "TaskFileError",
+    "__version__",
+    "audit",
+    "load_task",
+    "parse_task",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'rprpr' has no attribute {name!r}")

@@ -1,0 +1,82 @@
+"""Exact numbers as floats and every number as text: the one home for both.
+
+Every number rprpr prints goes through this module, so that the same value always reads
+the same way and two different values never read alike where it matters:
+
+* ``number(v)``       a float for people: 6 significant digits (``digits`` to change);
+* ``distinct(vs)``    several floats, each with as many digits as it takes to tell the
+                      different ones apart (6, 10 or 17 significant digits);
+* ``apart(v, m)``     a value and the margin it is compared against, told apart;
+* ``rational(q)``     an exact rational: a decimal when it is one, else p/q;
+* ``to_float(q)``     the double nearest an exact rational.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from flint import fmpq
+
+DIGITS = 6  # significant digits of a number in a message or a table
+_WIDER = (6, 10, 17)  # ... widened to these where two values would otherwise read alike
+_LONG = 60  # characters beyond which an exact rational is abbreviated
+
+
+def to_float(q: fmpq) -> float:
+    """The double nearest the rational q (correctly rounded); ±inf beyond the double range."""
+    try:
+        return int(q.p) / int(q.q)
+    except OverflowError:
+        return math.copysign(math.inf, int(q.p))
+
+
+def number(v: float, digits: int = DIGITS) -> str:
+    """``v`` with ``digits`` significant digits (Python's ``g`` format)."""
+    return f"{v:.{digits}g}"
+
+
+def distinct(values: Sequence[float]) -> list[str]:
+    """The values with 6 significant digits, or more where two different values would
+    otherwise read alike (all widened together, so that a column stays uniform)."""
+    texts = [number(v) for v in values]
+    for digits in _WIDER:
+        texts = [number(v, digits) for v in values]
+        if len(set(texts)) == len(set(values)):
+            break
+    return texts
+
+
+def apart(value: float, margin: float) -> tuple[str, str]:
+    """``value`` and ``margin`` for a message, with enough digits to tell them apart
+    (equal as doubles: both plainly)."""
+    for digits in _WIDER:
+        a, b = number(value, digits), number(margin, digits)
+        if a != b:
+            return a, b
+    return number(value), number(margin)
+
+
+def rational(v: fmpq) -> str:
+    """An exact rational for messages: as a decimal when it is one (and prints exactly in
+    at most 15 digits), else p/q; one of thousands of digits is abbreviated."""
+    d = int(v.q)
+    while d % 2 == 0:
+        d //= 2
+    while d % 5 == 0:
+        d //= 5
+    if d == 1:
+        s = number(to_float(v), 15)
+        if "e" not in s and "inf" not in s and fmpq(*_decimal_fraction(s)) == v:
+            return s
+    text = str(v)
+    if len(text) > _LONG:  # an exact rational of thousands of digits helps nobody
+        return f"{number(to_float(v), 17)} (≈; exactly a rational of {len(text)} characters)"
+    return text
+
+
+def _decimal_fraction(s: str) -> tuple[int, int]:
+    """A plain decimal text (no exponent) as numerator and denominator."""
+    sign = -1 if s.startswith("-") else 1
+    whole, _, frac = s.lstrip("+-").partition(".")
+    return sign * int(whole + frac or "0"), 10 ** len(frac)
