@@ -281,7 +281,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("    recentred y near t_s", "rprpr.engine.sampling", "_recentered", ""),
     ("    legs (numpy)", "rprpr.engine.equations", "leg", "sample"),
     ("    dynamics (numpy)", "rprpr.engine.equations", "dynamics", "sample"),
-    ("  findings", "rprpr.engine.audit", "_findings", ""),
+    ("  findings", "rprpr.engine.findings", "findings", ""),
     ("report dict (task_report)", "rprpr.report.records", "task_report", ""),
 ]
 

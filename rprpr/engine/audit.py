@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model.numbers import distinct as distinct_times
 from ..model.rules import Finding
 from ..model.task import Task
+from .findings import findings
 from .sampling import Samples, grid, sample
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant, analyse
 from .trajectory import Trajectory, trajectory
@@ -82,7 +82,7 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
     analysis = analyse(traj, task.robot, task.checks)
     s = sample(traj, task.robot, analysis, grid(task.duration, samples))
     peak = _torque_peak(s, analysis.instants)
-    findings = _findings(task, analysis, peak)
+    found = findings(task, analysis, peak)
     return AuditResult(
         task=task,
         strict=strict,
@@ -90,7 +90,7 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
         kinematic_singularities=analysis.kinematic,
         on_singular_line=analysis.on_singular_line,
         torque_peak=peak,
-        findings=findings,
+        findings=found,
         samples=s,
         trajectory=traj,
     )
@@ -109,96 +109,3 @@ def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, fl
     if not t1:
         return None
     return max(t1), max(t2)
-
-
-def _findings(task: Task, a: SingularAnalysis, peak: tuple[float, float] | None) -> list[Finding]:
-    out: list[Finding] = []
-    times = [k.t for k in a.kinematic] + [s.t for s in a.instants]
-    label = dict(zip(times, distinct_times(times), strict=True))
-
-    def _at(t: float) -> str:
-        return f"t = {label[t]} s"
-
-    if a.on_singular_line:
-        out.append(
-            Finding(
-                "RPR104",
-                "the path lies on the singular line y = 0 (δ ≡ 0):"
-                " every instant is a Type II singularity",
-                None,
-                "path.y",
-            )
-        )
-    for k in a.kinematic:
-        joint = "A" if k.leg == 1 else "B"
-        out.append(
-            Finding(
-                "RPR103",
-                f"{_at(k.t)}: the end point is at {joint} (s{k.leg} = 0):"
-                " inverse-kinematic singularity",
-                k.t,
-                "path.y",
-            )
-        )
-    for s in a.instants:
-        where = f"{_at(s.t)}, (x, y) = ({s.x:.6g}, 0), case {s.case.number}, order {s.order}"
-        if not s.slope_principle.passed:
-            out.append(
-                Finding(
-                    "RPR101",
-                    f"{where}: slope principle fails: {s.slope_principle.reason}",
-                    s.t,
-                    "path.y",
-                )
-            )
-        if not s.velocity_principle.passed:
-            out.append(
-                Finding(
-                    "RPR102",
-                    f"{where}: velocity principle fails: {s.velocity_principle.reason}",
-                    s.t,
-                    "timing",
-                )
-            )
-        if not s.torque_bounded:
-            why = (
-                f"inconsistent (eq. 34 residual {s.consistency_residual:.6g} N)"
-                if not s.consistent
-                else f"consistent, but only {s.conditions_met} of {s.conditions_required}"
-                " boundedness conditions hold"
-            )
-            out.append(
-                Finding(
-                    "RPR201",
-                    f"{where}: {why}: torques unbounded (pole of order {s.pole_order})",
-                    s.t,
-                    "robot.links",
-                )
-            )
-    limit = task.checks.torque_limit
-    unbounded = [s for s in a.instants if not s.torque_bounded]
-    if limit is not None and unbounded:
-        # near a pole the sampled peak only says where the grid fell: report the pole
-        for s in unbounded:
-            out.append(
-                Finding(
-                    "RPR202",
-                    f"{_at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
-                    " beyond any limit",
-                    s.t,
-                    "checks.torque_limit",
-                )
-            )
-    elif limit is not None and peak is not None:
-        for j in (0, 1):
-            lim = float(limit[j])
-            if peak[j] > lim:
-                out.append(
-                    Finding(
-                        "RPR202",
-                        f"|T{j + 1}| reaches {peak[j]:.6g} N m, beyond the limit {lim:g} N m",
-                        None,
-                        "checks.torque_limit",
-                    )
-                )
-    return out

@@ -3,9 +3,13 @@
 Every number rprpr prints goes through this module, so that the same value always reads
 the same way and two different values never read alike where it matters:
 
-* ``number(v)``       a float for people: 6 significant digits (``digits`` to change);
+* ``number(v)``       a float for people: 6 significant digits (``digits`` to change;
+                      ``CELL`` digits in a table cell or a summary);
 * ``distinct(vs)``    several floats, each with as many digits as it takes to tell the
                       different ones apart (6, 10 or 17 significant digits);
+* ``labels(vs)``      the same, as a mapping value -> text (the instants of one task);
+* ``fixed(v)``        a float with a fixed number of decimals (durations of a run);
+* ``round_trip(v)``   a float for machines: the shortest text that reads back as ``v``;
 * ``apart(v, m)``     a value and the margin it is compared against, told apart;
 * ``rational(q)``     an exact rational: a decimal when it is one, else p/q;
 * ``to_float(q)``     the double nearest an exact rational.
@@ -14,11 +18,12 @@ the same way and two different values never read alike where it matters:
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from flint import fmpq
 
-DIGITS = 6  # significant digits of a number in a message or a table
+DIGITS = 6  # significant digits of a number in a message
+CELL = 4  # ... in a table cell or a summary figure, where width matters more
 _WIDER = (6, 10, 17)  # ... widened to these where two values would otherwise read alike
 _LONG = 60  # characters beyond which an exact rational is abbreviated
 
@@ -45,6 +50,24 @@ def distinct(values: Sequence[float]) -> list[str]:
         if len(set(texts)) == len(set(values)):
             break
     return texts
+
+
+def labels(values: Iterable[float]) -> dict[float, str]:
+    """Each of ``values`` -> its text, all told apart together (``distinct``): give it
+    every instant of a task, so that one instant reads the same in every line."""
+    vs = list(values)
+    return dict(zip(vs, distinct(vs), strict=True))
+
+
+def fixed(v: float, places: int = 3) -> str:
+    """``v`` with ``places`` decimals (a duration in seconds: ``0.004``)."""
+    return f"{v:.{places}f}"
+
+
+def round_trip(v: float) -> str:
+    """The shortest text that reads back as exactly ``v`` (Python's ``repr``; ``nan``,
+    ``inf`` as such): data files, where every digit counts and none is invented."""
+    return repr(float(v))
 
 
 def apart(value: float, margin: float) -> tuple[str, str]:

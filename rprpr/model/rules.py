@@ -72,12 +72,18 @@ RULES: dict[str, Rule] = {
 
 @dataclass(frozen=True)
 class Finding:
-    """One thing the audit found wrong: the rule, a message, and when (None: the whole task)."""
+    """One thing the audit found wrong: the rule, a message, and when (None: the whole task).
+
+    The task-file key it points back to is the rule's (``Rule.key``), never passed by hand.
+    """
 
     rule: str
     message: str
     t: float | None = None
-    key: str = ""
+
+    @property
+    def key(self) -> str:
+        return RULES[self.rule].key
 
     @property
     def strict_only(self) -> bool:

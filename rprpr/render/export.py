@@ -27,6 +27,7 @@ import numpy as np
 from .._version import __version__
 from ..engine.audit import AuditResult
 from ..engine.sampling import COLUMNS
+from ..model.numbers import number, round_trip
 from ..report.records import singularity_record
 
 FORMATS = {".csv": "csv", ".json": "json"}
@@ -48,7 +49,7 @@ def rows(result: AuditResult) -> np.ndarray:
 def _csv_number(v: float) -> str:
     if v == 0:
         return "0.0"  # -0.0 too: a spreadsheet would show "-0"
-    return repr(float(v))  # shortest round-trip; nan, inf as such
+    return round_trip(v)
 
 
 def _json_number(v: float) -> float | None:
@@ -68,7 +69,7 @@ def comment(result: AuditResult, source: str) -> str:
     where = f" ({_one_line(source)})" if source else ""
     return (
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
-        f"t = 0 .. {float(t[-1]):g} s; SI units (m, s, rad, N, N m); "
+        f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
         "nan = no finite value: unbounded at a singular instant, or E at A or B "
         "(see rprpr check)"
     )

@@ -31,7 +31,9 @@ import re
 import xml.etree.ElementTree as ET
 from typing import Any
 
+from ..model.numbers import fixed, number
 from ..model.rules import RULES
+from ..report.records import instant_times
 from ..report.run import INPUT, INTERNAL, Run
 
 SUITE_NAME = "rprpr check"
@@ -48,7 +50,7 @@ def xml_text(s: str) -> str:
 
 
 def _seconds(t: float) -> str:
-    return f"{t:.3f}"
+    return fixed(t, 3)
 
 
 def _el(parent: ET.Element, tag: str, text: str | None = None, **attrs: str) -> ET.Element:
@@ -63,14 +65,15 @@ def _where(file: str, line: int | None, key: str | None) -> str:
     return f"{loc}: {key}:" if key else f"{loc}:"
 
 
-def _instant_line(s: dict[str, Any]) -> str:
+def _instant_line(s: dict[str, Any], t: str) -> str:
+    """One singular instant of the system-out; ``t`` = its time as text."""
     bounded = (
         "torque bounded"
         if s["torque_bounded"]
         else f"torque unbounded (pole of order {s['pole_order']})"
     )
     return (
-        f"t = {s['t']:.6g} s: (x, y) = ({s['x']:.6g}, 0), case {s['case']}, order {s['order']}"
+        f"t = {t} s: (x, y) = ({number(s['x'])}, 0), case {s['case']}, order {s['order']}"
         f" {s['kind']}; slope principle {s['slope_principle']}, velocity principle"
         f" {s['velocity_principle']}; {bounded}"
     )
@@ -78,13 +81,12 @@ def _instant_line(s: dict[str, Any]) -> str:
 
 def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
     """Fill the testcase of an audited task; True when it failed."""
-    out = [_instant_line(s) for s in rep["singularities"]]
-    failed = False
+    times = instant_times(rep)
+    out = [_instant_line(s, times[s["t"]]) for s in rep["singularities"]]
     for f in rep["findings"]:
         title = RULES[f["rule"]].title
         where = _where(rep["task"], f["line"], f["key"])
         if f["severity"] == "error":
-            failed = True
             _el(case, "failure", f"{where} {title}: {f['message']}",
                 type=f["rule"], message=f"{title}: {f['message']}")  # fmt: skip
         else:
@@ -95,7 +97,7 @@ def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
         f"{n} singular instant{'s' if n != 1 else ''}"
     )
     _el(case, "system-out", "\n".join(out) + "\n")
-    return failed
+    return bool(rep["verdict"] == "fail")
 
 
 def render(run: Run) -> str:

@@ -8,12 +8,13 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from ..model.numbers import distinct as distinct_times
+from ..model.numbers import CELL, number
+from ..report.records import instant_times
 from ..report.run import Run
 
 
-def _g(v: float | None, fmt: str = ".4g") -> str:
-    return "—" if v is None else format(v, fmt)
+def _cell(v: float | None) -> str:
+    return "—" if v is None else number(v, CELL)
 
 
 def _pf(v: str) -> Text:
@@ -28,30 +29,30 @@ def singularity_table(rep: dict[str, Any]) -> Table:
         ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
     ):  # fmt: skip
         table.add_column(Text(col), justify=just)  # type: ignore[arg-type]
-    times = distinct_times([s["t"] for s in rep["singularities"]])
-    for s, t_text in zip(rep["singularities"], times, strict=True):
+    times = instant_times(rep)
+    for s in rep["singularities"]:
         order = f"{s['order']} {s['kind']}"
-        order_text = Text(order, style="bold red" if s["order"] >= 2 else "")
+        order_text = Text(order, style="bold red" if s["high_order"] else "")
         bounded = f"{s['conditions_met']}/{s['conditions_required']}"
         bounded_text = Text(
             bounded + (" yes" if s["torque_bounded"] else f" no, pole {s['pole_order']}"),
             style="green" if s["torque_bounded"] else "yellow",
         )
         torque = (
-            f"{s['torque_at_singularity'][0]:.4g}, {s['torque_at_singularity'][1]:.4g}"
+            ", ".join(_cell(v) for v in s["torque_at_singularity"])
             if s["torque_at_singularity"]
             else "unbounded"
         )
         table.add_row(
-            t_text,
-            f"({s['x']:.4g}, 0)",
+            times[s["t"]],
+            f"({_cell(s['x'])}, 0)",
             f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}",
             order_text,
-            _g(s["slope"]),
-            _g(s["speed"]),
+            _cell(s["slope"]),
+            _cell(s["speed"]),
             _pf(s["slope_principle"]),
             _pf(s["velocity_principle"]),
-            _g(s["consistency_residual"]),
+            _cell(s["consistency_residual"]),
             bounded_text,
             torque,
         )
@@ -86,6 +87,7 @@ def render(
 
 def _task(rep: dict[str, Any], console: Console) -> None:
     console.print(Text.assemble((rep["task"], "bold"), " — ", rep["name"]))
+    times = instant_times(rep)
     n = len(rep["singularities"])
     if n:
         console.print(singularity_table(rep))
@@ -96,7 +98,7 @@ def _task(rep: dict[str, Any], console: Console) -> None:
     for k in rep["kinematic_singularities"]:
         joint = "A" if k["leg"] == 1 else "B"
         console.print(
-            f"  inverse-kinematic singularity at t = {k['t']:.6g} s: E at {joint}", style="red"
+            f"  inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}", style="red"
         )
     for f in rep["findings"]:
         if f["severity"] == "error":
@@ -105,17 +107,17 @@ def _task(rep: dict[str, Any], console: Console) -> None:
             title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
         console.print(Text.assemble("  ", title, f": {f['message']}"), soft_wrap=True)
     peak = rep["torque_peak"]
-    poles = [f"{s['t']:.6g} s" for s in rep["singularities"] if not s["torque_bounded"]]
+    poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
     if poles:  # next to a pole the sampled peak only says where the grid fell
         peak_text = f"; torques unbounded at t = {', '.join(poles)}"
     else:
-        peak_text = f"; peak |T1|, |T2| = {peak[0]:.4g}, {peak[1]:.4g} N m" if peak else ""
+        peak_text = f"; peak |T1|, |T2| = {_cell(peak[0])}, {_cell(peak[1])} N m" if peak else ""
     verdict = (
         Text("PASS", style="bold green")
         if rep["verdict"] == "pass"
         else Text("FAIL", style="bold red")
     )
-    high = sum(s["order"] >= 2 for s in rep["singularities"])
+    high = sum(s["high_order"] for s in rep["singularities"])
     console.print(
         Text.assemble(
             "  verdict: ", verdict,

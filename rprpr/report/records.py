@@ -13,6 +13,7 @@ from typing import Any
 from ..engine.audit import AuditResult
 from ..engine.singular import SingularInstant
 from ..model.errors import TaskFileError
+from ..model.numbers import labels
 from ..model.rules import RULES
 
 INVALID_TASK = "RPR001"  # the rule of every input error
@@ -33,7 +34,7 @@ def singularity_record(s: SingularInstant) -> dict[str, Any]:
         "psi": s.case.psi,
         "order": s.order,
         "kind": s.kind,
-        "high_order": s.order >= 2,
+        "high_order": s.high_order,
         "delta_derivatives": [_f(v) for v in s.delta_derivatives],
         "slope": _f(s.slope),
         "speed": _f(s.speed),
@@ -86,6 +87,14 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "torque_peak": [_f(v) for v in result.torque_peak] if result.torque_peak else None,
         "findings": findings,
     }
+
+
+def instant_times(rep: dict[str, Any]) -> dict[float, str]:
+    """The time of each instant of a task report (inverse-kinematic and singular) as text,
+    all told apart together as in the findings' messages, so that every renderer names an
+    instant the same way and two close instants never alike."""
+    kinematic = [k["t"] for k in rep["kinematic_singularities"]]
+    return labels(kinematic + [s["t"] for s in rep["singularities"]])
 
 
 def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
