@@ -269,7 +269,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "_instant"),
     ("  sample (float, --samples points)", "rprpr.engine.sampling", "sample", ""),
     ("    grid", "rprpr.engine.sampling", "grid", ""),
-    ("    lambda_series (float series)", "rprpr.engine.sampling", "lambda_series", ""),
+    ("    lambda_series (float series)", "rprpr.engine.near_pole", "lambda_series", ""),
     (
         "      expansion (Taylor coefficients)",
         "rprpr.engine.singular",

@@ -40,13 +40,7 @@ class AuditResult:
     findings: list[Finding]
     samples: Samples = field(repr=False)
     trajectory: Trajectory = field(repr=False)
-
-    @property
-    def analysis(self) -> SingularAnalysis:
-        """The exact analysis behind the result (``resample`` samples the motion elsewhere)."""
-        return SingularAnalysis(
-            self.singularities, self.kinematic_singularities, self.on_singular_line
-        )
+    analysis: SingularAnalysis = field(repr=False, compare=False)  # what ``resample`` reads
 
     def resample(self, t: np.ndarray) -> Samples:
         """The motion, joints, δ, λ and torques at the times ``t`` [s], from the exact
@@ -93,6 +87,7 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
         findings=found,
         samples=s,
         trajectory=traj,
+        analysis=analysis,
     )
 
 

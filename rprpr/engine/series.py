@@ -7,7 +7,7 @@ element of K is zero exactly when its reduced representative is the zero polynom
 ``KElem`` is such an element; when t_s is rational, K = Q and the coefficients are plain
 ``fmpq`` (several times faster). ``Series`` works over either, with the formulas of
 ``dynamics``; the floating-point expansion used for sampling near t_s runs the same
-formulas on flint's ``arb_series`` (``samples.lambda_series``).
+formulas on flint's ``arb_series`` (``near_pole.lambda_series``).
 """
 
 from __future__ import annotations

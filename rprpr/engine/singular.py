@@ -49,8 +49,8 @@ class SingularInstant:
 
     ``delta_derivatives[k]`` is d^k δ/dt^k at t_s for k = 0..order; ``conditions_met`` is k
     above; ``torque_at_singularity`` is the finite limit (T1, T2) [N m] when bounded.
-    ``lambda_series`` holds, for the sampler, float Laurent coefficients of λ1 and λ2 in
-    ε with their leading powers (see ``expansion``).
+    What only the sampler needs (the number field of t_s, the orders of μ, the sign of y)
+    is kept apart, private to the engine, in ``SingularAnalysis``.
     """
 
     t: float
@@ -69,9 +69,6 @@ class SingularInstant:
     conditions_required: int
     conditions_met: int
     torque_at_singularity: tuple[float, float] | None
-    y_leading_sign: int  # sign of the first nonzero Taylor coefficient of y at t_s
-    mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2 (<= order+1)
-    field: NumberField = field(repr=False, compare=False)
 
     @property
     def kind(self) -> str:
@@ -100,14 +97,40 @@ class KinematicSingularity:
     y: float
     leg: int
     order: int = 1  # multiplicity of the root of y(t) there
-    y_leading_sign: int = 1  # sign of the first nonzero Taylor coefficient of y (0: unknown)
+
+
+@dataclass(frozen=True)
+class _SamplerHints:
+    """What the float sampler needs at a singular instant beyond what the audit reports
+    (private to the engine): the number field K = Q[t]/(f) of t_s, the orders of the first
+    nonzero terms of μ1 and μ2 (at most order + 1), and the sign of the first nonzero
+    Taylor coefficient of y at t_s."""
+
+    field: NumberField
+    mu_valuations: tuple[int, int]
+    y_leading_sign: int
 
 
 @dataclass(frozen=True)
 class SingularAnalysis:
+    """The singular instants of a motion, in time order.
+
+    ``_hints[i]`` (private to the engine: the sampler reads it) belongs to ``instants[i]``;
+    ``_kinematic_signs[j]`` is the sign of the first nonzero Taylor coefficient of y at
+    ``kinematic[j]`` (1 where it does not matter: E at B, or a motion on y = 0).
+    """
+
     instants: list[SingularInstant]
     kinematic: list[KinematicSingularity]
     on_singular_line: bool  # y(t) is identically zero: the whole motion is singular
+    _hints: tuple[_SamplerHints, ...] = field(repr=False, compare=False)
+    _kinematic_signs: tuple[int, ...] = field(repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if len(self._hints) != len(self.instants):
+            raise ValueError("one sampler record is needed per singular instant")
+        if len(self._kinematic_signs) != len(self.kinematic):
+            raise ValueError("one sign is needed per kinematic singularity")
 
 
 RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
@@ -180,9 +203,10 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
     """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f]."""
     y = traj.y
     if y.is_zero():
-        return SingularAnalysis([], _kinematic_on_line(traj), True)
-    instants: list[SingularInstant] = []
-    kinematic: list[KinematicSingularity] = []
+        on_line = _kinematic_on_line(traj)
+        return SingularAnalysis([], on_line, True, (), (1,) * len(on_line))
+    instants: list[tuple[SingularInstant, _SamplerHints]] = []
+    kinematic: list[tuple[KinematicSingularity, int]] = []
     _, factors = y.factor()
     for f, m in factors:
         if f.degree() < 1:
@@ -202,15 +226,21 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
                 # E at A lies on leg 2's branch cut: its sign change keeps θ2 continuous
                 lead = taylor(traj.y, int(m) + 1)[int(m)]
                 ys = sign(lead(exact)) if exact is not None else NumberField(f, at).sign(lead % f)
-                kinematic.append(KinematicSingularity(t, 0.0, 0.0, 1, int(m), ys))
+                kinematic.append((KinematicSingularity(t, 0.0, 0.0, 1, int(m)), ys))
                 continue
             if ((traj.x - traj.a1) % f).is_zero():
-                kinematic.append(KinematicSingularity(t, float(arb(traj.a1)), 0.0, 2))
+                kinematic.append((KinematicSingularity(t, float(arb(traj.a1)), 0.0, 2), 1))
                 continue
             instants.append(_instant(traj, robot, checks, f, int(m), exact, at, t))
-    instants.sort(key=lambda s: s.t)
-    kinematic.sort(key=lambda k: k.t)
-    return SingularAnalysis(instants, kinematic, False)
+    instants.sort(key=lambda pair: pair[0].t)
+    kinematic.sort(key=lambda pair: pair[0].t)
+    return SingularAnalysis(
+        [s for s, _ in instants],
+        [k for k, _ in kinematic],
+        False,
+        tuple(h for _, h in instants),
+        tuple(ys for _, ys in kinematic),
+    )
 
 
 def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
@@ -271,7 +301,7 @@ def _instant(
     exact: fmpq | None,
     at: RootAt,
     t: float,
-) -> SingularInstant:
+) -> tuple[SingularInstant, _SamplerHints]:
     K = NumberField(f, at)
     n = m + 1  # orders 0..m: the m conditions and the limit
     X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n, exact=exact)
@@ -297,7 +327,7 @@ def _instant(
     # the design principles: path slope dy/dx and end-point speed at t_s
     slope = traj.slope(exact) if exact is not None else K.elem(traj.slope)
     speed2 = Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0]
-    return SingularInstant(
+    instant = SingularInstant(
         t=t,
         x=float(X.c[0]),
         y=0.0,
@@ -314,10 +344,9 @@ def _instant(
         conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
-        y_leading_sign=sign(Y.c[m]),
-        mu_valuations=(d.mu1.valuation(), d.mu2.valuation()),
-        field=K,
     )
+    hints = _SamplerHints(K, (d.mu1.valuation(), d.mu2.valuation()), sign(Y.c[m]))
+    return instant, hints
 
 
 def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
