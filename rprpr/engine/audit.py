@@ -44,8 +44,7 @@ class AuditResult:
 
     def resample(self, t: np.ndarray) -> Samples:
         """The motion, joints, δ, λ and torques at the times ``t`` [s], from the exact
-        analysis already made (no new analysis; the value at a time never depends on
-        the other times asked for)."""
+        analysis already made (no new analysis)."""
         return sample(self.trajectory, self.task.robot, self.analysis, np.asarray(t, dtype=float))
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
