@@ -21,7 +21,6 @@ import click
 
 from .._version import __version__
 from ..report.exit import error_status, returned_status
-from .output import silence_stdout
 
 COMMANDS = ("check", "export", "plot", "schema")  # each in the module of its name
 
@@ -74,6 +73,8 @@ def _say(error: BaseException) -> None:
     elif isinstance(error, click.exceptions.Abort):
         click.echo("rprpr: aborted", err=True)
     elif isinstance(error, BrokenPipeError):  # the reader went away: nothing to say, nowhere
+        from .output import silence_stdout
+
         silence_stdout()
     elif isinstance(error, Exception) and not isinstance(error, click.exceptions.Exit):
         click.echo(f"rprpr: internal error ({type(error).__name__}: {error}); please report it",
