@@ -320,28 +320,31 @@ def _instrument(totals: list[float]) -> None:
                 setattr(m, attr, timed)
 
 
-def stages(folder: Path, samples: int) -> None:
+def stages(folder: Path, samples: int | None) -> None:
     """Audit the folder in this process with timers around the stages; print ms/task."""
-    import json
-
     sys.path.insert(0, str(ROOT))
-    from rprpr.cli.main import check_one, collect_tasks
+    from rprpr.cli.check import check_one
+    from rprpr.cli.options import CheckOptions
+    from rprpr.cli.tasks import collect_tasks
+    from rprpr.render.json import render as json_report
     from rprpr.report.run import Run
 
+    options = CheckOptions(samples=samples) if samples else CheckOptions()  # rprpr's default
     files = collect_tasks([str(folder)])
     for f in files[:20]:  # warm up (first-call costs are the imports' business)
-        check_one(f, samples, None)
+        check_one(f, options)
     totals = [0.0] * len(STAGES)
     _instrument(totals)
     run = Run()
     t0 = time.perf_counter()
     for f in files:
-        run.add(*check_one(f, samples, None))
+        run.add(*check_one(f, options))
     t1 = time.perf_counter()
-    text = json.dumps(run.document(quiet=True), indent=2)
+    text = json_report(run, quiet=True)
     t2 = time.perf_counter()
     n = len(files)
-    print(f"\nin-process, {n} tasks, --samples {samples}: {(t1 - t0) / n * 1000:.2f} ms/task")
+    per_task = (t1 - t0) / n * 1000
+    print(f"\nin-process, {n} tasks, --samples {options.samples}: {per_task:.2f} ms/task")
     print(f"  {'stage':42s} {'ms/task':>8s} {'share':>6s}")
     rows = [(label, v) for (label, _, _, _), v in zip(STAGES, totals, strict=True)]
     rows.append(("JSON rendering (-q, indent 2)", t2 - t1))
@@ -394,7 +397,7 @@ def main() -> int:
             return 1
         print("outputs of all -j runs agree byte for byte")
         if opts.stages:
-            stages(folder, opts.samples or 1001)
+            stages(folder, opts.samples)
     return 0
 
 

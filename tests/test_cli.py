@@ -18,14 +18,10 @@ from typing import Any
 
 import pytest
 
-from rprpr.cli.main import (
-    PROGRESS_MIN_TASKS,
-    collect_tasks,
-    color_enabled,
-    main,
-    make_console,
-    want_progress,
-)
+from rprpr.cli.check import PROGRESS_MIN_TASKS, want_progress
+from rprpr.cli.main import main
+from rprpr.cli.output import color_enabled, make_console
+from rprpr.cli.tasks import collect_tasks
 
 from .conftest import CONFIGS, ROOT, task_text
 

@@ -111,9 +111,11 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
 
 
 def test_text_report_tells_close_instants_apart(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from .conftest import task_text
+
+    monkeypatch.delenv("COLUMNS", raising=False)  # pytest-xdist workers set 80: the table wraps
 
     task = tmp_path / "close.yaml"
     text = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")

@@ -15,7 +15,9 @@ from pathlib import Path
 
 import pytest
 
-from rprpr.cli.main import check_one, main
+from rprpr.cli.check import check_one
+from rprpr.cli.main import main
+from rprpr.cli.options import CheckOptions
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
 from rprpr.model.rules import RULES
@@ -61,7 +63,7 @@ def line_of(path: str, prefix: str) -> int:
 def make_run(*paths: str, samples: int = 101, strict: bool | None = None) -> Run:
     r = Run()
     for p in paths:
-        r.add(*check_one(p, samples, strict))
+        r.add(*check_one(p, CheckOptions(samples=samples, strict=strict)))
     return r
 
 

@@ -488,7 +488,7 @@ def test_plot_loads_matplotlib_only_when_plotting() -> None:
 
     probe = (
         "import sys\n"
-        "import rprpr.cli.main, rprpr.cli.plot_export\n"
+        "import rprpr.cli.main, rprpr.cli.plot, rprpr.cli.export\n"
         "print(any(m.split('.')[0] == 'matplotlib' for m in sys.modules))\n"
     )
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)

@@ -1,14 +1,12 @@
-"""The outcome of one ``rprpr check`` run: the records of every task, in task order, the
-summary, the exit status (by the policy of ``report.exit``) and the JSON document."""
+"""The outcome of one ``rprpr check`` run: the records of every task, in task order, and
+the summary (its exit status is decided by ``report.exit.run_status``; its JSON document
+is ``render.json``)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
-
-from .._version import __version__
-from .exit import ExitCode
 
 REPORT, INPUT, INTERNAL = "report", "input", "internal"  # the kinds of a task's outcome
 
@@ -45,33 +43,11 @@ class Run:
             yield kind, lists[kind][i], seconds
 
     def summary(self) -> dict[str, int]:
+        """The counts of the run: tasks, passed, failed and errors (input and internal)."""
         passed = sum(r["verdict"] == "pass" for r in self.reports)
         return {
             "tasks": len(self.reports) + len(self.input_errors) + len(self.internal_errors),
             "passed": passed,
             "failed": len(self.reports) - passed,
             "errors": len(self.input_errors) + len(self.internal_errors),
-        }
-
-    def exit_code(self, exit_zero: bool = False) -> ExitCode:
-        """The highest status that applies: 3 internal > 2 input > 1 failed > 0 passed.
-        ``exit_zero`` turns a failed audit into 0 but never hides an error."""
-        if self.internal_errors:
-            return ExitCode.INTERNAL
-        if self.input_errors:
-            return ExitCode.INPUT
-        if not exit_zero and any(r["verdict"] == "fail" for r in self.reports):
-            return ExitCode.FAILED
-        return ExitCode.PASSED
-
-    def document(self, quiet: bool = False) -> dict[str, Any]:
-        """The ``--format json`` document; ``quiet`` leaves passing reports out (the
-        summary still counts every task)."""
-        reports = [r for r in self.reports if r["verdict"] != "pass"] if quiet else self.reports
-        return {
-            "rprpr": __version__,
-            "reports": reports,
-            "summary": self.summary(),
-            "input_errors": self.input_errors,
-            "internal_errors": self.internal_errors,
         }

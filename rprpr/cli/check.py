@@ -1,0 +1,264 @@
+"""``rprpr check``: audit task files (in worker processes with ``-j``), render the run in
+one format, exit with the run's status (``report.exit.run_status``)."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import time
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any, TextIO
+
+import click
+
+from ..model.errors import TaskFileError
+from ..report.exit import ExitCode, run_status
+from .options import (
+    CHECK_FORMATS,
+    CheckOptions,
+    color_option,
+    output_file_option,
+    samples_option,
+    tasks_argument,
+)
+from .output import color_enabled, is_tty, make_console, open_output, writing
+from .tasks import tasks_or_usage_error
+
+if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
+    from ..report.run import Run
+
+PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
+
+Outcome = tuple[str, dict[str, Any], float]  # (kind, item, seconds) of one task
+
+
+@click.command()
+@tasks_argument()
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(CHECK_FORMATS),
+    default="text",
+    show_default=True,
+    help="Report format: text (rich), json, junit (JUnit XML) or github "
+    "(GitHub Actions annotations).",
+)
+@output_file_option("Write the report to this file instead of standard output.")
+@click.option(
+    "--strict",
+    is_flag=True,
+    default=None,
+    help="Also fail on inconsistent/unbounded singular instants and torque limits.",
+)
+@samples_option(2, 1_000_000, "Sample points t = 0 .. t_f for the torques.")
+@click.option(
+    "-j",
+    "--jobs",
+    type=click.IntRange(0, 256),
+    default=1,
+    show_default=True,
+    help="Worker processes (0: one per CPU). The report is the same for any N.",
+)
+@click.option(
+    "-q",
+    "--quiet",
+    is_flag=True,
+    help="Report only failures and errors (text, json, github; JUnit lists every task).",
+)
+@click.option(
+    "--exit-zero",
+    is_flag=True,
+    help="Exit 0 even when a task fails (bad input and internal errors still count).",
+)
+@color_option()
+def check(
+    tasks: tuple[str, ...], fmt: str, output_file: str | None, strict: bool | None,
+    samples: int, jobs: int, quiet: bool, exit_zero: bool, color: str,
+) -> ExitCode:  # fmt: skip
+    """Audit every Type II singular instant of each TASK (task files, or directories
+    searched recursively for *.yaml and *.yml).
+
+    Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
+    file, 3 internal error (the highest that applies)."""
+    options = CheckOptions(
+        format=fmt,
+        output_file=None if output_file == "-" else output_file,  # "-": standard output
+        strict=strict or None,
+        samples=samples,
+        jobs=jobs or _cpus(),
+        quiet=quiet,
+        exit_zero=exit_zero,
+        color=color,
+    )
+    files = tasks_or_usage_error(tasks)
+    _refuse_overwriting_a_task(options.output_file, files)
+    out = open_output(options.output_file)
+    try:
+        show = want_progress(len(files), sys.stderr, quiet)
+        progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
+        run = run_checks(files, options, progress)
+        status = run_status(run, exit_zero=options.exit_zero)
+        with writing("the report", options.output_file, status):
+            write_report(run, options, out)
+    finally:
+        if options.output_file:
+            with contextlib.suppress(OSError):
+                out.close()
+    _log(run, options)
+    return status
+
+
+def _refuse_overwriting_a_task(output_file: str | None, files: Sequence[str]) -> None:
+    if output_file and os.path.exists(output_file):
+        for f in files:
+            if os.path.exists(f) and os.path.samefile(output_file, f):
+                raise click.UsageError(
+                    f"the output file {output_file} is also a task file: it would be overwritten"
+                )
+
+
+def check_one(path: str, options: CheckOptions) -> Outcome:
+    """Load and audit one task file: (kind, item, seconds), kind "report" (item: the
+    report), "input" (a bad task file) or "internal" (a bug; the item names the file)."""
+    from ..engine.audit import audit
+    from ..io.loader import load_task
+    from ..report.records import input_error, internal_error, task_report
+    from ..report.run import INPUT, INTERNAL, REPORT
+
+    start = time.perf_counter()
+    try:
+        task = load_task(path)
+    except TaskFileError as e:
+        return INPUT, input_error(e, path), time.perf_counter() - start
+    except Exception as e:  # a bug while reading: still name the file
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start
+    try:
+        result = audit(task, samples=options.samples, strict=options.strict)
+        report = task_report(result, path)
+    except Exception as e:
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start
+    return REPORT, report, time.perf_counter() - start
+
+
+def _check_star(args: tuple[str, CheckOptions]) -> Outcome:
+    return check_one(*args)
+
+
+def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None) -> Run:
+    """Audit ``files`` in ``options.jobs`` worker processes (1: in this process); the
+    outcomes come back in task order, so the report does not depend on the number of
+    workers. ``progress`` is a rich Console to draw a progress bar on, or None."""
+    from ..engine import audit as auditing  # noqa: F401  (imported before forking: workers inherit them)
+    from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
+    from ..report.run import Run
+
+    run = Run()
+    args = [(f, options) for f in files]
+    results: Iterable[Outcome]
+    pool = None
+    jobs = min(options.jobs, len(files))
+    if jobs > 1:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        # fork: workers start in milliseconds with the modules above already imported
+        ctx = multiprocessing.get_context("fork" if sys.platform.startswith("linux") else "spawn")
+        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
+        chunk = max(1, min(16, len(files) // (8 * jobs)))
+        results = pool.map(_check_star, args, chunksize=chunk)  # submits (and forks) now
+    else:
+        results = map(_check_star, args)
+    try:
+        _collect(run, results, len(files), progress)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+    return run
+
+
+def _collect(run: Run, results: Iterable[Outcome], total: int, progress: Any) -> None:
+    """Add each outcome to ``run`` as it comes, advancing a progress bar on ``progress``
+    (a rich Console) when one is given."""
+    if progress is None:
+        for result in results:
+            run.add(*result)
+        return
+    from rich.progress import Progress
+
+    with Progress(console=progress, transient=True) as bar:
+        job = bar.add_task("checking", total=total)
+        for result in results:
+            run.add(*result)
+            bar.advance(job)
+
+
+def want_progress(n_tasks: int, stream: Any, quiet: bool) -> bool:
+    """A progress bar only on a terminal, for more than a handful of tasks, unless -q."""
+    return is_tty(stream) and n_tasks > PROGRESS_MIN_TASKS and not quiet
+
+
+def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
+    """Render ``run`` on ``out`` in ``options.format``."""
+    if options.format == "text":
+        _write_text(run, options, out)
+        return
+    if options.format == "json":
+        from ..render.json import render as json_report
+
+        text = json_report(run, quiet=options.quiet)
+    elif options.format == "junit":
+        from ..render.junit import render as junit
+
+        text = junit(run)
+    else:
+        from ..render.github import render as github
+
+        text = github(run, quiet=options.quiet)
+    out.write(text)
+    out.flush()
+
+
+def _write_text(run: Run, options: CheckOptions, out: TextIO) -> None:
+    from ..render.text import render
+
+    color = options.color
+    # colour in a file only when asked for (--color always), never from the environment
+    colored = color == "always" if options.output_file else color_enabled(color, out)
+    err = make_console(sys.stderr, color_enabled(color, sys.stderr))
+    # bad task files: on stderr, and in the report too when it goes to a file
+    render(
+        run,
+        make_console(out, colored),
+        err,
+        quiet=options.quiet,
+        errors_inline=bool(options.output_file),
+    )
+
+
+def _log(run: Run, options: CheckOptions) -> None:
+    """What standard error says after the report: the one-line errors (when the report is
+    not the text on the terminal), the tracebacks of bugs (RPRPR_DEBUG), and a summary
+    line when the report went to a file."""
+    if options.format != "text" or options.output_file:  # the one-line errors, for the log
+        for e in run.input_errors + run.internal_errors:
+            click.echo(e["text"], err=True)
+    if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
+        for e in run.internal_errors:
+            click.echo(e["traceback"], err=True)
+    if options.output_file and not options.quiet:  # the log still says what the file holds
+        s = run.summary()
+        click.echo(
+            f"rprpr: {s['tasks']} task{'s' if s['tasks'] != 1 else ''}: {s['passed']} passed,"
+            f" {s['failed']} failed, {s['errors']} error{'s' if s['errors'] != 1 else ''};"
+            f" {options.format} report written to {options.output_file}",
+            err=True,
+        )
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on (``-j 0``)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1

@@ -1,0 +1,85 @@
+"""The options of the commands: declared once here, and ``check``'s taken as one value.
+
+``CheckOptions`` (like black's ``Mode``) is built once from the command line and passed
+down, to the workers and the renderers, instead of one parameter per option.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+from ..model.defaults import DEFAULT_SAMPLES
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+CHECK_FORMATS = ("text", "json", "junit", "github")
+COLORS = ("auto", "always", "never")
+
+
+@dataclass(frozen=True)
+class CheckOptions:
+    """How ``rprpr check`` audits and reports; the defaults are the command line's.
+
+    ``output_file`` None is standard output; ``strict`` None leaves each task's own
+    ``checks.strict``; ``jobs`` is the number of worker processes (1: this process).
+    """
+
+    format: str = "text"
+    output_file: str | None = None
+    strict: bool | None = None
+    samples: int = DEFAULT_SAMPLES
+    jobs: int = 1
+    quiet: bool = False
+    exit_zero: bool = False
+    color: str = "auto"
+
+
+def tasks_argument(name: str = "tasks") -> Callable[[F], F]:
+    """TASKS: task files, or directories searched for them."""
+    return click.argument(name, nargs=-1, required=True, type=click.Path())
+
+
+def output_file_option(help: str) -> Callable[[F], F]:
+    """``-o/--output-file FILE``."""
+    return click.option("-o", "--output-file", type=click.Path(dir_okay=False), help=help)
+
+
+def samples_option(low: int, high: int, help: str) -> Callable[[F], F]:
+    """``--samples N``, between ``low`` and ``high``, by default ``DEFAULT_SAMPLES``."""
+    return click.option(
+        "--samples",
+        type=click.IntRange(low, high),
+        default=DEFAULT_SAMPLES,
+        show_default=True,
+        help=help,
+    )
+
+
+def color_option() -> Callable[[F], F]:
+    """``--color auto|always|never``."""
+    return click.option(
+        "--color",
+        type=click.Choice(COLORS),
+        default="auto",
+        show_default=True,
+        help="Colour in the text report; auto honours NO_COLOR, FORCE_COLOR and a "
+        "non-terminal output.",
+    )
+
+
+def suffix_choice(path: str, allowed: Sequence[str], what: str, param: str) -> str:
+    """The lower-case extension of ``path``, one of ``allowed``; else a usage error naming
+    ``what`` the file holds and the option ``param`` that named it."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in allowed:
+        raise click.BadParameter(
+            f"{path!r} has extension {suffix or '(none)'!r}; {what} can be written as "
+            f"{', '.join(allowed)}",
+            param_hint=param,
+        )
+    return suffix

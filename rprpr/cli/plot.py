@@ -1,0 +1,172 @@
+"""``rprpr plot``: draw the audit sheet of one or more tasks (``render.sheet``) and, on
+request, an animated GIF of the robot (``render.animation``).
+
+matplotlib is imported only when a sheet is drawn, never by the other commands. Exits 0
+once written, whatever the audit's verdict (``rprpr check`` is the gate).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from ..report.exit import ExitCode
+from .options import output_file_option, samples_option, suffix_choice, tasks_argument
+from .output import write_atomic
+from .tasks import load, task_named, tasks_or_usage_error
+
+if TYPE_CHECKING:
+    from ..render.sheet import Motion
+
+SHEET_FORMATS = (".png", ".svg", ".pdf")
+MAX_TASKS = 8  # overlaid on one sheet: beyond this the legend stops being readable
+PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, without matplotlib
+
+
+@click.command()
+@tasks_argument()
+@output_file_option(
+    "The sheet, as .png, .svg or .pdf (format from the extension). "
+    "Default: <first task's stem>.png in the current directory."
+)
+@click.option(
+    "--panels",
+    "panels_spec",
+    metavar="LIST",
+    help=f"Comma-separated panels, drawn in this order: {','.join(PANEL_NAMES)} (default: all).",
+)
+@click.option(
+    "--animate",
+    "animate_file",
+    type=click.Path(dir_okay=False),
+    metavar="FILE.gif",
+    help="Also write an animated GIF of the robot moving along the motion.",
+)
+@click.option(
+    "--show",
+    is_flag=True,
+    help="Open the sheet in a window (where a display exists); with -o, also write it.",
+)
+@samples_option(
+    11, 100_000, "Sample points t = 0 .. t_f per task (the singular instants are added)."
+)
+@click.option(
+    "--dpi",
+    type=click.IntRange(50, 600),
+    default=150,
+    show_default=True,
+    help="Resolution of a .png sheet.",
+)
+def plot(
+    tasks: tuple[str, ...],
+    output_file: str | None,
+    panels_spec: str | None,
+    animate_file: str | None,
+    show: bool,
+    samples: int,
+    dpi: int,
+) -> ExitCode:
+    """Draw the audit sheet of TASK (files or directories; several tasks overlay on the same
+    axes): the workspace, x_E(t) and y_E(t), δ(t), the joints and the torques, as in the
+    paper's Figs. 2-5. Exits 0 once written, whatever the verdict."""
+    if output_file is not None:
+        suffix_choice(output_file, SHEET_FORMATS, "the sheet", "-o")
+    if animate_file is not None:
+        suffix_choice(animate_file, (".gif",), "the animation", "--animate")
+    panels = panels_of(panels_spec, PANEL_NAMES)
+    files = tasks_or_usage_error(tasks)
+    if len(files) > MAX_TASKS:
+        raise click.UsageError(
+            f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
+        )
+    motions = _motions(files, samples)
+    if show:
+        written = _show(motions, panels, output_file, files[0], dpi)
+    else:
+        out = output_file or f"{Path(files[0]).stem}.png"
+        _write_sheet(motions, panels, out, dpi)
+        written = [out]
+    if animate_file is not None:
+        from ..render import animation as A
+
+        def gif(tmp: str) -> None:
+            A.write_gif(motions, tmp)
+
+        write_atomic(animate_file, gif)
+        written.append(animate_file)
+    for w in written:
+        click.echo(f"rprpr: wrote {w}", err=True)
+    return ExitCode.PASSED
+
+
+def panels_of(spec: str | None, known: Sequence[str]) -> list[str]:
+    """The panels ``--panels`` names, in its order (all of ``known`` when not given); a
+    usage error for an unknown, repeated or empty list."""
+    if spec is None:
+        return list(known)
+    names = [p.strip().lower() for p in spec.split(",") if p.strip()]
+    if not names:
+        raise click.BadParameter(
+            f"no panel named; choose from {', '.join(known)}", param_hint="--panels"
+        )
+    for n in names:
+        if n not in known:
+            raise click.BadParameter(
+                f"unknown panel {n!r}; choose from {', '.join(known)}", param_hint="--panels"
+            )
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise click.BadParameter(f"panel {', '.join(dup)} given twice", param_hint="--panels")
+    return names
+
+
+def _motions(files: Sequence[str], samples: int) -> list[Motion]:
+    """Each task loaded (every bad file reported before any audit), audited on
+    ``samples`` points and made ready to draw."""
+    loaded = [(load(f), f) for f in files]
+
+    from ..engine.audit import audit
+    from ..render import sheet as P
+
+    motions = []
+    for task, src in loaded:
+        with task_named(src):
+            motions.append(P.motion(audit(task, samples=samples), src))
+    return motions
+
+
+def _write_sheet(motions: list[Motion], panels: list[str], out: str, dpi: int) -> None:
+    """Draw the sheet headless and write it to ``out`` (format from its extension)."""
+    from ..render import sheet as P
+
+    fig = P.render(motions, panels)
+    write_atomic(out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions))
+
+
+def _show(
+    motions: list[Motion], panels: list[str], output_file: str | None, first: str, dpi: int
+) -> list[str]:
+    """Open the sheet with pyplot where a window can open; write it when -o is given, or
+    when no window can open (then to the default file, and say so)."""
+    from ..render import sheet as P
+
+    if not P.can_show():
+        out = output_file or f"{Path(first).stem}.png"
+        click.echo(f"rprpr: no display for --show; writing {out} instead", err=True)
+        _write_sheet(motions, panels, out, dpi)
+        return [out]
+    import matplotlib.pyplot as plt
+
+    fig = P.render(motions, panels, figure=plt.figure())
+    written = []
+    if output_file is not None:
+        write_atomic(
+            output_file,
+            lambda tmp: P.save(fig, tmp, P.format_of(output_file), dpi=dpi, motions=motions),
+        )
+        written.append(output_file)
+    plt.show()
+    return written

@@ -1,0 +1,31 @@
+"""The ``--format json`` report of ``rprpr check``: one document for the whole run.
+
+The document holds no measured time, so that the same tasks always give the same bytes.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from .._version import __version__
+from ..report.run import Run
+
+
+def document(run: Run, quiet: bool = False) -> dict[str, Any]:
+    """The JSON document of ``run``: the version, the reports, the summary, the input and
+    internal errors; ``quiet`` leaves passing reports out (the summary still counts every
+    task)."""
+    reports = [r for r in run.reports if r["verdict"] != "pass"] if quiet else run.reports
+    return {
+        "rprpr": __version__,
+        "reports": reports,
+        "summary": run.summary(),
+        "input_errors": run.input_errors,
+        "internal_errors": run.internal_errors,
+    }
+
+
+def render(run: Run, quiet: bool = False) -> str:
+    """The document of ``run`` as text: indented by 2, ending with a newline."""
+    return json.dumps(document(run, quiet=quiet), indent=2) + "\n"

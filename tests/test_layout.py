@@ -1,0 +1,257 @@
+"""The layout of the package: dependencies point one way and never go round in a circle.
+
+The stages, in the order the data flows, and what each may import of rprpr (besides
+itself and ``rprpr._version``)::
+
+    cli    -> render, report, engine, io, model
+    render -> report, engine, model
+    report -> engine, model
+    engine -> model
+    io     -> model
+    model  -> (nothing)
+
+Every import counts: at module level, inside functions (lazy imports), and under
+``if TYPE_CHECKING:`` (a type-only import upward still couples a lower stage to a higher
+one). The package root ``rprpr/__init__.py`` (the lazy public API), ``rprpr/__main__.py``
+and ``rprpr/_version.py`` stand outside the stages.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+
+import pytest
+
+from .conftest import ROOT
+
+PACKAGE = ROOT / "rprpr"
+
+ALLOWED: dict[str, set[str]] = {
+    "cli": {"render", "report", "engine", "io", "model"},
+    "render": {"report", "engine", "model"},
+    "report": {"engine", "model"},
+    "engine": {"model"},
+    "io": {"model"},
+    "model": set(),
+}
+OUTSIDE = {"rprpr", "rprpr.__main__", "rprpr._version"}  # outside the stages
+ANYONE_MAY_IMPORT = {"rprpr._version"}  # a leaf: the version string only
+
+Graph = dict[str, set[str]]  # module -> the rprpr modules it imports
+
+
+def modules(root: Path = PACKAGE) -> dict[str, Path]:
+    """Every module of the package under ``root``, by dotted name."""
+    out = {}
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root.parent).with_suffix("").parts
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+def imported(name: str, source: str, is_package: bool, known: set[str]) -> Iterator[str]:
+    """The modules of ``known`` that the module ``name`` imports anywhere in ``source``
+    (``from . import x`` names the submodule ``x`` when there is one)."""
+    package = name if is_package else name.rpartition(".")[0]
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            yield from (a.name for a in node.names if a.name in known)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join([*anchor, *([base] if base else [])])
+            for alias in node.names:
+                sub = f"{base}.{alias.name}"
+                if sub in known:
+                    yield sub
+                elif base in known:
+                    yield base
+
+
+def graph_of(sources: Mapping[str, tuple[str, bool]]) -> Graph:
+    """The import graph of ``sources`` (name -> (source, is_package)), rprpr modules only."""
+    known = set(sources)
+    return {
+        name: set(imported(name, src, is_pkg, known)) - {name}
+        for name, (src, is_pkg) in sources.items()
+    }
+
+
+def package_graph() -> Graph:
+    return graph_of(
+        {
+            name: (path.read_text(encoding="utf-8"), path.name == "__init__.py")
+            for name, path in modules().items()
+        }
+    )
+
+
+def stage(name: str) -> str | None:
+    """The stage of the module ``name`` (``rprpr.engine.audit`` -> ``engine``)."""
+    parts = name.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in ALLOWED else None
+
+
+def upward(graph: Graph) -> list[str]:
+    """Every import that breaks the direction, as "importer -> imported"."""
+    bad = []
+    for name, targets in sorted(graph.items()):
+        if name in OUTSIDE:
+            continue
+        here = stage(name)
+        for target in sorted(targets):
+            there = stage(target)
+            if target in ANYONE_MAY_IMPORT or there == here:
+                continue
+            if here is None or there is None or there not in ALLOWED[here]:
+                bad.append(f"{name} -> {target}")
+    return bad
+
+
+def cycles(graph: Graph) -> list[list[str]]:
+    """The import circles of ``graph``: its strongly connected components of more than one
+    module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+# -- the package -------------------------------------------------------------------------
+def test_every_module_lives_in_a_stage() -> None:
+    strays = [n for n in modules() if n not in OUTSIDE and stage(n) is None]
+    assert strays == []
+    assert {stage(n) for n in modules()} - {None} == set(ALLOWED)
+
+
+def test_dependencies_point_one_way() -> None:
+    assert upward(package_graph()) == []
+
+
+def test_no_import_circles() -> None:
+    assert cycles(package_graph()) == []
+
+
+def test_the_version_is_a_leaf() -> None:
+    assert package_graph()["rprpr._version"] == set()
+
+
+def test_the_graph_sees_lazy_type_only_and_relative_imports() -> None:
+    g = package_graph()
+    assert "rprpr.engine.audit" in g["rprpr.cli.check"]  # inside check_one
+    assert "rprpr.report.run" in g["rprpr.report.exit"]  # under TYPE_CHECKING
+    assert "rprpr.render.sheet" in g["rprpr.render.animation"]  # from . import sheet
+    assert "rprpr.cli.main" in g["rprpr.__main__"]
+
+
+# -- the rule itself: it catches what it is for ------------------------------------------
+SYNTHETIC = {
+    "rprpr": ("", True),
+    "rprpr.model": ("", True),
+    "rprpr.model.task": ("", False),
+    "rprpr.engine": ("", True),
+    "rprpr.engine.audit": ("from ..model.task import Task\n", False),
+    "rprpr.report": ("", True),
+    "rprpr.report.run": ("", False),
+    "rprpr.cli": ("", True),
+    "rprpr.cli.main": ("from ..report import run\n", False),
+}
+
+
+def _with(name: str, source: str) -> Graph:
+    return graph_of({**SYNTHETIC, name: (source, False)})
+
+
+def test_a_clean_synthetic_package_passes() -> None:
+    g = graph_of(SYNTHETIC)
+    assert g["rprpr.cli.main"] == {"rprpr.report.run"}
+    assert upward(g) == [] and cycles(g) == []
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "from ..engine.audit import audit\n",  # module level
+        "def f():\n    from ..engine import audit\n",  # lazy, inside a function
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import rprpr.engine.audit\n",
+    ],
+)
+def test_an_upward_import_fails(source: str) -> None:
+    assert upward(_with("rprpr.model.task", source)) == ["rprpr.model.task -> rprpr.engine.audit"]
+
+
+def test_importing_the_package_root_from_a_stage_fails() -> None:
+    assert upward(_with("rprpr.engine.audit", "from .. import audit\n")) == [
+        "rprpr.engine.audit -> rprpr"
+    ]
+
+
+def test_a_circle_within_a_stage_fails() -> None:
+    g = graph_of(
+        {
+            **SYNTHETIC,
+            "rprpr.report.run": ("def f():\n    from . import exit\n", False),
+            "rprpr.report.exit": ("from .run import Run\n", False),
+        }
+    )
+    assert upward(g) == []
+    assert cycles(g) == [["rprpr.report.exit", "rprpr.report.run"]]
+
+
+# -- start-up: --version and --help load nothing heavy -----------------------------------
+HEAVY = ("numpy", "flint", "yaml", "matplotlib", "rich")
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["check", "--help"]])
+def test_version_and_help_load_no_engine_numpy_flint_or_yaml(argv: list[str]) -> None:
+    probe = (
+        "import sys\n"
+        "from rprpr.cli.main import main\n"
+        "try:\n"
+        f"    main({argv!r})\n"
+        "except SystemExit as e:\n"
+        "    code = e.code\n"
+        f"heavy = sorted(m for m in sys.modules if m.split('.')[0] in {HEAVY!r})\n"
+        "deep = sorted(m for m in sys.modules if m.startswith(('rprpr.engine', 'rprpr.io',"
+        " 'rprpr.render', 'rprpr.report.records', 'rprpr.report.run')))\n"
+        "sys.stderr.write(f'EXIT={code} HEAVY={heavy} DEEP={deep}\\n')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
+    assert done.stderr.strip().splitlines()[-1] == "EXIT=0 HEAVY=[] DEEP=[]", done.stderr
+    assert ("rprpr, version" in done.stdout) == (argv == ["--version"])
