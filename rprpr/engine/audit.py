@@ -12,14 +12,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model.defaults import DEFAULT_SAMPLES
 from ..model.rules import Finding
 from ..model.task import Task
 from .findings import findings
 from .sampling import Samples, grid, sample
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant, analyse
 from .trajectory import Trajectory, trajectory
-
-DEFAULT_SAMPLES = 1001
 
 
 @dataclass(frozen=True)
