@@ -17,7 +17,10 @@ class Spec:
     """One key of the task file.
 
     kind: "mapping", "number", "polynomial", "string", "bool", "enum" or "pair" (a list
-    of two numbers). For numbers, ``minimum`` with ``exclusive`` bounds the value.
+    of two numbers, ``items`` naming each). For numbers and pairs, ``minimum`` with
+    ``exclusive`` bounds the value. ``default`` is the value of an omitted key (a number
+    as its decimal text, so that it is exact); the loader applies it, ``rprpr schema``
+    prints it.
     """
 
     kind: str
@@ -29,6 +32,7 @@ class Spec:
     variable: str = ""  # of a polynomial
     choices: tuple[str, ...] = ()
     children: dict[str, Spec] = field(default_factory=dict)
+    items: tuple[str, ...] = ()  # of a pair: what each number is, for messages
 
 
 def _num(
@@ -54,6 +58,8 @@ def _link(i: int, r_means: str) -> Spec:
         },
     )
 
+
+_POINT = ("x [m]", "y [m]")
 
 TASK = Spec(
     "mapping",
@@ -91,8 +97,8 @@ TASK = Spec(
                     required=True,
                     variable="x",
                 ),
-                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path."),
-                "to": Spec("pair", "End point [x, y] [m]; must lie on the path."),
+                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path.", items=_POINT),
+                "to": Spec("pair", "End point [x, y] [m]; must lie on the path.", items=_POINT),
             },
         ),
         "timing": Spec(
@@ -126,6 +132,7 @@ TASK = Spec(
                     "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
                     minimum=0,
                     exclusive=True,
+                    items=("|T1| limit [N m]", "|T2| limit [N m]"),
                 ),
                 "strict": Spec(
                     "bool", "Also fail on inconsistency and torque limits.", default=False
