@@ -31,7 +31,7 @@ from .schema import TASK, Spec
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
 MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
 MAX_DEPTH = 32  # nesting of mappings and lists
-MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _check_composition
+MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _composition_within_caps
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"

@@ -1,7 +1,9 @@
 """The task-file schema, as data: the one home of what a task file may contain.
 
-The loader validates against it (``loader``) and ``rprpr schema`` prints it as a JSON
-Schema (draft 2020-12) for editors (``json_schema``).
+The loader walks it generically (``loader``: kinds, bounds, choices, required and
+unknown keys, defaults) and ``rprpr schema`` prints it as a JSON Schema (draft 2020-12)
+for editors (``json_schema``). What spans several keys (from/to on the path, law or x,
+the degree of y(x(t))) is the loader's, as small named rules.
 """
 
 from __future__ import annotations
@@ -146,7 +148,7 @@ TASK = Spec(
 def json_schema() -> dict[str, Any]:
     """The task schema as a JSON Schema (draft 2020-12) document.
 
-    Shipped as ``rprpr_cli/task.schema.json`` (a test keeps the two equal). JSON Schema
+    Shipped as ``rprpr/io/task.schema.json`` (a test keeps the two equal). JSON Schema
     cannot say everything the loader checks: the exact polynomial grammar (the pattern
     below only admits the right characters), the degree caps, ``from``/``to`` lying on
     the path and agreeing with an explicit x(t), finite numbers, duplicate keys and
