@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from rprpr.engine.audit import audit
-from rprpr.model.task import Link, Robot, Task
+from rprpr.model.task import Checks, Link, Robot, Task
 
 from .test_engine import at_times, mechanical_energy
 
@@ -37,7 +37,8 @@ def tasks(draw):  # type: ignore[no-untyped-def]
         p = fmpq_poly(draw(st.lists(frac, min_size=1, max_size=4)))
     assume(not p.is_zero())
     links = {i: Link(draw(positive), draw(positive) / 10, draw(positive) / 4) for i in (2, 3, 4, 5)}
-    return Task("random", Robot(a1, links), p, x, draw(positive))
+    no_margins = Checks(fmpq(0), fmpq(0), None, False)
+    return Task("random", Robot(a1, links, fmpq(981, 100)), p, x, draw(positive), no_margins)
 
 
 def _f(q: fmpq) -> float:

@@ -57,7 +57,7 @@ def parse_decimal(text: str) -> fmpq:
             raise ExpressionError("division by zero")
         return parse_decimal(num) / d
     sign = 1
-    if s[:1] in "+-":
+    if s.startswith(("+", "-")):  # not s[:1] in "+-": "" is in every string
         sign = -1 if s[0] == "-" else 1
         s = s[1:].strip()
     m = _NUMBER.fullmatch(s)

@@ -14,6 +14,7 @@ import difflib
 import os
 import re
 import stat
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +31,7 @@ from .schema import TASK, Spec
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
 MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
 MAX_DEPTH = 32  # nesting of mappings and lists
-MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _check_composition
+MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _composition_within_caps
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"
@@ -52,6 +53,8 @@ _RESOLVER = yaml.resolver.Resolver()
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
+_LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
+_SCALAR_TEXT = {_TAG + t for t in ("str", "int", "float")}  # what reads as text
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
@@ -124,6 +127,21 @@ def _decode(data: bytes | str) -> str:
             ) from None
     if len(data) > MAX_BYTES:
         raise TaskFileError(_too_large(len(data)))
+    text = _utf8(data).removeprefix("\ufeff")
+    bad = _NON_PRINTABLE.search(text)
+    if bad:
+        line, column = _line_col(text, bad.start())
+        raise TaskFileError(
+            f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
+            " (a binary file?)",
+            line=line,
+            column=column,
+        )
+    return text
+
+
+def _utf8(data: bytes) -> str:
+    """``data`` decoded as UTF-8; UTF-16 and binary files are named as such."""
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise TaskFileError("UTF-16 text, expected UTF-8: save the file as UTF-8")
     nul = data.find(b"\x00")
@@ -142,16 +160,6 @@ def _decode(data: bytes | str) -> str:
             line=line,
             column=column,
         ) from None
-    text = text.removeprefix("\ufeff")
-    bad = _NON_PRINTABLE.search(text)
-    if bad:
-        line, column = _line_col(text, bad.start())
-        raise TaskFileError(
-            f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
-            " (a binary file?)",
-            line=line,
-            column=column,
-        )
     return text
 
 
@@ -162,42 +170,52 @@ def _compose(text: str) -> yaml.Node | None:
     process, so the depth is checked on the event stream before composing.
     """
     try:
-        depth = nodes = 0
-        for ev in yaml.parse(text, Loader=_Loader):
-            if isinstance(ev, yaml.NodeEvent):
-                nodes += 1
-                if nodes > MAX_NODES:
-                    raise TaskFileError(
-                        f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
-                        line=ev.start_mark.line + 1,
-                        column=ev.start_mark.column + 1,
-                    )
-            if isinstance(ev, yaml.CollectionStartEvent):
-                depth += 1
-                if depth > MAX_DEPTH:
-                    raise TaskFileError(
-                        f"nested deeper than {MAX_DEPTH} levels",
-                        line=ev.start_mark.line + 1,
-                        column=ev.start_mark.column + 1,
-                    )
-            elif isinstance(ev, yaml.CollectionEndEvent):
-                depth -= 1
+        _bound_events(text)
         return yaml.compose(text, Loader=_Loader)
     except yaml.MarkedYAMLError as e:
-        mark = e.problem_mark or e.context_mark
-        problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
-        alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
-        if "undefined alias" in problem and alias:
-            problem += f" *{alias.group(1)} (no anchor &{alias.group(1)} before it)"
-        if mark and text[mark.index : mark.index + 1] == "\t":
-            problem += " (a tab: YAML indents with spaces only)"
-        raise TaskFileError(
-            f"YAML syntax error: {problem}",
-            line=mark.line + 1 if mark else 0,
-            column=mark.column + 1 if mark else 0,
-        ) from None
+        raise _syntax_error(e, text) from None
     except yaml.YAMLError as e:
         raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
+
+
+def _bound_events(text: str) -> None:
+    """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep."""
+    depth = nodes = 0
+    for ev in yaml.parse(text, Loader=_Loader):
+        if isinstance(ev, yaml.NodeEvent):
+            nodes += 1
+            if nodes > MAX_NODES:
+                raise TaskFileError(
+                    f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
+                    line=ev.start_mark.line + 1,
+                    column=ev.start_mark.column + 1,
+                )
+        if isinstance(ev, yaml.CollectionStartEvent):
+            depth += 1
+            if depth > MAX_DEPTH:
+                raise TaskFileError(
+                    f"nested deeper than {MAX_DEPTH} levels",
+                    line=ev.start_mark.line + 1,
+                    column=ev.start_mark.column + 1,
+                )
+        elif isinstance(ev, yaml.CollectionEndEvent):
+            depth -= 1
+
+
+def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
+    """YAML's own complaint, at YAML's line and column, with a hint where one helps."""
+    mark = e.problem_mark or e.context_mark
+    problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
+    alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
+    if "undefined alias" in problem and alias:
+        problem += f" *{alias.group(1)} (no anchor &{alias.group(1)} before it)"
+    if mark and text[mark.index : mark.index + 1] == "\t":
+        problem += " (a tab: YAML indents with spaces only)"
+    return TaskFileError(
+        f"YAML syntax error: {problem}",
+        line=mark.line + 1 if mark else 0,
+        column=mark.column + 1 if mark else 0,
+    )
 
 
 def _parse(data: bytes | str, file: str) -> Task:
@@ -207,58 +225,195 @@ def _parse(data: bytes | str, file: str) -> Task:
     root = _compose(text)
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    return _Builder(file).task(root, Path(file).stem)
+    walk = _Walk()
+    walk.read(root, TASK, "", 0)
+    return _task(walk, Path(file).stem, file)
 
 
-def _resolve(text: str) -> str:
-    """The tag YAML 1.1 (PyYAML) gives the plain scalar ``text``."""
-    return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
+# -- the Task, from the values read ------------------------------------------------------
 
 
-def _where(node: yaml.Node) -> tuple[int, int]:
-    """1-based (line, column) where ``node`` starts."""
-    return node.start_mark.line + 1, node.start_mark.column + 1
+def _task(w: _Walk, stem: str, file: str) -> Task:
+    """The ``Task`` of a walk over the whole file (defaults applied); ``stem`` names it
+    when the file does not."""
+    v = w.values
+    law, x_of_t = _motion(v)
+    return Task(
+        name=v.get("name", stem),
+        robot=_robot(v),
+        path=v["path.y"],
+        x_of_t=x_of_t,
+        duration=v["timing.duration"],
+        checks=Checks(
+            min_slope=v["checks.min_slope"],
+            min_speed=v["checks.min_speed"],
+            torque_limit=v.get("checks.torque_limit"),
+            strict=v["checks.strict"],
+        ),
+        law=law,
+        lines=dict(w.lines),
+        source=file,
+    )
 
 
-def _short(text: str, n: int = 40) -> str:
-    return text if len(text) <= n else text[: n - 3] + "..."
+def _robot(v: dict[str, Any]) -> Robot:
+    links = {int(i): _link(v, f"robot.links.{i}") for i in _LINKS.children}
+    return Robot(a1=v["robot.a1"], links=links, gravity=v["robot.gravity"])
 
 
-def _kind_of(node: yaml.Node) -> str:
-    """What a node is, for "found ..." in messages."""
-    if isinstance(node, yaml.MappingNode):
-        return "a mapping"
-    if isinstance(node, yaml.SequenceNode):
-        return f"a list of {len(node.value)}"
-    tag = node.tag.removeprefix(_TAG)
-    value = _short(str(node.value))
-    if tag == "null":
-        return "null"
-    if tag == "bool":
-        return f"a boolean ({value})"
-    if tag in ("int", "float"):
-        return f"the number {value}"
-    if tag == "str":
-        return f"the text {value!r}"
-    return f"{value!r} (tagged {node.tag.replace(_TAG, '!!')})"
+def _link(v: dict[str, Any], key: str) -> Link:
+    return Link(mass=v[f"{key}.mass"], inertia=v[f"{key}.inertia"], r=v[f"{key}.r"])
 
 
-class _Builder:
-    """Walks the node tree along the schema (``schema.TASK``), building a ``Task``.
+def _motion(v: dict[str, Any]) -> tuple[str, fmpq_poly]:
+    """(law, x_E(t)): a rest-to-rest law from path.from to path.to, or "explicit" timing.x."""
+    if "timing.law" in v:
+        law: str = v["timing.law"]
+        return law, timing_law(law, v["path.from"][0], v["path.to"][0], v["timing.duration"])
+    return "explicit", v["timing.x"]
 
-    Only the nodes the schema knows are visited, each counted against ``MAX_NODES``
-    (an alias counts every time it is followed), so aliasing cannot blow up the work.
+
+# -- cross-field rules: what no single key's Spec can say --------------------------------
+# Each runs as soon as the key it is filed under in _RULES has been read (a mapping: with
+# all its keys), so the error reported is the first problem in reading order.
+
+
+def _on_path(w: _Walk, key: str) -> None:
+    """path.from or path.to lies on y = p(x)."""
+    p = w.values["path.y"]
+    x0, y0 = w.values[key]
+    if p(x0) != y0:
+        raise w.error(
+            f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
+            f" found y = {_q(y0)}",
+            w.nodes[key],
+            key,
+        )
+
+
+def _law_or_x(w: _Walk, key: str) -> None:
+    """timing gives exactly one of law and x (checked once its duration is read)."""
+    law, x = "timing.law" in w.nodes, "timing.x" in w.nodes
+    if law and x:
+        raise w.error(
+            "give either law or x, not both (law moves x between path.from and path.to;"
+            " x gives x(t) explicitly)",
+            w.nodes["timing"],
+            "timing",
+        )
+    if not law and not x:
+        raise w.error(
+            "missing timing law: give law (quintic or cubic) or x (a polynomial in t)",
+            w.nodes["timing"],
+            "timing",
+        )
+
+
+def _law_has_ends(w: _Walk, key: str) -> None:
+    """A rest-to-rest law moves between path.from and path.to: both must be given."""
+    missing = [end for end in ("from", "to") if f"path.{end}" not in w.values]
+    if missing:
+        raise w.error(
+            f"law {w.values[key]} needs path.{' and path.'.join(missing)} (the points it"
+            " moves between)",
+            w.nodes[key],
+            key,
+        )
+
+
+def _x_meets_ends(w: _Walk, key: str) -> None:
+    """An explicit x(t) starts at path.from's x and ends at path.to's, where given."""
+    x, t_f = w.values[key], w.values["timing.duration"]
+    for end, at, when in (("path.from", fmpq(0), "0"), ("path.to", t_f, f"t_f = {_q(t_f)}")):
+        if end in w.values and x(at) != w.values[end][0]:
+            raise w.error(
+                f"{end} has x = {_q(w.values[end][0])} but timing.x gives"
+                f" x({when}) = {_q(x(at))}: they must agree",
+                w.nodes[end],
+                end,
+            )
+
+
+def _composition_within_caps(w: _Walk, key: str) -> None:
+    """Cap the degree of y(x(t)) and bound the size of its coefficients.
+
+    With p = P/dp and x = X/dx (integer polynomials over their common denominators),
+    p(x) = sum P_k X^k dx^(d-k) / (dp dx^d), so every integer in it has at most
+    h(p) + d (h(x) + log2 len(X)) + log2 (d + 1) bits, h = ``expression.height``.
+    """
+    p, x = w.values["path.y"], _motion(w.values)[1]
+    dp, dx = max(p.degree(), 0), max(x.degree(), 0)
+    if dp * dx > MAX_DEGREE:
+        raise w.error(
+            f"the composition y(x(t)) has degree {dp * dx} (path degree {dp} × timing degree"
+            f" {dx}), beyond the cap of {MAX_DEGREE}",
+            w.nodes["path.y"],
+            "path.y",
+        )
+    bits = height(p) + dp * (height(x) + len(x.coeffs()).bit_length()) + (dp + 1).bit_length()
+    if bits > MAX_COMPOSED_BITS:
+        raise w.error(
+            f"numbers too large: the coefficients of y(x(t)) may reach {bits} bits, beyond the"
+            f" cap of {MAX_COMPOSED_BITS}",
+            w.nodes["path.y"],
+            "path.y",
+        )
+
+
+_Rule = Callable[["_Walk", str], None]
+_RULES: dict[str, _Rule] = {
+    "path.from": _on_path,
+    "path.to": _on_path,
+    "timing.duration": _law_or_x,  # before law or x is read
+    "timing.law": _law_has_ends,
+    "timing.x": _x_meets_ends,
+    "timing": _composition_within_caps,  # needs path.y and the whole timing
+}
+
+
+# -- the generic walk along the schema ---------------------------------------------------
+
+
+class _Walk:
+    """Reads a YAML node tree along a ``Spec`` tree (``schema.TASK``), generically.
+
+    Every check one key's Spec states is made here from the Spec alone: kind, bound,
+    choices, required and unknown keys, list length; an omitted key takes its
+    ``Spec.default``. ``values`` maps each dotted key read or defaulted to its exact
+    value, ``nodes`` each key given in the file to its value node, ``lines`` to the line
+    of the key. Only the nodes the schema knows are visited, each counted against
+    ``MAX_NODES`` (an alias counts every time it is followed), so aliasing cannot blow up
+    the work.
     """
 
-    def __init__(self, file: str) -> None:
-        self.file = file
+    def __init__(self) -> None:
         self.visited = 0
+        self.values: dict[str, Any] = {}
+        self.nodes: dict[str, yaml.Node] = {}
         self.lines: dict[str, int] = {}
 
-    # -- generic validation against the schema -----------------------------------
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
         line, column = _where(node) if node is not None else (0, 0)
         return TaskFileError(message, key=key, line=line, column=column)
+
+    def read(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
+        """Check ``node`` against ``spec``, record its value under ``key``, then run the
+        cross-field rule filed under ``key``, if any."""
+        self.visit(node, key, depth)
+        if spec.kind == "mapping":
+            self.mapping(node, spec, key, depth)
+        else:
+            self.values[key] = _READERS[spec.kind](self, node, spec, key, depth)
+        rule = _RULES.get(key)
+        if rule is not None:
+            rule(self, key)
+
+    def omitted(self, spec: Spec, key: str) -> None:
+        """A key not given: its default, and those of its keys if it is a mapping."""
+        if spec.default is not None:
+            self.values[key] = _default(spec)
+        for k, child in spec.children.items():
+            self.omitted(child, f"{key}.{k}")
 
     def visit(self, node: yaml.Node, key: str, depth: int) -> None:
         self.visited += 1
@@ -298,25 +453,29 @@ class _Builder:
                 key,
             )
 
-    def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> dict[str, yaml.Node]:
-        self.visit(node, key, depth)
+    def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
+        """Read the keys ``spec`` knows, in the schema's order; default the rest."""
         if not isinstance(node, yaml.MappingNode):
             keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(
                 spec.children
             )
             what = f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
             raise self.error(f"expected {what}, found {_kind_of(node)}", node, key)
+        given = self.keys(node, spec, key, depth)
+        for k, child in spec.children.items():
+            full = f"{key}.{k}" if key else k
+            if k in given:
+                self.read(given[k], child, full, depth + 1)
+            else:
+                self.omitted(child, full)
+
+    def keys(
+        self, node: yaml.MappingNode, spec: Spec, key: str, depth: int
+    ) -> dict[str, yaml.Node]:
+        """The mapping's value nodes by key: plain, known, unique keys; the required all given."""
         out: dict[str, yaml.Node] = {}
         for knode, vnode in node.value:
-            self.visit(knode, key, depth + 1)
-            if not isinstance(knode, yaml.ScalarNode) or knode.tag in (
-                _TAG + "null",
-                _TAG + "bool",
-            ):
-                raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
-            k = str(knode.value)
-            shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
-            full = f"{key}.{shown}" if key else shown
+            k, full = self.known_key(knode, spec, key, depth)
             if k in out:
                 first = self.lines.get(full, 0)
                 raise self.error(
@@ -325,16 +484,7 @@ class _Builder:
                     knode,
                     full,
                 )
-            if k not in spec.children:
-                allowed = list(spec.children)
-                near = difflib.get_close_matches(k, allowed, n=1, cutoff=0.6)
-                hint = (
-                    f"; did you mean {near[0]!r}?"
-                    if near
-                    else f"; expected one of: {', '.join(allowed)}"
-                )
-                raise self.error(f"unknown key {_short(k)!r}{hint}", knode, full)
-            out[k] = vnode
+            out[k] = self.nodes[full] = vnode
             self.lines[full] = knode.start_mark.line + 1
         for k, child in spec.children.items():
             if child.required and k not in out:
@@ -347,8 +497,27 @@ class _Builder:
                 )
         return out
 
+    def known_key(self, knode: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[str, str]:
+        """A key of the mapping at ``key``, and its dotted path; unknown keys are errors."""
+        self.visit(knode, key, depth + 1)
+        if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
+            raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
+        k = str(knode.value)
+        shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
+        full = f"{key}.{shown}" if key else shown
+        if k not in spec.children:
+            allowed = list(spec.children)
+            near = difflib.get_close_matches(k, allowed, n=1, cutoff=0.6)
+            hint = (
+                f"; did you mean {near[0]!r}?"
+                if near
+                else f"; expected one of: {', '.join(allowed)}"
+            )
+            raise self.error(f"unknown key {_short(k)!r}{hint}", knode, full)
+        return k, full
+
+    # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
-        self.visit(node, key, depth)
         expected = f"a number ({spec.description.rstrip('.')})"
         if not isinstance(node, yaml.ScalarNode):
             raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
@@ -376,11 +545,10 @@ class _Builder:
         value = self._number_value(node, text.replace("_", ""), tag, key)
         if spec.minimum is not None:
             lo = parse_decimal(repr(spec.minimum))
-            op = ">" if spec.exclusive else ">="
             if not (value > lo if spec.exclusive else value >= lo):
                 raise self.error(
-                    f"expected a number {op} {spec.minimum:g} ({spec.description}),"
-                    f" found {_short(text)}",
+                    f"expected a number {'>' if spec.exclusive else '>='} {_q(lo)}"
+                    f" ({spec.description}), found {_short(text)}",
                     node,
                     key,
                 )
@@ -408,35 +576,27 @@ class _Builder:
             raise self.error(e.message, node, key) from None
         raise self.error(f"expected a decimal number, found {_short(text)!r}", node, key)
 
-    def pair(
-        self, node: yaml.Node, spec: Spec, key: str, depth: int, items: tuple[str, str]
-    ) -> tuple[fmpq, fmpq]:
-        """A list of two numbers; ``items`` describes each, for messages."""
-        self.visit(node, key, depth)
+    def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
+        """Two numbers, ``spec.items`` saying what each is, both bounded as ``spec`` says."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
             raise self.error(
-                f"expected a list of two numbers [{', '.join(items)}], found {_kind_of(node)}",
+                f"expected a list of two numbers [{', '.join(spec.items)}], found {_kind_of(node)}",
                 node,
                 key,
             )
         a, b = (
-            self.number(
-                v,
-                Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive),
-                f"{key}[{i}]",
-                depth + 1,
-            )
-            for i, (v, what) in enumerate(zip(node.value, items, strict=True))
+            self.item(v, spec, what, f"{key}[{i}]", depth + 1)
+            for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
         )
         return a, b
 
-    def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
+    def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in (
-            _TAG + "str",
-            _TAG + "int",
-            _TAG + "float",
-        ):
+        bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
+        return self.number(node, bound, key, depth)
+
+    def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
             raise self.error(
                 f"expected a polynomial in {spec.variable}"
                 f" (text such as '2*{spec.variable}^2 - 1'),"
@@ -464,25 +624,18 @@ class _Builder:
             ) from None
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
-        self.visit(node, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in (
-            _TAG + "str",
-            _TAG + "int",
-            _TAG + "float",
-        ):
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
             raise self.error(
                 f"expected text (a name for reports), found {_kind_of(node)}", node, key
             )
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
-        self.visit(node, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag != _TAG + "bool":
             raise self.error(f"expected true or false, found {_kind_of(node)}", node, key)
         return str(node.value).lower() in ("true", "yes", "on", "y")
 
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
-        self.visit(node, key, depth)
         v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
         if v not in spec.choices or node.tag != _TAG + "str":
             near = difflib.get_close_matches(v.lower(), spec.choices, n=1, cutoff=0.6)
@@ -494,145 +647,55 @@ class _Builder:
             )
         return v
 
-    # -- the task ------------------------------------------------------------------
-    def task(self, root: yaml.Node, stem: str) -> Task:
-        top = self.mapping(root, TASK, "", 0)
-        S = TASK.children
-        name = self.text(top["name"], S["name"], "name", 1) if "name" in top else stem
 
-        rs = S["robot"]
-        rob = self.mapping(top["robot"], rs, "robot", 1)
-        a1 = self.number(rob["a1"], rs.children["a1"], "robot.a1", 2)
-        g = fmpq(981, 100)
-        if "gravity" in rob:
-            g = self.number(rob["gravity"], rs.children["gravity"], "robot.gravity", 2)
-        ls = rs.children["links"]
-        lnodes = self.mapping(rob["links"], ls, "robot.links", 2)
-        links = {}
-        for i in (2, 3, 4, 5):
-            lk = f"robot.links.{i}"
-            spec = ls.children[str(i)]
-            ln = self.mapping(lnodes[str(i)], spec, lk, 3)
-            links[i] = Link(
-                *(
-                    self.number(ln[f], spec.children[f], f"{lk}.{f}", 4)
-                    for f in ("mass", "inertia", "r")
-                )
-            )
-        robot = Robot(a1=a1, links=links, gravity=g)
+_READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
+    "number": _Walk.number,
+    "pair": _Walk.pair,
+    "polynomial": _Walk.polynomial,
+    "string": _Walk.text,
+    "bool": _Walk.boolean,
+    "enum": _Walk.enum,
+}
 
-        ps = S["path"]
-        pth = self.mapping(top["path"], ps, "path", 1)
-        p = self.polynomial(pth["y"], ps.children["y"], "path.y", 2)
-        ends = {}
-        for end in ("from", "to"):
-            if end in pth:
-                ends[end] = self.pair(
-                    pth[end], ps.children[end], f"path.{end}", 2, ("x [m]", "y [m]")
-                )
-                x0, y0 = ends[end]
-                if p(x0) != y0:
-                    raise self.error(
-                        f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
-                        f" found y = {_q(y0)}",
-                        pth[end],
-                        f"path.{end}",
-                    )
 
-        ts = S["timing"]
-        tim = self.mapping(top["timing"], ts, "timing", 1)
-        duration = self.number(tim["duration"], ts.children["duration"], "timing.duration", 2)
-        if "law" in tim and "x" in tim:
-            raise self.error(
-                "give either law or x, not both (law moves x between path.from and path.to;"
-                " x gives x(t) explicitly)",
-                top["timing"],
-                "timing",
-            )
-        if "law" in tim:
-            law = self.enum(tim["law"], ts.children["law"], "timing.law", 2)
-            missing = [e for e in ("from", "to") if e not in ends]
-            if missing:
-                raise self.error(
-                    f"law {law} needs path.{' and path.'.join(missing)} (the points it moves"
-                    " between)",
-                    tim["law"],
-                    "timing.law",
-                )
-            x_of_t = timing_law(law, ends["from"][0], ends["to"][0], duration)
-        elif "x" in tim:
-            law = "explicit"
-            x_of_t = self.polynomial(tim["x"], ts.children["x"], "timing.x", 2)
-            for end, at, when in (
-                ("from", fmpq(0), "0"),
-                ("to", duration, f"t_f = {_q(duration)}"),
-            ):
-                if end in ends and x_of_t(at) != ends[end][0]:
-                    raise self.error(
-                        f"path.{end} has x = {_q(ends[end][0])} but timing.x gives"
-                        f" x({when}) = {_q(x_of_t(at))}: they must agree",
-                        pth[end],
-                        f"path.{end}",
-                    )
-        else:
-            raise self.error(
-                "missing timing law: give law (quintic or cubic) or x (a polynomial in t)",
-                top["timing"],
-                "timing",
-            )
-        self._check_composition(p, x_of_t, pth["y"])
+def _default(spec: Spec) -> Any:
+    """The value of an omitted key: ``spec.default``, a number exactly (from its text)."""
+    if spec.kind == "number":
+        return parse_decimal(str(spec.default))
+    return spec.default
 
-        checks = Checks()
-        if "checks" in top:
-            cs = S["checks"]
-            ch = self.mapping(top["checks"], cs, "checks", 1)
-            kw: dict[str, Any] = {}
-            for k in ("min_slope", "min_speed"):
-                if k in ch:
-                    kw[k] = self.number(ch[k], cs.children[k], f"checks.{k}", 2)
-            if "torque_limit" in ch:
-                kw["torque_limit"] = self.pair(
-                    ch["torque_limit"],
-                    cs.children["torque_limit"],
-                    "checks.torque_limit",
-                    2,
-                    ("|T1| limit [N m]", "|T2| limit [N m]"),
-                )
-            if "strict" in ch:
-                kw["strict"] = self.boolean(ch["strict"], cs.children["strict"], "checks.strict", 2)
-            checks = Checks(**kw)
-        return Task(
-            name=name,
-            robot=robot,
-            path=p,
-            x_of_t=x_of_t,
-            duration=duration,
-            law=law,
-            checks=checks,
-            lines=dict(self.lines),
-            source=self.file,
-        )
 
-    def _check_composition(self, p: fmpq_poly, x: fmpq_poly, node: yaml.Node) -> None:
-        """Cap the degree of y(x(t)) and bound the size of its coefficients.
+# -- nodes, for messages -----------------------------------------------------------------
 
-        With p = P/dp and x = X/dx (integer polynomials over their common denominators),
-        p(x) = sum P_k X^k dx^(d-k) / (dp dx^d), so every integer in it has at most
-        h(p) + d (h(x) + log2 len(X)) + log2 (d + 1) bits, h = ``polynomial.height``.
-        """
-        dp, dx = max(p.degree(), 0), max(x.degree(), 0)
-        if dp * dx > MAX_DEGREE:
-            raise self.error(
-                f"the composition y(x(t)) has degree {dp * dx} (path degree {dp} × timing degree"
-                f" {dx}), beyond the cap of {MAX_DEGREE}",
-                node,
-                "path.y",
-            )
-        bits = height(p) + dp * (height(x) + len(x.coeffs()).bit_length()) + (dp + 1).bit_length()
-        if bits > MAX_COMPOSED_BITS:
-            raise self.error(
-                f"numbers too large: the coefficients of y(x(t)) may reach {bits} bits, beyond the"
-                f" cap of {MAX_COMPOSED_BITS}",
-                node,
-                "path.y",
-            )
+
+def _resolve(text: str) -> str:
+    """The tag YAML 1.1 (PyYAML) gives the plain scalar ``text``."""
+    return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
+
+
+def _where(node: yaml.Node) -> tuple[int, int]:
+    """1-based (line, column) where ``node`` starts."""
+    return node.start_mark.line + 1, node.start_mark.column + 1
+
+
+def _short(text: str, n: int = 40) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
+def _kind_of(node: yaml.Node) -> str:
+    """What a node is, for "found ..." in messages."""
+    if isinstance(node, yaml.MappingNode):
+        return "a mapping"
+    if isinstance(node, yaml.SequenceNode):
+        return f"a list of {len(node.value)}"
+    tag = node.tag.removeprefix(_TAG)
+    value = _short(str(node.value))
+    if tag == "null":
+        return "null"
+    if tag == "bool":
+        return f"a boolean ({value})"
+    if tag in ("int", "float"):
+        return f"the number {value}"
+    if tag == "str":
+        return f"the text {value!r}"
+    return f"{value!r} (tagged {node.tag.replace(_TAG, '!!')})"

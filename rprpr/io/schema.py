@@ -1,7 +1,9 @@
 """The task-file schema, as data: the one home of what a task file may contain.
 
-The loader validates against it (``loader``) and ``rprpr schema`` prints it as a JSON
-Schema (draft 2020-12) for editors (``json_schema``).
+The loader walks it generically (``loader``: kinds, bounds, choices, required and
+unknown keys, defaults) and ``rprpr schema`` prints it as a JSON Schema (draft 2020-12)
+for editors (``json_schema``). What spans several keys (from/to on the path, law or x,
+the degree of y(x(t))) is the loader's, as small named rules.
 """
 
 from __future__ import annotations
@@ -17,7 +19,10 @@ class Spec:
     """One key of the task file.
 
     kind: "mapping", "number", "polynomial", "string", "bool", "enum" or "pair" (a list
-    of two numbers). For numbers, ``minimum`` with ``exclusive`` bounds the value.
+    of two numbers, ``items`` naming each). For numbers and pairs, ``minimum`` with
+    ``exclusive`` bounds the value. ``default`` is the value of an omitted key (a number
+    as its decimal text, so that it is exact); the loader applies it, ``rprpr schema``
+    prints it.
     """
 
     kind: str
@@ -29,6 +34,7 @@ class Spec:
     variable: str = ""  # of a polynomial
     choices: tuple[str, ...] = ()
     children: dict[str, Spec] = field(default_factory=dict)
+    items: tuple[str, ...] = ()  # of a pair: what each number is, for messages
 
 
 def _num(
@@ -54,6 +60,8 @@ def _link(i: int, r_means: str) -> Spec:
         },
     )
 
+
+_POINT = ("x [m]", "y [m]")
 
 TASK = Spec(
     "mapping",
@@ -91,8 +99,8 @@ TASK = Spec(
                     required=True,
                     variable="x",
                 ),
-                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path."),
-                "to": Spec("pair", "End point [x, y] [m]; must lie on the path."),
+                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path.", items=_POINT),
+                "to": Spec("pair", "End point [x, y] [m]; must lie on the path.", items=_POINT),
             },
         ),
         "timing": Spec(
@@ -126,6 +134,7 @@ TASK = Spec(
                     "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
                     minimum=0,
                     exclusive=True,
+                    items=("|T1| limit [N m]", "|T2| limit [N m]"),
                 ),
                 "strict": Spec(
                     "bool", "Also fail on inconsistency and torque limits.", default=False
@@ -139,7 +148,7 @@ TASK = Spec(
 def json_schema() -> dict[str, Any]:
     """The task schema as a JSON Schema (draft 2020-12) document.
 
-    Shipped as ``rprpr_cli/task.schema.json`` (a test keeps the two equal). JSON Schema
+    Shipped as ``rprpr/io/task.schema.json`` (a test keeps the two equal). JSON Schema
     cannot say everything the loader checks: the exact polynomial grammar (the pattern
     below only admits the right characters), the degree caps, ``from``/``to`` lying on
     the path and agreeing with an explicit x(t), finite numbers, duplicate keys and

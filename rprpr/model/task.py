@@ -4,6 +4,9 @@ A ``Task`` is what the loader hands to the core; it is already validated (positi
 a1, non-negative masses, a path that meets ``from``/``to``, ...), so the core never
 sees a bad task. Numbers are ``flint.fmpq`` (exact rationals), polynomials
 ``flint.fmpq_poly``. Lengths in m, masses in kg, inertias in kg m^2, times in s.
+
+No field holds a default value of the task file (gravity 9.81, zero margins, ...): their
+one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ class Robot:
 
     a1: fmpq
     links: dict[int, Link]
-    gravity: fmpq = field(default_factory=lambda: fmpq(981, 100))
+    gravity: fmpq
 
 
 @dataclass(frozen=True)
@@ -38,10 +41,10 @@ class Checks:
     instant; torque_limit = (|T1| max, |T2| max) in N m or None; strict gates also on
     consistency and the torque limit."""
 
-    min_slope: fmpq = field(default_factory=lambda: fmpq(0))
-    min_speed: fmpq = field(default_factory=lambda: fmpq(0))
-    torque_limit: tuple[fmpq, fmpq] | None = None
-    strict: bool = False
+    min_slope: fmpq
+    min_speed: fmpq
+    torque_limit: tuple[fmpq, fmpq] | None
+    strict: bool
 
 
 @dataclass(frozen=True)
@@ -58,7 +61,7 @@ class Task:
     path: fmpq_poly
     x_of_t: fmpq_poly
     duration: fmpq
+    checks: Checks
     law: str = "explicit"
-    checks: Checks = field(default_factory=Checks)
     lines: dict[str, int] = field(default_factory=dict)
     source: str = ""
