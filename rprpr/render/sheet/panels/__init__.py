@@ -15,6 +15,8 @@ from . import delta, joints, path, torques, x
 
 @dataclass(frozen=True)
 class Panel:
+    """A panel's two functions: draw it on a subfigure, and its height [in]."""
+
     draw: Callable[[SubFigure, Sequence[Motion]], list[Axes]]
     height: Callable[[Sequence[Motion]], float]
 
