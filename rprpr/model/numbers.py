@@ -41,12 +41,13 @@ def number(v: float, digits: int = DIGITS) -> str:
     return f"{v:.{digits}g}"
 
 
-def distinct(values: Sequence[float]) -> list[str]:
-    """The values with 6 significant digits, or more where two different values would
-    otherwise read alike (all widened together, so that a column stays uniform)."""
-    texts = [number(v) for v in values]
-    for digits in _WIDER:
-        texts = [number(v, digits) for v in values]
+def distinct(values: Sequence[float], digits: int = DIGITS) -> list[str]:
+    """The values with ``digits`` significant digits, or more (10, then 17) where two
+    different values would otherwise read alike (all widened together, so that a column
+    stays uniform)."""
+    texts = [number(v, digits) for v in values]
+    for wider in (digits, *(d for d in _WIDER if d > digits)):
+        texts = [number(v, wider) for v in values]
         if len(set(texts)) == len(set(values)):
             break
     return texts

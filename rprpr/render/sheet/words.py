@@ -19,9 +19,7 @@ LABEL_DIGITS = 4  # significant digits of a number written on the sheet
 def instant_times(result: AuditResult) -> list[str]:
     """The times t_s [s] of ``result``'s singular instants as label text: 4 significant
     digits, or as many as ``distinct`` needs where two instants would read alike."""
-    ts = [s.t for s in result.singularities]
-    short = [number(t, LABEL_DIGITS) for t in ts]
-    return short if len(set(short)) == len(set(ts)) else distinct(ts)
+    return distinct([s.t for s in result.singularities], LABEL_DIGITS)
 
 
 def order_text(s: SingularInstant) -> str:
