@@ -260,7 +260,7 @@ def test_an_ignored_sigint_stays_ignored(tmp_path: Path) -> None:
         [sys.executable, "-c", DRIVER, "slow", "check", str(CONFIGS / "paper_path2.yaml")],
         stderr=subprocess.PIPE,
         stdout=subprocess.DEVNULL,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),  # noqa: PLW1509
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
         start_new_session=True,
     )
     assert r.stderr is not None

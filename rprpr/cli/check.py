@@ -23,6 +23,7 @@ from .options import (
     tasks_argument,
 )
 from .output import (
+    Lossy,
     color_enabled,
     is_tty,
     make_console,
@@ -104,7 +105,9 @@ def check(
     refuse_overwriting_inputs([options.output_file], files)
     with report_stream(options.output_file, "the report") as out:
         show = want_progress(len(files), sys.stderr, quiet)
-        progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
+        progress = (
+            make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr)) if show else None
+        )
         run = run_checks(files, options, progress)
         status = run_status(run, exit_zero=options.exit_zero)
         with writing("the report", options.output_file, status):
@@ -220,7 +223,7 @@ def _write_text(run: Run, options: CheckOptions, out: TextIO) -> None:
     color = options.color
     # colour in a file only when asked for (--color always), never from the environment
     colored = color == "always" if options.output_file else color_enabled(color, out)
-    err = make_console(sys.stderr, color_enabled(color, sys.stderr))
+    err = make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr))
     # bad task files: on stderr, and in the report too when it goes to a file
     render(
         run,
@@ -240,7 +243,7 @@ def _log(run: Run, options: CheckOptions) -> None:
             say(e["text"])
     if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
         for e in run.internal_errors:
-            click.echo(e["traceback"], err=True)  # rprpr's own text: kept as it is
+            say(e["traceback"], keep="\n")
     if options.output_file and not options.quiet:  # the log still says what the file holds
         s = run.summary()
         say(

@@ -78,11 +78,11 @@ def _say(error: BaseException) -> None:
     from .output import say
 
     if isinstance(error, _NO_ARGS_IS_HELP):  # a bare ``rprpr``: the help itself
-        say(error.format_message())
+        say(error.format_message(), keep="\n")
     elif isinstance(error, click.UsageError):
-        say(f"rprpr: usage error: {_one_line(error.format_message())}")
+        say(f"rprpr: usage error: {error.format_message()}")
     elif isinstance(error, click.ClickException):  # a bad input, or a bug in a named task
-        say(f"rprpr: {_one_line(error.format_message())}")
+        say(f"rprpr: {error.format_message()}")
     elif isinstance(error, click.exceptions.Abort):
         interrupted = isinstance(error.__context__, KeyboardInterrupt)
         say("rprpr: interrupted" if interrupted else "rprpr: aborted")
@@ -102,14 +102,6 @@ def _say(error: BaseException) -> None:
         silence_stdout()
         say(f"rprpr: cannot write the output: {error.strerror or error}")
     elif isinstance(error, Exception) and not isinstance(error, click.exceptions.Exit):
-        say(f"rprpr: internal error ({type(error).__name__}: {_one_line(str(error))});"
-            " please report it")  # fmt: skip
+        say(f"rprpr: internal error ({type(error).__name__}: {error}); please report it")
         if os.environ.get("RPRPR_DEBUG"):
             traceback.print_exception(error)
-
-
-def _one_line(text: str) -> str:
-    """A message on one line: a newline in it (from a file name, say) escaped."""
-    from ..render.escape import printable
-
-    return printable(text)

@@ -57,14 +57,44 @@ def writing(what: str, output_file: str | None, reached: ExitCode) -> Iterator[N
         ) from None
 
 
-def say(text: str) -> None:
-    """One line (or a few) for people on standard error, control characters escaped
-    (``render.escape.printable``); a standard error that cannot be written (closed, a
+def say(text: str, keep: str = "") -> None:
+    """A line for people on standard error, its control characters escaped (a newline
+    too, but those in ``keep``: the help's own); written through the stream's ASCII
+    fallbacks (``standard_streams``). A standard error that cannot be written (closed, a
     full disk) loses the line but changes nothing else."""
     from ..render.escape import printable
 
-    with contextlib.suppress(OSError, ValueError):  # ValueError: standard error closed
-        click.echo(printable(text, keep="\n"), err=True)
+    with contextlib.suppress(OSError, ValueError, AttributeError):  # None: closed at start
+        sys.stderr.write(printable(text, keep) + "\n")
+        sys.stderr.flush()
+
+
+class Lossy(io.TextIOBase):
+    """A stream for what may be lost (messages and a progress bar on standard error):
+    a write that fails (a full disk, a closed stream) is dropped, never fatal, so that
+    a lost standard error never costs the report."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return str(getattr(self.stream, "encoding", None) or "utf-8")
+
+    def write(self, s: str) -> int:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self.stream.write(s)
+        return len(s)
+
+    def flush(self) -> None:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self.stream.flush()
+
+    def isatty(self) -> bool:
+        return is_tty(self.stream)
+
+    def fileno(self) -> int:
+        return int(self.stream.fileno())
 
 
 def identity(path: str) -> tuple[int, int] | None:

@@ -58,6 +58,9 @@ _SYMBOLS = {
 }  # fmt: skip
 
 
+_GREEK_SPELLING = {"lamda": "lambda"}  # Unicode's name of λ, as people spell it
+
+
 def ascii_fallback(ch: str) -> str:
     """An ASCII stand-in for one character: a Greek letter by its name (δ -> delta,
     Σ -> Sigma), a symbol of ``_SYMBOLS`` (→ -> ``->``), a letter without its accent
@@ -69,6 +72,7 @@ def ascii_fallback(ch: str) -> str:
     name = unicodedata.name(ch, "")
     if name.startswith(("GREEK SMALL LETTER ", "GREEK CAPITAL LETTER ")):
         letter = name.split(" LETTER ", 1)[1].replace("FINAL ", "").split()[0].lower()
+        letter = _GREEK_SPELLING.get(letter, letter)
         return letter.capitalize() if "CAPITAL" in name else letter  # FINAL SIGMA -> sigma
     plain = unicodedata.normalize("NFKD", ch).encode("ascii", "ignore").decode("ascii")
     if plain and plain.isprintable():

@@ -10,10 +10,10 @@ file that could not be read (then with ``col`` when known). Passing tasks print 
 Escaping is that of the Actions toolkit (``@actions/core``, ``command.ts``): in the
 message ``%`` -> ``%25``, ``\\r`` -> ``%0D``, ``\\n`` -> ``%0A``; in a property value
 also ``:`` -> ``%3A`` and ``,`` -> ``%2C``; so a newline never ends the command, it is a
-line break in the annotation. What people read, the message and the title, first has
-every other control character escaped (``escape.printable``: an ANSI escape reads
-``\\x1b``); the ``file`` property keeps the path as it is (the toolkit's escaping only),
-so that the annotation still points at the file.
+line break in the annotation. Every other control character (an ANSI escape, a bidi
+override, a byte of a file name that is not UTF-8), in the message and every property,
+is first escaped for people (``escape.printable``: ``\\x1b``): the line may be read on
+a terminal, and a file whose name holds such a character has no annotation to point at.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def command(name: str, properties: dict[str, Any], message: str) -> str:
     """``::name key=value,...::message``; properties that are None are left out; the
     message and the ``title`` with their control characters escaped for people."""
     props = ",".join(
-        f"{k}={escape_property(str(v) if k == 'file' else _for_people(str(v)))}"
+        f"{k}={escape_property(_for_people(str(v)))}"
         for k, v in properties.items()
         if v is not None
     )
