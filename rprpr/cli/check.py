@@ -90,7 +90,7 @@ def check(
     searched recursively for *.yaml and *.yml).
 
     Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
-    file, 3 internal error (the highest that applies)."""
+    file, 3 internal error (the highest that applies); 128 + N stopped by signal N."""
     options = CheckOptions(
         format=fmt,
         output_file=None if output_file == "-" else output_file,  # "-": standard output

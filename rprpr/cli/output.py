@@ -1,5 +1,7 @@
-"""Where a command's output goes: standard output or ``-o FILE`` (opened before any work,
-or written atomically), the rich consoles and their colour, and what a failed write means.
+"""Where a command's output goes: standard output or ``-o FILE`` (written atomically, its
+temporary file created before any work; never onto an input of the run), the standard
+streams (ASCII fallbacks, a closed one), the rich consoles and their colour, and what a
+failed write means.
 
 A failed write is one line and ``ExitCode.INPUT`` (the environment, not rprpr); a reader
 that closes the pipe early fails nothing (``report.exit`` says so; here standard output is
@@ -150,12 +152,11 @@ class AtomicFile:
             return self.target
         folder, name = os.path.split(self.target)
         fd, tmp = tempfile.mkstemp(dir=folder or ".", prefix=f".{name}.", suffix=".tmp")
+        os.close(fd)
         self.temporary = tmp
         discard_on_signal(tmp)
-        try:
-            os.fchmod(fd, self.mode if self.mode is not None else 0o666 & ~_umask())
-        finally:
-            os.close(fd)
+        # the target's mode, or a new file's (mkstemp's 0600 would make the output private)
+        os.chmod(tmp, self.mode if self.mode is not None else 0o666 & ~_umask())
         return tmp
 
     def commit(self) -> None:
@@ -163,7 +164,7 @@ class AtomicFile:
         so a full disk fails here, not later)."""
         if self.temporary is None:
             return
-        fd = os.open(self.temporary, os.O_RDONLY)
+        fd = os.open(self.temporary, os.O_RDWR)  # writable: Windows fsyncs no other
         try:
             os.fsync(fd)
         finally:

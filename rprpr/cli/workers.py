@@ -48,7 +48,7 @@ def pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
         max_workers=jobs, mp_context=ctx, initializer=start_worker, initargs=(os.getpid(),)
     )
     try:
-        with killed_on_signal(lambda: kill_workers(executor)):
+        with killed_on_signal(lambda: kill_workers(executor, reap=False)):
             yield executor
     except BaseException:
         kill_workers(executor)
@@ -60,19 +60,14 @@ def pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
     executor.shutdown(wait=True)
 
 
-def worker_pids(executor: ProcessPoolExecutor) -> list[int]:
-    """The process ids of the pool's live workers."""
-    processes = getattr(executor, "_processes", None) or {}  # no public API before 3.14
-    return [p.pid for p in list(processes.values()) if p.pid is not None]
-
-
-def kill_workers(executor: ProcessPoolExecutor) -> None:
-    """SIGKILL every worker of the pool (they hold no state worth saving), and reap them."""
+def kill_workers(executor: ProcessPoolExecutor, *, reap: bool = True) -> None:
+    """SIGKILL every worker of the pool (they hold no state worth saving), and reap them
+    (not from a signal handler: ``reap`` False)."""
     processes = list((getattr(executor, "_processes", None) or {}).values())
     for p in processes:
         with contextlib.suppress(Exception):
             p.kill()
-    for p in processes:
+    for p in processes if reap else ():
         with contextlib.suppress(Exception):
             p.join(1.0)
 
