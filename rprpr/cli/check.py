@@ -3,7 +3,6 @@ one format, exit with the run's status (``report.exit.run_status``)."""
 
 from __future__ import annotations
 
-import contextlib
 import os
 import sys
 import time
@@ -14,6 +13,7 @@ import click
 
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
+from . import workers
 from .options import (
     CHECK_FORMATS,
     CheckOptions,
@@ -22,8 +22,18 @@ from .options import (
     samples_option,
     tasks_argument,
 )
-from .output import color_enabled, is_tty, make_console, open_output, writing
-from .tasks import tasks_or_usage_error
+from .output import (
+    Lossy,
+    color_enabled,
+    is_tty,
+    make_console,
+    refuse_overwriting_inputs,
+    report_stream,
+    say,
+    utf8,
+    writing,
+)
+from .tasks import tasks_or_usage_error, unreadable_folder
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
@@ -80,7 +90,7 @@ def check(
     searched recursively for *.yaml and *.yml).
 
     Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
-    file, 3 internal error (the highest that applies)."""
+    file, 3 internal error (the highest that applies); 128 + N stopped by signal N."""
     options = CheckOptions(
         format=fmt,
         output_file=None if output_file == "-" else output_file,  # "-": standard output
@@ -92,30 +102,18 @@ def check(
         color=color,
     )
     files = tasks_or_usage_error(tasks)
-    _refuse_overwriting_a_task(options.output_file, files)
-    out = open_output(options.output_file)
-    try:
+    refuse_overwriting_inputs([options.output_file], files)
+    with report_stream(options.output_file, "the report") as out:
         show = want_progress(len(files), sys.stderr, quiet)
-        progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
+        progress = (
+            make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr)) if show else None
+        )
         run = run_checks(files, options, progress)
         status = run_status(run, exit_zero=options.exit_zero)
         with writing("the report", options.output_file, status):
             write_report(run, options, out)
-    finally:
-        if options.output_file:
-            with contextlib.suppress(OSError):
-                out.close()
     _log(run, options)
     return status
-
-
-def _refuse_overwriting_a_task(output_file: str | None, files: Sequence[str]) -> None:
-    if output_file and os.path.exists(output_file):
-        for f in files:
-            if os.path.exists(f) and os.path.samefile(output_file, f):
-                raise click.UsageError(
-                    f"the output file {output_file} is also a task file: it would be overwritten"
-                )
 
 
 def check_one(path: str, options: CheckOptions) -> Outcome:
@@ -128,7 +126,7 @@ def check_one(path: str, options: CheckOptions) -> Outcome:
 
     start = time.perf_counter()
     try:
-        task = load_task(path)
+        task = load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
     except TaskFileError as e:
         return INPUT, input_error(e, path), time.perf_counter() - start
     except Exception as e:  # a bug while reading: still name the file
@@ -145,6 +143,10 @@ def _check_star(args: tuple[str, CheckOptions]) -> Outcome:
     return check_one(*args)
 
 
+def _check_chunk(chunk: list[tuple[str, CheckOptions]]) -> list[Outcome]:
+    return [check_one(*args) for args in chunk]
+
+
 def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None) -> Run:
     """Audit ``files`` in ``options.jobs`` worker processes (1: in this process); the
     outcomes come back in task order, so the report does not depend on the number of
@@ -155,25 +157,19 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
 
     run = Run()
     args = [(f, options) for f in files]
-    results: Iterable[Outcome]
-    pool = None
     jobs = min(options.jobs, len(files))
-    if jobs > 1:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        # fork: workers start in milliseconds with the modules above already imported
-        ctx = multiprocessing.get_context("fork" if sys.platform.startswith("linux") else "spawn")
-        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
-        chunk = max(1, min(16, len(files) // (8 * jobs)))
-        results = pool.map(_check_star, args, chunksize=chunk)  # submits (and forks) now
-    else:
-        results = map(_check_star, args)
-    try:
-        _collect(run, results, len(files), progress)
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
+    if jobs <= 1:
+        _collect(run, map(_check_star, args), len(files), progress)
+        return run
+    with workers.pool(jobs) as executor:
+        size = max(1, min(16, len(files) // (8 * jobs)))
+        # submitted now (and forked); not ``executor.map``, whose iterator cancels the
+        # pending futures when interrupted, which races with the pool's own clean-up
+        chunks = [
+            executor.submit(_check_chunk, args[i : i + size]) for i in range(0, len(args), size)
+        ]
+        outcomes = (outcome for chunk in chunks for outcome in chunk.result())
+        _collect(run, outcomes, len(files), progress)
     return run
 
 
@@ -211,6 +207,8 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
         from ..render.junit import render as junit
 
         text = junit(run)
+        if not utf8(out):  # the document says UTF-8: keep it true on any stream
+            text = text.encode("ascii", "xmlcharrefreplace").decode("ascii")
     else:
         from ..render.github import render as github
 
@@ -225,7 +223,7 @@ def _write_text(run: Run, options: CheckOptions, out: TextIO) -> None:
     color = options.color
     # colour in a file only when asked for (--color always), never from the environment
     colored = color == "always" if options.output_file else color_enabled(color, out)
-    err = make_console(sys.stderr, color_enabled(color, sys.stderr))
+    err = make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr))
     # bad task files: on stderr, and in the report too when it goes to a file
     render(
         run,
@@ -242,17 +240,16 @@ def _log(run: Run, options: CheckOptions) -> None:
     line when the report went to a file."""
     if options.format != "text" or options.output_file:  # the one-line errors, for the log
         for e in run.input_errors + run.internal_errors:
-            click.echo(e["text"], err=True)
+            say(e["text"])
     if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
         for e in run.internal_errors:
-            click.echo(e["traceback"], err=True)
+            say(e["traceback"], keep="\n")
     if options.output_file and not options.quiet:  # the log still says what the file holds
         s = run.summary()
-        click.echo(
+        say(
             f"rprpr: {s['tasks']} task{'s' if s['tasks'] != 1 else ''}: {s['passed']} passed,"
             f" {s['failed']} failed, {s['errors']} error{'s' if s['errors'] != 1 else ''};"
-            f" {options.format} report written to {options.output_file}",
-            err=True,
+            f" {options.format} report written to {options.output_file}"
         )
 
 

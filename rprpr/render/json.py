@@ -1,11 +1,13 @@
 """The ``--format json`` report of ``rprpr check``: one document for the whole run.
 
 The document holds no measured time, so that the same tasks always give the same bytes.
+It is strict JSON: a value that is not finite is ``null`` (never ``NaN`` or ``Infinity``).
 """
 
 from __future__ import annotations
 
 import json
+import math
 from typing import Any
 
 from .._version import __version__
@@ -26,6 +28,17 @@ def document(run: Run, quiet: bool = False) -> dict[str, Any]:
     }
 
 
+def finite(value: Any) -> Any:
+    """``value`` with every float that is not finite, at any depth, replaced by None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [finite(v) for v in value]
+    return value
+
+
 def render(run: Run, quiet: bool = False) -> str:
     """The document of ``run`` as text: indented by 2, ending with a newline."""
-    return json.dumps(document(run, quiet=quiet), indent=2) + "\n"
+    return json.dumps(finite(document(run, quiet=quiet)), indent=2, allow_nan=False) + "\n"
