@@ -61,9 +61,9 @@ def parse_decimal(text: str) -> fmpq:
     return sign * _literal(m.group(0))
 
 
-def _shown(text: str) -> str:
-    """``text`` for a message: abbreviated beyond 24 characters."""
-    return text if len(text) <= 24 else text[:20] + "..."
+def _shown(text: str, n: int = 24) -> str:
+    """``text`` for a message: abbreviated beyond ``n`` characters."""
+    return text if len(text) <= n else text[: n - 4] + "..."
 
 
 def _literal(text: str) -> fmpq:
@@ -116,7 +116,7 @@ class _Parser:
             return "end of expression"
         m = _NAME.match(self.text, self.pos)
         if m:
-            return f"name {m.group(0)!r}"
+            return f"name {_shown(m.group(0), 40)!r}"
         return repr(self.text[self.pos])
 
     # -- grammar -------------------------------------------------------------
@@ -128,7 +128,7 @@ class _Parser:
             m = _NAME.match(rest, 1)
             if rest[0] == "." and m:
                 raise self._error(
-                    f"attribute access ('.{m.group(0)}') is not allowed: only numbers,"
+                    f"attribute access ('.{_shown(m.group(0), 40)}') is not allowed: only numbers,"
                     f" {self.var}, + - * / ^ ** and parentheses"
                 )
             if rest[0] == "(":
@@ -253,7 +253,7 @@ class _Parser:
                 self.text[self.pos].isalpha() or self.text[self.pos] in "_("
             ):
                 raise self._error(
-                    f"expected an operator after {m.group(0)!r}, found {self._found()}"
+                    f"expected an operator after {_shown(m.group(0))!r}, found {self._found()}"
                     " (write multiplication as '*')"
                 )
             try:
@@ -267,8 +267,8 @@ class _Parser:
                 self.pos = m.end()
                 return fmpq_poly([0, 1])
             raise self._error(
-                f"unknown name {name!r}: only numbers, {self.var}, + - * / ^ ** and parentheses"
-                " are allowed",
+                f"unknown name {_shown(name, 40)!r}: only numbers, {self.var}, + - * / ^ **"
+                " and parentheses are allowed",
                 start,
             )
         if not c:

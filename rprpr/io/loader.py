@@ -51,6 +51,7 @@ _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?
 _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
 _RESOLVER = yaml.resolver.Resolver()
+_LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
@@ -128,9 +129,11 @@ def _too_large(size: int) -> str:
 
 
 def _line_col(text: str, index: int) -> tuple[int, int]:
-    """1-based (line, column) of the character at ``index``."""
-    line = text.count("\n", 0, index) + 1
-    return line, index - (text.rfind("\n", 0, index) + 1) + 1
+    """1-based (line, column) of the character at ``index``, counting lines as YAML does
+    (CR LF, CR, LF, NEL, LS and PS each end one)."""
+    breaks = list(_LINE_BREAK.finditer(text, 0, index))
+    start = breaks[-1].end() if breaks else 0
+    return len(breaks) + 1, index - start + 1
 
 
 def _decode(data: bytes | str) -> str:
@@ -236,7 +239,8 @@ def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
     problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
     alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
     if "undefined alias" in problem and alias:
-        problem += f" *{alias.group(1)} (no anchor &{alias.group(1)} before it)"
+        name = _short(alias.group(1))
+        problem += f" *{name} (no anchor &{name} before it)"
     if mark and text[mark.index : mark.index + 1] == "\t":
         problem += " (a tab: YAML indents with spaces only)"
     return TaskFileError(
