@@ -185,9 +185,9 @@ def _utf8(data: bytes) -> str:
     return text
 
 
-def _compose(text: str) -> tuple[yaml.Node | None, frozenset[int]]:
+def _compose(text: str) -> tuple[yaml.Node | None, dict[tuple[int, int], str]]:
     """The YAML node tree, after a streaming pass that bounds nesting and size, and
-    where the explicitly tagged scalars start (``_bound_events``).
+    the explicit tags of scalars by where they start (``_bound_events``).
 
     libyaml's composer recurses in C: a deeply nested flow list would crash the
     process, so the depth is checked on the event stream before composing.
@@ -201,17 +201,18 @@ def _compose(text: str) -> tuple[yaml.Node | None, frozenset[int]]:
         raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
 
 
-def _bound_events(text: str) -> frozenset[int]:
+def _bound_events(text: str) -> dict[tuple[int, int], str]:
     """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep.
 
-    Returns the start index of every scalar with an explicit tag (``!!float ""``), which
-    the node tree does not tell from a plain scalar YAML resolved to the same tag.
+    Returns the tag of every scalar with an explicit tag (``!!float ""``, ``! 6``) by
+    ``_span``: the node tree does not tell such a scalar from a plain one YAML resolved
+    to the same tag, nor keep the non-specific tag ``!``.
     """
     depth = nodes = 0
-    explicit = set()
+    explicit: dict[tuple[int, int], str] = {}
     for ev in yaml.parse(text, Loader=_Loader):
-        if isinstance(ev, yaml.ScalarEvent) and ev.tag not in (None, "!"):
-            explicit.add(ev.start_mark.index)
+        if isinstance(ev, yaml.ScalarEvent) and ev.tag is not None:
+            explicit[_span(ev)] = ev.tag
         if isinstance(ev, yaml.NodeEvent):
             nodes += 1
             if nodes > MAX_NODES:
@@ -230,7 +231,13 @@ def _bound_events(text: str) -> frozenset[int]:
                 )
         elif isinstance(ev, yaml.CollectionEndEvent):
             depth -= 1
-    return frozenset(explicit)
+    return explicit
+
+
+def _span(item: yaml.Node | yaml.Event) -> tuple[int, int]:
+    """Where a scalar event or node starts and ends (an empty untagged scalar may start
+    where the next one does, but ends there too)."""
+    return item.start_mark.index, item.end_mark.index
 
 
 def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
@@ -419,8 +426,8 @@ class _Walk:
     then read as its text written plain: a tag never makes an invalid value valid.
     """
 
-    def __init__(self, explicit: frozenset[int] = frozenset()) -> None:
-        self.explicit = explicit  # start indexes of the explicitly tagged scalars
+    def __init__(self, explicit: dict[tuple[int, int], str] | None = None) -> None:
+        self.explicit = explicit or {}  # the explicit tags of scalars, by _span
         self.visited = 0
         self.values: dict[str, Any] = {}
         self.nodes: dict[str, yaml.Node] = {}
@@ -469,6 +476,10 @@ class _Walk:
                 key,
             )
         if isinstance(node, yaml.ScalarNode):
+            if self.explicit.get(_span(node)) == "!":
+                # YAML 1.2: the non-specific tag makes a scalar text (PyYAML resolves
+                # it as if untagged: ! "6" would be the integer 6)
+                node.tag = _TAG + "str"
             bad = _ESCAPED_CONTROL.search(str(node.value))
             if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
                 code = ord(bad.group(0))
@@ -491,7 +502,7 @@ class _Walk:
 
     def is_explicit(self, node: yaml.Node) -> bool:
         """Whether ``node`` is a scalar with a tag written in the file."""
-        return isinstance(node, yaml.ScalarNode) and node.start_mark.index in self.explicit
+        return isinstance(node, yaml.ScalarNode) and _span(node) in self.explicit
 
     def fit(self, node: yaml.Node, spec: Spec | None, key: str) -> None:
         """Reject a node whose explicit tag does not fit its value (``spec`` None: a key)."""
