@@ -14,6 +14,7 @@ Deterministic: hypothesis is derandomized (the same examples on every run, in CI
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 from collections.abc import Iterator
@@ -215,19 +216,34 @@ def test_a_tag_never_makes_a_value_valid(slot: str, tag: str, text: str, style: 
     if isinstance(got, TaskFileError):
         return
     name = tag.removeprefix("!!").removeprefix("!<tag:yaml.org,2002:").removesuffix(">")
+    # the value as YAML reads it (a plain scalar loses surrounding spaces: " 6" reads "6")
+    value = text if style != "plain" else _plain_value(f"{tag} {text}")
     if name in ("int", "float", "bool", "null"):
-        # the value as written, untagged and plain, loads to exactly the same task
-        assert text == text.strip() and text, (tag, text)
-        assert load(with_value(slot, text)) == got, (slot, tag, text)
+        # the value, untagged and plain, loads to exactly the same task
+        assert value == value.strip() and value, (tag, value)
+        assert same(load(with_value(slot, value)), got), (slot, tag, value)
         if name == "bool":
-            assert text in ("true", "True", "TRUE", "false", "False", "FALSE")
+            assert value in ("true", "True", "TRUE", "false", "False", "FALSE")
         if name == "int":
-            assert not re.search(r"[.eE]", text) or text.lower().startswith("0x"), text
+            assert not re.search(r"[.eE]", value) or value.lower().startswith("0x"), value
     else:
         # !!str and the non-specific tag ! keep text: the same as the text double-quoted
         assert name in ("str", "!"), tag
         assert SPECS[re.sub(r"\[\d\]$", "", slot)].kind in ("string", "polynomial", "enum")
-        assert load(with_value(slot, styled(text, "double"))) == got
+        assert same(load(with_value(slot, styled(value, "double"))), got)
+
+
+def same(a: Task | TaskFileError, b: Task) -> bool:
+    """The same task, but for the lines of its keys (a value may span lines)."""
+    return isinstance(a, Task) and dataclasses.replace(a, lines={}) == dataclasses.replace(
+        b, lines={}
+    )
+
+
+def _plain_value(scalar: str) -> str:
+    """The value YAML reads from ``scalar`` (a tag and a plain scalar) as a mapping value."""
+    node = yaml.compose(f"k: {scalar}\n", Loader=yaml.SafeLoader)
+    return str(node.value[0][1].value)
 
 
 @FUZZ
