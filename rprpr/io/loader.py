@@ -170,8 +170,11 @@ def _utf8(data: bytes) -> str:
     nul = data.find(b"\x00")
     if nul >= 0:
         line = data.count(b"\n", 0, nul) + 1
+        column = nul - (data.rfind(b"\n", 0, nul) + 1) + 1  # in bytes
         raise TaskFileError(
-            f"binary file (NUL byte at offset {nul}), expected YAML text", line=line
+            f"binary file (NUL byte at offset {nul}), expected YAML text",
+            line=line,
+            column=column,
         )
     try:
         text = data.decode("utf-8")
