@@ -22,10 +22,12 @@ from decimal import ROUND_HALF_UP, Context, Decimal
 from pathlib import Path
 
 import pytest
+import yaml
 from flint import fmpq
 
 from rprpr.cli.main import main
-from rprpr.io.loader import load_task
+from rprpr.io import loader
+from rprpr.io.loader import load_task, parse_task
 from rprpr.model.errors import TaskFileError
 from rprpr.model.numbers import rational, to_float
 from rprpr.model.task import Task
@@ -109,6 +111,28 @@ def test_a_valid_extreme_file_is_audited(
     code, out, err = run_cli(capsys, "check", "--color", "never", "--samples", "51", name)
     assert (code, err) == (int(m["code"]), ""), out  # 1: path 1 fails the slope principle
     assert _without_name(load_task(name)) == _without_name(load_task(m["ref"]))
+
+
+@pytest.mark.parametrize("parser", ["libyaml", "pure Python"])
+def test_a_lone_surrogate_escape_is_refused_by_either_yaml_parser(
+    parser: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """libyaml refuses the escape itself; the pure-Python parser decodes it, and the
+    loader refuses the value (it could not be written to any UTF-8 report)."""
+    if parser == "pure Python":
+        monkeypatch.setattr(loader, "_Loader", yaml.SafeLoader)
+    elif not hasattr(yaml, "CSafeLoader"):
+        pytest.skip("PyYAML without libyaml")
+    text = (HERE / "surrogate_escape.task").read_text(encoding="utf-8")
+    with pytest.raises(TaskFileError) as e:
+        parse_task(text, "s.yaml")
+    assert (e.value.line, e.value.column) == (1, 10 if parser == "libyaml" else 7)
+    assert e.value.message == (
+        "YAML syntax error: while parsing a quoted scalar: found invalid Unicode character"
+        " escape code"
+        if parser == "libyaml"
+        else "lone surrogate U+D800 in a value (written as a YAML escape) is not allowed"
+    )
 
 
 # -- the numbers in messages: exact beyond the double range --------------------------------

@@ -3,9 +3,9 @@
 Safety: the YAML is only *composed* (parsed into nodes), never constructed into Python
 objects, so no tag can run code; only the plain tags (str, int, float, bool, null, map,
 seq) are accepted, and an explicit one must fit its value: a tag never makes an invalid
-value valid (``_misfit``). Duplicate keys are errors (PyYAML would silently keep the last), and
-aliases are followed with a budget on visited nodes, so an alias bomb is rejected rather
-than expanded. Numbers are taken by their text (``0.1`` is 1/10). Every error is a
+value valid (``_misfit``). Duplicate keys are errors (PyYAML would silently keep the
+last), and aliases are followed with a budget on visited nodes, so an alias bomb is
+rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10). Every error is a
 ``TaskFileError`` naming the file, line, column and dotted key.
 """
 
