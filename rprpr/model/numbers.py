@@ -18,6 +18,7 @@ the same way and two different values never read alike where it matters:
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Iterable, Sequence
 
 from flint import fmpq
@@ -32,8 +33,8 @@ def to_float(q: fmpq) -> float:
     """The double nearest the rational q (correctly rounded); ±inf beyond the double range."""
     try:
         return int(q.p) / int(q.q)
-    except OverflowError:
-        return math.copysign(math.inf, int(q.p))
+    except OverflowError:  # the sign from q itself: int(q.p) may be too large for a float
+        return math.inf if q > 0 else -math.inf
 
 
 def number(v: float, digits: int = DIGITS) -> str:
@@ -95,8 +96,41 @@ def rational(v: fmpq) -> str:
             return s
     text = str(v)
     if len(text) > _LONG:  # an exact rational of thousands of digits helps nobody
-        return f"{number(to_float(v), 17)} (≈; exactly a rational of {len(text)} characters)"
+        return f"{_approximately(v)} (≈; exactly a rational of {len(text)} characters)"
     return text
+
+
+def _approximately(v: fmpq) -> str:
+    """``v`` with 17 significant digits: its double where that is a normal one, else
+    (beyond the double range, or subnormal) the same digits computed exactly."""
+    f = to_float(v)
+    if math.isfinite(f) and (f == 0 if v == 0 else abs(f) >= sys.float_info.min):
+        return number(f, 17)
+    return _scientific(v, 17)
+
+
+def _scientific(v: fmpq, digits: int) -> str:
+    """Nonzero ``v`` rounded to ``digits`` significant digits, as ``1.2345e+400``: exact
+    integer arithmetic (neither a double nor a digit string of ``v`` is ever formed)."""
+    p, q = abs(int(v.p)), int(v.q)
+    # 10^e <= p/q < 10^(e + 1); the estimate from bit lengths is off by at most one
+    e = math.floor((p.bit_length() - q.bit_length()) * math.log10(2))
+    while _scaled(p, q, -e) < 1:
+        e -= 1
+    while _scaled(p, q, -e - 1) >= 1:
+        e += 1
+    m = _scaled(p, q, digits - 1 - e)
+    rounded = int(m) + (1 if m - int(m) >= fmpq(1, 2) else 0)  # half up
+    if rounded == 10**digits:  # 9.99...95 rounds up to the next power of ten
+        rounded, e = rounded // 10, e + 1
+    mantissa = str(rounded)
+    mantissa = (mantissa[0] + "." + mantissa[1:]).rstrip("0").rstrip(".")
+    return f"{'-' if v < 0 else ''}{mantissa}e{'+' if e >= 0 else '-'}{abs(e):02d}"
+
+
+def _scaled(p: int, q: int, k: int) -> fmpq:
+    """(p / q) * 10^k, exactly."""
+    return fmpq(p * 10**k, q) if k >= 0 else fmpq(p, q * 10**-k)
 
 
 def _decimal_fraction(s: str) -> tuple[int, int]:
