@@ -17,6 +17,9 @@ from .test_engine import at_times, mechanical_energy
 
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
+GRAVITY = fmpq(981, 100)
+NO_MARGINS = Checks(fmpq(0), fmpq(0), None, False)
+
 small = st.integers(-6, 6)
 frac = st.builds(lambda p, q: fmpq(p, q), small, st.integers(1, 4))
 positive = st.builds(lambda p, q: fmpq(p, q), st.integers(1, 12), st.integers(1, 4))
@@ -38,8 +41,7 @@ def tasks(draw):  # type: ignore[no-untyped-def]
         p = fmpq_poly(draw(st.lists(frac, min_size=1, max_size=4)))
     assume(not p.is_zero())
     links = {i: Link(draw(positive), draw(positive) / 10, draw(positive) / 4) for i in (2, 3, 4, 5)}
-    no_margins = Checks(fmpq(0), fmpq(0), None, False)
-    return Task("random", Robot(a1, links, fmpq(981, 100)), p, x, draw(positive), no_margins)
+    return Task("random", Robot(a1, links, GRAVITY), p, x, draw(positive), NO_MARGINS)
 
 
 def _f(q: fmpq) -> float:
@@ -93,10 +95,11 @@ def _distinct_real_roots(y: fmpq_poly, a: fmpq, b: fmpq) -> int:
 # a few grid steps (the example that once made this property flaky)
 QUINTUPLE_ROOT = Task(
     "quintuple root",
-    Robot(fmpq(1), {i: Link(fmpq(1), fmpq(1, 10), fmpq(1, 4)) for i in (2, 3, 4, 5)}),
+    Robot(fmpq(1), {i: Link(fmpq(1), fmpq(1, 10), fmpq(1, 4)) for i in (2, 3, 4, 5)}, GRAVITY),
     fmpq_poly([0, 0, 0, 0, 0, 1]),
     fmpq_poly([4, -5]),
     fmpq(1),
+    NO_MARGINS,
 )
 
 

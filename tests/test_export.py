@@ -17,10 +17,7 @@ from rprpr import __version__
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 
-from .conftest import CONFIGS, run_cli, task_text
-
-PATH1_FILE = str(CONFIGS / "paper_path1.yaml")
-PATH2_FILE = str(CONFIGS / "paper_path2.yaml")
+from .conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 
 # the issue's column list, written out independently of samples.COLUMNS
 ISSUE_COLUMNS = [
