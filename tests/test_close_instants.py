@@ -20,6 +20,7 @@ from rich.console import Console
 from rprpr.engine.audit import audit
 from rprpr.io.loader import parse_task
 from rprpr.render.github import render as github
+from rprpr.render.json import render as json_report
 from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
 from rprpr.report.records import task_report
@@ -75,7 +76,7 @@ def test_findings_name_each_instant_apart() -> None:
 
 
 def test_json_records_hold_both_times() -> None:
-    doc = json.loads(json.dumps(run_of(report(CLOSE)).document()))
+    doc = json.loads(json_report(run_of(report(CLOSE))))
     (rep,) = doc["reports"]
     assert [s["t"] for s in rep["singularities"]] == [1.0, 1.000001]
     assert [s["torque_bounded"] for s in rep["singularities"]] == [True, False]
