@@ -48,6 +48,8 @@ def task_text(
 
 
 BAD_A1 = task_text(PATH2_YAML, QUINTIC, a1="-1")  # robot.a1 on line 3, column 7
+# two first-order crossings a microsecond apart: t = 1 and t = 1.000001 (x = 3, x = 3.000001)
+CLOSE_INSTANTS = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from .conftest import CONFIGS, run_cli
+from .conftest import CLOSE_INSTANTS, CONFIGS, run_cli
 
 RPRPR = [sys.executable, "-m", "rprpr"]
 
@@ -101,11 +101,8 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
 def test_text_report_tells_close_instants_apart(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from .conftest import task_text
-
     task = tmp_path / "close.yaml"
-    text = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
-    task.write_text(text, encoding="utf-8")
+    task.write_text(CLOSE_INSTANTS, encoding="utf-8")
     monkeypatch.setenv("COLUMNS", "160")  # wide enough for the table's t column in full
     code, out, _ = run_cli("check", "--samples", "11", str(task))
     assert code == 0  # two first-order crossings; the inconsistency is a warning

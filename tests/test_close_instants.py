@@ -26,10 +26,10 @@ from rprpr.render.text import render as text
 from rprpr.report.records import task_report
 from rprpr.report.run import REPORT, Run
 
-from .conftest import task_text
+from .conftest import CLOSE_INSTANTS, task_text
 
 PATH = "close.yaml"
-CLOSE = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+CLOSE = CLOSE_INSTANTS
 # both instants then break the slope principle (|dy/dx| = 1e-6): a finding at each
 SHALLOW = CLOSE + "checks:\n  min_slope: 0.01\n"
 

@@ -21,7 +21,7 @@ from contextlib import chdir, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..conftest import CONFIGS, ROOT, plain_terminal, run_cli, task_text
+from ..conftest import CLOSE_INSTANTS, CONFIGS, ROOT, plain_terminal, run_cli
 
 GOLDEN = Path(__file__).resolve().parent
 REGENERATE = ".venv/bin/python -m tests.golden"
@@ -59,9 +59,6 @@ class Case:
     tasks: tuple[str, ...]
     files: dict[str, str] = field(default_factory=dict)
 
-
-# two first-order crossings a microsecond apart: t = 1 and t = 1.000001 (x = 3, x = 3.000001)
-CLOSE_INSTANTS = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
 
 CASES = (
     *(Case(p.stem, (f"configs/{p.name}",)) for p in sorted(CONFIGS.glob("*.yaml"))),
