@@ -45,6 +45,7 @@ _PAD = 2.0**-1064  # absolute pad: 1024 η
 _DOWN = 1.0 - 2.0**-50  # shrink factor for lower bounds (covers 2 roundings)
 
 Array = np.ndarray
+_OPERANDS: tuple[type, ...] = (int, float, fmpq, np.ndarray, np.floating, np.integer)
 
 
 def quiet() -> Any:
@@ -107,6 +108,7 @@ class Ball:
 
     @staticmethod
     def coerce(o: Any) -> Ball:
+        """A ball for an operand: a Ball, a float or int (exact), an fmpq (rounded)."""
         if isinstance(o, Ball):
             return o
         if isinstance(o, fmpq):
@@ -117,6 +119,8 @@ class Ball:
 
     # -- arithmetic -----------------------------------------------------------------
     def __add__(self, o: Any) -> Ball:
+        if not isinstance(o, _OPERANDS):
+            return NotImplemented
         o = Ball.coerce(o)
         c = self.mid + o.mid
         return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
@@ -124,6 +128,8 @@ class Ball:
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> Ball:
+        if not isinstance(o, _OPERANDS):
+            return NotImplemented
         o = Ball.coerce(o)
         c = self.mid - o.mid
         return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
@@ -135,6 +141,8 @@ class Ball:
         return Ball(-self.mid, self.rad)
 
     def __mul__(self, o: Any) -> Ball:
+        if not isinstance(o, _OPERANDS):
+            return NotImplemented
         o = Ball.coerce(o)
         c = self.mid * o.mid
         prop = (np.abs(self.mid) + self.rad) * o.rad + self.rad * np.abs(o.mid)
@@ -144,6 +152,8 @@ class Ball:
 
     def __truediv__(self, o: Any) -> Ball:
         """x/y for x in self, y in o: |x/y - a/b| <= (r_a|b| + |a| r_b)/(|b|(|b| - r_b))."""
+        if not isinstance(o, _OPERANDS):
+            return NotImplemented
         o = Ball.coerce(o)
         b = np.abs(o.mid)
         ok = b > o.rad
@@ -224,6 +234,9 @@ class Ball:
 
     def __repr__(self) -> str:
         return f"Ball({self.mid!r}, {self.rad!r})"
+
+
+_OPERANDS = (*_OPERANDS, Ball)  # the operand types a Ball operation accepts
 
 
 def _finish(mid: Array, rad: Array) -> Ball:
