@@ -47,7 +47,8 @@ PEAK_REL = 1e-6  # torque_peak: certified to this relative width
 START_BOXES = 64  # the initial partition of [0, t_f]
 MAX_ROUNDS = 60  # bisection rounds, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
-TAYLOR_PREC = 128  # bits of the Taylor form near a bounded instant
+TAYLOR_PREC = 128  # bits of the Taylor forms, to start with
+TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 
 
@@ -177,6 +178,12 @@ class _Polys:
         return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
 
 
+def _stack(balls: list[Ball]) -> Ball:
+    """One ball vector from balls of one element each."""
+    mid = np.array([np.ravel(b.mid)[0] for b in balls], dtype=float)
+    return Ball(mid, np.array([np.ravel(b.rad)[0] for b in balls], dtype=float))
+
+
 def _narrower(a: Ball, b: Ball) -> Ball:
     """Of two enclosures of the same set, the one with the smaller radius, elementwise."""
     pick = ~(b.rad < a.rad)
@@ -186,32 +193,55 @@ def _narrower(a: Ball, b: Ball) -> Ball:
 # -- the Taylor form about a singular instant ---------------------------------------------
 
 
-def _series_at(motion: CertifiedMotion, T: arb, n: int) -> tuple[Any, ...]:
-    """The series (n terms) of x, x', x'', y, y', y'' about every point of the ball T."""
+def _taylor_at_instant(motion: CertifiedMotion, s: SingularInstant, prec: int) -> list[list[arb]]:
+    """The Taylor coefficients of x(t) and y(t) about t_s (exact values rounded to balls)."""
     out = []
     for p in (motion.traj.x, motion.traj.y):
-        tc = [arb_poly(ck.coeffs())(T) for ck in taylor(p, n + 2)]
-        out.append(arb_series(tc[:n]))
-        out.append(arb_series([(k + 1) * tc[k + 1] for k in range(n)]))
-        out.append(arb_series([(k + 1) * (k + 2) * tc[k + 2] for k in range(n)]))
+        cs = taylor(p, max(p.degree(), 0) + 1)
+        if s.t_exact is not None:
+            out.append([arb(c(s.t_exact)) for c in cs])
+        else:
+            out.append([s.field.evaluate(c % s.field.f, prec) for c in cs])
+    return out
+
+
+def _series_at(coeffs: list[list[arb]], eps: arb, n: int) -> tuple[Any, ...]:
+    """The series (n terms) of x, x', x'', y, y', y'' about every point t_s + ε, ε ∈ eps:
+    Horner in the series ε + τ on the Taylor coefficients about t_s, which stays tight
+    (the expanded polynomial in t would not, evaluated on a ball)."""
+    var = arb_series([eps, arb(1)])
+    out = []
+    for cs in coeffs:
+        acc = arb_series([cs[-1]])
+        for c in cs[-2::-1]:
+            acc = acc * var + c
+        full = acc.coeffs() + [arb(0)] * (n + 2)
+        out.append(arb_series(full[:n]))
+        out.append(arb_series([(k + 1) * full[k + 1] for k in range(n)]))
+        out.append(arb_series([(k + 1) * (k + 2) * full[k + 2] for k in range(n)]))
     return tuple(out)
 
 
 def taylor_lambda(
-    motion: CertifiedMotion, s: SingularInstant, lo: float, hi: float
-) -> tuple[Ball, Ball] | None:
+    motion: CertifiedMotion, s: SingularInstant, lo: float, hi: float,
+    coeffs: list[list[arb]] | None = None,
+) -> tuple[Ball, Ball] | None:  # fmt: skip
     """Balls containing λ1(t), λ2(t) for every t in [lo, hi] by the Taylor form about the
-    instant ``s`` (module docstring); None where it does not apply (d ∋ 0, s ∋ 0)."""
+    instant ``s`` (module docstring); None where it does not apply (d ∋ 0, s ∋ 0).
+    ``coeffs``: the Taylor coefficients of x and y about t_s, when already computed."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
     m = s.order
     ks = [min(v, m + 1) for v in s.mu_valuations]  # μ_i's first k_i coefficients vanish
     n = max(*ks, m) + 1
     old_prec, old_cap = ctx.prec, ctx.cap
-    ctx.prec, ctx.cap = TAYLOR_PREC, n
+    ctx.prec, ctx.cap = TAYLOR_PREC, n + 2
     try:
         ts = arb(e.exact) if e.exact is not None else e.at(TAYLOR_PREC)
-        T = arb(lo).union(arb(hi)).union(ts)
-        X, Xd, Xdd, Y, Yd, Ydd = _series_at(motion, T, n)
+        E = (arb(lo) - ts).union(arb(hi) - ts).union(arb(0))  # ξ - t_s for ξ in hull
+        if coeffs is None:
+            coeffs = _taylor_at_instant(motion, s, TAYLOR_PREC)
+        X, Xd, Xdd, Y, Yd, Ydd = _series_at(coeffs, E, n)
+        ctx.cap = n
         a1 = arb(motion.traj.a1)
         l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
         l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
@@ -241,6 +271,58 @@ def taylor_lambda(
 def _coef(s: Any, k: int) -> arb:
     c = s.coeffs()
     return c[k] if k < len(c) else arb(0)
+
+
+def _torque_series(motion: CertifiedMotion, ser: tuple[Any, ...]) -> tuple[Any, Any]:
+    """T1, T2 as series from the series of x, x', x'', y, y', y'' (eqs. 28-31)."""
+    X, Xd, Xdd, Y, Yd, Ydd = ser
+    a1 = arb(motion.traj.a1)
+    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
+    delta = -(Y * a1) / (l1.s * l2.s)  # eq. (29), product form
+    T1, T2 = dyn.torques(d, d.mu1 / delta, d.mu2 / delta)
+    return T1, T2
+
+
+def taylor_box(
+    motion: CertifiedMotion, coeffs: list[list[arb]], ts: arb, lo: float, hi: float
+) -> tuple[Ball, Ball] | None:
+    """T1, T2 over [lo, hi] (clear of singular instants) by a Taylor model about the
+    box's midpoint c: T(c + e) ∈ Σ_{j<N} T_j(c) e^j + T_N(box) e^N for |e| <= h, with
+    T_j(c) from series at the point c (precision raised until they are tight: near a
+    high-order instant μ/δ cancels) and T_N enclosing T^(N)(ξ)/N! over the box (the
+    Lagrange remainder). The series of x and y come from their Taylor coefficients about
+    the nearest exact instant t_s (``coeffs``, ``ts``), which stay tight on a ball."""
+    n = TAYLOR_BOX_ORDER + 1
+    old_prec, old_cap = ctx.prec, ctx.cap
+    try:
+        ctx.prec, ctx.cap = TAYLOR_PREC, n + 2
+        c = arb(0.5 * lo + 0.5 * hi)
+        box = arb(lo).union(arb(hi))
+        e = (arb(lo) - c).union(arb(hi) - c)
+        far = _torque_series(motion, _series_at(coeffs, box - ts, n))
+        prec = TAYLOR_PREC
+        while True:
+            ctx.prec = prec
+            near = _torque_series(motion, _series_at(coeffs, c - ts, n))
+            v0 = [_coef(T, 0) for T in near]
+            if all(v.rad() <= 1e-12 * (1 + abs(v.mid())) for v in v0) or prec >= 2048:
+                break
+            prec *= 2
+        out = []
+        for T_near, T_far in zip(near, far, strict=True):
+            acc = _coef(T_far, n - 1)
+            for j in range(n - 2, -1, -1):
+                acc = acc * e + _coef(T_near, j)
+            if not acc.is_finite():
+                return None
+            out.append(Ball.of_arb(acc))
+        return out[0], out[1]
+    except (ValueError, ZeroDivisionError):
+        return None
+    finally:
+        ctx.prec, ctx.cap = old_prec, old_cap
 
 
 # -- results ----------------------------------------------------------------------------------
@@ -331,6 +413,7 @@ class Envelope:
         self.poles = [s for s in motion.analysis.instants if not s.torque_bounded]
         tf = to_float(self.duration)
         self.near = tf / 16  # the Taylor form is tried within this distance of an instant
+        self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
 
     # -- enclosures ---------------------------------------------------------------------
     def enclose(self, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball, Ball]:
@@ -345,16 +428,24 @@ class Envelope:
                 out.append(_narrower(mean_value, J.v))
         return out[0], out[1], out[2]
 
-    def enclose_near(self, s: SingularInstant, lo: float, hi: float) -> tuple[Ball, Ball] | None:
-        """T1, T2 over [lo, hi] with λ from the Taylor form about ``s``."""
-        lam = taylor_lambda(self.motion, s, lo, hi)
-        if lam is None:
-            return None
+    def enclose_near(
+        self, s: SingularInstant, lo: np.ndarray, hi: np.ndarray
+    ) -> tuple[Ball, Ball, np.ndarray]:
+        """T1, T2 over the boxes [lo_j, hi_j] with λ from the Taylor form about ``s``, and
+        where that form applies (elsewhere the balls are unbounded)."""
+        lams = [
+            taylor_lambda(self.motion, s, float(a), float(b)) for a, b in zip(lo, hi, strict=True)
+        ]
+        ok = np.array([lam is not None for lam in lams])
+        nan = Ball(np.nan, np.inf)
+        lam1 = [lam[0] if lam is not None else nan for lam in lams]
+        lam2 = [lam[1] if lam is not None else nan for lam in lams]
         with quiet():
-            box = Ball.hull(np.array([lo]), np.array([hi]))
+            box = Ball.hull(lo, hi)
             x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, box))
-            T1, T2, _ = _torques_of(self.motion, x, xd, xdd, y, yd, ydd, lam)
-        return T1, T2
+            l1, l2 = _stack(lam1), _stack(lam2)
+            T1, T2, _ = _torques_of(self.motion, x, xd, xdd, y, yd, ydd, (l1, l2))
+        return T1, T2, ok
 
     def abs_bounds(
         self, lo: np.ndarray, hi: np.ndarray, need: float = 0.0
@@ -368,17 +459,41 @@ class Envelope:
         poor = ~((T1.rad <= np.abs(T1.mid)) & (T2.rad <= np.abs(T2.mid)))
         wanted = ~((up[0] <= need) & (up[1] <= need))
         for j in np.nonzero(poor & wanted)[0]:
-            for s in self.bounded:
-                if s.t + self.near < lo[j] or hi[j] < s.t - self.near:
-                    continue
-                got = self.enclose_near(s, float(lo[j]), float(hi[j]))
-                if got is None:
-                    continue
-                for i in (0, 1):
-                    if got[i].upper_abs()[0] < up[i][j]:
-                        up[i][j] = got[i].upper_abs()[0]
-                        low[i][j] = max(low[i][j], got[i].lower_abs()[0])
+            got = self._near_instant(float(lo[j]), float(hi[j]))
+            if got is None:
+                continue
+            for i in (0, 1):
+                u = float(np.ravel(got[i].upper_abs())[0])
+                if u < up[i][j]:
+                    up[i][j] = u
+                    low[i][j] = max(low[i][j], float(np.ravel(got[i].lower_abs())[0]))
         return low, up
+
+    def _near_instant(self, lo: float, hi: float) -> tuple[Ball, Ball] | None:
+        """T1, T2 over [lo, hi] by a Taylor form about the nearest singular instant: with
+        the Lagrange remainder about t_s when the box holds or touches a bounded t_s
+        (``taylor_lambda``), else by the box's own Taylor model (``taylor_box``)."""
+        if not self.motion.instants:
+            return None
+        k = min(range(len(self.motion.instants)),
+                key=lambda i: abs(self.motion.instants[i][1].hi - 0.5 * (lo + hi)))  # fmt: skip
+        s, e = self.motion.instants[k]
+        if k not in self._coeffs:
+            self._coeffs[k] = _taylor_at_instant(self.motion, s, TAYLOR_PREC)
+        cmp_lo = int(e.compare(np.array([lo]))[0])
+        cmp_hi = int(e.compare(np.array([hi]))[0])
+        if cmp_lo <= 0 <= cmp_hi:  # t_s in the box
+            if not s.torque_bounded:
+                return None
+            T1, T2, ok = self.enclose_near(s, np.array([lo]), np.array([hi]))
+            return (T1, T2) if ok[0] else None
+        old = ctx.prec
+        ctx.prec = TAYLOR_PREC
+        try:
+            ts = arb(e.exact) if e.exact is not None else e.at(TAYLOR_PREC)
+        finally:
+            ctx.prec = old
+        return taylor_box(self.motion, self._coeffs[k], ts, lo, hi)
 
     def point_abs(self, t: np.ndarray) -> list[np.ndarray]:
         """Certified lower bounds of |T1|, |T2| at the float times t (0 where undefined)."""
