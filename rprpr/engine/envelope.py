@@ -34,12 +34,12 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from flint import arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
+from flint import acb, arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from . import equations as dyn
 from .balls import Ball, U, quiet
-from .certified import CertifiedMotion, _roots
+from .certified import CertifiedMotion, ExactTime, _roots
 from .series import taylor
 from .singular import SingularInstant
 
@@ -48,7 +48,9 @@ START_BOXES = 64  # the initial partition of [0, t_f]
 MAX_ROUNDS = 60  # bisection rounds, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
 TAYLOR_PREC = 128  # bits of the Taylor forms, to start with
+ZONE_TERMS = 24  # terms of the zone form beyond the leading ones
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
+ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading terms
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 
 
@@ -325,6 +327,127 @@ def taylor_box(
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
+@dataclass
+class Zone:
+    """λ about a singular instant t_s for |t - t_s| <= r, with bounded remainders:
+        λ_i = ε^(k_i - m) A_i(ε)/B(ε),
+        A_i = Σ_{j=k_i}^{N-1} μ_i,j ε^(j-k_i) + R_i ε^(N-k_i),
+        B = Σ_{j=m}^{N-1} δ_j ε^(j-m) + R_δ ε^(N-m),
+    where μ_i,j and δ_j are the Taylor coefficients at t_s (their lower ones vanish
+    exactly) and R_i, R_δ bound the tails (``make_zone``). No cancellation is left: it
+    is evaluated on balls of ε directly."""
+
+    e: ExactTime
+    r: float
+    shift: tuple[int, int]
+    num: tuple[list[Ball], list[Ball]]
+    den: list[Ball]
+
+    def lam(self, eps: Ball) -> tuple[Ball, Ball]:
+        b = _horner(self.den, eps)
+        out = []
+        for i in (0, 1):
+            v = _horner(self.num[i], eps) / b
+            for _ in range(abs(self.shift[i])):
+                v = v * eps if self.shift[i] > 0 else v / eps
+            out.append(v)
+        return out[0], out[1]
+
+
+def _series_parts(
+    motion: CertifiedMotion, coeffs: list[list[arb]], eps: arb, n: int
+) -> tuple[Any, Any, Any]:
+    """μ1, μ2 and δ (product form) as series about t_s + ε for every ε in ``eps``."""
+    X, Xd, Xdd, Y, Yd, Ydd = _series_at(coeffs, eps, n)
+    a1 = arb(motion.traj.a1)
+    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
+    return d.mu1, d.mu2, -(Y * a1) / (l1.s * l2.s)
+
+
+def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> list[arb] | None:
+    """Upper bounds of |μ1|, |μ2|, |δ| on the complex disc |t - t_s| <= rho (a complex
+    ball covering it), or None when a leg's s² may reach the cut of the square root
+    there (then the real formulas need not continue analytically)."""
+    z = acb(arb(0, rho), arb(0, rho))
+    vals = []
+    for cs in coeffs:  # x, x', x'' and y, y', y'' about t_s, on the disc
+        d0 = cs
+        d1 = [k * cs[k] for k in range(1, len(cs))] or [arb(0)]
+        d2 = [k * d1[k] for k in range(1, len(d1))] or [arb(0)]
+        for c in (d0, d1, d2):
+            acc = acb(c[-1])
+            for ck in c[-2::-1]:
+                acc = acc * z + ck
+            vals.append(acc)
+    x, xd, xdd, y, yd, ydd = vals
+    a1 = arb(motion.traj.a1)
+    for u in (x, x - a1):
+        if not (u * u + y * y).real > 0:
+            return None
+    l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _hypot)
+    l2 = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _hypot)
+    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
+    out = [abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper()]
+    return out if all(v.is_finite() for v in out) else None
+
+
+def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
+    """The widest zone r = t_f/2^j (j = 2..20) whose remainders stay below ZONE_SLACK of
+    the leading terms; None when there is none.
+
+    The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded twice, and
+    the smaller bound kept: by Taylor's theorem, R = μ^(N)(ξ)/N! for some ξ in t_s +
+    [-r, r], enclosed by series arithmetic on that ball; and by Cauchy's estimate: μ is
+    analytic on the disc |ε| <= ρ = 2r with |μ| <= M there (a complex ball covering it),
+    so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i 2^-i = 2M/ρ^N. The same for δ."""
+    e = motion.instants[motion.analysis.instants.index(s)][1]
+    m = s.order
+    ks = [min(v, m + 1) for v in s.mu_valuations]
+    N = max(*ks, m) + ZONE_TERMS
+    old_prec, old_cap = ctx.prec, ctx.cap
+    ctx.prec, ctx.cap = TAYLOR_PREC, N + 3
+    try:
+        point = _series_parts(motion, coeffs, arb(0), N + 1)
+        lead = [_coef(point[0], ks[0]), _coef(point[1], ks[1]), _coef(point[2], m)]
+        if lead[2].contains(0):
+            return None
+        tf = to_float(motion.traj.duration)
+        for j in range(2, 21):
+            r = tf * 2.0**-j
+            bounds = _disc_bound(motion, coeffs, 2 * r)
+            rem = [2 * M / arb(2 * r) ** N for M in bounds] if bounds else [arb("inf")] * 3
+            try:  # Taylor's theorem: the N-th coefficients over t_s + [-r, r]
+                hull = arb(0).union(arb(r)).union(arb(-r))
+                lagrange = [
+                    abs(_coef(f, N)).upper() for f in _series_parts(motion, coeffs, hull, N + 1)
+                ]
+                rem = [b if not a.is_finite() or (b.is_finite() and b < a) else a
+                       for a, b in zip(rem, lagrange, strict=True)]  # fmt: skip
+            except (ValueError, ZeroDivisionError):
+                pass
+            ok = all(R.is_finite() for R in rem)
+            for R, c, k in zip(rem, lead, (ks[0], ks[1], m), strict=True):
+                size = R * arb(r) ** (N - k)
+                scale = abs(c).lower() if not c.contains(0) else arb(1)
+                ok &= bool(size < ZONE_SLACK * scale)
+            if ok:
+                num = tuple(
+                    [Ball.of_arb(_coef(point[i], j)) for j in range(ks[i], N)]
+                    + [Ball(0.0, float(rem[i].upper()) * (1 + 4 * U))]
+                    for i in (0, 1)
+                )
+                den = [Ball.of_arb(_coef(point[2], j)) for j in range(m, N)]
+                den.append(Ball(0.0, float(rem[2].upper()) * (1 + 4 * U)))
+                return Zone(e, r, (ks[0] - m, ks[1] - m), (num[0], num[1]), den)
+        return None
+    except (ValueError, ZeroDivisionError):
+        return None
+    finally:
+        ctx.prec, ctx.cap = old_prec, old_cap
+
+
 # -- results ----------------------------------------------------------------------------------
 
 
@@ -414,6 +537,7 @@ class Envelope:
         tf = to_float(self.duration)
         self.near = tf / 16  # the Taylor form is tried within this distance of an instant
         self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
+        self._zones: list[Zone | None] | None = None
 
     # -- enclosures ---------------------------------------------------------------------
     def enclose(self, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball, Ball]:
@@ -458,21 +582,58 @@ class Envelope:
         up = [T1.upper_abs(), T2.upper_abs()]
         poor = ~((T1.rad <= np.abs(T1.mid)) & (T2.rad <= np.abs(T2.mid)))
         wanted = ~((up[0] <= need) & (up[1] <= need))
-        for j in np.nonzero(poor & wanted)[0]:
+        todo = poor & wanted
+        covered = np.zeros(len(lo), dtype=bool)
+        for zone in self.zones():
+            if zone is None:
+                continue
+            inside = todo & (lo >= zone.e.hi - zone.r * 0.999) & (hi <= zone.e.hi + zone.r * 0.999)
+            idx = np.nonzero(inside)[0]
+            covered |= inside
+            if not len(idx):
+                continue
+            T1z, T2z = self.enclose_zone(zone, lo[idx], hi[idx])
+            for i, Tz in ((0, T1z), (1, T2z)):
+                u = Tz.upper_abs()
+                better = u < up[i][idx]
+                up[i][idx[better]] = u[better]
+                low[i][idx[better]] = np.maximum(low[i][idx[better]], Tz.lower_abs()[better])
+        for j in np.nonzero(todo & ~covered)[0]:
             got = self._near_instant(float(lo[j]), float(hi[j]))
             if got is None:
                 continue
             for i in (0, 1):
-                u = float(np.ravel(got[i].upper_abs())[0])
-                if u < up[i][j]:
-                    up[i][j] = u
+                u1 = float(np.ravel(got[i].upper_abs())[0])
+                if u1 < up[i][j]:
+                    up[i][j] = u1
                     low[i][j] = max(low[i][j], float(np.ravel(got[i].lower_abs())[0]))
         return low, up
 
+    def zones(self) -> list[Zone | None]:
+        """The zone form about each singular instant (``make_zone``), made once."""
+        if self._zones is None:
+            self._zones = []
+            for k, (s, _) in enumerate(self.motion.instants):
+                if k not in self._coeffs:
+                    self._coeffs[k] = _taylor_at_instant(self.motion, s, TAYLOR_PREC)
+                self._zones.append(make_zone(self.motion, s, self._coeffs[k]))
+        return self._zones
+
+    def enclose_zone(self, zone: Zone, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball]:
+        """T1, T2 over boxes inside a zone, λ from the zone form."""
+        with quiet():
+            box = Ball.hull(lo, hi)
+            eps = zone.e.eps(box.mid) + Ball(0.0, box.rad)
+            lam = zone.lam(eps)
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, box))
+            T1, T2, _ = _torques_of(self.motion, x, xd, xdd, y, yd, ydd, lam)
+        return T1, T2
+
     def _near_instant(self, lo: float, hi: float) -> tuple[Ball, Ball] | None:
         """T1, T2 over [lo, hi] by a Taylor form about the nearest singular instant: with
-        the Lagrange remainder about t_s when the box holds or touches a bounded t_s
-        (``taylor_lambda``), else by the box's own Taylor model (``taylor_box``)."""
+        the Lagrange remainder about t_s when the box holds a bounded t_s
+        (``taylor_lambda``), else, for a box narrow beside its distance to t_s, by the
+        box's own Taylor model (``taylor_box``)."""
         if not self.motion.instants:
             return None
         k = min(range(len(self.motion.instants)),
@@ -487,6 +648,9 @@ class Envelope:
                 return None
             T1, T2, ok = self.enclose_near(s, np.array([lo]), np.array([hi]))
             return (T1, T2) if ok[0] else None
+        dist = min(abs(lo - e.hi), abs(hi - e.hi))
+        if hi - lo > dist / 4:  # too wide for a Taylor model about its midpoint: bisect
+            return None
         old = ctx.prec
         ctx.prec = TAYLOR_PREC
         try:
