@@ -818,18 +818,21 @@ class Envelope:
         lo, hi = _boxes(self.duration, START_BOXES)
         ts = _clip(self.duration, np.concatenate([lo, hi[-1:], 0.5 * (lo + hi), [t_y]]))
         best, best_t = self._lower_delta(ts, math.inf, 0.0)
+        floor = math.inf  # the least lower bound of a box set aside
         for _ in range(MAX_ROUNDS):
             low = self.enclose(lo, hi)[2].lower_abs()
             keep = low < best * (1 - rel)
-            if not keep.any() or keep.sum() > MAX_LIVE:
-                floor = float(low[keep].min(initial=best)) if keep.any() else best * (1 - rel)
+            floor = min(floor, float(low[~keep].min(initial=math.inf)))
+            if not keep.any():
                 return Approach(dist, t_y, min(floor, best), best, best_t)
+            if keep.sum() > MAX_LIVE:
+                break
             lo, hi = lo[keep], hi[keep]
             mid = 0.5 * (lo + hi)
             lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
             best, best_t = self._lower_delta(_clip(self.duration, mid), best, best_t)
         low = self.enclose(lo, hi)[2].lower_abs()
-        return Approach(dist, t_y, float(low.min(initial=best)), best, best_t)
+        return Approach(dist, t_y, min(floor, float(low.min(initial=best))), best, best_t)
 
     def _lower_delta(self, ts: np.ndarray, best: float, best_t: float) -> tuple[float, float]:
         """The smallest certified upper bound of |δ| at the times ts (and where)."""
