@@ -8,8 +8,9 @@ from functools import cache
 import numpy as np
 import pytest
 
-from rprpr.engine.envelope import Envelope, _taylor_at_instant, make_zone
+from rprpr.engine.envelope import Envelope
 from rprpr.engine.sampling import grid
+from rprpr.engine.zones import make_zone, taylor_at_instant
 from rprpr.model.task import Task
 
 from .reference import reference
@@ -100,7 +101,7 @@ def test_zone_form_encloses_the_reference_lambda(path: str, k: int) -> None:
     motion = _motion(task)
     (s,) = motion.analysis.instants
     assert s.order == k
-    zone = make_zone(motion, s, _taylor_at_instant(motion, s, 128))
+    zone = make_zone(motion, s, taylor_at_instant(motion, s, 128))
     assert zone is not None and zone.r > 0
     for eps in (-0.9 * zone.r, -1e-3 * zone.r, 1e-9, 0.5 * zone.r):
         t = 1.0 + eps
@@ -113,7 +114,7 @@ def test_zone_form_encloses_the_reference_lambda(path: str, k: int) -> None:
 
 
 def test_lagrange_form_contains_the_limit_at_a_bounded_instant() -> None:
-    from rprpr.engine.envelope import taylor_lambda
+    from rprpr.engine.zones import taylor_lambda
 
     task = _config("paper_path2.yaml")
     motion = _motion(task)

@@ -26,10 +26,13 @@ How (all choices depend on t alone, never on the other times asked for):
    crosses its cut (y = 0 behind A for leg 1, behind B for leg 2); exactly at such an
    instant θ takes its limit from the left (``sampling._continuous_angle``'s semantics,
    decided exactly instead of by a width).
-3. **Refinement**: a sample whose ball fails the acceptance (rad <= TOL (1 + |mid|)) is
+3. **Near a singular instant**, where λ = μ/δ fails the acceptance, λ is taken from the
+   instant's zone form (``zones.Zone``: the Taylor coefficients of μ and δ at t_s with the
+   exactly vanishing ones dropped, and a proven remainder), which cancels nothing.
+4. **Refinement**: a sample whose ball fails the acceptance (rad <= TOL (1 + |mid|)) is
    evaluated again alone in flint's arb at the exact t, with x(t), y(t) and their
    derivatives exact in Q, at 128 bits doubled up to 4096 until every value passes.
-4. **Exactly at a singular instant** (t == t_s, only possible for a dyadic t_s): δ = 0;
+5. **Exactly at a singular instant** (t == t_s, only possible for a dyadic t_s): δ = 0;
    bounded: λ and T are the exact limits from the exact series (``singular``); a pole:
    λ2, T1, T2 NaN (reason POLE; λ1 = μ1/δ is always bounded, μ1 = O(ε^m)). E exactly at
    A or B: the leg's angle, rates, δ, λ and T NaN (reasons AT_A, AT_B). An irrational or
@@ -53,6 +56,7 @@ from .balls import ETA, Ball, U, hypot, quiet, two_sum
 from .series import taylor
 from .singular import SingularAnalysis, SingularInstant, _in_span, _real_roots, expansion, legs
 from .trajectory import Trajectory
+from .zones import TAYLOR_PREC, Zone, make_zone, taylor_at_instant
 
 TOL = 1e-9  # the mixed error every certified value meets
 START_PREC = 128  # bits of the arb refinement, to start with
@@ -270,6 +274,7 @@ class CertifiedMotion:
         self.locals += [self._local(k.time) for k in self.kinematic]
         self.cuts = {1: self._cuts(1), 2: self._cuts(2)}
         self._limits: dict[int, tuple[Ball, Ball, Ball, Ball]] = {}
+        self._zones: dict[int, Zone | None] = {}
 
     # -- set-up ------------------------------------------------------------------------
     def _center(self) -> fmpq:
@@ -340,16 +345,68 @@ class CertifiedMotion:
                 reason[j] = AT_A if k.leg == 1 else AT_B
                 for name in (LEG1 if k.leg == 1 else LEG2) + DYNAMIC:
                     undefined[name][j] = True
-        bad = np.zeros(len(t), dtype=bool)
-        for n in FIELDS:
-            ok = radius[n] <= TOL * (1.0 + np.abs(value[n]))
-            bad |= ~ok & ~undefined[n]
+        bad = self._failing(value, radius, undefined)
+        if bad.any() and self.instants and not self.analysis.on_singular_line:
+            with quiet():
+                self._from_zones(t, bad & (reason == OK), value, radius)
+            bad = self._failing(value, radius, undefined)
         for j in np.nonzero(bad)[0]:
             self._refine(float(t[j]), int(j), value, radius, undefined, reason)
         for n in FIELDS:
             value[n][undefined[n]] = np.nan
             radius[n][undefined[n]] = np.nan
         return CertifiedSamples(t, value, radius, reason)
+
+    @staticmethod
+    def _failing(
+        value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+        undefined: dict[str, np.ndarray],
+    ) -> np.ndarray:
+        """Samples with a defined value not yet certified."""
+        bad = np.zeros(len(next(iter(value.values()))), dtype=bool)
+        for n in FIELDS:
+            ok = radius[n] <= TOL * (1.0 + np.abs(value[n]))
+            bad |= ~ok & ~undefined[n]
+        return bad
+
+    def zone(self, k: int) -> Zone | None:
+        """The zone form of λ about the k-th singular instant (``zones.make_zone``)."""
+        if k not in self._zones:
+            s = self.instants[k][0]
+            self._zones[k] = make_zone(self, s, taylor_at_instant(self, s, TAYLOR_PREC))
+        return self._zones[k]
+
+    def _from_zones(
+        self, t: np.ndarray, todo: np.ndarray, value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+    ) -> None:  # fmt: skip
+        """λ and T at samples near a singular instant from its zone form (no cancellation
+        left), where that is narrower than the direct quotient."""
+        times = np.array([e.hi for _, e in self.instants])
+        near = np.argmin(np.abs(t[:, None] - times[None, :]), axis=1)
+        for k in np.unique(near[todo]):
+            idx = np.nonzero(todo & (near == k))[0]
+            zone = self.zone(int(k))
+            if zone is None:
+                continue
+            idx = idx[np.abs(t[idx] - zone.e.hi) <= 0.999 * zone.r]
+            if not len(idx):
+                continue
+            lam = zone.lam(zone.e.eps(t[idx]))
+            b = {
+                n: Ball(value[n][idx], radius[n][idx])
+                for n in ("x", "x_dot", "x_ddot", "y", "y_dot", "y_ddot")
+            }
+            leg1 = dyn.leg(b["x"], b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot)
+            leg2 = dyn.leg(
+                b["x"] - self.a1, b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot
+            )
+            T1, T2 = dyn.torques(dyn.dynamics(leg1, leg2, self.params), lam[0], lam[1])
+            for name, new in (("lambda1", lam[0]), ("lambda2", lam[1]), ("T1", T1), ("T2", T2)):
+                better = new.rad < radius[name][idx]
+                value[name][idx[better]] = new.mid[better]
+                radius[name][idx[better]] = new.rad[better]
 
     def ball_pass(self, t: np.ndarray) -> Values:
         """Every quantity at the times ``t`` as balls (no refinement; call within
