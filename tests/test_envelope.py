@@ -124,3 +124,14 @@ def test_lagrange_form_contains_the_limit_at_a_bounded_instant() -> None:
     limit = (0.00125, -9.625)  # μ_m/δ_m exactly (engine.certified) and the reference
     for ball, v in zip(lam, limit, strict=True):
         assert abs(float(np.ravel(ball.mid)[0]) - v) <= float(np.ravel(ball.rad)[0])
+
+
+def test_order_13_bounded_instant_peak_is_certified() -> None:
+    # issue 9's table: the float sampler reported torque_peak 840; the true peak is 904
+    task = _task("(x - 3)^13", "2 + t")
+    peaks = Envelope(_motion(task)).torque_peak()
+    assert peaks is not None and all(p.certified for p in peaks)
+    assert peaks[0].value == pytest.approx(903.7366, abs=1e-4) and peaks[0].t == 2.0
+    assert _abs_ref(task, peaks[0].t, "T1") == pytest.approx(peaks[0].value, rel=1e-9)
+    c = _motion(task).sample(grid(task.duration, 1001))
+    assert np.max(np.abs(c.value["T1"])) <= peaks[0].upper

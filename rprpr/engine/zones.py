@@ -23,11 +23,12 @@ expanded polynomials in t, evaluated on a ball, would not stay tight.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from flint import acb, arb, arb_series, ctx
+from flint import acb, acb_poly, arb, arb_series, ctx
 
 from ..model.numbers import to_float
 from . import equations as dyn
@@ -39,7 +40,9 @@ if TYPE_CHECKING:
     from .certified import CertifiedMotion, ExactTime
 
 TAYLOR_PREC = 128  # bits of the Taylor forms, to start with
-ZONE_TERMS = 24  # terms of the zone form beyond the leading ones
+ZONE_TERMS = 48  # terms of the zone form beyond the leading ones
+CIRCLE_BALLS = 64  # complex balls covering the circle of a Cauchy bound
+DISC_GRID = 12  # complex balls per side of the grid proving analyticity on a disc
 ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading terms
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
 
@@ -226,17 +229,17 @@ def _series_parts(
     return d.mu1, d.mu2, -(Y * a1) / (l1.s * l2.s)
 
 
-def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> list[arb] | None:
-    """Upper bounds of |μ1|, |μ2|, |δ| on the complex disc |t - t_s| <= rho (a complex
-    ball covering it), or None when a leg's s² may reach the cut of the square root
-    there (then the real formulas need not continue analytically)."""
-    z = acb(arb(0, rho), arb(0, rho))
+def _on_ball(
+    motion: CertifiedMotion, coeffs: list[list[arb]], z: acb
+) -> tuple[arb, arb, arb] | None:
+    """Upper bounds of |μ1|, |μ2|, |δ| at t_s + z for every z of the complex ball, or None
+    unless Re s² > 0 there for both legs (then the principal square root is the analytic
+    continuation of the real one)."""
     vals = []
-    for cs in coeffs:  # x, x', x'' and y, y', y'' about t_s, on the disc
-        d0 = cs
+    for cs in coeffs:  # x, x', x'' and y, y', y'' about t_s
         d1 = [k * cs[k] for k in range(1, len(cs))] or [arb(0)]
         d2 = [k * d1[k] for k in range(1, len(d1))] or [arb(0)]
-        for c in (d0, d1, d2):
+        for c in (cs, d1, d2):
             acc = acb(c[-1])
             for ck in c[-2::-1]:
                 acc = acc * z + ck
@@ -249,8 +252,53 @@ def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) ->
     l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _hypot)
     l2 = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _hypot)
     d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
-    out = [abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper()]
+    out = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
     return out if all(v.is_finite() for v in out) else None
+
+
+def _analytic_on_disc(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> bool:
+    """True when Re s_i² > 0 on the whole disc |t - t_s| <= rho for both legs, proven on
+    DISC_GRID² complex balls covering it: then s_i² has no zero there, the principal
+    square root is analytic on it and continues the real one, and so are μ and δ."""
+    x = acb_poly([acb(c) for c in coeffs[0]])
+    y = acb_poly([acb(c) for c in coeffs[1]])
+    polys = [x * x + y * y, (x - acb(arb(motion.traj.a1))) ** 2 + y * y]
+    n = DISC_GRID
+    half = rho / n * 1.01
+    for i in range(n):
+        for j in range(n):
+            re, im = -rho + (2 * i + 1) * rho / n, -rho + (2 * j + 1) * rho / n
+            if math.hypot(abs(re) - rho / n, abs(im) - rho / n) > rho:
+                continue  # this ball lies outside the disc
+            z = acb(arb(re, half), arb(im, half))
+            if not all(p(z).real > 0 for p in polys):
+                return False
+    return True
+
+
+def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> list[arb] | None:
+    """Upper bounds M of |μ1|, |μ2|, |δ| on the disc |t - t_s| <= rho: where μ and δ are
+    analytic on the disc (``_analytic_on_disc``), by the maximum modulus principle |f|
+    there is at most its maximum on the circle |z| = rho, bounded on CIRCLE_BALLS complex
+    balls covering the circle; one ball covering the whole disc bounds it as well."""
+    if not _analytic_on_disc(motion, coeffs, rho):
+        return None
+    whole = _on_ball(motion, coeffs, acb(arb(0, rho), arb(0, rho)))
+    n = CIRCLE_BALLS
+    half = rho * math.sin(math.pi / n) * 1.01  # each ball covers its arc of the circle
+    best = list(whole) if whole is not None else None
+    circle: list[arb] = [arb(0), arb(0), arb(0)]
+    for j in range(n):
+        th = 2 * math.pi * j / n
+        got = _on_ball(
+            motion, coeffs, acb(arb(rho * math.cos(th), half), arb(rho * math.sin(th), half))
+        )
+        if got is None:
+            return best
+        circle = [c if c > g else g for c, g in zip(circle, got, strict=True)]
+    if best is None:
+        return circle
+    return [c if c < b else b for c, b in zip(circle, best, strict=True)]
 
 
 def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
@@ -260,8 +308,8 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
     The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded twice, and
     the smaller bound kept: by Taylor's theorem, R = μ^(N)(ξ)/N! for some ξ in t_s +
     [-r, r], enclosed by series arithmetic on that ball; and by Cauchy's estimate: μ is
-    analytic on the disc |ε| <= ρ = 2r with |μ| <= M there (a complex ball covering it),
-    so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i 2^-i = 2M/ρ^N. The same for δ."""
+    analytic on the disc |ε| <= ρ = 2r with |μ| <= M there (``_disc_bound``), so
+    |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i 2^-i = 2M/ρ^N. The same for δ."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
     m = s.order
     ks = [min(v, m + 1) for v in s.mu_valuations]
