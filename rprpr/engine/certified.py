@@ -324,8 +324,10 @@ class CertifiedMotion:
         return sorted(cuts, key=lambda c: c.time.hi)
 
     # -- sampling --------------------------------------------------------------------
-    def sample(self, t: np.ndarray) -> CertifiedSamples:
-        """Certified values at the float times ``t`` [s] (module docstring)."""
+    def sample(self, t: np.ndarray, refine: bool = True) -> CertifiedSamples:
+        """Certified values at the float times ``t`` [s] (module docstring); without
+        ``refine``, values the ball pass and the zone forms do not certify are left NaN
+        (reason UNCERTIFIED) instead of being refined in arb."""
         t = np.asarray(t, dtype=float)
         with quiet():
             balls = self.ball_pass(t)
@@ -351,7 +353,13 @@ class CertifiedMotion:
                 self._from_zones(t, bad & (reason == OK), value, radius)
             bad = self._failing(value, radius, undefined)
         for j in np.nonzero(bad)[0]:
-            self._refine(float(t[j]), int(j), value, radius, undefined, reason)
+            if refine:
+                self._refine(float(t[j]), int(j), value, radius, undefined, reason)
+                continue
+            reason[j] = reason[j] or UNCERTIFIED
+            for n in FIELDS:
+                if not radius[n][j] <= TOL * (1.0 + abs(value[n][j])):
+                    undefined[n][j] = True
         for n in FIELDS:
             value[n][undefined[n]] = np.nan
             radius[n][undefined[n]] = np.nan

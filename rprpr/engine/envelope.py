@@ -41,6 +41,7 @@ START_BOXES = 64  # the initial partition of [0, t_f]
 MAX_ROUNDS = 60  # bisection rounds, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
+MAX_BOX_MODELS = 400  # box Taylor models per task, at most (the work cap near an instant)
 
 
 # -- first-order jets of balls ----------------------------------------------------------
@@ -271,6 +272,7 @@ class Envelope:
         self.near = tf / 16  # the Taylor form is tried within this distance of an instant
         self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
         self._zones: list[Zone | None] | None = None
+        self.box_models = MAX_BOX_MODELS  # left to spend (``_near_instant``)
 
     # -- enclosures ---------------------------------------------------------------------
     def enclose(self, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball, Ball]:
@@ -382,8 +384,9 @@ class Envelope:
             T1, T2, ok = self.enclose_near(s, np.array([lo]), np.array([hi]))
             return (T1, T2) if ok[0] else None
         dist = min(abs(lo - e.hi), abs(hi - e.hi))
-        if hi - lo > dist / 4:  # too wide for a Taylor model about its midpoint: bisect
+        if hi - lo > dist / 4 or self.box_models <= 0:  # too wide (bisect), or work cap
             return None
+        self.box_models -= 1
         old = ctx.prec
         ctx.prec = TAYLOR_PREC
         try:
@@ -393,8 +396,9 @@ class Envelope:
         return taylor_box(self.motion, self._coeffs[k], ts, lo, hi)
 
     def point_abs(self, t: np.ndarray) -> list[np.ndarray]:
-        """Certified lower bounds of |T1|, |T2| at the float times t (0 where undefined)."""
-        c = self.motion.sample(t)
+        """Certified lower bounds of |T1|, |T2| at the float times t (0 where undefined or
+        not certified without arb: lower bounds need no refinement)."""
+        c = self.motion.sample(t, refine=False)
         out = []
         for name in ("T1", "T2"):
             v, r = c.value[name], c.radius[name]
@@ -569,8 +573,10 @@ class Envelope:
 
     def _lower_delta(self, ts: np.ndarray, best: float, best_t: float) -> tuple[float, float]:
         """The smallest certified upper bound of |δ| at the times ts (and where)."""
-        c = self.motion.sample(ts)
+        c = self.motion.sample(ts, refine=False)
         up = np.abs(c.value["delta"]) + c.radius["delta"]
+        if np.isnan(up).all():
+            return best, best_t
         j = int(np.nanargmin(up))
         if up[j] < best:
             return float(up[j]), float(ts[j])
