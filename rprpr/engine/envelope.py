@@ -333,7 +333,13 @@ class Envelope:
                 better = u < up[i][idx]
                 up[i][idx[better]] = u[better]
                 low[i][idx[better]] = np.maximum(low[i][idx[better]], Tz.lower_abs()[better])
-        for j in np.nonzero(todo & ~covered)[0]:
+        rest = todo & ~covered
+        if self.box_models <= 0 and rest.any():  # only boxes holding an instant are left
+            holds = np.zeros(len(lo), dtype=bool)
+            for _, e in self.motion.instants:
+                holds |= (e.compare(lo) <= 0) & (e.compare(hi) >= 0)
+            rest &= holds
+        for j in np.nonzero(rest)[0]:
             got = self._near_instant(float(lo[j]), float(hi[j]))
             if got is None:
                 continue
@@ -475,7 +481,7 @@ class Envelope:
             done_lo.append(lo[~split])
             done_hi.append(hi[~split])
             done_state.append(state[~split])
-            if not split.any() or 2 * split.sum() > 64 * MAX_LIVE:
+            if not split.any() or 2 * split.sum() > MAX_LIVE:
                 lo, hi = lo[split], hi[split]
                 break
             lo, hi = lo[split], hi[split]
