@@ -498,7 +498,8 @@ class CertifiedMotion:
         size = np.maximum(np.abs(um), np.abs(vm))
         rho = (u.rad + v.rad) * (1 + 4 * U)
         prop = np.where(rho < size, (np.pi / 2 * (1 + 4 * U)) * rho / size, np.inf)
-        principal = Ball(raw, prop + (16 * U) * np.abs(raw) + 16 * ETA)
+        # Ball additions round their radii upward: the allowance and the propagation
+        principal = Ball.exact(raw) + Ball(0.0, prop) + Ball(0.0, (16 * U) * np.abs(raw) + 16 * ETA)
         return self._on_branch(leg, t, principal)
 
     def _on_branch(self, leg: int, t: np.ndarray, principal: Ball) -> Ball:
