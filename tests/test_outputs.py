@@ -23,7 +23,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-from rprpr.cli.main import main
 from rprpr.cli.output import AtomicFile, refuse_overwriting_inputs
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
@@ -32,19 +31,11 @@ from rprpr.render.json import render as json_report
 from rprpr.report.records import task_report
 from rprpr.report.run import Run
 
-from .conftest import CONFIGS, task_text
+from .conftest import CONFIGS, PATH2_FILE, run_cli, task_text
 
-PATH2 = str(CONFIGS / "paper_path2.yaml")
 RPRPR = [sys.executable, "-m", "rprpr"]
 FULL = Path("/dev/full")
 needs_full = pytest.mark.skipif(not FULL.exists(), reason="needs /dev/full")
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as e:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return int(e.value.code or 0), out, err
 
 
 def listing(folder: Path) -> list[str]:
@@ -53,7 +44,7 @@ def listing(folder: Path) -> list[str]:
 
 # -- 6. atomic outputs ---------------------------------------------------------------------
 def test_a_failed_check_report_keeps_the_previous_one(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A bug while writing the report: exit 3, the old report as it was, no temporary."""
     report = tmp_path / "report.json"
@@ -64,55 +55,49 @@ def test_a_failed_check_report_keeps_the_previous_one(
         raise RuntimeError("simulated bug while rendering")
 
     monkeypatch.setattr(rprpr.render.json, "render", broken)
-    code, _, err = run(capsys, "check", "--format", "json", "-o", str(report), PATH2)
+    code, _, err = run_cli("check", "--format", "json", "-o", str(report), PATH2_FILE)
     assert code == 3 and "simulated bug" in err
     assert report.read_text() == "old report\n"
     assert listing(tmp_path) == ["report.json"]
 
 
-def test_check_o_replaces_the_report_only_when_complete(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_check_o_replaces_the_report_only_when_complete(tmp_path: Path) -> None:
     report = tmp_path / "report.json"
     report.write_text("old report\n")
     os.chmod(report, 0o640)
-    code, _, _ = run(capsys, "check", "--format", "json", "-o", str(report), PATH2)
+    code, _, _ = run_cli("check", "--format", "json", "-o", str(report), PATH2_FILE)
     assert code == 0
     assert json.loads(report.read_text())["summary"]["passed"] == 1
     assert stat.S_IMODE(report.stat().st_mode) == 0o640  # the file's mode is kept
     assert listing(tmp_path) == ["report.json"]
 
 
-def test_a_new_output_gets_the_umask_mode_not_mkstemps_0600(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_a_new_output_gets_the_umask_mode_not_mkstemps_0600(tmp_path: Path) -> None:
     mask = os.umask(0o022)
     try:
-        run(capsys, "check", "--format", "json", "-o", str(tmp_path / "r.json"), PATH2)
+        run_cli("check", "--format", "json", "-o", str(tmp_path / "r.json"), PATH2_FILE)
     finally:
         os.umask(mask)
     assert stat.S_IMODE((tmp_path / "r.json").stat().st_mode) == 0o644
 
 
 def test_an_output_through_a_symbolic_link_writes_the_file_and_keeps_the_link(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path,
 ) -> None:
     (tmp_path / "reports").mkdir()
     real = tmp_path / "reports" / "latest.json"
     real.write_text("old\n")
     link = tmp_path / "report.json"
     link.symlink_to(real)
-    code, _, _ = run(capsys, "check", "--format", "json", "-o", str(link), PATH2)
+    code, _, _ = run_cli("check", "--format", "json", "-o", str(link), PATH2_FILE)
     assert code == 0 and link.is_symlink()
     assert json.loads(real.read_text())["summary"]["tasks"] == 1
     assert listing(tmp_path / "reports") == ["latest.json"]
 
 
-def test_dev_null_as_output_is_written_in_place_never_replaced(
-    capsys: pytest.CaptureFixture[str],
-) -> None:
+def test_dev_null_as_output_is_written_in_place_never_replaced() -> None:
     before = os.stat(os.devnull)
-    code, out, _ = run(capsys, "check", "--format", "json", "-o", os.devnull, PATH2)
+    code, out, _ = run_cli("check", "--format", "json", "-o", os.devnull, PATH2_FILE)
     after = os.stat(os.devnull)
     assert code == 0 and out == ""
     assert stat.S_ISCHR(after.st_mode) and (after.st_ino, after.st_rdev) == (
@@ -136,7 +121,6 @@ def test_atomic_file_removes_its_temporary_on_a_failed_write(tmp_path: Path) -> 
 def test_a_disk_that_fills_while_writing_is_exit_2_and_keeps_the_old_file(
     command: str,
     tmp_path: Path,
-    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """ENOSPC half-way through the file: one line, exit 2, the previous file intact."""
@@ -155,7 +139,7 @@ def test_a_disk_that_fills_while_writing_is_exit_2_and_keeps_the_old_file(
         import rprpr.render.sheet
 
         monkeypatch.setattr(rprpr.render.sheet, "save", lambda fig, path, *a, **k: full_disk(path))
-    code, _, err = run(capsys, command, PATH2, "-o", str(target), "--samples", "21")
+    code, _, err = run_cli(command, PATH2_FILE, "-o", str(target), "--samples", "21")
     what = "samples" if command == "export" else "sheet"
     assert code == 2
     assert err.splitlines() == [
@@ -169,11 +153,11 @@ def test_a_disk_that_fills_while_writing_is_exit_2_and_keeps_the_old_file(
 @pytest.mark.parametrize(
     ("args", "what"),
     [
-        (["check", "--format", "text", PATH2], "report"),
-        (["check", "--format", "json", PATH2], "report"),
-        (["check", "--format", "junit", PATH2], "report"),
+        (["check", "--format", "text", PATH2_FILE], "report"),
+        (["check", "--format", "json", PATH2_FILE], "report"),
+        (["check", "--format", "junit", PATH2_FILE], "report"),
         (["check", "--format", "github", str(CONFIGS / "paper_path1.yaml")], "report"),
-        (["export", PATH2, "--format", "json"], "samples"),
+        (["export", PATH2_FILE, "--format", "json"], "samples"),
         (["schema"], "schema"),
     ],
 )
@@ -206,7 +190,7 @@ def test_an_output_file_linked_to_a_full_device_is_exit_2(
     command: str, name: str, what: str, tmp_path: Path
 ) -> None:
     (tmp_path / name).symlink_to(FULL)
-    args = [command, PATH2, "-o", name] + (["--format", "json"] if command == "check" else [])
+    args = [command, PATH2_FILE, "-o", name] + (["--format", "json"] if command == "check" else [])
     done = subprocess.run([*RPRPR, *args], capture_output=True, text=True, cwd=tmp_path)
     assert done.returncode == 2
     assert done.stderr.splitlines()[0] == (
@@ -217,7 +201,11 @@ def test_an_output_file_linked_to_a_full_device_is_exit_2(
 
 @pytest.mark.parametrize(
     ("args", "what"),
-    [(["schema"], "schema"), (["check", PATH2], "report"), (["export", PATH2], "samples")],
+    [
+        (["schema"], "schema"),
+        (["check", PATH2_FILE], "report"),
+        (["export", PATH2_FILE], "samples"),
+    ],
 )
 def test_a_closed_standard_output_is_a_failed_write(args: list[str], what: str) -> None:
     """Started with standard output closed (``>&-``): exit 2, never a crash, never a
@@ -234,7 +222,7 @@ def test_a_closed_standard_output_is_a_failed_write(args: list[str], what: str) 
 def test_a_closed_standard_output_does_not_stop_a_report_to_a_file(tmp_path: Path) -> None:
     done = subprocess.run(
         ["sh", "-c", 'exec "$@" >&-', "sh", *RPRPR, "check", "--format", "json", "-o", "r.json",
-         PATH2],
+         PATH2_FILE],
         capture_output=True, text=True, cwd=tmp_path,
     )  # fmt: skip
     assert done.returncode == 0
@@ -244,7 +232,7 @@ def test_a_closed_standard_output_does_not_stop_a_report_to_a_file(tmp_path: Pat
 # -- 9. outputs never overwrite inputs -----------------------------------------------------------
 def _task(folder: Path, name: str) -> Path:
     task = folder / name
-    shutil.copy(PATH2, task)
+    shutil.copy(PATH2_FILE, task)
     return task
 
 
@@ -253,42 +241,40 @@ def _refused(err: str, output: str) -> bool:
 
 
 def test_export_onto_its_own_task_is_refused(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
     task = _task(tmp_path, "plan.json")  # JSON is YAML: a valid task file
     before = task.read_bytes()
-    code, _, err = run(capsys, "export", "plan.json", "-o", "plan.json")
+    code, _, err = run_cli("export", "plan.json", "-o", "plan.json")
     assert code == 2 and _refused(err, "plan.json")
     assert task.read_bytes() == before
 
 
 def test_plot_whose_default_sheet_is_its_own_task_is_refused(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
     task = _task(tmp_path, "sheet.png")  # default output: sheet.png, the task itself
     before = task.read_bytes()
-    code, _, err = run(capsys, "plot", "sheet.png")
+    code, _, err = run_cli("plot", "sheet.png")
     assert code == 2 and _refused(err, "sheet.png")
     assert task.read_bytes() == before
 
 
 @pytest.mark.parametrize("option", ["-o", "--animate"])
-def test_plot_outputs_onto_a_task_are_refused(
-    option: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_plot_outputs_onto_a_task_are_refused(option: str, tmp_path: Path) -> None:
     name = "a.png" if option == "-o" else "a.gif"
     task = _task(tmp_path, name)
     other = _task(tmp_path, "b.yaml")
-    code, _, err = run(capsys, "plot", str(other), str(task), option, str(task))
+    code, _, err = run_cli("plot", str(other), str(task), option, str(task))
     assert code == 2 and _refused(err, str(task))
-    assert task.read_bytes() == Path(PATH2).read_bytes()
+    assert task.read_bytes() == Path(PATH2_FILE).read_bytes()
 
 
 @pytest.mark.parametrize("alias", ["hard link", "symbolic link", "dot slash", "dot dot"])
 def test_check_o_onto_a_task_under_another_name_is_refused(
-    alias: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+    alias: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     (tmp_path / "sub").mkdir()
     task = _task(tmp_path, "t.yaml")
@@ -303,9 +289,9 @@ def test_check_o_onto_a_task_under_another_name_is_refused(
         os.link(task, "h.yaml")
     elif alias == "symbolic link":
         os.symlink(task, "s.yaml")
-    code, _, err = run(capsys, "check", "-o", out, "../t.yaml")
+    code, _, err = run_cli("check", "-o", out, "../t.yaml")
     assert code == 2 and _refused(err, out)
-    assert task.read_bytes() == Path(PATH2).read_bytes()
+    assert task.read_bytes() == Path(PATH2_FILE).read_bytes()
 
 
 def test_refusal_compares_identity_not_names(tmp_path: Path) -> None:
@@ -320,7 +306,7 @@ def test_refusal_compares_identity_not_names(tmp_path: Path) -> None:
 def test_every_non_finite_value_is_nan_in_csv_and_null_in_json(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    result = audit(load_task(PATH2), samples=3)
+    result = audit(load_task(PATH2_FILE), samples=3)
     table = result.samples.rows().copy()
     table[0, 15], table[1, 16], table[2, 17] = math.inf, -math.inf, math.nan
     monkeypatch.setattr(E, "rows", lambda r: table)
@@ -334,13 +320,11 @@ def test_every_non_finite_value_is_nan_in_csv_and_null_in_json(
     assert (doc["rows"][0][15], doc["rows"][1][16], doc["rows"][2][17]) == (None, None, None)
 
 
-def test_a_motion_beyond_double_range_exports_nan_never_inf(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_a_motion_beyond_double_range_exports_nan_never_inf(tmp_path: Path) -> None:
     """x up to 1e30 m and y = x^12 + 1: y overflows the double range."""
     task = tmp_path / "huge.yaml"
     task.write_text(task_text("x^12 + 1", "timing:\n  x: 1e30*t + 2\n  duration: 1\n"))
-    code, out, _ = run(capsys, "export", str(task), "--samples", "5")
+    code, out, _ = run_cli("export", str(task), "--samples", "5")
     assert code == 0
     values = [v for line in out.splitlines()[2:] for v in line.split(",")]
     assert "nan" in values and not any("inf" in v for v in values)
@@ -349,7 +333,7 @@ def test_a_motion_beyond_double_range_exports_nan_never_inf(
 
 def test_the_check_json_report_is_strict_json_whatever_the_records_hold() -> None:
     run_ = Run()
-    report = task_report(audit(load_task(PATH2), samples=11), PATH2)
+    report = task_report(audit(load_task(PATH2_FILE), samples=11), PATH2_FILE)
     report["singularities"][0]["t"] = math.inf  # as an overflowing engine value would be
     report["torque_peak"] = [math.nan, -math.inf]
     run_.add("report", report)
@@ -359,5 +343,5 @@ def test_the_check_json_report_is_strict_json_whatever_the_records_hold() -> Non
 
 
 def test_rows_helper_is_the_engines_table() -> None:
-    result = audit(load_task(PATH2), samples=3)
+    result = audit(load_task(PATH2_FILE), samples=3)
     assert np.array_equal(E.rows(result), result.samples.rows(), equal_nan=True)
