@@ -121,17 +121,25 @@ class NumberField:
                 return -1
             prec *= 2  # p(t_s) != 0 since p is nonzero of degree < deg f and f irreducible
 
-    def to_float(self, p: fmpq_poly) -> float:
+    def accurate(self, p: fmpq_poly) -> arb:
+        """p(t_s) as a ball of about 56 bits of relative accuracy or more (precision
+        doubled up to 4096 bits; then whatever that gives)."""
         if p.is_zero():
-            return 0.0
+            return arb(0)
         if p.degree() == 0:
-            return to_float(p[0])
+            return arb(p[0])
         prec = 64
         while True:
             v = self.evaluate(p, prec)
             if v.rel_accuracy_bits() >= 56 or prec > 4096:
-                return float(v.mid())
+                return v
             prec *= 2
+
+    def to_float(self, p: fmpq_poly) -> float:
+        """p(t_s) as a double (±inf beyond the double range)."""
+        if p.degree() == 0:
+            return to_float(p[0])
+        return float(self.accurate(p).mid())
 
 
 Scalar = Any  # KElem or fmpq
@@ -241,6 +249,25 @@ def sign(a: Scalar) -> int:
     if isinstance(a, KElem):
         return a.sign()
     return (a > 0) - (a < 0)
+
+
+def ball(a: Scalar) -> arb:
+    """A KElem's value as a narrow ball (``NumberField.accurate``); a rational exactly
+    (at 128 bits)."""
+    if isinstance(a, KElem):
+        return a.field.accurate(a.p)
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        return arb(a)
+    finally:
+        ctx.prec = old
+
+
+def real(a: Scalar) -> float:
+    """The double nearest a KElem or a rational (±inf beyond the double range; never
+    raises, unlike ``float`` on a huge ``fmpq``)."""
+    return float(a) if isinstance(a, KElem) else to_float(a)
 
 
 def taylor(p: fmpq_poly, n: int) -> list[fmpq_poly]:

@@ -91,6 +91,10 @@ def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
                 type=f["rule"], message=f"{title}: {f['message']}")  # fmt: skip
         else:
             out.append(f"warning: {where} {title}: {f['message']} (fails only with --strict)")
+    out += [
+        f"{b['quantity']} = {b['value']}: beyond the double range"
+        for b in rep["beyond_double_range"]
+    ]
     n = len(rep["singularities"])
     out.append(
         f"verdict: {rep['verdict']}{' (strict)' if rep['strict'] else ''}, "

@@ -86,7 +86,23 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "on_singular_line": result.on_singular_line,
         "torque_peak": [_f(v) for v in result.torque_peak] if result.torque_peak else None,
         "findings": findings,
+        "beyond_double_range": beyond_double_range(result),
     }
+
+
+def beyond_double_range(result: AuditResult) -> list[dict[str, str]]:
+    """Each reported quantity whose double is not faithful to its exact value (beyond the
+    double range: JSON null where the double is infinite, else the nearest double, 0 or a
+    subnormal), with that exact value as text: ``{"quantity": "singularities[0].speed",
+    "value": "1.41421e+400"}``."""
+    out = []
+    for i, k in enumerate(result.kinematic_singularities):
+        for name, value in k.beyond_double_range:
+            out.append({"quantity": f"kinematic_singularities[{i}].{name}", "value": value})
+    for i, s in enumerate(result.singularities):
+        for name, value in s.beyond_double_range:
+            out.append({"quantity": f"singularities[{i}].{name}", "value": value})
+    return out
 
 
 def instant_times(rep: dict[str, Any]) -> dict[float, str]:
