@@ -31,7 +31,7 @@ from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
 from .roots import IsolatedRoot, isolate
-from .series import NumberField, Series, ball, is_zero, real, sign, taylor
+from .series import KElem, NumberField, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
 
 
@@ -185,6 +185,7 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
     for f, m in factors:
         if f.degree() < 1:
             continue
+        done: Expansions = {}
         for exact, at in _real_roots(f, traj.duration):
             if (traj.x % f).is_zero():
                 # E at A lies on leg 2's branch cut: its sign change keeps θ2 continuous
@@ -195,7 +196,7 @@ def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
             if ((traj.x - traj.a1) % f).is_zero():
                 kinematic.append((_passage(exact, at, float(arb(traj.a1)), 2), 1))
                 continue
-            instants.append(_instant(traj, robot, checks, f, int(m), exact, at))
+            instants.append(_instant(traj, robot, checks, f, int(m), exact, at, done))
     instants.sort(key=lambda pair: pair[0].t)
     kinematic.sort(key=lambda pair: pair[0].t)
     return SingularAnalysis(
@@ -255,6 +256,60 @@ def legs(
     )
 
 
+@dataclass(frozen=True)
+class _Expanded:
+    """What the audit reads of the exact expansions about a root t_s of f^m, for one
+    choice of the legs' signs s1 = sx x(t_s), s2 = sxa (x(t_s) - a1): as elements of
+    K = Q[t]/(f) these are the same at every root of f with those signs (only their
+    values differ), so they are computed once per factor and signs (``on`` moves them to
+    another root's field); plain rationals when t_s is rational."""
+
+    delta_m: Any  # the coefficient of ε^m of δ (eq. 29)
+    mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2
+    residual: Any  # eq. (34) at t_s
+    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ is bounded there
+    speed2: Any  # x'(t_s)^2 + y'(t_s)^2
+    y_m: Any  # the coefficient of ε^m of y
+
+    def on(self, field: NumberField) -> _Expanded:
+        """The same elements at another root of the same f."""
+
+        def move(v: Any) -> Any:
+            return KElem(v.p, field) if isinstance(v, KElem) else v
+
+        limit = None if self.limit is None else (move(self.limit[0]), move(self.limit[1]))
+        return _Expanded(
+            move(self.delta_m), self.mu_valuations, move(self.residual), limit,
+            move(self.speed2), move(self.y_m),
+        )  # fmt: skip
+
+
+def _expanded(
+    traj: Trajectory, robot: Robot, K: NumberField, m: int, exact: fmpq | None,
+    sx: int, sxa: int, case: Case,
+) -> _Expanded:  # fmt: skip
+    """The exact expansions about t_s (orders 0..m: the m conditions and the limit) and
+    what the audit reads of them."""
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
+    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
+    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
+    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
+    if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
+        raise AssertionError("order of δ differs from the multiplicity of y")
+    valuations = (d.mu1.valuation(), d.mu2.valuation())
+    return _Expanded(
+        delta_m=d.delta.c[m],
+        mu_valuations=valuations,
+        residual=case.sigma * d.F1.c[0] + d.F2.c[0],  # eq. (34), exact
+        limit=_limit_torque(d, m) if min(*valuations, m) >= m else None,
+        speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
+        y_m=Y.c[m],
+    )
+
+
+Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for one factor
+
+
 def _instant(
     traj: Trajectory,
     robot: Robot,
@@ -263,37 +318,34 @@ def _instant(
     m: int,
     exact: fmpq | None,
     at: RootAt,
+    done: Expansions,
 ) -> tuple[SingularInstant, _SamplerHints]:
+    """The singular instant at the root ``exact`` (or ball ``at``) of f^m; ``done`` holds
+    the expansions already made at other roots of f (and gains this root's)."""
     K = NumberField(f, at)
-    n = m + 1  # orders 0..m: the m conditions and the limit
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n, exact=exact)
-    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
-    sx = sign(X.c[0])
-    sxa = sign(X.c[0] - traj.a1)
+    x0 = traj.x(exact) if exact is not None else K.elem(traj.x)
+    sx, sxa = sign(x0), sign(x0 - traj.a1)
     case = case_of(sx, sxa)
-    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
-    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
-    if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
-        raise AssertionError("order of δ differs from the multiplicity of y")
-    k = min(d.mu1.valuation(), d.mu2.valuation(), m)
-    residual = case.sigma * d.F1.c[0] + d.F2.c[0]  # eq. (34), exact
-    limit = _limit_torque(d, m) if k >= m else None
+    if (sx, sxa) in done:
+        e = done[sx, sxa].on(K)
+    else:
+        e = done[sx, sxa] = _expanded(traj, robot, K, m, exact, sx, sxa, case)
+    k = min(*e.mu_valuations, m)
     # the design principles: path slope dy/dx and end-point speed at t_s
     slope = traj.slope(exact) if exact is not None else K.elem(traj.slope)
-    speed2 = Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0]
-    speed = _speed(speed2)
+    speed = _speed(e.speed2)
     beyond: list[tuple[str, str]] = []  # filled in the order of the fields
     t = _double("t", exact if exact is not None else at(128), beyond)
-    x = _double("x", X.c[0], beyond)
-    delta_m = _double(f"delta_derivatives[{m}]", d.delta.c[m] * math.factorial(m), beyond)
+    x = _double("x", x0, beyond)
+    delta_m = _double(f"delta_derivatives[{m}]", e.delta_m * math.factorial(m), beyond)
     slope_f = _double("slope", slope, beyond)
     speed_f = _double("speed", speed, beyond)
-    residual_f = _double("consistency_residual", residual, beyond)
+    residual_f = _double("consistency_residual", e.residual, beyond)
     torque = None
-    if limit is not None:
+    if e.limit is not None:
         torque = (
-            _double("torque_at_singularity[0]", limit[0], beyond),
-            _double("torque_at_singularity[1]", limit[1], beyond),
+            _double("torque_at_singularity[0]", e.limit[0], beyond),
+            _double("torque_at_singularity[1]", e.limit[1], beyond),
         )
     instant = SingularInstant(
         t=t,
@@ -306,16 +358,15 @@ def _instant(
         slope=slope_f,
         speed=speed_f,
         slope_principle=_slope_principle(slope, checks.min_slope),
-        velocity_principle=_velocity_principle(speed2, speed, checks.min_speed),
+        velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
         consistency_residual=residual_f,
-        consistent=is_zero(residual),
+        consistent=is_zero(e.residual),
         conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
         beyond_double_range=tuple(beyond),
     )
-    hints = _SamplerHints(K, (d.mu1.valuation(), d.mu2.valuation()), sign(Y.c[m]))
-    return instant, hints
+    return instant, _SamplerHints(K, e.mu_valuations, sign(e.y_m))
 
 
 def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
