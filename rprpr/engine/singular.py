@@ -145,6 +145,16 @@ class SingularAnalysis:
 
 
 RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
+OnStage = Callable[[str], None]  # told the name of each stage of the analysis as it begins
+
+# the stages of the exact analysis, named for "exceeded its budget at ..." (``audit.STAGES``)
+FACTORING = "the factorisation of y(t)"
+ISOLATING = "the isolation of the real roots of y(t)"
+EXPANDING = "the series about the singular instants"
+
+
+def _quiet(stage: str) -> None:
+    """An ``OnStage`` that listens to nothing."""
 
 
 def _real_roots(f: fmpq_poly, duration: fmpq) -> list[tuple[fmpq | None, RootAt]]:
@@ -173,20 +183,27 @@ def _passage(
     return KinematicSingularity(t, x, 0.0, leg, order, tuple(beyond))
 
 
-def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
-    """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f]."""
+def analyse(
+    traj: Trajectory, robot: Robot, checks: Checks, on_stage: OnStage = _quiet
+) -> SingularAnalysis:
+    """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f];
+    ``on_stage`` is told each stage (FACTORING, ISOLATING, EXPANDING) as it begins."""
     y = traj.y
     if y.is_zero():
         on_line = _kinematic_on_line(traj)
         return SingularAnalysis([], on_line, True, (), (1,) * len(on_line))
     instants: list[tuple[SingularInstant, _SamplerHints]] = []
     kinematic: list[tuple[KinematicSingularity, int]] = []
+    on_stage(FACTORING)
     _, factors = y.factor()
     for f, m in factors:
         if f.degree() < 1:
             continue
         done: Expansions = {}
-        for exact, at in _real_roots(f, traj.duration):
+        on_stage(ISOLATING)
+        roots = _real_roots(f, traj.duration)
+        on_stage(EXPANDING)
+        for exact, at in roots:
             if (traj.x % f).is_zero():
                 # E at A lies on leg 2's branch cut: its sign change keeps θ2 continuous
                 lead = taylor(traj.y, int(m) + 1)[int(m)]

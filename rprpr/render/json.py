@@ -13,8 +13,8 @@ from ..report.run import Run
 
 
 def document(run: Run, quiet: bool = False) -> dict[str, Any]:
-    """The JSON document of ``run``: the version, the reports, the summary, the input and
-    internal errors; ``quiet`` leaves passing reports out (the summary still counts every
+    """The JSON document of ``run``: the version, the reports, the summary, the input,
+    internal and budget errors; ``quiet`` leaves passing reports out (the summary still counts every
     task)."""
     reports = [r for r in run.reports if r["verdict"] != "pass"] if quiet else run.reports
     return {
@@ -23,6 +23,7 @@ def document(run: Run, quiet: bool = False) -> dict[str, Any]:
         "summary": run.summary(),
         "input_errors": run.input_errors,
         "internal_errors": run.internal_errors,
+        "budget_errors": run.budget_errors,
     }
 
 

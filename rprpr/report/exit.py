@@ -12,10 +12,14 @@ status  ``ExitCode``  when
 2       INPUT         a bad invocation (usage error), a bad task file, an output that
                       cannot be written (no permission, a full disk: the environment)
 3       INTERNAL      a bug in rprpr, met while auditing a task or anywhere else
+4       BUDGET        ``check``: the audit of a task exceeded its work budget
+                      (``--budget``, 10 s by default); it was stopped, the other tasks
+                      were audited (a valid task that is too hard to decide in time)
 130     INTERRUPTED   interrupted before the command could handle it (128 + SIGINT)
 ======  ============  =====================================================================
 
-When several apply, the highest wins (a bad task file among failing tasks exits 2).
+When several apply, the highest wins (a bad task file among failing tasks exits 2; a task
+over its budget exits 4 whatever else happened).
 A reader that closes the pipe early (``rprpr check ... | head``) fails nothing: the
 status the command had reached stands.
 """
@@ -38,6 +42,7 @@ class ExitCode(IntEnum):
     FAILED = 1  # at least one task failed its audit
     INPUT = 2  # bad invocation, a bad task file, an output that cannot be written
     INTERNAL = 3  # a bug in rprpr: please report
+    BUDGET = 4  # a task's audit exceeded its work budget
     INTERRUPTED = 130  # Ctrl-C outside click's own handling (128 + SIGINT)
 
 
@@ -54,9 +59,11 @@ class InternalError(click.ClickException):
 
 
 def run_status(run: Run, *, exit_zero: bool = False) -> ExitCode:
-    """The status of a ``check`` run, the highest that applies: 3 internal > 2 input >
-    1 failed > 0 passed. ``exit_zero`` turns a failed audit into 0 but never hides an
-    error."""
+    """The status of a ``check`` run, the highest that applies: 4 over budget > 3 internal
+    > 2 input > 1 failed > 0 passed. ``exit_zero`` turns a failed audit into 0 but never
+    hides an error."""
+    if run.budget_errors:
+        return ExitCode.BUDGET
     if run.internal_errors:
         return ExitCode.INTERNAL
     if run.input_errors:

@@ -13,7 +13,7 @@ from typing import Any
 from ..engine.audit import AuditResult
 from ..engine.singular import SingularInstant
 from ..model.errors import TaskFileError
-from ..model.numbers import labels
+from ..model.numbers import labels, number
 from ..model.rules import RULES
 
 INVALID_TASK = "RPR001"  # the rule of every input error
@@ -138,4 +138,17 @@ def internal_error(e: BaseException, task_path: str) -> dict[str, Any]:
         "text": f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
         " the rprpr maintainers with this task file",
         "traceback": "".join(traceback.format_exception(e)),
+    }
+
+
+def budget_error(task_path: str, budget: float, stage: str) -> dict[str, Any]:
+    """A task whose audit exceeded its work budget of ``budget`` seconds during ``stage``
+    (``budget_errors[]``): it was stopped there, and the run went on."""
+    message = f"the exact analysis exceeded its budget of {number(budget)} s at {stage}"
+    return {
+        "task": task_path,
+        "budget": budget,
+        "stage": stage,
+        "message": message,
+        "text": f"{task_path}: {message} (check --budget SECONDS allows more)",
     }

@@ -1,0 +1,196 @@
+"""Tasks done in worker processes, each under a work budget (``check``).
+
+``check`` hands its task files, one at a time, to worker processes (``-j N``: N of them,
+at least one; rprpr itself never audits), so that it stays responsive whatever a task
+does: an audit can be deep in one long call into flint (C), which neither Ctrl-C nor any
+check made between Python statements can interrupt; only SIGKILL stops it. The parent
+waits on its workers' pipes. A task still running when its budget runs out (wall-clock
+seconds since it was handed out) is stopped by killing its worker and reported with the
+stage it had reached (a worker writes the number of each stage into shared memory as the
+stage begins); a fresh worker takes the dead one's place and the batch goes on. A worker
+that dies on its own (a crash in C, the out-of-memory killer) is reported likewise, and
+replaced. The results come back in task order, so a report does not depend on N.
+
+Workers ignore SIGINT (Ctrl-C reaches the whole process group: the parent decides) and
+die with the parent (on Linux the kernel kills them: ``PR_SET_PDEATHSIG``); the parent
+kills them all when it stops, however it stops (``finally``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import signal
+import sys
+import time
+from collections import deque
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+from typing import Any, Generic, TypeVar
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+OnStage = Callable[[str], None]
+PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+
+
+@dataclass(frozen=True)
+class Done(Generic[R]):
+    """The task ran to its end: ``value`` is what ``work`` returned."""
+
+    value: R
+
+
+@dataclass(frozen=True)
+class OverBudget:
+    """The task was stopped at its budget, ``seconds`` after it began, during ``stage``."""
+
+    seconds: float
+    stage: str
+
+
+@dataclass(frozen=True)
+class Died:
+    """The worker doing the task died on its own after ``seconds``: ``exitcode`` as
+    multiprocessing gives it (-N: killed by signal N)."""
+
+    seconds: float
+    exitcode: int | None
+
+
+Result = Done[R] | OverBudget | Died
+
+
+def run(
+    tasks: Sequence[T],
+    work: Callable[[T, OnStage], R],
+    *,
+    jobs: int,
+    budget: float | None,
+    stages: Sequence[str],
+) -> Iterator[tuple[T, Result[R]]]:
+    """(task, result) for each of ``tasks``, in order: ``work(task, on_stage)`` done in one
+    of ``jobs`` worker processes, stopped after ``budget`` seconds (None: no limit).
+    ``work`` tells ``on_stage`` the name of each stage (one of ``stages``; the first is
+    where every task begins) and must be picklable where workers are spawned."""
+    if not tasks:
+        return
+    context = multiprocessing.get_context("fork" if sys.platform.startswith("linux") else "spawn")
+    workers = [_Worker(context, work, stages) for _ in range(max(1, min(jobs, len(tasks))))]
+    todo = deque(range(len(tasks)))
+    results: dict[int, Result[R]] = {}
+    given = 0
+    try:
+        while given < len(tasks):
+            for w in workers:
+                if w.index is None and todo:
+                    i = todo.popleft()
+                    w.hand(i, tasks[i], budget)
+            _wait_for(workers)
+            for n, w in enumerate(workers):
+                index, result = w.result()
+                if result is None:
+                    continue
+                results[index] = result
+                if not isinstance(result, Done):  # the worker is dead: a fresh one
+                    workers[n] = _Worker(context, work, stages)
+            while given in results:
+                yield tasks[given], results.pop(given)
+                given += 1
+    finally:
+        for w in workers:
+            w.kill()
+
+
+def _wait_for(workers: list[_Worker]) -> None:
+    """Until a busy worker answers or dies, or the earliest budget runs out."""
+    busy = [w for w in workers if w.index is not None]
+    deadlines = [w.deadline for w in busy if w.deadline is not None]
+    timeout = max(0.0, min(deadlines) - time.monotonic()) if deadlines else None
+    wait([w.conn for w in busy] + [w.process.sentinel for w in busy], timeout)
+
+
+class _Worker:
+    """One worker process, its end of the pipe, the stage number it writes, and the task
+    it is doing (``index``, None when idle)."""
+
+    def __init__(self, context: Any, work: Callable[..., Any], stages: Sequence[str]) -> None:
+        self.stages = tuple(stages)
+        self.stage = context.RawValue("i", 0)
+        self.conn, child = context.Pipe()
+        self.process = context.Process(
+            target=_serve, args=(child, self.stage, work, self.stages), daemon=True
+        )
+        self.process.start()
+        child.close()  # the parent's copy: the pipe then ends when the worker does
+        self.index: int | None = None
+        self.started = 0.0
+        self.deadline: float | None = None
+
+    def hand(self, index: int, task: object, budget: float | None) -> None:
+        self.index, self.started = index, time.monotonic()
+        self.deadline = None if budget is None else self.started + budget
+        with contextlib.suppress(OSError):  # a worker dead while idle: ``result`` finds it
+            self.conn.send(task)
+
+    def result(self) -> tuple[int, Result[Any] | None]:
+        """(index, result) of the task in hand: Done when the worker answered, Died when
+        it died, OverBudget (after killing it) when its time is up; None meanwhile."""
+        index = self.index
+        if index is None:
+            return -1, None
+        seconds = time.monotonic() - self.started
+        if self.conn.poll():
+            try:
+                value = self.conn.recv()
+            except (EOFError, OSError):
+                self.kill()
+                return index, Died(seconds, self.process.exitcode)
+            self.index = None
+            return index, Done(value)
+        if not self.process.is_alive():
+            self.kill()
+            return index, Died(seconds, self.process.exitcode)
+        if self.deadline is not None and time.monotonic() >= self.deadline:
+            stage = self.stages[self.stage.value]
+            self.kill()
+            return index, OverBudget(seconds, stage)
+        return index, None
+
+    def kill(self) -> None:
+        """SIGKILL the worker (it holds nothing worth saving) and reap it."""
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join()
+        self.conn.close()
+
+
+def _serve(conn: Connection, stage: Any, work: Callable[..., Any], stages: Sequence[str]) -> None:
+    """A worker's life: do each task that comes down the pipe, send back the result."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent()
+    number = {name: i for i, name in enumerate(stages)}
+
+    def on_stage(name: str) -> None:
+        stage.value = number[name]
+
+    while True:
+        try:
+            task = conn.recv()
+        except (EOFError, OSError):  # the parent is gone
+            return
+        stage.value = 0
+        conn.send(work(task, on_stage))
+
+
+def _die_with_parent() -> None:
+    """On Linux, have the kernel SIGKILL this process when its parent ends (elsewhere the
+    worker ends when it next reads its closed pipe)."""
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
