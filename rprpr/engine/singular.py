@@ -387,11 +387,33 @@ def _instant(
 
 
 def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
-    """(T1, T2) at t_s, exact, when λ is bounded there: λ = μ^(m)/δ^(m) (eqs. 30-31)."""
-    lam1 = Series([d.mu1.c[m] / d.delta.c[m]])
-    lam2 = Series([d.mu2.c[m] / d.delta.c[m]])
-    T1, T2 = dyn.torques(d, lam1, lam2)
-    return T1.c[0], T2.c[0]
+    """(T1, T2) at t_s when λ is bounded there: λ = μ^(m)/δ^(m) (eqs. 30-31), exactly when
+    t_s is rational. In K the torque is only reported, so no inverse is taken there (an
+    inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
+    affine in λ, T = A + B1 λ1 + B2 λ2, so T = (A δ^(m) + B1 μ1^(m) + B2 μ2^(m)) / δ^(m)
+    with an exact numerator, and that one division is made in ball arithmetic."""
+    D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
+    if not isinstance(D, KElem):
+        T1, T2 = dyn.torques(d, Series([N1 / D]), Series([N2 / D]))
+        return T1.c[0], T2.c[0]
+    zero, one = D * 0, D * 0 + 1
+    A = dyn.torques(d, Series([zero]), Series([zero]))
+    B1 = dyn.torques(d, Series([one]), Series([zero]))
+    B2 = dyn.torques(d, Series([zero]), Series([one]))
+    out = []
+    for a, b1, b2 in zip(A, B1, B2, strict=True):
+        a0 = a.c[0]
+        numerator = a0 * D + (b1.c[0] - a0) * N1 + (b2.c[0] - a0) * N2
+        out.append(_quotient(numerator, D))
+    return out[0], out[1]
+
+
+def _quotient(numerator: KElem, denominator: KElem) -> arb:
+    """numerator/denominator as a ball of about 80 bits or more (0 exactly when the
+    numerator is)."""
+    if numerator.is_zero():
+        return arb(0)
+    return numerator.field.accurate(numerator.p, 80) / denominator.field.accurate(denominator.p, 80)
 
 
 def _double(name: str, value: Any, beyond: list[tuple[str, str]]) -> float:
