@@ -38,8 +38,8 @@ class CheckOptions:
     jobs: int = 1
     quiet: bool = False
     exit_zero: bool = False
-    color: str = "auto"
     budget: float | None = DEFAULT_BUDGET
+    color: str = "auto"
 
 
 def tasks_argument(name: str = "tasks") -> Callable[[F], F]:
