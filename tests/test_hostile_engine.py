@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import signal
 import sys
 import time
 from fractions import Fraction as F
@@ -215,6 +217,34 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
     assert [r["verdict"] for r in run.reports] == ["fail", "pass"]
     assert run_status(run) == ExitCode.BUDGET == 4
     assert run.summary() == {"tasks": 3, "passed": 1, "failed": 1, "errors": 1}
+
+
+@pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="the patch reaches workers by fork"
+)
+def test_with_two_workers_a_stopped_task_and_a_dead_worker_keep_the_task_order(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    source = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
+    files = []
+    for name in ("slow", "fine", "dies", "fine2"):
+        p = tmp_path / f"{name}.yaml"
+        p.write_text(source.replace("name: Example 2 of the paper, path 2", f"name: {name}"))
+        files.append(str(p))
+    real = auditing.audit
+
+    def audit_or_not(task, **kw):  # type: ignore[no-untyped-def]
+        if task.name == "dies":  # a crash in C, or the out-of-memory killer
+            os.kill(os.getpid(), signal.SIGKILL)
+        return _deaf_audit(task, **kw) if task.name == "slow" else real(task, **kw)
+
+    monkeypatch.setattr(auditing, "audit", audit_or_not)
+    run = run_checks(files, CheckOptions(samples=101, budget=1.0, jobs=2))
+    assert [(kind, item["task"]) for kind, item, _ in run.entries()] == [
+        ("budget", files[0]), ("report", files[1]), ("internal", files[2]), ("report", files[3]),
+    ]  # fmt: skip
+    assert "the worker process auditing it died (exit code -9)" in run.internal_errors[0]["message"]
+    assert run_status(run) == ExitCode.BUDGET
 
 
 def test_budget_exceeded_is_reported_in_every_format_with_exit_4(

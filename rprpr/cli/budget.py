@@ -9,7 +9,8 @@ seconds since it was handed out) is stopped by killing its worker and reported w
 stage it had reached (a worker writes the number of each stage into shared memory as the
 stage begins); a fresh worker takes the dead one's place and the batch goes on. A worker
 that dies on its own (a crash in C, the out-of-memory killer) is reported likewise, and
-replaced. The results come back in task order, so a report does not depend on N.
+replaced. The results come back in task order, so a report does not depend on N
+(``Workers``: a ``with`` block of workers, and its ``run``).
 
 Workers ignore SIGINT (Ctrl-C reaches the whole process group: the parent decides) and
 die with the parent (on Linux the kernel kills them: ``PR_SET_PDEATHSIG``); the parent
@@ -63,45 +64,58 @@ class Died:
 Result = Done[R] | OverBudget | Died
 
 
-def run(
-    tasks: Sequence[T],
-    work: Callable[[T, OnStage], R],
-    *,
-    jobs: int,
-    budget: float | None,
-    stages: Sequence[str],
-) -> Iterator[tuple[T, Result[R]]]:
-    """(task, result) for each of ``tasks``, in order: ``work(task, on_stage)`` done in one
-    of ``jobs`` worker processes, stopped after ``budget`` seconds (None: no limit).
-    ``work`` tells ``on_stage`` the name of each stage (one of ``stages``; the first is
-    where every task begins) and must be picklable where workers are spawned."""
-    if not tasks:
-        return
-    context = multiprocessing.get_context("fork" if sys.platform.startswith("linux") else "spawn")
-    workers = [_Worker(context, work, stages) for _ in range(max(1, min(jobs, len(tasks))))]
-    todo = deque(range(len(tasks)))
-    results: dict[int, Result[R]] = {}
-    given = 0
-    try:
+class Workers(Generic[T, R]):
+    """``jobs`` worker processes doing ``work(task, on_stage)``, for a ``with`` block: they
+    start when it begins (before any thread of the caller's, such as a progress bar's) and
+    are killed when it ends, however it ends. ``work`` tells ``on_stage`` the name of each
+    stage (one of ``stages``; the first is where every task begins) and must be
+    picklable where workers are spawned rather than forked."""
+
+    def __init__(self, work: Callable[[T, OnStage], R], jobs: int, stages: Sequence[str]) -> None:
+        self.context = multiprocessing.get_context(
+            "fork" if sys.platform.startswith("linux") else "spawn"
+        )
+        self.work, self.jobs, self.stages = work, max(1, jobs), tuple(stages)
+        self.workers: list[_Worker] = []
+
+    def __enter__(self) -> Workers[T, R]:
+        try:
+            self.workers = [self._start() for _ in range(self.jobs)]
+        except BaseException:
+            self.__exit__()
+            raise
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for w in self.workers:
+            w.kill()
+        self.workers = []
+
+    def _start(self) -> _Worker:
+        return _Worker(self.context, self.work, self.stages)
+
+    def run(self, tasks: Sequence[T], budget: float | None) -> Iterator[tuple[T, Result[R]]]:
+        """(task, result) for each of ``tasks``, in order, each task stopped after
+        ``budget`` seconds (None: no limit)."""
+        todo = deque(range(len(tasks)))
+        results: dict[int, Result[R]] = {}
+        given = 0
         while given < len(tasks):
-            for w in workers:
+            for w in self.workers:
                 if w.index is None and todo:
                     i = todo.popleft()
                     w.hand(i, tasks[i], budget)
-            _wait_for(workers)
-            for n, w in enumerate(workers):
+            _wait_for(self.workers)
+            for n, w in enumerate(self.workers):
                 index, result = w.result()
                 if result is None:
                     continue
                 results[index] = result
                 if not isinstance(result, Done):  # the worker is dead: a fresh one
-                    workers[n] = _Worker(context, work, stages)
+                    self.workers[n] = self._start()
             while given in results:
                 yield tasks[given], results.pop(given)
                 given += 1
-    finally:
-        for w in workers:
-            w.kill()
 
 
 def _wait_for(workers: list[_Worker]) -> None:

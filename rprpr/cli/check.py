@@ -180,14 +180,13 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     from ..report.run import Run
 
     run = Run()
-    results = budgeting.run(
-        files,
-        functools.partial(_check_in_worker, options),
-        jobs=options.jobs,
-        budget=options.budget,
-        stages=(LOADING, *auditing.STAGES, REPORTING),
-    )
-    _collect(run, _outcomes(results, options), len(files), progress)
+    if not files:
+        return run
+    work = functools.partial(_check_in_worker, options)
+    stages = (LOADING, *auditing.STAGES, REPORTING)
+    with budgeting.Workers(work, min(options.jobs, len(files)), stages) as workers:
+        results = workers.run(files, options.budget)
+        _collect(run, _outcomes(results, options), len(files), progress)
     return run
 
 
