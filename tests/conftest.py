@@ -1,14 +1,29 @@
-"""Shared fixtures: task files written from text, and the repository's configs."""
+"""Shared test helpers: the repository's paths, task files written from text, ``rprpr``
+run in this process, a plain terminal for every test, and hypothesis's profiles."""
 
 from __future__ import annotations
 
+import io
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
 
+# -- hypothesis: random locally, derandomized in CI ---------------------------------------
+# CI (which sets CI=true) draws the same examples on every run and keeps no example database,
+# so a red build is never luck; developers keep hypothesis's random search and its database.
+# Choose one by hand with --hypothesis-profile=ci (or dev).
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("dev")
+settings.load_profile("ci" if os.environ.get("CI") else "dev")
+
+# -- task files ------------------------------------------------------------------------------
 LINKS_ALIKE = """\
   links:
     2: {mass: 2.0, inertia: 0.10, r: 0.5}
@@ -16,6 +31,13 @@ LINKS_ALIKE = """\
     4: {mass: 2.0, inertia: 0.10, r: 0.5}
     5: {mass: 1.0, inertia: 0.05, r: 0.5}
 """
+QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"  # the paper's quintic timing, t_f = 5 s
+# the paper's paths (eqs. 50 and 51) as the YAML of a task's path block: y, from, to
+PATH1_YAML = "x^3 - 9*x^2 + 27*x - 27\n  from: [2, -1]\n  to: [4, 1]"
+PATH2_YAML = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
+PATH1_FILE = str(CONFIGS / "paper_path1.yaml")  # the shipped task files of the two paths
+PATH2_FILE = str(CONFIGS / "paper_path2.yaml")
+FAST = ["--samples", "101"]  # enough samples for tests that do not look at the torques
 
 
 def task_text(
@@ -23,6 +45,11 @@ def task_text(
 ) -> str:
     """A task file's text with the given path, timing block and links."""
     return f"name: test\nrobot:\n  a1: {a1}\n{links}path:\n  y: {y}\n{timing}{extra}"
+
+
+BAD_A1 = task_text(PATH2_YAML, QUINTIC, a1="-1")  # robot.a1 on line 3, column 7
+# two first-order crossings a microsecond apart: t = 1 and t = 1.000001 (x = 3, x = 3.000001)
+CLOSE_INSTANTS = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
 
 
 @pytest.fixture
@@ -37,3 +64,65 @@ def write_task(tmp_path: Path):  # type: ignore[no-untyped-def]
         return p
 
     return write
+
+
+# -- the command line, in this process ---------------------------------------------------
+# Variables of the runner's own terminal that change what rprpr prints (colour, width,
+# tracebacks). pytest-xdist's workers, for one, set COLUMNS=80.
+TERMINAL_VARIABLES = (
+    "NO_COLOR", "FORCE_COLOR", "COLUMNS", "TTY_COMPATIBLE", "TTY_INTERACTIVE", "RPRPR_DEBUG",
+)  # fmt: skip
+
+
+@pytest.fixture(autouse=True)
+def _plain_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every test sees the same terminal: none of the runner's TERMINAL_VARIABLES, so that
+    rprpr writes without colour, at its default width, whoever runs the tests and how."""
+    for name in TERMINAL_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+
+
+@contextmanager
+def plain_terminal(**variables: str) -> Iterator[None]:
+    """Outside pytest: os.environ without TERMINAL_VARIABLES, plus ``variables``; restored
+    on exit."""
+    saved = dict(os.environ)
+    for name in TERMINAL_VARIABLES:
+        os.environ.pop(name, None)
+    os.environ.update(variables)
+    try:
+        yield
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
+
+
+def _stream() -> io.TextIOWrapper:
+    """A text stream like a pipe's: UTF-8, with a binary buffer, not a terminal."""
+    return io.TextIOWrapper(io.BytesIO(), encoding="utf-8", newline="", write_through=True)
+
+
+def _text(stream: io.TextIOWrapper) -> str:
+    buffer = stream.buffer
+    assert isinstance(buffer, io.BytesIO)
+    return buffer.getvalue().decode("utf-8")
+
+
+def exit_status(exc: SystemExit) -> int:
+    """The status a process exits with after ``exc`` (None is 0; a message is 1)."""
+    if exc.code is None:
+        return 0
+    return exc.code if isinstance(exc.code, int) else 1
+
+
+def run_cli(*args: str) -> tuple[int, str, str]:
+    """``rprpr ARGS`` in this process: (exit status, stdout, stderr).
+
+    Standard output and error are pipes here (not terminals), so the text report has no
+    colour and is as wide as COLUMNS says (160 when unset)."""
+    from rprpr.cli.main import main
+
+    out, err = _stream(), _stream()
+    with redirect_stdout(out), redirect_stderr(err), pytest.raises(SystemExit) as e:
+        main(list(args))
+    return exit_status(e.value), _text(out), _text(err)

@@ -59,9 +59,16 @@ def test_frame_times_span_the_motion_and_hit_each_singular_instant() -> None:
     assert sum(s is not None for s in at) == 1
 
 
-def test_gif_decodes_with_the_expected_frames_size_and_hold(tmp_path: Path) -> None:
-    out = tmp_path / "p2.gif"
-    n = A.write_gif(motions([PATH2]), str(out), frames=21, dpi=40)
+@pytest.fixture(scope="module")
+def p2_gif(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
+    """Path 2's GIF in 21 frames at 40 dpi, written once: the frame count returned, and
+    the file."""
+    out = tmp_path_factory.mktemp("gif") / "p2.gif"
+    return A.write_gif(motions([PATH2]), str(out), frames=21, dpi=40), out
+
+
+def test_gif_decodes_with_the_expected_frames_size_and_hold(p2_gif: tuple[int, Path]) -> None:
+    n, out = p2_gif
     assert n == 21
     frames = frames_of(out)
     assert len(frames) == 21
@@ -74,18 +81,39 @@ def test_gif_decodes_with_the_expected_frames_size_and_hold(tmp_path: Path) -> N
     assert out.stat().st_size < MAX_BYTES
 
 
-def test_gif_cues_at_and_near_the_singular_configuration(tmp_path: Path) -> None:
-    out = tmp_path / "p2.gif"
-    A.write_gif(motions([PATH2]), str(out), frames=21, dpi=40)
-    frames = [f for f, _ in frames_of(out)]
+def test_gif_cues_at_and_near_the_singular_configuration(p2_gif: tuple[int, Path]) -> None:
+    frames = [f for f, _ in frames_of(p2_gif[1])]
     t = np.linspace(0, 5, 21)
-    delta = P.resample(motions([PATH2])[0], t).delta
+    delta = motions([PATH2])[0].result.resample(t).delta
     at, near, far = 10, int(np.argmin(np.where(np.abs(delta) > 0, np.abs(delta), 9))), 0
     assert 0 < abs(delta[near]) < P.NEAR_DELTA
     assert tinted(frames[at], A.AT_FACE) > 0.2  # the workspace turns red at t_s
     assert tinted(frames[near], A.NEAR_FACE) > 0.2  # amber while |δ| < 0.1
     assert tinted(frames[far], A.AT_FACE) < 0.01 and tinted(frames[far], A.NEAR_FACE) < 0.01
     assert not np.array_equal(frames[1], frames[2])  # the robot moves
+
+
+def test_the_gif_draws_the_robot_as_the_sheet_does() -> None:
+    """One drawing of the robot: at path 1's singular instant the GIF's legs are the
+    sheet's (both on the singular line, meeting at E = (3, 0))."""
+    from matplotlib.figure import Figure
+
+    from rprpr.render.sheet.robot import MovingRobot
+
+    (m,) = motions([PATH1])
+    sheet = P.render([m], ["path"]).axes[0]
+    robot = MovingRobot(Figure().subplots(), m)
+    (s,) = m.result.singularities
+    j = int(np.nonzero(m.s.t == s.t)[0][0])
+    robot.move(np.array([m.s.x[j], m.s.y[j]]))
+    for n, (cylinder, rod) in robot.legs.items():
+        for moving, part in ((cylinder, "cylinder"), (rod, "leg")):
+            [drawn] = [a for a in sheet.lines if a.get_gid() == f"robot-0-singular-0-{part}{n}"]
+            assert np.array_equal(moving.get_xydata(), drawn.get_xydata())
+            assert moving.get_linewidth() == drawn.get_linewidth()
+            assert moving.get_color() == drawn.get_color()
+        assert tuple(rod.get_xydata()[1]) == pytest.approx((3.0, 0.0), abs=1e-12)
+    assert tuple(robot.end.get_xydata()[0]) == pytest.approx((3.0, 0.0), abs=1e-12)
 
 
 def test_tasks_play_side_by_side(tmp_path: Path) -> None:

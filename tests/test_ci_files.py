@@ -213,3 +213,54 @@ def test_doc_examples_are_valid_and_agree_with_the_files(
     assert "--format junit" in check
     assert job["artifacts"]["reports"]["junit"] == out
     assert job["artifacts"]["when"] == "always"
+
+
+# -- .ci/run and .pre-commit-config.yaml: CI runs what a contributor runs ---------------------
+CI_RUN = ROOT / ".ci" / "run"
+PRE_COMMIT_CONFIG = ROOT / ".pre-commit-config.yaml"
+LINTERS = {"ruff check", "ruff format", "mypy"}
+
+
+def _readme_test_command(doc: str) -> str:
+    [command] = re.findall(r"^# set up and run the whole test suite.*\n(.+)$", doc, flags=re.M)
+    return command  # type: ignore[no-any-return]
+
+
+def _tool(argv: list[str]) -> str:
+    """The linter an argument vector runs: ``ruff check``, ``ruff format`` or ``mypy``."""
+    name = Path(argv[0]).name
+    return f"{name} {argv[1]}" if name == "ruff" else name
+
+
+def _ci_linters() -> dict[str, list[str]]:
+    lines = CI_RUN.read_text(encoding="utf-8").splitlines()
+    runs = [shlex.split(ln) for ln in lines if ln.startswith(".venv/bin/")]
+    return {_tool(argv): argv for argv in runs}
+
+
+def test_ci_runs_the_readmes_test_command_verbatim_then_every_linter(doc: str) -> None:
+    command = _readme_test_command(doc)
+    assert ".[dev]" in command  # the linters come with the test set-up
+    assert command.endswith(".venv/bin/python -m pytest -n auto")
+    lines = CI_RUN.read_text(encoding="utf-8").splitlines()
+    assert command in lines
+    linters = _ci_linters()
+    assert set(linters) == LINTERS
+    assert "--check" in linters["ruff format"]  # CI never rewrites a file
+    assert linters["mypy"][-2:] == ["rprpr", "rprpr_cli"]
+
+
+def test_pre_commit_runs_the_linters_ci_runs_from_the_venv() -> None:
+    config = load(PRE_COMMIT_CONFIG)
+    [repo] = config["repos"]
+    assert repo["repo"] == "local"  # nothing to fetch: the hooks use .venv's pinned tools
+    hooks = {h["id"]: h for h in repo["hooks"]}
+    assert all(h["language"] == "system" for h in hooks.values())
+    entries = {_tool(shlex.split(h["entry"])): shlex.split(h["entry"]) for h in hooks.values()}
+    assert set(entries) == LINTERS
+    assert all(argv[0].startswith(".venv/bin/") for argv in entries.values())
+    ci = _ci_linters()
+    # the same targets as CI: ruff on the files pre-commit passes, mypy on the packages
+    assert [a for a in entries["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
+    assert [a for a in ci["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
+    assert hooks["mypy"]["pass_filenames"] is False

@@ -19,36 +19,22 @@ from typing import Any
 import pytest
 
 from rprpr.cli.check import PROGRESS_MIN_TASKS, want_progress
-from rprpr.cli.main import main
 from rprpr.cli.output import color_enabled, make_console
 from rprpr.cli.tasks import collect_tasks
 
-from .conftest import CONFIGS, ROOT, task_text
+from .conftest import (
+    BAD_A1,
+    CONFIGS,
+    FAST,
+    PATH1_YAML,
+    PATH2_YAML,
+    QUINTIC,
+    ROOT,
+    run_cli,
+    task_text,
+)
 
-FAST = ["--samples", "101"]
 ANSI = "\x1b["
-QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"
-PATH2 = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
-PATH1 = "x^3 - 9*x^2 + 27*x - 27\n  from: [2, -1]\n  to: [4, 1]"
-BAD_A1 = task_text(PATH2, QUINTIC, a1="-1")  # robot.a1 on line 3, column 7
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
-    """``rprpr ARGS`` in this process: (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as e:
-        main(list(args))
-    out, err = capsys.readouterr()
-    code = e.value.code
-    return (code if isinstance(code, int) else 1), out, err
-
-
-@pytest.fixture(autouse=True)
-def _plain_env(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The runner's own colour settings must not leak into the tests."""
-    for name in (
-        "NO_COLOR", "FORCE_COLOR", "COLUMNS", "TTY_COMPATIBLE", "TTY_INTERACTIVE", "RPRPR_DEBUG",
-    ):  # fmt: skip
-        monkeypatch.delenv(name, raising=False)
 
 
 @pytest.fixture
@@ -58,7 +44,9 @@ def mixed(tmp_path: Path) -> Path:
     shutil.copytree(CONFIGS, root / "configs")
     (root / "b_bad.yaml").write_text(BAD_A1, encoding="utf-8")
     (root / "nested" / "deeper").mkdir(parents=True)
-    (root / "nested" / "deeper" / "p2.yml").write_text(task_text(PATH2, QUINTIC), encoding="utf-8")
+    (root / "nested" / "deeper" / "p2.yml").write_text(
+        task_text(PATH2_YAML, QUINTIC), encoding="utf-8"
+    )
     (root / "nested" / "notes.txt").write_text("not a task", encoding="utf-8")
     (root / ".hidden").mkdir()
     (root / ".hidden" / "x.yaml").write_text(BAD_A1, encoding="utf-8")
@@ -83,13 +71,13 @@ def test_files_keep_their_order_and_are_checked_once(mixed: Path) -> None:
 
 def test_an_explicit_file_is_checked_whatever_its_suffix(tmp_path: Path) -> None:
     p = tmp_path / "task.txt"
-    p.write_text(task_text(PATH2, QUINTIC), encoding="utf-8")
+    p.write_text(task_text(PATH2_YAML, QUINTIC), encoding="utf-8")
     assert collect_tasks([str(p)]) == [str(p)]
 
 
-def test_no_task_found_is_a_usage_error(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_no_task_found_is_a_usage_error(tmp_path: Path) -> None:
     (tmp_path / "readme.txt").write_text("x", encoding="utf-8")
-    code, out, err = run(capsys, "check", str(tmp_path))
+    code, out, err = run_cli("check", str(tmp_path))
     assert code == 2
     assert out == ""
     assert err.strip() == f"rprpr: usage error: no task files (*.yaml, *.yml) found in {tmp_path}"
@@ -105,10 +93,8 @@ def test_no_task_found_is_a_usage_error(capsys: pytest.CaptureFixture[str], tmp_
         (["check", "--samples", "1", "configs"], "1 is not in the range"),
     ],
 )
-def test_bad_invocations_exit_2_with_one_line(
-    capsys: pytest.CaptureFixture[str], args: list[str], needle: str
-) -> None:
-    code, out, err = run(capsys, *args)
+def test_bad_invocations_exit_2_with_one_line(args: list[str], needle: str) -> None:
+    code, out, err = run_cli(*args)
     assert code == 2
     assert out == ""
     assert err.startswith("rprpr: usage error: ")
@@ -116,11 +102,9 @@ def test_bad_invocations_exit_2_with_one_line(
     assert len(err.strip().splitlines()) == 1
 
 
-def test_an_unwritable_output_file_is_a_usage_error_before_auditing(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
+def test_an_unwritable_output_file_is_a_usage_error_before_auditing(tmp_path: Path) -> None:
     target = tmp_path / "missing" / "report.json"
-    code, out, err = run(capsys, "check", "-o", str(target), str(CONFIGS / "paper_path2.yaml"))
+    code, out, err = run_cli("check", "-o", str(target), str(CONFIGS / "paper_path2.yaml"))
     assert code == 2
     assert out == ""
     assert err.strip() == (
@@ -129,10 +113,8 @@ def test_an_unwritable_output_file_is_a_usage_error_before_auditing(
 
 
 # -- one bad file never stops the others; the highest status wins ------------------------
-def test_a_bad_file_is_reported_and_the_others_still_run(
-    capsys: pytest.CaptureFixture[str], mixed: Path
-) -> None:
-    code, out, err = run(capsys, "check", "--format", "json", *FAST, str(mixed))
+def test_a_bad_file_is_reported_and_the_others_still_run(mixed: Path) -> None:
+    code, out, err = run_cli("check", "--format", "json", *FAST, str(mixed))
     assert code == 2  # input error (2) beats the failing tasks (1)
     doc = json.loads(out)
     n_configs = len(list(CONFIGS.glob("*.yaml")))
@@ -166,17 +148,21 @@ def _write(tmp_path: Path, **files: str) -> list[str]:
     ],
 )
 def test_exit_status_is_the_highest_that_applies(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, kinds: tuple[str, ...], expected: int
+    tmp_path: Path, kinds: tuple[str, ...], expected: int
 ) -> None:
-    texts = {"pass": task_text(PATH2, QUINTIC), "fail": task_text(PATH1, QUINTIC), "bad": BAD_A1}
+    texts = {
+        "pass": task_text(PATH2_YAML, QUINTIC),
+        "fail": task_text(PATH1_YAML, QUINTIC),
+        "bad": BAD_A1,
+    }
     files = _write(tmp_path, **{f"{i}_{k}": texts[k] for i, k in enumerate(kinds)})
     for fmt in ("text", "json", "junit", "github"):
-        code, _, _ = run(capsys, "check", "--format", fmt, *FAST, *files)
+        code, _, _ = run_cli("check", "--format", fmt, *FAST, *files)
         assert code == expected, fmt
 
 
 def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
-    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     import rprpr.engine.audit
 
@@ -188,9 +174,9 @@ def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
         return real(task, **kw)
 
     monkeypatch.setattr(rprpr.engine.audit, "audit", flaky)
-    boom = task_text(PATH2, QUINTIC).replace("name: test", "name: boom")
-    files = _write(tmp_path, a=boom, b=task_text(PATH1, QUINTIC), c=BAD_A1)
-    code, out, err = run(capsys, "check", "--format", "json", *FAST, *files)
+    boom = task_text(PATH2_YAML, QUINTIC).replace("name: test", "name: boom")
+    files = _write(tmp_path, a=boom, b=task_text(PATH1_YAML, QUINTIC), c=BAD_A1)
+    code, out, err = run_cli("check", "--format", "json", *FAST, *files)
     assert code == 3
     doc = json.loads(out)
     assert doc["summary"] == {"tasks": 3, "passed": 0, "failed": 1, "errors": 2}
@@ -203,44 +189,41 @@ def test_an_internal_error_exits_3_and_the_other_tasks_still_run(
     )
     assert "Traceback" not in err
     monkeypatch.setenv("RPRPR_DEBUG", "1")  # the traceback, for a bug report
-    _, _, err = run(capsys, "check", "--format", "json", *FAST, *files)
+    _, _, err = run_cli("check", "--format", "json", *FAST, *files)
     assert "Traceback (most recent call last)" in err
     assert "RuntimeError: simulated bug" in err
 
 
-def test_exit_zero_hides_failures_but_not_errors(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
-    [fail] = _write(tmp_path, fail=task_text(PATH1, QUINTIC))
-    assert run(capsys, "check", *FAST, fail)[0] == 1
-    code, out, _ = run(capsys, "check", "--exit-zero", *FAST, fail)
+def test_exit_zero_hides_failures_but_not_errors(tmp_path: Path) -> None:
+    [fail] = _write(tmp_path, fail=task_text(PATH1_YAML, QUINTIC))
+    assert run_cli("check", *FAST, fail)[0] == 1
+    code, out, _ = run_cli("check", "--exit-zero", *FAST, fail)
     assert code == 0
     assert "verdict: FAIL" in out  # still reported
     [bad] = _write(tmp_path, bad=BAD_A1)
-    assert run(capsys, "check", "--exit-zero", *FAST, fail, bad)[0] == 2
+    assert run_cli("check", "--exit-zero", *FAST, fail, bad)[0] == 2
 
 
-def test_strict_turns_warnings_into_failures(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
+def test_strict_turns_warnings_into_failures(tmp_path: Path) -> None:
     case1 = str(CONFIGS / "case1_crossing.yaml")  # inconsistent crossing: RPR201
-    code, out, _ = run(capsys, "check", "--format", "github", *FAST, case1)
+    code, out, _ = run_cli("check", "--format", "github", *FAST, case1)
     assert code == 0
     assert out.startswith("::warning file=")
     assert "title=RPR201 inconsistent-crossing::" in out
-    code, out, _ = run(capsys, "check", "--format", "github", "--strict", *FAST, case1)
+    code, out, _ = run_cli("check", "--format", "github", "--strict", *FAST, case1)
     assert code == 1
     assert out.startswith("::error file=")
 
 
 # -- -q/--quiet --------------------------------------------------------------------------
-def test_quiet_text_shows_only_failures_and_errors(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
+def test_quiet_text_shows_only_failures_and_errors(tmp_path: Path) -> None:
     files = _write(
-        tmp_path, a_pass=task_text(PATH2, QUINTIC), b_fail=task_text(PATH1, QUINTIC), c_bad=BAD_A1
+        tmp_path,
+        a_pass=task_text(PATH2_YAML, QUINTIC),
+        b_fail=task_text(PATH1_YAML, QUINTIC),
+        c_bad=BAD_A1,
     )
-    code, out, err = run(capsys, "check", "-q", *FAST, *files)
+    code, out, err = run_cli("check", "-q", *FAST, *files)
     assert code == 2
     assert files[0] not in out
     assert f"{files[1]} — test" in out
@@ -258,42 +241,36 @@ def _bad_message() -> str:
     return e.value.message
 
 
-def test_quiet_with_everything_passing_prints_nothing(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
-    files = _write(tmp_path, a=task_text(PATH2, QUINTIC), b=task_text(PATH2, QUINTIC))
-    assert run(capsys, "check", "-q", *FAST, *files) == (0, "", "")
-    assert run(capsys, "check", "-q", "--format", "github", *FAST, *files) == (0, "", "")
+def test_quiet_with_everything_passing_prints_nothing(tmp_path: Path) -> None:
+    files = _write(tmp_path, a=task_text(PATH2_YAML, QUINTIC), b=task_text(PATH2_YAML, QUINTIC))
+    assert run_cli("check", "-q", *FAST, *files) == (0, "", "")
+    assert run_cli("check", "-q", "--format", "github", *FAST, *files) == (0, "", "")
 
 
-def test_quiet_json_keeps_the_counts_of_every_task(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
-    files = _write(tmp_path, a=task_text(PATH2, QUINTIC), b=task_text(PATH1, QUINTIC))
-    code, out, _ = run(capsys, "check", "-q", "--format", "json", *FAST, *files)
+def test_quiet_json_keeps_the_counts_of_every_task(tmp_path: Path) -> None:
+    files = _write(tmp_path, a=task_text(PATH2_YAML, QUINTIC), b=task_text(PATH1_YAML, QUINTIC))
+    code, out, _ = run_cli("check", "-q", "--format", "json", *FAST, *files)
     doc = json.loads(out)
     assert code == 1
     assert [r["task"] for r in doc["reports"]] == [files[1]]
     assert doc["summary"] == {"tasks": 2, "passed": 1, "failed": 1, "errors": 0}
 
 
-def test_quiet_github_drops_warnings_only(capsys: pytest.CaptureFixture[str]) -> None:
+def test_quiet_github_drops_warnings_only() -> None:
     p1 = str(CONFIGS / "paper_path1.yaml")  # RPR101 error + RPR201 warning
-    _, out, _ = run(capsys, "check", "--format", "github", *FAST, p1)
+    _, out, _ = run_cli("check", "--format", "github", *FAST, p1)
     assert [line.split(" ", 1)[0] for line in out.splitlines()] == ["::error", "::warning"]
-    _, out, _ = run(capsys, "check", "-q", "--format", "github", *FAST, p1)
+    _, out, _ = run_cli("check", "-q", "--format", "github", *FAST, p1)
     assert [line.split(" ", 1)[0] for line in out.splitlines()] == ["::error"]
 
 
 # -- -o/--output-file ----------------------------------------------------------------------
 @pytest.mark.parametrize("fmt", ["text", "json", "junit", "github"])
-def test_output_file_holds_what_stdout_would(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, fmt: str
-) -> None:
+def test_output_file_holds_what_stdout_would(tmp_path: Path, fmt: str) -> None:
     files = [str(CONFIGS / "paper_path1.yaml"), str(CONFIGS / "paper_path2.yaml")]
-    code, out, err = run(capsys, "check", "--format", fmt, *FAST, *files)
+    code, out, err = run_cli("check", "--format", fmt, *FAST, *files)
     target = tmp_path / f"report.{fmt}"
-    code2, out2, err2 = run(capsys, "check", "--format", fmt, "-o", str(target), *FAST, *files)
+    code2, out2, err2 = run_cli("check", "--format", fmt, "-o", str(target), *FAST, *files)
     assert (code, code2) == (1, 1)
     assert (out2, err) == ("", "")
     summary = f"rprpr: 2 tasks: 1 passed, 1 failed, 0 errors; {fmt} report written to {target}"
@@ -301,12 +278,10 @@ def test_output_file_holds_what_stdout_would(
     assert _untimed(target.read_text(encoding="utf-8")) == _untimed(out)
 
 
-def test_text_output_file_also_lists_bad_files(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
-    files = _write(tmp_path, a=task_text(PATH2, QUINTIC), b=BAD_A1)
+def test_text_output_file_also_lists_bad_files(tmp_path: Path) -> None:
+    files = _write(tmp_path, a=task_text(PATH2_YAML, QUINTIC), b=BAD_A1)
     target = tmp_path / "report.txt"
-    code, out, err = run(capsys, "check", "-o", str(target), *FAST, *files)
+    code, out, err = run_cli("check", "-o", str(target), *FAST, *files)
     line = f"{files[1]}:3:7: robot.a1: {_bad_message()} [RPR001]"
     assert code == 2
     assert out == ""
@@ -347,11 +322,9 @@ def varied(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.parametrize("fmt", ["json", "junit", "github", "text"])
-def test_parallel_output_is_byte_for_byte_the_serial_output(
-    capsys: pytest.CaptureFixture[str], varied: Path, fmt: str
-) -> None:
-    serial = run(capsys, "check", "--format", fmt, *FAST, "-j", "1", str(varied))
-    parallel = run(capsys, "check", "--format", fmt, *FAST, "-j", "2", str(varied))
+def test_parallel_output_is_byte_for_byte_the_serial_output(varied: Path, fmt: str) -> None:
+    serial = run_cli("check", "--format", fmt, *FAST, "-j", "1", str(varied))
+    parallel = run_cli("check", "--format", fmt, *FAST, "-j", "2", str(varied))
     assert serial[0] == parallel[0] == 2
     assert serial[2] == parallel[2]
     if fmt == "junit":  # the measured times differ; everything else must not
@@ -362,9 +335,9 @@ def test_parallel_output_is_byte_for_byte_the_serial_output(
     assert len(serial[1]) > 1000
 
 
-def test_jobs_zero_means_one_worker_per_cpu(capsys: pytest.CaptureFixture[str]) -> None:
-    a = run(capsys, "check", "--format", "json", *FAST, str(CONFIGS))
-    b = run(capsys, "check", "--format", "json", *FAST, "-j", "0", str(CONFIGS))
+def test_jobs_zero_means_one_worker_per_cpu() -> None:
+    a = run_cli("check", "--format", "json", *FAST, str(CONFIGS))
+    b = run_cli("check", "--format", "json", *FAST, "-j", "0", str(CONFIGS))
     assert a == b
 
 
@@ -419,7 +392,6 @@ def test_console_without_colour_writes_no_escape_codes() -> None:
     ],
 )
 def test_text_report_colour_follows_the_environment(
-    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
     env: dict[str, str],
     args: list[str],
@@ -427,7 +399,7 @@ def test_text_report_colour_follows_the_environment(
 ) -> None:
     for k, v in env.items():
         monkeypatch.setenv(k, v)
-    code, out, _ = run(capsys, "check", *args, *FAST, str(CONFIGS / "paper_path1.yaml"))
+    code, out, _ = run_cli("check", *args, *FAST, str(CONFIGS / "paper_path1.yaml"))
     assert code == 1
     assert (ANSI in out) is colored
     assert "verdict: FAIL" in re.sub(r"\x1b\[[0-9;]*m", "", out)

@@ -11,27 +11,16 @@ from typing import Any
 
 import pytest
 
-from rprpr.cli.main import main
-
-from .conftest import CONFIGS
+from .conftest import CLOSE_INSTANTS, CONFIGS, run_cli
 
 RPRPR = [sys.executable, "-m", "rprpr"]
 
 
-def _run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as e:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return int(e.value.code or 0), out, err
-
-
-def test_output_file_that_is_a_task_is_refused_and_left_intact(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_output_file_that_is_a_task_is_refused_and_left_intact(tmp_path: Path) -> None:
     task = tmp_path / "plan.yaml"
     shutil.copy(CONFIGS / "paper_path2.yaml", task)
     before = task.read_bytes()
-    code, out, err = _run(capsys, "check", "-o", str(task), str(tmp_path))
+    code, out, err = run_cli("check", "-o", str(task), str(tmp_path))
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
         f"rprpr: usage error: the output file {task} is also a task file: it would be overwritten"
@@ -39,9 +28,9 @@ def test_output_file_that_is_a_task_is_refused_and_left_intact(
     assert task.read_bytes() == before
 
 
-def test_dash_is_standard_output(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_dash_is_standard_output(tmp_path: Path) -> None:
     path2 = str(CONFIGS / "paper_path2.yaml")
-    code, out, _ = _run(capsys, "check", "--format", "json", "-o", "-", "--samples", "11", path2)
+    code, out, _ = run_cli("check", "--format", "json", "-o", "-", "--samples", "11", path2)
     assert code == 0 and out.startswith("{") and '"verdict": "pass"' in out
 
 
@@ -66,8 +55,8 @@ def test_schema_into_a_closed_pipe_exits_0() -> None:
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
-def test_a_full_disk_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = _run(capsys, "check", "-o", "/dev/full", str(CONFIGS / "paper_path2.yaml"))
+def test_a_full_disk_is_one_line_and_exit_2() -> None:
+    code, _, err = run_cli("check", "-o", "/dev/full", str(CONFIGS / "paper_path2.yaml"))
     assert code == 2
     assert err.strip().splitlines()[0] == (
         "rprpr: cannot write the report to /dev/full: No space left on device"
@@ -76,13 +65,13 @@ def test_a_full_disk_is_one_line_and_exit_2(capsys: pytest.CaptureFixture[str]) 
 
 @pytest.mark.parametrize("escape", ["\\e[8m", "\\x07", "\\r", "\\uFFFE", "\\0"])
 def test_control_characters_written_as_yaml_escapes_are_rejected(
-    escape: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    escape: str, tmp_path: Path
 ) -> None:
     text = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
     text = text.replace("name: Example 2 of the paper, path 2", f'name: "ok{escape} hidden"')
     task = tmp_path / "esc.yaml"
     task.write_text(text, encoding="utf-8")
-    code, out, err = _run(capsys, "check", str(task))
+    code, out, err = run_cli("check", str(task))
     assert code == 2 and out == ""
     [line] = err.strip().splitlines()
     assert line.startswith(f"{task}:") and " name: control character U+" in line
@@ -93,7 +82,6 @@ def test_control_characters_written_as_yaml_escapes_are_rejected(
 def test_plot_and_export_name_the_task_in_an_internal_error(
     command: str,
     tmp_path: Path,
-    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     import rprpr.engine.audit
@@ -104,23 +92,19 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
     monkeypatch.setattr(rprpr.engine.audit, "audit", broken)
     monkeypatch.chdir(tmp_path)
     task = str(CONFIGS / "paper_path2.yaml")
-    code, _, err = _run(capsys, command, task)
+    code, _, err = run_cli(command, task)
     assert code == 3
     [line] = err.strip().splitlines()
     assert line.startswith(f"rprpr: {task}: internal error (RuntimeError: simulated bug)")
 
 
 def test_text_report_tells_close_instants_apart(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from .conftest import task_text
-
-    monkeypatch.delenv("COLUMNS", raising=False)  # pytest-xdist workers set 80: the table wraps
-
     task = tmp_path / "close.yaml"
-    text = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
-    task.write_text(text, encoding="utf-8")
-    code, out, _ = _run(capsys, "check", "--samples", "11", str(task))
+    task.write_text(CLOSE_INSTANTS, encoding="utf-8")
+    monkeypatch.setenv("COLUMNS", "160")  # wide enough for the table's t column in full
+    code, out, _ = run_cli("check", "--samples", "11", str(task))
     assert code == 0  # two first-order crossings; the inconsistency is a warning
     rows = [ln for ln in out.splitlines() if ln.startswith("│")]
     assert [r.split("│")[1].strip() for r in rows] == ["1", "1.000001"]

@@ -20,15 +20,16 @@ from rich.console import Console
 from rprpr.engine.audit import audit
 from rprpr.io.loader import parse_task
 from rprpr.render.github import render as github
+from rprpr.render.json import render as json_report
 from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
 from rprpr.report.records import task_report
 from rprpr.report.run import REPORT, Run
 
-from .conftest import task_text
+from .conftest import CLOSE_INSTANTS, task_text
 
 PATH = "close.yaml"
-CLOSE = task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+CLOSE = CLOSE_INSTANTS
 # both instants then break the slope principle (|dy/dx| = 1e-6): a finding at each
 SHALLOW = CLOSE + "checks:\n  min_slope: 0.01\n"
 
@@ -75,7 +76,7 @@ def test_findings_name_each_instant_apart() -> None:
 
 
 def test_json_records_hold_both_times() -> None:
-    doc = json.loads(json.dumps(run_of(report(CLOSE)).document()))
+    doc = json.loads(json_report(run_of(report(CLOSE))))
     (rep,) = doc["reports"]
     assert [s["t"] for s in rep["singularities"]] == [1.0, 1.000001]
     assert [s["torque_bounded"] for s in rep["singularities"]] == [True, False]

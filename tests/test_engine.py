@@ -14,10 +14,8 @@ from rprpr.engine.audit import audit
 from rprpr.engine.sampling import grid, sample
 from rprpr.io.loader import load_task, parse_task
 
-from .conftest import CONFIGS, task_text
+from .conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
 
-QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"
-PATH2 = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
 HEAVY5 = """\
   links:
     2: {mass: 2.0, inertia: 0.10, r: 0.5}
@@ -224,7 +222,7 @@ def test_grid_of_11_hits_the_singular_instant_with_the_limit(path2):  # type: ig
 
 
 def test_path2_with_heavier_link5_is_inconsistent_and_unbounded(write_task):  # type: ignore[no-untyped-def]
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, links=HEAVY5))), samples=11)
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, links=HEAVY5))), samples=11)
     (s,) = r.singularities
     # eq. (34) in case 3 at y = 0, x'' = 0: -m3 r3 y'^2/x^2 + m5 r5 y'^2/s2^2, y' = 0.15
     assert s.consistency_residual == pytest.approx((-1 * 0.5 + 3 * 0.5) * 0.15**2 / 9, rel=1e-14)
@@ -335,7 +333,7 @@ def test_path_on_the_singular_line_fails_cleanly(write_task):  # type: ignore[no
 
 def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  min_slope: 0.25\n  min_speed: 0.8\n"
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=11)
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))), samples=11)
     (s,) = r.singularities
     assert not s.slope_principle.passed and "checks.min_slope = 0.25" in s.slope_principle.reason
     assert (
@@ -344,7 +342,7 @@ def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped
     assert r.verdict == "fail"
     # exactly at the margin is not beyond it: slope 0.2 vs min_slope 0.2
     r = audit(
-        load_task(write_task(task_text(PATH2, QUINTIC, extra="checks:\n  min_slope: 0.2\n"))),
+        load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra="checks:\n  min_slope: 0.2\n"))),
         samples=11,
     )
     assert not r.singularities[0].slope_principle.passed
@@ -352,7 +350,7 @@ def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped
 
 def test_torque_limit_gates_only_in_strict_mode(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [50, 100]\n"
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))))
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))))
     assert r.torque_peak[0] > 50 and r.verdict == "pass"
     assert [f.rule for f in r.findings] == ["RPR202"]
     assert audit(r.task, strict=True).verdict == "fail"
@@ -432,7 +430,7 @@ def test_instants_closer_than_double_precision_do_not_crash(write_task):  # type
 
 def test_torque_peak_includes_the_limit_at_a_bounded_instant(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [63.2, 1000]\n  strict: true\n"
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=2)
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))), samples=2)
     assert r.torque_peak[0] == pytest.approx(63.225)  # the two grid samples are lower
     assert r.verdict == "fail" and [f.rule for f in r.findings] == ["RPR202"]
 
@@ -448,7 +446,7 @@ def test_theta2_continuous_when_E_passes_A(write_task):  # type: ignore[no-untyp
 
 def test_margin_messages_tell_value_and_margin_apart(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  min_slope: 0.19999999\n"
-    r = audit(load_task(write_task(task_text(PATH2, QUINTIC, extra=extra))), samples=11)
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))), samples=11)
     reason = r.singularities[0].slope_principle.reason
     assert r.singularities[0].slope_principle.passed
     assert reason == "|dy/dx| = 0.2 exceeds checks.min_slope = 0.19999999"

@@ -13,7 +13,7 @@ from typing import Any
 import click
 import pytest
 
-from rprpr.cli.main import main, main_group
+from rprpr.cli.main import main_group
 from rprpr.cli.options import CheckOptions
 from rprpr.model.defaults import DEFAULT_SAMPLES
 from rprpr.report.exit import (
@@ -26,9 +26,8 @@ from rprpr.report.exit import (
 )
 from rprpr.report.run import Run
 
-from .conftest import CONFIGS
+from .conftest import PATH2_FILE, run_cli
 
-PATH2 = str(CONFIGS / "paper_path2.yaml")
 RPRPR = [sys.executable, "-m", "rprpr"]
 
 
@@ -91,7 +90,7 @@ def test_returned_status() -> None:
 @pytest.mark.parametrize(("command", "what"), [("schema", "schema"), ("export", "samples")])
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 def test_a_full_disk_on_standard_output_is_one_line_and_exit_2(command: str, what: str) -> None:
-    args = [command] if command == "schema" else [command, PATH2, "--samples", "5"]
+    args = [command] if command == "schema" else [command, PATH2_FILE, "--samples", "5"]
     with open("/dev/full", "w", encoding="utf-8") as full:
         done = subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
     assert done.returncode == 2
@@ -101,7 +100,7 @@ def test_a_full_disk_on_standard_output_is_one_line_and_exit_2(command: str, wha
 
 
 def test_export_into_a_closed_pipe_exits_0() -> None:
-    cmd = [*RPRPR, "export", PATH2, "--samples", "5"]
+    cmd = [*RPRPR, "export", PATH2_FILE, "--samples", "5"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     assert proc.stdout is not None
     proc.stdout.close()
@@ -109,19 +108,16 @@ def test_export_into_a_closed_pipe_exits_0() -> None:
     assert proc.returncode == 0 and err == b""
 
 
-def test_a_bug_outside_any_task_is_one_line_and_exit_3(
-    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_a_bug_outside_any_task_is_one_line_and_exit_3(monkeypatch: pytest.MonkeyPatch) -> None:
     import rprpr.io.schema
 
     def broken() -> Any:
         raise RuntimeError("simulated bug")
 
     monkeypatch.setattr(rprpr.io.schema, "json_schema", broken)
-    with pytest.raises(SystemExit) as e:
-        main(["schema"])
-    assert e.value.code == 3
-    assert capsys.readouterr().err.splitlines() == [
+    code, _, err = run_cli("schema")
+    assert code == 3
+    assert err.splitlines() == [
         "rprpr: internal error (RuntimeError: simulated bug); please report it"
     ]
 

@@ -14,14 +14,10 @@ import numpy as np
 import pytest
 
 from rprpr import __version__
-from rprpr.cli.main import main
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 
-from .conftest import CONFIGS, task_text
-
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
+from .conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 
 # the issue's column list, written out independently of samples.COLUMNS
 ISSUE_COLUMNS = [
@@ -29,13 +25,6 @@ ISSUE_COLUMNS = [
     "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
     "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
 ]  # fmt: skip
-
-
-def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as e:
-        main(args)
-    out, err = capsys.readouterr()
-    return int(e.value.code or 0), out, err
 
 
 def read_csv(text: str) -> tuple[list[str], list[str], np.ndarray]:
@@ -54,20 +43,18 @@ def engine_rows(path: str, n: int) -> np.ndarray:
 # content
 
 
-def test_columns_are_the_issues_in_order(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(["export", PATH2, "--samples", "5"], capsys)
+def test_columns_are_the_issues_in_order() -> None:
+    code, out, _ = run_cli("export", PATH2_FILE, "--samples", "5")
     assert code == 0
     _, names, values = read_csv(out)
     assert names == ISSUE_COLUMNS
     assert values.shape == (5, 19)
 
 
-@pytest.mark.parametrize("path", [PATH1, PATH2])
-def test_first_row_is_the_papers_initial_configuration(
-    path: str, capsys: pytest.CaptureFixture[str]
-) -> None:
+@pytest.mark.parametrize("path", [PATH1_FILE, PATH2_FILE])
+def test_first_row_is_the_papers_initial_configuration(path: str) -> None:
     """Section 4: θ1 = -26.5651°, s1 = 2.2361 m, θ2 = -165.9638°, s2 = 4.1231 m at rest."""
-    _, out, _ = run(["export", path, "--samples", "11"], capsys)
+    _, out, _ = run_cli("export", path, "--samples", "11")
     _, names, v = read_csv(out)
     row = dict(zip(names, v[0], strict=True))
     assert row["t"] == 0.0
@@ -85,12 +72,10 @@ def test_first_row_is_the_papers_initial_configuration(
         assert row[rate] == 0.0  # rest-to-rest quintic (eq. 49)
 
 
-def test_samples_11_hit_t_2_5_and_write_the_bounded_limit(
-    capsys: pytest.CaptureFixture[str],
-) -> None:
+def test_samples_11_hit_t_2_5_and_write_the_bounded_limit() -> None:
     """Path 2, alike legs: consistent first-order crossing at t = 2.5 s; the torques there
     are the finite limit (63.225, -5.445) N m, not NaN and not a cancellation artefact."""
-    _, out, _ = run(["export", PATH2, "--samples", "11"], capsys)
+    _, out, _ = run_cli("export", PATH2_FILE, "--samples", "11")
     _, names, v = read_csv(out)
     col = {n: v[:, j] for j, n in enumerate(names)}
     assert col["t"][5] == 2.5  # exactly: t_i = i t_f / (N - 1)
@@ -98,19 +83,17 @@ def test_samples_11_hit_t_2_5_and_write_the_bounded_limit(
     assert (col["x"][5], col["y"][5], col["delta"][5]) == (3.0, 0.0, 0.0)
     assert col["T1"][5] == pytest.approx(63.225, abs=1e-9)
     assert col["T2"][5] == pytest.approx(-5.445, abs=1e-9)
-    limit = audit(load_task(PATH2)).singularities[0].torque_at_singularity
+    limit = audit(load_task(PATH2_FILE)).singularities[0].torque_at_singularity
     assert (col["T1"][5], col["T2"][5]) == pytest.approx(limit, abs=1e-9)
     assert np.all(np.isfinite(v))
     # δ' = -0.1 there (the path crosses with slope: a first-order singularity, Fig. 4)
     assert col["delta_dot"][5] == pytest.approx(-0.1, abs=1e-12)
 
 
-def test_unbounded_instant_is_nan_in_csv_and_null_in_json(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_unbounded_instant_is_nan_in_csv_and_null_in_json(tmp_path: Path) -> None:
     """Path 1: third-order singularity at t = 2.5 s, pole of order 2: λ2, T1, T2 have no
     value there. λ1 = (s1 F1 + s2 F2)/a1 stays bounded in case 3 and is written."""
-    _, out, _ = run(["export", PATH1, "--samples", "11"], capsys)
+    _, out, _ = run_cli("export", PATH1_FILE, "--samples", "11")
     line = [r for r in out.splitlines() if r.startswith("2.5,")]
     assert len(line) == 1
     fields = dict(zip(ISSUE_COLUMNS, line[0].split(","), strict=True))
@@ -122,7 +105,7 @@ def test_unbounded_instant_is_nan_in_csv_and_null_in_json(
     assert np.max(np.abs(others[:, -2:])) < 200  # no huge finite value beside the pole
 
     dest = tmp_path / "p1.json"
-    code, _, _ = run(["export", PATH1, "--samples", "11", "-o", str(dest)], capsys)
+    code, _, _ = run_cli("export", PATH1_FILE, "--samples", "11", "-o", str(dest))
     assert code == 0
     doc = json.loads(dest.read_text(), parse_constant=lambda c: pytest.fail(f"non-JSON {c}"))
     row = dict(zip(doc["columns"], doc["rows"][5], strict=True))
@@ -134,12 +117,10 @@ def test_unbounded_instant_is_nan_in_csv_and_null_in_json(
 
 @pytest.mark.parametrize("fmt", ["csv", "json"])
 @pytest.mark.parametrize("path", sorted(str(p) for p in CONFIGS.glob("*.yaml")))
-def test_export_equals_the_engines_numbers(
-    path: str, fmt: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_export_equals_the_engines_numbers(path: str, fmt: str, tmp_path: Path) -> None:
     """Every value round-trips exactly (shortest repr); NaN where the engine has NaN."""
     dest = tmp_path / f"out.{fmt}"
-    code, out, _ = run(["export", path, "--samples", "101", "-o", str(dest)], capsys)
+    code, out, _ = run_cli("export", path, "--samples", "101", "-o", str(dest))
     assert code == 0 and out == ""
     text = dest.read_text(encoding="utf-8")
     if fmt == "csv":
@@ -152,15 +133,15 @@ def test_export_equals_the_engines_numbers(
     assert np.array_equal(got, want, equal_nan=True)
 
 
-def test_header_names_the_task_and_the_version(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(["export", PATH2, "--samples", "3"], capsys)
+def test_header_names_the_task_and_the_version() -> None:
+    _, out, _ = run_cli("export", PATH2_FILE, "--samples", "3")
     first = out.splitlines()[0]
     assert first.startswith(f"# rprpr {__version__} ")
     assert '"Example 2 of the paper, path 2"' in first
-    assert PATH2 in first and "3 samples" in first
+    assert PATH2_FILE in first and "3 samples" in first
     assert sum(line.startswith("#") for line in out.splitlines()) == 1
 
-    _, out, _ = run(["export", PATH2, "--samples", "3", "--format", "json"], capsys)
+    _, out, _ = run_cli("export", PATH2_FILE, "--samples", "3", "--format", "json")
     doc = json.loads(out)
     assert doc["rprpr"] == __version__
     assert doc["task"] == "Example 2 of the paper, path 2"
@@ -170,30 +151,26 @@ def test_header_names_the_task_and_the_version(capsys: pytest.CaptureFixture[str
     assert doc["singularities"][0]["torque_at_singularity"] == pytest.approx([63.225, -5.445])
 
 
-def test_csv_reads_back_with_numpy_as_documented(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_csv_reads_back_with_numpy_as_documented(tmp_path: Path) -> None:
     dest = tmp_path / "m.csv"
-    run(["export", PATH1, "--samples", "11", "-o", str(dest)], capsys)
+    run_cli("export", PATH1_FILE, "--samples", "11", "-o", str(dest))
     data = np.genfromtxt(dest, delimiter=",", names=True, skip_header=1)
     assert data.dtype.names == tuple(ISSUE_COLUMNS)
     assert data["t"][5] == 2.5 and math.isnan(data["T1"][5])
 
 
-def test_default_is_1001_samples_from_0_to_tf(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(["export", PATH2], capsys)
+def test_default_is_1001_samples_from_0_to_tf() -> None:
+    _, out, _ = run_cli("export", PATH2_FILE)
     _, _, v = read_csv(out)
     assert v.shape == (1001, 19)
     assert v[0, 0] == 0.0 and v[-1, 0] == 5.0 and v[500, 0] == 2.5
 
 
-def test_stdout_only_without_output_file(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    code, out, err = run(["export", PATH2, "--samples", "4"], capsys)
+def test_stdout_only_without_output_file(tmp_path: Path) -> None:
+    code, out, err = run_cli("export", PATH2_FILE, "--samples", "4")
     assert code == 0 and out.startswith("# rprpr") and err == ""
     dest = tmp_path / "m.csv"
-    code, out, err = run(["export", PATH2, "--samples", "4", "-o", str(dest)], capsys)
+    code, out, err = run_cli("export", PATH2_FILE, "--samples", "4", "-o", str(dest))
     assert code == 0 and out == "" and f"wrote {dest}" in err
     assert dest.read_text().startswith("# rprpr")
     assert list(tmp_path.iterdir()) == [dest]  # no temporary left behind
@@ -217,19 +194,16 @@ def test_bad_invocation_exits_2_with_one_line(
     args: list[str],
     says: str,
     tmp_path: Path,
-    capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    code, out, err = run(["export", PATH2, *args], capsys)
+    code, out, err = run_cli("export", PATH2_FILE, *args)
     assert code == 2 and out == ""
     assert len(err.strip().splitlines()) == 1 and says in err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_bad_task_file_exits_2_naming_file_line_and_key(
-    write_task, capsys: pytest.CaptureFixture[str]
-) -> None:  # type: ignore[no-untyped-def]
+def test_bad_task_file_exits_2_naming_file_line_and_key(write_task) -> None:  # type: ignore[no-untyped-def]
     bad = write_task(
         task_text(
             "x - 3\n  from: [2, -1]\n  to: [4, 1]",
@@ -237,16 +211,16 @@ def test_bad_task_file_exits_2_naming_file_line_and_key(
             a1="-6",
         )
     )
-    code, out, err = run(["export", str(bad)], capsys)
+    code, out, err = run_cli("export", str(bad))
     assert code == 2 and out == ""
     assert len(err.strip().splitlines()) == 1
     assert f"{bad}:3" in err and "robot.a1" in err
-    code, _, err = run(["export", str(bad.parent / "missing.yaml")], capsys)
+    code, _, err = run_cli("export", str(bad.parent / "missing.yaml"))
     assert code == 2 and "no such file" in err
 
 
-def test_unwritable_output_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = run(["export", PATH2, "-o", str(tmp_path / "no" / "dir" / "m.csv")], capsys)
+def test_unwritable_output_exits_2(tmp_path: Path) -> None:
+    code, _, err = run_cli("export", PATH2_FILE, "-o", str(tmp_path / "no" / "dir" / "m.csv"))
     assert code == 2 and "cannot write" in err and len(err.strip().splitlines()) == 1
 
 
@@ -254,7 +228,9 @@ def test_unwritable_output_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture
 # matplotlib stays out of check and export
 
 
-@pytest.mark.parametrize("command", [["check", PATH2], ["export", PATH2, "--samples", "5"]])
+@pytest.mark.parametrize(
+    "command", [["check", PATH2_FILE], ["export", PATH2_FILE, "--samples", "5"]]
+)
 def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path: Path) -> None:
     probe = (
         "import sys\n"
@@ -284,8 +260,8 @@ def test_export_module_is_free_of_click_and_matplotlib() -> None:
     assert done.stdout.strip() == "[]", done.stderr
 
 
-def test_json_is_strict_and_one_row_per_line(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(["export", PATH1, "--samples", "11", "--format", "json"], capsys)
+def test_json_is_strict_and_one_row_per_line() -> None:
+    _, out, _ = run_cli("export", PATH1_FILE, "--samples", "11", "--format", "json")
     json.loads(out, parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
     row_lines = [line for line in out.splitlines() if line.lstrip().startswith("[") and "," in line]
     assert len(row_lines) == 11

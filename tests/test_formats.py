@@ -16,7 +16,6 @@ from pathlib import Path
 import pytest
 
 from rprpr.cli.check import check_one
-from rprpr.cli.main import main
 from rprpr.cli.options import CheckOptions
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
@@ -27,12 +26,8 @@ from rprpr.render.junit import render as junit
 from rprpr.render.junit import xml_text
 from rprpr.report.run import Run
 
-from .conftest import ROOT, task_text
+from .conftest import BAD_A1, FAST, ROOT, run_cli
 
-FAST = ["--samples", "101"]
-QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"
-PATH2 = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
-BAD_A1 = task_text(PATH2, QUINTIC, a1="-1")  # robot.a1 on line 3, column 7
 P1 = "configs/paper_path1.yaml"  # fails RPR101 (slope), warns RPR201
 P2 = "configs/paper_path2.yaml"  # passes, no finding
 ZERO = "configs/zero_speed_crossing.yaml"  # fails RPR102 (velocity), warns RPR201
@@ -43,15 +38,6 @@ TRICKY = "50% done: a, b\r\nnext line"
 def _in_repo(monkeypatch: pytest.MonkeyPatch) -> None:
     """Run from the repository root, so that task paths are the relative ones CI uses."""
     monkeypatch.chdir(ROOT)
-    for name in ("NO_COLOR", "FORCE_COLOR", "COLUMNS"):
-        monkeypatch.delenv(name, raising=False)
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as e:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return int(e.value.code or 0), out, err
 
 
 def line_of(path: str, prefix: str) -> int:
@@ -75,11 +61,9 @@ def bad_file(tmp_path: Path) -> str:
 
 
 # -- JSON ------------------------------------------------------------------------------------
-def test_json_document_summary_and_input_errors(
-    capsys: pytest.CaptureFixture[str], bad_file: str, tmp_path: Path
-) -> None:
+def test_json_document_summary_and_input_errors(bad_file: str, tmp_path: Path) -> None:
     missing = str(tmp_path / "missing.yaml")
-    code, out, _ = run(capsys, "check", "--format", "json", *FAST, P1, P2, bad_file, missing)
+    code, out, _ = run_cli("check", "--format", "json", *FAST, P1, P2, bad_file, missing)
     assert code == 2
     doc = json.loads(out)
     assert list(doc) == [
@@ -106,8 +90,8 @@ def test_json_document_summary_and_input_errors(
     assert doc["internal_errors"] == []
 
 
-def test_json_findings_carry_rule_ids_keys_and_lines(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(capsys, "check", "--format", "json", *FAST, P1, ZERO)
+def test_json_findings_carry_rule_ids_keys_and_lines() -> None:
+    _, out, _ = run_cli("check", "--format", "json", *FAST, P1, ZERO)
     p1, zero = json.loads(out)["reports"]
     assert [(f["rule"], f["name"], f["severity"], f["key"], f["line"]) for f in p1["findings"]] == [
         ("RPR101", "slope-principle", "error", "path.y", line_of(P1, "  y:")),
@@ -119,11 +103,9 @@ def test_json_findings_carry_rule_ids_keys_and_lines(capsys: pytest.CaptureFixtu
     ]
 
 
-def test_json_leaves_out_the_times_so_runs_are_reproducible(
-    capsys: pytest.CaptureFixture[str],
-) -> None:
-    a = run(capsys, "check", "--format", "json", *FAST, P1, P2)
-    b = run(capsys, "check", "--format", "json", *FAST, P1, P2)
+def test_json_leaves_out_the_times_so_runs_are_reproducible() -> None:
+    a = run_cli("check", "--format", "json", *FAST, P1, P2)
+    b = run_cli("check", "--format", "json", *FAST, P1, P2)
     assert a == b
     assert '"time"' not in a[1]
 
@@ -141,8 +123,8 @@ def test_github_escaping_is_the_actions_toolkit_one() -> None:
     assert command("error", {}, "plain") == "::error::plain"
 
 
-def test_github_one_line_per_finding(capsys: pytest.CaptureFixture[str], bad_file: str) -> None:
-    code, out, err = run(capsys, "check", "--format", "github", *FAST, P1, P2, ZERO, bad_file)
+def test_github_one_line_per_finding(bad_file: str) -> None:
+    code, out, err = run_cli("check", "--format", "github", *FAST, P1, P2, ZERO, bad_file)
     assert code == 2
     y1, links1 = line_of(P1, "  y:"), line_of(P1, "  links:")
     timing, links0 = line_of(ZERO, "timing:"), line_of(ZERO, "  links:")
@@ -185,12 +167,10 @@ def test_github_escapes_a_tricky_message_and_path() -> None:
     assert len(lines) == 2  # the newline in the message did not make a line of its own
 
 
-def test_github_escapes_a_tricky_file_name_end_to_end(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
+def test_github_escapes_a_tricky_file_name_end_to_end(tmp_path: Path) -> None:
     odd = tmp_path / "plan 50%,v2:final\nb.yaml"
     odd.write_text(BAD_A1, encoding="utf-8")
-    code, out, _ = run(capsys, "check", "--format", "github", str(odd))
+    code, out, _ = run_cli("check", "--format", "github", str(odd))
     assert code == 2
     [line] = out.splitlines()
     file = str(odd).replace("%", "%25").replace("\n", "%0A").replace(":", "%3A").replace(",", "%2C")
@@ -205,8 +185,8 @@ def test_github_paths_are_workspace_relative(tmp_path: Path) -> None:
     assert annotation_path("/elsewhere/a.yaml", root=str(tmp_path)) == "/elsewhere/a.yaml"
 
 
-def test_github_passing_tasks_print_nothing(capsys: pytest.CaptureFixture[str]) -> None:
-    assert run(capsys, "check", "--format", "github", *FAST, P2) == (0, "", "")
+def test_github_passing_tasks_print_nothing() -> None:
+    assert run_cli("check", "--format", "github", *FAST, P2) == (0, "", "")
 
 
 def test_github_strict_findings_are_errors_in_strict_mode() -> None:
@@ -287,10 +267,8 @@ def validate_junit(xml: str) -> ET.Element:
     return root
 
 
-def test_junit_structure_counts_and_cases(
-    capsys: pytest.CaptureFixture[str], bad_file: str
-) -> None:
-    code, out, _ = run(capsys, "check", "--format", "junit", *FAST, P1, P2, ZERO, bad_file)
+def test_junit_structure_counts_and_cases(bad_file: str) -> None:
+    code, out, _ = run_cli("check", "--format", "junit", *FAST, P1, P2, ZERO, bad_file)
     assert code == 2
     root = validate_junit(out)
     [suite] = root.findall("testsuite")  # one testsuite per run
@@ -384,17 +362,15 @@ def test_junit_escapes_markup_newlines_and_forbidden_characters() -> None:
     assert xml_text("ok\x01\ud800\ufffe\t\n") == "ok\\x01\\ud800\\ufffe\t\n"
 
 
-def test_junit_lists_every_task_even_when_quiet(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(capsys, "check", "--format", "junit", "-q", *FAST, P1, P2)
+def test_junit_lists_every_task_even_when_quiet() -> None:
+    _, out, _ = run_cli("check", "--format", "junit", "-q", *FAST, P1, P2)
     assert len(validate_junit(out).findall("testsuite/testcase")) == 2
 
 
 # -- rule ids in every format ---------------------------------------------------------------
 @pytest.mark.parametrize("fmt", ["text", "json", "junit", "github"])
-def test_rule_ids_appear_in_every_format(
-    capsys: pytest.CaptureFixture[str], fmt: str, bad_file: str
-) -> None:
-    _, out, err = run(capsys, "check", "--format", fmt, *FAST, P1, ZERO, bad_file)
+def test_rule_ids_appear_in_every_format(fmt: str, bad_file: str) -> None:
+    _, out, err = run_cli("check", "--format", fmt, *FAST, P1, ZERO, bad_file)
     both = out + err
     for rule in ("RPR101", "RPR102", "RPR201", "RPR001"):
         assert rule in both, (fmt, rule)
@@ -403,12 +379,12 @@ def test_rule_ids_appear_in_every_format(
             assert RULES[rule].title in out, (fmt, rule)
 
 
-def test_text_marks_strict_only_findings_as_warnings(capsys: pytest.CaptureFixture[str]) -> None:
-    _, out, _ = run(capsys, "check", *FAST, P1)
+def test_text_marks_strict_only_findings_as_warnings() -> None:
+    _, out, _ = run_cli("check", *FAST, P1)
     lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("RPR")]
     assert lines[0].startswith("RPR101 slope-principle: t = 2.5 s")
     assert lines[1].startswith("RPR201 inconsistent-crossing (warning, fails with --strict): ")
-    _, out, _ = run(capsys, "check", "--strict", *FAST, P1)
+    _, out, _ = run_cli("check", "--strict", *FAST, P1)
     assert "RPR201 inconsistent-crossing: t = 2.5 s" in out
 
 

@@ -263,4 +263,8 @@ def test_a_pair_needs_exactly_two_numbers(key: str) -> None:
 
 def test_an_empty_tagged_number_is_an_input_error() -> None:
     e = _error(GOOD.replace("a1: 6", "a1: !!float"))
-    assert (e.key, e.line, e.message) == ("robot.a1", 3, "expected a number, found ''")
+    assert (e.key, e.line, e.message) == (
+        "robot.a1",
+        3,
+        "expected a number (|AB| [m]), found an empty value",
+    )

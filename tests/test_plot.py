@@ -87,7 +87,32 @@ def svg_texts(path: Path) -> tuple[str, set[str]]:
 
 
 # ---------------------------------------------------------------------------------------
-# every panel, every config and the overlay, each format
+# every panel of every config and of the overlay, on the figure; each format saved once
+
+PANEL_WORDS = (
+    "Workspace (paper Fig. 3)",
+    "End-point coordinates (paper Fig. 2)",
+    "Type II determinant (paper Fig. 4)",
+    "Actuated joints (paper Fig. 5)",
+    "Motor torques (eq. 28)",
+    "t [s]",
+    "x [m]",
+    "y [m]",
+)
+
+
+def figure_texts(fig: Figure) -> str:
+    """Every text the sheet shows: titles, axis labels, annotations and legends."""
+    texts = [sf._suptitle.get_text() for sf in fig.subfigs if sf._suptitle is not None]
+    for ax in fig.get_axes():
+        texts += [ax.get_title(), ax.get_xlabel(), ax.get_ylabel()]
+        texts += [t.get_text() for t in ax.texts]
+        texts += legend_texts(ax) if ax.get_legend() else []
+    return " ".join(texts)
+
+
+def figure_gids(fig: Figure) -> set[str]:
+    return {a.get_gid() for ax in fig.get_axes() for a in ax.get_children() if a.get_gid()}
 
 
 def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
@@ -112,7 +137,7 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
     assert axes["torques"][0].get_ylabel() == "$T$ [N m]"
     for i, m in enumerate(ms):
         for k, s in enumerate(m.result.singularities):
-            shape = "*" if s.order >= 2 else "D"
+            shape = "*" if s.high_order else "D"
             for panel, gid, xy in (
                 ("path", f"path-singular-{i}-{k}", (s.x, 0.0)),
                 ("delta", f"delta-singular-{i}-{k}", (s.t, 0.0)),
@@ -124,46 +149,16 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
                 mark = by_gid(ax, gid)
                 assert mark.get_marker() == shape
                 assert tuple(mark.get_xydata()[0]) == pytest.approx(xy)
-                assert mark.get_markerfacecolor() == P.STATUS_COLOUR[P.status(m.result, s)]
+                assert mark.get_markerfacecolor() == P.STATUS_COLOUR[m.result.status_of(s)]
             label = by_gid(axes["delta"][0], f"delta-label-{i}-{k}").get_text()
             assert f"order {s.order}" in label
-            assert ("high-order" in label) == (s.order >= 2)
+            assert ("high-order" in label) == s.high_order
 
 
-@pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
-def test_every_panel_renders_in_png_svg_and_pdf(paths: list[str], tmp_path: Path) -> None:
-    ms = motions(paths)
-    fig = P.render(ms)
-    check_content(fig, ms)
-    names = [m.name for m in ms]
-
-    png = tmp_path / "sheet.png"
-    P.save(fig, str(png), "png", dpi=40, motions=ms)
-    with Image.open(png) as im:
-        im.verify()
-    with Image.open(png) as im:
-        w, h = fig.get_size_inches()
-        assert im.size == (round(w * 40), round(h * 40))
-        assert all(n in im.text["Title"] for n in names)
-        assert im.text["Software"].startswith("rprpr ")
-
-    # The PNG above laid the sheet out; keep that layout for the other two files (saves
-    # two layout passes; the command-line tests below save through the full path).
-    fig.set_layout_engine(None)
-    svg = tmp_path / "sheet.svg"
-    P.save(fig, str(svg), "svg", motions=ms)
-    texts, ids = svg_texts(svg)
-    for words in (
-        "Workspace (paper Fig. 3)",
-        "End-point coordinates (paper Fig. 2)",
-        "Type II determinant (paper Fig. 4)",
-        "Actuated joints (paper Fig. 5)",
-        "Motor torques (eq. 28)",
-        "t [s]",
-        "x [m]",
-        "y [m]",
-        *names,
-    ):
+def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> None:
+    """The panels' titles, the axes and the tasks' names are written; every curve and
+    singular instant has its id."""
+    for words in (*PANEL_WORDS, *(m.name for m in ms)):
         assert words in texts, words
     for i, m in enumerate(ms):
         assert {f"path-{i}", f"delta-{i}", f"theta1-{i}", f"T1-{i}", f"T2-{i}"} <= ids
@@ -174,12 +169,59 @@ def test_every_panel_renders_in_png_svg_and_pdf(paths: list[str], tmp_path: Path
                 f"delta-label-{i}-{k}",
             } <= ids
 
-    pdf = tmp_path / "sheet.pdf"
-    P.save(fig, str(pdf), "pdf", motions=ms)
-    data = pdf.read_bytes()
+
+@pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
+def test_every_panel_shows_its_content(paths: list[str]) -> None:
+    ms = motions(paths)
+    fig = P.render(ms)
+    check_content(fig, ms)
+    check_words_and_ids(figure_texts(fig), figure_gids(fig), ms)
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory: pytest.TempPathFactory) -> tuple[Figure, list[P.Motion], Path]:
+    """The overlay of every shipped config, saved once as PNG (at 40 dpi), SVG and PDF:
+    every config drawn, in every format."""
+    ms = motions(CONFIG_FILES)
+    fig = P.render(ms)
+    out = tmp_path_factory.mktemp("sheet")
+    P.save(fig, str(out / "sheet.png"), "png", dpi=40, motions=ms)
+    # The PNG laid the sheet out; keep that layout for the other two files (saves two
+    # layout passes; the command-line tests below save through the full path).
+    fig.set_layout_engine(None)
+    P.save(fig, str(out / "sheet.svg"), "svg", motions=ms)
+    P.save(fig, str(out / "sheet.pdf"), "pdf", motions=ms)
+    return fig, ms, out
+
+
+def test_png_has_the_sheets_size_and_names_the_tasks(
+    saved: tuple[Figure, list[P.Motion], Path],
+) -> None:
+    fig, ms, out = saved
+    with Image.open(out / "sheet.png") as im:
+        im.verify()
+    with Image.open(out / "sheet.png") as im:
+        w, h = fig.get_size_inches()
+        assert im.size == (round(w * 40), round(h * 40))
+        assert all(m.name in im.text["Title"] for m in ms)
+        assert im.text["Software"].startswith("rprpr ")
+
+
+def test_svg_keeps_the_text_and_an_id_per_curve_and_instant(
+    saved: tuple[Figure, list[P.Motion], Path],
+) -> None:
+    _, ms, out = saved
+    check_words_and_ids(*svg_texts(out / "sheet.svg"), ms)
+
+
+def test_pdf_is_one_page_naming_the_tasks_in_truetype(
+    saved: tuple[Figure, list[P.Motion], Path],
+) -> None:
+    _, ms, out = saved
+    data = (out / "sheet.pdf").read_bytes()
     assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF")
     title = re.search(rb"/Title \((.*?)\)", data)
-    assert title and all(n.encode() in title.group(1) for n in names)
+    assert title and all(m.name.encode() in title.group(1) for m in ms)
     assert b"/Count 1" in data  # one page
     assert b"DejaVuSans" in data  # the text is there, as embedded TrueType (fonttype 42)
 
@@ -319,6 +361,24 @@ def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:
         by_gid(ax, f"torques-exit-0-0-T2-{side}").get_marker() for side in ("before", "after")
     }
     assert shapes == {"^", "v"}
+
+
+def test_close_instants_read_apart_on_the_sheet(write_task) -> None:  # type: ignore[no-untyped-def]
+    """Crossings at t = 1 and t = 1.000001: 4 digits would write both as t = 1 s; the
+    labels, the notes and the file's description take the digits that tell them apart."""
+    task = write_task(task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n"))
+    m = P.motion(audit(load_task(task), samples=11), str(task))
+    assert [s.t for s in m.result.singularities] == [1.0, 1.000001]
+    axes = panel_axes(P.render([m], ["path", "delta", "torques"]))
+    for panel, gid in (("delta", "delta-label"), ("path", "path-label")):
+        texts = [by_gid(axes[panel][0], f"{gid}-0-{k}").get_text() for k in (0, 1)]
+        assert "t = 1 s" in texts[0] and "t = 1.000001 s" in texts[1], texts
+    notes = [t.get_text() for t in axes["torques"][0].texts]
+    assert any("T → ∞ at t = 1.000001 s" in n for n in notes), notes
+    assert P.summary(m).endswith("torques unbounded at t = 1.000001 s")
+    assert (
+        "(t = 1 s order 1 ok; t = 1.000001 s order 1 warn)" in P.metadata([m], "png")["Description"]
+    )
 
 
 @pytest.mark.parametrize(

@@ -23,6 +23,7 @@ from rprpr.io.loader import parse_task
 from rprpr.io.schema import json_schema
 from rprpr.model.errors import TaskFileError
 
+from .conftest import run_cli
 from .test_bad_input import GOOD  # the paper's path 2: the corpus's starting point
 
 HERE = Path(__file__).resolve().parent
@@ -171,13 +172,10 @@ def test_shipped_schema_is_package_data_and_a_valid_draft_2020_12_schema() -> No
     assert doc["$schema"] == "https://json-schema.org/draft/2020-12/schema"
 
 
-def test_rprpr_schema_prints_the_shipped_file(capsys: pytest.CaptureFixture[str]) -> None:
-    from rprpr.cli.main import main
-
-    with pytest.raises(SystemExit) as exc:
-        main(["schema"])
-    assert exc.value.code == 0
-    assert json.loads(capsys.readouterr().out) == json.loads(SHIPPED.read_text())
+def test_rprpr_schema_prints_the_shipped_file() -> None:
+    code, out, _ = run_cli("schema")
+    assert code == 0
+    assert json.loads(out) == json.loads(SHIPPED.read_text())
 
 
 @pytest.mark.parametrize("config", CONFIGS, ids=lambda p: p.name)

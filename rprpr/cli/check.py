@@ -4,7 +4,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import os
 import sys
@@ -16,7 +15,7 @@ import click
 
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
-from . import budget as budgeting
+from . import workers
 from .options import (
     CHECK_FORMATS,
     DEFAULT_BUDGET,
@@ -26,8 +25,18 @@ from .options import (
     samples_option,
     tasks_argument,
 )
-from .output import color_enabled, is_tty, make_console, open_output, writing
-from .tasks import tasks_or_usage_error
+from .output import (
+    Lossy,
+    color_enabled,
+    is_tty,
+    make_console,
+    refuse_overwriting_inputs,
+    report_stream,
+    say,
+    utf8,
+    writing,
+)
+from .tasks import tasks_or_usage_error, unreadable_folder
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
@@ -98,7 +107,7 @@ def check(
 
     Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
     file, 3 internal error, 4 a task exceeded its work budget (the highest that
-    applies)."""
+    applies); 128 + N stopped by signal N."""
     options = CheckOptions(
         format=fmt,
         output_file=None if output_file == "-" else output_file,  # "-": standard output
@@ -107,34 +116,22 @@ def check(
         jobs=jobs or _cpus(),
         quiet=quiet,
         exit_zero=exit_zero,
-        color=color,
         budget=budget or None,  # 0: no limit
+        color=color,
     )
     files = tasks_or_usage_error(tasks)
-    _refuse_overwriting_a_task(options.output_file, files)
-    out = open_output(options.output_file)
-    try:
+    refuse_overwriting_inputs([options.output_file], files)
+    with report_stream(options.output_file, "the report") as out:
         show = want_progress(len(files), sys.stderr, quiet)
-        progress = make_console(sys.stderr, color_enabled(color, sys.stderr)) if show else None
+        progress = (
+            make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr)) if show else None
+        )
         run = run_checks(files, options, progress)
         status = run_status(run, exit_zero=options.exit_zero)
         with writing("the report", options.output_file, status):
             write_report(run, options, out)
-    finally:
-        if options.output_file:
-            with contextlib.suppress(OSError):
-                out.close()
     _log(run, options)
     return status
-
-
-def _refuse_overwriting_a_task(output_file: str | None, files: Sequence[str]) -> None:
-    if output_file and os.path.exists(output_file):
-        for f in files:
-            if os.path.exists(f) and os.path.samefile(output_file, f):
-                raise click.UsageError(
-                    f"the output file {output_file} is also a task file: it would be overwritten"
-                )
 
 
 def check_one(
@@ -150,7 +147,7 @@ def check_one(
 
     start = time.perf_counter()
     try:
-        task = load_task(path)
+        task = load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
     except TaskFileError as e:
         return INPUT, input_error(e, path), time.perf_counter() - start
     except Exception as e:  # a bug while reading: still name the file
@@ -170,10 +167,10 @@ def _check_in_worker(options: CheckOptions, path: str, on_stage: Callable[[str],
 
 
 def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None) -> Run:
-    """Audit ``files`` in ``options.jobs`` worker processes, each task under
-    ``options.budget`` (``budget``); the outcomes come back in task order, so the report
-    does not depend on the number of workers. ``progress`` is a rich Console to draw a
-    progress bar on, or None."""
+    """Audit ``files`` in ``options.jobs`` worker processes (at least one: the audit never
+    runs in this process), each task under ``options.budget`` (``budget``); the outcomes
+    come back in task order, so the report does not depend on the number of workers.
+    ``progress`` is a rich Console to draw a progress bar on, or None."""
     from ..engine import audit as auditing  # imported before forking: workers inherit it
     from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
     from ..report import records  # noqa: F401
@@ -184,14 +181,14 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
         return run
     work = functools.partial(_check_in_worker, options)
     stages = (LOADING, *auditing.STAGES, REPORTING)
-    with budgeting.Workers(work, min(options.jobs, len(files)), stages) as workers:
-        results = workers.run(files, options.budget)
+    with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:
+        results = pool.run(files, options.budget)
         _collect(run, _outcomes(results, options), len(files), progress)
     return run
 
 
 def _outcomes(
-    results: Iterable[tuple[str, budgeting.Result[Outcome]]], options: CheckOptions
+    results: Iterable[tuple[str, workers.Result[Outcome]]], options: CheckOptions
 ) -> Iterator[Outcome]:
     """Each task's outcome: its own, or a budget error (stopped at its budget), or an
     internal error (its worker died)."""
@@ -199,9 +196,9 @@ def _outcomes(
     from ..report.run import BUDGET, INTERNAL
 
     for path, result in results:
-        if isinstance(result, budgeting.Done):
+        if isinstance(result, workers.Done):
             yield result.value
-        elif isinstance(result, budgeting.OverBudget):
+        elif isinstance(result, workers.OverBudget):
             assert options.budget is not None
             yield BUDGET, budget_error(path, options.budget, result.stage), result.seconds
         else:
@@ -245,6 +242,8 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
         from ..render.junit import render as junit
 
         text = junit(run)
+        if not utf8(out):  # the document says UTF-8: keep it true on any stream
+            text = text.encode("ascii", "xmlcharrefreplace").decode("ascii")
     else:
         from ..render.github import render as github
 
@@ -259,7 +258,7 @@ def _write_text(run: Run, options: CheckOptions, out: TextIO) -> None:
     color = options.color
     # colour in a file only when asked for (--color always), never from the environment
     colored = color == "always" if options.output_file else color_enabled(color, out)
-    err = make_console(sys.stderr, color_enabled(color, sys.stderr))
+    err = make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr))
     # bad task files: on stderr, and in the report too when it goes to a file
     render(
         run,
@@ -276,17 +275,16 @@ def _log(run: Run, options: CheckOptions) -> None:
     line when the report went to a file."""
     if options.format != "text" or options.output_file:  # the one-line errors, for the log
         for e in run.input_errors + run.internal_errors + run.budget_errors:
-            click.echo(e["text"], err=True)
+            say(e["text"])
     if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
         for e in run.internal_errors:
-            click.echo(e["traceback"], err=True)
+            say(e["traceback"], keep="\n")
     if options.output_file and not options.quiet:  # the log still says what the file holds
         s = run.summary()
-        click.echo(
+        say(
             f"rprpr: {s['tasks']} task{'s' if s['tasks'] != 1 else ''}: {s['passed']} passed,"
             f" {s['failed']} failed, {s['errors']} error{'s' if s['errors'] != 1 else ''};"
-            f" {options.format} report written to {options.output_file}",
-            err=True,
+            f" {options.format} report written to {options.output_file}"
         )
 
 

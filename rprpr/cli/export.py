@@ -12,7 +12,7 @@ import click
 
 from ..report.exit import ExitCode
 from .options import output_file_option, samples_option, suffix_choice
-from .output import write_atomic, writing
+from .output import refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import load, task_named
 
 EXPORT_FORMATS = ("csv", "json")
@@ -20,7 +20,7 @@ IMPLIED = {".csv": "csv", ".json": "json"}  # the format an output file's extens
 
 
 @click.command()
-@click.argument("task", type=click.Path())
+@click.argument("task", type=click.Path(readable=False))
 @output_file_option(
     "Write here, as .csv or .json (format from the extension); standard output when omitted."
 )
@@ -35,6 +35,7 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
     fmt = _format(output_file, fmt)
+    refuse_overwriting_inputs([output_file], [task])
     loaded = load(task)
 
     from ..engine.audit import audit
@@ -52,8 +53,8 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             E.write(result, fh, fmt, task)
 
-    write_atomic(output_file, write)
-    click.echo(f"rprpr: wrote {output_file} ({samples} samples)", err=True)
+    write_atomic(output_file, write, "the samples")
+    say(f"rprpr: wrote {output_file} ({samples} samples)")
     return ExitCode.PASSED
 
 

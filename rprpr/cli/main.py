@@ -20,7 +20,7 @@ from typing import Any, NoReturn
 import click
 
 from .._version import __version__
-from ..report.exit import error_status, returned_status
+from ..report.exit import OUT_OF_SPACE, Interrupted, error_status, returned_status
 
 COMMANDS = ("check", "export", "plot", "schema")  # each in the module of its name
 
@@ -52,32 +52,56 @@ _NO_ARGS_IS_HELP: Any = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 
 def main(argv: Sequence[str] | None = None) -> NoReturn:
-    """Entry point: run the command and exit with rprpr's status (``report.exit``)."""
-    try:
-        returned = main_group.main(args=list(argv) if argv is not None else None,
-                                   prog_name="rprpr", standalone_mode=False)  # fmt: skip
-    except (Exception, KeyboardInterrupt) as error:
-        _say(error)
-        sys.exit(error_status(error))
+    """Entry point: run the command and exit with rprpr's status (``report.exit``).
+
+    SIGINT, SIGTERM and SIGHUP stop the command cleanly (``signals``): rprpr then dies
+    of the signal. Text that standard output or error cannot encode gets ASCII
+    fallbacks, and a closed standard output is a failed write (``output.standard_streams``)."""
+    from . import signals
+    from .output import standard_streams
+
+    with signals.handled(), standard_streams():
+        try:
+            returned = main_group.main(args=list(argv) if argv is not None else None,
+                                       prog_name="rprpr", standalone_mode=False)  # fmt: skip
+        except (Exception, KeyboardInterrupt, Interrupted) as error:
+            _say(error)
+            if isinstance(error, Interrupted) and error.delivered:
+                signals.die_of(error.signum)
+            sys.exit(error_status(error))
     sys.exit(returned_status(returned))
 
 
 def _say(error: BaseException) -> None:
-    """The one line on standard error about what stopped the command."""
+    """The one line on standard error about what stopped the command (control characters
+    escaped: a file name or a value quoted in it may hold any)."""
+    from .output import say
+
     if isinstance(error, _NO_ARGS_IS_HELP):  # a bare ``rprpr``: the help itself
-        click.echo(error.format_message(), err=True)
+        say(error.format_message(), keep="\n")
     elif isinstance(error, click.UsageError):
-        click.echo(f"rprpr: usage error: {error.format_message()}", err=True)
+        say(f"rprpr: usage error: {error.format_message()}")
     elif isinstance(error, click.ClickException):  # a bad input, or a bug in a named task
-        click.echo(f"rprpr: {error.format_message()}", err=True)
+        say(f"rprpr: {error.format_message()}")
     elif isinstance(error, click.exceptions.Abort):
-        click.echo("rprpr: aborted", err=True)
+        interrupted = isinstance(error.__context__, KeyboardInterrupt)
+        say("rprpr: interrupted" if interrupted else "rprpr: aborted")
+    elif isinstance(error, Interrupted):
+        from .signals import signal_name
+
+        say(f"rprpr: interrupted ({signal_name(error.signum)})")
+    elif isinstance(error, KeyboardInterrupt):
+        say("rprpr: interrupted")
     elif isinstance(error, BrokenPipeError):  # the reader went away: nothing to say, nowhere
         from .output import silence_stdout
 
         silence_stdout()
+    elif isinstance(error, OSError) and error.errno in OUT_OF_SPACE:  # the environment
+        from .output import silence_stdout
+
+        silence_stdout()
+        say(f"rprpr: cannot write the output: {error.strerror or error}")
     elif isinstance(error, Exception) and not isinstance(error, click.exceptions.Exit):
-        click.echo(f"rprpr: internal error ({type(error).__name__}: {error}); please report it",
-                   err=True)  # fmt: skip
+        say(f"rprpr: internal error ({type(error).__name__}: {error}); please report it")
         if os.environ.get("RPRPR_DEBUG"):
             traceback.print_exception(error)

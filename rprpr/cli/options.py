@@ -44,12 +44,14 @@ class CheckOptions:
 
 def tasks_argument(name: str = "tasks") -> Callable[[F], F]:
     """TASKS: task files, or directories searched for them."""
-    return click.argument(name, nargs=-1, required=True, type=click.Path())
+    return click.argument(name, nargs=-1, required=True, type=click.Path(readable=False))
 
 
 def output_file_option(help: str) -> Callable[[F], F]:
     """``-o/--output-file FILE``."""
-    return click.option("-o", "--output-file", type=click.Path(dir_okay=False), help=help)
+    return click.option(
+        "-o", "--output-file", type=click.Path(dir_okay=False, readable=False), help=help
+    )
 
 
 def samples_option(low: int, high: int, help: str) -> Callable[[F], F]:

@@ -1,5 +1,7 @@
-"""Where a command's output goes: standard output or ``-o FILE`` (opened before any work,
-or written atomically), the rich consoles and their colour, and what a failed write means.
+"""Where a command's output goes: standard output or ``-o FILE`` (written atomically, its
+temporary file created before any work; never onto an input of the run), the standard
+streams (ASCII fallbacks, a closed one), the rich consoles and their colour, and what a
+failed write means.
 
 A failed write is one line and ``ExitCode.INPUT`` (the environment, not rprpr); a reader
 that closes the pipe early fails nothing (``report.exit`` says so; here standard output is
@@ -8,17 +10,22 @@ only pointed at /dev/null, so that the interpreter's last flush raises nothing m
 
 from __future__ import annotations
 
+import codecs
+import contextlib
+import errno
+import io
 import os
+import stat
 import sys
 import tempfile
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
-from pathlib import Path
 from typing import Any, TextIO
 
 import click
 
 from ..report.exit import ExitCode, InputError
+from .signals import discard_on_signal, keep_on_signal
 
 NON_TTY_WIDTH = 160  # text report width when not writing to a terminal (COLUMNS overrides)
 STDOUT = "standard output"
@@ -52,41 +59,262 @@ def writing(what: str, output_file: str | None, reached: ExitCode) -> Iterator[N
         ) from None
 
 
-def open_output(output_file: str | None) -> TextIO:
-    """The stream of a report written as it is made: standard output, or ``output_file``
-    opened now, so that a file that cannot be written is a usage error found before any
-    task is audited."""
-    if not output_file:
-        return sys.stdout
-    try:
-        return open(output_file, "w", encoding="utf-8", newline="\n")
-    except OSError as e:
-        raise click.UsageError(
-            f"cannot write the output file {output_file}: {e.strerror or e}"
-        ) from None
+def say(text: str, keep: str = "") -> None:
+    """A line for people on standard error, its control characters escaped (a newline
+    too, but those in ``keep``: the help's own); written through the stream's ASCII
+    fallbacks (``standard_streams``). A standard error that cannot be written (closed, a
+    full disk) loses the line but changes nothing else."""
+    from ..render.escape import printable
+
+    with contextlib.suppress(OSError, ValueError, AttributeError):  # None: closed at start
+        sys.stderr.write(printable(text, keep) + "\n")
+        sys.stderr.flush()
 
 
-def write_atomic(path: str, write: Callable[[str], None]) -> None:
-    """Have ``write`` write a temporary file beside ``path`` (it gets the temporary's
-    name), then rename it into place: an interrupted or failed run leaves no half-written
-    file behind."""
-    target = Path(path)
+class Lossy(io.TextIOBase):
+    """A stream for what may be lost (messages and a progress bar on standard error):
+    a write that fails (a full disk, a closed stream) is dropped, never fatal, so that
+    a lost standard error never costs the report."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return str(getattr(self.stream, "encoding", None) or "utf-8")
+
+    def write(self, s: str) -> int:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self.stream.write(s)
+        return len(s)
+
+    def flush(self) -> None:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self.stream.flush()
+
+    def isatty(self) -> bool:
+        return is_tty(self.stream)
+
+    def fileno(self) -> int:
+        return int(self.stream.fileno())
+
+
+def identity(path: str) -> tuple[int, int] | None:
+    """The identity of the file ``path`` names, (device, inode), following symbolic
+    links; None when it cannot be told (no such file, no permission)."""
     try:
-        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return st.st_dev, st.st_ino
+
+
+def refuse_overwriting_inputs(outputs: Iterable[str | None], inputs: Iterable[str]) -> None:
+    """A usage error when an output file would overwrite an input of the run: the same
+    file by identity (``identity``), whatever the names (a link, ``./``, ``..``)."""
+    known: dict[tuple[int, int], str] = {}
+    for path in inputs:
+        key = identity(path)
+        if key is not None:
+            known.setdefault(key, path)
+    for out in outputs:
+        key = identity(out) if out else None
+        if key is not None and key in known:
+            task = known[key]
+            also = "" if task == out else f" ({task})"
+            raise click.UsageError(
+                f"the output file {out} is also a task file{also}: it would be overwritten"
+            )
+
+
+class AtomicFile:
+    """An output file written whole or not at all: the content goes to a temporary file
+    beside the target (in the directory of the file a symbolic link points to, so the
+    link stays), which replaces the target only once complete and flushed to disk. An
+    interrupted or failed write removes the temporary file and leaves any previous
+    target intact. A target that exists and is not a regular file (``/dev/null``, a
+    pipe, a terminal) is written in place: there is nothing to replace there."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.target = os.path.realpath(path) if os.path.islink(path) else path
+        try:
+            st = os.stat(self.target)
+        except OSError:
+            st = None
+        self.in_place = st is not None and not stat.S_ISREG(st.st_mode)
+        self.mode = stat.S_IMODE(st.st_mode) if st is not None else None
+        self.temporary: str | None = None
+
+    def create(self) -> str:
+        """The path to write to: a new temporary file (or the target itself in place)."""
+        if self.in_place:
+            return self.target
+        folder, name = os.path.split(self.target)
+        fd, tmp = tempfile.mkstemp(dir=folder or ".", prefix=f".{name}.", suffix=".tmp")
         os.close(fd)
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)  # mkstemp's 0600 would make the output private
+        self.temporary = tmp
+        discard_on_signal(tmp)
+        # the target's mode, or a new file's (mkstemp's 0600 would make the output private)
+        os.chmod(tmp, self.mode if self.mode is not None else 0o666 & ~_umask())
+        return tmp
+
+    def commit(self) -> None:
+        """Put the written temporary file in the target's place (flushed to disk first,
+        so a full disk fails here, not later)."""
+        if self.temporary is None:
+            return
+        fd = os.open(self.temporary, os.O_RDWR)  # writable: Windows fsyncs no other
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(self.temporary, self.target)
+        keep_on_signal(self.temporary)
+        self.temporary = None
+
+    def discard(self) -> None:
+        """Remove the temporary file, if any (never raises)."""
+        if self.temporary is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.temporary)
+            keep_on_signal(self.temporary)
+            self.temporary = None
+
+
+@contextmanager
+def atomic(path: str, what: str, *, early: bool = False) -> Iterator[str]:
+    """Write ``what`` ("the report") to ``path`` through an ``AtomicFile``: the block
+    writes the file it is given, which takes ``path``'s place when the block ends
+    normally; an exception or a signal removes it. A file that cannot be created is a
+    usage error when ``early`` (found before any work), else an ``InputError``; a failed
+    write (a full disk) is an ``InputError`` naming ``what`` and ``path``."""
+    out = AtomicFile(path)
+    try:
+        tmp = out.create()
     except OSError as e:
+        if early:
+            raise click.UsageError(
+                f"cannot write the output file {path}: {e.strerror or e}"
+            ) from None
         raise InputError(f"cannot write {path}: {e.strerror or e}") from None
     try:
-        write(tmp)
-        os.replace(tmp, target)
+        yield tmp
+        out.commit()
     except OSError as e:
-        raise InputError(f"cannot write {path}: {e.strerror or e}") from None
+        raise InputError(f"cannot write {what} to {path}: {e.strerror or e}") from None
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        out.discard()
+
+
+def write_atomic(path: str, write: Callable[[str], None], what: str = "") -> None:
+    """Have ``write`` write the file it is given (a temporary file beside ``path``), then
+    put it in ``path``'s place (``atomic``): an interrupted or failed run leaves no
+    half-written file behind, and any previous ``path`` intact."""
+    with atomic(path, what or path) as tmp:
+        write(tmp)
+
+
+@contextmanager
+def report_stream(output_file: str | None, what: str) -> Iterator[TextIO]:
+    """The stream of a report: standard output, or ``output_file`` written atomically
+    (``atomic``; the temporary file is created now, so an output that cannot be written
+    is a usage error found before any task is audited)."""
+    if not output_file:
+        yield sys.stdout
+        return
+    with (
+        atomic(output_file, what, early=True) as tmp,
+        open(tmp, "w", encoding="utf-8", newline="\n") as out,
+    ):
+        yield out
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def utf8(stream: Any) -> bool:
+    """Whether ``stream`` writes UTF-8 (anything but a text stream that says otherwise)."""
+    encoding = getattr(stream, "encoding", None) or "utf-8"
+    try:
+        return codecs.lookup(encoding).name == "utf-8"
+    except LookupError:
+        return False
+
+
+ASCII_ERRORS = "rprpr.ascii"  # the codec error handler of ``ascii_fallbacks``
+
+
+def _ascii_errors(error: UnicodeError) -> tuple[str, int]:
+    from ..render.escape import ascii_errors  # only once a character cannot be written
+
+    return ascii_errors(error)
+
+
+codecs.register_error(ASCII_ERRORS, _ascii_errors)
+
+
+class _Closed(io.TextIOBase):
+    """Standard output when the process was started without one (``>&-``): every write
+    fails as a write to a closed descriptor does, so that it is reported (exit 2)."""
+
+    encoding = "utf-8"
+
+    def write(self, s: str) -> int:
+        raise OSError(errno.EBADF, "standard output is closed")
+
+    def isatty(self) -> bool:
+        return False
+
+
+def _occupy_closed_descriptors() -> None:
+    """Open /dev/null on the standard descriptors 0, 1, 2 that are closed, as git does:
+    else the next file opened would get the number 1 or 2, and a write meant for the
+    terminal would land in it."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            with contextlib.suppress(OSError):
+                null = os.open(os.devnull, os.O_RDWR)
+                if null != fd:
+                    os.dup2(null, fd)
+                    os.close(null)
+
+
+@contextmanager
+def standard_streams() -> Iterator[None]:
+    """Within the block, what standard output and error cannot encode (δ, σ, → on a
+    cp1252 or ASCII stream; a file name's bytes that are not UTF-8) is written in ASCII
+    (``render.escape.ascii_errors``: delta, sigma, ->, ``\\xff``) instead of failing,
+    and a standard output that was closed at start fails every write (``_Closed``);
+    the streams are restored after."""
+    _occupy_closed_descriptors()
+    closed = sys.stdout is None
+    if closed:
+        sys.stdout = _Closed()
+    restore = []
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        errors = getattr(stream, "errors", None)
+        if reconfigure is None or errors is None or (utf8(stream) and errors != "strict"):
+            continue
+        try:
+            reconfigure(errors=ASCII_ERRORS)
+        except (ValueError, OSError, TypeError):  # closed, or not a real text stream
+            continue
+        restore.append((reconfigure, errors))
+    try:
+        yield
+    finally:
+        for reconfigure, errors in restore:
+            with contextlib.suppress(ValueError, OSError, TypeError):
+                reconfigure(errors=errors)
+        if closed:
+            sys.stdout = None
 
 
 def is_tty(stream: Any) -> bool:

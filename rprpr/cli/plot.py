@@ -15,7 +15,7 @@ import click
 
 from ..report.exit import ExitCode
 from .options import output_file_option, samples_option, suffix_choice, tasks_argument
-from .output import write_atomic
+from .output import refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_named, tasks_or_usage_error
 
 if TYPE_CHECKING:
@@ -41,7 +41,7 @@ PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, wit
 @click.option(
     "--animate",
     "animate_file",
-    type=click.Path(dir_okay=False),
+    type=click.Path(dir_okay=False, readable=False),
     metavar="FILE.gif",
     help="Also write an animated GIF of the robot moving along the motion.",
 )
@@ -82,11 +82,13 @@ def plot(
         raise click.UsageError(
             f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
         )
+    default = f"{Path(files[0]).stem}.png"  # in the working directory
+    refuse_overwriting_inputs([output_file or default, animate_file], files)
     motions = _motions(files, samples)
     if show:
-        written = _show(motions, panels, output_file, files[0], dpi)
+        written = _show(motions, panels, output_file, default, dpi)
     else:
-        out = output_file or f"{Path(files[0]).stem}.png"
+        out = output_file or default
         _write_sheet(motions, panels, out, dpi)
         written = [out]
     if animate_file is not None:
@@ -95,10 +97,10 @@ def plot(
         def gif(tmp: str) -> None:
             A.write_gif(motions, tmp)
 
-        write_atomic(animate_file, gif)
+        write_atomic(animate_file, gif, "the animation")
         written.append(animate_file)
     for w in written:
-        click.echo(f"rprpr: wrote {w}", err=True)
+        say(f"rprpr: wrote {w}")
     return ExitCode.PASSED
 
 
@@ -143,19 +145,21 @@ def _write_sheet(motions: list[Motion], panels: list[str], out: str, dpi: int) -
     from ..render import sheet as P
 
     fig = P.render(motions, panels)
-    write_atomic(out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions))
+    write_atomic(
+        out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions), "the sheet"
+    )
 
 
 def _show(
-    motions: list[Motion], panels: list[str], output_file: str | None, first: str, dpi: int
+    motions: list[Motion], panels: list[str], output_file: str | None, default: str, dpi: int
 ) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""
     from ..render import sheet as P
 
     if not P.can_show():
-        out = output_file or f"{Path(first).stem}.png"
-        click.echo(f"rprpr: no display for --show; writing {out} instead", err=True)
+        out = output_file or default
+        say(f"rprpr: no display for --show; writing {out} instead")
         _write_sheet(motions, panels, out, dpi)
         return [out]
     import matplotlib.pyplot as plt
@@ -166,6 +170,7 @@ def _show(
         write_atomic(
             output_file,
             lambda tmp: P.save(fig, tmp, P.format_of(output_file), dpi=dpi, motions=motions),
+            "the sheet",
         )
         written.append(output_file)
     plt.show()

@@ -10,7 +10,7 @@ import os
 import traceback
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from pathlib import Path
+from pathlib import PurePath
 from typing import TYPE_CHECKING
 
 import click
@@ -27,31 +27,74 @@ TASK_SUFFIXES = (".yaml", ".yml")
 def collect_tasks(paths: Sequence[str]) -> list[str]:
     """The task files to check, in order: each file as given; each directory searched
     recursively for *.yaml and *.yml, sorted by path, skipping hidden files and
-    directories (.git, .venv, .github, .pre-commit-config.yaml ...). A file named twice
-    is checked once, at its first place."""
+    directories (.git, .venv, .github, .pre-commit-config.yaml ...); a directory that
+    cannot be read is kept as it is (``unreadable_folder`` tells why, for that entry
+    alone). A file is checked once, at its first place, however many names it has: two
+    paths are the same file when they have the same identity (device and inode, after
+    symbolic links: ``t.yaml``, ``./t.yaml``, a link to it, a hard link)."""
     out: list[str] = []
     for p in paths:
         out.extend(_tasks_in(p) if os.path.isdir(p) else [p])
-    seen: set[str] = set()
+    seen: set[object] = set()
     unique = []
     for f in out:
-        key = os.path.normcase(os.path.abspath(f))
+        key = _identity_or_name(f)
         if key not in seen:
             seen.add(key)
             unique.append(f)
     return unique
 
 
+def _identity_or_name(path: str) -> object:
+    """The file's identity (``output.identity``); for a path that names no file, its
+    normalised name (a missing file named twice is one error, not two)."""
+    from .output import identity
+
+    key = identity(path)
+    if key is not None:
+        return key
+    try:
+        return os.path.normcase(os.path.abspath(path))
+    except OSError:  # the working directory was deleted
+        return os.path.normcase(os.path.normpath(path))
+
+
 def _tasks_in(folder: str) -> list[str]:
-    """The *.yaml and *.yml files under ``folder``, sorted by path, hidden ones skipped."""
+    """The *.yaml and *.yml files under ``folder``, sorted by path, hidden ones skipped;
+    a directory that cannot be listed is returned in its place (see ``collect_tasks``)."""
     found: list[tuple[tuple[str, ...], str]] = []
-    for top, dirs, files in os.walk(folder):
+
+    def unreadable(error: OSError) -> None:
+        if error.filename:
+            where = str(error.filename)
+            found.append((_parts(where, folder), where))
+
+    for top, dirs, files in os.walk(folder, onerror=unreadable):
         dirs[:] = [d for d in dirs if not d.startswith(".")]
         for f in files:
             if f.endswith(TASK_SUFFIXES) and not f.startswith("."):
                 full = os.path.join(top, f)
-                found.append((Path(os.path.relpath(full, folder)).parts, full))
+                found.append((_parts(full, folder), full))
     return [full for _, full in sorted(found)]
+
+
+def _parts(path: str, folder: str) -> tuple[str, ...]:
+    """The components of ``path`` below ``folder`` (lexically: no working directory
+    needed, so a deleted one does not matter)."""
+    try:
+        return PurePath(path).relative_to(folder).parts
+    except ValueError:
+        return PurePath(path).parts
+
+
+def unreadable_folder(path: str) -> Task:
+    """For a directory ``collect_tasks`` could not list: the ``TaskFileError`` saying
+    why (that entry's error; the run goes on)."""
+    try:
+        os.listdir(path)
+    except OSError as e:
+        raise TaskFileError(f"cannot read the directory: {e.strerror or e}", file=path) from None
+    raise TaskFileError("is a directory, expected a task file (YAML)", file=path)
 
 
 def tasks_or_usage_error(paths: Sequence[str]) -> list[str]:
@@ -68,7 +111,7 @@ def load(path: str) -> Task:
     from ..io.loader import load_task
 
     try:
-        return load_task(path)
+        return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
     except TaskFileError as e:
         raise InputError(str(e)) from None
 

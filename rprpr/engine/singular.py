@@ -137,6 +137,14 @@ class SingularAnalysis:
     _hints: tuple[_SamplerHints, ...] = field(repr=False, compare=False)
     _kinematic_signs: tuple[int, ...] = field(repr=False, compare=False)
 
+    def hints(self, s: SingularInstant) -> _SamplerHints:
+        """The engine's private record of the instant ``s`` (one of ``instants``)."""
+        return next(h for i, h in zip(self.instants, self._hints, strict=True) if i is s)
+
+    def kinematic_sign(self, k: KinematicSingularity) -> int:
+        """The sign of y's first nonzero Taylor coefficient at ``k`` (one of ``kinematic``)."""
+        return next(g for i, g in zip(self.kinematic, self._kinematic_signs, strict=True) if i is k)
+
     def __post_init__(self) -> None:
         if len(self._hints) != len(self.instants):
             raise ValueError("one sampler record is needed per singular instant")

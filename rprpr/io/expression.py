@@ -45,39 +45,47 @@ def _bits_of(n: int) -> int:
 
 
 def parse_decimal(text: str) -> fmpq:
-    """The exact rational of a decimal literal such as ``-0.1``, ``3``, ``2.5e-3`` or ``4/25``.
+    """The exact rational of a decimal literal such as ``-0.1``, ``3`` or ``2.5e-3``.
 
-    Raises ``ExpressionError`` for anything else (including nan and inf).
+    Raises ``ExpressionError`` for anything else: nan, inf and fractions (``4/25`` is an
+    expression, for ``parse_polynomial``).
     """
     s = text.strip()
-    if "/" in s:
-        num, _, den = s.partition("/")
-        d = parse_decimal(den)
-        if d == 0:
-            raise ExpressionError("division by zero")
-        return parse_decimal(num) / d
     sign = 1
     if s.startswith(("+", "-")):  # not s[:1] in "+-": "" is in every string
         sign = -1 if s[0] == "-" else 1
         s = s[1:].strip()
     m = _NUMBER.fullmatch(s)
     if not m:
-        raise ExpressionError(f"expected a number, found {text.strip()!r}")
+        raise ExpressionError(f"expected a number, found {_shown(text.strip())!r}")
     return sign * _literal(m.group(0))
 
 
+def _shown(text: str, n: int = 24) -> str:
+    """``text`` for a message: abbreviated beyond ``n`` characters."""
+    return text if len(text) <= n else text[: n - 4] + "..."
+
+
 def _literal(text: str) -> fmpq:
+    """The exact value of a literal matching ``_NUMBER``, within the digit and exponent caps.
+
+    The digits counted are those after the integer part's leading zeros: ``0.05`` has
+    two, so a value below 10^-(MAX_DIGITS + MAX_EXP10) cannot be written either. Every
+    ``int()`` here sees at most that many digits (leading zeros, of the number or of its
+    exponent, are stripped first, whatever their count), so Python's limit on converting
+    long digit strings is never reached.
+    """
     mantissa, _, exp = text.lower().partition("e")
-    digits = mantissa.replace(".", "").lstrip("0")
-    if len(digits) > MAX_DIGITS:
-        shown = text if len(text) <= 24 else text[:20] + "..."
-        raise ExpressionError(f"number {shown!r} has more than {MAX_DIGITS} digits")
-    # the exponent text is bounded first, so int() never sees a huge string
-    if exp and (len(exp.lstrip("+-").lstrip("0")) > 3 or abs(int(exp)) > MAX_EXP10):
-        raise ExpressionError(f"number {text!r} has an exponent beyond ±{MAX_EXP10}")
     whole, _, frac = mantissa.partition(".")
-    num = int(whole + frac or "0")  # digits only: the literal matched _NUMBER
-    scale = int(exp or "0") - len(frac)  # value = num * 10^scale
+    digits = whole.lstrip("0") + frac
+    if len(digits) > MAX_DIGITS:
+        raise ExpressionError(f"number {_shown(text)!r} has more than {MAX_DIGITS} digits")
+    exp_digits = exp.lstrip("+-").lstrip("0")
+    if len(exp_digits) > 3 or int(exp_digits or "0") > MAX_EXP10:
+        raise ExpressionError(f"number {_shown(text)!r} has an exponent beyond ±{MAX_EXP10}")
+    e = -int(exp_digits or "0") if exp.startswith("-") else int(exp_digits or "0")
+    num = int(digits.lstrip("0") or "0")
+    scale = e - len(frac)  # value = num * 10^scale
     return fmpq(num * 10**scale) if scale >= 0 else fmpq(num, 10**-scale)
 
 
@@ -108,7 +116,7 @@ class _Parser:
             return "end of expression"
         m = _NAME.match(self.text, self.pos)
         if m:
-            return f"name {m.group(0)!r}"
+            return f"name {_shown(m.group(0), 40)!r}"
         return repr(self.text[self.pos])
 
     # -- grammar -------------------------------------------------------------
@@ -120,7 +128,7 @@ class _Parser:
             m = _NAME.match(rest, 1)
             if rest[0] == "." and m:
                 raise self._error(
-                    f"attribute access ('.{m.group(0)}') is not allowed: only numbers,"
+                    f"attribute access ('.{_shown(m.group(0), 40)}') is not allowed: only numbers,"
                     f" {self.var}, + - * / ^ ** and parentheses"
                 )
             if rest[0] == "(":
@@ -245,7 +253,7 @@ class _Parser:
                 self.text[self.pos].isalpha() or self.text[self.pos] in "_("
             ):
                 raise self._error(
-                    f"expected an operator after {m.group(0)!r}, found {self._found()}"
+                    f"expected an operator after {_shown(m.group(0))!r}, found {self._found()}"
                     " (write multiplication as '*')"
                 )
             try:
@@ -259,8 +267,8 @@ class _Parser:
                 self.pos = m.end()
                 return fmpq_poly([0, 1])
             raise self._error(
-                f"unknown name {name!r}: only numbers, {self.var}, + - * / ^ ** and parentheses"
-                " are allowed",
+                f"unknown name {_shown(name, 40)!r}: only numbers, {self.var}, + - * / ^ **"
+                " and parentheses are allowed",
                 start,
             )
         if not c:

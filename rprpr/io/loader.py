@@ -2,9 +2,10 @@
 
 Safety: the YAML is only *composed* (parsed into nodes), never constructed into Python
 objects, so no tag can run code; only the plain tags (str, int, float, bool, null, map,
-seq) are accepted. Duplicate keys are errors (PyYAML would silently keep the last), and
-aliases are followed with a budget on visited nodes, so an alias bomb is rejected rather
-than expanded. Numbers are taken by their text (``0.1`` is 1/10). Every error is a
+seq) are accepted, and an explicit one must fit its value: a tag never makes an invalid
+value valid (``_misfit``). Duplicate keys are errors (PyYAML would silently keep the
+last), and aliases are followed with a budget on visited nodes, so an alias bomb is
+rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10). Every error is a
 ``TaskFileError`` naming the file, line, column and dotted key.
 """
 
@@ -40,7 +41,8 @@ _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", 
 # here first so the message names the line and column whichever YAML parser runs.
 # in values after YAML's escapes are decoded: C0 but tab and line feed, DEL, C1, and the
 # noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML)
-_ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ufffe\uffff]")
+# (and lone surrogates, which only the pure-Python YAML parser lets through)
+_ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
 _NON_PRINTABLE = re.compile(
     "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
 )
@@ -50,11 +52,28 @@ _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?
 _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
 _RESOLVER = yaml.resolver.Resolver()
+_LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
 _SCALAR_TEXT = {_TAG + t for t in ("str", "int", "float")}  # what reads as text
+# An explicit tag only narrows: the value must be one of its tag as YAML 1.2 has it,
+# written as the loader reads an untagged value (see _misfit).
+_YAML12_BOOL = ("true", "True", "TRUE", "false", "False", "FALSE")
+_YAML_NULL = ("", "~", "null", "Null", "NULL")
+_NOT_DECIMAL = re.compile(r"[-+]?0[xXoObB]")  # hexadecimal, octal, binary
+_TAG_MEANS = {
+    "str": "text",
+    "int": "an integer",
+    "float": "a decimal number",
+    "bool": "a boolean (YAML 1.2: true or false)",
+    "null": "null",
+    "map": "a mapping",
+    "seq": "a list",
+}
+_FRACTION = re.compile(r"[-+]?[0-9.]+\s*/\s*[0-9.]+")
+_FRACTION_HINT = " (a fraction is only allowed in path.y and timing.x: write a decimal here)"
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
@@ -111,9 +130,11 @@ def _too_large(size: int) -> str:
 
 
 def _line_col(text: str, index: int) -> tuple[int, int]:
-    """1-based (line, column) of the character at ``index``."""
-    line = text.count("\n", 0, index) + 1
-    return line, index - (text.rfind("\n", 0, index) + 1) + 1
+    """1-based (line, column) of the character at ``index``, counting lines as YAML does
+    (CR LF, CR, LF, NEL, LS and PS each end one)."""
+    breaks = list(_LINE_BREAK.finditer(text, 0, index))
+    start = breaks[-1].end() if breaks else 0
+    return len(breaks) + 1, index - start + 1
 
 
 def _decode(data: bytes | str) -> str:
@@ -141,14 +162,19 @@ def _decode(data: bytes | str) -> str:
 
 
 def _utf8(data: bytes) -> str:
-    """``data`` decoded as UTF-8; UTF-16 and binary files are named as such."""
+    """``data`` decoded as UTF-8; UTF-32, UTF-16 and binary files are named as such."""
+    if data.startswith((b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")):
+        raise TaskFileError("UTF-32 text, expected UTF-8: save the file as UTF-8")
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise TaskFileError("UTF-16 text, expected UTF-8: save the file as UTF-8")
     nul = data.find(b"\x00")
     if nul >= 0:
         line = data.count(b"\n", 0, nul) + 1
+        column = nul - (data.rfind(b"\n", 0, nul) + 1) + 1  # in bytes
         raise TaskFileError(
-            f"binary file (NUL byte at offset {nul}), expected YAML text", line=line
+            f"binary file (NUL byte at offset {nul}), expected YAML text",
+            line=line,
+            column=column,
         )
     try:
         text = data.decode("utf-8")
@@ -163,25 +189,34 @@ def _utf8(data: bytes) -> str:
     return text
 
 
-def _compose(text: str) -> yaml.Node | None:
-    """The YAML node tree, after a streaming pass that bounds nesting and size.
+def _compose(text: str) -> tuple[yaml.Node | None, dict[tuple[int, int], str]]:
+    """The YAML node tree, after a streaming pass that bounds nesting and size, and
+    the explicit tags of scalars by where they start (``_bound_events``).
 
     libyaml's composer recurses in C: a deeply nested flow list would crash the
     process, so the depth is checked on the event stream before composing.
     """
     try:
-        _bound_events(text)
-        return yaml.compose(text, Loader=_Loader)
+        explicit = _bound_events(text)
+        return yaml.compose(text, Loader=_Loader), explicit
     except yaml.MarkedYAMLError as e:
         raise _syntax_error(e, text) from None
     except yaml.YAMLError as e:
         raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
 
 
-def _bound_events(text: str) -> None:
-    """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep."""
+def _bound_events(text: str) -> dict[tuple[int, int], str]:
+    """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep.
+
+    Returns the tag of every scalar with an explicit tag (``!!float ""``, ``! 6``) by
+    ``_span``: the node tree does not tell such a scalar from a plain one YAML resolved
+    to the same tag, nor keep the non-specific tag ``!``.
+    """
     depth = nodes = 0
+    explicit: dict[tuple[int, int], str] = {}
     for ev in yaml.parse(text, Loader=_Loader):
+        if isinstance(ev, yaml.ScalarEvent) and ev.tag is not None:
+            explicit[_span(ev)] = ev.tag
         if isinstance(ev, yaml.NodeEvent):
             nodes += 1
             if nodes > MAX_NODES:
@@ -200,6 +235,13 @@ def _bound_events(text: str) -> None:
                 )
         elif isinstance(ev, yaml.CollectionEndEvent):
             depth -= 1
+    return explicit
+
+
+def _span(item: yaml.Node | yaml.Event) -> tuple[int, int]:
+    """Where a scalar event or node starts and ends (an empty untagged scalar may start
+    where the next one does, but ends there too)."""
+    return item.start_mark.index, item.end_mark.index
 
 
 def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
@@ -208,7 +250,8 @@ def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
     problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
     alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
     if "undefined alias" in problem and alias:
-        problem += f" *{alias.group(1)} (no anchor &{alias.group(1)} before it)"
+        name = _short(alias.group(1))
+        problem += f" *{name} (no anchor &{name} before it)"
     if mark and text[mark.index : mark.index + 1] == "\t":
         problem += " (a tab: YAML indents with spaces only)"
     return TaskFileError(
@@ -222,10 +265,10 @@ def _parse(data: bytes | str, file: str) -> Task:
     text = _decode(data)
     if all(not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    root = _compose(text)
+    root, explicit = _compose(text)
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    walk = _Walk()
+    walk = _Walk(explicit)
     walk.read(root, TASK, "", 0)
     return _task(walk, Path(file).stem, file)
 
@@ -383,10 +426,12 @@ class _Walk:
     value, ``nodes`` each key given in the file to its value node, ``lines`` to the line
     of the key. Only the nodes the schema knows are visited, each counted against
     ``MAX_NODES`` (an alias counts every time it is followed), so aliasing cannot blow up
-    the work.
+    the work. An explicit tag must fit its value (``_misfit``), and a tagged value is
+    then read as its text written plain: a tag never makes an invalid value valid.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, explicit: dict[tuple[int, int], str] | None = None) -> None:
+        self.explicit = explicit or {}  # the explicit tags of scalars, by _span
         self.visited = 0
         self.values: dict[str, Any] = {}
         self.nodes: dict[str, yaml.Node] = {}
@@ -400,6 +445,7 @@ class _Walk:
         """Check ``node`` against ``spec``, record its value under ``key``, then run the
         cross-field rule filed under ``key``, if any."""
         self.visit(node, key, depth)
+        self.fit(node, spec, key)
         if spec.kind == "mapping":
             self.mapping(node, spec, key, depth)
         else:
@@ -434,11 +480,16 @@ class _Walk:
                 key,
             )
         if isinstance(node, yaml.ScalarNode):
+            if self.explicit.get(_span(node)) == "!":
+                # YAML 1.2: the non-specific tag makes a scalar text (PyYAML resolves
+                # it as if untagged: ! "6" would be the integer 6)
+                node.tag = _TAG + "str"
             bad = _ESCAPED_CONTROL.search(str(node.value))
             if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
+                code = ord(bad.group(0))
+                what = "lone surrogate" if 0xD800 <= code <= 0xDFFF else "control character"
                 raise self.error(
-                    f"control character U+{ord(bad.group(0)):04X} in a value (written as a"
-                    " YAML escape) is not allowed",
+                    f"{what} U+{code:04X} in a value (written as a YAML escape) is not allowed",
                     node,
                     key,
                 )
@@ -447,20 +498,31 @@ class _Walk:
             if node.tag == _TAG + "timestamp":
                 what = f" ({_short(str(node.value))!r} reads as a date)"
             raise self.error(
-                f"YAML tag {node.tag.replace(_TAG, '!!')} is not allowed{what}: only plain text,"
+                f"YAML tag {_tag_text(node)} is not allowed{what}: only plain text,"
                 " numbers, booleans, null, mappings and lists",
                 node,
                 key,
             )
 
+    def is_explicit(self, node: yaml.Node) -> bool:
+        """Whether ``node`` is a scalar with a tag written in the file."""
+        return isinstance(node, yaml.ScalarNode) and _span(node) in self.explicit
+
+    def fit(self, node: yaml.Node, spec: Spec | None, key: str) -> None:
+        """Reject a node whose explicit tag does not fit its value (``spec`` None: a key)."""
+        found = _misfit(node, self.is_explicit(node))
+        if found is None:
+            return
+        expected = "a plain key" if spec is None else _expected(spec, key)
+        hint = ""
+        if spec is not None and spec.kind == "number" and _FRACTION.fullmatch(str(node.value)):
+            hint = _FRACTION_HINT
+        raise self.error(f"expected {expected}, found {found}{hint}", node, key)
+
     def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
         """Read the keys ``spec`` knows, in the schema's order; default the rest."""
         if not isinstance(node, yaml.MappingNode):
-            keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(
-                spec.children
-            )
-            what = f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
-            raise self.error(f"expected {what}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         given = self.keys(node, spec, key, depth)
         for k, child in spec.children.items():
             full = f"{key}.{k}" if key else k
@@ -500,6 +562,7 @@ class _Walk:
     def known_key(self, knode: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[str, str]:
         """A key of the mapping at ``key``, and its dotted path; unknown keys are errors."""
         self.visit(knode, key, depth + 1)
+        self.fit(knode, None, key)
         if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
             raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
         k = str(knode.value)
@@ -518,23 +581,13 @@ class _Walk:
 
     # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
-        expected = f"a number ({spec.description.rstrip('.')})"
+        expected = _expected(spec, key)
         if not isinstance(node, yaml.ScalarNode):
             raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
-        tag = node.tag.removeprefix(_TAG)
-        # A plain (style None or "") scalar that YAML 1.1 reads as text but YAML 1.2 as a
-        # number. (A plain scalar that YAML 1.1 itself reads as a number but that carries
-        # the str tag was tagged !!str on purpose: it stays text.)
-        if tag == "str" and not node.style and _resolve(text) == _TAG + "str":
-            if _YAML12_FLOAT.fullmatch(text):
-                tag = "float"
-            elif _RADIX_INT.fullmatch(text):  # 0o17 is YAML 1.2 octal
-                tag = "int"
+        tag = self.number_tag(node, text)
         if tag not in ("int", "float"):
-            hint = ""
-            if tag == "str" and re.fullmatch(r"[-+]?[0-9.]+\s*/\s*[0-9.]+", text):
-                hint = " (a fraction is only allowed in path.y and timing.x: write a decimal here)"
+            hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
             raise self.error(f"expected {expected}, found {_kind_of(node)}{hint}", node, key)
         if _NAN.fullmatch(text):
             raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
@@ -554,6 +607,24 @@ class _Walk:
                 )
         return value
 
+    def number_tag(self, node: yaml.ScalarNode, text: str) -> str:
+        """The tag ``node`` is read with as a number ("int", "float", else not a number).
+
+        An untagged plain scalar that YAML 1.1 reads as text but YAML 1.2 as a number
+        (1e3, 0o17) is that number. A scalar tagged !!int or !!float (its tag checked to
+        fit) is read as its text written plain; NaN and infinities keep !!float, to be
+        named as such. !!str and quoted text stay text.
+        """
+        tag = node.tag.removeprefix(_TAG)
+        explicit = self.is_explicit(node)
+        if explicit and tag == "float" and (_NAN.fullmatch(text) or _INF.fullmatch(text)):
+            return tag
+        if (explicit and tag in ("int", "float")) or (
+            not explicit and tag == "str" and not node.style
+        ):
+            return _plain_tag(text).removeprefix(_TAG)
+        return tag
+
     def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
         try:
             if _RADIX_INT.fullmatch(text) and tag == "int":
@@ -564,8 +635,9 @@ class _Walk:
                 body = text.lstrip("+-")
                 if len(body) > 1 and body.startswith("0"):
                     raise self.error(
-                        f"ambiguous number {text}: a leading 0 means octal in YAML 1.1 and decimal"
-                        " in YAML 1.2; write it without the leading 0 (or as 0o... for octal)",
+                        f"ambiguous number {_short(text)}: a leading 0 means octal in YAML 1.1"
+                        " and decimal in YAML 1.2; write it without the leading 0 (or as"
+                        " 0o... for octal)",
                         node,
                         key,
                     )
@@ -579,11 +651,7 @@ class _Walk:
     def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         """Two numbers, ``spec.items`` saying what each is, both bounded as ``spec`` says."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            raise self.error(
-                f"expected a list of two numbers [{', '.join(spec.items)}], found {_kind_of(node)}",
-                node,
-                key,
-            )
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         a, b = (
             self.item(v, spec, what, f"{key}[{i}]", depth + 1)
             for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
@@ -593,17 +661,12 @@ class _Walk:
     def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
         bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
+        self.fit(node, bound, key)
         return self.number(node, bound, key, depth)
 
     def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(
-                f"expected a polynomial in {spec.variable}"
-                f" (text such as '2*{spec.variable}^2 - 1'),"
-                f" found {_kind_of(node)}",
-                node,
-                key,
-            )
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value)
         try:
             return parse_polynomial(text, spec.variable)
@@ -625,14 +688,12 @@ class _Walk:
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(
-                f"expected text (a name for reports), found {_kind_of(node)}", node, key
-            )
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
         if not isinstance(node, yaml.ScalarNode) or node.tag != _TAG + "bool":
-            raise self.error(f"expected true or false, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         return str(node.value).lower() in ("true", "yes", "on", "y")
 
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
@@ -641,9 +702,7 @@ class _Walk:
             near = difflib.get_close_matches(v.lower(), spec.choices, n=1, cutoff=0.6)
             hint = f"; did you mean {near[0]!r}?" if near else ""
             raise self.error(
-                f"expected one of {', '.join(spec.choices)}, found {_kind_of(node)}{hint}",
-                node,
-                key,
+                f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
             )
         return v
 
@@ -665,6 +724,70 @@ def _default(spec: Spec) -> Any:
     return spec.default
 
 
+def _expected(spec: Spec, key: str) -> str:
+    """What a key of ``spec`` takes, for "expected ..." in messages."""
+    if spec.kind == "mapping":
+        keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(
+            spec.children
+        )
+        return f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
+    if spec.kind == "number":
+        return f"a number ({spec.description.rstrip('.')})"
+    if spec.kind == "pair":
+        return f"a list of two numbers [{', '.join(spec.items)}]"
+    if spec.kind == "polynomial":
+        return f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
+    if spec.kind == "string":
+        return "text (a name for reports)"
+    if spec.kind == "bool":
+        return "true or false"
+    return f"one of {', '.join(spec.choices)}"  # enum
+
+
+def _misfit(node: yaml.Node, explicit: bool) -> str | None:
+    """What ``node`` is, for "found ...", when its tag does not fit its value; else None.
+
+    A mapping must be tagged !!map and a list !!seq. A scalar with an explicit tag must
+    be, as written (no surrounding spaces), a value of that tag as YAML 1.2 has it and
+    as the loader reads untagged values: !!int what an untagged value reads as an
+    integer, !!float a decimal number (or NaN or an infinity, rejected as such later),
+    !!bool true or false, !!null null; !!str anything. An empty tagged scalar is "an
+    empty value".
+    """
+    tag = node.tag.removeprefix(_TAG)
+    if isinstance(node, yaml.MappingNode | yaml.SequenceNode):
+        if tag == ("map" if isinstance(node, yaml.MappingNode) else "seq"):
+            return None
+        return f"{_kind_of(node)} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
+    value = str(node.value)
+    if not explicit or tag == "str" or (tag == "null" and value in _YAML_NULL):
+        return None
+    if value == "":
+        return "an empty value"
+    plain = _plain_tag(value).removeprefix(_TAG) if value == value.strip() else ""
+    special = bool(_NAN.fullmatch(value) or _INF.fullmatch(value))
+    fits = {
+        "int": plain == "int",
+        "float": special or (plain in ("int", "float") and not _NOT_DECIMAL.match(value)),
+        "bool": value in _YAML12_BOOL,
+    }.get(tag, False)
+    if fits:
+        return None
+    return f"{_short(value)!r} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
+
+
+def _plain_tag(text: str) -> str:
+    """The tag of ``text`` written as an untagged plain scalar: YAML 1.1's (PyYAML's),
+    but a number as YAML 1.2 reads it (1e3 a float, 0o17 an integer; YAML 1.1: text)."""
+    tag = _resolve(text)
+    if tag == _TAG + "str":
+        if _YAML12_FLOAT.fullmatch(text):
+            return _TAG + "float"
+        if _RADIX_INT.fullmatch(text):
+            return _TAG + "int"
+    return tag
+
+
 # -- nodes, for messages -----------------------------------------------------------------
 
 
@@ -680,6 +803,11 @@ def _where(node: yaml.Node) -> tuple[int, int]:
 
 def _short(text: str, n: int = 40) -> str:
     return text if len(text) <= n else text[: n - 3] + "..."
+
+
+def _tag_text(node: yaml.Node) -> str:
+    """The tag of ``node`` as written (``!!binary``, ``!metres``), abbreviated if long."""
+    return _short(node.tag.replace(_TAG, "!!"), 60)
 
 
 def _kind_of(node: yaml.Node) -> str:
@@ -698,4 +826,4 @@ def _kind_of(node: yaml.Node) -> str:
         return f"the number {value}"
     if tag == "str":
         return f"the text {value!r}"
-    return f"{value!r} (tagged {node.tag.replace(_TAG, '!!')})"
+    return f"{value!r} (tagged {_tag_text(node)})"

@@ -44,12 +44,13 @@ def number(v: float, digits: int = DIGITS) -> str:
     return f"{v:.{digits}g}"
 
 
-def distinct(values: Sequence[float]) -> list[str]:
-    """The values with 6 significant digits, or more where two different values would
-    otherwise read alike (all widened together, so that a column stays uniform)."""
-    texts = [number(v) for v in values]
-    for digits in _WIDER:
-        texts = [number(v, digits) for v in values]
+def distinct(values: Sequence[float], digits: int = DIGITS) -> list[str]:
+    """The values with ``digits`` significant digits, or more (10, then 17) where two
+    different values would otherwise read alike (all widened together, so that a column
+    stays uniform)."""
+    texts = [number(v, digits) for v in values]
+    for wider in (digits, *(d for d in _WIDER if d > digits)):
+        texts = [number(v, wider) for v in values]
         if len(set(texts)) == len(set(values)):
             break
     return texts
@@ -97,8 +98,38 @@ def rational(v: fmpq) -> str:
             return s
     text = str(v)
     if len(text) > _LONG:  # an exact rational of thousands of digits helps nobody
-        return f"{number(to_float(v), 17)} (≈; exactly a rational of {len(text)} characters)"
+        return f"{_approximately(v)} (≈; exactly a rational of {len(text)} characters)"
     return text
+
+
+def _approximately(v: fmpq) -> str:
+    """``v`` with 17 significant digits: its double where that is a normal one, else
+    (beyond the double range, or subnormal) the same digits computed exactly."""
+    return exact_number(v, 17)
+
+
+def _scientific(v: fmpq, digits: int) -> str:
+    """Nonzero ``v`` rounded to ``digits`` significant digits, as ``1.2345e+400``: exact
+    integer arithmetic (neither a double nor a digit string of ``v`` is ever formed)."""
+    p, q = abs(int(v.p)), int(v.q)
+    # 10^e <= p/q < 10^(e + 1); the estimate from bit lengths is off by at most one
+    e = math.floor((p.bit_length() - q.bit_length()) * math.log10(2))
+    while _scaled(p, q, -e) < 1:
+        e -= 1
+    while _scaled(p, q, -e - 1) >= 1:
+        e += 1
+    m = _scaled(p, q, digits - 1 - e)
+    rounded = int(m) + (1 if m - int(m) >= fmpq(1, 2) else 0)  # half up
+    if rounded == 10**digits:  # 9.99...95 rounds up to the next power of ten
+        rounded, e = rounded // 10, e + 1
+    mantissa = str(rounded)
+    mantissa = (mantissa[0] + "." + mantissa[1:]).rstrip("0").rstrip(".")
+    return f"{'-' if v < 0 else ''}{mantissa}e{'+' if e >= 0 else '-'}{abs(e):02d}"
+
+
+def _scaled(p: int, q: int, k: int) -> fmpq:
+    """(p / q) * 10^k, exactly."""
+    return fmpq(p * 10**k, q) if k >= 0 else fmpq(p, q * 10**-k)
 
 
 def _decimal_fraction(s: str) -> tuple[int, int]:
@@ -120,19 +151,22 @@ def faithful(v: float, zero: bool) -> bool:
 def exact_number(v: fmpq | arb, digits: int = DIGITS) -> str:
     """``number`` of an exact value: a rational, or a ball that holds it to ``digits``
     digits; where its double is not faithful (beyond the double range), the digits come
-    from ball arithmetic instead: ``1.41421e+400``."""
-    b = v if isinstance(v, arb) else None
-    f = float(v.mid()) if isinstance(v, arb) else to_float(v)
-    zero = v.is_zero() if isinstance(v, arb) else v == 0
+    from the exact value instead (``_scientific``; for a ball, its midpoint's):
+    ``1.41421e+400``."""
+    if isinstance(v, arb):
+        f, zero = float(v.mid()), v.is_zero()
+    else:
+        f, zero = to_float(v), v == 0
     if faithful(f, zero):
         return number(f, digits)
+    if not isinstance(v, arb):
+        return _scientific(v, digits)
     old = ctx.prec
     ctx.prec = 4 * digits + 16
     try:
-        text = (b if b is not None else arb(v)).str(digits, radius=False)
+        mantissa, _, exponent = v.str(digits, radius=False).partition("e")
     finally:
         ctx.prec = old
-    mantissa, _, exponent = text.partition("e")
     if "." in mantissa:
         mantissa = mantissa.rstrip("0").rstrip(".")
     return f"{mantissa}e{exponent}" if exponent else mantissa

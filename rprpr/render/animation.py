@@ -3,7 +3,7 @@
 Each task gets a column: the workspace on top (base joints A and B, the singular line,
 the planned path, the legs drawn from A and B to E, the trace of E so far, the current t
 and δ) and δ(t) below with a cursor. While the robot is near a Type II singular
-configuration (|δ| < ``plot.NEAR_DELTA``) the workspace turns amber and says so; at a
+configuration (|δ| < ``sheet.NEAR_DELTA``) the workspace turns amber and says so; at a
 singular instant itself (always one of the frames) it turns red, names the order and the
 verdict, and the frame is held for ``HOLD`` seconds.
 
@@ -12,6 +12,9 @@ movie writer (``GifWriter``) that gives each frame its own duration. The size is
 ``FRAMES`` frames (at most ``MAX_FRAMES``) at ``FPS``, a few seconds, each
 ``COLUMN_SIZE`` inches at ``DPI``. Several tasks play side by side, each over its own
 [0, t_f] (frame k shows t = k t_f/(frames - 1), a singular instant replacing the nearest).
+
+The workspace and the robot are drawn by the sheet's ``robot`` module, the singular
+instants' marks by its ``markers``: the GIF and the sheet look alike.
 """
 
 from __future__ import annotations
@@ -31,7 +34,9 @@ from PIL import Image
 
 from ..engine.sampling import Samples
 from ..engine.singular import SingularInstant
+from ..model.numbers import number
 from . import sheet as P
+from .sheet import robot
 
 FRAMES = 100  # default frame count: 5 s at FPS
 MAX_FRAMES = 120
@@ -116,42 +121,28 @@ class _Column:
     def __init__(self, sf: Any, m: P.Motion, frames: int) -> None:
         self.m = m
         self.t, self.at = frame_times(m, frames)
-        self.f: Samples = P.resample(m, self.t)
+        self.f: Samples = m.result.resample(self.t)
         self.fmt = _time_format(m.duration, frames)
         ax, strip = sf.subplots(2, 1, height_ratios=[3.2, 1])
         self.ax: Axes = ax
         self.strip: Axes = strip
-        sf.suptitle(P._short(m.name, 48), fontsize=9, fontweight="bold")
+        sf.suptitle(P.short(m.name, 48), fontsize=9, fontweight="bold")
         self._workspace(ax)
         self._strip(strip)
 
     def _workspace(self, ax: Axes) -> None:
         m = self.m
-        x0, x1, y0, y1 = P._view([m])
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.margins(0)
-        ax.update_datalim([(x0, y0), (x1, y1)])
+        _, size = robot.workspace(ax, [m])
         ax.set_xlabel("x [m]", labelpad=1)
         ax.set_ylabel("y [m]", labelpad=1)
         ax.tick_params(labelsize=7)
-        size = 0.028 * (x1 - x0)
-        ax.axhline(0, color=P.LINE, lw=1.0, ls=(0, (7, 2, 1.5, 2)), zorder=1)
-        P._ground(ax, 0.0, size, "A")
-        P._ground(ax, float(m.task.robot.a1), size, "B")
+        robot.singular_line(ax)
+        robot.base_joints(ax, [m], size)
         ax.plot(m.s.x, m.s.y, color="#AAAAAA", lw=1.0, ls="--", zorder=2)
         for s in m.result.singularities:
-            ax.plot([s.x], [0], **{**P._marker_kw(s, P.status(m.result, s)), "alpha": 0.9})
-        lengths = {1: self.f.s1[np.isfinite(self.f.s1)], 2: self.f.s2[np.isfinite(self.f.s2)]}
-        self.cyl = {k: 0.45 * float(v.min()) if v.size else 0.5 for k, v in lengths.items()}
+            ax.plot([s.x], [0], **{**P.marker_style(s, m.result.status_of(s)), "alpha": 0.9})
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
-        self.legs = [
-            (
-                ax.plot([], [], color=c, lw=6, alpha=0.45, solid_capstyle="butt", zorder=3.5)[0],
-                ax.plot([], [], color=c, lw=2.2, solid_capstyle="round", zorder=3.6)[0],
-            )
-            for c in (P.LEG1, P.LEG2)
-        ]
-        self.E = ax.plot([], [], "o", ms=6, mfc="white", mec=P.POINT, mew=1.3, zorder=7)[0]
+        self.robot = robot.MovingRobot(ax, m)
         self.clock = ax.text(
             0.02,
             0.97,
@@ -180,18 +171,12 @@ class _Column:
 
     def _strip(self, ax: Axes) -> None:
         m = self.m
-        ax.plot(m.s.t, P._finite(m.s.delta), color=P.DELTA, lw=1.4)
+        ax.plot(m.s.t, P.finite(m.s.delta), color=P.DELTA, lw=1.4)
         ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
         ax.axhline(0, color="#444444", lw=0.7)
         for s in m.result.singularities:
-            ax.plot(
-                [s.t],
-                [0],
-                **{
-                    **P._marker_kw(s, P.status(m.result, s)),
-                    "markersize": 6 if s.order < 2 else 11,
-                },
-            )
+            small = {"markersize": 11 if s.high_order else 6}  # the strip is narrow
+            ax.plot([s.t], [0], **{**P.marker_style(s, m.result.status_of(s)), **small})
         ax.set_xlim(0, m.duration)
         ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
         ax.set_ylabel("δ", fontsize=8)
@@ -201,8 +186,7 @@ class _Column:
         self.moving = [
             self.tint,
             self.trace,
-            *[a for leg in self.legs for a in leg],
-            self.E,
+            *self.robot.artists,
             self.clock,
             self.cue,
             self.cursor,
@@ -211,29 +195,16 @@ class _Column:
 
     def update(self, k: int) -> list[Any]:
         f, m = self.f, self.m
-        a1 = float(m.task.robot.a1)
-        E = np.array([f.x[k], f.y[k]])
         upto = m.s.t <= self.t[k]
         self.trace.set_data(m.s.x[upto], m.s.y[upto])
-        for (cyl, rod), base, n in zip(self.legs, ((0.0, 0.0), (a1, 0.0)), (1, 2), strict=True):
-            Pb = np.array(base)
-            d = E - Pb
-            length = float(np.hypot(*d)) if np.all(np.isfinite(d)) else 0.0
-            if length == 0:
-                cyl.set_data([], [])
-                rod.set_data([], [])
-                continue
-            C = Pb + min(self.cyl[n], 0.8 * length) * d / length
-            cyl.set_data([Pb[0], C[0]], [Pb[1], C[1]])
-            rod.set_data([Pb[0], E[0]], [Pb[1], E[1]])
-        self.E.set_data([E[0]], [E[1]])
+        self.robot.move(np.array([f.x[k], f.y[k]]))
         delta = float(f.delta[k]) + 0.0  # no "-0.0000"
         self.clock.set_text(f"t = {self.t[k]:{self.fmt}} s\nδ = {delta:+.4f}")
         self.cursor.set_xdata([self.t[k], self.t[k]])
         self.dot.set_data([self.t[k]], [delta])
         s = self.at[k]
         if s is not None:
-            st = P.status(m.result, s)
+            st = m.result.status_of(s)
             self.tint.set_facecolor(AT_FACE)
             self.tint.set_alpha(0.55)
             self.cue.set_text(f"TYPE II SINGULARITY: {P.order_text(s)} — {P.STATUS_WORD[st]}")
@@ -241,7 +212,7 @@ class _Column:
         elif np.isfinite(delta) and abs(delta) < P.NEAR_DELTA:
             self.tint.set_facecolor(NEAR_FACE)
             self.tint.set_alpha(0.55)
-            self.cue.set_text(f"near a singular configuration: |δ| < {P.NEAR_DELTA:g}")
+            self.cue.set_text(f"near a singular configuration: |δ| < {number(P.NEAR_DELTA)}")
             self.cue.set_color("#9A6200")
         else:
             self.tint.set_alpha(0.0)

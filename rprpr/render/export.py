@@ -5,12 +5,16 @@ order, SI units (m, s, rad, N, N m; θ continuous). The numbers are the engine's
 (``AuditResult.samples``), written with Python's shortest round-trip ``repr``, so reading
 the file back gives the very same floats. Where a quantity has no finite value — the
 torques and λ exactly at a singular instant where they are unbounded, the rates where E
-is at a base joint — the engine holds NaN; CSV writes ``nan``, JSON ``null`` (the JSON
-is strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
+is at a base joint — the engine holds NaN; every value that is not finite (NaN, and
+±inf where a quantity overflows the double range) is ``nan`` in CSV and ``null`` in
+JSON (the JSON is strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
 
 Both formats name the task and the rprpr version: CSV in one leading ``#`` comment line
 (read with ``pandas.read_csv(f, comment="#")`` or ``numpy.genfromtxt(f, delimiter=",",
-names=True, skip_header=1)``), JSON in the fields ``rprpr`` and ``task``.
+names=True, skip_header=1)``; the task's name and file on one line, control characters
+escaped), JSON in the fields ``rprpr`` and ``task`` (ASCII text: any other character as
+a ``\\u`` escape, so the document is the same bytes on any stream, and a file name
+that is not UTF-8 still gives valid JSON).
 
 No click, no matplotlib here: the command line (``cli_plot``) picks the stream and format.
 """
@@ -29,6 +33,7 @@ from ..engine.audit import AuditResult
 from ..engine.sampling import COLUMNS
 from ..model.numbers import number, round_trip
 from ..report.records import singularity_record
+from .escape import printable
 
 FORMATS = {".csv": "csv", ".json": "json"}
 
@@ -47,6 +52,8 @@ def rows(result: AuditResult) -> np.ndarray:
 
 
 def _csv_number(v: float) -> str:
+    if not math.isfinite(v):
+        return "nan"  # inf too: the README promises nan for every non-finite value
     if v == 0:
         return "0.0"  # -0.0 too: a spreadsheet would show "-0"
     return round_trip(v)
@@ -59,7 +66,7 @@ def _json_number(v: float) -> float | None:
 
 
 def _one_line(text: str) -> str:
-    return " ".join(text.split())
+    return printable(" ".join(text.split()))
 
 
 def comment(result: AuditResult, source: str) -> str:
@@ -103,7 +110,7 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
         "task": result.task.name,
         "file": source,
         "samples": len(t),
-        "duration": float(t[-1]),
+        "duration": _json_number(float(t[-1])),
         "verdict": result.verdict,
         "columns": list(COLUMNS),
         "units": {c: UNITS[c] for c in COLUMNS},
@@ -120,7 +127,7 @@ def write_json(result: AuditResult, out: TextIO, source: str = "") -> None:
     """Write the samples as one JSON object: the fields of ``document_head`` and ``rows``
     (a list of rows, each a list in the order of ``columns``; null where unbounded).
     One row per line, so that the file stays readable and diffs well."""
-    head = json.dumps(document_head(result, source), indent=2, ensure_ascii=False, allow_nan=False)
+    head = json.dumps(document_head(result, source), indent=2, allow_nan=False)
     out.write(head[:-2] + ',\n  "rows": [\n')  # head ends in "\n}"
     first = True
     for line in _json_rows(rows(result)):

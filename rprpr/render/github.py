@@ -9,7 +9,11 @@ file that could not be read (then with ``col`` when known). Passing tasks print 
 
 Escaping is that of the Actions toolkit (``@actions/core``, ``command.ts``): in the
 message ``%`` -> ``%25``, ``\\r`` -> ``%0D``, ``\\n`` -> ``%0A``; in a property value
-also ``:`` -> ``%3A`` and ``,`` -> ``%2C``.
+also ``:`` -> ``%3A`` and ``,`` -> ``%2C``; so a newline never ends the command, it is a
+line break in the annotation. Every other control character (an ANSI escape, a bidi
+override, a byte of a file name that is not UTF-8), in the message and every property,
+is first escaped for people (``escape.printable``: ``\\x1b``): the line may be read on
+a terminal, and a file whose name holds such a character has no annotation to point at.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from typing import Any
 
 from ..model.rules import RULES
 from ..report.run import BUDGET, INTERNAL, Run
+from .escape import printable
 
 
 def escape_data(s: str) -> str:
@@ -32,21 +37,33 @@ def escape_property(s: str) -> str:
 
 
 def command(name: str, properties: dict[str, Any], message: str) -> str:
-    """``::name key=value,...::message``; properties that are None are left out."""
+    """``::name key=value,...::message``; properties that are None are left out; the
+    message and the ``title`` with their control characters escaped for people."""
     props = ",".join(
-        f"{k}={escape_property(str(v))}" for k, v in properties.items() if v is not None
+        f"{k}={escape_property(_for_people(str(v)))}"
+        for k, v in properties.items()
+        if v is not None
     )
-    return f"::{name}{' ' + props if props else ''}::{escape_data(message)}"
+    return f"::{name}{' ' + props if props else ''}::{escape_data(_for_people(message))}"
+
+
+def _for_people(text: str) -> str:
+    """Control characters escaped, but the line breaks the toolkit's escaping carries."""
+    return printable(text, keep="\r\n")
 
 
 def annotation_path(path: str, root: str | None = None) -> str:
     """The task path as GitHub wants it: relative to the workspace, with forward slashes.
 
     A relative path is normalised (``./configs/a.yaml`` -> ``configs/a.yaml``); an absolute
-    path inside ``root`` (default: the working directory) is made relative to it."""
+    path inside ``root`` (default: the working directory) is made relative to it. When
+    there is no working directory (deleted under a running job), the path is kept."""
     if os.path.isabs(path):
-        base = os.path.abspath(root or os.getcwd())
-        rel = os.path.relpath(path, base)
+        try:
+            base = os.path.abspath(root or os.getcwd())
+        except OSError:  # the working directory no longer exists
+            base = None
+        rel = os.path.relpath(path, base) if base else os.pardir
         if not rel.startswith(os.pardir):
             path = rel
     else:

@@ -28,7 +28,6 @@ Jenkins ``junit-10.xsd`` schema, plus ``file`` on a testcase (read by GitLab).
 
 from __future__ import annotations
 
-import re
 import xml.etree.ElementTree as ET
 from typing import Any
 
@@ -36,18 +35,16 @@ from ..model.numbers import fixed, number
 from ..model.rules import RULES
 from ..report.records import instant_times
 from ..report.run import BUDGET, INPUT, INTERNAL, Run
+from .escape import printable
 
 SUITE_NAME = "rprpr check"
 
-# characters XML 1.0 cannot carry, not even as &#...; references
-_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
-
 
 def xml_text(s: str) -> str:
-    """``s`` with the characters XML 1.0 forbids written as ``\\xNN`` / ``\\uNNNN``."""
-    return _NOT_XML.sub(
-        lambda m: f"\\x{ord(m[0]):02x}" if ord(m[0]) < 256 else f"\\u{ord(m[0]):04x}", s
-    )
+    """``s`` fit for XML 1.0: every control character (those XML cannot carry among
+    them) escaped by ``escape.printable``, but tab, newline and carriage return, which
+    XML carries (in an attribute as ``&#10;``) and a dashboard shows as line breaks."""
+    return printable(s, keep="\t\n\r")
 
 
 def _seconds(t: float) -> str:

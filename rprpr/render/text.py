@@ -1,4 +1,8 @@
-"""The human report of ``rprpr check`` (rich), from the plain reports of ``report``."""
+"""The human report of ``rprpr check`` (rich), from the plain reports of ``report``.
+
+Every text that came from outside (a file name, a task's name, a value quoted in a
+message) is printed through ``escape.printable``: no control character reaches the
+terminal, and no line can be forged."""
 
 from __future__ import annotations
 
@@ -11,6 +15,7 @@ from rich.text import Text
 from ..model.numbers import CELL, number
 from ..report.records import instant_times
 from ..report.run import Run
+from .escape import printable
 
 
 def _cell(v: float | None) -> str:
@@ -71,7 +76,7 @@ def render(
         if kind != "report":
             style = "red" if kind == "input" else "bold red"
             target = console if errors_inline else err_console
-            target.print(Text(item["text"], style=style), soft_wrap=True)
+            target.print(Text(printable(item["text"]), style=style), soft_wrap=True)
             continue
         if quiet and item["verdict"] == "pass":
             continue
@@ -86,7 +91,7 @@ def render(
 
 
 def _task(rep: dict[str, Any], console: Console) -> None:
-    console.print(Text.assemble((rep["task"], "bold"), " — ", rep["name"]))
+    console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
     times = instant_times(rep)
     n = len(rep["singularities"])
     if n:
@@ -107,7 +112,7 @@ def _task(rep: dict[str, Any], console: Console) -> None:
             title = (f"{f['rule']} {f['name']}", "red")
         else:  # strict-mode-only, not strict: shown, does not fail the task
             title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
-        console.print(Text.assemble("  ", title, f": {f['message']}"), soft_wrap=True)
+        console.print(Text.assemble("  ", title, f": {printable(f['message'])}"), soft_wrap=True)
     peak = rep["torque_peak"]
     poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
     if poles:  # next to a pole the sampled peak only says where the grid fell

@@ -9,13 +9,20 @@ status  ``ExitCode``  when
                       ``plot``, ``export``, ``schema``: the output is written, whatever
                       the verdict (``check`` is the gate); ``--help``, ``--version``
 1       FAILED        ``check``: a task failed its audit
-2       INPUT         a bad invocation (usage error), a bad task file, an output that
-                      cannot be written (no permission, a full disk: the environment)
+2       INPUT         a bad invocation (usage error), a bad task file (``check``: that
+                      task's; the others are still audited), an output that cannot be
+                      written (no permission, a full disk, a closed stream: the
+                      environment), an output that would overwrite an input of the run
 3       INTERNAL      a bug in rprpr, met while auditing a task or anywhere else
 4       BUDGET        ``check``: the audit of a task exceeded its work budget
                       (``--budget``, 10 s by default); it was stopped, the other tasks
                       were audited (a valid task that is too hard to decide in time)
-130     INTERRUPTED   interrupted before the command could handle it (128 + SIGINT)
+128+N   INTERRUPTED   stopped by signal N: SIGINT (Ctrl-C, 130), SIGTERM (143), SIGHUP
+                      (129). rprpr first stops its worker processes and removes its
+                      temporary files (any previous output file stays as it was), then
+                      dies of that same signal, as git does: a shell reports 128 + N, and
+                      a calling script (or a shell loop) sees the interruption.
+                      Python's ``subprocess`` reports it as ``-N``.
 ======  ============  =====================================================================
 
 When several apply, the highest wins (a bad task file among failing tasks exits 2; a task
@@ -26,6 +33,7 @@ status the command had reached stands.
 
 from __future__ import annotations
 
+import errno
 from enum import IntEnum
 from typing import TYPE_CHECKING
 
@@ -43,7 +51,30 @@ class ExitCode(IntEnum):
     INPUT = 2  # bad invocation, a bad task file, an output that cannot be written
     INTERNAL = 3  # a bug in rprpr: please report
     BUDGET = 4  # a task's audit exceeded its work budget
-    INTERRUPTED = 130  # Ctrl-C outside click's own handling (128 + SIGINT)
+    INTERRUPTED = 130  # Ctrl-C (128 + SIGINT); 128 + N for signal N (``Interrupted``)
+
+
+class Interrupted(BaseException):
+    """A signal that stops rprpr (SIGINT, SIGTERM, SIGHUP), raised where the main thread
+    was, so that every ``finally`` runs: workers are stopped, temporary files removed.
+    A ``BaseException``, like ``KeyboardInterrupt``, so that nothing catching
+    ``Exception`` swallows it (and not one, so that click does not turn it into its
+    ``Abort``). ``delivered``: a real signal came (then rprpr dies of it once cleaned
+    up)."""
+
+    def __init__(self, signum: int, *, delivered: bool = True) -> None:
+        super().__init__(signum)
+        self.signum = signum
+        self.delivered = delivered
+
+    @property
+    def status(self) -> int:
+        """The status a shell reports for a process killed by the signal: 128 + N."""
+        return 128 + self.signum
+
+
+# the errors of a disk (or quota) that cannot take what is written: never rprpr's bug
+OUT_OF_SPACE = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class InputError(click.ClickException):
@@ -79,9 +110,12 @@ def returned_status(value: object) -> ExitCode:
     return ExitCode(value) if isinstance(value, int) else ExitCode.PASSED
 
 
-def error_status(error: BaseException) -> ExitCode:
-    """The status of a command stopped by ``error``."""
-    if isinstance(error, KeyboardInterrupt):
+def error_status(error: BaseException) -> int:
+    """The status of a command stopped by ``error`` (an ``ExitCode``, or 128 + N for a
+    command stopped by signal N)."""
+    if isinstance(error, Interrupted):
+        return error.status
+    if isinstance(error, KeyboardInterrupt) or _interrupted_abort(error):
         return ExitCode.INTERRUPTED
     if isinstance(error, BrokenPipeError):  # the reader went away; nothing else failed
         return ExitCode.PASSED
@@ -89,6 +123,15 @@ def error_status(error: BaseException) -> ExitCode:
         return returned_status(error.exit_code)
     if isinstance(error, InternalError):
         return ExitCode.INTERNAL
+    if isinstance(error, OSError) and error.errno in OUT_OF_SPACE:
+        return ExitCode.INPUT  # a full disk met outside a guarded write (--help > /dev/full)
     if isinstance(error, click.ClickException | click.exceptions.Abort):
         return ExitCode.INPUT  # usage errors, bad input, unwritable outputs; click's own 1 never
     return ExitCode.INTERNAL  # any other exception is a bug
+
+
+def _interrupted_abort(error: BaseException) -> bool:
+    """click's ``Abort`` standing for a KeyboardInterrupt it caught (Ctrl-C)."""
+    return isinstance(error, click.exceptions.Abort) and isinstance(
+        error.__context__, KeyboardInterrupt
+    )

@@ -1,28 +1,38 @@
-"""Tasks done in worker processes, each under a work budget (``check``).
+"""Worker processes (``check``) that do each task under a work budget and never outlive
+rprpr.
 
 ``check`` hands its task files, one at a time, to worker processes (``-j N``: N of them,
-at least one; rprpr itself never audits), so that it stays responsive whatever a task
-does: an audit can be deep in one long call into flint (C), which neither Ctrl-C nor any
-check made between Python statements can interrupt; only SIGKILL stops it. The parent
-waits on its workers' pipes. A task still running when its budget runs out (wall-clock
-seconds since it was handed out) is stopped by killing its worker and reported with the
-stage it had reached (a worker writes the number of each stage into shared memory as the
-stage begins); a fresh worker takes the dead one's place and the batch goes on. A worker
-that dies on its own (a crash in C, the out-of-memory killer) is reported likewise, and
-replaced. The results come back in task order, so a report does not depend on N
-(``Workers``: a ``with`` block of workers, and its ``run``).
+at least one: rprpr itself never audits), so that it stays responsive whatever a task
+does: an audit can be deep in one long call into flint (C), deaf to everything but
+SIGKILL. The parent only waits on its workers' pipes (``Workers``, a ``with`` block, and
+its ``run``). A task still running when its budget runs out (wall-clock seconds since it
+was handed out) is stopped by killing its worker and reported with the stage it had
+reached (a worker writes the number of each stage into shared memory as it begins); a
+fresh worker takes the dead one's place and the batch goes on. A worker that dies on its
+own (a crash in C, the out-of-memory killer) is reported likewise, and replaced. The
+results come back in task order, so a report does not depend on N.
 
-Workers ignore SIGINT (Ctrl-C reaches the whole process group: the parent decides) and
-die with the parent (on Linux the kernel kills them: ``PR_SET_PDEATHSIG``); the parent
-kills them all when it stops, however it stops (``finally``).
+A worker holds a copy of standard output, so a worker left behind keeps whoever reads
+rprpr's pipe waiting. Hence:
+
+* the workers are killed whenever their block ends, however it ends (a signal turned
+  into ``Interrupted``, a bug), and the same kill is registered with ``signals`` for a
+  hard stop;
+* each worker dies with its parent, whatever kills the parent (SIGKILL too): on Linux
+  the kernel sends it SIGKILL (``prctl(PR_SET_PDEATHSIG)``); elsewhere a thread of the
+  worker polls its parent's pid (best effort: it needs the worker to be running Python);
+* a worker ignores SIGINT (Ctrl-C reaches the whole process group; the parent decides)
+  and dies of SIGTERM, never running the parent's handlers.
 """
 
 from __future__ import annotations
 
 import contextlib
 import multiprocessing
+import os
 import signal
 import sys
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -30,11 +40,14 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any, Generic, TypeVar
 
+from .signals import STOPPING, killed_on_signal
+
 T = TypeVar("T")
 R = TypeVar("R")
 
-OnStage = Callable[[str], None]
+OnStage = Callable[[str], None]  # told the name of each stage of a task as it begins
 PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+POLL_SECONDS = 0.5  # how often a worker without prctl looks for its parent
 
 
 @dataclass(frozen=True)
@@ -79,6 +92,8 @@ class Workers(Generic[T, R]):
         self.workers: list[_Worker] = []
 
     def __enter__(self) -> Workers[T, R]:
+        self._hard_stop = killed_on_signal(self._kill_now)
+        self._hard_stop.__enter__()
         try:
             self.workers = [self._start() for _ in range(self.jobs)]
         except BaseException:
@@ -90,6 +105,12 @@ class Workers(Generic[T, R]):
         for w in self.workers:
             w.kill()
         self.workers = []
+        self._hard_stop.__exit__(None, None, None)
+
+    def _kill_now(self) -> None:
+        """For a hard stop (``signals``): SIGKILL every worker, from a signal handler."""
+        for w in list(self.workers):
+            w.kill(reap=False)
 
     def _start(self) -> _Worker:
         return _Worker(self.context, self.work, self.stages)
@@ -135,7 +156,9 @@ class _Worker:
         self.stage = context.RawValue("i", 0)
         self.conn, child = context.Pipe()
         self.process = context.Process(
-            target=_serve, args=(child, self.stage, work, self.stages), daemon=True
+            target=_serve,
+            args=(child, self.stage, work, self.stages, os.getpid()),
+            daemon=True,
         )
         self.process.start()
         child.close()  # the parent's copy: the pipe then ends when the worker does
@@ -173,18 +196,21 @@ class _Worker:
             return index, OverBudget(seconds, stage)
         return index, None
 
-    def kill(self) -> None:
-        """SIGKILL the worker (it holds nothing worth saving) and reap it."""
-        if self.process.is_alive():
+    def kill(self, *, reap: bool = True) -> None:
+        """SIGKILL the worker (it holds nothing worth saving) and reap it (not from a
+        signal handler: ``reap`` False)."""
+        with contextlib.suppress(Exception):
             self.process.kill()
-        self.process.join()
-        self.conn.close()
+        if reap:
+            self.process.join()
+            self.conn.close()
 
 
-def _serve(conn: Connection, stage: Any, work: Callable[..., Any], stages: Sequence[str]) -> None:
+def _serve(
+    conn: Connection, stage: Any, work: Callable[..., Any], stages: Sequence[str], parent: int
+) -> None:
     """A worker's life: do each task that comes down the pipe, send back the result."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
+    start_worker(parent)
     number = {name: i for i, name in enumerate(stages)}
 
     def on_stage(name: str) -> None:
@@ -199,12 +225,31 @@ def _serve(conn: Connection, stage: Any, work: Callable[..., Any], stages: Seque
         conn.send(work(task, on_stage))
 
 
-def _die_with_parent() -> None:
-    """On Linux, have the kernel SIGKILL this process when its parent ends (elsewhere the
-    worker ends when it next reads its closed pipe)."""
-    if not sys.platform.startswith("linux"):
-        return
-    import ctypes
+def start_worker(parent: int) -> None:
+    """The initializer of a worker: its signals as above, and death with ``parent``."""
+    for signum in STOPPING:
+        signal.signal(signum, signal.SIG_IGN if signum == signal.SIGINT else signal.SIG_DFL)
+    if not _die_with_parent_linux():
+        threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+    if os.getppid() != parent:  # the parent died before the worker could watch it
+        os._exit(1)
 
-    with contextlib.suppress(OSError, AttributeError):
-        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+
+def _die_with_parent_linux() -> bool:
+    """Have the kernel SIGKILL this process when its parent ends; False where it cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return bool(libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0)
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent(parent: int) -> None:
+    """Poll the parent's pid; when the worker has been re-parented, die."""
+    while os.getppid() == parent:
+        time.sleep(POLL_SECONDS)
+    os._exit(1)

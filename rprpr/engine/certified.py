@@ -1,0 +1,593 @@
+"""Certified values of the motion, joints, δ, λ and torques at given times.
+
+Every value returned for a time t (a float, taken as its exact binary value) is within a
+proven bound of the true value of the paper's formulas at t: the mixed error
+|value - true| <= TOL (1 + |value|), TOL = 1e-9; or it is NaN with a reason code.
+
+How (all choices depend on t alone, never on the other times asked for):
+
+1. **A vectorised ball pass** (``balls.Ball``, rigorous under round-to-nearest): x, x', x''
+   by Horner from the exact coefficients rounded to balls; y = p(x) with the path
+   recentred, y = q(x - c) where q(w) = p(c + w) is formed exactly in Q and c is a short
+   dyadic number in the middle of the x range (this keeps Horner well conditioned); near
+   each exact root t_s of y (Type II instants, E at A or B), y and x also from their exact
+   Taylor polynomials about t_s in ε = t - t_s, with ε taken from a double-double t_s
+   plus a proven residual, and the tighter of the two balls kept. Then the paper's formulas
+   (``equations.leg``/``dynamics``/``torques``) run unchanged on balls, with δ in its
+   product form δ = -a1 y/(s1 s2) (eq. 29), δ' = -a1/(s1 s2) (y' - y (s1'/s1 + s2'/s2)),
+   λ = μ/δ (eqs. 30-31).
+2. **θ** from ``numpy.arctan2`` with an allowance of 8 ulp for the C library (glibc's
+   documented maximum error of atan2 is 1 ulp; numpy's vectorised loops stay within 4),
+   plus the propagated input error: every point of the box mid ± rad lies in the disc of
+   radius ρ = r_u + r_v about (u, v), whose angle differs by at most arcsin(ρ/|M|) <=
+   (π/2) ρ/max(|u|, |v|). Where the ball of y contains 0 behind the base joint, the sign
+   of y(t) is decided exactly in Q, so the branch is never guessed. θ is continuous: the
+   principal value is shifted by 2π after each exact instant at which the leg's line
+   crosses its cut (y = 0 behind A for leg 1, behind B for leg 2); exactly at such an
+   instant θ takes its limit from the left (``sampling._continuous_angle``'s semantics,
+   decided exactly instead of by a width).
+3. **Near a singular instant**, where λ = μ/δ fails the acceptance, λ is taken from the
+   instant's zone form (``zones.Zone``: the Taylor coefficients of μ and δ at t_s with the
+   exactly vanishing ones dropped, and a proven remainder), which cancels nothing.
+4. **Refinement**: a sample whose ball fails the acceptance (rad <= TOL (1 + |mid|)) is
+   evaluated again alone in flint's arb at the exact t, with x(t), y(t) and their
+   derivatives exact in Q, at 128 bits doubled up to 4096 until every value passes.
+5. **Exactly at a singular instant** (t == t_s, only possible for a dyadic t_s): δ = 0;
+   bounded: λ and T are the exact limits from the exact series (``singular``); a pole:
+   λ2, T1, T2 NaN (reason POLE; λ1 = μ1/δ is always bounded, μ1 = O(ε^m)). E exactly at
+   A or B: the leg's angle, rates, δ, λ and T NaN (reasons AT_A, AT_B). An irrational or
+   non-dyadic t_s is never a float, so every float time gets finite certified values.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
+
+from ..model.numbers import to_float
+from ..model.task import Robot
+from . import equations as dyn
+from .balls import ETA, Ball, U, hypot, quiet
+from .series import taylor
+from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
+from .trajectory import Trajectory
+from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
+
+TOL = 1e-9  # the mixed error every certified value meets
+START_PREC = 128  # bits of the arb refinement, to start with
+MAX_PREC = 4096  # ... doubled up to this
+
+# reason codes of a sample with NaN values (0: every value certified)
+OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED = 0, 1, 2, 3, 4, 5
+REASONS = {
+    OK: "",
+    POLE: "a singular instant with unbounded torques (a pole of λ2): λ2, T1, T2 undefined",
+    AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
+    AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
+    ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
+    UNCERTIFIED: f"not certified to {TOL:g} at {MAX_PREC} bits",
+}
+
+FIELDS = (
+    "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot",
+    "theta1", "s1", "theta2", "s2",
+    "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
+    "theta1_ddot", "s1_ddot", "theta2_ddot", "s2_ddot",
+    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+)  # fmt: skip
+LEG1 = ("theta1", "theta1_dot", "s1_dot", "theta1_ddot", "s1_ddot")
+LEG2 = ("theta2", "theta2_dot", "s2_dot", "theta2_ddot", "s2_ddot")
+DYNAMIC = ("delta", "delta_dot", "lambda1", "lambda2", "T1", "T2")
+
+Values = dict[str, Ball]
+
+
+@dataclass(frozen=True)
+class CertifiedSamples:
+    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined),
+    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|)) and ``reason`` (one code
+    per sample, ``REASONS``; 0 when every value is finite)."""
+
+    t: np.ndarray
+    value: dict[str, np.ndarray]
+    radius: dict[str, np.ndarray]
+    reason: np.ndarray
+
+    def column(self, name: str) -> np.ndarray:
+        return self.t if name == "t" else self.value[name]
+
+
+# -- exact instants -------------------------------------------------------------------
+
+
+def _instant_time(analysis: SingularAnalysis, s: SingularInstant) -> ExactTime:
+    field = analysis.hints(s).field
+
+    def at(prec: int) -> arb:
+        return field.evaluate(fmpq_poly([0, 1]), prec)
+
+    return ExactTime(s.t_exact, at)
+
+
+def _roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
+    """The real roots of ``poly`` in [0, t_f], exactly, in increasing order."""
+    if poly.is_zero():
+        return []
+    out = []
+    for f, _ in poly.factor()[1]:
+        if f.degree() < 1:
+            continue
+        for exact, at in _real_roots(f, duration):  # only the roots in [0, t_f]
+            out.append(ExactTime(exact, at))
+    return sorted(out, key=lambda e: e.hi)
+
+
+@dataclass
+class _Kinematic:
+    time: ExactTime
+    leg: int
+    order: int
+    y_sign: int
+
+
+@dataclass
+class _Cut:
+    """An exact instant at which y = 0 on a leg's branch cut (see ``sampling._cuts``)."""
+
+    time: ExactTime
+    after: int  # sign of y just after
+    crossing: bool
+
+
+# -- polynomials in balls ---------------------------------------------------------------
+
+
+def _ball_coeffs(p: fmpq_poly) -> list[Ball]:
+    return [Ball.of_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
+
+
+def _horner(c: list[Ball], x: Ball) -> Ball:
+    acc = c[-1]
+    for ck in c[-2::-1]:
+        acc = acc * x + ck
+    return acc
+
+
+def _poly3(p: fmpq_poly) -> tuple[list[Ball], list[Ball], list[Ball]]:
+    d = p.derivative()
+    return _ball_coeffs(p), _ball_coeffs(d), _ball_coeffs(d.derivative())
+
+
+def _tighter(a: Ball, b: Ball) -> Ball:
+    """Of two enclosures of the same values, the narrower one elementwise."""
+    pick = ~(b.rad < a.rad)
+    return Ball(np.where(pick, a.mid, b.mid), np.where(pick, a.rad, b.rad))
+
+
+def _dyadic_middle(lo: float, hi: float) -> fmpq:
+    """A short dyadic number near (lo + hi)/2 (12 significant bits)."""
+    m = 0.5 * (lo + hi)
+    if m == 0 or not math.isfinite(m):
+        return fmpq(0)
+    e = math.frexp(m)[1] - 12
+    return fmpq(round(m / 2.0**e)) * fmpq(2) ** e if e >= 0 else fmpq(round(m * 2.0**-e), 2**-e)
+
+
+@dataclass
+class _Local:
+    """Exact Taylor polynomials about an exact root t_s of y (in ε/h, h a power of 2)."""
+
+    time: ExactTime
+    h: float
+    x: tuple[list[Ball], list[Ball], list[Ball]]
+    y: tuple[list[Ball], list[Ball], list[Ball]]
+
+
+# -- the motion ---------------------------------------------------------------------
+
+
+class CertifiedMotion:
+    """Certified evaluation of one task's motion (``sample``); built once per task."""
+
+    def __init__(self, traj: Trajectory, robot: Robot, analysis: SingularAnalysis) -> None:
+        self.traj = traj
+        self.robot = robot
+        self.analysis = analysis
+        self.params = dyn.Params.of(robot, Ball.of_rational)
+        self.a1 = Ball.of_rational(traj.a1)
+        self.x3 = _poly3(traj.x)
+        self.center = self._center()
+        q = traj.path(fmpq_poly([self.center, 1]))  # p(c + w), exact
+        self.q3 = _poly3(q)
+        self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
+        self.kinematic = self._kinematic()
+        self.locals = [self._local(e) for _, e in self.instants]
+        self.locals += [self._local(k.time) for k in self.kinematic]
+        self.cuts = {1: self._cuts(1), 2: self._cuts(2)}
+        self._limits: dict[int, tuple[Ball, Ball, Ball, Ball]] = {}
+        self._zones: dict[int, Zone | None] = {}
+
+    # -- set-up ------------------------------------------------------------------------
+    def _center(self) -> fmpq:
+        tf = to_float(self.traj.duration)
+        ts = np.linspace(0.0, tf, 65)
+        xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
+        xs = xs[np.isfinite(xs)]
+        return _dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
+
+    def _kinematic(self) -> list[_Kinematic]:
+        traj = self.traj
+        out = []
+        for leg, u in ((1, traj.x), (2, traj.x - traj.a1)):
+            common = u if traj.y.is_zero() else u.gcd(traj.y)
+            for e in _roots(common, traj.duration):
+                match = [k for k in self.analysis.kinematic if k.leg == leg]
+                near = min(match, key=lambda k: abs(k.t - e.hi), default=None)
+                order, ys = (near.order, self.analysis.kinematic_sign(near)) if near else (1, 1)
+                out.append(_Kinematic(e, leg, order, ys))
+        return out
+
+    def _local(self, e: ExactTime) -> _Local:
+        tf = to_float(self.traj.duration)
+        h = 2.0 ** math.frexp(tf)[1] if tf > 0 else 1.0
+        out = []
+        for p in (self.traj.x, self.traj.y):
+            cs = taylor(p, max(p.degree(), 0) + 1)
+            if e.exact is not None:
+                coeffs = [Ball.of_rational(c(e.exact) * fmpq(*h.as_integer_ratio()) ** k)
+                          for k, c in enumerate(cs)]  # fmt: skip
+            else:
+                coeffs = [_arb_at(c, e, 256) * (h**k) for k, c in enumerate(cs)]
+            d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
+            d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
+            out.append((coeffs, d1, d2))
+        return _Local(e, h, out[0], out[1])
+
+    def _cuts(self, leg: int) -> list[_Cut]:
+        on_cut = (2,) if leg == 1 else (2, 3)
+        cuts = [
+            _Cut(e, self.analysis.hints(s).y_leading_sign, s.order % 2 == 1)
+            for s, e in self.instants
+            if s.case.number in on_cut
+        ]
+        if leg == 2:
+            cuts += [_Cut(k.time, k.y_sign, k.order % 2 == 1) for k in self.kinematic if k.leg == 1]
+        return sorted(cuts, key=lambda c: c.time.hi)
+
+    # -- sampling --------------------------------------------------------------------
+    def sample(self, t: np.ndarray, refine: bool = True) -> CertifiedSamples:
+        """Certified values at the float times ``t`` [s] (module docstring); without
+        ``refine``, values the ball pass and the zone forms do not certify are left NaN
+        (reason UNCERTIFIED) instead of being refined in arb."""
+        t = np.asarray(t, dtype=float)
+        with quiet():
+            balls = self.ball_pass(t)
+        value = {n: np.array(b.mid + 0 * t, dtype=float) for n, b in balls.items()}
+        radius = {n: np.array(b.rad + 0 * t, dtype=float) for n, b in balls.items()}
+        reason = np.zeros(len(t), dtype=np.int8)
+        undefined = {name: np.zeros(len(t), dtype=bool) for name in FIELDS}
+        if self.analysis.on_singular_line:
+            reason[:] = ON_LINE
+            for name in ("lambda1", "lambda2", "T1", "T2"):
+                undefined[name][:] = True
+        for s, e in self.instants:
+            for j in np.nonzero(e.compare(t) == 0)[0]:
+                self._at_instant(s, int(j), value, radius, reason, undefined)
+        for k in self.kinematic:
+            for j in np.nonzero(k.time.compare(t) == 0)[0]:
+                reason[j] = AT_A if k.leg == 1 else AT_B
+                for name in (LEG1 if k.leg == 1 else LEG2) + DYNAMIC:
+                    undefined[name][j] = True
+        bad = self._failing(value, radius, undefined)
+        if bad.any() and self.instants and not self.analysis.on_singular_line:
+            with quiet():
+                self._from_zones(t, bad & (reason == OK), value, radius)
+            bad = self._failing(value, radius, undefined)
+        for j in np.nonzero(bad)[0]:
+            if refine:
+                self._refine(float(t[j]), int(j), value, radius, undefined, reason)
+                continue
+            reason[j] = reason[j] or UNCERTIFIED
+            for n in FIELDS:
+                if not radius[n][j] <= TOL * (1.0 + abs(value[n][j])):
+                    undefined[n][j] = True
+        for n in FIELDS:
+            value[n][undefined[n]] = np.nan
+            radius[n][undefined[n]] = np.nan
+        return CertifiedSamples(t, value, radius, reason)
+
+    @staticmethod
+    def _failing(
+        value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+        undefined: dict[str, np.ndarray],
+    ) -> np.ndarray:
+        """Samples with a defined value not yet certified."""
+        bad = np.zeros(len(next(iter(value.values()))), dtype=bool)
+        for n in FIELDS:
+            ok = radius[n] <= TOL * (1.0 + np.abs(value[n]))
+            bad |= ~ok & ~undefined[n]
+        return bad
+
+    def zone(self, k: int) -> Zone | None:
+        """The zone form of λ about the k-th singular instant (``zones.make_zone``)."""
+        if k not in self._zones:
+            s = self.instants[k][0]
+            self._zones[k] = make_zone(self, s, taylor_at_instant(self, s, TAYLOR_PREC))
+        return self._zones[k]
+
+    def _from_zones(
+        self, t: np.ndarray, todo: np.ndarray, value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+    ) -> None:  # fmt: skip
+        """λ and T at samples near a singular instant from its zone form (no cancellation
+        left), where that is narrower than the direct quotient."""
+        times = np.array([e.hi for _, e in self.instants])
+        near = np.argmin(np.abs(t[:, None] - times[None, :]), axis=1)
+        for k in np.unique(near[todo]):
+            idx = np.nonzero(todo & (near == k))[0]
+            zone = self.zone(int(k))
+            if zone is None:
+                continue
+            idx = idx[np.abs(t[idx] - zone.e.hi) <= 0.999 * zone.r]
+            if not len(idx):
+                continue
+            lam = zone.lam(zone.e.eps(t[idx]))
+            b = {
+                n: Ball(value[n][idx], radius[n][idx])
+                for n in ("x", "x_dot", "x_ddot", "y", "y_dot", "y_ddot")
+            }
+            leg1 = dyn.leg(b["x"], b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot)
+            leg2 = dyn.leg(
+                b["x"] - self.a1, b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot
+            )
+            T1, T2 = dyn.torques(dyn.dynamics(leg1, leg2, self.params), lam[0], lam[1])
+            for name, new in (("lambda1", lam[0]), ("lambda2", lam[1]), ("T1", T1), ("T2", T2)):
+                better = new.rad < radius[name][idx]
+                value[name][idx[better]] = new.mid[better]
+                radius[name][idx[better]] = new.rad[better]
+
+    def ball_pass(self, t: np.ndarray) -> Values:
+        """Every quantity at the times ``t`` as balls (no refinement; call within
+        ``balls.quiet()``). ``t`` may also be a ``Ball`` (intervals of time)."""
+        tb = t if isinstance(t, Ball) else Ball.exact(t)
+        xc, xdc, xddc = self.x3
+        x = _horner(xc, tb)
+        xd = _horner(xdc, tb)
+        xdd = _horner(xddc, tb)
+        w = x - self.center
+        qc, q1c, q2c = self.q3
+        q1 = _horner(q1c, w)
+        y = _horner(qc, w)
+        yd = q1 * xd
+        ydd = _horner(q2c, w) * xd * xd + q1 * xdd
+        if isinstance(t, Ball):
+            return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
+        x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)
+        out = self.formulas(x, xd, xdd, y, yd, ydd)
+        out["theta1"] = self.theta(1, t, x, y)
+        out["theta2"] = self.theta(2, t, x - self.a1, y)
+        return out
+
+    def _locally(self, t: np.ndarray, *v: Ball) -> tuple[Ball, ...]:
+        """x and y (with derivatives) from the Taylor polynomials about the nearest exact
+        root of y, where that is tighter."""
+        if not self.locals:
+            return v
+        roots = np.array([loc.time.hi for loc in self.locals])
+        near = np.argmin(np.abs(t[:, None] - roots[None, :]), axis=1)
+        out = [Ball(b.mid + 0 * t, b.rad + 0 * t) for b in v]  # full-length copies
+        for i, loc in enumerate(self.locals):
+            idx = np.nonzero(near == i)[0]
+            if not len(idx):
+                continue
+            r = loc.time.eps(t[idx]) * (1.0 / loc.h)  # exact scaling by a power of 2
+            for slot, (c, c1, c2) in ((0, loc.x), (3, loc.y)):
+                vals = (_horner(c, r), _horner(c1, r) * (1.0 / loc.h),
+                        _horner(c2, r) * (1.0 / loc.h**2))  # fmt: skip
+                for k in range(3):
+                    cur = out[slot + k]
+                    best = _tighter(cur[idx], vals[k])
+                    cur.mid[idx] = best.mid
+                    cur.rad[idx] = best.rad
+        return tuple(out)
+
+    def formulas(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Values:
+        """The paper's formulas on balls (all but θ, ``theta``)."""
+        p = self.params
+        leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, hypot)
+        u2 = x - self.a1
+        leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, hypot)
+        d = dyn.dynamics(leg1, leg2, p)
+        s12 = leg1.s * leg2.s
+        delta = -(self.a1 * y) / s12  # eq. (29), product form
+        delta_dot = -(self.a1 / s12) * (yd - y * (leg1.s_d / leg1.s + leg2.s_d / leg2.s))
+        lam1 = d.mu1 / delta
+        lam2 = d.mu2 / delta
+        T1, T2 = dyn.torques(d, lam1, lam2)
+        out = {
+            "x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd,
+            "s1": leg1.s, "s2": leg2.s,
+            "theta1_dot": leg1.th_d, "s1_dot": leg1.s_d, "theta2_dot": leg2.th_d,
+            "s2_dot": leg2.s_d, "theta1_ddot": leg1.th_dd, "s1_ddot": leg1.s_dd,
+            "theta2_ddot": leg2.th_dd, "s2_ddot": leg2.s_dd,
+            "delta": delta, "delta_dot": delta_dot, "lambda1": lam1, "lambda2": lam2,
+            "T1": T1, "T2": T2,
+        }  # fmt: skip
+        return out
+
+    # -- angles --------------------------------------------------------------------
+    def theta(self, leg: int, t: np.ndarray, u: Ball, v: Ball) -> Ball:
+        """The continuous angle of leg ``leg`` at the float times t (module docstring)."""
+        vm = np.array(v.mid + 0 * t, dtype=float)
+        um = u.mid + 0 * t
+        behind = ~(u.lower() > 0)
+        for j in np.nonzero(v.contains_zero() & behind & np.isfinite(vm))[0]:
+            sy = self._sign_y(float(t[j]))  # the branch side, decided exactly
+            vm[j] = abs(vm[j]) if sy >= 0 else -abs(vm[j])
+        raw = np.arctan2(vm, um)
+        size = np.maximum(np.abs(um), np.abs(vm))
+        rho = (u.rad + v.rad) * (1 + 4 * U)
+        prop = np.where(rho < size, (np.pi / 2 * (1 + 4 * U)) * rho / size, np.inf)
+        # Ball additions round their radii upward: the allowance and the propagation
+        principal = Ball.exact(raw) + Ball(0.0, prop) + Ball(0.0, (16 * U) * np.abs(raw) + 16 * ETA)
+        return self._on_branch(leg, t, principal)
+
+    def _on_branch(self, leg: int, t: np.ndarray, principal: Ball) -> Ball:
+        """The principal angle moved to the continuous branch: -2π·(sign of y after) past
+        each crossing of the leg's cut; exactly on the cut, the limit from the left."""
+        half_turns = np.zeros(len(t))
+        mid, rad = principal.mid.copy(), principal.rad.copy()
+        for c in self.cuts[leg]:
+            cmp = c.time.compare(t)
+            at = cmp == 0
+            mid[at] = (-c.after if c.crossing else c.after) * np.pi
+            rad[at] = U * np.pi
+            if c.crossing:
+                half_turns[cmp > 0] -= 2 * c.after
+        if not half_turns.any():
+            return Ball(mid, rad)
+        return Ball(mid, rad) + Ball(np.pi, U * np.pi) * half_turns  # π ± u π ∋ π
+
+    def _sign_y(self, t: float) -> int:
+        v = self.traj.y(fmpq(*t.as_integer_ratio()))
+        return (v > 0) - (v < 0)
+
+    # -- exact instants ------------------------------------------------------------
+    def _at_instant(
+        self, s: SingularInstant, j: int, value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray], reason: np.ndarray, undefined: dict[str, np.ndarray],
+    ) -> None:  # fmt: skip
+        """Values at t == t_s exactly: δ = 0 and the exact limits of λ and T."""
+        value["delta"][j], radius["delta"][j] = 0.0, 0.0
+        lam1, lam2, T1, T2 = self._limits_at(s)
+        for name, b in (("lambda1", lam1), ("lambda2", lam2), ("T1", T1), ("T2", T2)):
+            value[name][j], radius[name][j] = float(b.mid), float(b.rad)
+        if not s.torque_bounded:
+            reason[j] = POLE
+            for name in ("lambda2", "T1", "T2"):
+                undefined[name][j] = True
+
+    def _limits_at(self, s: SingularInstant) -> tuple[Ball, Ball, Ball, Ball]:
+        """λ1, λ2, T1, T2 at a rational t_s, exact (NaN balls where a pole)."""
+        key = self.analysis.instants.index(s)
+        if key not in self._limits:
+            m = s.order
+            X, Xd, Xdd, Y, Yd, Ydd = expansion(
+                self.traj, self.analysis.hints(s).field, m + 1, exact=s.t_exact
+            )
+            sx = 1 if X.c[0] > 0 else -1
+            sxa = 1 if X.c[0] - self.traj.a1 > 0 else -1
+            l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, self.traj.a1, sx, sxa)
+            d = dyn.dynamics(l1, l2, dyn.Params.of(self.robot))
+            lam1 = d.mu1.c[m] / d.delta.c[m]  # μ1 = O(ε^m): always bounded
+            out = [Ball.of_rational(lam1)]
+            if s.torque_bounded:
+                lam2 = d.mu2.c[m] / d.delta.c[m]
+                T1, T2 = dyn.torques(d, lam1, lam2)
+                out += [Ball.of_rational(lam2), Ball.of_rational(T1.c[0]),
+                        Ball.of_rational(T2.c[0])]  # fmt: skip
+            else:
+                out += [Ball(np.nan, np.inf)] * 3
+            self._limits[key] = (out[0], out[1], out[2], out[3])
+        return self._limits[key]
+
+    # -- refinement in arb ------------------------------------------------------------
+    def _refine(
+        self, t: float, j: int, value: dict[str, np.ndarray], radius: dict[str, np.ndarray],
+        undefined: dict[str, np.ndarray], reason: np.ndarray,
+    ) -> None:  # fmt: skip
+        """Values at t alone in arb, the precision doubled until each one is certified."""
+        todo = [n for n in FIELDS if not radius[n][j] <= TOL * (1 + abs(value[n][j]))]
+        todo = [n for n in todo if not undefined[n][j]]
+        prec = START_PREC
+        while todo and prec <= MAX_PREC:
+            got = self.arb_point(t, prec)
+            for n in list(todo):
+                b = got.get(n)
+                if b is not None and bool(b.certified(TOL)):
+                    value[n][j], radius[n][j] = float(b.mid), float(b.rad)
+                    todo.remove(n)
+            prec *= 2
+        for n in todo:
+            undefined[n][j] = True
+            if not reason[j]:
+                reason[j] = UNCERTIFIED
+
+    def arb_point(self, t: float, prec: int) -> Values:
+        """Every quantity at the float time t in arb at ``prec`` bits (as balls)."""
+        tq = fmpq(*t.as_integer_ratio())
+        traj = self.traj
+        exact = [p(tq) for p in (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)]
+        old = ctx.prec
+        ctx.prec = prec
+        try:
+            x, xd, xdd, y, yd, ydd = (arb(v) for v in exact)
+            a1 = arb(traj.a1)
+            out: dict[str, Any] = {"x": x, "x_dot": xd, "x_ddot": xdd, "y": y,
+                                   "y_dot": yd, "y_ddot": ydd}  # fmt: skip
+            u2 = x - a1
+            s1 = (x * x + y * y).sqrt()
+            s2 = (u2 * u2 + y * y).sqrt()
+            out["s1"], out["s2"] = s1, s2
+            if not (s1 > 0 and s2 > 0):
+                return {n: Ball.of_arb(v) for n, v in out.items()}
+            leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
+            leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, _arb_hypot)
+            d = dyn.dynamics(leg1, leg2, dyn.Params.of(self.robot, arb))
+            s12 = s1 * s2
+            delta = -(a1 * y) / s12
+            out["delta"] = delta
+            out["delta_dot"] = -(a1 / s12) * (yd - y * (leg1.s_d / s1 + leg2.s_d / s2))
+            out.update(
+                theta1_dot=leg1.th_d,
+                s1_dot=leg1.s_d,
+                theta2_dot=leg2.th_d,
+                s2_dot=leg2.s_d,
+                theta1_ddot=leg1.th_dd,
+                s1_ddot=leg1.s_dd,
+                theta2_ddot=leg2.th_dd,
+                s2_ddot=leg2.s_dd,
+            )
+            if not self.analysis.on_singular_line and (delta > 0 or delta < 0):
+                lam1, lam2 = d.mu1 / delta, d.mu2 / delta
+                T1, T2 = dyn.torques(d, lam1, lam2)
+                out.update(lambda1=lam1, lambda2=lam2, T1=T1, T2=T2)
+            balls = {n: Ball.of_arb(v) for n, v in out.items()}
+            ta = np.array([t])
+            for leg, u in ((1, x), (2, u2)):
+                raw = arb.atan2(y, u)  # y is exact: its sign is known (y = 0: π behind)
+                b = self._on_branch(leg, ta, Ball.of_arb(raw)[None])
+                balls[f"theta{leg}"] = Ball(b.mid[0], b.rad[0])
+            return balls
+        finally:
+            ctx.prec = old
+
+
+def _arb_hypot(u: Any, v: Any) -> Any:
+    return (u * u + v * v).sqrt()
+
+
+def _arb_at(c: fmpq_poly, e: ExactTime, prec: int) -> Ball:
+    old = ctx.prec
+    ctx.prec = prec
+    try:
+        if c.degree() <= 0:
+            return Ball.of_rational(c[0] if c.degree() == 0 else fmpq(0))
+        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)))
+    finally:
+        ctx.prec = old
+
+
+def certify(
+    traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray
+) -> CertifiedSamples:
+    """Certified values at the times ``t`` (a one-off ``CertifiedMotion(...).sample``)."""
+    return CertifiedMotion(traj, robot, analysis).sample(t)
+
+
+__all__ = ["FIELDS", "REASONS", "TOL", "CertifiedMotion", "CertifiedSamples", "certify"]

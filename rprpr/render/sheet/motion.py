@@ -1,0 +1,60 @@
+"""One audited task ready to draw: the audit and its dense samples (no new analysis)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...engine.audit import AuditResult
+from ...engine.sampling import Samples
+from ...model.task import Task
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One audited task, ready to draw: the audit and dense samples that include every
+    singular instant exactly."""
+
+    source: str
+    result: AuditResult
+    s: Samples
+
+    @property
+    def task(self) -> Task:
+        return self.result.task
+
+    @property
+    def name(self) -> str:
+        return self.result.task.name
+
+    @property
+    def duration(self) -> float:
+        return float(self.s.t[-1])
+
+
+def motion(result: AuditResult, source: str = "") -> Motion:
+    """The audited task ``result``, ready to draw: its samples with its singular instants
+    added to the grid and, about an unbounded one, the times t_s ± 10^-k t_f (k = 3..8),
+    so that the curves visibly diverge however fine or coarse the grid."""
+    s = result.samples
+    tf = float(s.t[-1])
+    tol = 1e-12 * max(1.0, tf)
+    missing = [i.t for i in result.singularities if not np.any(np.abs(s.t - i.t) <= tol)]
+    for i in result.singularities:
+        if not i.torque_bounded:
+            near = i.t + tf * np.outer([-1, 1], 10.0 ** -np.arange(3, 9)).ravel()
+            missing += [float(v) for v in near if 0 < v < tf]
+    if missing:
+        s = result.resample(np.union1d(s.t, missing))
+    return Motion(source, result, s)
+
+
+def at(m: Motion, t: float) -> int:
+    """The index of the sample of ``m`` nearest the time ``t``."""
+    return int(np.argmin(np.abs(m.s.t - t)))
+
+
+def finite(v: np.ndarray) -> np.ndarray:
+    """``v`` with ±inf as NaN (a gap in a drawn curve, not a line to the edge)."""
+    return np.where(np.isfinite(v), v, np.nan)

@@ -1,0 +1,111 @@
+"""The sheet's words: titles, summaries and what a singular instant's label says.
+
+Every number goes through ``rprpr.model.numbers``; every status and order is the
+engine's (``AuditResult.status_of``, ``SingularInstant.high_order``)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from ..._version import __version__
+from ...engine.audit import AuditResult
+from ...engine.singular import SingularInstant
+from ...model.numbers import distinct, number
+from .motion import Motion
+
+LABEL_DIGITS = 4  # significant digits of a number written on the sheet
+
+
+def instant_times(result: AuditResult) -> list[str]:
+    """The times t_s [s] of ``result``'s singular instants as label text: 4 significant
+    digits, or as many as ``distinct`` needs where two instants would read alike."""
+    return distinct([s.t for s in result.singularities], LABEL_DIGITS)
+
+
+def order_text(s: SingularInstant) -> str:
+    """``order k``, with ``high-order`` added for a high-order instant."""
+    return f"order {s.order}, high-order" if s.high_order else f"order {s.order}"
+
+
+def vanishing(order: int) -> str:
+    """What vanishes at a singular instant of this order: δ and its first order-1 derivatives."""
+    names = ["δ", "δ'", "δ''"]
+    if order <= 3:
+        return " = ".join(names[:order]) + " = 0"
+    return f"δ = δ' = … = δ^({order - 1}) = 0"
+
+
+def verdict_text(s: SingularInstant) -> str:
+    """Why a singular instant is marked as it is, in a few words."""
+    why = []
+    if not s.slope_principle.passed:
+        why.append("slope principle fails")
+    if not s.velocity_principle.passed:
+        why.append("velocity principle fails")
+    if not s.torque_bounded:
+        why.append(f"T unbounded (pole {s.pole_order})")
+    elif s.torque_at_singularity is not None:
+        t1, t2 = (number(v, LABEL_DIGITS) for v in s.torque_at_singularity)
+        why.append(f"T → ({t1}, {t2}) N m")
+    return ", ".join(why)
+
+
+def summary(m: Motion) -> str:
+    """One line per task for the sheet's title: verdict, singular instants, torques."""
+    r = m.result
+    n = len(r.singularities)
+    parts = [f"{n} singular instant{'' if n == 1 else 's'}"]
+    if n:
+        parts[0] += f" ({sum(s.high_order for s in r.singularities)} high-order)"
+    if r.on_singular_line:
+        parts.append("the path lies on the singular line")
+    if r.kinematic_singularities:
+        parts.append("inverse-kinematic singularity")
+    parts += _torque_summary(r)
+    where = f" ({m.source})" if m.source else ""
+    return f"{m.name}{where}: {r.verdict.upper()} — " + "; ".join(parts)
+
+
+def _torque_summary(r: AuditResult) -> list[str]:
+    """Where the torques are unbounded, or else their peak (nothing if neither is known)."""
+    times = instant_times(r)
+    unbounded = [times[k] for k, s in enumerate(r.singularities) if not s.torque_bounded]
+    if len(unbounded) > 4:
+        return [f"torques unbounded at {len(unbounded)} instants"]
+    if unbounded:
+        return ["torques unbounded at t = " + ", ".join(unbounded) + " s"]
+    if r.torque_peak is not None:
+        t1, t2 = (number(v, LABEL_DIGITS) for v in r.torque_peak)
+        return [f"peak |T1|, |T2| = {t1}, {t2} N m"]
+    return []
+
+
+def title(motions: Sequence[Motion]) -> str:
+    """The sheet's title: rprpr's version, then one summary line per task."""
+    return "\n".join([f"rprpr {__version__} audit sheet", *(summary(m) for m in motions)])
+
+
+def names(motions: Sequence[Motion]) -> str:
+    """The tasks' names for a panel's title (a count when they would not fit)."""
+    if len(motions) == 1:
+        return motions[0].name
+    joined = " vs ".join(m.name for m in motions)
+    return joined if len(joined) <= 90 else f"{len(motions)} tasks (see legend)"
+
+
+def short(name: str, n: int = 36) -> str:
+    """``name`` cut to ``n`` characters, an ellipsis marking the cut."""
+    return name if len(name) <= n else name[: n - 1] + "…"
+
+
+def description(motions: Sequence[Motion]) -> str:
+    """The tasks' verdicts and singular instants in one line (the files' metadata)."""
+    out = []
+    for m in motions:
+        r = m.result
+        sings = "; ".join(
+            f"t = {t} s order {s.order} {r.status_of(s)}"
+            for s, t in zip(r.singularities, distinct([s.t for s in r.singularities]), strict=True)
+        )
+        out.append(f"{m.name}: {r.verdict}" + (f" ({sings})" if sings else ""))
+    return " | ".join(out)

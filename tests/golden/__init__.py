@@ -1,0 +1,116 @@
+"""Golden files: what ``rprpr check`` prints, byte for byte, in every output format.
+
+Each case is one ``rprpr check`` command line (a shipped config, the configs/ directory at
+once, a run with bad task files, two close singular instants). Each is run once per
+variant: the text report at 80 and at 160 columns (no colour: standard output is not a
+terminal), JSON, JUnit (its measured ``time=`` attributes zeroed) and GitHub annotations.
+``tests/golden/CASE/VARIANT.EXT`` holds the standard output, ``tests/golden/CASE/runs.txt``
+the command lines, exit statuses and standard error.
+
+Regenerate every file after an intended change, and review the diff like code::
+
+    .venv/bin/python -m tests.golden
+"""
+
+from __future__ import annotations
+
+import re
+import tempfile
+from collections.abc import Iterator
+from contextlib import chdir, contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..conftest import CLOSE_INSTANTS, CONFIGS, ROOT, plain_terminal, run_cli
+
+GOLDEN = Path(__file__).resolve().parent
+REGENERATE = ".venv/bin/python -m tests.golden"
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One output format: ``check``'s extra arguments, the environment, the file suffix."""
+
+    name: str
+    args: tuple[str, ...]
+    env: dict[str, str] = field(default_factory=dict)
+    suffix: str = "txt"
+
+    @property
+    def file(self) -> str:
+        return f"{self.name}.{self.suffix}"
+
+
+VARIANTS = (
+    Variant("text-80", (), {"COLUMNS": "80"}),
+    Variant("text-160", (), {"COLUMNS": "160"}),
+    Variant("json", ("--format", "json"), suffix="json"),
+    Variant("junit", ("--format", "junit"), suffix="xml"),
+    Variant("github", ("--format", "github")),
+)
+
+
+@dataclass(frozen=True)
+class Case:
+    """``rprpr check TASKS``, run from the repository's root, or from a fresh temporary
+    directory holding ``files`` (name: text) when there are any."""
+
+    name: str
+    tasks: tuple[str, ...]
+    files: dict[str, str] = field(default_factory=dict)
+
+
+CASES = (
+    *(Case(p.stem, (f"configs/{p.name}",)) for p in sorted(CONFIGS.glob("*.yaml"))),
+    Case("configs_directory", ("configs",)),
+    Case(
+        "bad_tasks",
+        (
+            "configs/paper_path2.yaml",
+            "tests/bad_tasks/a1_negative.yaml",
+            "tests/bad_tasks/syntax_unclosed_flow.yaml",
+        ),
+    ),
+    Case("close_instants", ("close_instants.yaml",), {"close_instants.yaml": CLOSE_INSTANTS}),
+)
+
+
+def untimed(junit: str) -> str:
+    """JUnit XML with its measured times zeroed (the only part that differs run to run)."""
+    return re.sub(r' time="[0-9.]+"', ' time="0"', junit)
+
+
+@contextmanager
+def _working_directory(case: Case) -> Iterator[None]:
+    """The repository's root, or a temporary directory holding the case's files."""
+    if not case.files:
+        with chdir(ROOT):
+            yield
+        return
+    with tempfile.TemporaryDirectory() as tmp, chdir(tmp):
+        for name, text in case.files.items():
+            Path(name).write_text(text, encoding="utf-8")
+        yield
+
+
+def _command(case: Case, variant: Variant) -> str:
+    env = "".join(f"{k}={v} " for k, v in variant.env.items())
+    return " ".join([f"$ {env}rprpr check", *variant.args, *case.tasks])
+
+
+def render(case: Case) -> dict[str, str]:
+    """The golden files of ``case``: file name -> text, as rprpr prints them today."""
+    files: dict[str, str] = {}
+    runs: list[str] = []
+    with _working_directory(case):
+        for variant in VARIANTS:
+            with plain_terminal(**variant.env):
+                code, out, err = run_cli("check", *variant.args, *case.tasks)
+            files[variant.file] = untimed(out) if variant.name == "junit" else out
+            runs.append(f"{_command(case, variant)}\nexit status {code}\n{err}")
+    files["runs.txt"] = "\n".join(runs)
+    return files
+
+
+def case_dir(case: Case) -> Path:
+    return GOLDEN / case.name

@@ -1,0 +1,179 @@
+"""An independent high-precision reference for the inverse kinematics and dynamics.
+
+Written apart from the engine (it imports nothing from ``rprpr.engine``): mpmath at 60
+significant digits and more, straight from the paper's equations:
+
+* x(t) and y(t) = p(x(t)) from the task's exact coefficients; x', x'', y' = p'(x) x',
+  y'' = p''(x) x'^2 + p'(x) x'';
+* inverse kinematics by the polar decomposition of (u, v) = (x, y) and (x - a1, y):
+  θ = atan2(v, u), s = |(u, v)|, cos θ = u/s, sin θ = v/s, and by differentiating
+  u = s cos θ, v = s sin θ:
+  s' = u' cos θ + v' sin θ, θ' = (v' cos θ - u' sin θ)/s (eqs. 41-42),
+  s'' = u'' cos θ + v'' sin θ + s θ'^2, θ'' = (v'' cos θ - u'' sin θ - 2 s' θ')/s;
+* M, N of eqs. (7)-(14); λ from eq. (18), (J_u)^T λ = M_u q'' + N_u, a 2x2 system solved
+  by Cramer's rule; T from eq. (17), T = M_a q'' + N_a - (J_a)^T λ; δ = det (J_u)^T
+  (eq. 29) and δ' = cos(θ1 - θ2)(θ1' - θ2').
+
+x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
+working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
+until evaluations at d and d + 30 digits agree to 40 digits. At a root of y, λ and T are
+two-sided limits (``limit``: ``None`` at a pole).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any
+
+import mpmath
+from flint import fmpq
+
+from rprpr.model.task import Task
+
+KEYS = (
+    "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot", "theta1", "s1", "theta2", "s2",
+    "theta1_dot", "s1_dot", "theta2_dot", "s2_dot", "theta1_ddot", "s1_ddot",
+    "theta2_ddot", "s2_ddot", "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+)  # fmt: skip
+
+
+def _mpf(q: Any) -> Any:
+    if isinstance(q, fmpq):
+        return mpmath.mpf(int(q.p)) / int(q.q)
+    if isinstance(q, Fraction):
+        return mpmath.mpf(q.numerator) / q.denominator
+    return mpmath.mpf(q)
+
+
+def _poly(coeffs: list[Any], x: Any) -> tuple[Any, Any, Any]:
+    """p(x), p'(x), p''(x) by direct summation (exact for Fractions)."""
+    v = d1 = d2 = x * 0
+    for k, c in enumerate(coeffs):
+        v += c * x**k
+        if k >= 1:
+            d1 += k * c * x ** (k - 1)
+        if k >= 2:
+            d2 += k * (k - 1) * c * x ** (k - 2)
+    return v, d1, d2
+
+
+def _motion(task: Task, t: Fraction) -> tuple[Fraction, ...]:
+    """x, x', x'', y, y', y'' at the rational time t, exactly (Python fractions)."""
+    xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
+    pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+    x, xd, xdd = _poly(xc, t)
+    p, p1, p2 = _poly(pc, x)
+    return x, xd, xdd, p, p1 * xd, p2 * xd * xd + p1 * xdd
+
+
+def _evaluate(task: Task, motion: tuple[Fraction, ...]) -> dict[str, Any]:
+    """Every quantity from the exact motion at one time, at the current precision."""
+    r = task.robot
+    L = r.links
+    a1, g = _mpf(r.a1), _mpf(r.gravity)
+    m2, I2, r2 = _mpf(L[2].mass), _mpf(L[2].inertia), _mpf(L[2].r)
+    m3, I3, r3 = _mpf(L[3].mass), _mpf(L[3].inertia), _mpf(L[3].r)
+    m4, I4, r4 = _mpf(L[4].mass), _mpf(L[4].inertia), _mpf(L[4].r)
+    m5, I5, r5 = _mpf(L[5].mass), _mpf(L[5].inertia), _mpf(L[5].r)
+    x, xd, xdd, y, yd, ydd = (_mpf(v) for v in motion)
+    out = {"x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd}
+    legs = []
+    for u, name in ((x, "1"), (x - a1, "2")):
+        s = mpmath.sqrt(u * u + y * y)
+        out[f"s{name}"] = s
+        if s == 0:  # E at A or B: this leg's angle and rates are undefined
+            legs.append(None)
+            continue
+        th = mpmath.atan2(y, u)
+        c, sn = u / s, y / s  # cos θ, sin θ of the polar decomposition (exact at y = 0)
+        s_d = xd * c + yd * sn
+        th_d = (yd * c - xd * sn) / s
+        s_dd = xdd * c + ydd * sn + s * th_d**2
+        th_dd = (ydd * c - xdd * sn - 2 * s_d * th_d) / s
+        out.update({
+            f"theta{name}": th, f"s{name}": s, f"theta{name}_dot": th_d,
+            f"s{name}_dot": s_d, f"theta{name}_ddot": th_dd, f"s{name}_ddot": s_dd,
+        })  # fmt: skip
+        legs.append((th, s, s_d, th_d, s_dd, th_dd, c, sn))
+    if None in legs:
+        return out
+    (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
+    M11 = m2 * r2**2 + I2 + m3 * (s1 - r3) ** 2 + I3  # (7)
+    M22 = m3  # (8)
+    M33 = m4 * r4**2 + I4 + m5 * (s2 - r5) ** 2 + I5  # (9)
+    M44 = m5  # (10)
+    N1 = 2 * m3 * s1d * th1d * (s1 - r3) + (m2 * r2 + m3 * (s1 - r3)) * g * c1
+    N2 = -m3 * (s1 - r3) * th1d**2 + m3 * g * sn1  # (12)
+    N3 = 2 * m5 * s2d * th2d * (s2 - r5) + (m4 * r4 + m5 * (s2 - r5)) * g * c2
+    N4 = -m5 * (s2 - r5) * th2d**2 + m5 * g * sn2  # (14)
+    # (J_u)^T of eq. (24) transposed; rows of eq. (18)
+    A = [[c1, sn1], [-c2, -sn2]]
+    b = [M22 * s1dd + N2, M44 * s2dd + N4]
+    delta = A[0][0] * A[1][1] - A[0][1] * A[1][0]  # (29)
+    out["delta"] = delta
+    out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
+    if delta == 0:
+        out["lambda1"] = out["lambda2"] = out["T1"] = out["T2"] = None
+        return out
+    lam1 = (b[0] * A[1][1] - A[0][1] * b[1]) / delta
+    lam2 = (A[0][0] * b[1] - b[0] * A[1][0]) / delta
+    # (17): T = M_a q'' + N_a - (J_a)^T λ, J_a of eq. (23)
+    Ja = [[-s1 * sn1, s2 * sn2], [s1 * c1, -s2 * c2]]
+    out["lambda1"], out["lambda2"] = lam1, lam2
+    out["T1"] = M11 * th1dd + N1 - (Ja[0][0] * lam1 + Ja[1][0] * lam2)
+    out["T2"] = M33 * th2dd + N3 - (Ja[0][1] * lam1 + Ja[1][1] * lam2)
+    return out
+
+
+def _agree(a: dict[str, Any], b: dict[str, Any], digits: int) -> bool:
+    for k in KEYS:
+        if (a.get(k) is None) != (b.get(k) is None):
+            return False
+        if a.get(k) is not None and abs(a[k] - b[k]) > mpmath.mpf(10) ** -digits * (1 + abs(b[k])):
+            return False
+    return True
+
+
+def reference(task: Task, t: Any, dps: int = 60) -> dict[str, Any]:
+    """Every quantity at the time t (float, fmpq or Fraction, taken exactly): mpf values,
+    None where undefined (E at A or B: the leg's angle and rates, δ, λ, T; at a root of
+    y, λ and T: see ``limit``)."""
+    tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
+    motion = _motion(task, tq)
+    y = motion[3]
+    # λ = μ/δ loses about -log10 |y| digits to cancellation: start above that
+    lost = (y.denominator.bit_length() - abs(y.numerator).bit_length()) * 0.30103 if y else 0
+    d = dps + max(0, int(lost))
+    while True:
+        with mpmath.workdps(d):
+            lo = _evaluate(task, motion)
+        with mpmath.workdps(d + 30):
+            hi = _evaluate(task, motion)
+        if _agree(lo, hi, 40) or d > 20000:
+            return {k: hi.get(k) for k in KEYS}
+        d *= 2
+
+
+def limit(task: Task, ts: Any, dps: int = 60) -> dict[str, Any] | None:
+    """λ1, λ2, T1, T2 in the limit t -> ts (an exact root of y), from both sides at
+    ε = 10^-25 and 10^-35: None when the sides part or the values grow (a pole)."""
+    ts = Fraction(int(ts.p), int(ts.q)) if isinstance(ts, fmpq) else Fraction(ts)
+    names = ("lambda1", "lambda2", "T1", "T2")
+    avgs, gaps = [], []
+    for k in (25, 35):
+        eps = Fraction(1, 10**k)
+        sides = [reference(task, ts + sgn * eps, dps) for sgn in (-1, 1)]
+        avgs.append({n: (sides[0][n] + sides[1][n]) / 2 for n in names})
+        gaps.append({n: abs(sides[0][n] - sides[1][n]) for n in names})
+    tol = mpmath.mpf(10) ** -18
+    settled = all(abs(avgs[0][n] - avgs[1][n]) < tol * (1 + abs(avgs[1][n])) for n in names)
+    close = all(gaps[1][n] < tol * (1 + abs(avgs[1][n])) for n in names)  # an odd pole
+    return avgs[1] if settled and close else None
+
+
+def limit_of(task: Task, ts: Any, name: str) -> Any:
+    """One quantity's two-sided limit at ts (for λ1, bounded even at a pole of λ2)."""
+    ts = Fraction(int(ts.p), int(ts.q)) if isinstance(ts, fmpq) else Fraction(ts)
+    eps = Fraction(1, 10**35)
+    sides = [reference(task, ts + sgn * eps)[name] for sgn in (-1, 1)]
+    return (sides[0] + sides[1]) / 2

@@ -1,0 +1,137 @@
+"""Grid-free torque verdicts (engine.envelope) against the independent mpmath reference."""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+import numpy as np
+import pytest
+
+from rprpr.engine.envelope import Envelope
+from rprpr.engine.sampling import grid
+from rprpr.engine.zones import make_zone, taylor_at_instant
+from rprpr.model.task import Task
+
+from .reference import reference
+from .test_certified import _config, _motion, _task
+
+
+@cache
+def _envelope(name: str) -> Envelope:
+    return Envelope(_motion(_config(name)))
+
+
+def _abs_ref(task: Task, t: float, name: str) -> float:
+    return abs(float(reference(task, t)[name]))
+
+
+def test_paper_path2_peak_is_certified_and_grid_free() -> None:
+    task = _config("paper_path2.yaml")
+    peaks = _envelope("paper_path2.yaml").torque_peak()
+    assert peaks is not None
+    for name, p in zip(("T1", "T2"), peaks, strict=True):
+        assert p.certified and p.value <= p.upper <= p.value * (1 + 1e-6)
+        assert _abs_ref(task, p.t, name) == pytest.approx(p.value, rel=1e-9)  # attained
+    assert peaks[0].value == pytest.approx(66.1221, abs=1e-4)
+    assert peaks[1].value == pytest.approx(60.5504, abs=1e-4)
+    motion = _motion(task)
+    for n in (11, 101, 1001, 10001):  # a grid only ever sees less than the peak
+        c = motion.sample(grid(task.duration, n))
+        for name, p in zip(("T1", "T2"), peaks, strict=True):
+            assert np.max(np.abs(c.value[name])) <= p.upper
+
+
+def test_paper_path2_torque_limit_fails_whatever_the_grid() -> None:
+    task = _config("paper_path2.yaml")
+    t1, t2 = _envelope("paper_path2.yaml").limit_violations((66, 61))
+    assert t1.passed is False and t2.passed is True and t2.windows == ()
+    (w,) = t1.windows
+    assert w.start_hi - w.start_lo <= 2 * t1.resolution and w.end_hi - w.end_lo <= 2 * t1.resolution
+    assert _abs_ref(task, 0.5 * (w.start_hi + w.end_lo), "T1") > 66
+    assert _abs_ref(task, w.start_lo - 1e-6, "T1") < 66 < _abs_ref(task, w.start_hi + 1e-6, "T1")
+    assert _abs_ref(task, w.end_hi + 1e-6, "T1") < 66 < _abs_ref(task, w.end_lo - 1e-6, "T1")
+    # 11 samples miss the violation entirely: a sampled gate would have passed
+    c = _motion(task).sample(grid(task.duration, 11))
+    assert np.max(np.abs(c.value["T1"])) < 66
+
+
+def test_a_limit_touching_the_peak_terminates_undecided_or_failing() -> None:
+    env = _envelope("paper_path2.yaml")
+    peaks = env.torque_peak()
+    assert peaks is not None
+    t1, _ = env.limit_violations((peaks[0].value, 1000))
+    assert t1.passed in (False, None)
+
+
+def test_saturation_window_around_an_unbounded_instant() -> None:
+    task = _config("zero_speed_crossing.yaml")
+    env = _envelope("zero_speed_crossing.yaml")
+    peaks = env.torque_peak()
+    assert peaks is not None and math.isinf(peaks[0].value) and peaks[0].t == 1.0
+    ((s, w1, w2),) = env.saturation_windows((300, 300))
+    assert s.t == 1.0 and not s.torque_bounded
+    for w, name in ((w1, "T1"), (w2, "T2")):
+        assert w is not None and w.pole and w.start_hi < 1.0 < w.end_lo
+        assert (
+            _abs_ref(task, w.start_lo - 1e-6, name) < 300 < _abs_ref(task, w.start_hi + 1e-6, name)
+        )
+        assert _abs_ref(task, w.end_hi + 1e-6, name) < 300 < _abs_ref(task, w.end_lo - 1e-6, name)
+    assert w1 is not None and w1.start_lo == pytest.approx(0.598678, abs=1e-6)
+
+
+def test_closest_approach_of_a_near_miss() -> None:
+    task = _task("(x - 3)^2 + 1/10000", "2 + t")
+    env = Envelope(_motion(task))
+    a = env.closest_approach()
+    assert a is not None and a.distance == pytest.approx(1e-4, rel=1e-15) and a.t_y == 1.0
+    ref = abs(float(reference(task, a.t_delta)["delta"]))
+    assert a.delta_lo <= ref <= a.delta_hi * (1 + 1e-12)
+    assert a.delta_hi - a.delta_lo <= 1e-6 * a.delta_hi
+    assert Envelope(_motion(_config("paper_path2.yaml"))).closest_approach() is None
+
+
+def test_through_a_and_b_the_peak_is_undefined() -> None:
+    assert Envelope(_motion(_task("x*(x - 6)/10", "3*t"))).torque_peak() is None
+
+
+@pytest.mark.parametrize(("path", "k"), [("(x - 3)^13", 13), ("(x - 3)^59", 59), ("x - 3", 1)])
+def test_zone_form_encloses_the_reference_lambda(path: str, k: int) -> None:
+    task = _task(path, "2 + t")
+    motion = _motion(task)
+    (s,) = motion.analysis.instants
+    assert s.order == k
+    zone = make_zone(motion, s, taylor_at_instant(motion, s, 128))
+    assert zone is not None and zone.r > 0
+    for eps in (-0.9 * zone.r, -1e-3 * zone.r, 1e-9, 0.5 * zone.r):
+        t = 1.0 + eps
+        ref = reference(task, t)
+        lam = zone.lam(zone.e.eps(np.array([t])))
+        for name, ball in zip(("lambda1", "lambda2"), lam, strict=True):
+            mid, rad = float(ball.mid[0]), float(ball.rad[0])
+            assert abs(mid - float(ref[name])) <= rad, (name, eps)
+            assert rad <= 1e-8 * (1 + abs(mid))
+
+
+def test_lagrange_form_contains_the_limit_at_a_bounded_instant() -> None:
+    from rprpr.engine.zones import taylor_lambda
+
+    task = _config("paper_path2.yaml")
+    motion = _motion(task)
+    (s,) = motion.analysis.instants
+    lam = taylor_lambda(motion, s, 2.5 - 1e-3, 2.5 + 1e-3)
+    assert lam is not None
+    limit = (0.00125, -9.625)  # μ_m/δ_m exactly (engine.certified) and the reference
+    for ball, v in zip(lam, limit, strict=True):
+        assert abs(float(np.ravel(ball.mid)[0]) - v) <= float(np.ravel(ball.rad)[0])
+
+
+def test_order_13_bounded_instant_peak_is_certified() -> None:
+    # issue 9's table: the float sampler reported torque_peak 840; the true peak is 904
+    task = _task("(x - 3)^13", "2 + t")
+    peaks = Envelope(_motion(task)).torque_peak()
+    assert peaks is not None and all(p.certified for p in peaks)
+    assert peaks[0].value == pytest.approx(903.7366, abs=1e-4) and peaks[0].t == 2.0
+    assert _abs_ref(task, peaks[0].t, "T1") == pytest.approx(peaks[0].value, rel=1e-9)
+    c = _motion(task).sample(grid(task.duration, 1001))
+    assert np.max(np.abs(c.value["T1"])) <= peaks[0].upper
