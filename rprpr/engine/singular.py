@@ -2,10 +2,12 @@
 
 δ = sin(θ1 - θ2) = -a1 y_E / (s1 s2) (eq. 29), so while s1, s2 != 0 the Type II singular
 instants are exactly the real roots of the polynomial y(t) = p(x(t)) in [0, t_f]. y(t) is
-factored over Q into irreducible factors f^m; each real root t_s of f is isolated by
-certified ball arithmetic (flint's ``complex_roots``: a root reported with an exactly
-zero imaginary part is proven real) and m is its multiplicity, the order of the
-singularity: δ, δ', ..., δ^(m-1) vanish at t_s and δ^(m) does not.
+factored over Q into irreducible factors f^m; each real root t_s of f in [0, t_f] is
+isolated and refined in rational arithmetic (``roots``: only the real roots in the span,
+never all the complex ones, and no precision that escalates within one call) and m is
+its multiplicity, the order of the singularity: δ, δ', ..., δ^(m-1) vanish at t_s and
+δ^(m) does not. The expansions below are made once per factor (and sign pattern of the
+legs) and moved to each of its roots.
 
 About t_s every quantity of the paper is expanded as a power series in ε = t - t_s with
 coefficients in K = Q[t]/(f) (``series``), so that "vanishes" is decided exactly:
