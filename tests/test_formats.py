@@ -66,7 +66,14 @@ def test_json_document_summary_and_input_errors(bad_file: str, tmp_path: Path) -
     code, out, _ = run_cli("check", "--format", "json", *FAST, P1, P2, bad_file, missing)
     assert code == 2
     doc = json.loads(out)
-    assert list(doc) == ["rprpr", "reports", "summary", "input_errors", "internal_errors"]
+    assert list(doc) == [
+        "rprpr",
+        "reports",
+        "summary",
+        "input_errors",
+        "internal_errors",
+        "budget_errors",
+    ]
     assert doc["summary"] == {"tasks": 4, "passed": 1, "failed": 1, "errors": 2}
     assert [r["task"] for r in doc["reports"]] == [P1, P2]
     assert [r["verdict"] for r in doc["reports"]] == ["fail", "pass"]

@@ -18,9 +18,11 @@ def test_singular_instant_holds_only_what_the_paper_and_the_reports_need() -> No
     assert [f.name for f in fields(SingularInstant)] == [
         "t", "x", "y", "t_exact", "case", "order", "delta_derivatives", "slope", "speed",
         "slope_principle", "velocity_principle", "consistency_residual", "consistent",
-        "conditions_required", "conditions_met", "torque_at_singularity",
+        "conditions_required", "conditions_met", "torque_at_singularity", "beyond_double_range",
     ]  # fmt: skip
-    assert [f.name for f in fields(KinematicSingularity)] == ["t", "x", "y", "leg", "order"]
+    assert [f.name for f in fields(KinematicSingularity)] == [
+        "t", "x", "y", "leg", "order", "beyond_double_range",
+    ]  # fmt: skip
 
 
 def test_resample_on_the_grid_reproduces_the_audit_bit_for_bit() -> None:

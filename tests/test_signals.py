@@ -46,7 +46,7 @@ def slow_audit(*args, **kwargs):  # a long computation in Python
     ready()
     time.sleep(120)
 
-def stubborn_audit(*args, **kwargs):  # swallows the first interruption
+def stubborn(*args, **kwargs):  # swallows the first interruption
     for _ in range(2):
         try:
             ready()
@@ -64,9 +64,12 @@ import rprpr.engine.audit
 import rprpr.render.export
 import rprpr.render.sheet
 
-if mode in ("deaf", "slow", "stubborn"):
-    rprpr.engine.audit.audit = {"deaf": deaf_audit, "slow": slow_audit,
-                                "stubborn": stubborn_audit}[mode]
+import rprpr.report.run
+
+if mode in ("deaf", "slow"):
+    rprpr.engine.audit.audit = {"deaf": deaf_audit, "slow": slow_audit}[mode]
+elif mode == "stubborn":  # rprpr itself, not a worker, stuck as it takes in a report
+    rprpr.report.run.Run.add = stubborn
 elif mode == "sheet":
     rprpr.render.sheet.save = lambda fig, path, *a, **k: half_written(path)
 elif mode == "samples":
@@ -209,15 +212,16 @@ def test_check_j1_stopped_while_auditing_keeps_the_previous_report(
 
 
 def test_a_second_signal_stops_at_once_and_still_cleans_up(tmp_path: Path) -> None:
-    """The first interruption is swallowed (as by a computation that will not stop); the
-    second one removes the temporary file from the signal handler and dies."""
+    """The first interruption is swallowed (as by a computation that will not stop, here
+    in rprpr itself: audits run in workers); the second one removes the temporary file
+    from the signal handler and dies."""
     report = tmp_path / "report.json"
     report.write_text(PREVIOUS)
     r = Rprpr("stubborn", "check", "--format", "json", "-o", str(report),
               str(CONFIGS / "paper_path2.yaml"), cwd=tmp_path)  # fmt: skip
     r.wait_ready()
     os.kill(r.proc.pid, signal.SIGINT)
-    r.wait_ready(2)  # the audit swallowed it and goes on
+    r.wait_ready(2)  # it swallowed the first and goes on
     assert temporaries(tmp_path) != []
     status, err, seconds = r.stop(signal.SIGTERM)
     assert (status, err) == (-signal.SIGTERM, "rprpr: stopped (SIGTERM)\n")

@@ -1,12 +1,14 @@
-"""``rprpr check``: audit task files (in worker processes with ``-j``), render the run in
-one format, exit with the run's status (``report.exit.run_status``)."""
+"""``rprpr check``: audit task files in worker processes, each under a work budget
+(``budget``), render the run in one format, exit with the run's status
+(``report.exit.run_status``)."""
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any, TextIO
 
 import click
@@ -16,6 +18,7 @@ from ..report.exit import ExitCode, run_status
 from . import workers
 from .options import (
     CHECK_FORMATS,
+    DEFAULT_BUDGET,
     CheckOptions,
     color_option,
     output_file_option,
@@ -41,6 +44,10 @@ if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only t
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
 
 Outcome = tuple[str, dict[str, Any], float]  # (kind, item, seconds) of one task
+
+# the stages of a task around those of the audit (``engine.audit.STAGES``)
+LOADING = "the loading of the task file"
+REPORTING = "the report"
 
 
 @click.command()
@@ -81,16 +88,26 @@ Outcome = tuple[str, dict[str, Any], float]  # (kind, item, seconds) of one task
     is_flag=True,
     help="Exit 0 even when a task fails (bad input and internal errors still count).",
 )
+@click.option(
+    "--budget",
+    type=click.FloatRange(0, 1e6),
+    default=DEFAULT_BUDGET,
+    show_default=True,
+    metavar="SECONDS",
+    help="Work budget per task: a task still being audited after SECONDS is stopped and "
+    "reported (exit status 4); the others go on. 0: no limit.",
+)
 @color_option()
 def check(
     tasks: tuple[str, ...], fmt: str, output_file: str | None, strict: bool | None,
-    samples: int, jobs: int, quiet: bool, exit_zero: bool, color: str,
+    samples: int, jobs: int, quiet: bool, exit_zero: bool, budget: float, color: str,
 ) -> ExitCode:  # fmt: skip
     """Audit every Type II singular instant of each TASK (task files, or directories
     searched recursively for *.yaml and *.yml).
 
     Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
-    file, 3 internal error (the highest that applies); 128 + N stopped by signal N."""
+    file, 3 internal error, 4 a task exceeded its work budget (the highest that
+    applies); 128 + N stopped by signal N."""
     options = CheckOptions(
         format=fmt,
         output_file=None if output_file == "-" else output_file,  # "-": standard output
@@ -99,6 +116,7 @@ def check(
         jobs=jobs or _cpus(),
         quiet=quiet,
         exit_zero=exit_zero,
+        budget=budget or None,  # 0: no limit
         color=color,
     )
     files = tasks_or_usage_error(tasks)
@@ -116,9 +134,12 @@ def check(
     return status
 
 
-def check_one(path: str, options: CheckOptions) -> Outcome:
-    """Load and audit one task file: (kind, item, seconds), kind "report" (item: the
-    report), "input" (a bad task file) or "internal" (a bug; the item names the file)."""
+def check_one(
+    path: str, options: CheckOptions, on_stage: Callable[[str], None] | None = None
+) -> Outcome:
+    """Load and audit one task file, in this process: (kind, item, seconds), kind "report"
+    (item: the report), "input" (a bad task file) or "internal" (a bug; the item names
+    the file). ``on_stage`` is told each stage as it begins (LOADING is where it starts)."""
     from ..engine.audit import audit
     from ..io.loader import load_task
     from ..report.records import input_error, internal_error, task_report
@@ -132,45 +153,59 @@ def check_one(path: str, options: CheckOptions) -> Outcome:
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start
     try:
-        result = audit(task, samples=options.samples, strict=options.strict)
+        result = audit(task, samples=options.samples, strict=options.strict, on_stage=on_stage)
+        if on_stage is not None:
+            on_stage(REPORTING)
         report = task_report(result, path)
     except Exception as e:
         return INTERNAL, internal_error(e, path), time.perf_counter() - start
     return REPORT, report, time.perf_counter() - start
 
 
-def _check_star(args: tuple[str, CheckOptions]) -> Outcome:
-    return check_one(*args)
-
-
-def _check_chunk(chunk: list[tuple[str, CheckOptions]]) -> list[Outcome]:
-    return [check_one(*args) for args in chunk]
+def _check_in_worker(options: CheckOptions, path: str, on_stage: Callable[[str], None]) -> Outcome:
+    return check_one(path, options, on_stage)
 
 
 def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None) -> Run:
-    """Audit ``files`` in ``options.jobs`` worker processes (1: in this process); the
-    outcomes come back in task order, so the report does not depend on the number of
-    workers. ``progress`` is a rich Console to draw a progress bar on, or None."""
-    from ..engine import audit as auditing  # noqa: F401  (imported before forking: workers inherit them)
+    """Audit ``files`` in ``options.jobs`` worker processes (at least one: the audit never
+    runs in this process), each task under ``options.budget`` (``budget``); the outcomes
+    come back in task order, so the report does not depend on the number of workers.
+    ``progress`` is a rich Console to draw a progress bar on, or None."""
+    from ..engine import audit as auditing  # imported before forking: workers inherit it
     from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
+    from ..report import records  # noqa: F401
     from ..report.run import Run
 
     run = Run()
-    args = [(f, options) for f in files]
-    jobs = min(options.jobs, len(files))
-    if jobs <= 1:
-        _collect(run, map(_check_star, args), len(files), progress)
+    if not files:
         return run
-    with workers.pool(jobs) as executor:
-        size = max(1, min(16, len(files) // (8 * jobs)))
-        # submitted now (and forked); not ``executor.map``, whose iterator cancels the
-        # pending futures when interrupted, which races with the pool's own clean-up
-        chunks = [
-            executor.submit(_check_chunk, args[i : i + size]) for i in range(0, len(args), size)
-        ]
-        outcomes = (outcome for chunk in chunks for outcome in chunk.result())
-        _collect(run, outcomes, len(files), progress)
+    work = functools.partial(_check_in_worker, options)
+    stages = (LOADING, *auditing.STAGES, REPORTING)
+    with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:
+        results = pool.run(files, options.budget)
+        _collect(run, _outcomes(results, options), len(files), progress)
     return run
+
+
+def _outcomes(
+    results: Iterable[tuple[str, workers.Result[Outcome]]], options: CheckOptions
+) -> Iterator[Outcome]:
+    """Each task's outcome: its own, or a budget error (stopped at its budget), or an
+    internal error (its worker died)."""
+    from ..report.records import budget_error, internal_error
+    from ..report.run import BUDGET, INTERNAL
+
+    for path, result in results:
+        if isinstance(result, workers.Done):
+            yield result.value
+        elif isinstance(result, workers.OverBudget):
+            assert options.budget is not None
+            yield BUDGET, budget_error(path, options.budget, result.stage), result.seconds
+        else:
+            died = RuntimeError(
+                f"the worker process auditing it died (exit code {result.exitcode})"
+            )
+            yield INTERNAL, internal_error(died, path), result.seconds
 
 
 def _collect(run: Run, results: Iterable[Outcome], total: int, progress: Any) -> None:
@@ -239,7 +274,7 @@ def _log(run: Run, options: CheckOptions) -> None:
     not the text on the terminal), the tracebacks of bugs (RPRPR_DEBUG), and a summary
     line when the report went to a file."""
     if options.format != "text" or options.output_file:  # the one-line errors, for the log
-        for e in run.input_errors + run.internal_errors:
+        for e in run.input_errors + run.internal_errors + run.budget_errors:
             say(e["text"])
     if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
         for e in run.internal_errors:

@@ -18,6 +18,7 @@ from ..model.defaults import DEFAULT_SAMPLES
 F = TypeVar("F", bound=Callable[..., Any])
 
 CHECK_FORMATS = ("text", "json", "junit", "github")
+DEFAULT_BUDGET = 10.0  # seconds of work per task (``check --budget``); 0 on the command line: none
 COLORS = ("auto", "always", "never")
 
 
@@ -26,7 +27,8 @@ class CheckOptions:
     """How ``rprpr check`` audits and reports; the defaults are the command line's.
 
     ``output_file`` None is standard output; ``strict`` None leaves each task's own
-    ``checks.strict``; ``jobs`` is the number of worker processes (1: this process).
+    ``checks.strict``; ``jobs`` is the number of worker processes; ``budget`` the
+    wall-clock seconds each task may take before it is stopped (None: no limit).
     """
 
     format: str = "text"
@@ -36,6 +38,7 @@ class CheckOptions:
     jobs: int = 1
     quiet: bool = False
     exit_zero: bool = False
+    budget: float | None = DEFAULT_BUDGET
     color: str = "auto"
 
 

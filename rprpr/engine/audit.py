@@ -17,8 +17,21 @@ from ..model.rules import Finding
 from ..model.task import Task
 from .findings import findings
 from .sampling import Samples, grid, sample
-from .singular import KinematicSingularity, SingularAnalysis, SingularInstant, analyse
+from .singular import (
+    EXPANDING,
+    FACTORING,
+    ISOLATING,
+    KinematicSingularity,
+    OnStage,
+    SingularAnalysis,
+    SingularInstant,
+    analyse,
+)
 from .trajectory import Trajectory, trajectory
+
+SAMPLING = "the sampling of the motion"
+FINDINGS = "the findings"
+STAGES = (FACTORING, ISOLATING, EXPANDING, SAMPLING, FINDINGS)  # in the order they begin
 
 
 @dataclass(frozen=True)
@@ -67,13 +80,24 @@ class AuditResult:
         return self.verdict == "pass"
 
 
-def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = None) -> AuditResult:
-    """Audit ``task`` on ``samples`` grid points; ``strict`` overrides ``task.checks.strict``."""
+def audit(
+    task: Task,
+    *,
+    samples: int = DEFAULT_SAMPLES,
+    strict: bool | None = None,
+    on_stage: OnStage | None = None,
+) -> AuditResult:
+    """Audit ``task`` on ``samples`` grid points; ``strict`` overrides ``task.checks.strict``.
+    ``on_stage``, when given, is told the name of each stage (``STAGES``) as it begins (a
+    caller that stops a long audit can say where it was)."""
     strict = task.checks.strict if strict is None else strict
+    tell = on_stage or _quiet
     traj = trajectory(task)
-    analysis = analyse(traj, task.robot, task.checks)
+    analysis = analyse(traj, task.robot, task.checks, tell)
+    tell(SAMPLING)
     s = sample(traj, task.robot, analysis, grid(task.duration, samples))
     peak = _torque_peak(s, analysis.instants)
+    tell(FINDINGS)
     found = findings(task, analysis, peak)
     return AuditResult(
         task=task,
@@ -87,6 +111,10 @@ def audit(task: Task, *, samples: int = DEFAULT_SAMPLES, strict: bool | None = N
         trajectory=traj,
         analysis=analysis,
     )
+
+
+def _quiet(stage: str) -> None:
+    """An ``OnStage`` that listens to nothing."""
 
 
 def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, float] | None:

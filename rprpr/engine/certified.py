@@ -53,7 +53,7 @@ from ..model.task import Robot
 from . import equations as dyn
 from .balls import ETA, Ball, U, hypot, quiet
 from .series import taylor
-from .singular import SingularAnalysis, SingularInstant, _in_span, _real_roots, expansion, legs
+from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
 from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
@@ -121,9 +121,8 @@ def _roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
     for f, _ in poly.factor()[1]:
         if f.degree() < 1:
             continue
-        for exact, at in _real_roots(f):
-            if _in_span(exact, at, duration):
-                out.append(ExactTime(exact, at))
+        for exact, at in _real_roots(f, duration):  # only the roots in [0, t_f]
+            out.append(ExactTime(exact, at))
     return sorted(out, key=lambda e: e.hi)
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from ..model.numbers import apart, labels, number, to_float
+from ..model.numbers import apart, labels, to_float
 from ..model.rules import Finding
 from ..model.task import Task
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
@@ -38,7 +38,7 @@ def instant_text(a: SingularAnalysis) -> At:
 
 
 def _where(s: SingularInstant, at: At) -> str:
-    return f"{at(s.t)}, (x, y) = ({number(s.x)}, 0), case {s.case.number}, order {s.order}"
+    return f"{at(s.t)}, (x, y) = ({s.number('x')}, 0), case {s.case.number}, order {s.order}"
 
 
 def path_on_singular_line(a: SingularAnalysis) -> list[Finding]:
@@ -85,7 +85,7 @@ def unbounded(s: SingularInstant, at: At) -> list[Finding]:
         f"consistent, but only {s.conditions_met} of {s.conditions_required}"
         " boundedness conditions hold"
         if s.consistent
-        else f"inconsistent (eq. 34 residual {number(s.consistency_residual)} N)"
+        else f"inconsistent (eq. 34 residual {s.number('consistency_residual')} N)"
     )
     message = f"{_where(s, at)}: {why}: torques unbounded (pole of order {s.pole_order})"
     return [Finding("RPR201", message, s.t)]

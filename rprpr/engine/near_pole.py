@@ -143,8 +143,7 @@ def lambda_ball(traj: Trajectory, robot: Robot, t: float) -> tuple[float, float]
     """λ1, λ2 at the time t (a float, taken exactly) by the direct formulas (27)-(33) in
     ball arithmetic, the precision doubled until both are known to double precision;
     None when δ cannot be told from zero even at MAX_PREC bits."""
-    polys = [traj.x, traj.x.derivative(), traj.x.derivative().derivative()]
-    polys += [traj.y, traj.y.derivative(), traj.y.derivative().derivative()]
+    coefficients = traj.motion_coefficients
     params = dyn.Params.of(robot)
     prec = SERIES_PREC
     old = ctx.prec
@@ -152,7 +151,7 @@ def lambda_ball(traj: Trajectory, robot: Robot, t: float) -> tuple[float, float]
         while prec <= MAX_PREC:
             ctx.prec = prec
             tb = arb(t)
-            x, xd, xdd, y, yd, ydd = (arb_poly(p.coeffs())(tb) for p in polys)
+            x, xd, xdd, y, yd, ydd = (arb_poly(c)(tb) for c in coefficients)
             if not ((x * x + y * y) > 0 and ((x - traj.a1) ** 2 + y * y) > 0):
                 return None
             l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)

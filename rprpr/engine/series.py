@@ -121,29 +121,48 @@ class NumberField:
                 return -1
             prec *= 2  # p(t_s) != 0 since p is nonzero of degree < deg f and f irreducible
 
-    def to_float(self, p: fmpq_poly) -> float:
+    def accurate(self, p: fmpq_poly, bits: int = 56) -> arb:
+        """p(t_s) as a ball of ``bits`` bits of relative accuracy or more (precision
+        doubled up to 4096 bits; then whatever that gives)."""
         if p.is_zero():
-            return 0.0
+            return arb(0)
         if p.degree() == 0:
-            return to_float(p[0])
-        prec = 64
+            old = ctx.prec
+            ctx.prec = bits + 8
+            try:
+                return arb(p[0])
+            finally:
+                ctx.prec = old
+        prec = bits + 8
         while True:
             v = self.evaluate(p, prec)
-            if v.rel_accuracy_bits() >= 56 or prec > 4096:
-                return float(v.mid())
+            if v.rel_accuracy_bits() >= bits or prec > 4096:
+                return v
             prec *= 2
+
+    def to_float(self, p: fmpq_poly) -> float:
+        """p(t_s) as a double (±inf beyond the double range)."""
+        if p.degree() == 0:
+            return to_float(p[0])
+        return float(self.accurate(p).mid())
 
 
 Scalar = Any  # KElem or fmpq
 
 
 class Series:
-    """A power series c_0 + c_1 ε + ... truncated after ``len(c)`` terms."""
+    """A power series c_0 + c_1 ε + ... truncated after ``len(c)`` terms.
 
-    __slots__ = ("c",)
+    Its inverse is kept once made: the formulas divide by the same series several times,
+    and an inverse in K costs an extended gcd whose numbers grow like a resultant's."""
+
+    __slots__ = ("_head_inverse", "_inverse", "_square_of", "c")
 
     def __init__(self, c: Sequence[Scalar]) -> None:
         self.c = list(c)
+        self._inverse: Series | None = None
+        self._head_inverse: Scalar | None = None  # 1/c_0, when already known
+        self._square_of: Series | None = None  # self = r * r: then 1/self = (1/r)^2
 
     def __len__(self) -> int:
         return len(self.c)
@@ -176,14 +195,25 @@ class Series:
             return Series([a * o for a in self.c])
         n = min(len(self), len(o))
         a, b = self.c, o.c
-        return Series([_dot(a, b, k) for k in range(n)])
+        product = Series([_dot(a, b, k) for k in range(n)])
+        if o is self:
+            product._square_of = self
+        return product
 
     __rmul__ = __mul__
 
     def inverse(self) -> Series:
         """1/self; the constant term must be nonzero."""
+        if self._inverse is None:
+            self._inverse = self._invert()
+        return self._inverse
+
+    def _invert(self) -> Series:
+        if self._square_of is not None:  # exact: truncation commutes with products
+            r = self._square_of.inverse()
+            return r * r
         a = self.c
-        b0 = 1 / a[0]
+        b0 = 1 / a[0] if self._head_inverse is None else self._head_inverse
         b = [b0]
         for k in range(1, len(a)):
             acc = a[1] * b[k - 1]
@@ -204,13 +234,16 @@ class Series:
         """The square root whose constant term is s0 (s0^2 = c_0, s0 nonzero)."""
         p = self.c
         s = [s0]
-        two_s0 = s0 * 2
+        half_inverse = 1 / (s0 * 2) if len(p) > 1 else None  # one inverse for every term
         for k in range(1, len(p)):
             acc = p[k]
             for i in range(1, k):
                 acc = acc - s[i] * s[k - i]
-            s.append(acc / two_s0)
-        return Series(s)
+            s.append(acc * half_inverse)
+        root = Series(s)
+        if half_inverse is not None:
+            root._head_inverse = half_inverse * 2
+        return root
 
     def valuation(self) -> int:
         """Index of the first nonzero coefficient (exact series); len(self) when all vanish."""
@@ -241,6 +274,25 @@ def sign(a: Scalar) -> int:
     if isinstance(a, KElem):
         return a.sign()
     return (a > 0) - (a < 0)
+
+
+def ball(a: Scalar) -> arb:
+    """A KElem's value as a narrow ball (``NumberField.accurate``); a rational exactly
+    (at 128 bits)."""
+    if isinstance(a, KElem):
+        return a.field.accurate(a.p)
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        return arb(a)
+    finally:
+        ctx.prec = old
+
+
+def real(a: Scalar) -> float:
+    """The double nearest a KElem or a rational (±inf beyond the double range; never
+    raises, unlike ``float`` on a huge ``fmpq``)."""
+    return float(a) if isinstance(a, KElem) else to_float(a)
 
 
 def taylor(p: fmpq_poly, n: int) -> list[fmpq_poly]:

@@ -2,10 +2,12 @@
 
 δ = sin(θ1 - θ2) = -a1 y_E / (s1 s2) (eq. 29), so while s1, s2 != 0 the Type II singular
 instants are exactly the real roots of the polynomial y(t) = p(x(t)) in [0, t_f]. y(t) is
-factored over Q into irreducible factors f^m; each real root t_s of f is isolated by
-certified ball arithmetic (flint's ``complex_roots``: a root reported with an exactly
-zero imaginary part is proven real) and m is its multiplicity, the order of the
-singularity: δ, δ', ..., δ^(m-1) vanish at t_s and δ^(m) does not.
+factored over Q into irreducible factors f^m; each real root t_s of f in [0, t_f] is
+isolated and refined in rational arithmetic (``roots``: only the real roots in the span,
+never all the complex ones, and no precision that escalates within one call) and m is
+its multiplicity, the order of the singularity: δ, δ', ..., δ^(m-1) vanish at t_s and
+δ^(m) does not. The expansions below are made once per factor (and sign pattern of the
+legs) and moved to each of its roots.
 
 About t_s every quantity of the paper is expanded as a power series in ε = t - t_s with
 coefficients in K = Q[t]/(f) (``series``), so that "vanishes" is decided exactly:
@@ -24,14 +26,14 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from flint import arb, ctx, fmpq, fmpq_poly, fmpz_poly
+from flint import arb, fmpq, fmpq_poly
 
 from ..model.cases import Case, case_of
-from ..model.numbers import apart as _apart
-from ..model.numbers import to_float
+from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
-from .series import NumberField, Series, is_zero, sign, taylor
+from .roots import IsolatedRoot, isolate
+from .series import KElem, NumberField, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
 
 
@@ -49,6 +51,10 @@ class SingularInstant:
 
     ``delta_derivatives[k]`` is d^k δ/dt^k at t_s for k = 0..order; ``conditions_met`` is k
     above; ``torque_at_singularity`` is the finite limit (T1, T2) [N m] when bounded.
+    Every float is the double nearest the exact value (±inf beyond the double range);
+    ``beyond_double_range`` = ((name, exact value as text), ...) for each quantity whose
+    double is not faithful (``numbers.faithful``): ``("speed", "1.41421e+400")``,
+    ``("delta_derivatives[1]", ...)``, ``("torque_at_singularity[0]", ...)``.
     What only the sampler needs (the number field of t_s, the orders of μ, the sign of y)
     is kept apart, private to the engine, in ``SingularAnalysis``.
     """
@@ -69,6 +75,12 @@ class SingularInstant:
     conditions_required: int
     conditions_met: int
     torque_at_singularity: tuple[float, float] | None
+    beyond_double_range: tuple[tuple[str, str], ...] = ()
+
+    def number(self, name: str) -> str:
+        """The quantity ``name`` (``x``, ``slope``, ...) as text: ``numbers.number`` of its
+        double, or its exact value where that double is not faithful."""
+        return dict(self.beyond_double_range).get(name) or number(getattr(self, name))
 
     @property
     def kind(self) -> str:
@@ -97,6 +109,7 @@ class KinematicSingularity:
     y: float
     leg: int
     order: int = 1  # multiplicity of the root of y(t) there
+    beyond_double_range: tuple[tuple[str, str], ...] = ()  # as in SingularInstant: ("t", ...)
 
 
 @dataclass(frozen=True)
@@ -142,104 +155,75 @@ class SingularAnalysis:
 
 
 RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
+OnStage = Callable[[str], None]  # told the name of each stage of the analysis as it begins
+
+# the stages of the exact analysis, named for "exceeded its budget at ..." (``audit.STAGES``)
+FACTORING = "the factorisation of y(t)"
+ISOLATING = "the isolation of the real roots of y(t)"
+EXPANDING = "the series about the singular instants"
 
 
-def _real_roots(f: fmpq_poly) -> list[tuple[fmpq | None, RootAt]]:
-    """The real roots of irreducible f in increasing order: (exact value when rational,
-    precision -> certified ball). Balls at higher precision are computed once and cached."""
+def _quiet(stage: str) -> None:
+    """An ``OnStage`` that listens to nothing."""
+
+
+def _real_roots(f: fmpq_poly, duration: fmpq) -> list[tuple[fmpq | None, RootAt]]:
+    """The real roots of irreducible f in [0, t_f], in increasing order: (exact value when
+    rational, precision -> certified ball). A root of degree >= 2 is isolated and refined
+    with rational arithmetic (``roots``); its interval narrows as higher precisions are
+    asked for, and is kept."""
     if f.degree() == 1:
         r = -f[0] / f[1]
+        if not 0 <= r <= duration:
+            return []
 
         def exact_ball(prec: int) -> arb:
             return arb(r)
 
         return [(r, exact_ball)]
-    z = fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])
-    cache: dict[int, list[arb]] = {}
-
-    def balls(prec: int) -> list[arb]:
-        prec = max(prec, 53)
-        if prec not in cache:
-            old = ctx.prec
-            ctx.prec = prec
-            try:
-                found = [c.real for c, _ in z.complex_roots() if c.imag == 0]
-            finally:
-                ctx.prec = old
-            # real roots of an irreducible polynomial are simple and distinct
-            cache[prec] = sorted(found, key=lambda b: b.mid())
-        return cache[prec]
-
-    def ball(i: int) -> RootAt:
-        return lambda prec: balls(prec)[i]
-
-    return [(None, ball(i)) for i in range(len(balls(53)))]
+    return [(None, IsolatedRoot(f, lo, hi).ball) for lo, hi in isolate(f, duration)]
 
 
-def _no_root_inside(f: fmpq_poly, duration: fmpq) -> bool:
-    """True when f certainly has no root in the open interval (0, t_f): Descartes' rule of
-    signs on g(u) = (1 + u)^d f(t_f u / (1 + u)), whose positive roots are the images of
-    the roots of f in (0, t_f). (False means "maybe": the caller isolates the roots.)"""
-    d = f.degree()
-    h = f(fmpq_poly([0, duration]))  # roots scaled to (0, 1)
-    c = h.coeffs() + [fmpq(0)] * (d + 1 - len(h.coeffs()))
-    g = fmpq_poly(c[::-1])(fmpq_poly([1, 1])).coeffs()  # x^d h(1/x) at x = 1 + u, reversed
-    signs = [1 if a > 0 else -1 for a in g if a != 0]
-    return all(a == signs[0] for a in signs)
+def _passage(
+    exact: fmpq | None, at: RootAt, x: float, leg: int, order: int = 1
+) -> KinematicSingularity:
+    """E at A (leg 1) or B (leg 2) at the root ``exact`` (or ball ``at``) of y(t)."""
+    beyond: list[tuple[str, str]] = []
+    t = _double("t", exact if exact is not None else at(128), beyond)
+    return KinematicSingularity(t, x, 0.0, leg, order, tuple(beyond))
 
 
-def _in_span(exact: fmpq | None, at: RootAt, duration: fmpq) -> bool:
-    if exact is not None:
-        return 0 <= exact <= duration
-    prec = 53
-    while True:  # an irrational root never equals 0 or t_f: refining decides
-        b = at(prec)
-        if b < 0 or b > arb(duration):
-            return False
-        if b > 0 and b < arb(duration):
-            return True
-        prec *= 2
-
-
-def _root_float(exact: fmpq | None, at: RootAt) -> float:
-    if exact is not None:
-        return to_float(exact)
-    return float(at(128).mid())
-
-
-def analyse(traj: Trajectory, robot: Robot, checks: Checks) -> SingularAnalysis:
-    """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f]."""
+def analyse(
+    traj: Trajectory, robot: Robot, checks: Checks, on_stage: OnStage = _quiet
+) -> SingularAnalysis:
+    """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f];
+    ``on_stage`` is told each stage (FACTORING, ISOLATING, EXPANDING) as it begins."""
     y = traj.y
     if y.is_zero():
         on_line = _kinematic_on_line(traj)
         return SingularAnalysis([], on_line, True, (), (1,) * len(on_line))
     instants: list[tuple[SingularInstant, _SamplerHints]] = []
     kinematic: list[tuple[KinematicSingularity, int]] = []
+    on_stage(FACTORING)
     _, factors = y.factor()
     for f, m in factors:
         if f.degree() < 1:
             continue
-        if (
-            f.degree() > 1
-            and f(0) != 0
-            and f(traj.duration) != 0
-            and _no_root_inside(f, traj.duration)
-        ):
-            continue
-        for exact, at in _real_roots(f):
-            if not _in_span(exact, at, traj.duration):
-                continue
-            t = _root_float(exact, at)
+        done: Expansions = {}
+        on_stage(ISOLATING)
+        roots = _real_roots(f, traj.duration)
+        on_stage(EXPANDING)
+        for exact, at in roots:
             if (traj.x % f).is_zero():
                 # E at A lies on leg 2's branch cut: its sign change keeps θ2 continuous
                 lead = taylor(traj.y, int(m) + 1)[int(m)]
                 ys = sign(lead(exact)) if exact is not None else NumberField(f, at).sign(lead % f)
-                kinematic.append((KinematicSingularity(t, 0.0, 0.0, 1, int(m)), ys))
+                kinematic.append((_passage(exact, at, 0.0, 1, int(m)), ys))
                 continue
             if ((traj.x - traj.a1) % f).is_zero():
-                kinematic.append((KinematicSingularity(t, float(arb(traj.a1)), 0.0, 2), 1))
+                kinematic.append((_passage(exact, at, float(arb(traj.a1)), 2), 1))
                 continue
-            instants.append(_instant(traj, robot, checks, f, int(m), exact, at, t))
+            instants.append(_instant(traj, robot, checks, f, int(m), exact, at, done))
     instants.sort(key=lambda pair: pair[0].t)
     kinematic.sort(key=lambda pair: pair[0].t)
     return SingularAnalysis(
@@ -261,9 +245,8 @@ def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
         for f, _ in poly.factor()[1]:
             if f.degree() < 1:
                 continue
-            for exact, at in _real_roots(f):
-                if _in_span(exact, at, traj.duration):
-                    out.append(KinematicSingularity(_root_float(exact, at), xv, 0.0, leg))
+            for exact, at in _real_roots(f, traj.duration):
+                out.append(_passage(exact, at, xv, leg))
     return sorted(out, key=lambda k: k.t)
 
 
@@ -300,6 +283,60 @@ def legs(
     )
 
 
+@dataclass(frozen=True)
+class _Expanded:
+    """What the audit reads of the exact expansions about a root t_s of f^m, for one
+    choice of the legs' signs s1 = sx x(t_s), s2 = sxa (x(t_s) - a1): as elements of
+    K = Q[t]/(f) these are the same at every root of f with those signs (only their
+    values differ), so they are computed once per factor and signs (``on`` moves them to
+    another root's field); plain rationals when t_s is rational."""
+
+    delta_m: Any  # the coefficient of ε^m of δ (eq. 29)
+    mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2
+    residual: Any  # eq. (34) at t_s
+    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ is bounded there
+    speed2: Any  # x'(t_s)^2 + y'(t_s)^2
+    y_m: Any  # the coefficient of ε^m of y
+
+    def on(self, field: NumberField) -> _Expanded:
+        """The same elements at another root of the same f."""
+
+        def move(v: Any) -> Any:
+            return KElem(v.p, field) if isinstance(v, KElem) else v
+
+        limit = None if self.limit is None else (move(self.limit[0]), move(self.limit[1]))
+        return _Expanded(
+            move(self.delta_m), self.mu_valuations, move(self.residual), limit,
+            move(self.speed2), move(self.y_m),
+        )  # fmt: skip
+
+
+def _expanded(
+    traj: Trajectory, robot: Robot, K: NumberField, m: int, exact: fmpq | None,
+    sx: int, sxa: int, case: Case,
+) -> _Expanded:  # fmt: skip
+    """The exact expansions about t_s (orders 0..m: the m conditions and the limit) and
+    what the audit reads of them."""
+    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
+    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
+    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
+    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
+    if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
+        raise AssertionError("order of δ differs from the multiplicity of y")
+    valuations = (d.mu1.valuation(), d.mu2.valuation())
+    return _Expanded(
+        delta_m=d.delta.c[m],
+        mu_valuations=valuations,
+        residual=case.sigma * d.F1.c[0] + d.F2.c[0],  # eq. (34), exact
+        limit=_limit_torque(d, m) if min(*valuations, m) >= m else None,
+        speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
+        y_m=Y.c[m],
+    )
+
+
+Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for one factor
+
+
 def _instant(
     traj: Trajectory,
     robot: Robot,
@@ -308,53 +345,122 @@ def _instant(
     m: int,
     exact: fmpq | None,
     at: RootAt,
-    t: float,
+    done: Expansions,
 ) -> tuple[SingularInstant, _SamplerHints]:
+    """The singular instant at the root ``exact`` (or ball ``at``) of f^m; ``done`` holds
+    the expansions already made at other roots of f (and gains this root's)."""
     K = NumberField(f, at)
-    n = m + 1  # orders 0..m: the m conditions and the limit
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, n, exact=exact)
-    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
-    sx = sign(X.c[0])
-    sxa = sign(X.c[0] - traj.a1)
+    x0 = traj.x(exact) if exact is not None else K.elem(traj.x)
+    sx, sxa = sign(x0), sign(x0 - traj.a1)
     case = case_of(sx, sxa)
-    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
-    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
-    if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
-        raise AssertionError("order of δ differs from the multiplicity of y")
-    delta_derivatives = [
-        float(d.delta.c[k]) * math.factorial(k) if k == m else 0.0 for k in range(m + 1)
-    ]
-    k = min(d.mu1.valuation(), d.mu2.valuation(), m)
-    residual = case.sigma * d.F1.c[0] + d.F2.c[0]  # eq. (34), exact
-    torque = None
-    if k >= m:
-        lam1 = Series([d.mu1.c[m] / d.delta.c[m]])
-        lam2 = Series([d.mu2.c[m] / d.delta.c[m]])
-        T1, T2 = dyn.torques(d, lam1, lam2)
-        torque = (float(T1.c[0]), float(T2.c[0]))
+    if (sx, sxa) in done:
+        e = done[sx, sxa].on(K)
+    else:
+        e = done[sx, sxa] = _expanded(traj, robot, K, m, exact, sx, sxa, case)
+    k = min(*e.mu_valuations, m)
     # the design principles: path slope dy/dx and end-point speed at t_s
     slope = traj.slope(exact) if exact is not None else K.elem(traj.slope)
-    speed2 = Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0]
+    speed = _speed(e.speed2)
+    beyond: list[tuple[str, str]] = []  # filled in the order of the fields
+    t = _double("t", exact if exact is not None else at(128), beyond)
+    x = _double("x", x0, beyond)
+    delta_m = _double(f"delta_derivatives[{m}]", e.delta_m * math.factorial(m), beyond)
+    slope_f = _double("slope", slope, beyond)
+    speed_f = _double("speed", speed, beyond)
+    residual_f = _double("consistency_residual", e.residual, beyond)
+    torque = None
+    if e.limit is not None:
+        torque = (
+            _double("torque_at_singularity[0]", e.limit[0], beyond),
+            _double("torque_at_singularity[1]", e.limit[1], beyond),
+        )
     instant = SingularInstant(
         t=t,
-        x=float(X.c[0]),
+        x=x,
         y=0.0,
         t_exact=exact,
         case=case,
         order=m,
-        delta_derivatives=delta_derivatives,
-        slope=float(slope),
-        speed=math.sqrt(max(float(speed2), 0.0)),
+        delta_derivatives=[delta_m if i == m else 0.0 for i in range(m + 1)],
+        slope=slope_f,
+        speed=speed_f,
         slope_principle=_slope_principle(slope, checks.min_slope),
-        velocity_principle=_velocity_principle(speed2, checks.min_speed),
-        consistency_residual=float(residual),
-        consistent=is_zero(residual),
+        velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
+        consistency_residual=residual_f,
+        consistent=is_zero(e.residual),
         conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
+        beyond_double_range=tuple(beyond),
     )
-    hints = _SamplerHints(K, (d.mu1.valuation(), d.mu2.valuation()), sign(Y.c[m]))
-    return instant, hints
+    return instant, _SamplerHints(K, e.mu_valuations, sign(e.y_m))
+
+
+def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
+    """(T1, T2) at t_s when λ is bounded there: λ = μ^(m)/δ^(m) (eqs. 30-31), exactly when
+    t_s is rational. In K the torque is only reported, so no inverse is taken there (an
+    inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
+    affine in λ, T = A + B1 λ1 + B2 λ2, so T = (A δ^(m) + B1 μ1^(m) + B2 μ2^(m)) / δ^(m)
+    with an exact numerator, and that one division is made in ball arithmetic."""
+    D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
+    if not isinstance(D, KElem):
+        T1, T2 = dyn.torques(d, Series([N1 / D]), Series([N2 / D]))
+        return T1.c[0], T2.c[0]
+    zero, one = D * 0, D * 0 + 1
+    A = dyn.torques(d, Series([zero]), Series([zero]))
+    B1 = dyn.torques(d, Series([one]), Series([zero]))
+    B2 = dyn.torques(d, Series([zero]), Series([one]))
+    out = []
+    for a, b1, b2 in zip(A, B1, B2, strict=True):
+        a0 = a.c[0]
+        numerator = a0 * D + (b1.c[0] - a0) * N1 + (b2.c[0] - a0) * N2
+        out.append(_quotient(numerator, D))
+    return out[0], out[1]
+
+
+def _quotient(numerator: KElem, denominator: KElem) -> arb:
+    """numerator/denominator as a ball of about 80 bits or more (0 exactly when the
+    numerator is)."""
+    if numerator.is_zero():
+        return arb(0)
+    return numerator.field.accurate(numerator.p, 80) / denominator.field.accurate(denominator.p, 80)
+
+
+def _double(name: str, value: Any, beyond: list[tuple[str, str]]) -> float:
+    """The double nearest ``value`` (a rational, a KElem, a ball, or a double already);
+    where it is not faithful (beyond the double range), ``(name, exact value as text)``
+    joins ``beyond``."""
+    if isinstance(value, float):
+        return value
+    if isinstance(value, arb):
+        f, zero = float(value.mid()), value.is_zero()
+    else:
+        f, zero = real(value), is_zero(value)
+    if not faithful(f, zero):
+        beyond.append((name, exact_number(value if isinstance(value, arb | fmpq) else ball(value))))
+    return f
+
+
+def _shown(value: Any) -> arb | fmpq:
+    """What a message prints of an exact value (a rational, a KElem or a ball): its double
+    when faithful (so that the message reads as ``numbers.number`` of the reported
+    double), else the exact value."""
+    if isinstance(value, arb):
+        f, zero = float(value.mid()), value.is_zero()
+        return arb(f) if faithful(f, zero) else value
+    f = real(value)
+    if faithful(f, is_zero(value)):
+        return arb(f)
+    return value if isinstance(value, fmpq) else ball(value)
+
+
+def _speed(speed2: Any) -> arb | float:
+    """The speed from its square: the square root of the double of speed^2 when that is
+    faithful, else of its exact value (a ball)."""
+    f = real(speed2)
+    if faithful(f, is_zero(speed2)):
+        return math.sqrt(max(f, 0.0))
+    return ball(speed2).sqrt()
 
 
 def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
@@ -364,13 +470,13 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
             return Principle(
                 False, "the path is horizontal here (dy/dx = 0, eq. 48): a high-order singularity"
             )
-        return Principle(True, f"dy/dx = {float(slope):.6g} is nonzero")
+        return Principle(True, f"dy/dx = {exact_number(_shown(slope))} is nonzero")
     diff = slope * slope - min_slope * min_slope
     if sign(diff) > 0:
         return Principle(
             True,
             "|dy/dx| = {} exceeds checks.min_slope = {}".format(
-                *_apart(abs(float(slope)), float(min_slope))
+                *exact_apart(abs(_shown(slope)), min_slope)
             ),
         )
     if is_zero(slope):
@@ -380,30 +486,29 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
     return Principle(
         False,
         "|dy/dx| = {} does not exceed the margin checks.min_slope = {}".format(
-            *_apart(abs(float(slope)), float(min_slope))
+            *exact_apart(abs(_shown(slope)), min_slope)
         ),
     )
 
 
-def _velocity_principle(speed2: Any, min_speed: fmpq) -> Principle:
-    """speed > min_speed, decided exactly on speed^2 (KElem or fmpq)."""
+def _velocity_principle(speed2: Any, speed: arb | float, min_speed: fmpq) -> Principle:
+    """speed > min_speed, decided exactly on speed^2 (KElem or fmpq); ``speed`` is only
+    printed (``_speed``)."""
     if is_zero(speed2):
         return Principle(
             False, "the end point is at rest here (speed 0, eq. 47): a high-order singularity"
         )
-    speed = math.sqrt(float(speed2))
+    shown = _shown(speed if isinstance(speed, arb) else arb(speed))
     if min_speed == 0:
-        return Principle(True, f"speed {speed:.6g} m/s is nonzero")
+        return Principle(True, f"speed {exact_number(shown)} m/s is nonzero")
     if sign(speed2 - min_speed * min_speed) > 0:
         return Principle(
             True,
-            "speed {} m/s exceeds checks.min_speed = {} m/s".format(
-                *_apart(speed, float(min_speed))
-            ),
+            "speed {} m/s exceeds checks.min_speed = {} m/s".format(*exact_apart(shown, min_speed)),
         )
     return Principle(
         False,
         "speed {} m/s does not exceed the margin checks.min_speed = {} m/s".format(
-            *_apart(speed, float(min_speed))
+            *exact_apart(shown, min_speed)
         ),
     )

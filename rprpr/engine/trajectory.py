@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 from flint import fmpq, fmpq_poly
 
@@ -25,6 +26,13 @@ class Trajectory:
     def slope(self) -> fmpq_poly:
         """dy/dx along the motion, p'(x(t)) (polynomial in t)."""
         return self.path.derivative()(self.x)
+
+    @cached_property
+    def motion_coefficients(self) -> tuple[list[fmpq], ...]:
+        """The coefficients of x, x', x'', y, y', y'' (computed once: a long polynomial's
+        ``coeffs()`` costs milliseconds, and the ball-arithmetic samples read them often)."""
+        polys = (self.x, self.xd, self.xdd, self.y, self.yd, self.ydd)
+        return tuple(p.coeffs() for p in polys)
 
     @property
     def xd(self) -> fmpq_poly:

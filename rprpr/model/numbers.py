@@ -12,7 +12,9 @@ the same way and two different values never read alike where it matters:
 * ``round_trip(v)``   a float for machines: the shortest text that reads back as ``v``;
 * ``apart(v, m)``     a value and the margin it is compared against, told apart;
 * ``rational(q)``     an exact rational: a decimal when it is one, else p/q;
-* ``to_float(q)``     the double nearest an exact rational.
+* ``to_float(q)``     the double nearest an exact rational;
+* ``exact_number(v)`` an exact value (a rational, or a narrow ball) like ``number``, also
+                      where its double would mislead (beyond the double range).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ import math
 import sys
 from collections.abc import Iterable, Sequence
 
-from flint import fmpq
+from flint import arb, ctx, fmpq
 
 DIGITS = 6  # significant digits of a number in a message
 CELL = 4  # ... in a table cell or a summary figure, where width matters more
@@ -103,10 +105,7 @@ def rational(v: fmpq) -> str:
 def _approximately(v: fmpq) -> str:
     """``v`` with 17 significant digits: its double where that is a normal one, else
     (beyond the double range, or subnormal) the same digits computed exactly."""
-    f = to_float(v)
-    if math.isfinite(f) and (f == 0 if v == 0 else abs(f) >= sys.float_info.min):
-        return number(f, 17)
-    return _scientific(v, 17)
+    return exact_number(v, 17)
 
 
 def _scientific(v: fmpq, digits: int) -> str:
@@ -138,3 +137,45 @@ def _decimal_fraction(s: str) -> tuple[int, int]:
     sign = -1 if s.startswith("-") else 1
     whole, _, frac = s.lstrip("+-").partition(".")
     return sign * int(whole + frac or "0"), 10 ** len(frac)
+
+
+def faithful(v: float, zero: bool) -> bool:
+    """The double ``v`` stands for its exact value (``zero``: that value is exactly 0): it is
+    finite, and a normal double unless the value is 0. Beyond the double range the value
+    overflows to ±inf or underflows to 0 or a subnormal double of few digits."""
+    if zero:
+        return v == 0
+    return math.isfinite(v) and abs(v) >= sys.float_info.min
+
+
+def exact_number(v: fmpq | arb, digits: int = DIGITS) -> str:
+    """``number`` of an exact value: a rational, or a ball that holds it to ``digits``
+    digits; where its double is not faithful (beyond the double range), the digits come
+    from the exact value instead (``_scientific``; for a ball, its midpoint's):
+    ``1.41421e+400``."""
+    if isinstance(v, arb):
+        f, zero = float(v.mid()), v.is_zero()
+    else:
+        f, zero = to_float(v), v == 0
+    if faithful(f, zero):
+        return number(f, digits)
+    if not isinstance(v, arb):
+        return _scientific(v, digits)
+    old = ctx.prec
+    ctx.prec = 4 * digits + 16
+    try:
+        mantissa, _, exponent = v.str(digits, radius=False).partition("e")
+    finally:
+        ctx.prec = old
+    if "." in mantissa:
+        mantissa = mantissa.rstrip("0").rstrip(".")
+    return f"{mantissa}e{exponent}" if exponent else mantissa
+
+
+def exact_apart(value: fmpq | arb, margin: fmpq | arb) -> tuple[str, str]:
+    """``apart`` of exact values (``exact_number``): a value and its margin told apart."""
+    for digits in _WIDER:
+        a, b = exact_number(value, digits), exact_number(margin, digits)
+        if a != b:
+            return a, b
+    return exact_number(value), exact_number(margin)

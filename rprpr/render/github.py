@@ -22,7 +22,7 @@ import os
 from typing import Any
 
 from ..model.rules import RULES
-from ..report.run import INTERNAL, Run
+from ..report.run import BUDGET, INTERNAL, Run
 from .escape import printable
 
 
@@ -85,6 +85,10 @@ def render(run: Run, *, quiet: bool = False, root: str | None = None) -> str:
         elif kind == INTERNAL:
             lines.append(
                 command("error", {"file": file, "title": "rprpr internal error"}, item["text"])
+            )
+        elif kind == BUDGET:
+            lines.append(
+                command("error", {"file": file, "title": "rprpr budget exceeded"}, item["message"])
             )
         else:
             props = {

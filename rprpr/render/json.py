@@ -15,9 +15,9 @@ from ..report.run import Run
 
 
 def document(run: Run, quiet: bool = False) -> dict[str, Any]:
-    """The JSON document of ``run``: the version, the reports, the summary, the input and
-    internal errors; ``quiet`` leaves passing reports out (the summary still counts every
-    task)."""
+    """The JSON document of ``run``: the version, the reports, the summary, the input,
+    internal and budget errors; ``quiet`` leaves passing reports out (the summary still
+    counts every task)."""
     reports = [r for r in run.reports if r["verdict"] != "pass"] if quiet else run.reports
     return {
         "rprpr": __version__,
@@ -25,6 +25,7 @@ def document(run: Run, quiet: bool = False) -> dict[str, Any]:
         "summary": run.summary(),
         "input_errors": run.input_errors,
         "internal_errors": run.internal_errors,
+        "budget_errors": run.budget_errors,
     }
 
 

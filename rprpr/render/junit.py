@@ -13,7 +13,8 @@ One ``testsuite`` per run (inside a ``testsuites`` root), one ``testcase`` per t
   ``type`` = the rule id, ``message`` = rule and reason, the text = file:line and reason;
 * an ``error`` (type RPR001) for a task file that could not be read, with the file,
   line, column and key; an ``error`` of type ``internal-error`` for a bug, with the
-  traceback;
+  traceback; an ``error`` of type ``budget-exceeded`` for a task stopped at its work
+  budget;
 * ``system-out``: one line per singular instant, then the strict-mode-only findings that
   do not fail the task (RPR201, RPR202 when not strict), marked ``warning``, and the
   verdict. They are not failures, so a CI dashboard stays green, but they are shown.
@@ -33,7 +34,7 @@ from typing import Any
 from ..model.numbers import fixed, number
 from ..model.rules import RULES
 from ..report.records import instant_times
-from ..report.run import INPUT, INTERNAL, Run
+from ..report.run import BUDGET, INPUT, INTERNAL, Run
 from .escape import printable
 
 SUITE_NAME = "rprpr check"
@@ -88,6 +89,10 @@ def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
                 type=f["rule"], message=f"{title}: {f['message']}")  # fmt: skip
         else:
             out.append(f"warning: {where} {title}: {f['message']} (fails only with --strict)")
+    out += [
+        f"{b['quantity']} = {b['value']}: beyond the double range"
+        for b in rep["beyond_double_range"]
+    ]
     n = len(rep["singularities"])
     out.append(
         f"verdict: {rep['verdict']}{' (strict)' if rep['strict'] else ''}, "
@@ -106,7 +111,7 @@ def render(run: Run) -> str:
     for kind, item, seconds in run.entries():
         total += seconds
         path = item["task"]
-        name = item.get("name", path) if kind not in (INPUT, INTERNAL) else path
+        name = item.get("name", path) if kind not in (INPUT, INTERNAL, BUDGET) else path
         case = _el(suite, "testcase", classname=path, name=name, file=path, time=_seconds(seconds))
         if kind == INPUT:
             errors += 1
@@ -117,6 +122,9 @@ def render(run: Run) -> str:
         elif kind == INTERNAL:
             errors += 1
             _el(case, "error", item["traceback"], type="internal-error", message=item["text"])
+        elif kind == BUDGET:
+            errors += 1
+            _el(case, "error", f"{item['text']}\n", type="budget-exceeded", message=item["text"])
         elif _report_case(case, item):
             failures += 1
     counts = {

@@ -105,6 +105,8 @@ def _task(rep: dict[str, Any], console: Console) -> None:
         console.print(
             f"  inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}", style="red"
         )
+    for b in rep["beyond_double_range"]:
+        console.print(f"  {b['quantity']} = {b['value']}: beyond the double range", style="yellow")
     for f in rep["findings"]:
         if f["severity"] == "error":
             title = (f"{f['rule']} {f['name']}", "red")

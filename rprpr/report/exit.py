@@ -14,6 +14,9 @@ status  ``ExitCode``  when
                       written (no permission, a full disk, a closed stream: the
                       environment), an output that would overwrite an input of the run
 3       INTERNAL      a bug in rprpr, met while auditing a task or anywhere else
+4       BUDGET        ``check``: the audit of a task exceeded its work budget
+                      (``--budget``, 10 s by default); it was stopped, the other tasks
+                      were audited (a valid task that is too hard to decide in time)
 128+N   INTERRUPTED   stopped by signal N: SIGINT (Ctrl-C, 130), SIGTERM (143), SIGHUP
                       (129). rprpr first stops its worker processes and removes its
                       temporary files (any previous output file stays as it was), then
@@ -22,7 +25,8 @@ status  ``ExitCode``  when
                       Python's ``subprocess`` reports it as ``-N``.
 ======  ============  =====================================================================
 
-When several apply, the highest wins (a bad task file among failing tasks exits 2).
+When several apply, the highest wins (a bad task file among failing tasks exits 2; a task
+over its budget exits 4 whatever else happened).
 A reader that closes the pipe early (``rprpr check ... | head``) fails nothing: the
 status the command had reached stands.
 """
@@ -46,6 +50,7 @@ class ExitCode(IntEnum):
     FAILED = 1  # at least one task failed its audit
     INPUT = 2  # bad invocation, a bad task file, an output that cannot be written
     INTERNAL = 3  # a bug in rprpr: please report
+    BUDGET = 4  # a task's audit exceeded its work budget
     INTERRUPTED = 130  # Ctrl-C (128 + SIGINT); 128 + N for signal N (``Interrupted``)
 
 
@@ -85,9 +90,11 @@ class InternalError(click.ClickException):
 
 
 def run_status(run: Run, *, exit_zero: bool = False) -> ExitCode:
-    """The status of a ``check`` run, the highest that applies: 3 internal > 2 input >
-    1 failed > 0 passed. ``exit_zero`` turns a failed audit into 0 but never hides an
-    error."""
+    """The status of a ``check`` run, the highest that applies: 4 over budget > 3 internal
+    > 2 input > 1 failed > 0 passed. ``exit_zero`` turns a failed audit into 0 but never
+    hides an error."""
+    if run.budget_errors:
+        return ExitCode.BUDGET
     if run.internal_errors:
         return ExitCode.INTERNAL
     if run.input_errors:

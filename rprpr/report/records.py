@@ -13,7 +13,7 @@ from typing import Any
 from ..engine.audit import AuditResult
 from ..engine.singular import SingularInstant
 from ..model.errors import TaskFileError
-from ..model.numbers import labels
+from ..model.numbers import labels, number
 from ..model.rules import RULES
 
 INVALID_TASK = "RPR001"  # the rule of every input error
@@ -86,7 +86,23 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "on_singular_line": result.on_singular_line,
         "torque_peak": [_f(v) for v in result.torque_peak] if result.torque_peak else None,
         "findings": findings,
+        "beyond_double_range": beyond_double_range(result),
     }
+
+
+def beyond_double_range(result: AuditResult) -> list[dict[str, str]]:
+    """Each reported quantity whose double is not faithful to its exact value (beyond the
+    double range: JSON null where the double is infinite, else the nearest double, 0 or a
+    subnormal), with that exact value as text: ``{"quantity": "singularities[0].speed",
+    "value": "1.41421e+400"}``."""
+    out = []
+    for i, k in enumerate(result.kinematic_singularities):
+        for name, value in k.beyond_double_range:
+            out.append({"quantity": f"kinematic_singularities[{i}].{name}", "value": value})
+    for i, s in enumerate(result.singularities):
+        for name, value in s.beyond_double_range:
+            out.append({"quantity": f"singularities[{i}].{name}", "value": value})
+    return out
 
 
 def instant_times(rep: dict[str, Any]) -> dict[float, str]:
@@ -122,4 +138,17 @@ def internal_error(e: BaseException, task_path: str) -> dict[str, Any]:
         "text": f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
         " the rprpr maintainers with this task file",
         "traceback": "".join(traceback.format_exception(e)),
+    }
+
+
+def budget_error(task_path: str, budget: float, stage: str) -> dict[str, Any]:
+    """A task whose audit exceeded its work budget of ``budget`` seconds during ``stage``
+    (``budget_errors[]``): it was stopped there, and the run went on."""
+    message = f"the exact analysis exceeded its budget of {number(budget)} s at {stage}"
+    return {
+        "task": task_path,
+        "budget": budget,
+        "stage": stage,
+        "message": message,
+        "text": f"{task_path}: {message} (check --budget SECONDS allows more)",
     }

@@ -8,13 +8,15 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-REPORT, INPUT, INTERNAL = "report", "input", "internal"  # the kinds of a task's outcome
+# the kinds of a task's outcome: audited, a bad task file, a bug, over its work budget
+REPORT, INPUT, INTERNAL, BUDGET = "report", "input", "internal", "budget"
 
 
 @dataclass
 class Run:
     """The outcome of one ``rprpr check`` run, in task order: a report per audited task,
-    an input error per task file that could not be read, an internal error per bug met.
+    an input error per task file that could not be read, an internal error per bug met,
+    a budget error per task whose audit exceeded its work budget.
 
     ``order[i]`` = (kind, index into that kind's list) of the i-th task; ``times[i]`` its
     load-and-audit time in seconds (JUnit reports it; the JSON document leaves it out so
@@ -24,30 +26,39 @@ class Run:
     reports: list[dict[str, Any]] = field(default_factory=list)
     input_errors: list[dict[str, Any]] = field(default_factory=list)
     internal_errors: list[dict[str, Any]] = field(default_factory=list)
+    budget_errors: list[dict[str, Any]] = field(default_factory=list)
     order: list[tuple[str, int]] = field(default_factory=list)
     times: list[float] = field(default_factory=list)
 
     def add(self, kind: str, item: dict[str, Any], seconds: float = 0.0) -> None:
-        """Append the next task's outcome; ``kind`` is REPORT, INPUT or INTERNAL."""
-        target = {REPORT: self.reports, INPUT: self.input_errors, INTERNAL: self.internal_errors}[
-            kind
-        ]
+        """Append the next task's outcome; ``kind`` is REPORT, INPUT, INTERNAL or BUDGET."""
+        target = self._lists()[kind]
         self.order.append((kind, len(target)))
         target.append(item)
         self.times.append(seconds)
 
     def entries(self) -> Iterator[tuple[str, dict[str, Any], float]]:
         """(kind, item, seconds) for every task, in task order."""
-        lists = {REPORT: self.reports, INPUT: self.input_errors, INTERNAL: self.internal_errors}
+        lists = self._lists()
         for (kind, i), seconds in zip(self.order, self.times, strict=True):
             yield kind, lists[kind][i], seconds
 
-    def summary(self) -> dict[str, int]:
-        """The counts of the run: tasks, passed, failed and errors (input and internal)."""
-        passed = sum(r["verdict"] == "pass" for r in self.reports)
+    def _lists(self) -> dict[str, list[dict[str, Any]]]:
         return {
-            "tasks": len(self.reports) + len(self.input_errors) + len(self.internal_errors),
+            REPORT: self.reports,
+            INPUT: self.input_errors,
+            INTERNAL: self.internal_errors,
+            BUDGET: self.budget_errors,
+        }
+
+    def summary(self) -> dict[str, int]:
+        """The counts of the run: tasks, passed, failed and errors (input, internal and
+        budget)."""
+        passed = sum(r["verdict"] == "pass" for r in self.reports)
+        errors = len(self.input_errors) + len(self.internal_errors) + len(self.budget_errors)
+        return {
+            "tasks": len(self.reports) + errors,
             "passed": passed,
             "failed": len(self.reports) - passed,
-            "errors": len(self.input_errors) + len(self.internal_errors),
+            "errors": errors,
         }
