@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
-from ..model.numbers import to_float
+from ..model.numbers import number, to_float
 from ..model.task import Robot
 from . import equations as dyn
 from .balls import ETA, Ball, U, hypot, quiet
@@ -69,7 +69,7 @@ REASONS = {
     AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
     AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
     ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
-    UNCERTIFIED: f"not certified to {TOL:g} at {MAX_PREC} bits",
+    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits",
 }
 
 FIELDS = (
