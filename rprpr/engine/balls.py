@@ -33,7 +33,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from flint import arb, fmpq
+from flint import arb, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 
@@ -267,3 +267,16 @@ def two_sum(a: Array, b: Array) -> tuple[Array, Array]:
     bb = s - a
     e = (a - (s - bb)) + (b - bb)
     return s, e
+
+
+def poly_balls(p: fmpq_poly) -> list[Ball]:
+    """The coefficients of the exact polynomial ``p`` (low to high) as balls."""
+    return [Ball.of_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
+
+
+def horner(c: list[Ball], x: Ball) -> Ball:
+    """The polynomial with ball coefficients ``c`` (low to high) at ``x``, by Horner's rule."""
+    acc = c[-1]
+    for ck in c[-2::-1]:
+        acc = acc * x + ck
+    return acc

@@ -51,7 +51,7 @@ from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 from ..model.numbers import number, to_float
 from ..model.task import Robot
 from . import equations as dyn
-from .balls import ETA, Ball, U, hypot, quiet
+from .balls import ETA, Ball, U, horner, hypot, poly_balls, quiet
 from .series import taylor
 from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
 from .trajectory import Trajectory
@@ -146,20 +146,9 @@ class _Cut:
 # -- polynomials in balls ---------------------------------------------------------------
 
 
-def _ball_coeffs(p: fmpq_poly) -> list[Ball]:
-    return [Ball.of_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
-
-
-def _horner(c: list[Ball], x: Ball) -> Ball:
-    acc = c[-1]
-    for ck in c[-2::-1]:
-        acc = acc * x + ck
-    return acc
-
-
 def _poly3(p: fmpq_poly) -> tuple[list[Ball], list[Ball], list[Ball]]:
     d = p.derivative()
-    return _ball_coeffs(p), _ball_coeffs(d), _ball_coeffs(d.derivative())
+    return poly_balls(p), poly_balls(d), poly_balls(d.derivative())
 
 
 def _tighter(a: Ball, b: Ball) -> Ball:
@@ -356,15 +345,15 @@ class CertifiedMotion:
         ``balls.quiet()``). ``t`` may also be a ``Ball`` (intervals of time)."""
         tb = t if isinstance(t, Ball) else Ball.exact(t)
         xc, xdc, xddc = self.x3
-        x = _horner(xc, tb)
-        xd = _horner(xdc, tb)
-        xdd = _horner(xddc, tb)
+        x = horner(xc, tb)
+        xd = horner(xdc, tb)
+        xdd = horner(xddc, tb)
         w = x - self.center
         qc, q1c, q2c = self.q3
-        q1 = _horner(q1c, w)
-        y = _horner(qc, w)
+        q1 = horner(q1c, w)
+        y = horner(qc, w)
         yd = q1 * xd
-        ydd = _horner(q2c, w) * xd * xd + q1 * xdd
+        ydd = horner(q2c, w) * xd * xd + q1 * xdd
         if isinstance(t, Ball):
             return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
         x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)
@@ -387,8 +376,8 @@ class CertifiedMotion:
                 continue
             r = loc.time.eps(t[idx]) * (1.0 / loc.h)  # exact scaling by a power of 2
             for slot, (c, c1, c2) in ((0, loc.x), (3, loc.y)):
-                vals = (_horner(c, r), _horner(c1, r) * (1.0 / loc.h),
-                        _horner(c2, r) * (1.0 / loc.h**2))  # fmt: skip
+                vals = (horner(c, r), horner(c1, r) * (1.0 / loc.h),
+                        horner(c2, r) * (1.0 / loc.h**2))  # fmt: skip
                 for k in range(3):
                     cur = out[slot + k]
                     best = _tighter(cur[idx], vals[k])

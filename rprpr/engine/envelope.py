@@ -31,7 +31,7 @@ from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import Ball, U, quiet
+from .balls import Ball, U, horner, poly_balls, quiet
 from .certified import CertifiedMotion, _roots
 from .singular import SingularInstant
 from .zones import TAYLOR_PREC, Zone, make_zone, taylor_at_instant, taylor_box, taylor_lambda
@@ -115,17 +115,6 @@ def _horner_jet(c: list[Ball], x: Jet) -> Jet:
 # -- enclosures over boxes ----------------------------------------------------------------
 
 
-def _coeff_balls(p: fmpq_poly) -> list[Ball]:
-    return [Ball.of_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
-
-
-def _horner(c: list[Ball], x: Ball) -> Ball:
-    acc = c[-1]
-    for ck in c[-2::-1]:
-        acc = acc * x + ck
-    return acc
-
-
 def _torques_of(
     motion: CertifiedMotion, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any,
     lam: tuple[Any, Any] | None = None,
@@ -151,19 +140,19 @@ class _Polys:
     def __init__(self, motion: CertifiedMotion) -> None:
         x = motion.traj.x
         q = motion.traj.path(fmpq_poly([motion.center, 1]))
-        self.x = [_coeff_balls(x)]
-        self.q = [_coeff_balls(q)]
+        self.x = [poly_balls(x)]
+        self.q = [poly_balls(q)]
         for _ in range(3):
             x, q = x.derivative(), q.derivative()
-            self.x.append(_coeff_balls(x))
-            self.q.append(_coeff_balls(q))
+            self.x.append(poly_balls(x))
+            self.q.append(poly_balls(q))
 
     def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
-        xv = [_horner(c, box) for c in self.x]
+        xv = [horner(c, box) for c in self.x]
         x, xd, xdd = Jet(xv[0], xv[1]), Jet(xv[1], xv[2]), Jet(xv[2], xv[3])
         w = xv[0] - motion.center
-        qv = [_horner(c, w) for c in self.q]
+        qv = [horner(c, w) for c in self.q]
         q1 = Jet(qv[1], qv[2] * xv[1])
         q2 = Jet(qv[2], qv[3] * xv[1])
         y = Jet(qv[0], qv[1] * xv[1])

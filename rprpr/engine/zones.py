@@ -33,7 +33,7 @@ from flint import acb, acb_poly, arb, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, quiet, two_sum
+from .balls import ETA, Ball, U, horner, quiet, two_sum
 from .series import taylor
 from .singular import SingularInstant
 
@@ -122,13 +122,6 @@ TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
 
 def _hypot(u: Any, v: Any) -> Any:
     return (u * u + v * v).sqrt()
-
-
-def _horner(c: list[Ball], x: Ball) -> Ball:
-    acc = c[-1]
-    for ck in c[-2::-1]:
-        acc = acc * x + ck
-    return acc
 
 
 def taylor_at_instant(motion: CertifiedMotion, s: SingularInstant, prec: int) -> list[list[arb]]:
@@ -283,10 +276,10 @@ class Zone:
     den: list[Ball]
 
     def lam(self, eps: Ball) -> tuple[Ball, Ball]:
-        b = _horner(self.den, eps)
+        b = horner(self.den, eps)
         out = []
         for i in (0, 1):
-            v = _horner(self.num[i], eps) / b
+            v = horner(self.num[i], eps) / b
             for _ in range(abs(self.shift[i])):
                 v = v * eps if self.shift[i] > 0 else v / eps
             out.append(v)
