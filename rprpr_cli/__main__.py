@@ -1,0 +1,5 @@
+"""``python -m rprpr_cli``: the former name of ``python -m rprpr``."""
+
+from rprpr.cli.main import main
+
+main()
