@@ -34,7 +34,7 @@ from . import equations as dyn
 from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots
 from .singular import SingularInstant
-from .zones import TAYLOR_PREC, Zone, make_zone, taylor_at_instant, taylor_box, taylor_lambda
+from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width
 START_BOXES = 512  # the initial partition of [0, t_f]
@@ -44,6 +44,7 @@ MAX_ROUNDS = 60  # refining passes, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 MAX_BOX_MODELS = 400  # box Taylor models per task, at most (the work cap near an instant)
+NEAR_PER_PASS = 8  # boxes given a Taylor form per pass, at most (arb, one box at a time)
 
 
 # -- first-order jets of balls ----------------------------------------------------------
@@ -426,7 +427,7 @@ class Envelope:
             for _, e in self.motion.instants:
                 holds |= (e.compare(lo) <= 0) & (e.compare(hi) >= 0)
             rest &= holds
-        for j in np.nonzero(rest)[0]:
+        for j in np.nonzero(rest)[0][:NEAR_PER_PASS]:  # the others are cut further
             got = self._near_instant(float(lo[j]), float(hi[j]))
             if got is not None:
                 col = [g.normal() for g in got]
@@ -449,8 +450,8 @@ class Envelope:
         """The zone form about each singular instant (``make_zone``), made once."""
         if self._zones is None:
             self._zones = []
-            for k, (s, _) in enumerate(self.motion.instants):
-                self._zones.append(make_zone(self.motion, s, self._taylor(k)))
+            for k in range(len(self.motion.instants)):
+                self._zones.append(self.motion.zone(k))  # made once per motion
         return self._zones
 
     def _taylor(self, k: int) -> list[list[arb]]:
