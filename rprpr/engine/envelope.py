@@ -33,6 +33,7 @@ from ..model.numbers import to_float
 from . import equations as dyn
 from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots
+from .series import taylor
 from .singular import SingularInstant
 from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
@@ -166,10 +167,12 @@ def _put(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
 
 @dataclass(frozen=True)
 class Peak:
-    """max |T_i| over [0, t_f] [N m]: ``value`` is attained at ``t`` (a certified lower
-    bound of the maximum), ``upper`` a certified upper bound; when ``certified``,
-    upper - value <= PEAK_REL value. ``value`` = ``upper`` = inf when T_i is unbounded
-    (``t``: the first instant with a pole)."""
+    """sup |T_i| over the times of [0, t_f] where T_i is defined [N m]: ``value`` is a
+    certified lower bound of it, attained at ``t`` or, when ``t`` is an instant at which
+    E is at A or B (T undefined there), the one-sided limit of |T_i| as t is approached;
+    ``upper`` a certified upper bound; when ``certified``, upper - value <= PEAK_REL value.
+    ``value`` = ``upper`` = inf when T_i is unbounded (``t``: the first instant with a
+    pole)."""
 
     value: float
     t: float
@@ -259,18 +262,144 @@ class _Stacked:
         """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
         return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, _hypot)
 
-    def torques(self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None) -> tuple[Any, Any]:
-        """(T stacked, δ) from the legs; λ given, or μ/δ."""
+    def torques(
+        self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29)."""
         d = lg.s - self.r
         M = self.K + self.m * (d * d)
         N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
         F = self.m * (lg.s_dd - d * (lg.th_d * lg.th_d)) + self.mg * lg.sin
-        delta = -(self.a1 * y) / (lg.s[0] * lg.s[1])
+        if delta is None:
+            delta = -(self.a1 * y) / (lg.s[0] * lg.s[1])
         if lam is None:
             sF, cF = lg.sin * F[::-1], lg.cos * F[::-1]
             lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
         T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
         return T, delta
+
+
+# -- E at A or B: the leg through its base joint, factored ---------------------------------
+
+
+def _derive(c: list[Ball]) -> list[Ball]:
+    return [c[j] * float(j) for j in range(1, len(c))] or [Ball.exact(0.0)]
+
+
+def _jets3(c: list[Ball], e: Jet) -> tuple[Jet, Jet, Jet]:
+    """f, f', f'' as jets in ε from the coefficients of f in ε (low to high)."""
+    d1 = _derive(c)
+    d2 = _derive(d1)
+    return _horner_jet(c, e), _horner_jet(d1, e), _horner_jet(d2, e)
+
+
+class _Through:
+    """The torques near an exact instant t_A at which E is at A (leg 1) or B (leg 2).
+
+    With ε = t - t_A, u = x - x_base and y vanish at ε = 0 to order k (at least) and
+    factor as u = φ a, y = φ b with φ = ε^k and a(0) ≠ 0 (exact Taylor coefficients about
+    t_A). On either side of t_A, σ = sign φ is constant and the leg's joint values are
+    smooth in ε, from the leg formulas (eqs. 41-42) on (a, b), which give r = |(a, b)|,
+    ã = a/r, b̃ = b/r, r', w, r'', w':
+        s = σ φ r,  s' = σ (φ' r + φ r'),  s'' = σ (φ'' r + 2 φ' r' + φ r''),
+        cos θ = σ ã,  sin θ = σ b̃,  θ' = w,  θ'' = w',
+    and δ = -a1 y/(s1 s2) = -σ a1 b/(r s_other). Nothing divides by a ball holding 0:
+    T on each side extends continuously to t_A (its one-sided limit there)."""
+
+    def __init__(self, motion: CertifiedMotion, leg: int, e: Any) -> None:
+        self.leg, self.e = leg, e
+        traj = motion.traj
+        base = fmpq(0) if leg == 1 else traj.a1
+        u = traj.x - base
+        self.k = _vanishing_order(u, e)
+        self.cx = _taylor_balls(traj.x, e)
+        self.cy = _taylor_balls(traj.y, e)
+        cu = _taylor_balls(u, e)
+        self.a = cu[self.k :] or [Ball.exact(0.0)]
+        self.b = self.cy[self.k :] or [Ball.exact(0.0)]
+        k = self.k
+        self.phi = [Ball.exact(0.0)] * k + [Ball.exact(1.0)]  # ε^k
+
+    def torques(self, st: _Stacked, eps: Ball, sigma: float) -> tuple[Jet, Jet]:
+        """T (stacked) and δ as jets over balls of ε on one side (sign of φ: sigma)."""
+        E = Jet(eps, Ball.exact(np.ones_like(eps.mid)))
+        x = _jets3(self.cx, E)
+        y = _jets3(self.cy, E)
+        reg = st.legs(x[0], x[1], x[2], y[0], y[1], y[2])
+        a, b, phi = _jets3(self.a, E), _jets3(self.b, E), _jets3(self.phi, E)
+        f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], _hypot)
+        r, r1, r2 = f.s, f.s_d, f.s_dd
+        own = dyn.Leg(
+            (phi[0] * r) * sigma,
+            f.cos * sigma,
+            f.sin * sigma,
+            (phi[1] * r + phi[0] * r1) * sigma,
+            f.th_d,
+            (phi[2] * r + phi[1] * r1 * 2.0 + phi[0] * r2) * sigma,
+            f.th_dd,
+        )
+        i = self.leg - 1
+        rows = [
+            _jet_rows(getattr(reg, name), getattr(own, name), i, len(eps.mid))
+            for name in ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
+        ]
+        lg = dyn.Leg(*rows)
+        other = reg.s[1 - i]
+        delta = -(st.a1 * b[0]) / (r * other) * sigma
+        T, _ = st.torques(lg, y[0], delta=delta)
+        return T, delta
+
+
+def _jet_rows(reg: Jet, own: Jet, i: int, n: int) -> Jet:
+    """The stacked jet ``reg`` (2 rows of n) with its row i replaced by ``own``."""
+    out = []
+    for part in ("v", "d"):
+        R, Own = getattr(reg, part), getattr(own, part)
+        mid = np.array(np.broadcast_to(R.mid, (2, n)), dtype=float)
+        rad = np.array(np.broadcast_to(R.rad, (2, n)), dtype=float)
+        mid[i] = np.broadcast_to(Own.mid, (n,))
+        rad[i] = np.broadcast_to(Own.rad, (n,))
+        out.append(Ball._of(mid, rad))
+    return Jet(out[0], out[1])
+
+
+def _taylor_balls(p: fmpq_poly, e: Any) -> list[Ball]:
+    """The Taylor coefficients of p about the exact time e, as balls."""
+    cs = taylor(p, max(p.degree(), 0) + 1)
+    if e.exact is not None:
+        return [Ball.of_rational(c(e.exact)) for c in cs]
+    old = ctx.prec
+    ctx.prec = 256
+    try:
+        t = e.at(256)
+        return [Ball.of_arb(arb_poly(c.coeffs())(t)) if c.degree() >= 0 else Ball.exact(0.0)
+                for c in cs]  # fmt: skip
+    finally:
+        ctx.prec = old
+
+
+def _vanishing_order(p: fmpq_poly, e: Any) -> int:
+    """The multiplicity of the exact time e as a root of p (exactly: an irreducible factor
+    vanishing at an irrational e is found by its ball containing 0, which no other
+    factor's ball does at 256 bits and more, the roots being distinct)."""
+    if e.exact is not None:
+        k = 0
+        while not p.is_zero() and p(e.exact) == 0:
+            p, k = p.derivative(), k + 1
+        return k
+    old = ctx.prec
+    prec = 256
+    try:
+        while prec <= 4096:
+            ctx.prec = prec
+            t = e.at(prec)
+            hits = [m for f, m in p.factor()[1] if arb_poly(f.coeffs())(t).contains(0)]
+            if len(hits) == 1:
+                return int(hits[0])
+            prec *= 2
+        return 1
+    finally:
+        ctx.prec = old
 
 
 # -- boxes ------------------------------------------------------------------------------------
@@ -338,6 +467,7 @@ class Envelope:
         self.stacked = _Stacked(motion)
         self.bounded = [s for s in motion.analysis.instants if s.torque_bounded]
         self.poles = [s for s in motion.analysis.instants if not s.torque_bounded]
+        self.throughs = [_Through(motion, k.leg, k.time) for k in motion.kinematic]
         self.tf = to_float(self.duration)
         self.t_last = _last_float(self.duration)
         self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
@@ -353,7 +483,55 @@ class Envelope:
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return T.v, T.d
+            V, D = T.v, T.d
+            for th in self.throughs:
+                V, D = self._through(th, t, V, D)
+        return V, D
+
+    def _through(self, th: _Through, t: Ball, V: Ball, D: Ball) -> tuple[Ball, Ball]:
+        """V (T) and D (T') made narrower near t_A by the factored form (``_Through``) on
+        each side of t_A that the balls of time reach within [0, t_f] (the hull of both
+        sides where a ball holds t_A: T is then bounded by either side's values)."""
+        idx = np.nonzero(np.abs(t.mid - th.e.hi) <= self.tf / 4)[0]
+        if not len(idx):
+            return V, D
+        lo, hi = t.lower()[idx], t.upper()[idx]
+        eps = th.e.eps(t.mid[idx]) + Ball(0.0, t.rad[idx])
+        el, eh = eps.lower(), eps.upper()
+        left = th.e.compare(lo) <= 0  # reaches t <= t_A
+        right = th.e.compare(hi) >= 0
+        if th.e.exact is not None and th.e.exact <= 0:
+            left[:] = False  # no time of [0, t_f] before t_A
+        if th.e.exact is not None and th.e.exact >= self.duration:
+            right[:] = False
+        m = len(idx)
+        bounds = [np.full((2, m), np.inf * sign) for sign in (1, -1, 1, -1)]  # V, D: lo, hi
+        for sel, side in ((right, 1), (left, -1)):
+            j = np.nonzero(sel)[0]
+            if not len(j):
+                continue
+            if side > 0:
+                e = Ball.hull(np.maximum(el[j], 0.0), np.maximum(eh[j], 0.0))
+            else:
+                e = Ball.hull(np.minimum(el[j], 0.0), np.minimum(eh[j], 0.0))
+            sigma = 1.0 if side > 0 else (-1.0) ** th.k
+            T, _ = th.torques(self.stacked, e, sigma)
+            for q, B in enumerate((T.v, T.d)):
+                lo_q, hi_q = bounds[2 * q], bounds[2 * q + 1]
+                lo_q[:, j] = np.minimum(lo_q[:, j], np.broadcast_to(B.lower(), (2, len(j))))
+                hi_q[:, j] = np.maximum(hi_q[:, j], np.broadcast_to(B.upper(), (2, len(j))))
+        some = left | right
+        k = idx[some]
+        for q in (0, 1):
+            lo_q, hi_q = bounds[2 * q][:, some], bounds[2 * q + 1][:, some]
+            ok = np.isfinite(lo_q) & np.isfinite(hi_q)
+            B = Ball.hull(np.where(ok, lo_q, 0.0), np.where(ok, hi_q, 0.0))
+            B = Ball._of(np.where(ok, B.mid, np.nan), np.where(ok, B.rad, np.inf))
+            if q == 0:
+                V = _put(V, k, B)
+            else:
+                D = _put(D, k, B)
+        return V, D
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray, need: float = 0.0) -> _Bounds:
         """One vectorised pass over the boxes and their ends (``_Bounds``), with the zone
@@ -503,8 +681,10 @@ class Envelope:
     def torque_peak(self, rel: float = PEAK_REL) -> tuple[Peak, Peak] | None:
         """max |T1| and max |T2| over [0, t_f] (suprema, ``Peak``); None where undefined
         (the path lies on y = 0, or E passes A or B)."""
-        if self.motion.analysis.on_singular_line or self.motion.kinematic:
+        if self.motion.analysis.on_singular_line:
             return None
+        if any(bool(th.b[0].contains_zero()) for th in self.throughs):
+            return None  # E meets A or B along AB: δ -> 0 there as well
         if self.poles:
             t = self.poles[0].t
             return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
