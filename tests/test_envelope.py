@@ -91,8 +91,25 @@ def test_closest_approach_of_a_near_miss() -> None:
     assert Envelope(_motion(_config("paper_path2.yaml"))).closest_approach() is None
 
 
-def test_through_a_and_b_the_peak_is_undefined() -> None:
-    assert Envelope(_motion(_task("x*(x - 6)/10", "3*t"))).torque_peak() is None
+def test_through_a_and_b_the_peak_is_the_one_sided_limit() -> None:
+    # E at A at t = 0 and at B at t = 2: T is undefined there, bounded on either side;
+    # the peak is the supremum, reached as t -> 2- (T1) and t -> 0+ (T2)
+    task = _task("x*(x - 6)/10", "3*t")
+    peaks = Envelope(_motion(task)).torque_peak()
+    assert peaks is not None and all(p.certified for p in peaks)
+    assert (peaks[0].t, peaks[1].t) == (2.0, 0.0)
+    for p, name, t in ((peaks[0], "T1", 2 - 1e-13), (peaks[1], "T2", 1e-13)):
+        ref = _abs_ref(task, t, name)  # within |T'| 1e-13 of the one-sided limit
+        assert p.value - 1e-10 <= ref <= p.upper
+        assert p.upper <= p.value * (1 + 1e-6)
+    assert peaks[0].value == pytest.approx(143.4912707, abs=1e-6)
+    c = _motion(task).sample(grid(task.duration, 1001))
+    inner = np.abs(c.value["T1"][1:-1])
+    assert np.max(inner) <= peaks[0].upper
+    t1, _ = Envelope(_motion(task)).limit_violations((100, 1000))
+    (w,) = t1.windows
+    assert t1.passed is False and w.end_hi == 2.0
+    assert _abs_ref(task, w.start_lo - 1e-6, "T1") < 100 < _abs_ref(task, w.start_hi + 1e-6, "T1")
 
 
 @pytest.mark.parametrize(("path", "k"), [("(x - 3)^13", 13), ("(x - 3)^59", 59), ("x - 3", 1)])

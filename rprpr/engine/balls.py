@@ -59,6 +59,21 @@ def _up(r: Any) -> Any:
     return r * _GROW + _PAD
 
 
+def round_up(r: Any) -> Any:
+    """An upper bound of an exact non-negative quantity whose float evaluation (at most 12
+    roundings along any path, sums and products of non-negative terms) is r: ``_up``."""
+    return _up(r)
+
+
+def stack(parts: list[Ball]) -> Ball:
+    """One ball array from balls of equal (or broadcastable) shape, along a new first axis."""
+    shape = np.broadcast_shapes(*(np.shape(b.mid) for b in parts),
+                                *(np.shape(b.rad) for b in parts))  # fmt: skip
+    mid = np.stack([np.broadcast_to(b.mid, shape) for b in parts])
+    rad = np.stack([np.broadcast_to(b.rad, shape) for b in parts])
+    return Ball._of(mid, rad)
+
+
 class Ball:
     """A vector of real balls mid ± rad (see the module docstring for the bound)."""
 
@@ -68,6 +83,15 @@ class Ball:
     def __init__(self, mid: Any, rad: Any = 0.0) -> None:
         self.mid = np.asarray(mid, dtype=float)
         self.rad = np.asarray(rad, dtype=float)
+
+    @classmethod
+    def _of(cls, mid: Array, rad: Array) -> Ball:
+        """A ball from float arrays as they are (the results of the operations: no
+        conversion, which costs more than the arithmetic on short vectors)."""
+        b = object.__new__(cls)
+        b.mid = mid
+        b.rad = rad
+        return b
 
     # -- construction -------------------------------------------------------------
     @staticmethod
@@ -119,18 +143,20 @@ class Ball:
 
     # -- arithmetic -----------------------------------------------------------------
     def __add__(self, o: Any) -> Ball:
-        if not isinstance(o, _OPERANDS):
-            return NotImplemented
-        o = Ball.coerce(o)
+        if type(o) is not Ball:
+            if not isinstance(o, _OPERANDS):
+                return NotImplemented
+            o = Ball.coerce(o)
         c = self.mid + o.mid
         return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
 
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> Ball:
-        if not isinstance(o, _OPERANDS):
-            return NotImplemented
-        o = Ball.coerce(o)
+        if type(o) is not Ball:
+            if not isinstance(o, _OPERANDS):
+                return NotImplemented
+            o = Ball.coerce(o)
         c = self.mid - o.mid
         return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
 
@@ -138,12 +164,13 @@ class Ball:
         return Ball.coerce(o) - self
 
     def __neg__(self) -> Ball:
-        return Ball(-self.mid, self.rad)
+        return Ball._of(-self.mid, self.rad)
 
     def __mul__(self, o: Any) -> Ball:
-        if not isinstance(o, _OPERANDS):
-            return NotImplemented
-        o = Ball.coerce(o)
+        if type(o) is not Ball:
+            if not isinstance(o, _OPERANDS):
+                return NotImplemented
+            o = Ball.coerce(o)
         c = self.mid * o.mid
         prop = (np.abs(self.mid) + self.rad) * o.rad + self.rad * np.abs(o.mid)
         return _finish(c, _up(prop + (U * np.abs(c) + ETA)))
@@ -152,9 +179,10 @@ class Ball:
 
     def __truediv__(self, o: Any) -> Ball:
         """x/y for x in self, y in o: |x/y - a/b| <= (r_a|b| + |a| r_b)/(|b|(|b| - r_b))."""
-        if not isinstance(o, _OPERANDS):
-            return NotImplemented
-        o = Ball.coerce(o)
+        if type(o) is not Ball:
+            if not isinstance(o, _OPERANDS):
+                return NotImplemented
+            o = Ball.coerce(o)
         b = np.abs(o.mid)
         ok = b > o.rad
         c = self.mid / o.mid
@@ -242,13 +270,13 @@ _OPERANDS = (*_OPERANDS, Ball)  # the operand types a Ball operation accepts
 def _finish(mid: Array, rad: Array) -> Ball:
     """The ball mid ± rad. A non-finite midpoint always makes the radius non-finite
     (rad includes u|mid|), so ``rad`` alone tells a bounded ball (``bounded``)."""
-    return Ball(mid, rad)
+    return Ball._of(np.asarray(mid, dtype=float), np.asarray(rad, dtype=float))
 
 
 def _unbounded_where(b: Ball, where: Array) -> Ball:
     if not where.any():
         return b
-    return Ball(np.where(where, np.nan, b.mid), np.where(where, np.inf, b.rad))
+    return Ball._of(np.where(where, np.nan, b.mid), np.where(where, np.inf, b.rad))
 
 
 def hypot(u: Ball, v: Ball) -> Ball:

@@ -31,17 +31,21 @@ from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import Ball, U, horner, poly_balls, quiet
+from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots
+from .series import taylor
 from .singular import SingularInstant
-from .zones import TAYLOR_PREC, Zone, make_zone, taylor_at_instant, taylor_box, taylor_lambda
+from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width
-START_BOXES = 64  # the initial partition of [0, t_f]
-MAX_ROUNDS = 60  # bisection rounds, at most
+START_BOXES = 512  # the initial partition of [0, t_f]
+SPLIT_BUDGET = 1024  # boxes per refining pass, about (live boxes times their fan)
+MAX_FAN = 512  # a live box is cut into at most this many
+MAX_ROUNDS = 60  # refining passes, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 MAX_BOX_MODELS = 400  # box Taylor models per task, at most (the work cap near an instant)
+NEAR_PER_PASS = 8  # boxes given a Taylor form per pass, at most (arb, one box at a time)
 
 
 # -- first-order jets of balls ----------------------------------------------------------
@@ -96,6 +100,9 @@ class Jet:
     def __rtruediv__(self, o: Any) -> Jet:
         return Jet._of(o) / self
 
+    def __getitem__(self, index: Any) -> Jet:
+        return Jet(self.v[index], self.d[index])
+
     def sqrt(self) -> Jet:
         r = self.v.sqrt()
         return Jet(r, self.d / (r * 2.0))
@@ -113,21 +120,6 @@ def _horner_jet(c: list[Ball], x: Jet) -> Jet:
 
 
 # -- enclosures over boxes ----------------------------------------------------------------
-
-
-def _torques_of(
-    motion: CertifiedMotion, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any,
-    lam: tuple[Any, Any] | None = None,
-) -> tuple[Any, Any, Any]:  # fmt: skip
-    """T1, T2 and δ from the motion (balls or jets); λ given, or μ/δ (eqs. 28-31)."""
-    leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _hypot)
-    leg2 = dyn.leg(x - motion.a1, xd, xdd, y, yd, ydd, _hypot)
-    d = dyn.dynamics(leg1, leg2, motion.params)
-    delta = -(motion.a1 * y) / (leg1.s * leg2.s)  # eq. (29), product form
-    if lam is None:
-        lam = (d.mu1 / delta, d.mu2 / delta)
-    T1, T2 = dyn.torques(d, lam[0], lam[1])
-    return T1, T2, delta
 
 
 def _hypot(u: Any, v: Any) -> Any:
@@ -159,16 +151,15 @@ class _Polys:
         return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
 
 
-def _stack(balls: list[Ball]) -> Ball:
-    """One ball vector from balls of one element each."""
-    mid = np.array([np.ravel(b.mid)[0] for b in balls], dtype=float)
-    return Ball(mid, np.array([np.ravel(b.rad)[0] for b in balls], dtype=float))
-
-
-def _narrower(a: Ball, b: Ball) -> Ball:
-    """Of two enclosures of the same set, the one with the smaller radius, elementwise."""
-    pick = ~(b.rad < a.rad)
-    return Ball(np.where(pick, a.mid, b.mid), np.where(pick, a.rad, b.rad))
+def _put(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
+    """b (rows by columns) with its columns ``idx`` replaced by ``new`` where narrower."""
+    if not len(idx):
+        return b
+    mid, rad = b.mid.copy(), b.rad.copy()
+    pick = ~(rad[:, idx] <= new.rad)  # NaN radii (unbounded) are replaced
+    mid[:, idx] = np.where(pick, new.mid, mid[:, idx])
+    rad[:, idx] = np.where(pick, new.rad, rad[:, idx])
+    return Ball._of(mid, rad)
 
 
 # -- results ----------------------------------------------------------------------------------
@@ -176,10 +167,12 @@ def _narrower(a: Ball, b: Ball) -> Ball:
 
 @dataclass(frozen=True)
 class Peak:
-    """max |T_i| over [0, t_f] [N m]: ``value`` is attained at ``t`` (a certified lower
-    bound of the maximum), ``upper`` a certified upper bound; when ``certified``,
-    upper - value <= PEAK_REL value. ``value`` = ``upper`` = inf when T_i is unbounded
-    (``t``: the first instant with a pole)."""
+    """sup |T_i| over the times of [0, t_f] where T_i is defined [N m]: ``value`` is a
+    certified lower bound of it, attained at ``t`` or, when ``t`` is an instant at which
+    E is at A or B (T undefined there), the one-sided limit of |T_i| as t is approached;
+    ``upper`` a certified upper bound; when ``certified``, upper - value <= PEAK_REL value.
+    ``value`` = ``upper`` = inf when T_i is unbounded (``t``: the first instant with a
+    pole)."""
 
     value: float
     t: float
@@ -227,6 +220,188 @@ class Approach:
     t_delta: float
 
 
+# -- the two legs stacked ------------------------------------------------------------------
+
+
+def _pair(a: Any, b: Any) -> Ball:
+    """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column."""
+    return stack([Ball.of_rational(a), Ball.of_rational(b)])[:, None]
+
+
+class _Stacked:
+    """T1, T2 (and δ) with the two legs stacked in rows 0 and 1, on balls or jets.
+
+    The same equations as ``equations.leg``/``dynamics``/``torques`` (eqs. 7-14, 28-33),
+    written once for both legs so that each operation runs on both at once (the cost of a
+    ball operation on short vectors is its call, not its length), with the constant
+    parts of eqs. (7), (9), (11), (13) summed exactly in Q:
+        M_i = K_i + m_i d_i²,  d_i = s_i - r_i,  K = m2 r2² + I2 + I3 (leg 2: m4, r4, I4, I5),
+        N_i = 2 m_i s_i' θ_i' d_i + (G_i + m_i g s_i) cos θ_i,  G = (m2 r2 - m3 r3) g,
+        F_i = m_i (s_i'' - d_i θ_i'²) + m_i g sin θ_i   (M22 s1'' + N2, M44 s2'' + N4),
+        μ1 = -(sin θ2 F1 + sin θ1 F2),  μ2 = cos θ2 F1 + cos θ1 F2,  δ = -a1 y/(s1 s2),
+        T_i = M_i θ_i'' + N_i ± s_i (sin θ_i λ1 - cos θ_i λ2)   (+ for T1, - for T2),
+    with m_i = m3, m5 and r_i = r3, r5."""
+
+    def __init__(self, motion: CertifiedMotion) -> None:
+        r = motion.robot
+        L, g = r.links, r.gravity
+        self.base = _pair(0, r.a1)  # u = x - base: (x, x - a1)
+        self.a1 = Ball.of_rational(r.a1)
+        self.m = _pair(L[3].mass, L[5].mass)
+        self.r = _pair(L[3].r, L[5].r)
+        self.K = _pair(
+            L[2].mass * L[2].r ** 2 + L[2].inertia + L[3].inertia,
+            L[4].mass * L[4].r ** 2 + L[4].inertia + L[5].inertia,
+        )
+        self.G = _pair((L[2].mass * L[2].r - L[3].mass * L[3].r) * g,
+                       (L[4].mass * L[4].r - L[5].mass * L[5].r) * g)  # fmt: skip
+        self.mg = _pair(L[3].mass * g, L[5].mass * g)
+        self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
+
+    def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
+        """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
+        return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, _hypot)
+
+    def torques(
+        self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29)."""
+        d = lg.s - self.r
+        M = self.K + self.m * (d * d)
+        N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
+        F = self.m * (lg.s_dd - d * (lg.th_d * lg.th_d)) + self.mg * lg.sin
+        if delta is None:
+            delta = -(self.a1 * y) / (lg.s[0] * lg.s[1])
+        if lam is None:
+            sF, cF = lg.sin * F[::-1], lg.cos * F[::-1]
+            lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
+        T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
+        return T, delta
+
+
+# -- E at A or B: the leg through its base joint, factored ---------------------------------
+
+
+def _derive(c: list[Ball]) -> list[Ball]:
+    return [c[j] * float(j) for j in range(1, len(c))] or [Ball.exact(0.0)]
+
+
+def _jets3(c: list[Ball], e: Jet) -> tuple[Jet, Jet, Jet]:
+    """f, f', f'' as jets in ε from the coefficients of f in ε (low to high)."""
+    d1 = _derive(c)
+    d2 = _derive(d1)
+    return _horner_jet(c, e), _horner_jet(d1, e), _horner_jet(d2, e)
+
+
+class _Through:
+    """The torques near an exact instant t_A at which E is at A (leg 1) or B (leg 2).
+
+    With ε = t - t_A, u = x - x_base and y vanish at ε = 0 to order k (at least) and
+    factor as u = φ a, y = φ b with φ = ε^k and a(0) ≠ 0 (exact Taylor coefficients about
+    t_A). On either side of t_A, σ = sign φ is constant and the leg's joint values are
+    smooth in ε, from the leg formulas (eqs. 41-42) on (a, b), which give r = |(a, b)|,
+    ã = a/r, b̃ = b/r, r', w, r'', w':
+        s = σ φ r,  s' = σ (φ' r + φ r'),  s'' = σ (φ'' r + 2 φ' r' + φ r''),
+        cos θ = σ ã,  sin θ = σ b̃,  θ' = w,  θ'' = w',
+    and δ = -a1 y/(s1 s2) = -σ a1 b/(r s_other). Nothing divides by a ball holding 0:
+    T on each side extends continuously to t_A (its one-sided limit there)."""
+
+    def __init__(self, motion: CertifiedMotion, leg: int, e: Any) -> None:
+        self.leg, self.e = leg, e
+        traj = motion.traj
+        base = fmpq(0) if leg == 1 else traj.a1
+        u = traj.x - base
+        self.k = _vanishing_order(u, e)
+        self.cx = _taylor_balls(traj.x, e)
+        self.cy = _taylor_balls(traj.y, e)
+        cu = _taylor_balls(u, e)
+        self.a = cu[self.k :] or [Ball.exact(0.0)]
+        self.b = self.cy[self.k :] or [Ball.exact(0.0)]
+        k = self.k
+        self.phi = [Ball.exact(0.0)] * k + [Ball.exact(1.0)]  # ε^k
+
+    def torques(self, st: _Stacked, eps: Ball, sigma: float) -> tuple[Jet, Jet]:
+        """T (stacked) and δ as jets over balls of ε on one side (sign of φ: sigma)."""
+        E = Jet(eps, Ball.exact(np.ones_like(eps.mid)))
+        x = _jets3(self.cx, E)
+        y = _jets3(self.cy, E)
+        reg = st.legs(x[0], x[1], x[2], y[0], y[1], y[2])
+        a, b, phi = _jets3(self.a, E), _jets3(self.b, E), _jets3(self.phi, E)
+        f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], _hypot)
+        r, r1, r2 = f.s, f.s_d, f.s_dd
+        own = dyn.Leg(
+            (phi[0] * r) * sigma,
+            f.cos * sigma,
+            f.sin * sigma,
+            (phi[1] * r + phi[0] * r1) * sigma,
+            f.th_d,
+            (phi[2] * r + phi[1] * r1 * 2.0 + phi[0] * r2) * sigma,
+            f.th_dd,
+        )
+        i = self.leg - 1
+        rows = [
+            _jet_rows(getattr(reg, name), getattr(own, name), i, len(eps.mid))
+            for name in ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
+        ]
+        lg = dyn.Leg(*rows)
+        other = reg.s[1 - i]
+        delta = -(st.a1 * b[0]) / (r * other) * sigma
+        T, _ = st.torques(lg, y[0], delta=delta)
+        return T, delta
+
+
+def _jet_rows(reg: Jet, own: Jet, i: int, n: int) -> Jet:
+    """The stacked jet ``reg`` (2 rows of n) with its row i replaced by ``own``."""
+    out = []
+    for part in ("v", "d"):
+        R, Own = getattr(reg, part), getattr(own, part)
+        mid = np.array(np.broadcast_to(R.mid, (2, n)), dtype=float)
+        rad = np.array(np.broadcast_to(R.rad, (2, n)), dtype=float)
+        mid[i] = np.broadcast_to(Own.mid, (n,))
+        rad[i] = np.broadcast_to(Own.rad, (n,))
+        out.append(Ball._of(mid, rad))
+    return Jet(out[0], out[1])
+
+
+def _taylor_balls(p: fmpq_poly, e: Any) -> list[Ball]:
+    """The Taylor coefficients of p about the exact time e, as balls."""
+    cs = taylor(p, max(p.degree(), 0) + 1)
+    if e.exact is not None:
+        return [Ball.of_rational(c(e.exact)) for c in cs]
+    old = ctx.prec
+    ctx.prec = 256
+    try:
+        t = e.at(256)
+        return [Ball.of_arb(arb_poly(c.coeffs())(t)) if c.degree() >= 0 else Ball.exact(0.0)
+                for c in cs]  # fmt: skip
+    finally:
+        ctx.prec = old
+
+
+def _vanishing_order(p: fmpq_poly, e: Any) -> int:
+    """The multiplicity of the exact time e as a root of p (exactly: an irreducible factor
+    vanishing at an irrational e is found by its ball containing 0, which no other
+    factor's ball does at 256 bits and more, the roots being distinct)."""
+    if e.exact is not None:
+        k = 0
+        while not p.is_zero() and p(e.exact) == 0:
+            p, k = p.derivative(), k + 1
+        return k
+    old = ctx.prec
+    prec = 256
+    try:
+        while prec <= 4096:
+            ctx.prec = prec
+            t = e.at(prec)
+            hits = [m for f, m in p.factor()[1] if arb_poly(f.coeffs())(t).contains(0)]
+            if len(hits) == 1:
+                return int(hits[0])
+            prec *= 2
+        return 1
+    finally:
+        ctx.prec = old
+
+
 # -- boxes ------------------------------------------------------------------------------------
 
 
@@ -240,12 +415,46 @@ def _boxes(duration: fmpq, n: int) -> tuple[np.ndarray, np.ndarray]:
     return ends[:-1], ends[1:]
 
 
-def _clip(duration: fmpq, t: np.ndarray) -> np.ndarray:
-    """t moved into [0, t_f] (the largest float <= t_f at the end)."""
+def _split(lo: np.ndarray, hi: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each box [lo_j, hi_j] cut into k boxes that share their float ends (rounding is
+    monotone, so they cover it)."""
+    f = np.arange(k + 1) / k
+    ends = lo[:, None] + (hi - lo)[:, None] * f[None, :]
+    ends[:, 0], ends[:, -1] = lo, hi
+    return ends[:, :-1].ravel(), ends[:, 1:].ravel()
+
+
+def _fan(n_live: int) -> int:
+    """How many boxes each live box is cut into: the pass costs its calls, not its length."""
+    return int(min(MAX_FAN, max(2, SPLIT_BUDGET // max(n_live, 1))))
+
+
+def _last_float(duration: fmpq) -> float:
+    """The largest float <= t_f."""
     tf = to_float(duration)
     if fmpq(*tf.as_integer_ratio()) > duration:
         tf = float(np.nextafter(tf, -np.inf))
-    return np.clip(t, 0.0, tf)
+    return tf
+
+
+def _clip(duration: fmpq, t: np.ndarray) -> np.ndarray:
+    """t moved into [0, t_f] (the largest float <= t_f at the end)."""
+    return np.clip(t, 0.0, _last_float(duration))
+
+
+@dataclass
+class _Bounds:
+    """What one pass proves about boxes [lo_j, hi_j], per torque i (rows):
+    ``low``/``low_t``: a certified value of |T_i| at a time of the box (a lower bound of
+    its max there; 0 with no such value), ``up``: an upper bound of |T_i| over the box,
+    ``floor``: a lower bound of |T_i| over the box."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    low: np.ndarray
+    low_t: np.ndarray
+    up: np.ndarray
+    floor: np.ndarray
 
 
 class Envelope:
@@ -255,129 +464,201 @@ class Envelope:
         self.motion = motion
         self.duration = motion.traj.duration
         self.polys = _Polys(motion)
+        self.stacked = _Stacked(motion)
         self.bounded = [s for s in motion.analysis.instants if s.torque_bounded]
         self.poles = [s for s in motion.analysis.instants if not s.torque_bounded]
-        tf = to_float(self.duration)
-        self.near = tf / 16  # the Taylor form is tried within this distance of an instant
+        self.throughs = [_Through(motion, k.leg, k.time) for k in motion.kinematic]
+        self.tf = to_float(self.duration)
+        self.t_last = _last_float(self.duration)
         self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
         self._zones: list[Zone | None] | None = None
         self.box_models = MAX_BOX_MODELS  # left to spend (``_near_instant``)
+        self._first: _Bounds | None = None  # the pass over the first partition
+        self._peak: tuple[Peak, Peak] | None = None
+        self._checks: dict[tuple[float, float], tuple[LimitCheck, LimitCheck]] = {}
 
-    # -- enclosures ---------------------------------------------------------------------
-    def enclose(self, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball, Ball]:
-        """Balls containing T1(t), T2(t), δ(t) for every t in each box [lo_j, hi_j]."""
+    # -- one pass -------------------------------------------------------------------------
+    def _pass(self, t: Ball) -> tuple[Ball, Ball]:
+        """T (stacked rows) and T' over the balls of time ``t``: first-order jets."""
+        with quiet():
+            x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
+            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+            V, D = T.v, T.d
+            for th in self.throughs:
+                V, D = self._through(th, t, V, D)
+        return V, D
+
+    def _through(self, th: _Through, t: Ball, V: Ball, D: Ball) -> tuple[Ball, Ball]:
+        """V (T) and D (T') made narrower near t_A by the factored form (``_Through``) on
+        each side of t_A that the balls of time reach within [0, t_f] (the hull of both
+        sides where a ball holds t_A: T is then bounded by either side's values)."""
+        idx = np.nonzero(np.abs(t.mid - th.e.hi) <= self.tf / 4)[0]
+        if not len(idx):
+            return V, D
+        lo, hi = t.lower()[idx], t.upper()[idx]
+        eps = th.e.eps(t.mid[idx]) + Ball(0.0, t.rad[idx])
+        el, eh = eps.lower(), eps.upper()
+        left = th.e.compare(lo) <= 0  # reaches t <= t_A
+        right = th.e.compare(hi) >= 0
+        if th.e.exact is not None and th.e.exact <= 0:
+            left[:] = False  # no time of [0, t_f] before t_A
+        if th.e.exact is not None and th.e.exact >= self.duration:
+            right[:] = False
+        m = len(idx)
+        bounds = [np.full((2, m), np.inf * sign) for sign in (1, -1, 1, -1)]  # V, D: lo, hi
+        for sel, side in ((right, 1), (left, -1)):
+            j = np.nonzero(sel)[0]
+            if not len(j):
+                continue
+            if side > 0:
+                e = Ball.hull(np.maximum(el[j], 0.0), np.maximum(eh[j], 0.0))
+            else:
+                e = Ball.hull(np.minimum(el[j], 0.0), np.minimum(eh[j], 0.0))
+            sigma = 1.0 if side > 0 else (-1.0) ** th.k
+            T, _ = th.torques(self.stacked, e, sigma)
+            for q, B in enumerate((T.v, T.d)):
+                lo_q, hi_q = bounds[2 * q], bounds[2 * q + 1]
+                lo_q[:, j] = np.minimum(lo_q[:, j], np.broadcast_to(B.lower(), (2, len(j))))
+                hi_q[:, j] = np.maximum(hi_q[:, j], np.broadcast_to(B.upper(), (2, len(j))))
+        some = left | right
+        k = idx[some]
+        for q in (0, 1):
+            lo_q, hi_q = bounds[2 * q][:, some], bounds[2 * q + 1][:, some]
+            ok = np.isfinite(lo_q) & np.isfinite(hi_q)
+            B = Ball.hull(np.where(ok, lo_q, 0.0), np.where(ok, hi_q, 0.0))
+            B = Ball._of(np.where(ok, B.mid, np.nan), np.where(ok, B.rad, np.inf))
+            if q == 0:
+                V = _put(V, k, B)
+            else:
+                D = _put(D, k, B)
+        return V, D
+
+    def bounds(self, lo: np.ndarray, hi: np.ndarray, need: float = 0.0) -> _Bounds:
+        """One vectorised pass over the boxes and their ends (``_Bounds``), with the zone
+        and Taylor forms near singular instants where the direct form is poor."""
+        n = len(lo)
+        pts = np.concatenate([lo, hi])
         with quiet():
             box = Ball.hull(lo, hi)
-            point = self.motion.ball_pass(box.mid)
-            jets = self.polys.jets(self.motion, box)
-            out = []
-            for name, J in zip(("T1", "T2", "delta"), _torques_of(self.motion, *jets), strict=True):
-                mean_value = point[name] + Ball(0.0, J.d.upper_abs() * box.rad)
-                out.append(_narrower(mean_value, J.v))
-        return out[0], out[1], out[2]
+            t = Ball._of(np.concatenate([pts, box.mid]), np.concatenate([0 * pts, box.rad]))
+            V, D = self._pass(t)
+            P = V[:, : 2 * n]  # T at the ends
+            B = V[:, 2 * n :]  # T over the boxes
+            D = D[:, 2 * n :]  # T' over the boxes
+            P, B = self._near(pts, lo, hi, P, B, need)
+            pa, pb = P[:, :n], P[:, n:]
+            ua, ub = pa.upper_abs(), pb.upper_abs()
+            la, lb = pa.lower_abs(), pb.lower_abs()
+            valid = np.concatenate([lo, hi]) <= self.t_last
+            la = np.where(valid[:n], la, 0.0)
+            lb = np.where(valid[n:], lb, 0.0)
+            width = 2.0 * box.rad  # >= hi - lo
+            slope = D.upper_abs()
+            # |T(t)| <= min(|T(a)| + D (t - a), |T(b)| + D (b - t)) <= the mean of the two
+            mean_value = round_up((ua + ub + slope * width) * 0.5)
+            up = np.minimum(B.upper_abs(), mean_value)
+            mono = D.lower_abs() > 0  # T monotone on the box: |T| peaks at an end
+            mono_ok = mono & np.isfinite(ua) & np.isfinite(ub)
+            up = np.where(mono_ok, np.minimum(up, np.maximum(ua, ub)), up)
+            same = mono_ok & (pa.lower() > 0) & (pb.lower() > 0) | (
+                mono_ok & (pa.upper() < 0) & (pb.upper() < 0)
+            )
+            around = pa + D * Ball(0.5 * width, 0.5 * width)
+            floor = np.maximum(B.lower_abs(), around.lower_abs())
+            floor = np.where(same, np.maximum(floor, np.minimum(la, lb)), floor)
+            low = np.maximum(la, lb)
+            low_t = np.where(la >= lb, lo, hi)
+        up = np.where(np.isnan(up), np.inf, up)
+        return _Bounds(lo, hi, low, low_t, up, floor)
 
-    def enclose_near(
-        self, s: SingularInstant, lo: np.ndarray, hi: np.ndarray
-    ) -> tuple[Ball, Ball, np.ndarray]:
-        """T1, T2 over the boxes [lo_j, hi_j] with λ from the Taylor form about ``s``, and
-        where that form applies (elsewhere the balls are unbounded)."""
-        lams = [
-            taylor_lambda(self.motion, s, float(a), float(b)) for a, b in zip(lo, hi, strict=True)
-        ]
-        ok = np.array([lam is not None for lam in lams])
-        nan = Ball(np.nan, np.inf)
-        lam1 = [lam[0] if lam is not None else nan for lam in lams]
-        lam2 = [lam[1] if lam is not None else nan for lam in lams]
-        with quiet():
-            box = Ball.hull(lo, hi)
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, box))
-            l1, l2 = _stack(lam1), _stack(lam2)
-            T1, T2, _ = _torques_of(self.motion, x, xd, xdd, y, yd, ydd, (l1, l2))
-        return T1, T2, ok
-
-    def abs_bounds(
-        self, lo: np.ndarray, hi: np.ndarray, need: float = 0.0
-    ) -> tuple[list[np.ndarray], list[np.ndarray]]:
-        """([lower |T1|, lower |T2|], [upper |T1|, upper |T2|]) over each box. Boxes near a
-        bounded instant whose direct enclosure is poor (wider than its value) and whose
-        upper bound exceeds ``need`` also get the Taylor form."""
-        T1, T2, _ = self.enclose(lo, hi)
-        low = [T1.lower_abs(), T2.lower_abs()]
-        up = [T1.upper_abs(), T2.upper_abs()]
-        poor = ~((T1.rad <= np.abs(T1.mid)) & (T2.rad <= np.abs(T2.mid)))
-        wanted = ~((up[0] <= need) & (up[1] <= need))
-        todo = poor & wanted
+    def _near(
+        self, pts: np.ndarray, lo: np.ndarray, hi: np.ndarray, P: Ball, B: Ball, need: float
+    ) -> tuple[Ball, Ball]:
+        """P (T at the points) and B (T over the boxes) made narrower near singular
+        instants: the zone form inside a zone, else a Taylor form per box (``_near_instant``)
+        for the boxes whose direct enclosure is poor and whose bound matters (> need)."""
+        if not self.motion.instants:
+            return P, B
+        poor_p = ~(P.rad <= np.abs(P.mid)).all(axis=0)
+        poor_b = ~(B.rad <= np.abs(B.mid)).all(axis=0)
         covered = np.zeros(len(lo), dtype=bool)
+        box = Ball.hull(lo, hi)
         for zone in self.zones():
             if zone is None:
                 continue
-            inside = todo & (lo >= zone.e.hi - zone.r * 0.999) & (hi <= zone.e.hi + zone.r * 0.999)
-            idx = np.nonzero(inside)[0]
+            r = zone.r * 0.999
+            ip = np.nonzero(poor_p & (np.abs(pts - zone.e.hi) <= r))[0]
+            inside = (lo >= zone.e.hi - r) & (hi <= zone.e.hi + r)
             covered |= inside
-            if not len(idx):
+            ib = np.nonzero(poor_b & inside)[0]
+            if not (len(ip) or len(ib)):
                 continue
-            T1z, T2z = self.enclose_zone(zone, lo[idx], hi[idx])
-            for i, Tz in ((0, T1z), (1, T2z)):
-                u = Tz.upper_abs()
-                better = u < up[i][idx]
-                up[i][idx[better]] = u[better]
-                low[i][idx[better]] = np.maximum(low[i][idx[better]], Tz.lower_abs()[better])
-        rest = todo & ~covered
+            mid = np.concatenate([pts[ip], box.mid[ib]])
+            rad = np.concatenate([0 * pts[ip], box.rad[ib]])
+            Tz = self._zone_torques(zone, mid, rad)
+            P = _put(P, ip, Tz[:, : len(ip)])
+            B = _put(B, ib, Tz[:, len(ip) :])
+        wanted = ~(B.upper_abs() <= need).all(axis=0)
+        rest = ~(B.rad <= np.abs(B.mid)).all(axis=0) & wanted & ~covered
         if self.box_models <= 0 and rest.any():  # only boxes holding an instant are left
             holds = np.zeros(len(lo), dtype=bool)
             for _, e in self.motion.instants:
                 holds |= (e.compare(lo) <= 0) & (e.compare(hi) >= 0)
             rest &= holds
-        for j in np.nonzero(rest)[0]:
+        for j in np.nonzero(rest)[0][:NEAR_PER_PASS]:  # the others are cut further
             got = self._near_instant(float(lo[j]), float(hi[j]))
-            if got is None:
-                continue
-            for i in (0, 1):
-                u1 = float(np.ravel(got[i].upper_abs())[0])
-                if u1 < up[i][j]:
-                    up[i][j] = u1
-                    low[i][j] = max(low[i][j], float(np.ravel(got[i].lower_abs())[0]))
-        return low, up
+            if got is not None:
+                col = [g.normal() for g in got]
+                B = _put(B, np.array([j]), Ball._of(
+                    np.array([[float(np.ravel(g.mid)[0])] for g in col]),
+                    np.array([[float(np.ravel(g.rad)[0])] for g in col])))  # fmt: skip
+        return P, B
+
+    def _zone_torques(self, zone: Zone, mid: np.ndarray, rad: np.ndarray) -> Ball:
+        """T (stacked) over the balls mid ± rad of time inside a zone, λ from its form."""
+        with quiet():
+            t = Ball._of(mid, rad)
+            eps = zone.e.eps(mid) + Ball(0.0, rad)
+            lam = zone.lam(eps)
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+        return T
 
     def zones(self) -> list[Zone | None]:
         """The zone form about each singular instant (``make_zone``), made once."""
         if self._zones is None:
             self._zones = []
-            for k, (s, _) in enumerate(self.motion.instants):
-                if k not in self._coeffs:
-                    self._coeffs[k] = taylor_at_instant(self.motion, s, TAYLOR_PREC)
-                self._zones.append(make_zone(self.motion, s, self._coeffs[k]))
+            for k in range(len(self.motion.instants)):
+                self._zones.append(self.motion.zone(k))  # made once per motion
         return self._zones
 
-    def enclose_zone(self, zone: Zone, lo: np.ndarray, hi: np.ndarray) -> tuple[Ball, Ball]:
-        """T1, T2 over boxes inside a zone, λ from the zone form."""
-        with quiet():
-            box = Ball.hull(lo, hi)
-            eps = zone.e.eps(box.mid) + Ball(0.0, box.rad)
-            lam = zone.lam(eps)
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, box))
-            T1, T2, _ = _torques_of(self.motion, x, xd, xdd, y, yd, ydd, lam)
-        return T1, T2
+    def _taylor(self, k: int) -> list[list[arb]]:
+        if k not in self._coeffs:
+            s = self.motion.instants[k][0]
+            self._coeffs[k] = taylor_at_instant(self.motion, s, TAYLOR_PREC)
+        return self._coeffs[k]
 
     def _near_instant(self, lo: float, hi: float) -> tuple[Ball, Ball] | None:
         """T1, T2 over [lo, hi] by a Taylor form about the nearest singular instant: with
         the Lagrange remainder about t_s when the box holds a bounded t_s
         (``taylor_lambda``), else, for a box narrow beside its distance to t_s, by the
         box's own Taylor model (``taylor_box``)."""
-        if not self.motion.instants:
-            return None
         k = min(range(len(self.motion.instants)),
                 key=lambda i: abs(self.motion.instants[i][1].hi - 0.5 * (lo + hi)))  # fmt: skip
         s, e = self.motion.instants[k]
-        if k not in self._coeffs:
-            self._coeffs[k] = taylor_at_instant(self.motion, s, TAYLOR_PREC)
         cmp_lo = int(e.compare(np.array([lo]))[0])
         cmp_hi = int(e.compare(np.array([hi]))[0])
         if cmp_lo <= 0 <= cmp_hi:  # t_s in the box
             if not s.torque_bounded:
                 return None
-            T1, T2, ok = self.enclose_near(s, np.array([lo]), np.array([hi]))
-            return (T1, T2) if ok[0] else None
+            lam = taylor_lambda(self.motion, s, lo, hi, self._taylor(k))
+            if lam is None:
+                return None
+            with quiet():
+                t = Ball.hull(np.array([lo]), np.array([hi]))
+                x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+                T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+            return T[0], T[1]
         dist = min(abs(lo - e.hi), abs(hi - e.hi))
         if hi - lo > dist / 4 or self.box_models <= 0:  # too wide (bisect), or work cap
             return None
@@ -388,114 +669,125 @@ class Envelope:
             ts = arb(e.exact) if e.exact is not None else e.at(TAYLOR_PREC)
         finally:
             ctx.prec = old
-        return taylor_box(self.motion, self._coeffs[k], ts, lo, hi)
+        return taylor_box(self.motion, self._taylor(k), ts, lo, hi)
 
-    def point_abs(self, t: np.ndarray) -> list[np.ndarray]:
-        """Certified lower bounds of |T1|, |T2| at the float times t (0 where undefined or
-        not certified without arb: lower bounds need no refinement)."""
-        c = self.motion.sample(t, refine=False)
-        out = []
-        for name in ("T1", "T2"):
-            v, r = c.value[name], c.radius[name]
-            with quiet():
-                low = np.where(np.isfinite(v), (np.abs(v) - r) * (1 - 4 * U), 0.0)
-            out.append(np.maximum(low, 0.0))
-        return out
+    def _start(self) -> _Bounds:
+        """The pass over the first partition, made once (shared by every verdict)."""
+        if self._first is None:
+            self._first = self.bounds(*_boxes(self.duration, START_BOXES))
+        return self._first
 
     # -- the peak -------------------------------------------------------------------------
     def torque_peak(self, rel: float = PEAK_REL) -> tuple[Peak, Peak] | None:
-        """max |T1| and max |T2| over [0, t_f]; None where undefined (the path lies on
-        y = 0, or E passes A or B)."""
-        if self.motion.analysis.on_singular_line or self.motion.kinematic:
+        """max |T1| and max |T2| over [0, t_f] (suprema, ``Peak``); None where undefined
+        (the path lies on y = 0, or E passes A or B)."""
+        if self.motion.analysis.on_singular_line:
             return None
+        if any(bool(th.b[0].contains_zero()) for th in self.throughs):
+            return None  # E meets A or B along AB: δ -> 0 there as well
         if self.poles:
             t = self.poles[0].t
             return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
-        return self._maximise(0, rel), self._maximise(1, rel)
+        if rel != PEAK_REL:
+            return self._maximise(rel)
+        if self._peak is None:
+            self._peak = self._maximise(rel)
+        return self._peak
 
-    def _maximise(self, i: int, rel: float) -> Peak:
-        lo, hi = _boxes(self.duration, START_BOXES)
-        best, best_t = 0.0, 0.0
+    def _maximise(self, rel: float) -> tuple[Peak, Peak]:
+        b = self._start()
+        best, best_t = np.zeros(2), np.zeros(2)
         for s in self.bounded:  # the limits at bounded instants are values of T too
             if s.torque_at_singularity is not None:
-                v = abs(s.torque_at_singularity[i]) * (1 - 4 * U)
-                if v > best:
-                    best, best_t = v, s.t
-        ts = _clip(self.duration, np.concatenate([lo, hi[-1:], 0.5 * (lo + hi)]))
-        best, best_t = self._raise(i, ts, best, best_t)
-        up = self.abs_bounds(lo, hi, best * (1 + rel))[1][i]
-        dropped = 0.0  # the largest upper bound of a box set aside
+                for i in (0, 1):
+                    v = abs(s.torque_at_singularity[i]) * (1 - 4 * U)
+                    if v > best[i]:
+                        best[i], best_t[i] = v, s.t
+        dropped = np.zeros(2)  # the largest upper bound of a box set aside
+        certified = False
         for _ in range(MAX_ROUNDS):
-            keep = up > best * (1 + rel)
-            dropped = max(dropped, float(up[~keep].max(initial=0.0)))
-            if not keep.any():
-                return Peak(best, best_t, max(best, dropped), True)
-            if keep.sum() > MAX_LIVE:
+            for i in (0, 1):
+                j = int(np.argmax(b.low[i]))
+                if b.low[i, j] > best[i]:
+                    best[i], best_t[i] = float(b.low[i, j]), float(b.low_t[i, j])
+            keep_i = b.up > (best * (1 + rel))[:, None]
+            dropped = np.maximum(dropped, np.where(keep_i, 0.0, b.up).max(axis=1))
+            keep = keep_i.any(axis=0)
+            n = int(keep.sum())
+            if not n:
+                certified = True
                 break
-            lo, hi = lo[keep], hi[keep]
-            mid = 0.5 * (lo + hi)
-            lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
-            best, best_t = self._raise(i, _clip(self.duration, mid), best, best_t)
-            up = self.abs_bounds(lo, hi, best * (1 + rel))[1][i]
-        return Peak(best, best_t, max(dropped, float(up.max(initial=best))), False)
-
-    def _raise(self, i: int, ts: np.ndarray, best: float, best_t: float) -> tuple[float, float]:
-        low = self.point_abs(ts)[i]
-        j = int(np.argmax(low))
-        if low[j] > best:
-            return float(low[j]), float(ts[j])
-        return best, best_t
+            if n > MAX_LIVE:
+                break
+            lo, hi = _split(b.lo[keep], b.hi[keep], _fan(n))
+            b = self.bounds(lo, hi, float(best.min() * (1 + rel)))
+        out = []
+        for i in (0, 1):
+            up = max(best[i], dropped[i])
+            if not certified:
+                up = max(up, float(b.up[i].max(initial=0.0)))
+            out.append(Peak(float(best[i]), float(best_t[i]), float(up), certified))
+        return out[0], out[1]
 
     # -- limits ---------------------------------------------------------------------------
     def limit_violations(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
-        """Whether |T_i(t)| <= limit_i for every t in [0, t_f], per torque, certified."""
-        return self._limit(0, float(limit[0])), self._limit(1, float(limit[1]))
+        """Whether |T_i(t)| <= limit_i for every t in [0, t_f], per torque, certified
+        (made once per limit)."""
+        key = (float(limit[0]), float(limit[1]))
+        if key not in self._checks:
+            self._checks[key] = self._limits(key)
+        return self._checks[key]
 
-    def _limit(self, i: int, limit: float) -> LimitCheck:
-        tf = to_float(self.duration)
-        res = CROSSING_REL * tf
-        lo, hi = _boxes(self.duration, START_BOXES)
-        state = np.zeros(len(lo), dtype=int)  # -1 below, +1 above (all of it), 0 open
-        done_lo: list[np.ndarray] = []
-        done_hi: list[np.ndarray] = []
-        done_state: list[np.ndarray] = []
-        seen_above = False
+    def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
+        res = CROSSING_REL * self.tf
+        L = np.array(limit)
+        b = self._start()
+        active = np.ones((2, len(b.lo)), dtype=bool)
+        seen_above = np.zeros(2, dtype=bool)
+        if self._peak is not None:  # a known peak decides a limit above it at once
+            for i in (0, 1):
+                if self._peak[i].certified and self._peak[i].upper <= L[i]:
+                    active[i] = False
+        done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], []]
+        if not active.all():
+            for i in (0, 1):
+                if not active[i].any():
+                    done[i].append((b.lo, b.hi, np.full(len(b.lo), -1)))
         for _ in range(MAX_ROUNDS):
-            low, up = self.abs_bounds(lo, hi, limit)
-            state = np.where(up[i] <= limit, -1, np.where(low[i] > limit, 1, 0))
-            mid = 0.5 * (lo + hi)
-            point = self.point_abs(_clip(self.duration, mid))[i]
-            seen_above |= bool((point > limit).any())
-            split = (state == 0) & (hi - lo > res)
-            done_lo.append(lo[~split])
-            done_hi.append(hi[~split])
-            done_state.append(state[~split])
-            if not split.any() or 2 * split.sum() > MAX_LIVE:
-                lo, hi = lo[split], hi[split]
+            state = np.where(b.up <= L[:, None], -1, np.where(b.floor > L[:, None], 1, 0))
+            seen_above |= (active & (b.low > L[:, None])).any(axis=1)
+            wide = b.hi - b.lo > res
+            open_ = active & (state == 0) & wide[None, :]
+            for i in (0, 1):
+                rec = active[i] & ~open_[i]
+                if rec.any():
+                    done[i].append((b.lo[rec], b.hi[rec], state[i][rec]))
+            split = open_.any(axis=0)
+            n = int(split.sum())
+            if not n:
                 break
-            lo, hi = lo[split], hi[split]
-            mid = mid[split]
-            lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
-        else:
-            pass
-        if len(lo):  # boxes left open by the work cap
-            done_lo.append(lo)
-            done_hi.append(hi)
-            done_state.append(np.zeros(len(lo), dtype=int))
-        L = np.concatenate(done_lo)
-        H = np.concatenate(done_hi)
-        S = np.concatenate(done_state)
-        order = np.argsort(L)
-        L, H, S = L[order], H[order], S[order]
-        windows = self._windows(L, H, S)
-        above = seen_above or bool((S == 1).any()) or bool(self.poles)
-        if above:
-            passed: bool | None = False
-        elif (S == -1).all():
-            passed = True
-        else:
-            passed = None
-        return LimitCheck(limit, passed, tuple(windows), res)
+            k = _fan(n)
+            if n * k > MAX_LIVE * 4:  # the work cap: the open boxes stay undecided
+                for i in (0, 1):
+                    rec = open_[i]
+                    done[i].append((b.lo[rec], b.hi[rec], np.zeros(int(rec.sum()), dtype=int)))
+                break
+            lo, hi = _split(b.lo[split], b.hi[split], k)
+            active = np.repeat(open_[:, split], k, axis=1)
+            b = self.bounds(lo, hi, float(L.min()))
+        out = []
+        for i in (0, 1):
+            parts = done[i]
+            Ls = np.concatenate([p[0] for p in parts])
+            Hs = np.concatenate([p[1] for p in parts])
+            Ss = np.concatenate([p[2] for p in parts]).astype(int)
+            order = np.argsort(Ls, kind="stable")
+            Ls, Hs, Ss = Ls[order], Hs[order], Ss[order]
+            windows = self._windows(Ls, Hs, Ss)
+            above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
+            passed: bool | None = False if above else (True if (Ss == -1).all() else None)
+            out.append(LimitCheck(float(L[i]), passed, tuple(windows), res))
+        return out[0], out[1]
 
     def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
         """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
@@ -548,34 +840,44 @@ class Envelope:
             return None
         dist, t_y = self._min_abs_y()
         lo, hi = _boxes(self.duration, START_BOXES)
-        ts = _clip(self.duration, np.concatenate([lo, hi[-1:], 0.5 * (lo + hi), [t_y]]))
-        best, best_t = self._lower_delta(ts, math.inf, 0.0)
+        best, best_t = math.inf, 0.0  # the least certified |δ| at a time (an upper bound)
         floor = math.inf  # the least lower bound of a box set aside
+        low = np.zeros(0)
         for _ in range(MAX_ROUNDS):
-            low = self.enclose(lo, hi)[2].lower_abs()
+            low, up, ends = self._delta_bounds(lo, hi)
+            j = int(np.argmin(up))
+            if up[j] < best:
+                best, best_t = float(up[j]), float(ends[j])
             keep = low < best * (1 - rel)
             floor = min(floor, float(low[~keep].min(initial=math.inf)))
-            if not keep.any():
+            n = int(keep.sum())
+            if not n:
                 return Approach(dist, t_y, min(floor, best), best, best_t)
-            if keep.sum() > MAX_LIVE:
+            if n > MAX_LIVE:
                 break
-            lo, hi = lo[keep], hi[keep]
-            mid = 0.5 * (lo + hi)
-            lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
-            best, best_t = self._lower_delta(_clip(self.duration, mid), best, best_t)
-        low = self.enclose(lo, hi)[2].lower_abs()
+            lo, hi = _split(lo[keep], hi[keep], _fan(n))
         return Approach(dist, t_y, min(floor, float(low.min(initial=best))), best, best_t)
 
-    def _lower_delta(self, ts: np.ndarray, best: float, best_t: float) -> tuple[float, float]:
-        """The smallest certified upper bound of |δ| at the times ts (and where)."""
-        c = self.motion.sample(ts, refine=False)
-        up = np.abs(c.value["delta"]) + c.radius["delta"]
-        if np.isnan(up).all():
-            return best, best_t
-        j = int(np.nanargmin(up))
-        if up[j] < best:
-            return float(up[j]), float(ts[j])
-        return best, best_t
+    def _delta_bounds(
+        self, lo: np.ndarray, hi: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Lower bounds of |δ| over the boxes, and upper bounds of |δ| at times in
+        [0, t_f] (the boxes' ends), with those times."""
+        n = len(lo)
+        pts = np.concatenate([lo, hi])
+        with quiet():
+            box = Ball.hull(lo, hi)
+            t = Ball._of(np.concatenate([pts, box.mid]), np.concatenate([0 * pts, box.rad]))
+            x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
+            lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
+            delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
+            V, D = delta.v, delta.d[2 * n :]
+            width = 2.0 * box.rad
+            around = V[:n] + D * Ball(0.5 * width, 0.5 * width)
+            low = np.maximum(V[2 * n :].lower_abs(), around.lower_abs())
+            up = V[: 2 * n].upper_abs()
+        up = np.where(pts <= self.t_last, up, np.inf)
+        return low, up, pts
 
     def _min_abs_y(self) -> tuple[float, float]:
         """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""

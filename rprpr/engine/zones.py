@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
@@ -33,7 +33,7 @@ from flint import acb, acb_poly, arb, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, horner, quiet, two_sum
+from .balls import ETA, Ball, U, horner, quiet, stack, two_sum
 from .series import taylor
 from .singular import SingularInstant
 
@@ -274,15 +274,25 @@ class Zone:
     shift: tuple[int, int]
     num: tuple[list[Ball], list[Ball]]
     den: list[Ball]
+    stacked: list[Ball] | None = field(default=None, repr=False)  # (``lam``)
 
     def lam(self, eps: Ball) -> tuple[Ball, Ball]:
-        b = horner(self.den, eps)
+        """λ1, λ2 on balls of ε: A_1, A_2 and B by one Horner pass, stacked (the shorter
+        polynomials padded with exact zeros at the top)."""
+        if self.stacked is None:
+            n = max(len(self.num[0]), len(self.num[1]), len(self.den))
+            self.stacked = []
+            for k in range(n):
+                parts = [p[k] if k < len(p) else Ball.exact(0.0) for p in (*self.num, self.den)]
+                b = stack(parts)
+                self.stacked.append(Ball._of(b.mid.reshape(3, 1), b.rad.reshape(3, 1)))
+        v = horner(self.stacked, eps)
         out = []
         for i in (0, 1):
-            v = horner(self.num[i], eps) / b
+            lam = v[i] / v[2]
             for _ in range(abs(self.shift[i])):
-                v = v * eps if self.shift[i] > 0 else v / eps
-            out.append(v)
+                lam = lam * eps if self.shift[i] > 0 else lam / eps
+            out.append(lam)
         return out[0], out[1]
 
 
