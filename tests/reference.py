@@ -126,10 +126,12 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...]) -> dict[str, Any]:
 
 
 def _agree(a: dict[str, Any], b: dict[str, Any], digits: int) -> bool:
+    tol = mpmath.mpf(10) ** -digits
     for k in KEYS:
-        if (a.get(k) is None) != (b.get(k) is None):
+        u, v = a.get(k), b.get(k)
+        if (u is None) != (v is None):
             return False
-        if a.get(k) is not None and abs(a[k] - b[k]) > mpmath.mpf(10) ** -digits * (1 + abs(b[k])):
+        if v is not None and abs(u - v) > tol * (1 + abs(v)):
             return False
     return True
 
@@ -177,3 +179,205 @@ def limit_of(task: Task, ts: Any, name: str) -> Any:
     eps = Fraction(1, 10**35)
     sides = [reference(task, ts + sgn * eps)[name] for sgn in (-1, 1)]
     return (sides[0] + sides[1]) / 2
+
+
+# -- θ on its continuous branch ----------------------------------------------------------
+# θ_i(t) = atan2(y, u_i) + 2π n(t): the principal angle moved by 2π at each time r < t at
+# which y changes sign on the far side of the leg's base joint (u_i(r) < 0, its branch
+# cut); exactly on the cut, the limit from the left (the motion's polynomials extend
+# below t = 0, so this holds at t = 0 too). The roots of y(t) are isolated exactly here,
+# with Sturm sequences over Python fractions (nothing shared with the engine's own root
+# finding).
+
+Poly = list[Fraction]  # coefficients, lowest degree first, no trailing zeros
+
+
+def _trim(p: Poly) -> Poly:
+    while p and p[-1] == 0:
+        p = p[:-1]
+    return p
+
+
+def _mul(p: Poly, q: Poly) -> Poly:
+    if not p or not q:
+        return []
+    out = [Fraction(0)] * (len(p) + len(q) - 1)
+    for i, a in enumerate(p):
+        for j, b in enumerate(q):
+            out[i + j] += a * b
+    return _trim(out)
+
+
+def _add(p: Poly, q: Poly) -> Poly:
+    n = max(len(p), len(q))
+    return _trim([(p[i] if i < len(p) else 0) + (q[i] if i < len(q) else 0) for i in range(n)])
+
+
+def _compose(p: Poly, q: Poly) -> Poly:
+    """p(q(t)) by Horner."""
+    out: Poly = []
+    for c in reversed(p):
+        out = _add(_mul(out, q), [c])
+    return out
+
+
+def _diff(p: Poly) -> Poly:
+    return _trim([k * c for k, c in enumerate(p)][1:])
+
+
+def _rem(p: Poly, q: Poly) -> Poly:
+    p = list(p)
+    while len(p) >= len(q):
+        f = p[-1] / q[-1]
+        shift = len(p) - len(q)
+        for i, c in enumerate(q):
+            p[shift + i] -= f * c
+        p = _trim(p[:-1])
+    return p
+
+
+def _quo(p: Poly, q: Poly) -> Poly:
+    p, out = list(p), [Fraction(0)] * max(len(p) - len(q) + 1, 0)
+    while len(p) >= len(q):
+        f = p[-1] / q[-1]
+        shift = len(p) - len(q)
+        out[shift] = f
+        for i, c in enumerate(q):
+            p[shift + i] -= f * c
+        p = _trim(p[:-1])
+    return _trim(out)
+
+
+def _gcd(p: Poly, q: Poly) -> Poly:
+    while q:
+        p, q = q, _rem(p, q)
+    return [c / p[-1] for c in p]
+
+
+def _val(p: Poly, t: Fraction) -> Fraction:
+    v = Fraction(0)
+    for c in reversed(p):
+        v = v * t + c
+    return v
+
+
+def _sign(v: Fraction) -> int:
+    return (v > 0) - (v < 0)
+
+
+def _sturm(p: Poly) -> list[Poly]:
+    seq = [p, _diff(p)]
+    while seq[-1]:
+        seq.append([-c for c in _rem(seq[-2], seq[-1])])
+    return seq[:-1]
+
+
+def _roots_in(seq: list[Poly], a: Fraction, b: Fraction) -> int:
+    """The number of distinct roots in (a, b] of the square-free seq[0]."""
+
+    def changes(t: Fraction) -> int:
+        signs = [s for s in (_sign(_val(p, t)) for p in seq) if s]
+        return sum(1 for i in range(1, len(signs)) if signs[i] != signs[i - 1])
+
+    return changes(a) - changes(b)
+
+
+def _sqf(p: Poly) -> Poly:
+    return _quo(p, _gcd(p, _diff(p))) if len(p) > 1 else p
+
+
+def _isolate(sqf: Poly, lo: Fraction, hi: Fraction) -> list[tuple[Fraction, Fraction]]:
+    """The roots of the square-free ``sqf`` in [lo, hi]: (r, r) when exact, else (a, b)
+    with one root inside, sqf(a) sqf(b) != 0."""
+    seq = _sturm(sqf)
+    out = [(lo, lo)] if _val(sqf, lo) == 0 else []
+    todo = [(lo, hi)]
+    while todo:
+        a, b = todo.pop()
+        n = _roots_in(seq, a, b)
+        if n == 1 and _val(sqf, b) == 0:
+            out.append((b, b))
+        elif n == 1 and _val(sqf, a) != 0:
+            out.append((a, b))
+        elif n:
+            m = (a + b) / 2
+            todo += [(a, m), (m, b)]
+    return sorted(out)
+
+
+def _cut_roots(task: Task, leg: int) -> list[tuple[Fraction, Fraction, int, bool]]:
+    """The roots of y(t) in [0, t_f] on the leg's cut: (a, b, sign of y after, crossing?)
+    with the root equal to a == b, or the only root of y in (a, b)."""
+    xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
+    pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+    a1 = Fraction(int(task.robot.a1.p), int(task.robot.a1.q))
+    y = _compose(pc, xc)
+    u = _add(xc, [-a1]) if leg == 2 else xc
+    tf = Fraction(int(task.duration.p), int(task.duration.q))
+    if len(y) < 2:
+        return []
+    sy = _sqf(y)
+    g = _gcd(y, u) if len(u) > 1 else [Fraction(1)]
+    gseq = _sturm(_sqf(g)) if len(g) > 1 else None
+    useq = _sturm(_sqf(u)) if len(u) > 1 else None
+    out = []
+    for a, b in _isolate(sy, Fraction(0), tf):
+        if a == b:
+            if _val(u, a) >= 0:
+                continue
+            d, m = y, 0
+            while _val(d, a) == 0:
+                d, m = _diff(d), m + 1
+            out.append((a, b, _sign(_val(d, a)), m % 2 == 1))
+            continue
+        if gseq is not None and _roots_in(gseq, a, b):
+            continue  # y and u vanish together: E at the base joint, not on its cut
+        while useq is not None and (_roots_in(useq, a, b) or _val(u, a) == 0):
+            m = (a + b) / 2
+            if _val(sy, m) == 0:
+                a = b = m
+                break
+            a, b = (a, m) if _sign(_val(sy, m)) != _sign(_val(sy, a)) else (m, b)
+        if _val(u, a) >= 0:
+            continue
+        if a == b:
+            d, k = y, 0
+            while _val(d, a) == 0:
+                d, k = _diff(d), k + 1
+            out.append((a, b, _sign(_val(d, a)), k % 2 == 1))
+            continue
+        before, after = _sign(_val(y, a)), _sign(_val(y, b))
+        out.append((a, b, after, before != after))
+    return out
+
+
+_CUTS: dict[Any, tuple[Poly, list[tuple[Fraction, Fraction, int, bool]]]] = {}
+
+
+def theta_branch(task: Task, t: Any, leg: int) -> Any:
+    """θ_leg at the time t on the continuous branch (mpf; None where E is at the base)."""
+    key = (str(task.x_of_t), str(task.path), str(task.robot.a1), str(task.duration), leg)
+    if key not in _CUTS:
+        xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
+        pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+        _CUTS[key] = (_sqf(_compose(pc, xc)), _cut_roots(task, leg))
+    sy, cuts = _CUTS[key]
+    tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
+    x, _, _, y, _, _ = _motion(task, tq)
+    u = x - Fraction(int(task.robot.a1.p), int(task.robot.a1.q)) if leg == 2 else x
+    if u == 0 and y == 0:
+        return None
+    turns = 0
+    for a, b, after, crossing in cuts:
+        if a == b or tq <= a or tq >= b:
+            at, past = tq == a == b, tq > a if a == b else tq >= b
+        else:
+            v = _val(sy, tq)
+            at, past = v == 0, v != 0 and _sign(v) != _sign(_val(sy, a))
+        if at:  # on the cut: the limit from the left, ±π with the sign of y before
+            with mpmath.workdps(60):
+                return mpmath.pi * (-after if crossing else after)
+        if past and crossing:
+            turns -= after
+    with mpmath.workdps(60):
+        return mpmath.atan2(_mpf(y), _mpf(u)) + 2 * mpmath.pi * turns
