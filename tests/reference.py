@@ -17,12 +17,15 @@ significant digits and more, straight from the paper's equations:
 x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
 working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
 until evaluations at d and d + 30 digits agree to 40 digits. At a root of y, λ and T are
-two-sided limits (``limit``: ``None`` at a pole).
+two-sided limits (``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
+``theta_branch`` gives θ on its continuous branch, the crossings of the legs' branch cuts
+found by isolating the real roots of y(t) exactly (Sturm sequences over fractions).
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import lru_cache
 from typing import Any
 
 import mpmath
@@ -45,22 +48,29 @@ def _mpf(q: Any) -> Any:
     return mpmath.mpf(q)
 
 
-def _poly(coeffs: list[Any], x: Any) -> tuple[Any, Any, Any]:
-    """p(x), p'(x), p''(x) by direct summation (exact for Fractions)."""
-    v = d1 = d2 = x * 0
-    for k, c in enumerate(coeffs):
-        v += c * x**k
-        if k >= 1:
-            d1 += k * c * x ** (k - 1)
-        if k >= 2:
-            d2 += k * (k - 1) * c * x ** (k - 2)
+def _poly(coeffs: tuple[Fraction, ...], x: Fraction) -> tuple[Fraction, Fraction, Fraction]:
+    """p(x), p'(x), p''(x) by Horner's scheme (exact in fractions)."""
+    v = d1 = d2 = Fraction(0)
+    for c in reversed(coeffs):
+        d2 = d2 * x + 2 * d1
+        d1 = d1 * x + v
+        v = v * x + c
     return v, d1, d2
+
+
+def _fractions(p: Any) -> tuple[Fraction, ...]:
+    return tuple(Fraction(int(c.p), int(c.q)) for c in p.coeffs())
 
 
 def _motion(task: Task, t: Fraction) -> tuple[Fraction, ...]:
     """x, x', x'', y, y', y'' at the rational time t, exactly (Python fractions)."""
-    xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
-    pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+    return _motion_of(_fractions(task.x_of_t), _fractions(task.path), t)
+
+
+@lru_cache(maxsize=4096)
+def _motion_of(
+    xc: tuple[Fraction, ...], pc: tuple[Fraction, ...], t: Fraction
+) -> tuple[Fraction, ...]:
     x, xd, xdd = _poly(xc, t)
     p, p1, p2 = _poly(pc, x)
     return x, xd, xdd, p, p1 * xd, p2 * xd * xd + p1 * xdd
@@ -354,17 +364,22 @@ def _cut_roots(task: Task, leg: int) -> list[tuple[Fraction, Fraction, int, bool
 _CUTS: dict[Any, tuple[Poly, list[tuple[Fraction, Fraction, int, bool]]]] = {}
 
 
-def theta_branch(task: Task, t: Any, leg: int) -> Any:
-    """θ_leg at the time t on the continuous branch (mpf; None where E is at the base)."""
+def theta_branch(task: Task, t: Any) -> tuple[Any, Any]:
+    """θ1 and θ2 at the time t on their continuous branches (mpf; None where E is at the
+    leg's base joint)."""
+    tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
+    x, _, _, y, _, _ = _motion(task, tq)
+    a1 = Fraction(int(task.robot.a1.p), int(task.robot.a1.q))
+    return _theta(task, tq, x, y, 1), _theta(task, tq, x - a1, y, 2)
+
+
+def _theta(task: Task, tq: Fraction, u: Fraction, y: Fraction, leg: int) -> Any:
     key = (str(task.x_of_t), str(task.path), str(task.robot.a1), str(task.duration), leg)
     if key not in _CUTS:
         xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
         pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
         _CUTS[key] = (_sqf(_compose(pc, xc)), _cut_roots(task, leg))
     sy, cuts = _CUTS[key]
-    tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
-    x, _, _, y, _, _ = _motion(task, tq)
-    u = x - Fraction(int(task.robot.a1.p), int(task.robot.a1.q)) if leg == 2 else x
     if u == 0 and y == 0:
         return None
     turns = 0
