@@ -382,7 +382,7 @@ def _theta(task: Task, tq: Fraction, u: Fraction, y: Fraction, leg: int) -> Any:
     sy, cuts = _CUTS[key]
     if u == 0 and y == 0:
         return None
-    turns = 0
+    turns, on_cut = 0, 0
     for a, b, after, crossing in cuts:
         if a == b or tq <= a or tq >= b:
             at, past = tq == a == b, tq > a if a == b else tq >= b
@@ -390,9 +390,9 @@ def _theta(task: Task, tq: Fraction, u: Fraction, y: Fraction, leg: int) -> Any:
             v = _val(sy, tq)
             at, past = v == 0, v != 0 and _sign(v) != _sign(_val(sy, a))
         if at:  # on the cut: the limit from the left, ±π with the sign of y before
-            with mpmath.workdps(60):
-                return mpmath.pi * (-after if crossing else after)
+            on_cut = -after if crossing else after
         if past and crossing:
             turns -= after
     with mpmath.workdps(60):
-        return mpmath.atan2(_mpf(y), _mpf(u)) + 2 * mpmath.pi * turns
+        principal = mpmath.pi * on_cut if on_cut else mpmath.atan2(_mpf(y), _mpf(u))
+        return principal + 2 * mpmath.pi * turns

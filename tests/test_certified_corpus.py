@@ -52,7 +52,7 @@ class Motion:
 
 
 ONE = (Fraction(1),)
-MICRO = (Fraction(1), 1 + Fraction(1, 10**6))
+MICRO = (Fraction(1), 1 + Fraction(1, 10**6))  # 1 s and 1 µs later
 ISSUE: dict[str, Motion] = {
     # x - 3 = ±(t - 1)^k on the line y = x - 3: an instant of order k, lacunary series
     **{
@@ -94,6 +94,9 @@ EXTRA: dict[str, Motion] = {
     "behind_A": Motion("x + 1", "t - 2", ONE),
     "behind_A_touching": Motion("(x + 1)^2", "t - 2", ONE),
     "beyond_B": Motion("x - 7", "6 + t", ONE),
+    # a pole behind A a microsecond before E reaches A: both on leg 2's cut, θ2 at A is
+    # the limit from the left on the branch the first crossing moved it to
+    "A_after_a_pole_behind_it": Motion("x*(x + 1e-6)", "t - 1", (2 - MICRO[1], ONE[0])),
     # irrational instants of order 3 and 5 and on leg 1's cut; near misses (no real
     # instant, complex ones 1e-10 and 1e-15 away)
     "irrational_order_3": Motion("(x^2 - 2)^3", "t", (math.sqrt(2),)),
