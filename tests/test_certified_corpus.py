@@ -12,6 +12,7 @@ sampled alone (the value at t never depends on the grid).
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -351,3 +352,23 @@ def test_end_point_at_a_inside_a_series_zone_is_undefined() -> None:
     assert list(c.reason) == [OK, AT_A, OK]
     for f in ("theta1", "theta1_dot", "s1_dot", "delta", "lambda1", "lambda2", "T1", "T2"):
         assert np.isnan(c.value[f][1]) and np.all(np.isfinite(c.value[f][[0, 2]])), f
+
+
+@pytest.mark.parametrize(
+    ("name", "legs"),
+    [("behind_A", (1, 2)), ("lacunary_3-", (1, 2)), ("irrational_behind_A", (1, 2)),
+     ("A_after_a_pole_behind_it", (2,))],
+)  # fmt: skip
+def test_the_reference_theta_is_continuous(name: str, legs: tuple[int, ...]) -> None:
+    """The reference's own θ (``theta_branch``) has no jump on a fine grid of rationals
+    (only leg 2 where E passes A: θ1 turns by π there) and starts at atan2's value."""
+    task = _task(name)
+    tf = Fraction(CORPUS[name].duration)
+    ts = [tf * i / 100 for i in range(101)]
+    values = [theta_branch(task, t) for t in ts]
+    for leg in legs:
+        th = [v[leg - 1] for v in values]
+        if th[0] is not None and reference(task, 0.0)["y"] != 0:
+            assert th[0] == pytest.approx(float(reference(task, 0.0)[f"theta{leg}"]), abs=1e-15)
+        steps = [abs(b - a) for a, b in itertools.pairwise(th) if a is not None and b is not None]
+        assert max(steps) < 0.5, (leg, max(steps))
