@@ -17,12 +17,15 @@ significant digits and more, straight from the paper's equations:
 x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
 working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
 until evaluations at d and d + 30 digits agree to 40 digits. At a root of y, λ and T are
-two-sided limits (``limit``: ``None`` at a pole).
+two-sided limits (``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
+``theta_branch`` gives θ on its continuous branch, the crossings of the legs' branch cuts
+found by isolating the real roots of y(t) exactly (Sturm sequences over fractions).
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import lru_cache
 from typing import Any
 
 import mpmath
@@ -45,22 +48,29 @@ def _mpf(q: Any) -> Any:
     return mpmath.mpf(q)
 
 
-def _poly(coeffs: list[Any], x: Any) -> tuple[Any, Any, Any]:
-    """p(x), p'(x), p''(x) by direct summation (exact for Fractions)."""
-    v = d1 = d2 = x * 0
-    for k, c in enumerate(coeffs):
-        v += c * x**k
-        if k >= 1:
-            d1 += k * c * x ** (k - 1)
-        if k >= 2:
-            d2 += k * (k - 1) * c * x ** (k - 2)
+def _poly(coeffs: tuple[Fraction, ...], x: Fraction) -> tuple[Fraction, Fraction, Fraction]:
+    """p(x), p'(x), p''(x) by Horner's scheme (exact in fractions)."""
+    v = d1 = d2 = Fraction(0)
+    for c in reversed(coeffs):
+        d2 = d2 * x + 2 * d1
+        d1 = d1 * x + v
+        v = v * x + c
     return v, d1, d2
+
+
+def _fractions(p: Any) -> tuple[Fraction, ...]:
+    return tuple(Fraction(int(c.p), int(c.q)) for c in p.coeffs())
 
 
 def _motion(task: Task, t: Fraction) -> tuple[Fraction, ...]:
     """x, x', x'', y, y', y'' at the rational time t, exactly (Python fractions)."""
-    xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
-    pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+    return _motion_of(_fractions(task.x_of_t), _fractions(task.path), t)
+
+
+@lru_cache(maxsize=4096)
+def _motion_of(
+    xc: tuple[Fraction, ...], pc: tuple[Fraction, ...], t: Fraction
+) -> tuple[Fraction, ...]:
     x, xd, xdd = _poly(xc, t)
     p, p1, p2 = _poly(pc, x)
     return x, xd, xdd, p, p1 * xd, p2 * xd * xd + p1 * xdd
@@ -126,10 +136,12 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...]) -> dict[str, Any]:
 
 
 def _agree(a: dict[str, Any], b: dict[str, Any], digits: int) -> bool:
+    tol = mpmath.mpf(10) ** -digits
     for k in KEYS:
-        if (a.get(k) is None) != (b.get(k) is None):
+        u, v = a.get(k), b.get(k)
+        if (u is None) != (v is None):
             return False
-        if a.get(k) is not None and abs(a[k] - b[k]) > mpmath.mpf(10) ** -digits * (1 + abs(b[k])):
+        if v is not None and abs(u - v) > tol * (1 + abs(v)):
             return False
     return True
 
@@ -177,3 +189,210 @@ def limit_of(task: Task, ts: Any, name: str) -> Any:
     eps = Fraction(1, 10**35)
     sides = [reference(task, ts + sgn * eps)[name] for sgn in (-1, 1)]
     return (sides[0] + sides[1]) / 2
+
+
+# -- θ on its continuous branch ----------------------------------------------------------
+# θ_i(t) = atan2(y, u_i) + 2π n(t): the principal angle moved by 2π at each time r < t at
+# which y changes sign on the far side of the leg's base joint (u_i(r) < 0, its branch
+# cut); exactly on the cut, the limit from the left (the motion's polynomials extend
+# below t = 0, so this holds at t = 0 too). The roots of y(t) are isolated exactly here,
+# with Sturm sequences over Python fractions (nothing shared with the engine's own root
+# finding).
+
+Poly = list[Fraction]  # coefficients, lowest degree first, no trailing zeros
+
+
+def _trim(p: Poly) -> Poly:
+    while p and p[-1] == 0:
+        p = p[:-1]
+    return p
+
+
+def _mul(p: Poly, q: Poly) -> Poly:
+    if not p or not q:
+        return []
+    out = [Fraction(0)] * (len(p) + len(q) - 1)
+    for i, a in enumerate(p):
+        for j, b in enumerate(q):
+            out[i + j] += a * b
+    return _trim(out)
+
+
+def _add(p: Poly, q: Poly) -> Poly:
+    n = max(len(p), len(q))
+    return _trim([(p[i] if i < len(p) else 0) + (q[i] if i < len(q) else 0) for i in range(n)])
+
+
+def _compose(p: Poly, q: Poly) -> Poly:
+    """p(q(t)) by Horner."""
+    out: Poly = []
+    for c in reversed(p):
+        out = _add(_mul(out, q), [c])
+    return out
+
+
+def _diff(p: Poly) -> Poly:
+    return _trim([k * c for k, c in enumerate(p)][1:])
+
+
+def _rem(p: Poly, q: Poly) -> Poly:
+    p = list(p)
+    while len(p) >= len(q):
+        f = p[-1] / q[-1]
+        shift = len(p) - len(q)
+        for i, c in enumerate(q):
+            p[shift + i] -= f * c
+        p = _trim(p[:-1])
+    return p
+
+
+def _quo(p: Poly, q: Poly) -> Poly:
+    p, out = list(p), [Fraction(0)] * max(len(p) - len(q) + 1, 0)
+    while len(p) >= len(q):
+        f = p[-1] / q[-1]
+        shift = len(p) - len(q)
+        out[shift] = f
+        for i, c in enumerate(q):
+            p[shift + i] -= f * c
+        p = _trim(p[:-1])
+    return _trim(out)
+
+
+def _gcd(p: Poly, q: Poly) -> Poly:
+    while q:
+        p, q = q, _rem(p, q)
+    return [c / p[-1] for c in p]
+
+
+def _val(p: Poly, t: Fraction) -> Fraction:
+    v = Fraction(0)
+    for c in reversed(p):
+        v = v * t + c
+    return v
+
+
+def _sign(v: Fraction) -> int:
+    return (v > 0) - (v < 0)
+
+
+def _sturm(p: Poly) -> list[Poly]:
+    seq = [p, _diff(p)]
+    while seq[-1]:
+        seq.append([-c for c in _rem(seq[-2], seq[-1])])
+    return seq[:-1]
+
+
+def _roots_in(seq: list[Poly], a: Fraction, b: Fraction) -> int:
+    """The number of distinct roots in (a, b] of the square-free seq[0]."""
+
+    def changes(t: Fraction) -> int:
+        signs = [s for s in (_sign(_val(p, t)) for p in seq) if s]
+        return sum(1 for i in range(1, len(signs)) if signs[i] != signs[i - 1])
+
+    return changes(a) - changes(b)
+
+
+def _sqf(p: Poly) -> Poly:
+    return _quo(p, _gcd(p, _diff(p))) if len(p) > 1 else p
+
+
+def _isolate(sqf: Poly, lo: Fraction, hi: Fraction) -> list[tuple[Fraction, Fraction]]:
+    """The roots of the square-free ``sqf`` in [lo, hi]: (r, r) when exact, else (a, b)
+    with one root inside, sqf(a) sqf(b) != 0."""
+    seq = _sturm(sqf)
+    out = [(lo, lo)] if _val(sqf, lo) == 0 else []
+    todo = [(lo, hi)]
+    while todo:
+        a, b = todo.pop()
+        n = _roots_in(seq, a, b)
+        if n == 1 and _val(sqf, b) == 0:
+            out.append((b, b))
+        elif n == 1 and _val(sqf, a) != 0:
+            out.append((a, b))
+        elif n:
+            m = (a + b) / 2
+            todo += [(a, m), (m, b)]
+    return sorted(out)
+
+
+def _cut_roots(task: Task, leg: int) -> list[tuple[Fraction, Fraction, int, bool]]:
+    """The roots of y(t) in [0, t_f] on the leg's cut: (a, b, sign of y after, crossing?)
+    with the root equal to a == b, or the only root of y in (a, b)."""
+    xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
+    pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+    a1 = Fraction(int(task.robot.a1.p), int(task.robot.a1.q))
+    y = _compose(pc, xc)
+    u = _add(xc, [-a1]) if leg == 2 else xc
+    tf = Fraction(int(task.duration.p), int(task.duration.q))
+    if len(y) < 2:
+        return []
+    sy = _sqf(y)
+    g = _gcd(y, u) if len(u) > 1 else [Fraction(1)]
+    gseq = _sturm(_sqf(g)) if len(g) > 1 else None
+    useq = _sturm(_sqf(u)) if len(u) > 1 else None
+    out = []
+    for a, b in _isolate(sy, Fraction(0), tf):
+        if a == b:
+            if _val(u, a) >= 0:
+                continue
+            d, m = y, 0
+            while _val(d, a) == 0:
+                d, m = _diff(d), m + 1
+            out.append((a, b, _sign(_val(d, a)), m % 2 == 1))
+            continue
+        if gseq is not None and _roots_in(gseq, a, b):
+            continue  # y and u vanish together: E at the base joint, not on its cut
+        while useq is not None and (_roots_in(useq, a, b) or _val(u, a) == 0):
+            m = (a + b) / 2
+            if _val(sy, m) == 0:
+                a = b = m
+                break
+            a, b = (a, m) if _sign(_val(sy, m)) != _sign(_val(sy, a)) else (m, b)
+        if _val(u, a) >= 0:
+            continue
+        if a == b:
+            d, k = y, 0
+            while _val(d, a) == 0:
+                d, k = _diff(d), k + 1
+            out.append((a, b, _sign(_val(d, a)), k % 2 == 1))
+            continue
+        before, after = _sign(_val(y, a)), _sign(_val(y, b))
+        out.append((a, b, after, before != after))
+    return out
+
+
+_CUTS: dict[Any, tuple[Poly, list[tuple[Fraction, Fraction, int, bool]]]] = {}
+
+
+def theta_branch(task: Task, t: Any) -> tuple[Any, Any]:
+    """θ1 and θ2 at the time t on their continuous branches (mpf; None where E is at the
+    leg's base joint)."""
+    tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
+    x, _, _, y, _, _ = _motion(task, tq)
+    a1 = Fraction(int(task.robot.a1.p), int(task.robot.a1.q))
+    return _theta(task, tq, x, y, 1), _theta(task, tq, x - a1, y, 2)
+
+
+def _theta(task: Task, tq: Fraction, u: Fraction, y: Fraction, leg: int) -> Any:
+    key = (str(task.x_of_t), str(task.path), str(task.robot.a1), str(task.duration), leg)
+    if key not in _CUTS:
+        xc = [Fraction(int(c.p), int(c.q)) for c in task.x_of_t.coeffs()]
+        pc = [Fraction(int(c.p), int(c.q)) for c in task.path.coeffs()]
+        _CUTS[key] = (_sqf(_compose(pc, xc)), _cut_roots(task, leg))
+    sy, cuts = _CUTS[key]
+    if u == 0 and y == 0:
+        return None
+    turns, on_cut = 0, 0
+    for a, b, after, crossing in cuts:
+        if a == b or tq <= a or tq >= b:
+            at, past = tq == a == b, tq > a if a == b else tq >= b
+        else:
+            v = _val(sy, tq)
+            at, past = v == 0, v != 0 and _sign(v) != _sign(_val(sy, a))
+        if at:  # on the cut: the limit from the left, ±π with the sign of y before
+            on_cut = -after if crossing else after
+        if past and crossing:
+            turns -= after
+    with mpmath.workdps(60):
+        principal = mpmath.pi * on_cut if on_cut else mpmath.atan2(_mpf(y), _mpf(u))
+        return principal + 2 * mpmath.pi * turns

@@ -243,7 +243,7 @@ class CertifiedMotion:
             for s, e in self.instants
             if s.case.number in on_cut
         ]
-        if leg == 2:
+        if leg == 2 and not self.traj.y.is_zero():  # on y = 0, E passing A stays on the cut
             cuts += [_Cut(k.time, k.y_sign, k.order % 2 == 1) for k in self.kinematic if k.leg == 1]
         return sorted(cuts, key=lambda c: c.time.hi)
 
