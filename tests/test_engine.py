@@ -11,7 +11,7 @@ import pytest
 from flint import fmpq
 
 from rprpr.engine.audit import audit
-from rprpr.engine.sampling import grid, sample
+from rprpr.engine.sampling import grid
 from rprpr.io.loader import load_task, parse_task
 
 from .conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
@@ -41,7 +41,7 @@ def _f(q: fmpq) -> float:
 
 def at_times(result, t):  # type: ignore[no-untyped-def]
     """Samples of an audited task at the given times."""
-    return sample(result.trajectory, result.task.robot, result.analysis, np.asarray(t, dtype=float))
+    return result.resample(np.asarray(t, dtype=float))
 
 
 # -- the paper's numbers (Section 4) ------------------------------------------------

@@ -1,20 +1,29 @@
-"""The audit of a task: singular instants, samples, findings and the verdict (pure).
+"""The audit of a task: singular instants, torque verdicts, findings and the verdict (pure).
 
-    task -> trajectory (exact polynomials) -> singular analysis (exact) -> samples (float)
-         -> findings -> AuditResult
+    task -> trajectory (exact polynomials) -> singular analysis (exact)
+         -> certified motion -> torque envelope (grid-free) -> findings -> AuditResult
 
-``audit`` returns a plain result object; rendering it is the command line's business.
+Nothing the audit decides depends on a sampling grid: the singular instants are exact,
+the torque peak, the limit check, the saturation windows and the closest approach are
+certified over the whole interval [0, t_f] (``envelope``). The samples that ``export``
+writes and ``plot`` draws are certified values at the grid's times, made on demand
+(``AuditResult.samples``). ``audit`` returns a plain result object; rendering it is the
+command line's business.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from ..model.defaults import DEFAULT_SAMPLES
+from ..model.numbers import to_float
 from ..model.rules import Finding
 from ..model.task import Task
+from .certified import CertifiedMotion
+from .envelope import Approach, Envelope, LimitCheck, Peak, Window
 from .findings import findings
 from .sampling import Samples, grid, sample
 from .singular import (
@@ -29,18 +38,26 @@ from .singular import (
 )
 from .trajectory import Trajectory, trajectory
 
-SAMPLING = "the sampling of the motion"
+ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
-STAGES = (FACTORING, ISOLATING, EXPANDING, SAMPLING, FINDINGS)  # in the order they begin
+STAGES = (FACTORING, ISOLATING, EXPANDING, ENVELOPE, FINDINGS)  # in the order they begin
+
+Saturation = tuple[SingularInstant, Window | None, Window | None]
 
 
 @dataclass(frozen=True)
 class AuditResult:
     """Everything ``rprpr check`` reports for one task.
 
-    ``torque_peak`` = (max |T1|, max |T2|) [N m] over the samples at which the torques are
-    finite and the limits at bounded singular instants (None when there is none);
-    ``verdict`` is "pass" or "fail".
+    ``torque_peak`` = (max |T1|, max |T2|) over [0, t_f], certified (``envelope.Peak``:
+    the value, where it is reached, a proven upper bound); inf where a singular instant
+    has unbounded torques; None when the path lies on y = 0. ``torque_limit``: the
+    certified check of ``checks.torque_limit`` for every t (None without a limit);
+    ``saturation``: for each unbounded instant, the windows around it in which |T1|, |T2|
+    exceed their limits (empty without a limit); ``closest_approach``: for a motion that
+    never meets the line AB, how close it comes (None otherwise). ``verdict`` is "pass"
+    or "fail". ``samples`` are certified values on the grid of ``grid_size`` points, made
+    when first read.
     """
 
     task: Task
@@ -48,16 +65,25 @@ class AuditResult:
     singularities: list[SingularInstant]
     kinematic_singularities: list[KinematicSingularity]
     on_singular_line: bool
-    torque_peak: tuple[float, float] | None
+    torque_peak: tuple[Peak, Peak] | None
+    torque_limit: tuple[LimitCheck, LimitCheck] | None
+    saturation: list[Saturation]
+    closest_approach: Approach | None
     findings: list[Finding]
-    samples: Samples = field(repr=False)
+    grid_size: int = field(repr=False)
     trajectory: Trajectory = field(repr=False)
-    analysis: SingularAnalysis = field(repr=False, compare=False)  # what ``resample`` reads
+    analysis: SingularAnalysis = field(repr=False, compare=False)
+    motion: CertifiedMotion = field(repr=False, compare=False)  # what ``resample`` reads
+
+    @cached_property
+    def samples(self) -> Samples:
+        """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
+        return self.resample(grid(self.task.duration, self.grid_size))
 
     def resample(self, t: np.ndarray) -> Samples:
-        """The motion, joints, δ, λ and torques at the times ``t`` [s], from the exact
-        analysis already made (no new analysis)."""
-        return sample(self.trajectory, self.task.robot, self.analysis, np.asarray(t, dtype=float))
+        """The motion, joints, δ, λ and torques at the times ``t`` [s], certified, from
+        the exact analysis already made (no new analysis)."""
+        return sample(self.motion, np.asarray(t, dtype=float))
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
         """The findings the audit made at the singular instant ``s``."""
@@ -87,18 +113,29 @@ def audit(
     strict: bool | None = None,
     on_stage: OnStage | None = None,
 ) -> AuditResult:
-    """Audit ``task`` on ``samples`` grid points; ``strict`` overrides ``task.checks.strict``.
-    ``on_stage``, when given, is told the name of each stage (``STAGES``) as it begins (a
-    caller that stops a long audit can say where it was)."""
+    """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
+    (nothing the audit decides depends on it); ``strict`` overrides
+    ``task.checks.strict``. ``on_stage``, when given, is told the name of each stage
+    (``STAGES``) as it begins (a caller that stops a long audit can say where it was)."""
+    if samples < 2:
+        raise ValueError("at least 2 samples are needed")
     strict = task.checks.strict if strict is None else strict
     tell = on_stage or _quiet
     traj = trajectory(task)
     analysis = analyse(traj, task.robot, task.checks, tell)
-    tell(SAMPLING)
-    s = sample(traj, task.robot, analysis, grid(task.duration, samples))
-    peak = _torque_peak(s, analysis.instants)
+    tell(ENVELOPE)
+    motion = CertifiedMotion(traj, task.robot, analysis)
+    envelope = Envelope(motion)
+    peak = envelope.torque_peak()
+    limit = task.checks.torque_limit
+    checked = saturation = None
+    if limit is not None:
+        pair = (to_float(limit[0]), to_float(limit[1]))
+        checked = envelope.limit_violations(pair)
+        saturation = envelope.saturation_windows(pair)
+    approach = envelope.closest_approach()
     tell(FINDINGS)
-    found = findings(task, analysis, peak)
+    found = findings(task, analysis, peak, checked)
     return AuditResult(
         task=task,
         strict=strict,
@@ -106,27 +143,16 @@ def audit(
         kinematic_singularities=analysis.kinematic,
         on_singular_line=analysis.on_singular_line,
         torque_peak=peak,
+        torque_limit=checked,
+        saturation=saturation or [],
+        closest_approach=approach,
         findings=found,
-        samples=s,
+        grid_size=samples,
         trajectory=traj,
         analysis=analysis,
+        motion=motion,
     )
 
 
 def _quiet(stage: str) -> None:
     """An ``OnStage`` that listens to nothing."""
-
-
-def _torque_peak(s: Samples, instants: list[SingularInstant]) -> tuple[float, float] | None:
-    """max |T1|, max |T2| over the samples with finite torques and the finite limits at
-    the bounded singular instants (which the grid may miss)."""
-    ok = np.isfinite(s.T1) & np.isfinite(s.T2)
-    t1 = [float(v) for v in np.abs(s.T1[ok])]
-    t2 = [float(v) for v in np.abs(s.T2[ok])]
-    for i in instants:
-        if i.torque_at_singularity is not None:
-            t1.append(abs(i.torque_at_singularity[0]))
-            t2.append(abs(i.torque_at_singularity[1]))
-    if not t1:
-        return None
-    return max(t1), max(t2)

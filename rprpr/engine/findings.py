@@ -8,26 +8,35 @@ a message goes through ``model.numbers``; the instants of a task are told apart 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
-from ..model.numbers import apart, labels, to_float
+from ..model.numbers import apart, distinct, labels, number
 from ..model.rules import Finding
 from ..model.task import Task
+from .envelope import LimitCheck, Peak, Window
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 
 
-def findings(task: Task, a: SingularAnalysis, peak: tuple[float, float] | None) -> list[Finding]:
+def findings(
+    task: Task,
+    a: SingularAnalysis,
+    peak: tuple[Peak, Peak] | None,
+    limit: tuple[LimitCheck, LimitCheck] | None,
+) -> list[Finding]:
     """What the audit found wrong with ``task``, in report order: the path on the singular
     line, the inverse-kinematic singularities, each singular instant's broken principles
-    and unbounded torques, then the torque limit. ``peak`` = (max |T1|, max |T2|) [N m]."""
+    and unbounded torques, then the torque limit (``limit``: the certified check of
+    ``checks.torque_limit`` over [0, t_f], ``envelope.limit_violations``; ``peak``: the
+    certified max |T1|, max |T2|, ``envelope.torque_peak``)."""
     at = instant_text(a)
     out = path_on_singular_line(a)
     out += [kinematic(k, at) for k in a.kinematic]
     for s in a.instants:
         out += slope(s, at) + velocity(s, at) + unbounded(s, at)
-    out += torque_limit(task, a, peak, at)
+    out += torque_limit(task, a, peak, limit, at)
     return out
 
 
@@ -92,32 +101,73 @@ def unbounded(s: SingularInstant, at: At) -> list[Finding]:
 
 
 def torque_limit(
-    task: Task, a: SingularAnalysis, peak: tuple[float, float] | None, at: At
+    task: Task,
+    a: SingularAnalysis,
+    peak: tuple[Peak, Peak] | None,
+    checks: tuple[LimitCheck, LimitCheck] | None,
+    at: At,
 ) -> list[Finding]:
-    """RPR202: a torque beyond ``checks.torque_limit``: at every pole (beyond any limit;
-    near a pole the sampled peak only says where the grid fell), else where the peak
-    exceeds the limit of its actuator."""
-    limit = task.checks.torque_limit
-    if limit is None:
-        return []
-    poles = [s for s in a.instants if not s.torque_bounded]
-    if poles:
-        return [
-            Finding(
-                "RPR202",
-                f"{at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
-                " beyond any limit",
-                s.t,
-            )
-            for s in poles
-        ]
-    if peak is None:
+    """RPR202: |T_i(t)| beyond ``checks.torque_limit`` at some t in [0, t_f], decided for
+    every t (certified, ``envelope.limit_violations``), never at samples only. Each
+    unbounded instant is beyond any limit (one finding there, with the window around it
+    in which each limit is exceeded); each other interval above a limit is named with
+    its crossings; a limit that the certified bounds can neither prove kept nor broken
+    (the peak touches it) fails too: a gate passes only what is proven."""
+    if task.checks.torque_limit is None or checks is None:
         return []
     out = []
-    for j in (0, 1):
-        lim = to_float(limit[j])
-        if peak[j] > lim:
-            reached, allowed = apart(peak[j], lim)
-            message = f"|T{j + 1}| reaches {reached} N m, beyond the limit {allowed} N m"
+    for s in a.instants:
+        if s.torque_bounded:
+            continue
+        windows = [_around(s, c, j) for j, c in enumerate(checks)]
+        beyond = "; ".join(w for w in windows if w)
+        message = (
+            f"{at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
+            f" beyond any limit{': ' + beyond if beyond else ''}"
+        )
+        out.append(Finding("RPR202", message, s.t))
+    for j, c in enumerate(checks):
+        limit = number(c.limit)
+        above = [w for w in c.windows if not w.pole]
+        if above:
+            top = peak[j] if peak is not None and math.isfinite(peak[j].value) else None
+            out.append(Finding("RPR202", _exceeded(j, c.limit, top, above)))
+        elif c.passed is None:
+            message = (
+                f"|T{j + 1}| cannot be proven within the limit {limit} N m: its maximum"
+                " touches the limit (within the certified bounds)"
+            )
             out.append(Finding("RPR202", message))
     return out
+
+
+def _span(w: Window) -> tuple[float, float]:
+    """A window's extent: from the first certified crossing to the last."""
+    return w.start_lo, w.end_hi
+
+
+def _exceeded(j: int, limit: float, peak: Peak | None, windows: list[Window]) -> str:
+    """|Tj| above ``limit`` in ``windows`` (each bracketed by its certified crossings),
+    with the peak it reaches (told apart from the limit)."""
+    ends = distinct([v for w in windows for v in _span(w)])
+    spans = [f"{ends[2 * k]} .. {ends[2 * k + 1]}" for k in range(len(windows))]
+    shown = ", ".join(spans[:3]) + (f" and {len(spans) - 3} more" if len(spans) > 3 else "")
+    if peak is None:
+        head = f"|T{j + 1}| exceeds the limit {number(limit)} N m"
+    else:
+        reached, allowed = apart(peak.value, limit)
+        head = (
+            f"|T{j + 1}| reaches {reached} N m at t = {number(peak.t)} s,"
+            f" beyond the limit {allowed} N m"
+        )
+    return f"{head}: above it from t = {ends[0]} s (t = {shown} s)"
+
+
+def _around(s: SingularInstant, check: LimitCheck, j: int) -> str:
+    """The window around the unbounded instant ``s`` in which |Tj| exceeds its limit."""
+    for w in check.windows:
+        if w.pole and w.start_lo <= s.t <= w.end_hi:
+            start, end = _span(w)
+            width, t0, t1 = distinct([end - start, start, end])
+            return f"|T{j + 1}| > {number(check.limit)} N m for {width} s (t = {t0} .. {t1} s)"
+    return ""

@@ -84,7 +84,8 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
             {"t": k.t, "x": k.x, "y": k.y, "leg": k.leg} for k in result.kinematic_singularities
         ],
         "on_singular_line": result.on_singular_line,
-        "torque_peak": [_f(v) for v in result.torque_peak] if result.torque_peak else None,
+        "torque_peak": [_f(p.value) for p in result.torque_peak] if result.torque_peak else None,
+        "torque_peak_t": [_f(p.t) for p in result.torque_peak] if result.torque_peak else None,
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
     }

@@ -75,7 +75,7 @@ def _torque_summary(r: AuditResult) -> list[str]:
     if unbounded:
         return ["torques unbounded at t = " + ", ".join(unbounded) + " s"]
     if r.torque_peak is not None:
-        t1, t2 = (number(v, LABEL_DIGITS) for v in r.torque_peak)
+        t1, t2 = (number(p.value, LABEL_DIGITS) for p in r.torque_peak)
         return [f"peak |T1|, |T2| = {t1}, {t2} N m"]
     return []
 
