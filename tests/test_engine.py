@@ -15,6 +15,7 @@ from rprpr.engine.sampling import grid
 from rprpr.io.loader import load_task, parse_task
 
 from .conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
+from .reference import reference
 
 HEAVY5 = """\
   links:
@@ -351,7 +352,7 @@ def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped
 def test_torque_limit_gates_only_in_strict_mode(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [50, 100]\n"
     r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))))
-    assert r.torque_peak[0] > 50 and r.verdict == "pass"
+    assert r.torque_peak[0].value > 50 and r.verdict == "pass"
     assert [f.rule for f in r.findings] == ["RPR202"]
     assert audit(r.task, strict=True).verdict == "fail"
 
@@ -360,7 +361,19 @@ def test_torque_limit_with_an_unbounded_instant_names_the_pole(write_task):  # t
     text = (CONFIGS / "paper_path1.yaml").read_text() + "checks:\n  torque_limit: [300, 300]\n"
     r = audit(load_task(write_task(text)))
     msgs = [f.message for f in r.findings if f.rule == "RPR202"]
-    assert msgs == ["t = 2.5 s: the torques are unbounded (pole of order 2): beyond any limit"]
+    assert msgs == [
+        "t = 2.5 s: the torques are unbounded (pole of order 2): beyond any limit:"
+        " |T1| > 300 N m for 0.393982 s (t = 2.30935 .. 2.70333 s);"
+        " |T2| > 300 N m for 0.350624 s (t = 2.32126 .. 2.67189 s)"
+    ]
+    # the window's ends are where the independent reference's |T_i| crosses 300 N m
+    for name, (start, end) in (("T1", (2.30935, 2.70333)), ("T2", (2.32126, 2.67189))):
+        for t, inside in ((start, 1e-5), (end, -1e-5)):
+            assert (
+                abs(reference(r.task, t - inside)[name])
+                < 300
+                < abs(reference(r.task, t + inside)[name])
+            )
 
 
 def test_decimal_text_is_exact():  # type: ignore[no-untyped-def]
@@ -428,10 +441,19 @@ def test_instants_closer_than_double_precision_do_not_crash(write_task):  # type
     assert all(s.t == 1.0 for s in r.singularities)
 
 
-def test_torque_peak_includes_the_limit_at_a_bounded_instant(write_task):  # type: ignore[no-untyped-def]
+def test_torque_peak_is_the_maximum_over_the_interval_whatever_the_grid(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [63.2, 1000]\n  strict: true\n"
-    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))), samples=2)
-    assert r.torque_peak[0] == pytest.approx(63.225)  # the two grid samples are lower
+    task = load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra)))
+    peaks = {n: audit(task, samples=n).torque_peak for n in (2, 11, 1001)}
+    assert peaks[2] == peaks[11] == peaks[1001]
+    p1 = peaks[2][0]
+    # the value is |T1| at the time it names (independent reference), and no reference
+    # value near that time is larger
+    assert p1.value == pytest.approx(abs(reference(task, p1.t)["T1"]), rel=1e-9)
+    near = [abs(reference(task, p1.t + d)["T1"]) for d in (-1e-3, -1e-4, 1e-4, 1e-3)]
+    assert max(near) <= p1.upper and p1.upper <= p1.value * (1 + 1e-6)
+    assert p1.value == pytest.approx(66.1221116, rel=1e-7)  # above the limit 63.225 at t_s
+    r = audit(task, samples=2)
     assert r.verdict == "fail" and [f.rule for f in r.findings] == ["RPR202"]
 
 

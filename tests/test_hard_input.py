@@ -257,6 +257,10 @@ HARD: dict[str, Hard] = {
 # CPU seconds per audit: "bounded time" (each takes milliseconds today). CPU time, not wall
 # time: a loaded machine or a parallel run must not turn a fast audit into a failure.
 TIME_LIMIT = 5.0
+TANGENT_AT_A = {"touching_the_line_at_A"}
+# an instant of order 59 whose zone form reaches |ε| = 0.125 only: the peak is a
+# certified lower bound with a far upper bound, reported as not certified
+NOT_YET_CERTIFIED = {"multiplicity_60"}
 
 
 @pytest.fixture(scope="module")
@@ -312,7 +316,18 @@ def test_hard_input_audit_is_exact_and_bounded(name: str, audited: dict) -> None
     if case.on_line:
         assert r.torque_peak is None  # documented: no bounded sample exists on the line
     else:
-        assert r.torque_peak is not None and all(0 <= v < float("inf") for v in r.torque_peak)
+        # certified over the whole interval: infinite exactly when an instant is a pole;
+        # undefined where E meets A along AB (δ -> 0 there too: a Type II singularity at
+        # the base joint, which the singular analysis does not expand)
+        if name in TANGENT_AT_A:
+            assert r.torque_peak is None
+            return
+        poles = any(not s.torque_bounded for s in r.singularities)
+        assert r.torque_peak is not None
+        for p in r.torque_peak:
+            assert 0 <= p.value <= p.upper
+            assert (p.value == float("inf")) is poles
+            assert p.certified or name in NOT_YET_CERTIFIED
 
 
 @pytest.mark.parametrize("name", sorted(HARD))
