@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...engine.audit import AuditResult
-from ...engine.sampling import Samples
+from ...engine.sampling import Samples, grid
 from ...model.task import Task
 
 
@@ -37,17 +37,17 @@ def motion(result: AuditResult, source: str = "") -> Motion:
     """The audited task ``result``, ready to draw: its samples with its singular instants
     added to the grid and, about an unbounded one, the times t_s ± 10^-k t_f (k = 3..8),
     so that the curves visibly diverge however fine or coarse the grid."""
-    s = result.samples
-    tf = float(s.t[-1])
+    t = grid(result.task.duration, result.grid_size)
+    tf = float(t[-1])
     tol = 1e-12 * max(1.0, tf)
-    missing = [i.t for i in result.singularities if not np.any(np.abs(s.t - i.t) <= tol)]
+    missing = [i.t for i in result.singularities if not np.any(np.abs(t - i.t) <= tol)]
     for i in result.singularities:
         if not i.torque_bounded:
             near = i.t + tf * np.outer([-1, 1], 10.0 ** -np.arange(3, 9)).ravel()
             missing += [float(v) for v in near if 0 < v < tf]
-    if missing:
-        s = result.resample(np.union1d(s.t, missing))
-    return Motion(source, result, s)
+    if not missing:
+        return Motion(source, result, result.samples)
+    return Motion(source, result, result.resample(np.union1d(t, missing)))
 
 
 def at(m: Motion, t: float) -> int:
