@@ -6,8 +6,8 @@ field K = Q[t]/(f) of the irreducible factor f of y(t) that vanishes at t_s, and
 element of K is zero exactly when its reduced representative is the zero polynomial.
 ``KElem`` is such an element; when t_s is rational, K = Q and the coefficients are plain
 ``fmpq`` (several times faster). ``Series`` works over either, with the formulas of
-``dynamics``; the floating-point expansion used for sampling near t_s runs the same
-formulas on flint's ``arb_series`` (``near_pole.lambda_series``).
+``dynamics``; the ball expansions near t_s (``zones``) run the same formulas on flint's
+``arb`` series.
 """
 
 from __future__ import annotations
