@@ -267,20 +267,10 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("      expansion (Taylor coefficients)", "rprpr.engine.singular", "expansion", "_instant"),
     ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "_instant"),
     ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "_instant"),
-    ("  sample (float, --samples points)", "rprpr.engine.sampling", "sample", ""),
-    ("    grid", "rprpr.engine.sampling", "grid", ""),
-    ("    lambda_series (float series)", "rprpr.engine.near_pole", "lambda_series", ""),
-    (
-        "      expansion (Taylor coefficients)",
-        "rprpr.engine.singular",
-        "expansion",
-        "lambda_series",
-    ),
-    ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "lambda_series"),
-    ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "lambda_series"),
-    ("    recentred y near t_s", "rprpr.engine.sampling", "_recentered", ""),
-    ("    legs (numpy)", "rprpr.engine.equations", "leg", "sample"),
-    ("    dynamics (numpy)", "rprpr.engine.equations", "dynamics", "sample"),
+    ("  certified motion (set-up)", "rprpr.engine.certified", "CertifiedMotion", ""),
+    ("  torque peak (grid-free)", "rprpr.engine.envelope", "Envelope.torque_peak", ""),
+    ("  limit check (grid-free)", "rprpr.engine.envelope", "Envelope.limit_violations", ""),
+    ("  closest approach", "rprpr.engine.envelope", "Envelope.closest_approach", ""),
     ("  findings", "rprpr.engine.findings", "findings", ""),
     ("report dict (task_report)", "rprpr.report.records", "task_report", ""),
 ]
@@ -295,7 +285,11 @@ def _instrument(totals: list[float]) -> None:
     for i, (_, modname, attr, context) in enumerate(STAGES):
         by_function.setdefault((modname, attr), []).append((i, context))
     for (modname, attr), rows in by_function.items():
-        f = getattr(importlib.import_module(modname), attr, None)
+        owner: Any = importlib.import_module(modname)
+        *path, name = attr.split(".")  # "Class.method": timed on the class
+        for part in path:
+            owner = getattr(owner, part, None)
+        f = getattr(owner, name, None)
         if f is None:  # renamed in the engine: leave the stage out
             continue
 
@@ -315,6 +309,9 @@ def _instrument(totals: list[float]) -> None:
                     totals[row] += time.perf_counter() - t0
                 stack.pop()
 
+        if path:
+            setattr(owner, name, timed)
+            continue
         for m in list(sys.modules.values()):
             if getattr(m, "__name__", "").startswith("rprpr") and getattr(m, attr, None) is f:
                 setattr(m, attr, timed)
