@@ -8,8 +8,8 @@ import functools
 import os
 import sys
 import time
-from dataclasses import replace
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, TextIO
 
 import click
@@ -67,8 +67,7 @@ REPORTING = "the report"
     "--strict",
     is_flag=True,
     default=None,
-    help="Fail on every finding: also on torque limits (RPR202) and on accepted "
-    "unbounded torques.",
+    help="Fail on every finding: also on torque limits (RPR202) and on accepted unbounded torques.",
 )
 @click.option(
     "--warn-unbounded",

@@ -28,8 +28,9 @@ class CheckOptions:
 
     ``output_file`` None is standard output; ``strict`` None leaves each task's own
     ``checks.strict``; ``warn_unbounded`` accepts unbounded torques (RPR201 a warning)
-    in every task, False leaves each task's ``checks.unbounded_torque``; ``jobs`` is the number of worker processes; ``budget`` the
-    wall-clock seconds each task may take before it is stopped (None: no limit).
+    in every task, False leaves each task's ``checks.unbounded_torque``; ``jobs`` is
+    the number of worker processes; ``budget`` the wall-clock seconds each task may
+    take before it is stopped (None: no limit).
     """
 
     format: str = "text"

@@ -47,7 +47,7 @@ class Checks:
     min_speed: fmpq
     torque_limit: tuple[fmpq, fmpq] | None
     strict: bool
-    unbounded_torque: str = "fail"
+    unbounded_torque: str
 
 
 @dataclass(frozen=True)
