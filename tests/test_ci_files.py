@@ -151,13 +151,16 @@ def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]
         "configs/paper_path2.yaml\n  configs/case1_crossing.yaml"  # newline- and space-separated
     )
     p = _run_check_step(action, paths=paths, strict="false", args="--samples 101")
+    assert p.returncode == 1  # unbounded torques fail by default
+    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert "title=RPR201 unbounded-torque::" in p.stdout
+    assert len(p.stdout.splitlines()) == 1
+    p = _run_check_step(action, paths=paths, strict="false", args="--warn-unbounded")
     assert p.returncode == 0
     assert p.stdout.startswith("::warning file=configs/case1_crossing.yaml,line=")
-    assert len(p.stdout.splitlines()) == 1
-    p = _run_check_step(action, paths=paths, strict="true", args="--samples 101")
+    p = _run_check_step(action, paths=paths, strict="true", args="--warn-unbounded")
     assert p.returncode == 1
     assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
-    assert "title=RPR201 inconsistent-crossing::" in p.stdout
 
 
 def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str, Any]) -> None:

@@ -204,15 +204,26 @@ def test_exit_zero_hides_failures_but_not_errors(tmp_path: Path) -> None:
     assert run_cli("check", "--exit-zero", *FAST, fail, bad)[0] == 2
 
 
-def test_strict_turns_warnings_into_failures(tmp_path: Path) -> None:
+def test_unbounded_torque_fails_unless_accepted_and_strict_fails_it_again(tmp_path: Path) -> None:
     case1 = str(CONFIGS / "case1_crossing.yaml")  # inconsistent crossing: RPR201
     code, out, _ = run_cli("check", "--format", "github", *FAST, case1)
-    assert code == 0
-    assert out.startswith("::warning file=")
-    assert "title=RPR201 inconsistent-crossing::" in out
-    code, out, _ = run_cli("check", "--format", "github", "--strict", *FAST, case1)
     assert code == 1
     assert out.startswith("::error file=")
+    assert "title=RPR201 unbounded-torque::" in out
+    code, out, _ = run_cli("check", "--format", "github", "--warn-unbounded", *FAST, case1)
+    assert code == 0
+    assert out.startswith("::warning file=")
+    code, out, _ = run_cli("check", "--format", "github", "--strict", "--warn-unbounded", case1)
+    assert code == 1
+    assert out.startswith("::error file=")
+    # the task file's own key accepts it too; the flag wins over "fail"
+    text = (CONFIGS / "case1_crossing.yaml").read_text(encoding="utf-8")
+    warn, fail = tmp_path / "warn.yaml", tmp_path / "fail.yaml"
+    warn.write_text(text + "checks:\n  unbounded_torque: warn\n", encoding="utf-8")
+    fail.write_text(text + "checks:\n  unbounded_torque: fail\n", encoding="utf-8")
+    assert run_cli("check", "--format", "github", str(warn))[0] == 0
+    assert run_cli("check", "--format", "github", str(fail))[0] == 1
+    assert run_cli("check", "--format", "github", "--warn-unbounded", str(fail))[0] == 0
 
 
 # -- -q/--quiet --------------------------------------------------------------------------
@@ -257,10 +268,10 @@ def test_quiet_json_keeps_the_counts_of_every_task(tmp_path: Path) -> None:
 
 
 def test_quiet_github_drops_warnings_only() -> None:
-    p1 = str(CONFIGS / "paper_path1.yaml")  # RPR101 error + RPR201 warning
-    _, out, _ = run_cli("check", "--format", "github", *FAST, p1)
+    p1 = str(CONFIGS / "paper_path1.yaml")  # RPR101 error + RPR201 accepted: a warning
+    _, out, _ = run_cli("check", "--format", "github", "--warn-unbounded", p1)
     assert [line.split(" ", 1)[0] for line in out.splitlines()] == ["::error", "::warning"]
-    _, out, _ = run_cli("check", "-q", "--format", "github", *FAST, p1)
+    _, out, _ = run_cli("check", "-q", "--format", "github", "--warn-unbounded", p1)
     assert [line.split(" ", 1)[0] for line in out.splitlines()] == ["::error"]
 
 

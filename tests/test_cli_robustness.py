@@ -105,7 +105,7 @@ def test_text_report_tells_close_instants_apart(
     task.write_text(CLOSE_INSTANTS, encoding="utf-8")
     monkeypatch.setenv("COLUMNS", "160")  # wide enough for the table's t column in full
     code, out, _ = run_cli("check", "--samples", "11", str(task))
-    assert code == 0  # two first-order crossings; the inconsistency is a warning
+    assert code == 1  # two first-order crossings; the inconsistency: unbounded torques
     rows = [ln for ln in out.splitlines() if ln.startswith("│")]
     assert [r.split("│")[1].strip() for r in rows] == ["1", "1.000001"]
     findings = [ln for ln in out.splitlines() if "RPR201" in ln]

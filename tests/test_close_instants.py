@@ -35,8 +35,8 @@ SHALLOW = CLOSE + "checks:\n  min_slope: 0.01\n"
 
 WHERE = "(x, y) = (3, 0), case 3, order 1"
 UNBOUNDED = (
-    f"t = 1.000001 s, {WHERE}: inconsistent (eq. 34 residual 7.40741e-20 N):"
-    " torques unbounded (pole of order 1)"
+    f"t = 1.000001 s, {WHERE}: torques unbounded (pole of order 1):"
+    " inconsistent: eq. (34) residual 7.40741e-20 N ≠ 0"
 )
 
 
@@ -92,7 +92,7 @@ def test_text_table_names_both_instants_apart() -> None:
 def test_text_verdict_line_names_the_pole_with_its_digits() -> None:
     verdict = [ln for ln in text_lines(report(CLOSE)) if ln.startswith("  verdict:")]
     assert verdict == [
-        "  verdict: PASS — 2 singular instants, 0 high-order; torques unbounded at t = 1.000001 s"
+        "  verdict: FAIL — 2 singular instants, 0 high-order; torques unbounded at t = 1.000001 s"
     ]
 
 
@@ -103,12 +103,12 @@ def test_junit_names_both_instants_apart() -> None:
         f"t = 1 s: {WHERE} crossing; slope principle fail, velocity principle pass; torque bounded",
         f"t = 1.000001 s: {WHERE} crossing; slope principle fail, velocity principle pass;"
         " torque unbounded (pole of order 1)",
-        "verdict: fail (strict), 2 singular instants",
+        "verdict: fail (strict), 2 singular instants; torques unbounded at t = 1.000001 s",
     ]
     assert [f.get("message") for f in case.iter("failure")] == [
         f"RPR101 slope-principle: {slope_fails('1')}",
         f"RPR101 slope-principle: {slope_fails('1.000001')}",
-        f"RPR201 inconsistent-crossing: {UNBOUNDED}",
+        f"RPR201 unbounded-torque: {UNBOUNDED}",
     ]
 
 
@@ -116,15 +116,19 @@ def test_github_annotations_name_both_instants_apart() -> None:
     assert github(run_of(report(SHALLOW))).splitlines() == [
         f"::error file={PATH},line=10,title=RPR101 slope-principle::{slope_fails('1')}",
         f"::error file={PATH},line=10,title=RPR101 slope-principle::{slope_fails('1.000001')}",
-        f"::warning file={PATH},line=4,title=RPR201 inconsistent-crossing::{UNBOUNDED}",
+        f"::error file={PATH},line=4,title=RPR201 unbounded-torque::{UNBOUNDED}",
     ]
 
 
 def test_a_peak_just_beyond_the_torque_limit_reads_apart_from_the_limit() -> None:
-    # y = 1, x = 2 + t: |T1| peaks at 60.4347834699... N m on the default grid, just
+    # y = 1, x = 2 + t: |T1| peaks at 60.4347834699... N m at t = 2 s (the end), just
     # beyond the limit; with six digits both would read 60.4348
     level = task_text("1", "timing:\n  duration: 2\n  x: 2 + t\n")
     task = parse_task(level + "checks:\n  torque_limit: [60.4347834, 1000]\n")
     assert [(f.rule, f.message) for f in audit(task).findings] == [
-        ("RPR202", "|T1| reaches 60.43478347 N m, beyond the limit 60.4347834 N m")
+        (
+            "RPR202",
+            "|T1| reaches 60.43478347 N m at t = 2 s, beyond the limit 60.4347834 N m:"
+            " above it from t = 1.999999997 s (t = 1.999999997 .. 2 s)",
+        )
     ]

@@ -19,12 +19,13 @@ from rprpr.io.loader import load_task
 
 from .conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 
-# the issue's column list, written out independently of samples.COLUMNS
+# the issue's column list, written out independently of samples.COLUMNS, and the reason
 ISSUE_COLUMNS = [
     "t", "x", "y", "x_dot", "y_dot", "theta1", "s1", "theta2", "s2",
     "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
-    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2", "reason",
 ]  # fmt: skip
+WIDTH = len(ISSUE_COLUMNS)
 
 
 def read_csv(text: str) -> tuple[list[str], list[str], np.ndarray]:
@@ -36,7 +37,9 @@ def read_csv(text: str) -> tuple[list[str], list[str], np.ndarray]:
 
 
 def engine_rows(path: str, n: int) -> np.ndarray:
-    return audit(load_task(path), samples=n).samples.rows()
+    """The engine's samples and their reason codes, as the export's rows."""
+    samples = audit(load_task(path), samples=n).samples
+    return np.column_stack([samples.rows(), samples.reason])
 
 
 # ---------------------------------------------------------------------------------------
@@ -48,7 +51,7 @@ def test_columns_are_the_issues_in_order() -> None:
     assert code == 0
     _, names, values = read_csv(out)
     assert names == ISSUE_COLUMNS
-    assert values.shape == (5, 19)
+    assert values.shape == (5, WIDTH)
 
 
 @pytest.mark.parametrize("path", [PATH1_FILE, PATH2_FILE])
@@ -85,7 +88,7 @@ def test_samples_11_hit_t_2_5_and_write_the_bounded_limit() -> None:
     assert col["T2"][5] == pytest.approx(-5.445, abs=1e-9)
     limit = audit(load_task(PATH2_FILE)).singularities[0].torque_at_singularity
     assert (col["T1"][5], col["T2"][5]) == pytest.approx(limit, abs=1e-9)
-    assert np.all(np.isfinite(v))
+    assert np.all(np.isfinite(v)) and np.all(col["reason"] == 0)
     # δ' = -0.1 there (the path crosses with slope: a first-order singularity, Fig. 4)
     assert col["delta_dot"][5] == pytest.approx(-0.1, abs=1e-12)
 
@@ -98,11 +101,13 @@ def test_unbounded_instant_is_nan_in_csv_and_null_in_json(tmp_path: Path) -> Non
     assert len(line) == 1
     fields = dict(zip(ISSUE_COLUMNS, line[0].split(","), strict=True))
     assert fields["lambda2"] == fields["T1"] == fields["T2"] == "nan"
+    assert fields["reason"] == "1"  # a pole: an unbounded singular instant
     assert math.isfinite(float(fields["lambda1"]))
     _, _, v = read_csv(out)
     others = np.delete(v, 5, axis=0)
     assert np.all(np.isfinite(others))
-    assert np.max(np.abs(others[:, -2:])) < 200  # no huge finite value beside the pole
+    assert np.all(others[:, -1] == 0)  # every value of those rows certified
+    assert np.max(np.abs(others[:, -3:-1])) < 200  # no huge finite value beside the pole
 
     dest = tmp_path / "p1.json"
     code, _, _ = run_cli("export", PATH1_FILE, "--samples", "11", "-o", str(dest))
@@ -111,6 +116,7 @@ def test_unbounded_instant_is_nan_in_csv_and_null_in_json(tmp_path: Path) -> Non
     row = dict(zip(doc["columns"], doc["rows"][5], strict=True))
     assert row["t"] == 2.5
     assert row["lambda2"] is None and row["T1"] is None and row["T2"] is None
+    assert row["reason"] == 1 and doc["reasons"]["1"].startswith("a singular instant with")
     assert doc["singularities"][0]["torque_bounded"] is False
     assert doc["singularities"][0]["order"] == 3
 
@@ -129,7 +135,7 @@ def test_export_equals_the_engines_numbers(path: str, fmt: str, tmp_path: Path) 
         doc = json.loads(text)
         got = np.array([[np.nan if v is None else v for v in r] for r in doc["rows"]], dtype=float)
     want = engine_rows(path, 101)
-    assert got.shape == want.shape == (101, 19)
+    assert got.shape == want.shape == (101, WIDTH)
     assert np.array_equal(got, want, equal_nan=True)
 
 
@@ -140,6 +146,14 @@ def test_header_names_the_task_and_the_version() -> None:
     assert '"Example 2 of the paper, path 2"' in first
     assert PATH2_FILE in first and "3 samples" in first
     assert sum(line.startswith("#") for line in out.splitlines()) == 1
+    assert "every value certified to |err| <= 1e-09 (1 + |value|), or nan; reason codes:" in first
+    assert first.endswith(
+        "0 = every value certified; 1 = a singular instant with unbounded torques (a pole of"
+        " λ2): λ2, T1, T2 undefined; 2 = the end point is at A (s1 = 0): θ1, its rates, δ, λ"
+        " and T undefined; 3 = the end point is at B (s2 = 0): θ2, its rates, δ, λ and T"
+        " undefined; 4 = the path lies on y = 0 (δ ≡ 0): λ and T undefined; 5 = not"
+        " certified to 1e-09 at 4096 bits"
+    )
 
     _, out, _ = run_cli("export", PATH2_FILE, "--samples", "3", "--format", "json")
     doc = json.loads(out)
@@ -147,6 +161,9 @@ def test_header_names_the_task_and_the_version() -> None:
     assert doc["task"] == "Example 2 of the paper, path 2"
     assert doc["columns"] == ISSUE_COLUMNS
     assert doc["units"]["theta1"] == "rad" and doc["units"]["T1"] == "N m"
+    assert doc["units"]["reason"] == "code"
+    assert list(doc["reasons"]) == ["0", "1", "2", "3", "4", "5"]
+    assert doc["reasons"]["0"] == "every value certified"
     assert doc["samples"] == len(doc["rows"]) == 3
     assert doc["singularities"][0]["torque_at_singularity"] == pytest.approx([63.225, -5.445])
 
@@ -162,7 +179,7 @@ def test_csv_reads_back_with_numpy_as_documented(tmp_path: Path) -> None:
 def test_default_is_1001_samples_from_0_to_tf() -> None:
     _, out, _ = run_cli("export", PATH2_FILE)
     _, _, v = read_csv(out)
-    assert v.shape == (1001, 19)
+    assert v.shape == (1001, WIDTH)
     assert v[0, 0] == 0.0 and v[-1, 0] == 5.0 and v[500, 0] == 2.5
 
 
@@ -267,3 +284,20 @@ def test_json_is_strict_and_one_row_per_line() -> None:
     assert len(row_lines) == 11
     assert "NaN" not in out and "Infinity" not in out
     assert io.StringIO(out).read().endswith("}\n")
+
+
+def test_rows_through_a_and_b_say_why_their_values_are_nan(write_task) -> None:  # type: ignore[no-untyped-def]
+    """y = x (x - 6)/10 passes A at t = 1 and B at t = 7 (x = t - 1): there the leg's angle,
+    its rates, δ, λ and T are undefined (reasons 2 and 3); every other row is certified."""
+    path = write_task(task_text("x*(x - 6)/10", "timing:\n  duration: 8\n  x: t - 1\n"))
+    code, out, _ = run_cli("export", str(path), "--samples", "9")
+    assert code == 0
+    _, names, v = read_csv(out)
+    col = {n: v[:, j] for j, n in enumerate(names)}
+    assert col["reason"].tolist() == [0, 2, 0, 0, 0, 0, 0, 3, 0]
+    for j, leg in ((1, "1"), (7, "2")):
+        undefined = [f"theta{leg}", f"theta{leg}_dot", f"s{leg}_dot", "delta", "T1", "T2"]
+        assert all(math.isnan(col[n][j]) for n in undefined), j
+        assert (col["x"][j], col["y"][j]) == ((0.0, 0.0) if leg == "1" else (6.0, 0.0))
+    rest = np.delete(v, [1, 7], axis=0)
+    assert np.all(np.isfinite(rest))

@@ -28,9 +28,9 @@ from rprpr.report.run import Run
 
 from .conftest import BAD_A1, FAST, ROOT, run_cli
 
-P1 = "configs/paper_path1.yaml"  # fails RPR101 (slope), warns RPR201
+P1 = "configs/paper_path1.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
 P2 = "configs/paper_path2.yaml"  # passes, no finding
-ZERO = "configs/zero_speed_crossing.yaml"  # fails RPR102 (velocity), warns RPR201
+ZERO = "configs/zero_speed_crossing.yaml"  # fails RPR102 (velocity) and RPR201
 TRICKY = "50% done: a, b\r\nnext line"
 
 
@@ -46,11 +46,24 @@ def line_of(path: str, prefix: str) -> int:
     return next(i for i, ln in enumerate(lines, 1) if ln.startswith(prefix))
 
 
-def make_run(*paths: str, samples: int = 101, strict: bool | None = None) -> Run:
+def make_run(
+    *paths: str, samples: int = 101, strict: bool | None = None, warn_unbounded: bool = False
+) -> Run:
     r = Run()
+    options = CheckOptions(samples=samples, strict=strict, warn_unbounded=warn_unbounded)
     for p in paths:
-        r.add(*check_one(p, CheckOptions(samples=samples, strict=strict)))
+        r.add(*check_one(p, options))
     return r
+
+
+P1_UNBOUNDED = (
+    "t = 2.5 s, (x, y) = (3, 0), case 3, order 3: torques unbounded (pole of order 2):"
+    " consistent (eq. 34), but only 1 of 3 boundedness conditions hold"
+)
+ZERO_UNBOUNDED = (
+    "t = 1 s, (x, y) = (3, 0), case 3, order 3: torques unbounded (pole of order 2):"
+    " consistent (eq. 34), but only 1 of 3 boundedness conditions hold"
+)
 
 
 @pytest.fixture
@@ -95,12 +108,16 @@ def test_json_findings_carry_rule_ids_keys_and_lines() -> None:
     p1, zero = json.loads(out)["reports"]
     assert [(f["rule"], f["name"], f["severity"], f["key"], f["line"]) for f in p1["findings"]] == [
         ("RPR101", "slope-principle", "error", "path.y", line_of(P1, "  y:")),
-        ("RPR201", "inconsistent-crossing", "warning", "robot.links", line_of(P1, "  links:")),
+        ("RPR201", "unbounded-torque", "error", "robot.links", line_of(P1, "  links:")),
     ]
     assert [(f["rule"], f["key"], f["line"]) for f in zero["findings"]] == [
         ("RPR102", "timing", line_of(ZERO, "timing:")),
         ("RPR201", "robot.links", line_of(ZERO, "  links:")),
     ]
+    assert [f["message"] for f in p1["findings"]][1] == P1_UNBOUNDED
+    _, out, _ = run_cli("check", "--format", "json", "--warn-unbounded", *FAST, P1)
+    (p1,) = json.loads(out)["reports"]
+    assert [f["severity"] for f in p1["findings"]] == ["error", "warning"]
 
 
 def test_json_leaves_out_the_times_so_runs_are_reproducible() -> None:
@@ -132,15 +149,11 @@ def test_github_one_line_per_finding(bad_file: str) -> None:
         f"::error file={P1},line={y1},title=RPR101 slope-principle::t = 2.5 s, (x, y) = (3, 0),"
         " case 3, order 3: slope principle fails: the path is horizontal here (dy/dx = 0, eq."
         " 48): a high-order singularity",
-        f"::warning file={P1},line={links1},title=RPR201 inconsistent-crossing::t = 2.5 s,"
-        " (x, y) = (3, 0), case 3, order 3: consistent, but only 1 of 3 boundedness conditions"
-        " hold: torques unbounded (pole of order 2)",
+        f"::error file={P1},line={links1},title=RPR201 unbounded-torque::{P1_UNBOUNDED}",
         f"::error file={ZERO},line={timing},title=RPR102 velocity-principle::t = 1 s,"
         " (x, y) = (3, 0), case 3, order 3: velocity principle fails: the end point is at rest"
         " here (speed 0, eq. 47): a high-order singularity",
-        f"::warning file={ZERO},line={links0},title=RPR201 inconsistent-crossing::t = 1 s,"
-        " (x, y) = (3, 0), case 3, order 3: consistent, but only 1 of 3 boundedness conditions"
-        " hold: torques unbounded (pole of order 2)",
+        f"::error file={ZERO},line={links0},title=RPR201 unbounded-torque::{ZERO_UNBOUNDED}",
         f"::error file={escape_property(annotation_path(bad_file))},line=3,col=7,"
         f"title=RPR001 invalid-task::robot.a1: {bad_message()}",
     ]
@@ -190,7 +203,9 @@ def test_github_passing_tasks_print_nothing() -> None:
 
 
 def test_github_strict_findings_are_errors_in_strict_mode() -> None:
-    out = github(make_run(P1, strict=True))
+    out = github(make_run(P1, warn_unbounded=True))
+    assert [ln.split("::")[1].split(" ")[0] for ln in out.splitlines()] == ["error", "warning"]
+    out = github(make_run(P1, strict=True, warn_unbounded=True))
     assert [ln.split("::")[1].split(" ")[0] for ln in out.splitlines()] == ["error", "error"]
 
 
@@ -288,7 +303,8 @@ def test_junit_structure_counts_and_cases(bad_file: str) -> None:
     assert float(suite.attrib["time"]) == pytest.approx(sum(times), abs=0.003)
 
     # one failure per failing finding: the rule id in type, the reason in the message
-    [f1] = cases[0].findall("failure")
+    f1, unbounded = cases[0].findall("failure")
+    assert unbounded.attrib["message"] == f"RPR201 unbounded-torque: {P1_UNBOUNDED}"
     assert f1.attrib["type"] == "RPR101"
     assert f1.attrib["message"] == (
         "RPR101 slope-principle: t = 2.5 s, (x, y) = (3, 0), case 3, order 3: slope principle"
@@ -297,21 +313,22 @@ def test_junit_structure_counts_and_cases(bad_file: str) -> None:
     assert f1.text is not None
     assert f1.text.startswith(f"{P1}:{line_of(P1, '  y:')}: path.y: RPR101 slope-principle: ")
     assert cases[1].findall("failure") == [] and cases[1].findall("error") == []
-    [f3] = cases[2].findall("failure")
+    f3, _ = cases[2].findall("failure")
     assert f3.attrib["type"] == "RPR102"
     assert "velocity principle fails: the end point is at rest" in f3.attrib["message"]
 
-    # the strict-only finding that does not fail: in system-out, marked as a warning
     out1 = cases[0].findtext("system-out")
     assert out1 is not None
     assert "t = 2.5 s: (x, y) = (3, 0), case 3, order 3 crossing; slope principle fail" in out1
-    warnings = [ln for ln in out1.splitlines() if ln.startswith("warning: ")]
-    assert len(warnings) == 1
-    assert (
-        f"{P1}:{line_of(P1, '  links:')}: robot.links: RPR201 inconsistent-crossing: "
-        in warnings[0]
+    assert out1.splitlines()[-1] == (
+        "verdict: fail, 1 singular instant; torques unbounded at t = 2.5 s"
     )
-    assert out1.splitlines()[-1] == "verdict: fail, 1 singular instant"
+    out2 = cases[1].findtext("system-out")
+    assert out2 is not None  # the certified peaks and their times (tests/test_outputs.py)
+    assert out2.splitlines()[-1] == (
+        "verdict: pass, 1 singular instant; peak |T1| 66.1221 N m at t = 2.743 s,"
+        " |T2| 60.5504 N m at t = 0.2024 s"
+    )
 
     # the unreadable task file: an error naming the rule, line and key
     [err] = cases[3].findall("error")
@@ -323,8 +340,21 @@ def test_junit_structure_counts_and_cases(bad_file: str) -> None:
     assert err.text.startswith(f"{bad_file}:3:7: robot.a1: expected")
 
 
+def test_junit_lists_an_accepted_unbounded_torque_as_a_warning() -> None:
+    root = validate_junit(junit(make_run(P1, warn_unbounded=True)))
+    [case] = root.iter("testcase")
+    assert [f.attrib["type"] for f in case.findall("failure")] == ["RPR101"]
+    out = case.findtext("system-out")
+    assert out is not None
+    warnings = [ln for ln in out.splitlines() if ln.startswith("warning: ")]
+    assert warnings == [
+        f"warning: {P1}:{line_of(P1, '  links:')}: robot.links: RPR201 unbounded-torque:"
+        f" {P1_UNBOUNDED} (fails only with --strict)"
+    ]
+
+
 def test_junit_strict_mode_gives_a_failure_per_finding() -> None:
-    root = validate_junit(junit(make_run(P1, strict=True)))
+    root = validate_junit(junit(make_run(P1, strict=True, warn_unbounded=True)))
     [case] = root.iter("testcase")
     assert [f.attrib["type"] for f in case.findall("failure")] == ["RPR101", "RPR201"]
     assert root.attrib["failures"] == "1"  # one failed testcase, two failures in it
@@ -356,7 +386,7 @@ def test_junit_escapes_markup_newlines_and_forbidden_characters() -> None:
     [case] = root.iter("testcase")
     assert case.attrib["name"] == 'a <b> & "c"\nd\\x07e'
     assert case.attrib["classname"] == case.attrib["file"] == "dir/<&>.yaml"
-    [f] = case.findall("failure")
+    f, _ = case.findall("failure")  # RPR101, RPR201
     # XML normalises a literal \r\n in text to \n; the attribute keeps both (as &#13;&#10;)
     assert f.attrib["message"] == "RPR101 slope-principle: 50% done: a, b\r\nnext line <&>\\x00"
     assert xml_text("ok\x01\ud800\ufffe\t\n") == "ok\\x01\\ud800\\ufffe\t\n"
@@ -383,9 +413,12 @@ def test_text_marks_strict_only_findings_as_warnings() -> None:
     _, out, _ = run_cli("check", *FAST, P1)
     lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("RPR")]
     assert lines[0].startswith("RPR101 slope-principle: t = 2.5 s")
-    assert lines[1].startswith("RPR201 inconsistent-crossing (warning, fails with --strict): ")
-    _, out, _ = run_cli("check", "--strict", *FAST, P1)
-    assert "RPR201 inconsistent-crossing: t = 2.5 s" in out
+    assert lines[1] == f"RPR201 unbounded-torque: {P1_UNBOUNDED}"
+    _, out, _ = run_cli("check", "--warn-unbounded", *FAST, P1)
+    lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("RPR")]
+    assert lines[1] == f"RPR201 unbounded-torque (warning, fails with --strict): {P1_UNBOUNDED}"
+    _, out, _ = run_cli("check", "--strict", "--warn-unbounded", *FAST, P1)
+    assert f"RPR201 unbounded-torque: {P1_UNBOUNDED}" in out
 
 
 def test_renderers_do_not_change_the_run() -> None:

@@ -68,6 +68,7 @@ BASE: dict[str, str] = {
     "checks.torque_limit[0]": "300",
     "checks.torque_limit[1]": "200",
     "checks.strict": "true",
+    "checks.unbounded_torque": "warn",
 }
 EXPLICIT_X = "2 + 2*t/5"  # x(0) = 2, x(5) = 4: the same ends as the law
 
@@ -122,6 +123,7 @@ def document(
     out += [f"  {k('checks.min_speed')}: {values['checks.min_speed']}"]
     out += [f"  {k('checks.torque_limit')}: {pair('checks.torque_limit')}"]
     out += [f"  {k('checks.strict')}: {values['checks.strict']}"]
+    out += [f"  {k('checks.unbounded_torque')}: {values['checks.unbounded_torque']}"]
     return "\n".join(out) + "\n"
 
 

@@ -29,7 +29,10 @@ from .test_bad_input import GOOD  # the paper's path 2, without gravity or check
 
 FULL: dict[str, Any] = yaml.safe_load(GOOD)
 FULL["robot"]["gravity"] = 1.62  # the Moon: not the default
-FULL["checks"] = {"min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True}
+FULL["checks"] = {
+    "min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True,
+    "unbounded_torque": "warn",
+}  # fmt: skip
 FULL_X = copy.deepcopy(FULL)  # timing by x(t) instead of a law (x(0) = 2, x(5) = 4)
 FULL_X["timing"] = {"duration": 5, "x": "2 + 2*t/5"}
 
@@ -92,11 +95,14 @@ def _exact(v: fmpq) -> Fraction:
 def test_the_full_task_reads_every_value_given() -> None:
     task = parse_task(yaml.safe_dump(FULL, sort_keys=False), "full.yaml")
     assert task.robot.gravity == fmpq(162, 100)
-    assert task.checks == Checks(fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True)
+    assert task.checks == Checks(fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True, "warn")
 
 
 def test_the_defaulted_keys_are_gravity_and_the_checks_margins() -> None:
-    assert DEFAULTED == ["robot.gravity", "checks.min_slope", "checks.min_speed", "checks.strict"]
+    assert DEFAULTED == [
+        "robot.gravity", "checks.min_slope", "checks.min_speed", "checks.strict",
+        "checks.unbounded_torque",
+    ]  # fmt: skip
 
 
 def _omissions() -> Iterator[tuple[str, str]]:

@@ -345,7 +345,7 @@ def test_torques_bounded_limit_and_torque_limit_bands() -> None:
 
 def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:  # type: ignore[no-untyped-def]
     """Path 2 with link 5 heavier: eq. (34) fails at t_s, a pole of order 1: T changes
-    sign through infinity, and the instant is a warning (amber), not a failure."""
+    sign through infinity, and the instant fails (red): unbounded torque (RPR201)."""
     task = write_task(
         task_text(PATH2_Y, QUINTIC, links=HEAVY5).replace("name: test", "name: heavy link 5")
     )
@@ -355,7 +355,7 @@ def test_inconsistent_crossing_diverges_with_opposite_signs(write_task) -> None:
     fig = P.render([m], ["delta", "torques"])
     axes = panel_axes(fig)
     mark = by_gid(axes["delta"][0], "delta-singular-0-0")
-    assert mark.get_markerfacecolor() == P.STATUS_COLOUR["warn"]
+    assert mark.get_markerfacecolor() == P.STATUS_COLOUR["fail"]
     ax = axes["torques"][0]
     shapes = {
         by_gid(ax, f"torques-exit-0-0-T2-{side}").get_marker() for side in ("before", "after")
@@ -377,7 +377,7 @@ def test_close_instants_read_apart_on_the_sheet(write_task) -> None:  # type: ig
     assert any("T → ∞ at t = 1.000001 s" in n for n in notes), notes
     assert P.summary(m).endswith("torques unbounded at t = 1.000001 s")
     assert (
-        "(t = 1 s order 1 ok; t = 1.000001 s order 1 warn)" in P.metadata([m], "png")["Description"]
+        "(t = 1 s order 1 ok; t = 1.000001 s order 1 fail)" in P.metadata([m], "png")["Description"]
     )
 
 

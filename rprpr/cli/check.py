@@ -9,6 +9,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, TextIO
 
 import click
@@ -66,9 +67,17 @@ REPORTING = "the report"
     "--strict",
     is_flag=True,
     default=None,
-    help="Also fail on inconsistent/unbounded singular instants and torque limits.",
+    help="Fail on every finding: also on torque limits (RPR202) and on accepted unbounded torques.",
 )
-@samples_option(2, 1_000_000, "Sample points t = 0 .. t_f for the torques.")
+@click.option(
+    "--warn-unbounded",
+    is_flag=True,
+    help="Accept unbounded torques at singular instants (RPR201): a warning instead of a "
+    "failure, for every task, whatever its checks.unbounded_torque says.",
+)
+@samples_option(
+    2, 1_000_000, "Grid size of the sampled motion; no verdict depends on it (grid-free)."
+)
 @click.option(
     "-j",
     "--jobs",
@@ -100,7 +109,8 @@ REPORTING = "the report"
 @color_option()
 def check(
     tasks: tuple[str, ...], fmt: str, output_file: str | None, strict: bool | None,
-    samples: int, jobs: int, quiet: bool, exit_zero: bool, budget: float, color: str,
+    warn_unbounded: bool, samples: int, jobs: int, quiet: bool, exit_zero: bool,
+    budget: float, color: str,
 ) -> ExitCode:  # fmt: skip
     """Audit every Type II singular instant of each TASK (task files, or directories
     searched recursively for *.yaml and *.yml).
@@ -112,6 +122,7 @@ def check(
         format=fmt,
         output_file=None if output_file == "-" else output_file,  # "-": standard output
         strict=strict or None,
+        warn_unbounded=warn_unbounded,
         samples=samples,
         jobs=jobs or _cpus(),
         quiet=quiet,
@@ -152,6 +163,8 @@ def check_one(
         return INPUT, input_error(e, path), time.perf_counter() - start
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start
+    if options.warn_unbounded:  # the command line wins over the task's own choice
+        task = replace(task, checks=replace(task.checks, unbounded_torque="warn"))
     try:
         result = audit(task, samples=options.samples, strict=options.strict, on_stage=on_stage)
         if on_stage is not None:

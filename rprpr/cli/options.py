@@ -27,13 +27,16 @@ class CheckOptions:
     """How ``rprpr check`` audits and reports; the defaults are the command line's.
 
     ``output_file`` None is standard output; ``strict`` None leaves each task's own
-    ``checks.strict``; ``jobs`` is the number of worker processes; ``budget`` the
-    wall-clock seconds each task may take before it is stopped (None: no limit).
+    ``checks.strict``; ``warn_unbounded`` accepts unbounded torques (RPR201 a warning)
+    in every task, False leaves each task's ``checks.unbounded_torque``; ``jobs`` is
+    the number of worker processes; ``budget`` the wall-clock seconds each task may
+    take before it is stopped (None: no limit).
     """
 
     format: str = "text"
     output_file: str | None = None
     strict: bool | None = None
+    warn_unbounded: bool = False
     samples: int = DEFAULT_SAMPLES
     jobs: int = 1
     quiet: bool = False

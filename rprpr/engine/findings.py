@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from ..model.numbers import apart, distinct, labels, number
+from ..model.numbers import apart, distinct, labels, number, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
 from .envelope import LimitCheck, Peak, Window
@@ -34,8 +34,9 @@ def findings(
     at = instant_text(a)
     out = path_on_singular_line(a)
     out += [kinematic(k, at) for k in a.kinematic]
+    accepted = task.checks.unbounded_torque == "warn"
     for s in a.instants:
-        out += slope(s, at) + velocity(s, at) + unbounded(s, at)
+        out += slope(s, at) + velocity(s, at) + unbounded(s, at, accepted)
     out += torque_limit(task, a, peak, limit, at)
     return out
 
@@ -85,19 +86,20 @@ def velocity(s: SingularInstant, at: At) -> list[Finding]:
     return [Finding("RPR102", message, s.t)]
 
 
-def unbounded(s: SingularInstant, at: At) -> list[Finding]:
-    """RPR201: the torques have a pole at ``s`` (eq. 34 fails, or not all the boundedness
-    conditions hold)."""
+def unbounded(s: SingularInstant, at: At, accepted: bool = False) -> list[Finding]:
+    """RPR201: the torques have a pole at ``s``, and why: eq. (34) fails (with its
+    residual), or it holds but only k of the m boundedness conditions do. ``accepted``
+    (``checks.unbounded_torque: warn``): the finding is downgraded to a warning."""
     if s.torque_bounded:
         return []
     why = (
-        f"consistent, but only {s.conditions_met} of {s.conditions_required}"
+        f"consistent (eq. 34), but only {s.conditions_met} of {s.conditions_required}"
         " boundedness conditions hold"
         if s.consistent
-        else f"inconsistent (eq. 34 residual {s.number('consistency_residual')} N)"
+        else f"inconsistent: eq. (34) residual {s.number('consistency_residual')} N ≠ 0"
     )
-    message = f"{_where(s, at)}: {why}: torques unbounded (pole of order {s.pole_order})"
-    return [Finding("RPR201", message, s.t)]
+    message = f"{_where(s, at)}: torques unbounded (pole of order {s.pole_order}): {why}"
+    return [Finding("RPR201", message, s.t, downgraded=accepted)]
 
 
 def torque_limit(
@@ -119,7 +121,7 @@ def torque_limit(
     for s in a.instants:
         if s.torque_bounded:
             continue
-        windows = [_around(s, c, j) for j, c in enumerate(checks)]
+        windows = [_around(s, c, j, at) for j, c in enumerate(checks)]
         beyond = "; ".join(w for w in windows if w)
         message = (
             f"{at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
@@ -163,11 +165,15 @@ def _exceeded(j: int, limit: float, peak: Peak | None, windows: list[Window]) ->
     return f"{head}: above it from t = {ends[0]} s (t = {shown} s)"
 
 
-def _around(s: SingularInstant, check: LimitCheck, j: int) -> str:
-    """The window around the unbounded instant ``s`` in which |Tj| exceeds its limit."""
+def _around(s: SingularInstant, check: LimitCheck, j: int, at: At) -> str:
+    """The window around the unbounded instant ``s`` in which |Tj| exceeds its limit, in
+    words: ``|T1| > 300 N m for 10.8 ms around t = 2 s (t = 1.99689 .. 2.00769 s)``."""
     for w in check.windows:
         if w.pole and w.start_lo <= s.t <= w.end_hi:
             start, end = _span(w)
-            width, t0, t1 = distinct([end - start, start, end])
-            return f"|T{j + 1}| > {number(check.limit)} N m for {width} s (t = {t0} .. {t1} s)"
+            t0, t1 = distinct([start, end])
+            return (
+                f"|T{j + 1}| > {number(check.limit)} N m for {with_unit(end - start, 's')}"
+                f" around {at(s.t)} (t = {t0} .. {t1} s)"
+            )
     return ""

@@ -292,6 +292,7 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
             min_speed=v["checks.min_speed"],
             torque_limit=v.get("checks.torque_limit"),
             strict=v["checks.strict"],
+            unbounded_torque=v["checks.unbounded_torque"],
         ),
         law=law,
         lines=dict(w.lines),

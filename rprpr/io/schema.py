@@ -13,6 +13,8 @@ from typing import Any
 
 from ..model.timing import LAWS
 
+UNBOUNDED_TORQUE = ("fail", "warn")  # checks.unbounded_torque
+
 
 @dataclass(frozen=True)
 class Spec:
@@ -137,7 +139,16 @@ TASK = Spec(
                     items=("|T1| limit [N m]", "|T2| limit [N m]"),
                 ),
                 "strict": Spec(
-                    "bool", "Also fail on inconsistency and torque limits.", default=False
+                    "bool",
+                    "Also fail on torque limits and on accepted unbounded torques.",
+                    default=False,
+                ),
+                "unbounded_torque": Spec(
+                    "enum",
+                    "A singular instant with unbounded torques (RPR201): fail the task, or "
+                    "warn (accepted; fails only in strict mode).",
+                    default="fail",
+                    choices=UNBOUNDED_TORQUE,
                 ),
             },
         ),
@@ -194,5 +205,6 @@ def _json(s: Spec) -> dict[str, Any]:
             item["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
         out.update(type="array", items=item, minItems=2, maxItems=2)
     if s.default is not None:
-        out["default"] = float(s.default) if isinstance(s.default, str) else s.default
+        number = s.kind == "number" and isinstance(s.default, str)  # a decimal's text
+        out["default"] = float(s.default) if number else s.default
     return out

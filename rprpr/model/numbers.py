@@ -9,6 +9,7 @@ the same way and two different values never read alike where it matters:
                       different ones apart (6, 10 or 17 significant digits);
 * ``labels(vs)``      the same, as a mapping value -> text (the instants of one task);
 * ``fixed(v)``        a float with a fixed number of decimals (durations of a run);
+* ``with_unit(v, u)`` a small quantity with an SI prefix (``0.0023`` s: ``2.3 ms``);
 * ``round_trip(v)``   a float for machines: the shortest text that reads back as ``v``;
 * ``apart(v, m)``     a value and the margin it is compared against, told apart;
 * ``rational(q)``     an exact rational: a decimal when it is one, else p/q;
@@ -66,6 +67,20 @@ def labels(values: Iterable[float]) -> dict[float, str]:
 def fixed(v: float, places: int = 3) -> str:
     """``v`` with ``places`` decimals (a duration in seconds: ``0.004``)."""
     return f"{v:.{places}f}"
+
+
+_PREFIXES = ((1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"))
+
+
+def with_unit(v: float, unit: str, digits: int = CELL) -> str:
+    """``v`` [``unit``] with ``digits`` significant digits and the SI prefix (none, m, µ,
+    n, p) that brings it to 1 or more: ``with_unit(0.0023, "s")`` is ``2.3 ms``; 0, a
+    value of 1 or more, and one below a pico-unit keep the plain unit."""
+    for scale, prefix in _PREFIXES:
+        text = number(v / scale, digits)
+        if abs(float(text)) >= 1:  # as printed: 0.9999999 s is "1 s", not "1000 ms"
+            return f"{text} {prefix}{unit}"
+    return f"{number(v, digits)} {unit}"
 
 
 def round_trip(v: float) -> str:

@@ -2,7 +2,10 @@
 
 A rule is *gating* when a finding of it fails the task in every mode, and *strict* when it
 fails the task only in strict mode (``--strict`` or ``checks.strict: true``) and is a
-warning otherwise. ``key`` is the task-file key a finding points back to.
+warning otherwise. ``key`` is the task-file key a finding points back to. A gating finding
+the user chose to accept (RPR201 under ``checks.unbounded_torque: warn`` or
+``--warn-unbounded``) is ``downgraded``: it then fails only in strict mode, like a strict
+rule's.
 """
 
 from __future__ import annotations
@@ -55,11 +58,13 @@ RULES: dict[str, Rule] = {
             "Move the path off the x-axis; cross it only at isolated points.",
         ),
         Rule(
-            "RPR201", "inconsistent-crossing", True, "robot.links",
-            "At a Type II singular instant the equations of motion are inconsistent (eq. 34) "
-            "or fewer than all boundedness conditions hold: the torques are unbounded there.",
+            "RPR201", "unbounded-torque", False, "robot.links",
+            "At a Type II singular instant the torques are unbounded (infinite torque cannot "
+            "be executed): the equations of motion are inconsistent (eq. 34 residual ≠ 0) or "
+            "fewer than all boundedness conditions hold (k of m).",
             "Change the mass distribution or the timing so that eq. (34) and the conditions "
-            "on the derivatives of μ1, μ2 hold at t_s, or avoid the singularity.",
+            "on the derivatives of μ1, μ2 hold at t_s, or avoid the singularity; to accept "
+            "it, checks.unbounded_torque: warn or --warn-unbounded.",
         ),
         Rule(
             "RPR202", "torque-limit", True, "checks.torque_limit",
@@ -80,6 +85,7 @@ class Finding:
     rule: str
     message: str
     t: float | None = None
+    downgraded: bool = False  # accepted by the user: fails only in strict mode
 
     @property
     def key(self) -> str:
@@ -87,7 +93,8 @@ class Finding:
 
     @property
     def strict_only(self) -> bool:
-        return RULES[self.rule].strict_only
+        """The finding fails its task only in strict mode (its rule's, or downgraded)."""
+        return RULES[self.rule].strict_only or self.downgraded
 
     def fails(self, strict: bool) -> bool:
         return strict or not self.strict_only

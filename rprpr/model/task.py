@@ -39,12 +39,15 @@ class Robot:
 class Checks:
     """The user's margins: |dy/dx| > min_slope and speed > min_speed at a singular
     instant; torque_limit = (|T1| max, |T2| max) in N m or None; strict gates also on
-    consistency and the torque limit."""
+    the torque limit (and on every finding); unbounded_torque "fail" (unbounded torques
+    at a singular instant fail the task) or "warn" (accepted: a warning, failing only in
+    strict mode)."""
 
     min_slope: fmpq
     min_speed: fmpq
     torque_limit: tuple[fmpq, fmpq] | None
     strict: bool
+    unbounded_torque: str
 
 
 @dataclass(frozen=True)

@@ -1,20 +1,27 @@
 """``rprpr export``: the sampled motion of an audit as CSV or JSON text.
 
 One row per sample, t = 0 .. t_f inclusive, the columns of ``samples.COLUMNS`` in that
-order, SI units (m, s, rad, N, N m; θ continuous). The numbers are the engine's own
-(``AuditResult.samples``), written with Python's shortest round-trip ``repr``, so reading
-the file back gives the very same floats. Where a quantity has no finite value — the
-torques and λ exactly at a singular instant where they are unbounded, the rates where E
-is at a base joint — the engine holds NaN; every value that is not finite (NaN, and
-±inf where a quantity overflows the double range) is ``nan`` in CSV and ``null`` in
-JSON (the JSON is strict: no NaN or Infinity tokens). -0.0 is written as 0.0.
+order, SI units (m, s, rad, N, N m; θ continuous), then a ``reason`` column. The numbers
+are the engine's own certified values (``AuditResult.samples``, ``engine.certified``):
+every exported value is within a proven bound of the true value of the paper's formulas
+at the row's time t (the float t, taken exactly), |err| <= 1e-9 (1 + |value|) — or it is
+NaN, and the row's ``reason`` says why. They are written with Python's shortest
+round-trip ``repr``, so reading the file back gives the very same floats.
+
+``reason`` is an integer code per row (``engine.certified.REASONS``): 0 = every value of
+the row is certified; otherwise the cause of the row's NaN: 1 a singular instant with
+unbounded torques (λ2, T1, T2), 2 and 3 the end point at A or at B, 4 the path on the
+singular line, 5 a value not certified at the highest precision tried. Every value that
+is not finite is ``nan`` in CSV and ``null`` in JSON (the JSON is strict: no NaN or
+Infinity tokens); -0.0 is written as 0.0.
 
 Both formats name the task and the rprpr version: CSV in one leading ``#`` comment line
 (read with ``pandas.read_csv(f, comment="#")`` or ``numpy.genfromtxt(f, delimiter=",",
 names=True, skip_header=1)``; the task's name and file on one line, control characters
-escaped), JSON in the fields ``rprpr`` and ``task`` (ASCII text: any other character as
-a ``\\u`` escape, so the document is the same bytes on any stream, and a file name
-that is not UTF-8 still gives valid JSON).
+escaped, the reason codes named), JSON in the fields ``rprpr`` and ``task``, with the
+codes in ``reasons`` (ASCII text: any other character as a ``\\u`` escape, so the
+document is the same bytes on any stream, and a file name that is not UTF-8 still gives
+valid JSON).
 
 No click, no matplotlib here: the command line (``cli_plot``) picks the stream and format.
 """
@@ -30,6 +37,7 @@ import numpy as np
 
 from .._version import __version__
 from ..engine.audit import AuditResult
+from ..engine.certified import REASONS, TOL
 from ..engine.sampling import COLUMNS
 from ..model.numbers import number, round_trip
 from ..report.records import singularity_record
@@ -42,13 +50,29 @@ UNITS = {
     "theta1": "rad", "s1": "m", "theta2": "rad", "s2": "m",
     "theta1_dot": "rad/s", "s1_dot": "m/s", "theta2_dot": "rad/s", "s2_dot": "m/s",
     "delta": "1", "delta_dot": "1/s",
-    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m",
+    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m", "reason": "code",
 }  # fmt: skip
+
+EXPORTED = (*COLUMNS, "reason")  # the columns of a row, in order
+
+CERTIFIED = f"every value certified to |err| <= {number(TOL)} (1 + |value|)"
+
+
+def reasons() -> dict[int, str]:
+    """What each ``reason`` code of a row means (0: every value certified)."""
+    return {code: text or "every value certified" for code, text in REASONS.items()}
 
 
 def rows(result: AuditResult) -> np.ndarray:
-    """The exported table: one row per sample, the columns of ``COLUMNS`` in order."""
+    """The exported values: one row per sample, the columns of ``COLUMNS`` in order (the
+    ``reason`` codes are ``result.samples.reason``)."""
     return result.samples.rows()
+
+
+def _rows(result: AuditResult) -> Iterable[tuple[list[float], int]]:
+    """Each row's values and its reason code."""
+    samples = result.samples
+    yield from zip(rows(result).tolist(), samples.reason.tolist(), strict=True)
 
 
 def _csv_number(v: float) -> str:
@@ -77,17 +101,17 @@ def comment(result: AuditResult, source: str) -> str:
     return (
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
-        "nan = no finite value: unbounded at a singular instant, or E at A or B "
-        "(see rprpr check)"
+        f"{CERTIFIED}, or nan; reason codes: "
+        + "; ".join(f"{code} = {text}" for code, text in reasons().items())
     )
 
 
 def write_csv(result: AuditResult, out: TextIO, source: str = "") -> None:
     """Write the samples as CSV: the comment line, the column names, one line per sample."""
     out.write(comment(result, source) + "\n")
-    out.write(",".join(COLUMNS) + "\n")
-    for row in rows(result):
-        out.write(",".join(_csv_number(v) for v in row.tolist()) + "\n")
+    out.write(",".join(EXPORTED) + "\n")
+    for row, reason in _rows(result):
+        out.write(",".join(_csv_number(v) for v in row) + f",{reason}\n")
 
 
 # the fields of each singular instant in the JSON export (a subset of ``rprpr check``'s)
@@ -112,25 +136,27 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
         "samples": len(t),
         "duration": _json_number(float(t[-1])),
         "verdict": result.verdict,
-        "columns": list(COLUMNS),
-        "units": {c: UNITS[c] for c in COLUMNS},
+        "columns": list(EXPORTED),
+        "units": {c: UNITS[c] for c in EXPORTED},
+        "reasons": {str(code): text for code, text in reasons().items()},
         "singularities": _singularities(result),
     }
 
 
-def _json_rows(table: np.ndarray) -> Iterable[str]:
-    for row in table.tolist():
-        yield json.dumps([_json_number(v) for v in row], allow_nan=False)
+def _json_rows(result: AuditResult) -> Iterable[str]:
+    for row, reason in _rows(result):
+        yield json.dumps([*(_json_number(v) for v in row), reason], allow_nan=False)
 
 
 def write_json(result: AuditResult, out: TextIO, source: str = "") -> None:
     """Write the samples as one JSON object: the fields of ``document_head`` and ``rows``
-    (a list of rows, each a list in the order of ``columns``; null where unbounded).
+    (a list of rows, each a list in the order of ``columns``; null where a value is
+    undefined or not certified, the row's ``reason`` code last).
     One row per line, so that the file stays readable and diffs well."""
     head = json.dumps(document_head(result, source), indent=2, allow_nan=False)
     out.write(head[:-2] + ',\n  "rows": [\n')  # head ends in "\n}"
     first = True
-    for line in _json_rows(rows(result)):
+    for line in _json_rows(result):
         out.write(("    " if first else ",\n    ") + line)
         first = False
     out.write("\n  ]\n}\n")

@@ -2,10 +2,12 @@
 
     ::error file=configs/paper_path1.yaml,line=19,title=RPR101 slope-principle::t = 2.5 s, ...
 
-A finding that fails the task is an ``::error``; a strict-mode-only finding (RPR201,
-RPR202) when not strict is a ``::warning``. ``line`` is the line of the task-file key
-the finding belongs to (``path.y``, ``timing``, ...), or of the offending key for a task
-file that could not be read (then with ``col`` when known). Passing tasks print nothing.
+A finding that fails the task is an ``::error`` (unbounded torques, RPR201, among them);
+a strict-mode-only finding (RPR202, or RPR201 accepted with ``checks.unbounded_torque:
+warn`` or ``--warn-unbounded``) when not strict is a ``::warning``. ``line`` is the line
+of the task-file key the finding belongs to (``path.y``, ``timing``, ...), or of the
+offending key for a task file that could not be read (then with ``col`` when known).
+Passing tasks print nothing.
 
 Escaping is that of the Actions toolkit (``@actions/core``, ``command.ts``): in the
 message ``%`` -> ``%25``, ``\\r`` -> ``%0D``, ``\\n`` -> ``%0A``; in a property value

@@ -9,15 +9,19 @@ One ``testsuite`` per run (inside a ``testsuites`` root), one ``testcase`` per t
     </testcase>
 
 * a ``failure`` per finding that fails the task (each failing singular instant's broken
-  principle, an inverse-kinematic singularity, ...; in strict mode also RPR201/RPR202),
+  principle or unbounded torques, an inverse-kinematic singularity, ...; in strict mode
+  also RPR202 and an accepted RPR201),
   ``type`` = the rule id, ``message`` = rule and reason, the text = file:line and reason;
 * an ``error`` (type RPR001) for a task file that could not be read, with the file,
   line, column and key; an ``error`` of type ``internal-error`` for a bug, with the
   traceback; an ``error`` of type ``budget-exceeded`` for a task stopped at its work
   budget;
 * ``system-out``: one line per singular instant, then the strict-mode-only findings that
-  do not fail the task (RPR201, RPR202 when not strict), marked ``warning``, and the
-  verdict. They are not failures, so a CI dashboard stays green, but they are shown.
+  do not fail the task (RPR202, and RPR201 accepted with ``checks.unbounded_torque:
+  warn`` or ``--warn-unbounded``, when not strict), marked ``warning``, the closest
+  approach to AB of a motion that never meets it, and the verdict with the certified
+  torque peak. The warnings are not failures, so a CI dashboard stays green, but they
+  are shown.
 
 Counts: ``tests`` = testcases, ``failures`` = testcases with a failure, ``errors`` =
 testcases with an error, ``skipped`` = 0; ``time`` = seconds to load and audit the task
@@ -35,6 +39,7 @@ from ..model.numbers import fixed, number
 from ..model.rules import RULES
 from ..report.records import instant_times
 from ..report.run import BUDGET, INPUT, INTERNAL, Run
+from . import phrases
 from .escape import printable
 
 SUITE_NAME = "rprpr check"
@@ -93,10 +98,14 @@ def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
         f"{b['quantity']} = {b['value']}: beyond the double range"
         for b in rep["beyond_double_range"]
     ]
+    near = phrases.approach(rep)
+    if near:
+        out.append(near)
     n = len(rep["singularities"])
+    peak = phrases.peak(rep)
     out.append(
         f"verdict: {rep['verdict']}{' (strict)' if rep['strict'] else ''}, "
-        f"{n} singular instant{'s' if n != 1 else ''}"
+        f"{n} singular instant{'s' if n != 1 else ''}{'; ' + peak if peak else ''}"
     )
     _el(case, "system-out", "\n".join(out) + "\n")
     return bool(rep["verdict"] == "fail")

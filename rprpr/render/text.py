@@ -15,6 +15,7 @@ from rich.text import Text
 from ..model.numbers import CELL, number
 from ..report.records import instant_times
 from ..report.run import Run
+from . import phrases
 from .escape import printable
 
 
@@ -113,12 +114,11 @@ def _task(rep: dict[str, Any], console: Console) -> None:
         else:  # strict-mode-only, not strict: shown, does not fail the task
             title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
         console.print(Text.assemble("  ", title, f": {printable(f['message'])}"), soft_wrap=True)
-    peak = rep["torque_peak"]
-    poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
-    if poles:  # next to a pole the sampled peak only says where the grid fell
-        peak_text = f"; torques unbounded at t = {', '.join(poles)}"
-    else:
-        peak_text = f"; peak |T1|, |T2| = {_cell(peak[0])}, {_cell(peak[1])} N m" if peak else ""
+    near = phrases.approach(rep)
+    if near:
+        console.print(f"  {near}", soft_wrap=True)
+    peak = phrases.peak(rep)
+    peak_text = f"; {peak}" if peak else ""
     verdict = (
         Text("PASS", style="bold green")
         if rep["verdict"] == "pass"
@@ -130,5 +130,6 @@ def _task(rep: dict[str, Any], console: Console) -> None:
             "  verdict: ", verdict,
             f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order{peak_text}",
             " (strict)" if rep["strict"] else "",
-        )
+        ),
+        soft_wrap=True,  # one line, as the findings: the terminal wraps it, if at all
     )  # fmt: skip

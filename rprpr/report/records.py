@@ -10,7 +10,8 @@ import math
 import traceback
 from typing import Any
 
-from ..engine.audit import AuditResult
+from ..engine.audit import AuditResult, Saturation
+from ..engine.envelope import Approach, LimitCheck, Peak, Window
 from ..engine.singular import SingularInstant
 from ..model.errors import TaskFileError
 from ..model.numbers import labels, number
@@ -23,8 +24,11 @@ def _f(v: float | None) -> float | None:
     return None if v is None or not math.isfinite(v) else float(v)
 
 
-def singularity_record(s: SingularInstant) -> dict[str, Any]:
-    """One singular instant as JSON-ready data (``singularities[]`` of a report)."""
+def singularity_record(
+    s: SingularInstant, saturation: list[dict[str, Any] | None] | None = None
+) -> dict[str, Any]:
+    """One singular instant as JSON-ready data (``singularities[]`` of a report);
+    ``saturation``: its ``saturation_record`` (None: bounded, or no torque limit)."""
     return {
         "t": s.t,
         "x": s.x,
@@ -53,13 +57,94 @@ def singularity_record(s: SingularInstant) -> dict[str, Any]:
             if s.torque_at_singularity
             else None
         ),
+        "saturation": saturation,
     }
+
+
+def _span(w: Window) -> list[float]:
+    """A window's extent [start, end], from the earliest its first crossing can be to
+    the latest its last can be: outside it |T| is proven within the limit."""
+    return [w.start_lo, w.end_hi]
+
+
+def saturation_record(
+    limits: tuple[LimitCheck, LimitCheck], windows: tuple[Window | None, Window | None]
+) -> list[dict[str, Any] | None]:
+    """Per torque, the window around an unbounded instant in which |T_i| > its limit:
+    ``{"limit", "window": [start, end], "width"}`` (None where |T_i| stays within it)."""
+    out: list[dict[str, Any] | None] = []
+    for c, w in zip(limits, windows, strict=True):
+        if w is None:
+            out.append(None)
+            continue
+        start, end = _span(w)
+        out.append({"limit": c.limit, "window": [start, end], "width": end - start})
+    return out
+
+
+def limit_record(c: LimitCheck) -> dict[str, Any]:
+    """The certified check of one torque against its limit (``torque_limit[i]``):
+    ``passed`` true (|T_i(t)| <= limit for every t in [0, t_f]), false, or null
+    (undecided: the maximum touches the limit within the certified bounds); ``exceeded``:
+    each interval [start, end] in which |T_i| exceeds the limit (outside them it is
+    proven within it); ``crossings``: for each, the brackets [[lo, hi], [lo, hi]] of the
+    time it rises above the limit and of the time it falls back (within
+    ``resolution`` s); ``pole``: for each, whether it holds an unbounded instant."""
+    return {
+        "limit": c.limit,
+        "passed": c.passed,
+        "exceeded": [_span(w) for w in c.windows],
+        "crossings": [[[w.start_lo, w.start_hi], [w.end_lo, w.end_hi]] for w in c.windows],
+        "pole": [w.pole for w in c.windows],
+        "resolution": c.resolution,
+    }
+
+
+def approach_record(a: Approach | None) -> dict[str, Any] | None:
+    """How close a motion that never meets the line AB comes to it: ``distance`` = min
+    |y| (E to AB) [m] at ``t``; ``min_abs_delta`` = a proven lower bound of min |δ|
+    (within 1e-6 relative of it), reached at ``t_delta``. None when the motion meets AB."""
+    if a is None:
+        return None
+    return {
+        "distance": a.distance,
+        "t": a.t_y,
+        "min_abs_delta": a.delta_lo,
+        "t_delta": a.t_delta,
+    }
+
+
+def peak_fields(peak: tuple[Peak, Peak] | None) -> dict[str, Any]:
+    """``torque_peak`` [max |T1|, max |T2|] over [0, t_f] [N m] (a certified lower bound
+    of each, within 1e-6 relative of the true maximum when ``torque_peak_certified``),
+    ``torque_peak_t`` where each is reached [s], ``torque_peak_bound`` the proven upper
+    bounds [N m]; all null when the torques are unbounded or undefined."""
+    if peak is None or not all(math.isfinite(p.value) for p in peak):
+        return dict.fromkeys(
+            ("torque_peak", "torque_peak_t", "torque_peak_bound", "torque_peak_certified")
+        )
+    return {
+        "torque_peak": [p.value for p in peak],
+        "torque_peak_t": [p.t for p in peak],
+        "torque_peak_bound": [_f(p.upper) for p in peak],
+        "torque_peak_certified": all(p.certified for p in peak),
+    }
+
+
+def _saturations(result: AuditResult) -> dict[float, list[dict[str, Any] | None]]:
+    """The saturation record of each unbounded instant, by its time."""
+    limits = result.torque_limit
+    if limits is None:
+        return {}
+    sat: list[Saturation] = result.saturation
+    return {s.t: saturation_record(limits, (w1, w2)) for s, w1, w2 in sat}
 
 
 def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
     """The report of one audited task (the ``reports[]`` entries of ``--format json``)."""
     task = result.task
-    sings = [singularity_record(s) for s in result.singularities]
+    saturation = _saturations(result)
+    sings = [singularity_record(s, saturation.get(s.t)) for s in result.singularities]
     findings = []
     for f in result.findings:
         rule = RULES[f.rule]
@@ -84,8 +169,11 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
             {"t": k.t, "x": k.x, "y": k.y, "leg": k.leg} for k in result.kinematic_singularities
         ],
         "on_singular_line": result.on_singular_line,
-        "torque_peak": [_f(p.value) for p in result.torque_peak] if result.torque_peak else None,
-        "torque_peak_t": [_f(p.t) for p in result.torque_peak] if result.torque_peak else None,
+        **peak_fields(result.torque_peak),
+        "torque_limit": (
+            [limit_record(c) for c in result.torque_limit] if result.torque_limit else None
+        ),
+        "closest_approach": approach_record(result.closest_approach),
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
     }

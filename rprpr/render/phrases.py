@@ -1,0 +1,47 @@
+"""The torque verdicts of a task report in words, shared by the text report and JUnit.
+
+Each phrase is made from the report's records (``report.records``), never from the
+engine, and every number in it goes through ``model.numbers``:
+
+* ``peak``: ``peak |T1| 66.1221 N m at t = 2.743 s, |T2| 60.5504 N m at t = 0.2024 s``
+  (the certified maxima over [0, t_f]; ``≥ ... not certified`` where only a lower bound
+  is proven; ``torques unbounded at t = ...`` where a singular instant has a pole);
+* ``approach``: ``closest approach to AB: 100 µm at t = 1 s, min |δ| = 6.667e-05 at
+  t = 1 s`` for a motion that never meets the singular line.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..model.numbers import CELL, number, with_unit
+from ..report.records import instant_times
+
+
+def peak(rep: dict[str, Any]) -> str:
+    """The torque peak of ``rep`` in words ("" when the torques are undefined: the path
+    on y = 0, or E through A or B)."""
+    times = instant_times(rep)
+    poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
+    if poles:
+        return f"torques unbounded at t = {', '.join(poles)}"
+    values = rep["torque_peak"]
+    if values is None:
+        return ""
+    certified = rep["torque_peak_certified"]
+    parts = [
+        f"|T{i + 1}| {'' if certified else '≥ '}{number(v)} N m at t = {number(t, CELL)} s"
+        for i, (v, t) in enumerate(zip(values, rep["torque_peak_t"], strict=True))
+    ]
+    return f"peak {', '.join(parts)}{'' if certified else ', not certified'}"
+
+
+def approach(rep: dict[str, Any]) -> str:
+    """How close a motion that never meets the line AB comes to it ("" otherwise)."""
+    a = rep["closest_approach"]
+    if a is None:
+        return ""
+    return (
+        f"closest approach to AB: {with_unit(a['distance'], 'm')} at t = {number(a['t'], CELL)}"
+        f" s, min |δ| = {number(a['min_abs_delta'], CELL)} at t = {number(a['t_delta'], CELL)} s"
+    )
