@@ -27,8 +27,7 @@ figure and the file).
 
 from __future__ import annotations
 
-from .labels import MAX_LABELS
-from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save
+from .layout import FORMATS, PANELS, Sheet, can_show, format_of, metadata, render, save
 from .markers import marker_style
 from .motion import Motion, finite, motion
 from .style import (
@@ -41,6 +40,7 @@ from .style import (
     RC,
     STATUS_COLOUR,
     STATUS_WORD,
+    TASK_COLOURS,
 )
 from .words import order_text, short, summary, title
 
@@ -50,13 +50,14 @@ __all__ = [
     "LEG1",
     "LEG2",
     "LINE",
-    "MAX_LABELS",
     "NEAR_DELTA",
     "PANELS",
     "POINT",
     "RC",
     "STATUS_COLOUR",
     "STATUS_WORD",
+    "TASK_COLOURS",
+    "Sheet",
     "Motion",
     "can_show",
     "finite",
