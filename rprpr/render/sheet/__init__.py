@@ -27,6 +27,7 @@ figure and the file).
 
 from __future__ import annotations
 
+from .labels import MAX_LABELS
 from .layout import FORMATS, PANELS, Sheet, can_show, format_of, metadata, render, save
 from .markers import marker_style
 from .motion import Motion, finite, motion
@@ -50,6 +51,7 @@ __all__ = [
     "LEG1",
     "LEG2",
     "LINE",
+    "MAX_LABELS",
     "NEAR_DELTA",
     "PANELS",
     "POINT",
@@ -57,8 +59,8 @@ __all__ = [
     "STATUS_COLOUR",
     "STATUS_WORD",
     "TASK_COLOURS",
-    "Sheet",
     "Motion",
+    "Sheet",
     "can_show",
     "finite",
     "format_of",

@@ -29,6 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from ..._version import __version__
+from .labels import MAX_LABELS
 from .motion import Motion
 from .style import LABEL_SIZE, OVERLAID, RC, WIDTH, task_colour
 from .words import description, heading_lines
@@ -76,11 +77,12 @@ class Sheet:
         self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
         self.width = LEFT + n * self.column_width + (n - 1) * COLUMN_GAP + LANE_GAP + LANE
         self.width += MARGIN
-        self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)
+        self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
         self.fig.set_dpi(DPI)
         self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
+        instants = sum(len(m.result.singularities) for m in self.motions)
         for i, m in enumerate(self.motions):  # every mark's number, in the check's order
-            for k in range(len(m.result.singularities)):
+            for k in range(len(m.result.singularities) if instants <= MAX_LABELS else 0):
                 self.keys[i, k] = len(self.keys) + 1
             if m.result.closest_approach is not None:
                 self.keys[i, "approach"] = len(self.keys) + 1
@@ -140,16 +142,17 @@ class Sheet:
 
     def rows(self, gid: str, heights: Sequence[float], *, time: bool = True) -> list[list[Axes]]:
         """Rows of axes of these ``heights`` [in], one axes per column; time rows share
-        the sheet's t axis (labelled under the last row only), and each row its y-limits
-        across the columns. Advances the next free height past them."""
+        the sheet's t axis (labelled under the last row only) and each row its y-limits
+        across the columns (other rows set equal limits themselves: a workspace at equal
+        scales cannot share). Advances the next free height past them."""
         out = []
         for r, h in enumerate(heights):
-            row = []
+            row: list[Axes] = []
             for c in range(len(self.columns)):
                 ax = self.fig.add_axes((0, 0, 1, 1))
                 ax.set_gid(f"panel-{gid}")
                 self.axes.append((ax, (self.left(c), self.y, self.column_width, h)))
-                if row:
+                if row and time:
                     ax.sharey(row[0])
                     ax.tick_params(labelleft=False)
                 if time:
@@ -199,9 +202,7 @@ class Sheet:
             used += self.inches(leg)[1] + 0.08
         if notes:
             chars = int((LANE - 0.05) * 72 / (0.56 * LABEL_SIZE))
-            text = "\n".join(
-                textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n
-            )
+            text = "\n".join(textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n)
             t = self.fig.text(0, 0, text, fontsize=LABEL_SIZE, va="top", ha="left")
             self.texts.append((t, x, top + used))
             used += self.inches(t)[1] + 0.1
@@ -213,6 +214,13 @@ class Sheet:
             used += 0.25 + 1.45 + 0.45
         self.y = max(self.y, top + used + 0.05)
         return small
+
+    def crowded(self) -> list[str]:
+        """The note that stands for the instants' keys when there are too many to key."""
+        n = sum(len(m.result.singularities) for m in self.motions)
+        if n <= MAX_LABELS:
+            return []
+        return [f"-  {n} singular instants: too many to key here; rprpr check lists them"]
 
     def gap(self) -> None:
         self.y += PANEL_GAP
@@ -275,9 +283,14 @@ def _column_heads(sheet: Sheet) -> None:
     for c, col in enumerate(sheet.columns):
         i, m = col[0]
         t = sheet.fig.text(
-            0, 0, short(m.name, chars), fontsize=8.5, fontweight="bold", color=task_colour(i)
+            0,
+            0,
+            short(m.name, chars),
+            fontsize=8.5,
+            fontweight="bold",
+            color=task_colour(i),
+            va="top",
         )
-        t.set_va("top")
         sheet.texts.append((t, sheet.left(c), sheet.y))
         height = max(height, sheet.inches(t)[1])
     sheet.y += height + 0.1

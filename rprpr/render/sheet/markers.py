@@ -51,7 +51,9 @@ def marker_handles(motions: Sequence[Motion]) -> list[Line2D]:
 SPREAD = 15.0  # points between the centres of marks that would sit on one another
 
 
-def spread(points: Sequence[tuple[Any, float, float]], tol: tuple[float, float]) -> dict[Any, float]:
+def spread(
+    points: Sequence[tuple[Any, float, float]], tol: tuple[float, float]
+) -> dict[Any, float]:
     """Horizontal offsets [points] of marks at (x, y) (each with a key) so that marks
     closer than ``tol`` in x and y sit side by side, centred on where they belong."""
     out: dict[Any, float] = {key: 0.0 for key, _, _ in points}
@@ -73,7 +75,7 @@ def spread(points: Sequence[tuple[Any, float, float]], tol: tuple[float, float])
 
 def shifted(ax: Axes, dx: float) -> Any:
     """The data transform of ``ax`` moved ``dx`` points to the right."""
-    return ax.transData + ScaledTranslation(dx / 72, 0, ax.figure.dpi_scale_trans)  # type: ignore[union-attr]
+    return ax.transData + ScaledTranslation(dx / 72, 0, ax.figure.dpi_scale_trans)
 
 
 def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: str) -> None:
@@ -105,7 +107,9 @@ def mark(
     """A mark at each singular instant at (t_s, value), side by side where several
     coincide, with its key number above; gid panel-singular-task-k."""
     tf = max(m.duration for _, m in column)
-    pts = [((i, k), s.t, value(m, s)) for i, m in column for k, s in enumerate(m.result.singularities)]
+    pts = [
+        ((i, k), s.t, value(m, s)) for i, m in column for k, s in enumerate(m.result.singularities)
+    ]
     ys = [abs(p[2]) for p in pts]
     dxs = spread(pts, (0.01 * tf, 0.02 * max(ys, default=1.0) + 1e-9))
     for i, m in column:
@@ -119,4 +123,6 @@ def mark(
                 transform=shifted(ax, dx),
                 **marker_style(s, m.result.status_of(s)),
             )
-            badge(ax, keys[i, k], (s.t, y), dx, 15 if s.high_order else 12, f"{panel}-key-{i}-{k}")
+            if (i, k) in keys:
+                dy = 15 if s.high_order else 12
+                badge(ax, keys[i, k], (s.t, y), dx, dy, f"{panel}-key-{i}-{k}")

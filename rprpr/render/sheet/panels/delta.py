@@ -4,6 +4,8 @@ closest approach of a motion that never meets the singular line marked with min 
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
@@ -17,7 +19,14 @@ from ..style import DELTA, NEAR_DELTA
 from ..words import instant_times, near_miss_delta, order_text, short, vanishing
 
 ROW = 1.9  # in
-APPROACH = {"marker": "o", "ms": 6, "mfc": "white", "mew": 1.4, "ls": "none", "zorder": 7}
+APPROACH: dict[str, Any] = {
+    "marker": "o",
+    "ms": 6,
+    "mfc": "white",
+    "mew": 1.4,
+    "ls": "none",
+    "zorder": 7,
+}
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
@@ -48,7 +57,14 @@ def _approaches(sheet: Sheet, ax: Axes, col: Indexed) -> None:
         d = float(m.result.resample(np.array([a.t_delta])).delta[0])
         colour = look(sheet, i, DELTA)["color"]
         ax.plot([a.t_delta], [d], mec=colour, gid=f"delta-approach-{i}", **APPROACH)
-        badge(ax, sheet.keys[i, "approach"], (a.t_delta, d), 0, 12 if d >= 0 else -12, f"delta-approach-key-{i}")
+        badge(
+            ax,
+            sheet.keys[i, "approach"],
+            (a.t_delta, d),
+            0,
+            12 if d >= 0 else -12,
+            f"delta-approach-key-{i}",
+        )
 
 
 def notes(sheet: Sheet) -> list[str]:
@@ -59,10 +75,12 @@ def notes(sheet: Sheet) -> list[str]:
     for i, m in enumerate(sheet.motions):
         who = f"{short(m.name, 30)}: " if several else ""
         times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities):
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
             out.append(
                 f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} ({vanishing(s.order)})"
             )
         if m.result.closest_approach is not None:
-            out.append(f"{sheet.keys[i, 'approach']}  {who}{near_miss_delta(m.result.closest_approach)}")
-    return out
+            out.append(
+                f"{sheet.keys[i, 'approach']}  {who}{near_miss_delta(m.result.closest_approach)}"
+            )
+    return out + sheet.crowded()

@@ -37,6 +37,9 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
         degree_ticks(row_t[0], float(shown.min()), float(shown.max()))
     row_t[0].set_ylabel(r"$\theta$ [deg]")
     row_s[0].set_ylabel("$s$ [m]")
-    sheet.lane(row_t[-1], handles(sheet, [(r"$\theta_1$ (joint A)", LEG1), (r"$\theta_2$ (joint B)", LEG2)]))
+    sheet.lane(
+        row_t[-1],
+        handles(sheet, [(r"$\theta_1$ (joint A)", LEG1), (r"$\theta_2$ (joint B)", LEG2)]),
+    )
     sheet.lane(row_s[-1], handles(sheet, [("$s_1 = |AE|$", LEG1), ("$s_2 = |BE|$", LEG2)]))
     return [*row_t, *row_s]

@@ -12,14 +12,13 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, look
-from ..layout import Indexed, Sheet
 from ..labels import case_label_x
+from ..layout import Indexed, Sheet
 from ..markers import badge, marker_handles, marker_style, shifted, spread
 from ..motion import Motion, at
 from ..robot import (
@@ -183,7 +182,9 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
             ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **marker_style(s, st))
             dy = 22.0 if s.high_order else 13.0
             side = _freer_side(paths, s.x + dxs[i, k] / ppu, dy / ppu)
-            badge(ax, sheet.keys[i, k], (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
+            if (i, k) in sheet.keys:
+                key = sheet.keys[i, k]
+                badge(ax, key, (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
             ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **_CROSS)
 
@@ -211,7 +212,13 @@ def _approaches(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
             "",
             xy=(x, 0.0),
             xytext=(x, y),
-            arrowprops={"arrowstyle": "<->", "color": colour, "lw": 0.9, "shrinkA": 0, "shrinkB": 0},
+            arrowprops={
+                "arrowstyle": "<->",
+                "color": colour,
+                "lw": 0.9,
+                "shrinkA": 0,
+                "shrinkB": 0,
+            },
             zorder=6,
             gid=f"path-approach-{i}",
         )
@@ -247,7 +254,7 @@ def notes(sheet: Sheet) -> list[str]:
     for i, m in enumerate(sheet.motions):
         who = f"{short(m.name, 30)}: " if several else ""
         times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities):
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
             st = m.result.status_of(s)
             why = verdict_text(s)
             out.append(
@@ -255,11 +262,13 @@ def notes(sheet: Sheet) -> list[str]:
                 f"{STATUS_WORD[st].upper()}" + (f": {why}" if why else "")
             )
         if m.result.closest_approach is not None:
-            out.append(f"{sheet.keys[i, 'approach']}  {who}{near_miss_path(m.result.closest_approach)}")
+            out.append(
+                f"{sheet.keys[i, 'approach']}  {who}{near_miss_path(m.result.closest_approach)}"
+            )
     a1s = sorted({float(m.task.robot.a1) for m in sheet.motions})
     if len(a1s) > 1:
         out.append("B1, B2, …: B at a1 = " + ", ".join(f"{number(a)} m" for a in a1s))
-    return out
+    return out + sheet.crowded()
 
 
 def _legend(sheet: Sheet) -> list[Any]:
@@ -270,7 +279,9 @@ def _legend(sheet: Sheet) -> list[Any]:
         singular_line_handle(),
         Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
         Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
-        Line2D([], [], color="#777777", lw=1.6, ls=(0, (3, 1.5)), label="legs at a singular instant"),
+        Line2D(
+            [], [], color="#777777", lw=1.6, ls=(0, (3, 1.5)), label="legs at a singular instant"
+        ),
         *marker_handles(motions),
     ]
     if any(m.result.kinematic_singularities for m in motions):

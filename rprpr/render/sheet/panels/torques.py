@@ -29,7 +29,7 @@ from ..axes import handles, instant_lines, look
 from ..layout import Indexed, Sheet
 from ..markers import badge, spread
 from ..motion import Motion, finite
-from ..style import LABEL_SIZE, LEG1, LEG2, STATUS_COLOUR, task_colour
+from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
 from ..words import instant_times, short
 
 ROW = 2.2  # in
@@ -49,7 +49,7 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     lo, hi = rng if rng is not None else (-1.0, 1.0)
     scale = max(abs(lo), abs(hi))
     for _, L in _limits(sheet.motions):
-        if L <= LIMIT_NEAR * scale:
+        if LIMIT_NEAR * scale >= L:
             lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
     row[0].set_ylim(lo, hi)
     for ax, col in zip(row, sheet.columns, strict=True):
@@ -103,13 +103,30 @@ def _limit_lines(sheet: Sheet, ax: Axes, col: Indexed, scale: float, lo: float, 
             colour = _limit_colour(sheet, i, j if L[0] != L[1] else 0, m)
             if v <= LIMIT_NEAR * scale:
                 for sign in (1, -1):
-                    ax.axhline(sign * v, color=colour, lw=1.0, ls=LIMIT_DASH, zorder=0.8,
-                               gid=f"torque-limit-{i}-{j}-{'upper' if sign > 0 else 'lower'}")
+                    ax.axhline(
+                        sign * v,
+                        color=colour,
+                        lw=1.0,
+                        ls=LIMIT_DASH,
+                        zorder=0.8,
+                        gid=f"torque-limit-{i}-{j}-{'upper' if sign > 0 else 'lower'}",
+                    )
             else:
                 for y, shape in ((hi, "^"), (lo, "v")):
-                    ax.plot([1.0], [y], marker=shape, ms=7, color=colour, mec="black", mew=0.5,
-                            ls="none", transform=edge, clip_on=False, zorder=9,
-                            gid=f"torque-limit-{i}-{j}-edge")
+                    ax.plot(
+                        [1.0],
+                        [y],
+                        marker=shape,
+                        ms=7,
+                        color=colour,
+                        mec="black",
+                        mew=0.5,
+                        ls="none",
+                        transform=edge,
+                        clip_on=False,
+                        zorder=9,
+                        gid=f"torque-limit-{i}-{j}-edge",
+                    )
 
 
 def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
@@ -125,8 +142,17 @@ def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> N
                 v = getattr(m.result.resample(t), TORQUES[j][1])
                 shown = np.clip(np.where(np.isfinite(v), v, np.sign(v) * hi), lo, hi)
                 over = np.abs(v) > check.limit
-                ax.fill_between(t, np.sign(v) * check.limit, shown, where=over, color=colour,
-                                alpha=0.28, lw=0, zorder=0.9, gid=f"torques-saturation-{i}-{j}-{n}")
+                ax.fill_between(
+                    t,
+                    np.sign(v) * check.limit,
+                    shown,
+                    where=over,
+                    color=colour,
+                    alpha=0.28,
+                    lw=0,
+                    zorder=0.9,
+                    gid=f"torques-saturation-{i}-{j}-{n}",
+                )
 
 
 def _window_times(m: Motion, w: Window) -> np.ndarray:
@@ -151,7 +177,9 @@ def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> Non
             else:
                 ax.axvline(s.t, gid=f"torques-unbounded-{i}-{k}", **_UNBOUNDED)
                 _exit_marks(ax, m, s, f"{i}-{k}", lo, hi)
-            badge(ax, sheet.keys[i, k], (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
+            if (i, k) in sheet.keys:
+                key = sheet.keys[i, k]
+                badge(ax, key, (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
 
 
 def _extra_handles(sheet: Sheet) -> list[Any]:
@@ -164,11 +192,32 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
     if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
         out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
-        out.append(Line2D([], [], marker="o", ms=6, mfc="white", mec="#555555", mew=1.6,
-                          ls="none", label="finite limit at t_s"))
+        out.append(
+            Line2D(
+                [],
+                [],
+                marker="o",
+                ms=6,
+                mfc="white",
+                mec="#555555",
+                mew=1.6,
+                ls="none",
+                label="finite limit at t_s",
+            )
+        )
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
-        out.append(Line2D([], [], marker="^", ms=7, color="#777777", mec="black", ls="none",
-                          label="leaves the axis: diverges"))
+        out.append(
+            Line2D(
+                [],
+                [],
+                marker="^",
+                ms=7,
+                color="#777777",
+                mec="black",
+                ls="none",
+                label="leaves the axis: diverges",
+            )
+        )
     return out
 
 
@@ -180,7 +229,7 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
     for i, m in enumerate(sheet.motions):
         who = f"{short(m.name, 30)}: " if several else ""
         times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities):
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
             key = sheet.keys[i, k]
             if s.torque_at_singularity is not None:
                 t1, t2 = (number(v, 4) for v in s.torque_at_singularity)
@@ -189,15 +238,15 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
                 out.append(f"{key}  {who}T → ∞ at t = {times[k]} s: pole of order {s.pole_order}")
         L = m.task.checks.torque_limit
         if L is not None:
-            lim = " N m, ".join(number(float(v)) for v in L) + " N m"
+            lim = " N m, ".join(dict.fromkeys(number(float(v)) for v in L)) + " N m"
             far = all(float(v) > LIMIT_NEAR * scale for v in L)
             where = "beyond the axis, ▲ ▼ at its right edge" if far else "dash-dot lines"
-            out.append(f"{who}limits |T1|, |T2| ≤ {lim}: {where}")
+            out.append(f"-  {who}limits |T1|, |T2| ≤ {lim}: {where}")
         if m.result.torque_limit is not None:
             for j, check in enumerate(m.result.torque_limit):
                 for w in check.windows:
                     out.append(f"    |T{j + 1}| > {number(check.limit)} N m over {_span(w)} s")
-    return out
+    return out + sheet.crowded()
 
 
 def _span(w: Window) -> str:
@@ -232,8 +281,16 @@ def pole_plot(ax: Axes, m: Motion, s: SingularInstant) -> None:
         for (c, q), v in zip(TORQUES, (f.T1, f.T2), strict=True):
             y = np.log10(np.abs(v))
             x = np.log10(dt[ok])
-            ax.plot(x, y, "o-", ms=2.5, lw=0.8, color=c, mfc=c if fill else "white",
-                    gid=f"inset-{q}-{'before' if side < 0 else 'after'}")
+            ax.plot(
+                x,
+                y,
+                "o-",
+                ms=2.5,
+                lw=0.8,
+                color=c,
+                mfc=c if fill else "white",
+                gid=f"inset-{q}-{'before' if side < 0 else 'after'}",
+            )
             good = np.isfinite(y)
             if anchor is None and np.any(good):
                 anchor = (float(x[good][-1]), float(y[good][-1]))
