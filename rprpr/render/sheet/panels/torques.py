@@ -112,7 +112,7 @@ def _limit_lines(sheet: Sheet, ax: Axes, col: Indexed, scale: float, lo: float, 
                         gid=f"torque-limit-{i}-{j}-{'upper' if sign > 0 else 'lower'}",
                     )
             else:
-                for y, shape in ((hi, "^"), (lo, "v")):
+                for y, shape, end in ((hi, "^", "upper"), (lo, "v", "lower")):
                     ax.plot(
                         [1.0],
                         [y],
@@ -125,7 +125,7 @@ def _limit_lines(sheet: Sheet, ax: Axes, col: Indexed, scale: float, lo: float, 
                         transform=edge,
                         clip_on=False,
                         zorder=9,
-                        gid=f"torque-limit-{i}-{j}-edge",
+                        gid=f"torque-limit-{i}-{j}-edge-{end}",
                     )
 
 
