@@ -137,7 +137,7 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
     if 1 < len(ms) <= 3:
         assert {m.name for m in ms} <= set(legend_texts(fig))
     assert axes["path"][0].get_ylabel() == "y [m]"
-    assert [ax.get_ylabel() for ax in axes["joints"][:: columns]] == [
+    assert [ax.get_ylabel() for ax in axes["joints"][::columns]] == [
         r"$\theta$ [deg]",
         "$s$ [m]",
     ]
@@ -263,8 +263,9 @@ def test_fig4_path1_flattens_at_2_5_while_path2_crosses_with_slope() -> None:
             assert abs(d2) < 1e-2
     assert by_gid(ax, "delta-singular-0-0").get_marker() == "*"  # high order stands out
     assert by_gid(ax, "delta-singular-1-0").get_marker() == "D"
-    assert "1  Example 1 of the paper, path 1: t = 2.5 s, order 3, high-order (δ = δ' = δ'' = 0)" in (
-        lane_texts(fig)
+    assert (
+        "1  Example 1 of the paper, path 1: t = 2.5 s, order 3, high-order (δ = δ' = δ'' = 0)"
+        in (lane_texts(fig))
     )
     assert by_gid(ax, "delta-key-0-0").get_text() == "1"
     assert legend_texts(fig)[:2] == [NAME1, NAME2]
@@ -311,7 +312,10 @@ def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
     keys = lane_texts(fig)
     assert "1  Example 1 of the paper, path 1: t = 2.5 s, order 3, high-order — FAILS" in keys
     assert "slope principle fails" in keys
-    assert "2  Example 2 of the paper, path 2: t = 2.5 s, order 1 — PASSES: T → (63.23, -5.445) N m" in keys
+    assert (
+        "2  Example 2 of the paper, path 2: t = 2.5 s, order 1 — PASSES: T → (63.23, -5.445) N m"
+        in keys
+    )
     entries = legend_texts(fig)
     assert {
         NAME1,

@@ -42,9 +42,10 @@ LANE = 2.85  # in, the lane right of the axes: legends and keys
 LANE_GAP = 0.25  # in, between the axes and the lane
 COLUMN = 2.45  # in, the width of one small multiple
 COLUMN_GAP = 0.3  # in, between small multiples
-ROW_GAP = 0.12  # in, between the rows of one panel (sharing their t axis)
+ROW_GAP = 0.22  # in, between the rows of one panel (sharing their t axis)
 X_DECOR = 0.5  # in, tick labels and label under a panel's last row
-TITLE_GAP = 0.08  # in, under a heading
+TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
+LEADING = 0.03  # in, between the lines of the title
 PANEL_GAP = 0.3  # in, between panels
 PANELS = ("path", "x", "delta", "joints", "torques")  # the default order
 DPI = 150  # the resolution text is measured at (the default of ``save``)
@@ -118,7 +119,7 @@ class Sheet:
         wrapped = "\n".join(textwrap.fill(p, chars) for p in text.split("\n"))
         t = self.fig.text(0, 0, wrapped, fontsize=size, va="top", ha="left", **kw)
         self.texts.append((t, x, self.y))
-        return self.inches(t)[1]
+        return self.inches(t)[1] + LEADING
 
     def heading(self, text: str) -> None:
         """A panel's heading, bold, over its axes."""

@@ -107,6 +107,8 @@ def mark(
     """A mark at each singular instant at (t_s, value), side by side where several
     coincide, with its key number above; gid panel-singular-task-k."""
     tf = max(m.duration for _, m in column)
+    ax.autoscale_view()
+    y0, y1 = ax.get_ylim()
     pts = [
         ((i, k), s.t, value(m, s)) for i, m in column for k, s in enumerate(m.result.singularities)
     ]
@@ -123,6 +125,6 @@ def mark(
                 transform=shifted(ax, dx),
                 **marker_style(s, m.result.status_of(s)),
             )
-            if (i, k) in keys:
-                dy = 15 if s.high_order else 12
+            if (i, k) in keys:  # above the mark, below it in the axes' upper half
+                dy = (15 if s.high_order else 12) * (1 if y < (y0 + y1) / 2 else -1)
                 badge(ax, keys[i, k], (s.t, y), dx, dy, f"{panel}-key-{i}-{k}")

@@ -58,7 +58,8 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     motions = [m for _, m in col]
     v, size = workspace(ax, sheet.motions)
     singular_line(ax)
-    _case_labels(ax, motions, v)
+    if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
+        _case_labels(ax, motions, v)
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
@@ -106,8 +107,7 @@ def _near_the_line(motions: Sequence[Motion], v: View) -> np.ndarray:
 
 def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
     """Each task's robot at its singular instants (legs dashed, under the line AB) and,
-    for one task alone, faint at the start and the end; the start and end labels."""
-    written: set[tuple[float, float, str]] = set()  # one label where tasks start alike
+    for one task alone, faint at the start and the end."""
     for i, m in col:
         n = len(m.s.t)
         colour = task_colour(i) if sheet.overlay else None
@@ -117,28 +117,21 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
         for k, s in enumerate(m.result.singularities):
             gid = f"robot-{i}-singular-{k}"
             draw_robot(ax, m, at(m, s.t), 0.85, gid, singular=True, colour=colour)
-        _end_labels(ax, m, size, written)
 
 
-def _end_labels(ax: Axes, m: Motion, size: float, written: set[tuple[float, float, str]]) -> None:
-    """``start, t = …`` and ``end, t = …`` beside the path's ends (not where one is
-    ``written`` already)."""
-    for j, word in ((0, "start"), (len(m.s.t) - 1, "end")):
-        x, y = m.s.x[j], m.s.y[j]
-        key = (round(float(x), 6), round(float(y), 6), word)
-        if key in written or not np.isfinite(x):
-            continue
-        written.add(key)
-        down = word == "start"
-        ax.annotate(
-            f"{word}, t = {number(m.s.t[j], 3)} s",
-            (x, y),
-            xytext=(7, -7 if down else 5),
-            textcoords="offset points",
-            fontsize=LABEL_SIZE,
-            color="#444444",
-            va="top" if down else "bottom",
-            gid=f"path-{word}-label",
+def _ends(ax: Axes, m: Motion, colour: str) -> None:
+    """The path's start (an open circle) and end (a filled one): the legend says which."""
+    for j, (word, face) in ((0, ("start", "white")), (len(m.s.t) - 1, ("end", colour))):
+        ax.plot(
+            [m.s.x[j]],
+            [m.s.y[j]],
+            "o",
+            ms=6,
+            mfc=face,
+            mec=colour,
+            mew=1.3,
+            zorder=7,
+            gid=f"path-{word}",
         )
 
 
@@ -148,6 +141,7 @@ def _paths(sheet: Sheet, ax: Axes, col: Indexed) -> None:
     for i, m in col:
         kw = look(sheet, i, POINT)
         ax.plot(m.s.x, m.s.y, lw=1.8, zorder=4, gid=f"path-{i}", **kw)
+        _ends(ax, m, kw["color"])
         x, y = m.s.x, m.s.y
         j = int(0.3 * (len(x) - 1))
         if np.all(np.isfinite([x[j], y[j], x[j + 1], y[j + 1]])):
@@ -276,6 +270,26 @@ def _legend(sheet: Sheet) -> list[Any]:
     motions = sheet.motions
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
+        Line2D(
+            [],
+            [],
+            marker="o",
+            ms=6,
+            mfc="white",
+            mec="#333333",
+            ls="none",
+            label="start of the path (t = 0)",
+        ),
+        Line2D(
+            [],
+            [],
+            marker="o",
+            ms=6,
+            mfc="#333333",
+            mec="#333333",
+            ls="none",
+            label="end of the path (t = t_f)",
+        ),
         singular_line_handle(),
         Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
         Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
