@@ -291,7 +291,6 @@ def _legend(sheet: Sheet) -> list[Any]:
             label="end of the path (t = t_f)",
         ),
         singular_line_handle(),
-        ),
         *marker_handles(motions),
     ]
     if not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
@@ -299,7 +298,13 @@ def _legend(sheet: Sheet) -> list[Any]:
             Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
             Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
             Line2D(
-            [], [], color="#777777", lw=1.6, ls=(0, (3, 1.5)), label="legs at a singular instant"
+                [],
+                [],
+                color="#777777",
+                lw=1.6,
+                ls=(0, (3, 1.5)),
+                label="legs at a singular instant",
+            ),
         ]
     if any(m.result.kinematic_singularities for m in motions):
         extra.append(
