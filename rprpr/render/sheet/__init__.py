@@ -28,9 +28,10 @@ figure and the file).
 from __future__ import annotations
 
 from .labels import MAX_LABELS
-from .layout import FORMATS, PANELS, Sheet, can_show, format_of, metadata, render, save
+from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save
 from .markers import marker_style
 from .motion import Motion, finite, motion
+from .page import Sheet
 from .style import (
     DELTA,
     LEG1,

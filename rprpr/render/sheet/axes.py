@@ -10,8 +10,8 @@ from matplotlib import ticker
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
-from .layout import Indexed, Sheet
 from .motion import Motion
+from .page import Indexed, Sheet
 from .style import QUANTITY_STYLES, SEVERITY, STATUS_COLOUR, style, task_colour
 from .words import short
 

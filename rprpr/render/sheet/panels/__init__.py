@@ -7,7 +7,7 @@ from collections.abc import Callable
 
 from matplotlib.axes import Axes
 
-from ..layout import Sheet
+from ..page import Sheet
 from . import delta, joints, path, torques, x
 
 Draw = Callable[[Sheet, bool], list[Axes]]

@@ -12,9 +12,9 @@ from matplotlib.lines import Line2D
 
 from ....model.numbers import number
 from ..axes import handles, instant_lines, look
-from ..layout import Indexed, Sheet
 from ..markers import badge, mark
 from ..motion import finite
+from ..page import Indexed, Sheet
 from ..style import DELTA, NEAR_DELTA
 from ..words import instant_times, near_miss_delta, order_text, short, vanishing
 

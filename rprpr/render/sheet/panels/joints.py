@@ -7,8 +7,8 @@ import numpy as np
 from matplotlib.axes import Axes
 
 from ..axes import degree_ticks, handles, instant_lines, look
-from ..layout import Sheet
 from ..motion import finite
+from ..page import Sheet
 from ..style import LEG1, LEG2
 
 ROW = 1.45  # in, each of θ and s

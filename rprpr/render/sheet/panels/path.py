@@ -18,9 +18,9 @@ from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, look
 from ..labels import case_label_x
-from ..layout import Indexed, Sheet
 from ..markers import badge, marker_handles, marker_style, shifted, spread
 from ..motion import Motion, at
+from ..page import Indexed, Sheet
 from ..robot import (
     View,
     base_joints,

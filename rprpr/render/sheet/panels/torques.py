@@ -26,9 +26,9 @@ from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, instant_lines, look
-from ..layout import Indexed, Sheet
 from ..markers import badge, spread
 from ..motion import Motion, finite
+from ..page import Indexed, Sheet
 from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
 from ..words import instant_times, short
 

@@ -6,9 +6,9 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ..axes import handles, instant_lines, look
-from ..layout import Sheet
 from ..markers import mark
 from ..motion import finite
+from ..page import Sheet
 from ..style import LINE, LINE_DASH, POINT
 
 ROW = 1.35  # in, each of x_E and y_E
