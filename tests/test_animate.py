@@ -20,6 +20,7 @@ from .conftest import CONFIGS
 
 PATH1 = str(CONFIGS / "paper_path1.yaml")
 PATH2 = str(CONFIGS / "paper_path2.yaml")
+ZERO = str(CONFIGS / "zero_speed_crossing.yaml")
 MAX_BYTES = 3 * 1024 * 1024
 
 _cache: dict[str, P.Motion] = {}
@@ -42,21 +43,26 @@ def frames_of(path: Path) -> list[tuple[np.ndarray, int]]:
         ]
 
 
-def tinted(rgb: np.ndarray, face: str) -> float:
-    """Fraction of the frame washed with ``face`` at the cue's alpha over white."""
-    c = np.array([int(face[i : i + 2], 16) for i in (1, 3, 5)], dtype=float)
-    washed = 255 + 0.55 * (c - 255)
-    return float(np.mean(np.all(np.abs(rgb.astype(float) - washed) <= 3, axis=2)))
+def share(rgb: np.ndarray, colour: str, tol: float = 40) -> float:
+    """Fraction of the frame's pixels of ``colour`` (#RRGGBB)."""
+    c = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    return float(np.mean(np.all(np.abs(rgb.astype(float) - c) <= tol, axis=2)))
 
 
-def test_frame_times_span_the_motion_and_hit_each_singular_instant() -> None:
-    (m,) = motions([PATH2])
-    t, at = A.frame_times(m, 100)
-    assert len(t) == len(at) == 100
-    assert t[0] == 0.0 and t[-1] == 5.0 and np.all(np.diff(t) > 0)
+def test_one_clock_spans_the_longest_motion_and_hits_each_singular_instant() -> None:
+    """Defect 10: path 2 (t_f = 5 s, t_s = 2.5 s) beside the zero-speed crossing (t_f =
+    2 s, t_s = 1 s) run on one clock; the shorter holds its last pose once ended."""
+    p2, zero = motions([PATH2, ZERO])
+    t = A.clock([p2, zero], 100)
+    assert len(t) == 100 and t[0] == 0.0 and t[-1] == 5.0 and np.all(np.diff(t) > 0)
+    assert {1.0, 2.5} <= set(t.tolist())
+    own, at = A.frame_times(p2, t)
+    assert np.array_equal(own, t)
     k = int(np.nonzero(t == 2.5)[0][0])
-    assert at[k] is m.result.singularities[0]
-    assert sum(s is not None for s in at) == 1
+    assert at[k] is p2.result.singularities[0] and sum(s is not None for s in at) == 1
+    own, at = A.frame_times(zero, t)
+    assert np.array_equal(own, np.minimum(t, 2.0)) and own[-1] == 2.0
+    assert at[int(np.nonzero(t == 1.0)[0][0])] is zero.result.singularities[0]
 
 
 @pytest.fixture(scope="module")
@@ -87,10 +93,18 @@ def test_gif_cues_at_and_near_the_singular_configuration(p2_gif: tuple[int, Path
     delta = motions([PATH2])[0].result.resample(t).delta
     at, near, far = 10, int(np.argmin(np.where(np.abs(delta) > 0, np.abs(delta), 9))), 0
     assert 0 < abs(delta[near]) < P.NEAR_DELTA
-    assert tinted(frames[at], A.AT_FACE) > 0.2  # the workspace turns red at t_s
-    assert tinted(frames[near], A.NEAR_FACE) > 0.2  # amber while |δ| < 0.1
-    assert tinted(frames[far], A.AT_FACE) < 0.01 and tinted(frames[far], A.NEAR_FACE) < 0.01
+    # the workspace is framed in red at t_s, in amber while |δ| < 0.1, not otherwise
+    assert share(frames[at], A.AT_EDGE) > share(frames[far], A.AT_EDGE) + 0.01
+    assert share(frames[near], A.NEAR_EDGE) > share(frames[far], A.NEAR_EDGE) + 0.01
+    # ... and never washed over: the workspace stays white around A and B (defect 10)
+    for f in (frames[at], frames[near]):
+        assert share(f, "#FFFFFF", tol=2) > share(frames[far], "#FFFFFF", tol=2) - 0.05
     assert not np.array_equal(frames[1], frames[2])  # the robot moves
+    # a torque trace under the robot and the δ strip: T1's blue low in the frame
+    h = frames[far].shape[0]
+    strip = frames[far][int(0.75 * h) : int(0.93 * h)].astype(int)
+    r, g, b = strip[..., 0], strip[..., 1], strip[..., 2]
+    assert np.mean((b > r + 80) & (b > g + 25)) > 0.005  # thin, antialiased: bluish
 
 
 def test_the_gif_draws_the_robot_as_the_sheet_does() -> None:

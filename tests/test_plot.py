@@ -30,7 +30,7 @@ NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
 CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
 SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2]]  # each config, and the paper's overlay
-AXES_PER_PANEL = {"path": 1, "x": 2, "delta": 1, "joints": 2, "torques": 1}
+AXES_PER_ROW = {"path": 1, "x": 2, "delta": 1, "joints": 2, "torques": 1}
 SAMPLES = 101  # enough for the checks below, and fast
 HEAVY5 = """\
   links:
@@ -56,7 +56,11 @@ def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
 
 
 def panel_axes(fig: Figure) -> dict[str, list[Any]]:
-    return {sf.get_gid().removeprefix("panel-"): list(sf.axes) for sf in fig.subfigs}
+    out: dict[str, list[Any]] = {}
+    for ax in fig.get_axes():
+        if (ax.get_gid() or "").startswith("panel-"):
+            out.setdefault(ax.get_gid().removeprefix("panel-"), []).append(ax)
+    return out
 
 
 def by_gid(ax: Any, gid: str) -> Any:
@@ -65,10 +69,15 @@ def by_gid(ax: Any, gid: str) -> Any:
     return hits[0]
 
 
-def legend_texts(ax: Any) -> list[str]:
-    legend = ax.get_legend()
-    assert legend is not None
-    return [t.get_text() for t in legend.get_texts()]
+def legend_texts(fig: Figure) -> list[str]:
+    """Every legend entry of the sheet (the legends sit in the lane, on the figure)."""
+    return [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+
+
+def lane_texts(fig: Figure) -> str:
+    """The sheet's own texts: its title, the panels' headings and the lane's keys (each
+    key on one line, unwrapped)."""
+    return "\n".join(t.get_text() for t in fig.texts).replace("\n    ", " ")
 
 
 def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
@@ -91,10 +100,10 @@ def svg_texts(path: Path) -> tuple[str, set[str]]:
 
 PANEL_WORDS = (
     "Workspace (paper Fig. 3)",
-    "End-point coordinates (paper Fig. 2)",
-    "Type II determinant (paper Fig. 4)",
-    "Actuated joints (paper Fig. 5)",
-    "Motor torques (eq. 28)",
+    "x_E(t) (paper Fig. 2)",
+    "eq. (29) (paper Fig. 4)",
+    "θ1, θ2 (paper Fig. 5)",
+    "Motor torques T1, T2, eq. (28)",
     "t [s]",
     "x [m]",
     "y [m]",
@@ -103,11 +112,10 @@ PANEL_WORDS = (
 
 def figure_texts(fig: Figure) -> str:
     """Every text the sheet shows: titles, axis labels, annotations and legends."""
-    texts = [sf._suptitle.get_text() for sf in fig.subfigs if sf._suptitle is not None]
+    texts = [lane_texts(fig), *legend_texts(fig)]
     for ax in fig.get_axes():
         texts += [ax.get_title(), ax.get_xlabel(), ax.get_ylabel()]
         texts += [t.get_text() for t in ax.texts]
-        texts += legend_texts(ax) if ax.get_legend() else []
     return " ".join(texts)
 
 
@@ -118,22 +126,21 @@ def figure_gids(fig: Figure) -> set[str]:
 def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
     axes = panel_axes(fig)
     assert list(axes) == list(P.PANELS)
-    many = len(ms) > 1
+    columns = 1 if len(ms) <= 3 else len(ms)
+    title = lane_texts(fig)
+    for m in ms:
+        assert m.name in title  # the sheet's title names the task(s)
     for name, axs in axes.items():
-        assert len(axs) == AXES_PER_PANEL[name]
-        sf = next(s for s in fig.subfigs if s.get_gid() == f"panel-{name}")
-        title = sf._suptitle.get_text()
-        for m in ms:
-            assert m.name in title  # the panel's title names the task(s)
-        for ax in axs:
-            assert ax.get_title()
-            assert re.search(r"\[.+\]", ax.get_ylabel()), ax.get_ylabel()  # units
-            assert ax.get_xlabel() == ("x [m]" if name == "path" else "t [s]")
-            texts = legend_texts(ax)
-            if many:
-                assert all(m.name in texts for m in ms), texts
+        assert len(axs) == AXES_PER_ROW[name] * columns
+        assert re.search(r"\[.+\]", axs[0].get_ylabel()), axs[0].get_ylabel()  # units
+        assert axs[-1].get_xlabel() == ("x [m]" if name == "path" else "t [s]")
+    if 1 < len(ms) <= 3:
+        assert {m.name for m in ms} <= set(legend_texts(fig))
     assert axes["path"][0].get_ylabel() == "y [m]"
-    assert [ax.get_ylabel() for ax in axes["joints"]] == [r"$\theta$ [deg]", "$s$ [m]"]
+    assert [ax.get_ylabel() for ax in axes["joints"][::columns]] == [
+        r"$\theta$ [deg]",
+        "$s$ [m]",
+    ]
     assert axes["torques"][0].get_ylabel() == "$T$ [N m]"
     for i, m in enumerate(ms):
         for k, s in enumerate(m.result.singularities):
@@ -150,9 +157,8 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
                 assert mark.get_marker() == shape
                 assert tuple(mark.get_xydata()[0]) == pytest.approx(xy)
                 assert mark.get_markerfacecolor() == P.STATUS_COLOUR[m.result.status_of(s)]
-            label = by_gid(axes["delta"][0], f"delta-label-{i}-{k}").get_text()
-            assert f"order {s.order}" in label
-            assert ("high-order" in label) == s.high_order
+                key = by_gid(ax, f"{panel}-key-{i}-{k}").get_text()
+                assert re.search(rf"^{key}  .*order {s.order}", title, re.M)
 
 
 def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> None:
@@ -166,7 +172,7 @@ def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> No
             assert {
                 f"path-singular-{i}-{k}",
                 f"delta-singular-{i}-{k}",
-                f"delta-label-{i}-{k}",
+                f"delta-key-{i}-{k}",
             } <= ids
 
 
@@ -257,8 +263,12 @@ def test_fig4_path1_flattens_at_2_5_while_path2_crosses_with_slope() -> None:
             assert abs(d2) < 1e-2
     assert by_gid(ax, "delta-singular-0-0").get_marker() == "*"  # high order stands out
     assert by_gid(ax, "delta-singular-1-0").get_marker() == "D"
-    assert "δ = δ' = δ'' = 0" in by_gid(ax, "delta-label-0-0").get_text()
-    assert legend_texts(ax)[:2] == [NAME1, NAME2]
+    assert (
+        "1  Example 1 of the paper, path 1: t = 2.5 s, order 3, high-order (δ = δ' = δ'' = 0)"
+        in (lane_texts(fig))
+    )
+    assert by_gid(ax, "delta-key-0-0").get_text() == "1"
+    assert legend_texts(fig)[:2] == [NAME1, NAME2]
 
 
 def test_fig5_joint_angles_in_degrees_are_continuous() -> None:
@@ -286,19 +296,27 @@ def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
     assert {"case 1\nθ1 = θ2 = 0", "case 2\nθ1 = θ2 = π", "case 3\nθ1 = 0, θ2 = π"} <= texts
     x, y = by_gid(ax, "path-0").get_data()
     assert (x[0], y[0], x[-1], y[-1]) == pytest.approx((2, -1, 4, 1))
-    # the robot at t_s: both legs on the singular line, meeting at E = (3, 0)
+    # the robot at t_s: both legs on the singular line, meeting at E = (3, 0); dashed and
+    # under the line AB, which stays visible (defect 8)
+    line = by_gid(ax, "singular-line")
     for n, base in ((1, 0.0), (2, 6.0)):
-        lx, ly = by_gid(ax, f"robot-0-singular-0-leg{n}").get_data()
+        leg = by_gid(ax, f"robot-0-singular-0-leg{n}")
+        lx, ly = leg.get_data()
         assert (lx[0], ly[0]) == pytest.approx((base, 0.0))
         assert (lx[1], ly[1]) == pytest.approx((3.0, 0.0), abs=1e-12)
-        by_gid(ax, f"robot-0-start-leg{n}")
-        by_gid(ax, f"robot-0-end-leg{n}")
+        assert leg.get_linestyle() == "--" and leg.get_zorder() < line.get_zorder()
+        # an overlay draws each task's robot at its singular instants only (defect 5)
+        assert not [a for a in ax.get_children() if a.get_gid() == f"robot-0-start-leg{n}"]
     by_gid(ax, "path-ring-0-0")  # the high-order point of path 1 is ringed
     assert not [a for a in ax.get_children() if a.get_gid() == "path-ring-1-0"]
-    label = by_gid(ax, "path-label-0-0").get_text()
-    assert "order 3, high-order — FAILS" in label and "slope principle fails" in label
-    assert "T → (63.23, -5.445) N m" in by_gid(ax, "path-label-1-0").get_text()
-    entries = legend_texts(ax)
+    keys = lane_texts(fig)
+    assert "1  Example 1 of the paper, path 1: t = 2.5 s, order 3, high-order — FAILS" in keys
+    assert "slope principle fails" in keys
+    assert (
+        "2  Example 2 of the paper, path 2: t = 2.5 s, order 1 — PASSES: T → (63.23, -5.445) N m"
+        in keys
+    )
+    entries = legend_texts(fig)
     assert {
         NAME1,
         NAME2,
@@ -322,24 +340,25 @@ def test_torques_clip_to_the_bounded_part_and_mark_the_divergence() -> None:
             tx, ty = mark.get_xydata()[0]
             assert ty == hi and mark.get_marker() == "^"  # pole of order 2: +∞ on both sides
             assert 0 < abs(tx - 2.5) < 0.5
-    notes = [t.get_text() for t in ax.texts]
-    assert any("T → ∞ at t = 2.5 s (pole of order 2)" in n for n in notes)
-    assert "leaves the axis: diverges" in legend_texts(ax)
+    assert "1  T → ∞ at t = 2.5 s: pole of order 2" in lane_texts(fig)
+    assert "leaves the axis: diverges" in legend_texts(fig)
 
 
-def test_torques_bounded_limit_and_torque_limit_bands() -> None:
+def test_torques_bounded_limit_far_outside_is_marked_at_the_edge() -> None:
+    """Path 2 peaks at 66 N m under a ±300 N m limit: the axis keeps to the data (defect
+    7) and the limit is marked at its right edge, not as a band over it (defect 4)."""
     (m,) = motions([PATH2])
     fig = P.render([m], ["torques"])
     ax = panel_axes(fig)["torques"][0]
     assert tuple(by_gid(ax, "torques-limit-0-0-T1").get_xydata()[0]) == pytest.approx((2.5, 63.225))
     assert tuple(by_gid(ax, "torques-limit-0-0-T2").get_xydata()[0]) == pytest.approx((2.5, -5.445))
     lo, hi = ax.get_ylim()
-    assert lo < -300 and hi > 300
-    upper = by_gid(ax, "torque-limit-T-300-upper")
-    lower = by_gid(ax, "torque-limit-T-300-lower")
-    assert upper.get_path().get_extents(upper.get_transform()).height > 0
-    assert lower is not upper
-    assert "beyond the |T1|, |T2| limit ±300 N m" in legend_texts(ax)
+    assert -100 < lo < -60 and 66 < hi < 100
+    for end, shape in (("upper", "^"), ("lower", "v")):  # marked at the edge
+        edge = by_gid(ax, f"torque-limit-0-0-edge-{end}")
+        assert edge.get_clip_on() is False and edge.get_marker() == shape
+    assert not [p for p in ax.patches if p.get_width() >= 1 and p.get_height() > 0]  # no band
+    assert "limits |T1|, |T2| ≤ 300 N m: beyond the axis" in lane_texts(fig)
     assert not [a for a in ax.get_children() if str(a.get_gid()).startswith("torques-unbounded")]
 
 
@@ -369,12 +388,10 @@ def test_close_instants_read_apart_on_the_sheet(write_task) -> None:  # type: ig
     task = write_task(task_text("(x-3)*(x-3.000001)", "timing:\n  duration: 2\n  x: 2 + t\n"))
     m = P.motion(audit(load_task(task), samples=11), str(task))
     assert [s.t for s in m.result.singularities] == [1.0, 1.000001]
-    axes = panel_axes(P.render([m], ["path", "delta", "torques"]))
-    for panel, gid in (("delta", "delta-label"), ("path", "path-label")):
-        texts = [by_gid(axes[panel][0], f"{gid}-0-{k}").get_text() for k in (0, 1)]
-        assert "t = 1 s" in texts[0] and "t = 1.000001 s" in texts[1], texts
-    notes = [t.get_text() for t in axes["torques"][0].texts]
-    assert any("T → ∞ at t = 1.000001 s" in n for n in notes), notes
+    fig = P.render([m], ["path", "delta", "torques"])
+    keys = lane_texts(fig)
+    assert "1  t = 1 s, order 1" in keys and "2  t = 1.000001 s, order 1" in keys
+    assert "T → ∞ at t = 1.000001 s" in keys
     assert P.summary(m).endswith("torques unbounded at t = 1.000001 s")
     assert (
         "(t = 1 s order 1 ok; t = 1.000001 s order 1 fail)" in P.metadata([m], "png")["Description"]
@@ -403,9 +420,7 @@ def test_unusual_motions_render_without_warnings(
     fig = P.render([m])
     fig.draw_without_rendering()  # warnings are errors here (pytest's filterwarnings)
     if expect is not None:
-        texts = [t.get_text() for ax in fig.get_axes() for t in ax.texts]
-        texts += [t for ax in fig.get_axes() if ax.get_legend() for t in legend_texts(ax)]
-        assert any(expect in t for t in texts), expect
+        assert expect in figure_texts(fig), expect
 
 
 # ---------------------------------------------------------------------------------------
@@ -559,10 +574,16 @@ def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:
     fig = P.render(motions([PATH1, PATH2]), ["joints", "torques"])
     axes = panel_axes(fig)
     th = axes["joints"][0]
-    assert by_gid(th, "theta1-0").get_color() == by_gid(th, "theta1-1").get_color() == P.LEG1
-    assert by_gid(th, "theta2-0").get_color() == P.LEG2
+    # overlaid, colour is the task (defect 5) and line style the leg
+    assert by_gid(th, "theta1-0").get_color() == by_gid(th, "theta2-0").get_color()
+    assert by_gid(th, "theta1-0").get_color() != by_gid(th, "theta1-1").get_color()
     assert by_gid(th, "theta1-0").get_linestyle() == "-"
-    assert by_gid(th, "theta1-1").get_linestyle() == "--"
+    assert by_gid(th, "theta2-1").get_linestyle() == "--"
     tq = axes["torques"][0]
-    assert by_gid(tq, "T1-0").get_color() == P.LEG1 and by_gid(tq, "T2-1").get_color() == P.LEG2
+    assert by_gid(tq, "T1-0").get_color() == P.TASK_COLOURS[0]
+    assert by_gid(tq, "T2-1").get_color() == P.TASK_COLOURS[1]
     assert isinstance(by_gid(tq, "T1-1"), Line2D)
+    # one task alone: colour is the quantity, as on the robot's legs
+    (one,) = panel_axes(P.render(motions([PATH1]), ["joints"]))["joints"][:1]
+    assert by_gid(one, "theta1-0").get_color() == P.LEG1
+    assert by_gid(one, "theta2-0").get_color() == P.LEG2

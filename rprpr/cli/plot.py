@@ -46,6 +46,12 @@ PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, wit
     help="Also write an animated GIF of the robot moving along the motion.",
 )
 @click.option(
+    "--pole-inset",
+    is_flag=True,
+    help="Beside the torques, log|T| against log|t - t_s| near the first unbounded instant "
+    "(the slope reads as minus the pole's order).",
+)
+@click.option(
     "--show",
     is_flag=True,
     help="Open the sheet in a window (where a display exists); with -o, also write it.",
@@ -65,6 +71,7 @@ def plot(
     output_file: str | None,
     panels_spec: str | None,
     animate_file: str | None,
+    pole_inset: bool,
     show: bool,
     samples: int,
     dpi: int,
@@ -86,10 +93,10 @@ def plot(
     refuse_overwriting_inputs([output_file or default, animate_file], files)
     motions = _motions(files, samples)
     if show:
-        written = _show(motions, panels, output_file, default, dpi)
+        written = _show(motions, panels, output_file, default, dpi, pole_inset)
     else:
         out = output_file or default
-        _write_sheet(motions, panels, out, dpi)
+        _write_sheet(motions, panels, out, dpi, pole_inset)
         written = [out]
     if animate_file is not None:
         from ..render import animation as A
@@ -140,18 +147,25 @@ def _motions(files: Sequence[str], samples: int) -> list[Motion]:
     return motions
 
 
-def _write_sheet(motions: list[Motion], panels: list[str], out: str, dpi: int) -> None:
+def _write_sheet(
+    motions: list[Motion], panels: list[str], out: str, dpi: int, pole_inset: bool = False
+) -> None:
     """Draw the sheet headless and write it to ``out`` (format from its extension)."""
     from ..render import sheet as P
 
-    fig = P.render(motions, panels)
+    fig = P.render(motions, panels, pole_inset=pole_inset)
     write_atomic(
         out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions), "the sheet"
     )
 
 
 def _show(
-    motions: list[Motion], panels: list[str], output_file: str | None, default: str, dpi: int
+    motions: list[Motion],
+    panels: list[str],
+    output_file: str | None,
+    default: str,
+    dpi: int,
+    pole_inset: bool = False,
 ) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""
@@ -160,11 +174,11 @@ def _show(
     if not P.can_show():
         out = output_file or default
         say(f"rprpr: no display for --show; writing {out} instead")
-        _write_sheet(motions, panels, out, dpi)
+        _write_sheet(motions, panels, out, dpi, pole_inset)
         return [out]
     import matplotlib.pyplot as plt
 
-    fig = P.render(motions, panels, figure=plt.figure())
+    fig = P.render(motions, panels, figure=plt.figure(), pole_inset=pole_inset)
     written = []
     if output_file is not None:
         write_atomic(

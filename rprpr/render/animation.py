@@ -2,16 +2,20 @@
 
 Each task gets a column: the workspace on top (base joints A and B, the singular line,
 the planned path, the legs drawn from A and B to E, the trace of E so far, the current t
-and δ) and δ(t) below with a cursor. While the robot is near a Type II singular
-configuration (|δ| < ``sheet.NEAR_DELTA``) the workspace turns amber and says so; at a
-singular instant itself (always one of the frames) it turns red, names the order and the
-verdict, and the frame is held for ``HOLD`` seconds.
+and δ), then δ(t) and the torques T1(t), T2(t) (scaled to their bounded part) with a
+moving cursor. While the robot is near a Type II singular configuration
+(|δ| < ``sheet.NEAR_DELTA``) the workspace is framed in amber and says so; at a singular
+instant itself (always one of the frames) the frame turns red, names the order and the
+verdict, and the frame is held for ``HOLD`` seconds. The cue frames the workspace and
+never covers it: A, B and the robot stay legible.
 
 Frames are drawn with ``matplotlib.animation.FuncAnimation`` and written by a Pillow
 movie writer (``GifWriter``) that gives each frame its own duration. The size is bounded:
 ``FRAMES`` frames (at most ``MAX_FRAMES``) at ``FPS``, a few seconds, each
-``COLUMN_SIZE`` inches at ``DPI``. Several tasks play side by side, each over its own
-[0, t_f] (frame k shows t = k t_f/(frames - 1), a singular instant replacing the nearest).
+``COLUMN_SIZE`` inches at ``DPI``. Several tasks play side by side on one clock
+(``clock``): frame k shows t = k T/(frames - 1) in every column, T the longest t_f, each
+task's singular instants replacing the nearest frames; a task that has ended holds its
+last pose.
 
 The workspace and the robot are drawn by the sheet's ``robot`` module, the singular
 instants' marks by its ``markers``: the GIF and the sheet look alike.
@@ -43,11 +47,11 @@ MAX_FRAMES = 120
 FPS = 20
 HOLD = 0.6  # s, a singular instant's frame stays this long
 DPI = 90
-COLUMN_SIZE = (5.0, 4.6)  # in, per task
+COLUMN_SIZE = (5.0, 5.6)  # in, per task
 MAX_COLUMNS = 3
 
-NEAR_FACE = "#FFF1D0"  # workspace background near a singular configuration
-AT_FACE = "#FFD9D9"  # ... at a singular instant
+NEAR_EDGE = "#E69F00"  # the workspace's frame near a singular configuration
+AT_EDGE = "#D62728"  # ... at a singular instant
 
 
 class GifWriter(AbstractMovieWriter):
@@ -72,7 +76,8 @@ class GifWriter(AbstractMovieWriter):
         w, h = canvas.get_width_height(physical=True)
         rgba = canvas.buffer_rgba()  # type: ignore[no-untyped-call]
         im = Image.frombuffer("RGBA", (w, h), rgba, "raw", "RGBA", 0, 1)
-        self._frames.append(im.convert("RGB"))  # RGB quantises better to a GIF palette
+        # a fast octree palette per frame: a median cut costs most of the GIF's time
+        self._frames.append(im.convert("RGB").quantize(255, Image.Quantize.FASTOCTREE))
 
     def finish(self) -> None:
         if not self._frames:
@@ -89,24 +94,30 @@ class GifWriter(AbstractMovieWriter):
         )
 
 
-def frame_times(m: P.Motion, frames: int) -> tuple[np.ndarray, list[SingularInstant | None]]:
-    """``frames`` times evenly over [0, t_f], each singular instant replacing the nearest
-    frame time; and, per frame, the singular instant it shows (or None)."""
-    tf = m.duration
+def clock(motions: Sequence[P.Motion], frames: int) -> np.ndarray:
+    """The times of the frames, one clock for every column: ``frames`` times evenly over
+    [0, the longest t_f], each task's singular instants replacing the nearest frame time
+    (the next free one where two instants fall to one frame)."""
+    tf = max(m.duration for m in motions)
     t = np.linspace(0.0, tf, frames)
-    at: list[SingularInstant | None] = [None] * frames
-    for s in m.result.singularities:
-        k = int(np.argmin(np.abs(t - s.t)))
-        if at[k] is not None:  # two instants closer than a frame: the next free frame
-            free = [j for j in (k - 1, k + 1) if 0 <= j < frames and at[j] is None]
+    taken = np.zeros(frames, dtype=bool)
+    for ts in sorted({s.t for m in motions for s in m.result.singularities}):
+        k = int(np.argmin(np.abs(t - ts)))
+        if taken[k]:
+            free = [j for j in (k - 1, k + 1) if 0 <= j < frames and not taken[j]]
             if not free:
                 continue
             k = free[0]
-        t[k] = s.t
-        at[k] = s
-    t = np.sort(t)  # a replacement keeps the order; sorting guards the rare collision
+        t[k], taken[k] = ts, True
+    return np.sort(t)
+
+
+def frame_times(m: P.Motion, t: np.ndarray) -> tuple[np.ndarray, list[SingularInstant | None]]:
+    """Task ``m``'s time at each frame of the clock ``t`` (held at t_f once it has
+    ended) and, per frame, its singular instant shown (or None)."""
+    own = np.minimum(t, m.duration)
     at = [next((s for s in m.result.singularities if s.t == v), None) for v in t]
-    return t, at
+    return own, at
 
 
 def _time_format(tf: float, frames: int) -> str:
@@ -118,17 +129,23 @@ def _time_format(tf: float, frames: int) -> str:
 class _Column:
     """One task's workspace and δ strip, and the artists each frame moves."""
 
-    def __init__(self, sf: Any, m: P.Motion, frames: int) -> None:
+    def __init__(self, sf: Any, m: P.Motion, t: np.ndarray, tf: float) -> None:
         self.m = m
-        self.t, self.at = frame_times(m, frames)
+        self.clock_t = t
+        self.t, self.at = frame_times(m, t)
         self.f: Samples = m.result.resample(self.t)
-        self.fmt = _time_format(m.duration, frames)
-        ax, strip = sf.subplots(2, 1, height_ratios=[3.2, 1])
+        self.fmt = _time_format(tf, len(t))
+        ax, strip, torques = sf.subplots(3, 1, height_ratios=[3.2, 1, 1])
         self.ax: Axes = ax
         self.strip: Axes = strip
         sf.suptitle(P.short(m.name, 48), fontsize=9, fontweight="bold")
         self._workspace(ax)
-        self._strip(strip)
+        self._strip(strip, tf)
+        self._torques(torques, tf)
+        strip.sharex(torques)
+        strip.tick_params(labelbottom=False)
+        strip.set_xlabel("")
+        self.moving += [self.tcursor]
 
     def _workspace(self, ax: Axes) -> None:
         m = self.m
@@ -164,12 +181,34 @@ class _Column:
             fontsize=8,
             fontweight="bold",
             zorder=9,
+            bbox={"fc": "white", "ec": "none", "alpha": 0.85, "pad": 1.5},
         )
-        # the cue: a wash over the workspace, drawn under the moving robot
-        self.tint = Rectangle((0, 0), 1, 1, transform=ax.transAxes, lw=0, alpha=0.0, zorder=0)
+        # the cue: a frame around the workspace, never over it
+        self.tint = Rectangle(
+            (0, 0), 1, 1, transform=ax.transAxes, fill=False, lw=6, alpha=0.0, clip_on=False
+        )
         ax.add_patch(self.tint)
 
-    def _strip(self, ax: Axes) -> None:
+    def _torques(self, ax: Axes, tf: float) -> None:
+        """T1, T2 over the task's motion, scaled to their bounded part, and a cursor."""
+        from .sheet.panels.torques import torque_range
+
+        m = self.m
+        for v, c in ((m.s.T1, P.LEG1), (m.s.T2, P.LEG2)):
+            ax.plot(m.s.t, P.finite(v), color=c, lw=1.2)
+        rng = torque_range([m])
+        if rng is not None:
+            ax.set_ylim(*rng)
+        for s in m.result.singularities:
+            if not s.torque_bounded:
+                ax.axvline(s.t, color=P.STATUS_COLOUR["fail"], lw=1.0, ls="--")
+        ax.set_xlim(0, tf)
+        ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
+        ax.set_ylabel("T [N m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        self.tcursor = ax.axvline(0, color="black", lw=1.0)
+
+    def _strip(self, ax: Axes, tf: float) -> None:
         m = self.m
         ax.plot(m.s.t, P.finite(m.s.delta), color=P.DELTA, lw=1.4)
         ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
@@ -177,8 +216,7 @@ class _Column:
         for s in m.result.singularities:
             small = {"markersize": 11 if s.high_order else 6}  # the strip is narrow
             ax.plot([s.t], [0], **{**P.marker_style(s, m.result.status_of(s)), **small})
-        ax.set_xlim(0, m.duration)
-        ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
+        ax.set_xlim(0, tf)
         ax.set_ylabel("δ", fontsize=8)
         ax.tick_params(labelsize=7)
         self.cursor = ax.axvline(0, color="black", lw=1.0)
@@ -199,19 +237,21 @@ class _Column:
         self.trace.set_data(m.s.x[upto], m.s.y[upto])
         self.robot.move(np.array([f.x[k], f.y[k]]))
         delta = float(f.delta[k]) + 0.0  # no "-0.0000"
-        self.clock.set_text(f"t = {self.t[k]:{self.fmt}} s\nδ = {delta:+.4f}")
+        ended = " (ended)" if self.clock_t[k] > m.duration else ""
+        self.clock.set_text(f"t = {self.clock_t[k]:{self.fmt}} s{ended}\nδ = {delta:+.4f}")
         self.cursor.set_xdata([self.t[k], self.t[k]])
+        self.tcursor.set_xdata([self.t[k], self.t[k]])
         self.dot.set_data([self.t[k]], [delta])
         s = self.at[k]
         if s is not None:
             st = m.result.status_of(s)
-            self.tint.set_facecolor(AT_FACE)
-            self.tint.set_alpha(0.55)
+            self.tint.set_edgecolor(AT_EDGE)
+            self.tint.set_alpha(1.0)
             self.cue.set_text(f"TYPE II SINGULARITY: {P.order_text(s)} — {P.STATUS_WORD[st]}")
             self.cue.set_color(P.STATUS_COLOUR["fail"])
         elif np.isfinite(delta) and abs(delta) < P.NEAR_DELTA:
-            self.tint.set_facecolor(NEAR_FACE)
-            self.tint.set_alpha(0.55)
+            self.tint.set_edgecolor(NEAR_EDGE)
+            self.tint.set_alpha(1.0)
             self.cue.set_text(f"near a singular configuration: |δ| < {number(P.NEAR_DELTA)}")
             self.cue.set_color("#9A6200")
         else:
@@ -244,7 +284,9 @@ def write_gif(
         )
         canvas = FigureCanvasAgg(fig)
         subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
-        columns = [_Column(sf, m, frames) for sf, m in zip(subs, motions, strict=False)]
+        t = clock(motions, frames)
+        tf = max(m.duration for m in motions)
+        columns = [_Column(sf, m, t, tf) for sf, m in zip(subs, motions, strict=False)]
         for sf in subs[len(motions) :]:
             sf.set_visible(False)
         moving = [a for c in columns for a in c.moving]

@@ -31,6 +31,7 @@ from .labels import MAX_LABELS
 from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save
 from .markers import marker_style
 from .motion import Motion, finite, motion
+from .page import Sheet
 from .style import (
     DELTA,
     LEG1,
@@ -41,6 +42,7 @@ from .style import (
     RC,
     STATUS_COLOUR,
     STATUS_WORD,
+    TASK_COLOURS,
 )
 from .words import order_text, short, summary, title
 
@@ -57,7 +59,9 @@ __all__ = [
     "RC",
     "STATUS_COLOUR",
     "STATUS_WORD",
+    "TASK_COLOURS",
     "Motion",
+    "Sheet",
     "can_show",
     "finite",
     "format_of",

@@ -1,5 +1,5 @@
-"""The pieces every panel shares: its title, a time axis with the singular instants,
-degree ticks, and the legend (quantities by colour, tasks by line style)."""
+"""What the panels share: the look of a task's curve, the lines at the singular instants
+on a time axis, degree ticks, and the legend entries (quantities and tasks)."""
 
 from __future__ import annotations
 
@@ -8,39 +8,49 @@ from typing import Any
 
 from matplotlib import ticker
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 
 from .motion import Motion
-from .style import SEVERITY, STATUS_COLOUR, style
-from .words import names
-
-OUTSIDE = {  # the legend of a full-width panel, right of the axes
-    "loc": "upper left",
-    "bbox_to_anchor": (1.01, 1.0),
-    "borderaxespad": 0,
-}
+from .page import Indexed, Sheet
+from .style import QUANTITY_STYLES, SEVERITY, STATUS_COLOUR, style, task_colour
+from .words import short
 
 
-def panel_title(sf: SubFigure, what: str, motions: Sequence[Motion]) -> None:
-    """The panel's title: what it shows, and for which tasks."""
-    sf.suptitle(f"{what} — {names(motions)}", fontsize=10.5, fontweight="bold")
+def look(sheet: Sheet, i: int, colour: str, leg: int = 0, pair: bool = False) -> dict[str, Any]:
+    """Colour and line style of task i's curve whose one-task colour is ``colour``: leg
+    ``leg`` (0 or 1) of a ``pair`` of quantities, or a single quantity."""
+    if not sheet.overlay:
+        return {"color": colour, "ls": "-"}
+    return {"color": task_colour(i), "ls": QUANTITY_STYLES[leg] if pair else style(i)}
 
 
-def time_axes(ax: Axes, motions: Sequence[Motion], title: str, ylabel: str, name: str) -> None:
-    """A time axis over [0, max t_f] with a line at each singular instant (gid
-    ``<name>-tsline-<task>-<k>``) and each inverse-kinematic one."""
-    ax.set_title(title)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel(ylabel)
-    ax.set_xlim(0, max(m.duration for m in motions))
-    for i, m in enumerate(motions):
-        _instant_lines(ax, m, i, name)
+def handles(sheet: Sheet, quantities: Sequence[tuple[str, str]]) -> list[Any]:
+    """Legend entries: the quantities (label, one-task colour) and, in an overlay, the
+    tasks by colour (and by line style for a single quantity)."""
+    if not sheet.overlay:
+        return [Line2D([], [], color=c, label=q) for q, c in quantities]
+    col = sheet.columns[0]
+    if len(quantities) == 1:
+        return [
+            Line2D([], [], label=short(m.name, 34), **look(sheet, i, quantities[0][1]))
+            for i, m in col
+        ]
+    out: list[Any] = [
+        Line2D([], [], color="#555555", ls=QUANTITY_STYLES[j], label=q)
+        for j, (q, _) in enumerate(quantities)
+    ]
+    out += [Line2D([], [], color=task_colour(i), label=short(m.name, 34)) for i, m in col]
+    return out
 
 
-def _instant_lines(ax: Axes, m: Motion, i: int, name: str) -> None:
-    """The vertical lines of task i's singular instants (in its status's colour, grey when
-    it passes) and of its inverse-kinematic ones (red, dotted)."""
+def instant_lines(ax: Axes, column: Indexed, name: str) -> None:
+    """Vertical lines at each task's singular instants (gid ``<name>-tsline-<task>-<k>``;
+    in its status's colour, grey when it passes) and inverse-kinematic ones (red, dotted)."""
+    for i, m in column:
+        _lines(ax, m, i, name)
+
+
+def _lines(ax: Axes, m: Motion, i: int, name: str) -> None:
     for k, s in enumerate(m.result.singularities):
         st = m.result.status_of(s)
         ax.axvline(
@@ -63,35 +73,9 @@ def _instant_lines(ax: Axes, m: Motion, i: int, name: str) -> None:
 
 
 def degree_ticks(ax: Axes, lo: float, hi: float) -> None:
-    """Ticks on the y axis at a round number of degrees, at most 8 over [lo, hi]."""
+    """Ticks on the y axis at a round number of degrees, at most 6 over [lo, hi]."""
     span = max(hi - lo, 1e-9)
     for step in (5, 10, 15, 30, 45, 90, 180, 360, 720):
-        if span / step <= 8:
+        if span / step <= 6:
             ax.yaxis.set_major_locator(ticker.MultipleLocator(step))
             return
-
-
-def legend(
-    ax: Axes,
-    quantities: Sequence[tuple[str, str]],
-    motions: Sequence[Motion],
-    extra: Sequence[Any] = (),
-    **kw: Any,
-) -> None:
-    """Quantities (label, colour) by colour; with several tasks, tasks by line style; then
-    the ``extra`` handles."""
-    if len(motions) == 1:
-        handles = [Line2D([], [], color=c, label=q) for q, c in quantities]
-    elif len(quantities) == 1:
-        c = quantities[0][1]
-        handles = [
-            Line2D([], [], color=c, ls=style(i), label=m.name) for i, m in enumerate(motions)
-        ]
-    else:
-        handles = [Line2D([], [], color=c, label=q) for q, c in quantities]
-        handles += [
-            Line2D([], [], color="#555555", ls=style(i), label=m.name)
-            for i, m in enumerate(motions)
-        ]
-    handles += list(extra)
-    ax.legend(handles=handles, **{"loc": "best", "framealpha": 0.88, **kw})

@@ -1,5 +1,5 @@
-"""The sheet as a figure and as a file: its panels stacked as subfigures, its title, and
-PNG, SVG or PDF with metadata naming the tasks."""
+"""The sheet as a figure and as a file: the panels drawn in order on a ``page.Sheet``
+(laid out in inches), and PNG, SVG or PDF with metadata naming the tasks."""
 
 from __future__ import annotations
 
@@ -13,44 +13,45 @@ from matplotlib.figure import Figure
 
 from ..._version import __version__
 from .motion import Motion
+from .page import DPI, Sheet, column_heads
 from .panels import BY_NAME
-from .style import RC, WIDTH
-from .words import description, title
+from .style import RC
+from .words import description
 
-PANELS = tuple(BY_NAME)
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+PANELS = tuple(BY_NAME)  # the default order
 
 
 def render(
-    motions: Sequence[Motion], panels: Sequence[str] = PANELS, *, figure: Figure | None = None
+    motions: Sequence[Motion],
+    panels: Sequence[str] | None = None,
+    *,
+    figure: Figure | None = None,
+    pole_inset: bool = False,
 ) -> Figure:
-    """The audit sheet of ``motions`` (overlaid) with ``panels`` in order, on a new headless
-    ``Figure`` or on ``figure`` (e.g. one of pyplot's, for --show). The layout is
-    constrained and done when the sheet is saved or drawn (text extents depend on the
-    resolution, so it is not fixed in advance)."""
+    """The audit sheet of ``motions`` with ``panels`` in order (all by default), on a new
+    headless ``Figure`` or on ``figure`` (e.g. one of pyplot's, for --show); with
+    ``pole_inset``, log|T| against log|t - t_s| beside the torques near an unbounded
+    instant."""
+    panels = list(BY_NAME) if panels is None else list(panels)
     unknown = [p for p in panels if p not in BY_NAME]
     if unknown or not panels:
-        raise ValueError(f"unknown panels {unknown}; choose from {', '.join(PANELS)}")
+        raise ValueError(f"unknown panels {unknown}; choose from {', '.join(BY_NAME)}")
     if not motions:
         raise ValueError("nothing to plot")
     with matplotlib.rc_context(RC):
-        heights = [BY_NAME[p].height(motions) for p in panels]
-        fig = _figure(figure, (WIDTH, sum(heights) + 0.5 + 0.2 * len(motions)))
-        fig.suptitle(title(motions), fontsize=10, linespacing=1.5)
-        subs = fig.subfigures(len(panels), 1, height_ratios=heights, squeeze=False)[:, 0]
-        for name, sf in zip(panels, subs, strict=True):
-            sf.set_gid(f"panel-{name}")
-            BY_NAME[name].draw(sf, motions)
+        fig = figure if figure is not None else Figure()
+        fig.set_layout_engine("none")
+        sheet = Sheet(fig, motions)
+        sheet.title()
+        if len(sheet.columns) > 1:
+            column_heads(sheet)
+        for n, name in enumerate(panels):
+            if n:
+                sheet.gap()
+            BY_NAME[name].draw(sheet, pole_inset)
+        sheet.finish()
     return fig
-
-
-def _figure(figure: Figure | None, size: tuple[float, float]) -> Figure:
-    """A new headless figure of ``size`` [in], or ``figure`` resized, laid out constrained."""
-    if figure is None:
-        return Figure(figsize=size, layout="constrained")
-    figure.set_size_inches(*size)
-    figure.set_layout_engine("constrained")
-    return figure
 
 
 def format_of(path: str) -> str:
@@ -78,16 +79,13 @@ def save(
     target: str | IO[bytes],
     fmt: str,
     *,
-    dpi: int = 150,
+    dpi: int = DPI,
     motions: Sequence[Motion] = (),
 ) -> None:
     """Write the sheet as ``fmt`` ("png", "svg", "pdf") to a path or binary stream, with
     ``metadata(motions)`` when the motions are given."""
     meta = metadata(motions, fmt) if motions else None
     with matplotlib.rc_context(RC), warnings.catch_warnings():
-        # a crowded sheet (dozens of instants) still draws; matplotlib's layout note
-        # about it is no news to the user
-        warnings.filterwarnings("ignore", message="constrained_layout not applied")
         fig.savefig(target, format=fmt, dpi=dpi, metadata=meta)
 
 

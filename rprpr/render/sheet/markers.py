@@ -8,6 +8,7 @@ from typing import Any
 
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
+from matplotlib.transforms import ScaledTranslation
 
 from ...engine.singular import SingularInstant
 from .motion import Motion
@@ -47,18 +48,83 @@ def marker_handles(motions: Sequence[Motion]) -> list[Line2D]:
     return [seen[k] for k in sorted(seen, key=lambda k: (not k[0], k[1]))]
 
 
+SPREAD = 15.0  # points between the centres of marks that would sit on one another
+
+
+def spread(
+    points: Sequence[tuple[Any, float, float]], tol: tuple[float, float]
+) -> dict[Any, float]:
+    """Horizontal offsets [points] of marks at (x, y) (each with a key) so that marks
+    closer than ``tol`` in x and y sit side by side, centred on where they belong."""
+    out: dict[Any, float] = {key: 0.0 for key, _, _ in points}
+    groups: list[list[tuple[Any, float, float]]] = []
+    for p in points:
+        g = next(
+            (g for g in groups if abs(g[0][1] - p[1]) <= tol[0] and abs(g[0][2] - p[2]) <= tol[1]),
+            None,
+        )
+        if g is None:
+            groups.append([p])
+        else:
+            g.append(p)
+    for g in groups:
+        for j, (key, _, _) in enumerate(g):
+            out[key] = (j - (len(g) - 1) / 2) * SPREAD
+    return out
+
+
+def shifted(ax: Axes, dx: float) -> Any:
+    """The data transform of ``ax`` moved ``dx`` points to the right."""
+    return ax.transData + ScaledTranslation(dx / 72, 0, ax.figure.dpi_scale_trans)
+
+
+def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: str) -> None:
+    """The key number ``n`` in a small circle, ``dx``, ``dy`` points from ``xy``: what it
+    marks is said in the lane under the legend."""
+    ax.annotate(
+        str(n),
+        xy,
+        xytext=(dx, dy),
+        textcoords="offset points",
+        ha="center",
+        va="center",
+        fontsize=6.5,
+        fontweight="bold",
+        bbox={"boxstyle": "circle,pad=0.18", "fc": "white", "ec": "#333333", "lw": 0.6},
+        zorder=9,
+        annotation_clip=False,
+        gid=gid,
+    )
+
+
 def mark(
     ax: Axes,
     panel: str,
-    motions: Sequence[Motion],
+    column: Sequence[tuple[int, Motion]],
     value: Callable[[Motion, SingularInstant], float],
+    keys: dict[tuple[int, Any], int],
 ) -> None:
-    """A mark at each singular instant at (t_s, value); gid panel-singular-task-k."""
-    for i, m in enumerate(motions):
+    """A mark at each singular instant at (t_s, value), side by side where several
+    coincide, with its key number above; gid panel-singular-task-k."""
+    tf = max(m.duration for _, m in column)
+    ax.autoscale_view()
+    y0, y1 = ax.get_ylim()
+    pts = [
+        ((i, k), s.t, value(m, s)) for i, m in column for k, s in enumerate(m.result.singularities)
+    ]
+    ys = [abs(p[2]) for p in pts]
+    dxs = spread(pts, (0.01 * tf, 0.02 * max(ys, default=1.0) + 1e-9))
+    for i, m in column:
         for k, s in enumerate(m.result.singularities):
+            dx = dxs[i, k]
+            y = value(m, s)
             ax.plot(
                 [s.t],
-                [value(m, s)],
+                [y],
                 gid=f"{panel}-singular-{i}-{k}",
+                transform=shifted(ax, dx),
                 **marker_style(s, m.result.status_of(s)),
             )
+            if (i, k) in keys:  # above the mark, below it in the axes' upper half
+                dy = (15 if s.high_order else 12) * (1 if y < (y0 + y1) / 2 else -1)
+                badge(ax, keys[i, k], (s.t, y), dx, dy, f"{panel}-key-{i}-{k}")

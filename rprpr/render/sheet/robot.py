@@ -19,7 +19,6 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from ...engine.sampling import Samples
-from ...model.numbers import number
 from .motion import Motion
 from .style import LEG1, LEG2, LINE, LINE_DASH, POINT
 
@@ -31,6 +30,8 @@ END_POINT: dict[str, Any] = {"ms": 6, "mfc": "white", "mec": POINT, "mew": 1.3, 
 CYLINDER_SHARE = 0.45  # of the shortest leg length over the motion: the cylinder's length
 CYLINDER_ALPHA = 0.45  # the cylinder's opacity, relative to its rod's
 GROUND = "#333333"
+SINGULAR_LINE_Z = 3.8  # above the legs: at a singular instant they lie on AB
+SINGULAR_LEGS = (0, (3, 1.5))  # the legs' rods at a singular instant: AB shows through
 
 
 def view(motions: Sequence[Motion]) -> View:
@@ -60,7 +61,7 @@ def workspace(ax: Axes, motions: Sequence[Motion]) -> tuple[View, float]:
 
 def singular_line(ax: Axes) -> None:
     """The singular line y = 0 (δ = 0)."""
-    ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=1, gid="singular-line")
+    ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=SINGULAR_LINE_Z, gid="singular-line")
 
 
 def singular_line_handle() -> Line2D:
@@ -69,12 +70,12 @@ def singular_line_handle() -> Line2D:
 
 
 def base_joints(ax: Axes, motions: Sequence[Motion], size: float) -> list[float]:
-    """A at the origin and B at each distinct a1 (named by it when there are several);
-    returns the distinct a1 [m]."""
+    """A at the origin and B at each distinct a1 (B1, B2, … by increasing a1 when there
+    are several); returns the distinct a1 [m]."""
     ground(ax, 0.0, size, "A")
     a1s = sorted({float(m.task.robot.a1) for m in motions})
-    for a in a1s:
-        ground(ax, a, size, "B" if len(a1s) == 1 else f"B (a1 = {number(a)} m)")
+    for j, a in enumerate(a1s):
+        ground(ax, a, size, "B" if len(a1s) == 1 else f"B{j + 1}")
     return a1s
 
 
@@ -130,19 +131,30 @@ def legs(
     return out
 
 
-def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str) -> np.ndarray:
-    """The robot at sample i of ``m`` (gids ``<gid>-cylinder<n>``, ``<gid>-leg<n>``).
-    Returns points along the legs (for placing labels clear of them)."""
+def draw_robot(
+    ax: Axes,
+    m: Motion,
+    i: int,
+    alpha: float,
+    gid: str,
+    *,
+    singular: bool = False,
+    colour: str | None = None,
+) -> np.ndarray:
+    """The robot at sample i of ``m`` (gids ``<gid>-cylinder<n>``, ``<gid>-leg<n>``), in
+    the legs' colours or in ``colour``; at a ``singular`` instant its rods dashed, so
+    that the line AB they lie on shows through. Returns points along the legs."""
     E = np.array([m.s.x[i], m.s.y[i]])
     if not np.all(np.isfinite(E)):
         return np.empty((0, 2))
     pts = []
     along = np.linspace(0, 1, 24)[:, None]
     for n, (P, C) in legs(float(m.task.robot.a1), E, cylinders(m.s)).items():
-        colour = LEG1 if n == 1 else LEG2
-        kw = {"color": colour, "alpha": CYLINDER_ALPHA * alpha, **CYLINDER}
+        c = colour or (LEG1 if n == 1 else LEG2)
+        kw = {"color": c, "alpha": CYLINDER_ALPHA * alpha, **CYLINDER}
         ax.plot([P[0], C[0]], [P[1], C[1]], gid=f"{gid}-cylinder{n}", **kw)
-        ax.plot([P[0], E[0]], [P[1], E[1]], color=colour, alpha=alpha, gid=f"{gid}-leg{n}", **ROD)
+        rod = {**ROD, "ls": SINGULAR_LEGS} if singular else ROD
+        ax.plot([P[0], E[0]], [P[1], E[1]], color=c, alpha=alpha, gid=f"{gid}-leg{n}", **rod)
         pts.append(P + along * (E - P))
     ax.plot([E[0]], [E[1]], "o", alpha=alpha, **END_POINT)
     return np.concatenate(pts) if pts else np.empty((0, 2))

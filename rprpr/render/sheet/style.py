@@ -1,9 +1,14 @@
-"""The sheet's look, stated once: colour is the quantity, line style is the task.
+"""The sheet's look, stated once.
 
-Colours are the same in every panel and in the GIF: leg 1 (A-E; θ1, s1, T1) blue, leg 2
-(B-E; θ2, s2, T2) green, the end point E (path, x_E, y_E) black, δ purple, the singular
-line y = 0 red. A singular instant's status (the audit's, ``AuditResult.status_of``) is
-red when it fails the task, amber when it warns, yellow when it passes.
+One task: colour is the quantity, the same in every panel and in the GIF: leg 1 (A-E;
+θ1, s1, T1) blue, leg 2 (B-E; θ2, s2, T2) green, the end point E (path, x_E, y_E) black,
+δ purple, the singular line y = 0 red. Two or three tasks overlaid: colour is the task
+(``TASK_COLOURS``, Okabe and Ito's colour-blind-safe set) and, within a task, the line
+style is the quantity (``QUANTITY_STYLES``: leg 1 solid, leg 2 dashed); a task's single
+curves (path, δ) also take the task's line style (``style``), so greyscale still tells
+them apart. More tasks are drawn as small multiples, one column each (``OVERLAID``).
+A singular instant's status (the audit's, ``AuditResult.status_of``) is red when it fails
+the task, amber when it warns, yellow when it passes.
 """
 
 from __future__ import annotations
@@ -19,19 +24,22 @@ LINE_DASH: Any = (0, (7, 2, 1.5, 2))  # ... and its dash pattern
 STATUS_COLOUR = {"fail": "#D62728", "warn": "#E69F00", "ok": "#F0E442"}
 STATUS_WORD = {"fail": "fails", "warn": "warning", "ok": "passes"}
 SEVERITY = {"ok": 0, "warn": 1, "fail": 2}
-STYLES: tuple[Any, ...] = (
-    "-",
-    "--",
-    "-.",
-    ":",
-    (0, (8, 2, 2, 2, 2, 2)),
-    (0, (1, 1)),
-    (0, (6, 2)),
-    (0, (3, 4, 1, 4)),
+STYLES: tuple[Any, ...] = ("-", (0, (5, 2)), (0, (1, 1.5)))  # the overlaid tasks' curves
+QUANTITY_STYLES: tuple[Any, ...] = ("-", (0, (4, 2)))  # leg 1, leg 2 of one overlaid task
+TASK_COLOURS = (  # Okabe and Ito: told apart with each common colour-vision deficiency
+    "#0072B2",  # blue
+    "#D55E00",  # vermillion
+    "#009E73",  # bluish green
+    "#CC79A7",  # reddish purple
+    "#56B4E9",  # sky blue
+    "#E69F00",  # orange
+    "#000000",  # black
+    "#8C564B",  # brown
 )
+OVERLAID = 3  # at most this many tasks share axes; beyond, one column per task
 
 NEAR_DELTA = 0.1  # |δ| below this is "near" a Type II singularity (band on δ, cue in the GIF)
-WIDTH = 11.0  # sheet width [in]
+WIDTH = 11.0  # sheet width [in] (wider for small multiples)
 LABEL_SIZE = 7.5  # points, the text written beside a mark
 
 RC: Any = {  # matplotlib's rcParams for the sheet (Any: its stubs want literal keys)
@@ -51,5 +59,18 @@ RC: Any = {  # matplotlib's rcParams for the sheet (Any: its stubs want literal 
 
 
 def style(i: int) -> Any:
-    """The line style of the i-th task."""
+    """The line style of the i-th task's single curves (path, δ) in an overlay."""
     return STYLES[i % len(STYLES)]
+
+
+def task_colour(i: int) -> str:
+    """The colour of the i-th task (distinct for the at most 8 tasks of a sheet)."""
+    return TASK_COLOURS[i % len(TASK_COLOURS)]
+
+
+def curve(i: int, quantity: str, leg: int, overlay: bool) -> dict[str, Any]:
+    """Colour and line style of task i's curve of leg ``leg`` (0: leg 1 or a single
+    quantity, 1: leg 2) whose one-task colour is ``quantity``."""
+    if not overlay:
+        return {"color": quantity, "ls": "-"}
+    return {"color": task_colour(i), "ls": QUANTITY_STYLES[leg]}

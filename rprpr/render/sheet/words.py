@@ -9,6 +9,7 @@ from collections.abc import Sequence
 
 from ..._version import __version__
 from ...engine.audit import AuditResult
+from ...engine.envelope import Approach
 from ...engine.singular import SingularInstant
 from ...model.numbers import distinct, number
 from .motion import Motion
@@ -64,6 +65,41 @@ def summary(m: Motion) -> str:
     parts += _torque_summary(r)
     where = f" ({m.source})" if m.source else ""
     return f"{m.name}{where}: {r.verdict.upper()} — " + "; ".join(parts)
+
+
+def near_miss_delta(a: Approach) -> str:
+    """A closest approach as the δ panel keys it: min |δ|, never 0."""
+    lo, hi = number(a.delta_lo, 3), number(a.delta_hi, 3)
+    value = f"= {lo}" if lo == hi else f"in [{lo}, {hi}]"
+    return f"near miss: min |δ| {value} at t = {number(a.t_delta, LABEL_DIGITS)} s (never 0)"
+
+
+def near_miss_path(a: Approach) -> str:
+    """A closest approach as the workspace keys it: E's least distance to the line AB."""
+    return (
+        f"near miss: E passes {number(a.distance, 3)} m from the line AB "
+        f"at t = {number(a.t_y, LABEL_DIGITS)} s"
+    )
+
+
+def heading_lines(m: Motion) -> tuple[str, str]:
+    """The sheet title's lines for one task: its name, verdict and summary; and its file
+    (the directories abbreviated when the path is long), or "" without one."""
+    full = summary(Motion("", m.result, m.s))
+    return full, ("file: " + abbreviated(m.source) if m.source else "")
+
+
+def abbreviated(path: str, n: int = 80) -> str:
+    """``path`` kept whole up to ``n`` characters, else ``…/`` and its last parts."""
+    if len(path) <= n:
+        return path
+    parts = path.replace("\\", "/").split("/")
+    tail = parts[-1]
+    for p in reversed(parts[:-1]):
+        if len(p) + len(tail) + 3 > n:
+            break
+        tail = f"{p}/{tail}"
+    return "…/" + short(tail, n - 2)
 
 
 def _torque_summary(r: AuditResult) -> list[str]:

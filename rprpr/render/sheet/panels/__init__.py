@@ -1,30 +1,29 @@
-"""The sheet's panels, each a row of the sheet, each a module with ``draw(sf, motions)``
-(the panel on a subfigure; returns its axes) and ``height(motions)`` (its height [in])."""
+"""The sheet's panels, each a module with ``draw(sheet, pole_inset)``: its heading, its
+rows of axes (``Sheet.rows``) and its lane (``Sheet.lane``); returns its axes."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable
 
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 
-from ..motion import Motion
+from ..page import Sheet
 from . import delta, joints, path, torques, x
 
+Draw = Callable[[Sheet, bool], list[Axes]]
 
-@dataclass(frozen=True)
+
 class Panel:
-    """A panel's two functions: draw it on a subfigure, and its height [in]."""
+    """A panel: how it is drawn."""
 
-    draw: Callable[[SubFigure, Sequence[Motion]], list[Axes]]
-    height: Callable[[Sequence[Motion]], float]
+    def __init__(self, draw: Draw) -> None:
+        self.draw = draw
 
 
-BY_NAME = {  # in the sheet's default order
-    "path": Panel(path.draw, path.height),
-    "x": Panel(x.draw, x.height),
-    "delta": Panel(delta.draw, delta.height),
-    "joints": Panel(joints.draw, joints.height),
-    "torques": Panel(torques.draw, torques.height),
+BY_NAME = {  # in the sheet's default order (= layout.PANELS)
+    "path": Panel(path.draw),
+    "x": Panel(x.draw),
+    "delta": Panel(delta.draw),
+    "joints": Panel(joints.draw),
+    "torques": Panel(torques.draw),
 }

@@ -1,76 +1,86 @@
 """The ``delta`` panel: the Type II determinant δ(t) = sin(θ1 - θ2) (eq. 29, the paper's
-Fig. 4), each singular instant marked and labelled with its order and what vanishes."""
+Fig. 4), each singular instant marked and keyed to its order and what vanishes; the
+closest approach of a motion that never meets the singular line marked with min |δ|."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from typing import Any
 
+import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 
-from ....engine.singular import SingularInstant
 from ....model.numbers import number
-from ..axes import OUTSIDE, legend, panel_title, time_axes
-from ..labels import Rows, labelled
-from ..markers import mark, marker_handles
-from ..motion import Motion, finite
-from ..style import DELTA, LABEL_SIZE, NEAR_DELTA, STATUS_COLOUR, style
-from ..words import instant_times, order_text, short, vanishing
+from ..axes import handles, instant_lines, look
+from ..markers import badge, mark
+from ..motion import finite
+from ..page import Indexed, Sheet
+from ..style import DELTA, NEAR_DELTA
+from ..words import instant_times, near_miss_delta, order_text, short, vanishing
+
+ROW = 1.9  # in
+APPROACH: dict[str, Any] = {
+    "marker": "o",
+    "ms": 6,
+    "mfc": "white",
+    "mew": 1.4,
+    "ls": "none",
+    "zorder": 7,
+}
 
 
-def height(motions: Sequence[Motion]) -> float:
-    return 3.2
-
-
-def draw(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
-    panel_title(sf, "Type II determinant (paper Fig. 4)", motions)
-    ax = sf.subplots()
-    title = r"$\delta(t) = \sin(\theta_1 - \theta_2)$, eq. (29)"
-    time_axes(ax, motions, title, r"$\delta$ [–]", "delta")
-    ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)
-    ax.axhline(0, color="#444444", lw=0.8, zorder=0.7)
-    for i, m in enumerate(motions):
-        ax.plot(m.s.t, finite(m.s.delta), color=DELTA, ls=style(i), lw=1.8, gid=f"delta-{i}")
-    mark(ax, "delta", motions, lambda m, s: 0.0)
-    if labelled(motions):
-        _labels(ax, motions)
+def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
+    sheet.heading("Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)")
+    (row,) = sheet.rows("delta", (ROW,))
+    for ax, col in zip(row, sheet.columns, strict=True):
+        ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)
+        ax.axhline(0, color="#444444", lw=0.8, zorder=0.7)
+        instant_lines(ax, col, "delta")
+        for i, m in col:
+            kw = look(sheet, i, DELTA)
+            ax.plot(m.s.t, finite(m.s.delta), lw=1.7, gid=f"delta-{i}", **kw)
+        mark(ax, "delta", col, lambda m, s: 0.0, sheet.keys)
+        _approaches(sheet, ax, col)
+    row[0].set_ylabel(r"$\delta$ [–]")
     near = f"near singular: |δ| < {number(NEAR_DELTA)}"
     band = Line2D([], [], color="#999999", alpha=0.35, lw=6, label=near)
-    legend(ax, [("δ", DELTA)], motions, [*marker_handles(motions), band], **OUTSIDE)
-    return [ax]
+    sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band], notes(sheet))
+    return row
 
 
-def _labels(ax: Axes, motions: Sequence[Motion]) -> None:
-    """Each singular instant's order beside its mark, stacked clear of one another."""
-    rows = Rows(max(m.duration for m in motions), below=True)
-    for i, m in enumerate(motions):
+def _approaches(sheet: Sheet, ax: Axes, col: Indexed) -> None:
+    """Where |δ| is least on a motion that never reaches δ = 0: a ring, keyed."""
+    for i, m in col:
+        a = m.result.closest_approach
+        if a is None:
+            continue
+        d = float(m.result.resample(np.array([a.t_delta])).delta[0])
+        colour = look(sheet, i, DELTA)["color"]
+        ax.plot([a.t_delta], [d], mec=colour, gid=f"delta-approach-{i}", **APPROACH)
+        badge(
+            ax,
+            sheet.keys[i, "approach"],
+            (a.t_delta, d),
+            0,
+            12 if d >= 0 else -12,
+            f"delta-approach-key-{i}",
+        )
+
+
+def notes(sheet: Sheet) -> list[str]:
+    """The keys of the marks: each singular instant's time, order and what vanishes;
+    each closest approach's min |δ|."""
+    out = []
+    several = len(sheet.motions) > 1
+    for i, m in enumerate(sheet.motions):
+        who = f"{short(m.name, 30)}: " if several else ""
         times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities):
-            text = _label_text(m, s, times[k], len(motions))
-            side, level, right = rows.place(s.t, text)
-            ax.annotate(
-                text,
-                (s.t, 0),
-                ha="right" if right else "left",
-                va="bottom" if side > 0 else "top",
-                xytext=(-10 if right else 10, side * (8 + level)),
-                textcoords="offset points",
-                fontsize=LABEL_SIZE,
-                color=STATUS_COLOUR["fail"] if m.result.status_of(s) == "fail" else "black",
-                fontweight="bold" if s.high_order else "normal",
-                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.6},
-                zorder=8,
-                gid=f"delta-label-{i}-{k}",
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
+            out.append(
+                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} ({vanishing(s.order)})"
             )
-
-
-def _label_text(m: Motion, s: SingularInstant, t: str, tasks: int) -> str:
-    """The label of ``s`` at time text ``t``: with the task's name when several overlay,
-    on one line when more than two do (or the labels outgrow the axes)."""
-    said = f"t = {t} s: {order_text(s)} ({vanishing(s.order)})"
-    if tasks == 1:
-        return said
-    if tasks == 2:
-        return f"{short(m.name)}\n{said}"
-    return f"{short(m.name, 28)}: {order_text(s)}"
+        if m.result.closest_approach is not None:
+            out.append(
+                f"{sheet.keys[i, 'approach']}  {who}{near_miss_delta(m.result.closest_approach)}"
+            )
+    return out + sheet.crowded()

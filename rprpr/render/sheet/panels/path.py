@@ -1,8 +1,9 @@
 """The ``path`` panel: the workspace (the paper's Fig. 3).
 
 Base joints A and B, the singular line y = 0 with its three cases' stretches (Table 1),
-the end-point paths with their direction, the robot at the start, the end and each
-singular instant, and each singular point with its order and verdict."""
+the end-point paths with their direction, the robot at each singular instant (and, for
+one task, at the start and the end), each singular point keyed by number to its order
+and verdict in the lane, and a near miss's distance to the line AB."""
 
 from __future__ import annotations
 
@@ -11,15 +12,15 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
-from ..axes import OUTSIDE, legend, panel_title
-from ..labels import Box, case_label_x, labelled, place
-from ..markers import marker_handles, marker_style
+from ..axes import handles, look
+from ..labels import case_label_x
+from ..markers import badge, marker_handles, marker_style, shifted, spread
 from ..motion import Motion, at
+from ..page import Indexed, Sheet
 from ..robot import (
     View,
     base_joints,
@@ -29,8 +30,8 @@ from ..robot import (
     view,
     workspace,
 )
-from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, WIDTH, style
-from ..words import instant_times, order_text, short, verdict_text
+from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, task_colour
+from ..words import instant_times, near_miss_path, order_text, short, verdict_text
 
 CASES = (  # the singular line's stretches (Table 1): left of A, between A and B, right of B
     "case 2\nθ1 = θ2 = π",
@@ -39,30 +40,33 @@ CASES = (  # the singular line's stretches (Table 1): left of A, between A and B
 )
 
 
-def height(motions: Sequence[Motion]) -> float:
-    """The panel's height [in]: the workspace at equal scales, within 3.2 to 7.5 in."""
-    x0, x1, y0, y1 = view(motions)
-    axes_width = WIDTH - 3.6  # the legend sits to the right
-    return float(np.clip((y1 - y0) / (x1 - x0) * axes_width + 1.2, 3.2, 7.5))
+def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
+    sheet.heading("Workspace (paper Fig. 3): end-point path, robot at the singular instants")
+    x0, x1, y0, y1 = view(sheet.motions)
+    h = float(np.clip((y1 - y0) / (x1 - x0) * sheet.column_width, 2.0, 4.4))
+    (row,) = sheet.rows("path", (h,), time=False)
+    for ax, col in zip(row, sheet.columns, strict=True):
+        ax.set_xlabel("x [m]")
+        _workspace(sheet, ax, col, h)
+    row[0].set_ylabel("y [m]")
+    sheet.lane(row[-1], _legend(sheet), notes(sheet))
+    return row
 
 
-def draw(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
-    panel_title(sf, "Workspace (paper Fig. 3)", motions)
-    ax = sf.subplots()
-    ax.set_title("end-point path, robot at start, end and singular instants")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    v, size = workspace(ax, motions)
+def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
+    """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
+    motions = [m for _, m in col]
+    v, size = workspace(ax, sheet.motions)
     singular_line(ax)
-    _case_labels(ax, motions, v)
-    a1s = base_joints(ax, motions, size)
-    # what a singular point's label should not hide: the bases, robots, paths, end labels
-    obstacles = [np.array([(a, -size * k) for k in (0, 1, 2, 3)]) for a in (0.0, *a1s)]
-    obstacles += _robots(ax, motions, size)
-    _paths(ax, motions)
-    _singular_points(ax, motions, obstacles, v)
-    legend(ax, [("end-point path", POINT)], motions, _legend_extra(motions), **OUTSIDE)
-    return [ax]
+    if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
+        _case_labels(ax, motions, v)
+    base_joints(ax, motions, size)
+    _robots(sheet, ax, col, size)
+    _paths(sheet, ax, col)
+    x0, x1, y0, y1 = v
+    ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
+    _singular_points(sheet, ax, col, ppu)
+    _approaches(sheet, ax, col, ppu)
 
 
 def _case_labels(ax: Axes, motions: Sequence[Motion], v: View) -> None:
@@ -101,52 +105,43 @@ def _near_the_line(motions: Sequence[Motion], v: View) -> np.ndarray:
     return np.concatenate([pts, sing])
 
 
-def _robots(ax: Axes, motions: Sequence[Motion], size: float) -> list[np.ndarray]:
-    """The robots (faint at the start and end, solid at the singular instants) and the
-    start and end labels; returns the points they cover."""
-    covered = []
-    written: set[tuple[float, float, str]] = set()  # one label where tasks start alike
-    for i, m in enumerate(motions):
+def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
+    """Each task's robot at its singular instants (legs dashed, under the line AB) and,
+    for one task alone, faint at the start and the end."""
+    for i, m in col:
         n = len(m.s.t)
-        covered.append(draw_robot(ax, m, 0, 0.45, f"robot-{i}-start"))
-        covered.append(draw_robot(ax, m, n - 1, 0.45, f"robot-{i}-end"))
+        colour = task_colour(i) if sheet.overlay else None
+        if not sheet.overlay:
+            draw_robot(ax, m, 0, 0.4, f"robot-{i}-start")
+            draw_robot(ax, m, n - 1, 0.4, f"robot-{i}-end")
         for k, s in enumerate(m.result.singularities):
-            covered.append(draw_robot(ax, m, at(m, s.t), 0.9, f"robot-{i}-singular-{k}"))
-        covered.append(np.column_stack([m.s.x, m.s.y])[:: max(1, n // 300)])
-        covered += _end_labels(ax, m, size, written)
-    return covered
+            gid = f"robot-{i}-singular-{k}"
+            draw_robot(ax, m, at(m, s.t), 0.85, gid, singular=True, colour=colour)
 
 
-def _end_labels(
-    ax: Axes, m: Motion, size: float, written: set[tuple[float, float, str]]
-) -> list[np.ndarray]:
-    """``start, t = …`` and ``end, t = …`` beside the path's ends (not where one is
-    ``written`` already); returns the points they cover."""
-    covered = []
-    for j, word in ((0, "start"), (len(m.s.t) - 1, "end")):
-        x, y = m.s.x[j], m.s.y[j]
-        key = (round(float(x), 6), round(float(y), 6), word)
-        if key in written or not np.isfinite(x):
-            continue
-        written.add(key)
-        down = word == "start"
-        covered.append(np.array([(x + size * k, y + (-size if down else size)) for k in (1, 3, 5)]))
-        ax.annotate(
-            f"{word}, t = {number(m.s.t[j], 3)} s",
-            (x, y),
-            xytext=(7, -7 if down else 5),
-            textcoords="offset points",
-            fontsize=LABEL_SIZE,
-            color="#444444",
-            va="top" if down else "bottom",
+def _ends(ax: Axes, m: Motion, colour: str) -> None:
+    """The path's start (an open circle) and end (a filled one): the legend says which."""
+    for j, (word, face) in ((0, ("start", "white")), (len(m.s.t) - 1, ("end", colour))):
+        ax.plot(
+            [m.s.x[j]],
+            [m.s.y[j]],
+            "o",
+            ms=6,
+            mfc=face,
+            mec=colour,
+            mew=1.3,
+            zorder=7,
+            gid=f"path-{word}",
         )
-    return covered
 
 
-def _paths(ax: Axes, motions: Sequence[Motion]) -> None:
-    """Each end-point path in its task's line style, an arrow giving the direction."""
-    for i, m in enumerate(motions):
-        ax.plot(m.s.x, m.s.y, color=POINT, ls=style(i), lw=1.8, zorder=4, gid=f"path-{i}")
+def _paths(sheet: Sheet, ax: Axes, col: Indexed) -> None:
+    """Each end-point path (in its task's colour and line style in an overlay), an arrow
+    giving the direction."""
+    for i, m in col:
+        kw = look(sheet, i, POINT)
+        ax.plot(m.s.x, m.s.y, lw=1.8, zorder=4, gid=f"path-{i}", **kw)
+        _ends(ax, m, kw["color"])
         x, y = m.s.x, m.s.y
         j = int(0.3 * (len(x) - 1))
         if np.all(np.isfinite([x[j], y[j], x[j + 1], y[j + 1]])):
@@ -155,50 +150,86 @@ def _paths(ax: Axes, motions: Sequence[Motion]) -> None:
                 xy=(x[j + 1], y[j + 1]),
                 xytext=(x[j], y[j]),
                 zorder=4,
-                arrowprops={"arrowstyle": "-|>", "color": POINT, "lw": 1.2, "mutation_scale": 14},
+                arrowprops={
+                    "arrowstyle": "-|>",
+                    "color": kw["color"],
+                    "lw": 1.2,
+                    "mutation_scale": 14,
+                },
             )
 
 
-def _singular_points(
-    ax: Axes, motions: Sequence[Motion], obstacles: list[np.ndarray], v: View
-) -> None:
-    """Each singular point's mark (ringed when of high order) and its label, placed where
-    it hides least; each inverse-kinematic singular point's cross."""
-    obs = np.concatenate([o for o in obstacles if o.size])
-    obs = obs[np.all(np.isfinite(obs), axis=1)]
-    x0, x1, y0, y1 = v
-    ppu = 72 * min((WIDTH - 3.9) / (x1 - x0), (height(motions) - 1.3) / (y1 - y0))
-    boxes: list[Box] = []
-    for i, m in enumerate(motions):
-        times = instant_times(m.result)
+def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
+    """Each singular point's mark (ringed when of high order; side by side where tasks'
+    points coincide) with its key number on the side of the line the paths leave
+    freer; each inverse-kinematic singular point's cross."""
+    span = float(np.diff(ax.dataLim.intervalx)[0]) if ax.dataLim.width > 0 else 1.0
+    pts = [((i, k), s.x, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
+    dxs = spread(pts, (0.01 * span, 1.0))
+    paths = np.concatenate([np.column_stack([m.s.x, m.s.y]) for _, m in col])
+    for i, m in col:
         for k, s in enumerate(m.result.singularities):
             st = m.result.status_of(s)
+            tr = shifted(ax, dxs[i, k])
             if s.high_order:
-                _ring(ax, s, f"path-ring-{i}-{k}")
-            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **marker_style(s, st))
-            if not labelled(motions):
-                continue
-            who = f"{short(m.name)}\n" if len(motions) > 1 else ""
-            text = (
-                f"{who}t = {times[k]} s: {order_text(s)} — {STATUS_WORD[st].upper()}\n"
-                f"{verdict_text(s)}"
-            )
-            offset, box = place(text, (s.x, 0.0), obs, boxes, ppu, v)
-            boxes.append(box)
-            _point_label(ax, text, s.x, offset, st, f"path-label-{i}-{k}")
+                _ring(ax, s, f"path-ring-{i}-{k}", tr)
+            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **marker_style(s, st))
+            dy = 22.0 if s.high_order else 13.0
+            side = _freer_side(paths, s.x + dxs[i, k] / ppu, dy / ppu)
+            if (i, k) in sheet.keys:
+                key = sheet.keys[i, k]
+                badge(ax, key, (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
             ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **_CROSS)
+
+
+def _freer_side(paths: np.ndarray, x: float, d: float) -> int:
+    """+1 (above the line) or -1 (below): where fewer path points lie near (x, ±d)."""
+    counts = []
+    for side in (1, -1):
+        near = (np.abs(paths[:, 0] - x) < 1.2 * d) & (np.abs(paths[:, 1] - side * d) < 0.9 * d)
+        counts.append(int(np.sum(near)))
+    return 1 if counts[0] <= counts[1] else -1
+
+
+def _approaches(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
+    """A motion that never meets the line AB: where E comes closest, the distance drawn
+    down to the line, keyed."""
+    for i, m in col:
+        a = m.result.closest_approach
+        if a is None:
+            continue
+        f = m.result.resample(np.array([a.t_y]))
+        x, y = float(f.x[0]), float(f.y[0])
+        colour = look(sheet, i, POINT)["color"]
+        ax.annotate(
+            "",
+            xy=(x, 0.0),
+            xytext=(x, y),
+            arrowprops={
+                "arrowstyle": "<->",
+                "color": colour,
+                "lw": 0.9,
+                "shrinkA": 0,
+                "shrinkB": 0,
+            },
+            zorder=6,
+            gid=f"path-approach-{i}",
+        )
+        ax.plot([x], [y], "o", ms=5, mfc="white", mec=colour, mew=1.3, zorder=7)
+        badge(ax, sheet.keys[i, "approach"], (x, y / 2), 12, 0, f"path-approach-key-{i}")
 
 
 _CROSS: dict[str, Any] = {"mfc": STATUS_COLOUR["fail"], "mec": "black"}  # E at A or B
 
 
-def _ring(ax: Axes, s: SingularInstant, gid: str) -> None:
+def _ring(ax: Axes, s: SingularInstant, gid: str, transform: Any) -> None:
     """A red ring around a high-order singular point: it must stand out."""
     ax.plot(
         [s.x],
         [0],
         "o",
+        transform=transform,
         ms=30,
         mfc="none",
         mec=STATUS_COLOUR["fail"],
@@ -209,43 +240,72 @@ def _ring(ax: Axes, s: SingularInstant, gid: str) -> None:
     )
 
 
-def _point_label(
-    ax: Axes, text: str, x: float, offset: tuple[float, float], status: str, gid: str
-) -> None:
-    """A singular point's label at ``offset`` (points) from (x, 0), framed in the colour
-    of its status, with a leader line to the point."""
-    dx, dy = offset
-    ax.annotate(
-        text,
-        (x, 0),
-        xytext=(dx, dy),
-        textcoords="offset points",
-        fontsize=LABEL_SIZE,
-        va="top" if dy < 0 else "bottom",
-        ha="left" if dx > 0 else "right",
-        multialignment="left",
-        color="black",
-        fontweight="bold" if status != "ok" else "normal",
-        bbox={
-            "boxstyle": "round,pad=0.25",
-            "fc": "white",
-            "ec": STATUS_COLOUR[status] if status != "ok" else "#999999",
-            "alpha": 0.9,
-        },
-        arrowprops={"arrowstyle": "-", "color": "#666666", "lw": 0.7, "shrinkA": 0, "shrinkB": 6},
-        zorder=8,
-        gid=gid,
-    )
+def notes(sheet: Sheet) -> list[str]:
+    """The keys of the workspace's marks: each singular instant's time, order, verdict
+    and why (as ``rprpr check`` lists them); each near miss's distance."""
+    out = []
+    several = len(sheet.motions) > 1
+    for i, m in enumerate(sheet.motions):
+        who = f"{short(m.name, 30)}: " if several else ""
+        times = instant_times(m.result)
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
+            st = m.result.status_of(s)
+            why = verdict_text(s)
+            out.append(
+                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} — "
+                f"{STATUS_WORD[st].upper()}" + (f": {why}" if why else "")
+            )
+        if m.result.closest_approach is not None:
+            out.append(
+                f"{sheet.keys[i, 'approach']}  {who}{near_miss_path(m.result.closest_approach)}"
+            )
+    a1s = sorted({float(m.task.robot.a1) for m in sheet.motions})
+    if len(a1s) > 1:
+        out.append("B1, B2, …: B at a1 = " + ", ".join(f"{number(a)} m" for a in a1s))
+    return out + sheet.crowded()
 
 
-def _legend_extra(motions: Sequence[Motion]) -> list[Any]:
-    """The workspace's legend beyond the paths: the singular line, the legs, the marks."""
+def _legend(sheet: Sheet) -> list[Any]:
+    """The workspace's legend: the paths, the singular line, the legs, the marks."""
+    motions = sheet.motions
     extra: list[Any] = [
+        *handles(sheet, [("end-point path", POINT)]),
+        Line2D(
+            [],
+            [],
+            marker="o",
+            ms=6,
+            mfc="white",
+            mec="#333333",
+            ls="none",
+            label="start of the path (t = 0)",
+        ),
+        Line2D(
+            [],
+            [],
+            marker="o",
+            ms=6,
+            mfc="#333333",
+            mec="#333333",
+            ls="none",
+            label="end of the path (t = t_f)",
+        ),
         singular_line_handle(),
-        Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
-        Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
         *marker_handles(motions),
     ]
+    if not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
+        extra[3:3] = [
+            Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
+            Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
+            Line2D(
+                [],
+                [],
+                color="#777777",
+                lw=1.6,
+                ls=(0, (3, 1.5)),
+                label="legs at a singular instant",
+            ),
+        ]
     if any(m.result.kinematic_singularities for m in motions):
         extra.append(
             Line2D([], [], marker="X", ms=9, ls="none", label="E at A or B (s = 0)", **_CROSS)

@@ -1,9 +1,16 @@
 """The ``torques`` panel: the motor torques T1, T2 (eq. 28).
 
-Where a torque is unbounded the axis keeps the bounded part (the range outside
-``CLIP_WINDOW`` t_f of each unbounded instant), a dashed line marks t_s and ▲/▼ mark
-where each curve leaves the axes; at a bounded instant a ring marks each torque's finite
-limit; ``checks.torque_limit`` is drawn as bands beyond ±limit."""
+The axis is scaled to the bounded part of the torques (the samples farther than
+``CLIP_WINDOW`` t_f from every unbounded instant, and the finite limits at bounded
+instants). A task's torque limit is drawn as lines at ±limit in that task's colour when
+it lies near that range; when far outside it is marked at the axis's right edge instead
+(▲ ▼), never stretching the axis. Where the certified check finds |T_i| above its limit
+(``AuditResult.torque_limit`` windows, around an unbounded instant the
+``AuditResult.saturation`` ones) the curve's excess over the limit is shaded. At an
+unbounded instant a dashed line marks t_s and ▲/▼ where each curve leaves the axis; at a
+bounded one a ring marks each torque's finite limit. Each instant is keyed by number at
+the axis's top; the lane says what, and with ``pole_inset`` shows log|T| against
+log|t - t_s| near the first unbounded instant: the slope is minus the pole's order."""
 
 from __future__ import annotations
 
@@ -12,67 +19,290 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 from matplotlib.transforms import blended_transform_factory
 
+from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
-from ..axes import OUTSIDE, legend, panel_title, time_axes
-from ..labels import Rows, labelled
+from ..axes import handles, instant_lines, look
+from ..markers import badge, spread
 from ..motion import Motion, finite
-from ..style import LABEL_SIZE, LEG1, LEG2, LINE, STATUS_COLOUR, style
+from ..page import Indexed, Sheet
+from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
 from ..words import instant_times, short
 
+ROW = 2.2  # in
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
-LIMIT_SHOWN = 10.0  # a torque limit beyond this multiple of the plotted range is only noted
+LIMIT_NEAR = 1.6  # a limit within this multiple of the largest |T| shown is drawn as lines
 TORQUES = ((LEG1, "T1"), (LEG2, "T2"))  # colour and name of each motor's torque
+LIMIT_DASH: Any = (0, (6, 2, 1.2, 2))
 
 # the line at an unbounded instant t_s
-_UNBOUNDED: dict[str, Any] = {"color": STATUS_COLOUR["fail"], "lw": 1.4, "ls": "--", "zorder": 5}
-
-Limit = tuple[float, str, str, str]  # the limit [N m], colour, legend text, gid tag
+_UNBOUNDED: dict[str, Any] = {"color": STATUS_COLOUR["fail"], "lw": 1.2, "ls": "--", "zorder": 5}
 
 
-def height(motions: Sequence[Motion]) -> float:
-    return 3.4
-
-
-def draw(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
-    panel_title(sf, "Motor torques (eq. 28)", motions)
-    ax = sf.subplots()
-    time_axes(ax, motions, r"$T_1(t)$, $T_2(t)$", "$T$ [N m]", "torques")
-    rng = torque_range(motions)
+def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
+    sheet.heading("Motor torques T1, T2, eq. (28)")
+    (row,) = sheet.rows("torques", (ROW,))
+    rng = torque_range(sheet.motions)
     lo, hi = rng if rng is not None else (-1.0, 1.0)
-    shown, notes = _limits(motions, max(abs(lo), abs(hi)))
-    for L, *_ in shown:  # a band drawn is a band seen
-        lo, hi = min(lo, -1.08 * L), max(hi, 1.08 * L)
-    extra = _limit_bands(ax, shown, lo, hi)
-    ax.set_ylim(lo, hi)
+    scale = max(abs(lo), abs(hi))
+    for _, L in _limits(sheet.motions):
+        if LIMIT_NEAR * scale >= L:
+            lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
+    row[0].set_ylim(lo, hi)
+    for ax, col in zip(row, sheet.columns, strict=True):
+        instant_lines(ax, col, "torques")
+        for i, m in col:
+            for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
+                kw = look(sheet, i, c, j, pair=True)
+                ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
+        _limit_lines(sheet, ax, col, scale, lo, hi)
+        _saturation(sheet, ax, col, lo, hi)
+        _instants(sheet, ax, col, lo, hi)
+        if rng is None:
+            ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
+    row[0].set_ylabel("$T$ [N m]")
+    legend = [*handles(sheet, [("$T_1$ (joint A)", LEG1), ("$T_2$ (joint B)", LEG2)])]
+    legend += _extra_handles(sheet)
+    pole = _first_pole(sheet.motions) if pole_inset else None
+    inset = sheet.lane(row[-1], legend, notes(sheet, scale), inset=pole is not None)
+    if inset is not None and pole is not None:
+        pole_plot(inset, *pole)
+    return row
+
+
+def _limits(motions: Sequence[Motion]) -> list[tuple[int, float]]:
+    """(task, limit [N m]) of every torque limit set."""
+    out = []
     for i, m in enumerate(motions):
-        for v, (c, q) in zip((m.s.T1, m.s.T2), TORQUES, strict=True):
-            ax.plot(m.s.t, finite(v), color=c, ls=style(i), lw=1.6, gid=f"{q}-{i}")
-    extra += _instants(ax, motions, lo, hi)
-    if rng is None:
-        ax.text(
-            0.5,
-            0.5,
-            "no bounded torque sample",
-            transform=ax.transAxes,
-            ha="center",
-            color=STATUS_COLOUR["fail"],
+        if m.task.checks.torque_limit is not None:
+            out += [(i, float(v)) for v in m.task.checks.torque_limit]
+    return out
+
+
+def _limit_colour(sheet: Sheet, i: int, j: int, m: Motion) -> str:
+    """A limit's colour: its task's in an overlay, else its leg's (grey when both are
+    equal)."""
+    if sheet.overlay:
+        return task_colour(i)
+    L = m.task.checks.torque_limit
+    assert L is not None
+    return "#444444" if L[0] == L[1] else TORQUES[j][0]
+
+
+def _limit_lines(sheet: Sheet, ax: Axes, col: Indexed, scale: float, lo: float, hi: float) -> None:
+    """Each task's limits as lines at ±limit, or as ▲ ▼ on the right edge when far off."""
+    edge = blended_transform_factory(ax.transAxes, ax.transData)
+    for i, m in col:
+        L = m.task.checks.torque_limit
+        if L is None:
+            continue
+        for j, v in enumerate(sorted({float(L[0]), float(L[1])})):
+            colour = _limit_colour(sheet, i, j if L[0] != L[1] else 0, m)
+            if v <= LIMIT_NEAR * scale:
+                for sign in (1, -1):
+                    ax.axhline(
+                        sign * v,
+                        color=colour,
+                        lw=1.0,
+                        ls=LIMIT_DASH,
+                        zorder=0.8,
+                        gid=f"torque-limit-{i}-{j}-{'upper' if sign > 0 else 'lower'}",
+                    )
+            else:
+                for y, shape, end in ((hi, "^", "upper"), (lo, "v", "lower")):
+                    ax.plot(
+                        [1.0],
+                        [y],
+                        marker=shape,
+                        ms=7,
+                        color=colour,
+                        mec="black",
+                        mew=0.5,
+                        ls="none",
+                        transform=edge,
+                        clip_on=False,
+                        zorder=9,
+                        gid=f"torque-limit-{i}-{j}-edge-{end}",
+                    )
+
+
+def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
+    """Where the certified check finds |T_j| > limit: the curve's excess shaded."""
+    for i, m in col:
+        checks = m.result.torque_limit
+        if checks is None:
+            continue
+        for j, check in enumerate(checks):
+            colour = look(sheet, i, TORQUES[j][0], j, pair=True)["color"]
+            for n, w in enumerate(check.windows):
+                t = _window_times(m, w)
+                v = getattr(m.result.resample(t), TORQUES[j][1])
+                shown = np.clip(np.where(np.isfinite(v), v, np.sign(v) * hi), lo, hi)
+                over = np.abs(v) > check.limit
+                ax.fill_between(
+                    t,
+                    np.sign(v) * check.limit,
+                    shown,
+                    where=over,
+                    color=colour,
+                    alpha=0.28,
+                    lw=0,
+                    zorder=0.9,
+                    gid=f"torques-saturation-{i}-{j}-{n}",
+                )
+
+
+def _window_times(m: Motion, w: Window) -> np.ndarray:
+    """Times over a window, denser towards an unbounded instant inside it."""
+    t = np.linspace(w.start_lo, w.end_hi, 240)
+    for s in m.result.singularities:
+        if not s.torque_bounded and w.start_lo < s.t < w.end_hi:
+            near = s.t + np.outer([-1, 1], (w.end_hi - w.start_lo) * np.logspace(-1, -6, 30))
+            t = np.union1d(t, near.ravel())
+    return t[(t >= 0) & (t <= m.duration)]
+
+
+def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
+    """At each singular instant its key at the axis's top; the torques' finite limits,
+    or the line at t_s and where the curves leave the axis."""
+    pts = [((i, k), s.t, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
+    dxs = spread(pts, (0.01 * sheet.duration, 1.0))
+    for i, m in col:
+        for k, s in enumerate(m.result.singularities):
+            if s.torque_at_singularity is not None:
+                _finite_limits(ax, s, f"{i}-{k}")
+            else:
+                ax.axvline(s.t, gid=f"torques-unbounded-{i}-{k}", **_UNBOUNDED)
+                _exit_marks(ax, m, s, f"{i}-{k}", lo, hi)
+            if (i, k) in sheet.keys:
+                key = sheet.keys[i, k]
+                badge(ax, key, (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
+
+
+def _extra_handles(sheet: Sheet) -> list[Any]:
+    """The legend entries of the limits, the saturation, a finite limit's ring, and a
+    divergence's ▲, where drawn."""
+    out: list[Any] = []
+    ms = sheet.motions
+    if any(m.task.checks.torque_limit is not None for m in ms):
+        out.append(Line2D([], [], color="#444444", lw=1.0, ls=LIMIT_DASH, label="torque limit ±L"))
+    if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
+        out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
+    if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
+        out.append(
+            Line2D(
+                [],
+                [],
+                marker="o",
+                ms=6,
+                mfc="white",
+                mec="#555555",
+                mew=1.6,
+                ls="none",
+                label="finite limit at t_s",
+            )
         )
-    for j, note in enumerate(notes):
-        ax.text(
-            0.01,
-            0.03 + 0.07 * j,
-            note,
-            transform=ax.transAxes,
-            fontsize=LABEL_SIZE,
-            color="#8B0000",
+    if any(not s.torque_bounded for m in ms for s in m.result.singularities):
+        out.append(
+            Line2D(
+                [],
+                [],
+                marker="^",
+                ms=7,
+                color="#777777",
+                mec="black",
+                ls="none",
+                label="leaves the axis: diverges",
+            )
         )
-    legend(ax, [("$T_1$ (joint A)", LEG1), ("$T_2$ (joint B)", LEG2)], motions, extra, **OUTSIDE)
-    return [ax]
+    return out
+
+
+def notes(sheet: Sheet, scale: float) -> list[str]:
+    """The keys of the instants (finite limits, or where T diverges and how long |T|
+    stays above its limit) and each task's limit."""
+    out = []
+    several = len(sheet.motions) > 1
+    for i, m in enumerate(sheet.motions):
+        who = f"{short(m.name, 30)}: " if several else ""
+        times = instant_times(m.result)
+        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
+            key = sheet.keys[i, k]
+            if s.torque_at_singularity is not None:
+                t1, t2 = (number(v, 4) for v in s.torque_at_singularity)
+                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {times[k]} s (ring)")
+            else:
+                out.append(f"{key}  {who}T → ∞ at t = {times[k]} s: pole of order {s.pole_order}")
+        L = m.task.checks.torque_limit
+        if L is not None:
+            lim = " N m, ".join(dict.fromkeys(number(float(v)) for v in L)) + " N m"
+            far = all(float(v) > LIMIT_NEAR * scale for v in L)
+            where = "beyond the axis, ▲ ▼ at its right edge" if far else "dash-dot lines"
+            out.append(f"-  {who}limits |T1|, |T2| ≤ {lim}: {where}")
+        if m.result.torque_limit is not None:
+            for j, check in enumerate(m.result.torque_limit):
+                for w in check.windows:
+                    out.append(f"    |T{j + 1}| > {number(check.limit)} N m over {_span(w)} s")
+    return out + sheet.crowded()
+
+
+def _span(w: Window) -> str:
+    """A window's times, each end as bracketed when its bracket is wider than shown."""
+    return f"{_when(w.start_lo, w.start_hi)} – {_when(w.end_lo, w.end_hi)}"
+
+
+def _when(lo: float, hi: float) -> str:
+    a, b = number(lo, 4), number(hi, 4)
+    return a if a == b else f"[{a}, {b}]"
+
+
+def _first_pole(motions: Sequence[Motion]) -> tuple[Motion, SingularInstant] | None:
+    """The first task's first unbounded instant, if any."""
+    for m in motions:
+        for s in m.result.singularities:
+            if not s.torque_bounded:
+                return m, s
+    return None
+
+
+def pole_plot(ax: Axes, m: Motion, s: SingularInstant) -> None:
+    """log10 |T_j| against log10 |t - t_s| on both sides of the unbounded instant ``s``,
+    with a line of slope -(pole order): near t_s the curves run parallel to it."""
+    dt = m.duration * np.logspace(-1, -6, 26)
+    p = s.pole_order or 1
+    anchor = None
+    for side, fill in ((-1, True), (1, False)):
+        t = s.t + side * dt
+        ok = (t > 0) & (t < m.duration)
+        f = m.result.resample(t[ok])
+        for (c, q), v in zip(TORQUES, (f.T1, f.T2), strict=True):
+            y = np.log10(np.abs(v))
+            x = np.log10(dt[ok])
+            ax.plot(
+                x,
+                y,
+                "o-",
+                ms=2.5,
+                lw=0.8,
+                color=c,
+                mfc=c if fill else "white",
+                gid=f"inset-{q}-{'before' if side < 0 else 'after'}",
+            )
+            good = np.isfinite(y)
+            if anchor is None and np.any(good):
+                anchor = (float(x[good][-1]), float(y[good][-1]))
+    if anchor is not None:
+        x0, y0 = anchor
+        xs = np.array([x0, x0 + 3.0])
+        ax.plot(xs, y0 - p * (xs - x0), color="black", lw=1.0, ls=":", gid="inset-slope")
+    ax.set_xlabel("log10 |t − t_s| [s]", fontsize=7, labelpad=1)
+    ax.set_ylabel("log10 |T| [N m]", fontsize=7, labelpad=1)
+    ax.tick_params(labelsize=6.5)
+    ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=7)
+    ax.grid(True, alpha=0.3)
 
 
 def torque_range(motions: Sequence[Motion]) -> tuple[float, float] | None:
@@ -106,102 +336,6 @@ def _bounded_extremes(v: np.ndarray, keep: np.ndarray) -> list[float]:
     return list(np.percentile(v[ok], [10, 90])) if np.any(ok) else []
 
 
-def _limits(motions: Sequence[Motion], scale: float) -> tuple[list[Limit], list[str]]:
-    """The torque limits to draw as bands, and notes on those far beyond ``scale`` (the
-    largest |T| plotted): one limit for both torques where they are equal, each with the
-    tasks that set it when not all do."""
-    owners: dict[tuple[float, float], list[str]] = {}
-    for m in motions:
-        if m.task.checks.torque_limit is not None:
-            pair = (float(m.task.checks.torque_limit[0]), float(m.task.checks.torque_limit[1]))
-            owners.setdefault(pair, []).append(m.name)
-    shown: list[Limit] = []
-    notes = []
-    for L1, L2 in sorted(owners):
-        pairs = (
-            [(L1, LINE, "|T1|, |T2|", "T")]
-            if L1 == L2
-            else [(L1, LEG1, "|T1|", "T1"), (L2, LEG2, "|T2|", "T2")]
-        )
-        who = owners[L1, L2]
-        whose = "" if len(who) == len(motions) else f" ({', '.join(who)})"
-        for L, colour, which, tag in pairs:
-            if LIMIT_SHOWN * scale < L:
-                notes.append(f"{which} limit {number(L)} N m{whose}: above the plotted range")
-            else:
-                text = f"{which} limit ±{number(L)} N m{whose}"
-                shown.append((L, colour, text, f"{tag}-{number(L)}"))
-    return shown, notes
-
-
-def _limit_bands(ax: Axes, shown: list[Limit], lo: float, hi: float) -> list[Any]:
-    """Each limit as bands beyond ±limit, up to the axis's ends; their legend entries."""
-    extra: list[Any] = []
-    for L, colour, text, tag in shown:
-        band: dict[str, Any] = {"color": colour, "alpha": 0.09, "lw": 0, "zorder": 0.3}
-        ax.axhspan(L, hi, gid=f"torque-limit-{tag}-upper", **band)
-        ax.axhspan(lo, -L, gid=f"torque-limit-{tag}-lower", **band)
-        for v in (L, -L):
-            ax.axhline(v, color=colour, lw=0.9, alpha=0.8, zorder=0.4)
-        extra.append(Line2D([], [], color=colour, alpha=0.5, lw=6, label=f"beyond the {text}"))
-    return extra
-
-
-def _instants(ax: Axes, motions: Sequence[Motion], lo: float, hi: float) -> list[Any]:
-    """At each singular instant the torques' finite limits, or where they diverge; the
-    legend entries of what was drawn."""
-    rows = Rows(max(m.duration for m in motions))
-    finite_limit = diverging = False
-    for i, m in enumerate(motions):
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities):
-            if s.torque_at_singularity is not None:
-                _finite_limits(ax, s, f"{i}-{k}")
-                finite_limit = True
-                continue
-            diverging = True
-            ax.axvline(s.t, gid=f"torques-unbounded-{i}-{k}", **_UNBOUNDED)
-            if labelled(motions):
-                who = f"{short(m.name)}:\n" if len(motions) > 1 else ""
-                note = f"{who}T → ∞ at t = {times[k]} s (pole of order {s.pole_order})"
-                _divergence_note(ax, note, s.t, rows)
-                _exit_marks(ax, m, s, f"{i}-{k}", lo, hi)
-    return _instant_handles(finite_limit, diverging)
-
-
-def _instant_handles(finite_limit: bool, diverging: bool) -> list[Any]:
-    """The legend entries of a finite limit's ring and of a divergence's ▲, if drawn."""
-    extra: list[Any] = []
-    if finite_limit:
-        extra.append(
-            Line2D(
-                [],
-                [],
-                marker="o",
-                ms=6,
-                mfc="white",
-                mec="#555555",
-                mew=1.6,
-                ls="none",
-                label="finite limit at t_s",
-            )
-        )
-    if diverging:
-        extra.append(
-            Line2D(
-                [],
-                [],
-                marker="^",
-                ms=7,
-                color="#777777",
-                mec="black",
-                ls="none",
-                label="leaves the axis: diverges",
-            )
-        )
-    return extra
-
-
 def _finite_limits(ax: Axes, s: SingularInstant, tag: str) -> None:
     """A ring at each torque's finite limit at t_s."""
     assert s.torque_at_singularity is not None
@@ -217,25 +351,6 @@ def _finite_limits(ax: Axes, s: SingularInstant, tag: str) -> None:
             zorder=6,
             gid=f"torques-limit-{tag}-{q}",
         )
-
-
-def _divergence_note(ax: Axes, note: str, t: float, rows: Rows) -> None:
-    """``note`` at the top of the axes beside t, stacked clear of the other notes."""
-    _, level, right = rows.place(t, note)
-    ax.annotate(
-        note,
-        (t, 1.0),
-        xycoords=blended_transform_factory(ax.transData, ax.transAxes),
-        xytext=(-4 if right else 4, -4 - level),
-        textcoords="offset points",
-        ha="right" if right else "left",
-        va="top",
-        fontsize=LABEL_SIZE,
-        color=STATUS_COLOUR["fail"],
-        fontweight="bold",
-        bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
-        zorder=9,
-    )
 
 
 def _exit_marks(ax: Axes, m: Motion, s: SingularInstant, tag: str, lo: float, hi: float) -> None:

@@ -1,35 +1,33 @@
-"""The ``x`` panel: the end point's coordinates x_E(t) (the paper's Fig. 2) and y_E(t)."""
+"""The ``x`` panel: the end point's coordinates x_E(t) (the paper's Fig. 2) over y_E(t)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 from matplotlib.axes import Axes
-from matplotlib.figure import SubFigure
 from matplotlib.lines import Line2D
 
-from ..axes import legend, panel_title, time_axes
+from ..axes import handles, instant_lines, look
 from ..markers import mark
-from ..motion import Motion, finite
-from ..style import LINE, LINE_DASH, POINT, style
+from ..motion import finite
+from ..page import Sheet
+from ..style import LINE, LINE_DASH, POINT
+
+ROW = 1.35  # in, each of x_E and y_E
 
 
-def height(motions: Sequence[Motion]) -> float:
-    return 3.0
-
-
-def draw(sf: SubFigure, motions: Sequence[Motion]) -> list[Axes]:
-    panel_title(sf, "End-point coordinates (paper Fig. 2)", motions)
-    ax_x, ax_y = sf.subplots(1, 2)
-    time_axes(ax_x, motions, "$x_E(t)$", "$x_E$ [m]", "x")
-    time_axes(ax_y, motions, "$y_E(t)$", "$y_E$ [m]", "y")
-    ax_y.axhline(0, color=LINE, lw=1.0, ls=LINE_DASH, zorder=1)
-    for i, m in enumerate(motions):
-        ax_x.plot(m.s.t, finite(m.s.x), color=POINT, ls=style(i), lw=1.6, gid=f"x-{i}")
-        ax_y.plot(m.s.t, finite(m.s.y), color=POINT, ls=style(i), lw=1.6, gid=f"y-{i}")
-    mark(ax_x, "x", motions, lambda m, s: s.x)
-    mark(ax_y, "y", motions, lambda m, s: 0.0)
-    legend(ax_x, [("$x_E$", POINT)], motions)
+def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
+    sheet.heading("End-point coordinates x_E(t) (paper Fig. 2) and y_E(t)")
+    row_x, row_y = sheet.rows("x", (ROW, ROW))
+    for ax_x, ax_y, col in zip(row_x, row_y, sheet.columns, strict=True):
+        ax_y.axhline(0, color=LINE, lw=1.0, ls=LINE_DASH, zorder=1)
+        for ax, v, name in ((ax_x, "x", "x"), (ax_y, "y", "y")):
+            instant_lines(ax, col, name)
+            for i, m in col:
+                kw = look(sheet, i, POINT)
+                ax.plot(m.s.t, finite(getattr(m.s, v)), lw=1.6, gid=f"{name}-{i}", **kw)
+        mark(ax_x, "x", col, lambda m, s: s.x, sheet.keys)
+        mark(ax_y, "y", col, lambda m, s: 0.0, sheet.keys)
+    row_x[0].set_ylabel("$x_E$ [m]")
+    row_y[0].set_ylabel("$y_E$ [m]")
     line = Line2D([], [], color=LINE, lw=1.0, ls=LINE_DASH, label="singular line y = 0")
-    legend(ax_y, [("$y_E$", POINT)], motions, [line])
-    return [ax_x, ax_y]
+    sheet.lane(row_x[-1], [*handles(sheet, [("$x_E$, $y_E$", POINT)]), line])
+    return [*row_x, *row_y]

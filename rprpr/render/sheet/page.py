@@ -1,0 +1,255 @@
+"""The sheet laid out on the page, in inches.
+
+The figure is laid out by hand, in inches, top to bottom (``Sheet``): the title, then
+each panel's heading and its rows of axes, each row as wide as every other time row and
+at the same left edge, so that one vertical line at a time t runs through every time
+axis; every time axis shares the first one's x-limits. Right of the axes runs the lane:
+each row's legend and, keyed by number to the marks in the data, what the marks mean.
+Text sizes are measured (with an Agg renderer at the figure's resolution) before a panel
+is given its height, so nothing is clipped or overlaps; the figure's height is known and
+set only when the last panel is placed.
+
+Up to ``OVERLAID`` tasks share one column of axes; more get a column each (small
+multiples) sharing the x- and y-limits of each row.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import RendererAgg
+from matplotlib.figure import Figure
+from matplotlib.text import Text
+
+from ..._version import __version__
+from .labels import MAX_LABELS
+from .motion import Motion
+from .style import LABEL_SIZE, OVERLAID, WIDTH, task_colour
+from .words import heading_lines, short
+
+MARGIN = 0.15  # in, at the figure's edges
+LEFT = 0.95  # in, from the figure's left edge to the axes: y tick labels and label
+LANE = 2.85  # in, the lane right of the axes: legends and keys
+LANE_GAP = 0.25  # in, between the axes and the lane
+COLUMN = 2.45  # in, the width of one small multiple
+COLUMN_GAP = 0.3  # in, between small multiples
+ROW_GAP = 0.22  # in, between the rows of one panel (sharing their t axis)
+X_DECOR = 0.5  # in, tick labels and label under a panel's last row
+TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
+LEADING = 0.03  # in, between the lines of the title
+PANEL_GAP = 0.3  # in, between panels
+DPI = 150  # the resolution text is measured at (the default of ``save``)
+
+Indexed = list[tuple[int, Motion]]  # the motions of a column, each with its task index
+
+
+@dataclass
+class Sheet:
+    """A sheet being laid out: the figure, its columns of tasks, and what has been placed
+    where (inches from the top left; positions are set in figure fractions by
+    ``finish``)."""
+
+    fig: Figure
+    motions: Sequence[Motion]
+    columns: list[Indexed] = field(init=False)
+    width: float = field(init=False)
+    column_width: float = field(init=False)
+    y: float = MARGIN  # in from the top: the next free height
+    axes: list[tuple[Axes, tuple[float, float, float, float]]] = field(default_factory=list)
+    texts: list[tuple[Text, float, float]] = field(default_factory=list)
+    time: list[Axes] = field(default_factory=list)  # every time axis (the first leads)
+    keys: dict[tuple[int, Any], int] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        indexed = list(enumerate(self.motions))
+        many = len(indexed) > OVERLAID
+        self.columns = [[im] for im in indexed] if many else [indexed]
+        n = len(self.columns)
+        self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
+        self.width = LEFT + n * self.column_width + (n - 1) * COLUMN_GAP + LANE_GAP + LANE
+        self.width += MARGIN
+        self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
+        self.fig.set_dpi(DPI)
+        self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
+        instants = sum(len(m.result.singularities) for m in self.motions)
+        for i, m in enumerate(self.motions):  # every mark's number, in the check's order
+            for k in range(len(m.result.singularities) if instants <= MAX_LABELS else 0):
+                self.keys[i, k] = len(self.keys) + 1
+            if m.result.closest_approach is not None:
+                self.keys[i, "approach"] = len(self.keys) + 1
+
+    @property
+    def overlay(self) -> bool:
+        """Whether tasks share axes (colour is then the task's)."""
+        return len(self.columns[0]) > 1
+
+    @property
+    def duration(self) -> float:
+        return max(m.duration for m in self.motions)
+
+    def left(self, c: int) -> float:
+        """The left edge of column c's axes [in]."""
+        return LEFT + c * (self.column_width + COLUMN_GAP)
+
+    @property
+    def lane_left(self) -> float:
+        return self.left(len(self.columns) - 1) + self.column_width + LANE_GAP
+
+    # -- text ------------------------------------------------------------------------------
+
+    def inches(self, artist: Any) -> tuple[float, float]:
+        """The width and height of ``artist`` [in], as it will be drawn."""
+        bb = artist.get_window_extent(renderer=self.renderer)
+        return bb.width / DPI, bb.height / DPI
+
+    def line(self, text: str, x: float, *, size: float, **kw: Any) -> float:
+        """Write ``text`` with its top left at (x, the next free height) [in], wrapped to
+        the figure; returns its height [in] (the next free height does not move)."""
+        chars = max(20, int((self.width - x - MARGIN) * 72 / (0.58 * size)))
+        wrapped = "\n".join(textwrap.fill(p, chars) for p in text.split("\n"))
+        t = self.fig.text(0, 0, wrapped, fontsize=size, va="top", ha="left", **kw)
+        self.texts.append((t, x, self.y))
+        return self.inches(t)[1] + LEADING
+
+    def heading(self, text: str) -> None:
+        """A panel's heading, bold, over its axes."""
+        self.y += self.line(text, MARGIN, size=10.5, fontweight="bold") + TITLE_GAP
+
+    def title(self) -> None:
+        """The sheet's title: per task, its name and verdict (in the task's colour when
+        tasks share axes or columns), and its file in small print."""
+        self.y += self.line(f"rprpr {__version__} audit sheet", MARGIN, size=8, color="#555555")
+        self.y += 0.04
+        several = len(self.motions) > 1
+        for i, m in enumerate(self.motions):
+            head, source = heading_lines(m)
+            colour = task_colour(i) if several else "black"
+            self.y += self.line(head, MARGIN, size=10, fontweight="bold", color=colour)
+            if source:
+                self.y += self.line(source, MARGIN, size=7, color="#555555") + 0.03
+        self.y += PANEL_GAP / 2
+
+    # -- axes ------------------------------------------------------------------------------
+
+    def rows(self, gid: str, heights: Sequence[float], *, time: bool = True) -> list[list[Axes]]:
+        """Rows of axes of these ``heights`` [in], one axes per column; time rows share
+        the sheet's t axis (labelled under the last row only) and each row its y-limits
+        across the columns (other rows set equal limits themselves: a workspace at equal
+        scales cannot share). Advances the next free height past them."""
+        out = []
+        for r, h in enumerate(heights):
+            row: list[Axes] = []
+            for c in range(len(self.columns)):
+                ax = self.fig.add_axes((0, 0, 1, 1))
+                ax.set_gid(f"panel-{gid}")
+                self.axes.append((ax, (self.left(c), self.y, self.column_width, h)))
+                if row and time:
+                    ax.sharey(row[0])
+                    ax.tick_params(labelleft=False)
+                if time:
+                    self._time(ax, last=r == len(heights) - 1)
+                row.append(ax)
+            out.append(row)
+            self.y += h + (ROW_GAP if r < len(heights) - 1 else 0)
+        self.y += X_DECOR
+        return out
+
+    def _time(self, ax: Axes, last: bool) -> None:
+        """Share the sheet's t axis over [0, the longest t_f]."""
+        if self.time:
+            ax.sharex(self.time[0])
+        else:
+            ax.set_xlim(0, self.duration)
+        self.time.append(ax)
+        if last:
+            ax.set_xlabel("t [s]")
+        else:
+            ax.tick_params(labelbottom=False)
+
+    def top_of(self, ax: Axes) -> float:
+        """The top of ``ax`` [in from the sheet's top]."""
+        return next(box[1] for a, box in self.axes if a is ax)
+
+    def lane(
+        self, ax: Axes, handles: Sequence[Any], notes: Sequence[str] = (), *, inset: bool = False
+    ) -> Axes | None:
+        """The lane beside ``ax`` (the last column's): the legend of ``handles``, then the
+        ``notes`` (each starting with its key number, wrapped to the lane), then, with
+        ``inset``, a small axes returned. The panel grows when the lane is longer."""
+        top = self.top_of(ax)
+        x = self.lane_left
+        used = 0.0
+        if handles:
+            leg = self.fig.legend(
+                handles=list(handles),
+                loc="upper left",
+                bbox_to_anchor=(0, 1),
+                frameon=False,
+                fontsize=LABEL_SIZE,
+                borderaxespad=0,
+                handlelength=2.6,
+            )
+            self.texts.append((leg, x, top))  # type: ignore[arg-type]
+            used += self.inches(leg)[1] + 0.08
+        if notes:
+            chars = int((LANE - 0.05) * 72 / (0.56 * LABEL_SIZE))
+            text = "\n".join(textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n)
+            t = self.fig.text(0, 0, text, fontsize=LABEL_SIZE, va="top", ha="left")
+            self.texts.append((t, x, top + used))
+            used += self.inches(t)[1] + 0.1
+        small = None
+        if inset:
+            small = self.fig.add_axes((0, 0, 1, 1))
+            small.set_gid("inset")
+            self.axes.append((small, (x + 0.5, top + used + 0.25, LANE - 0.7, 1.45)))
+            used += 0.25 + 1.45 + 0.45
+        self.y = max(self.y, top + used + 0.05)
+        return small
+
+    def crowded(self) -> list[str]:
+        """The note that stands for the instants' keys when there are too many to key."""
+        n = sum(len(m.result.singularities) for m in self.motions)
+        if n <= MAX_LABELS:
+            return []
+        return [f"-  {n} singular instants: too many to key here; rprpr check lists them"]
+
+    def gap(self) -> None:
+        self.y += PANEL_GAP
+
+    def finish(self) -> None:
+        """Give the figure its height and every axes and text its place."""
+        h = self.y + MARGIN
+        w = self.width
+        self.fig.set_size_inches(w, h)
+        for ax, (x0, top, bw, bh) in self.axes:
+            ax.set_position((x0 / w, 1 - (top + bh) / h, bw / w, bh / h))
+        for t, x, top in self.texts:
+            if hasattr(t, "set_bbox_to_anchor"):
+                t.set_bbox_to_anchor((x / w, 1 - top / h), transform=self.fig.transFigure)
+            else:
+                t.set_position((x / w, 1 - top / h))
+
+
+def column_heads(sheet: Sheet) -> None:
+    """Small multiples: each column's task, abbreviated, in its colour, numbered as in
+    the title."""
+    chars = int(sheet.column_width * 72 / (0.6 * 8.5))
+    height = 0.0
+    for c, col in enumerate(sheet.columns):
+        i, m = col[0]
+        t = sheet.fig.text(
+            0,
+            0,
+            short(m.name, chars),
+            fontsize=8.5,
+            fontweight="bold",
+            color=task_colour(i),
+            va="top",
+        )
+        sheet.texts.append((t, sheet.left(c), sheet.y))
+        height = max(height, sheet.inches(t)[1])
+    sheet.y += height + 0.1
