@@ -171,7 +171,7 @@ class _Local:
     """Exact Taylor polynomials about an exact root t_s of y (in ε/h, h a power of 2)."""
 
     time: ExactTime
-    h: float
+    he: int  # h = 2^he
     x: tuple[list[Ball], list[Ball], list[Ball]]
     y: tuple[list[Ball], list[Ball], list[Ball]]
 
@@ -204,7 +204,8 @@ class CertifiedMotion:
     def _center(self) -> fmpq:
         tf = to_float(self.traj.duration)
         ts = np.linspace(0.0, tf, 65)
-        xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
+        with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
+            xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
         xs = xs[np.isfinite(xs)]
         return _dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
 
@@ -222,19 +223,20 @@ class CertifiedMotion:
 
     def _local(self, e: ExactTime) -> _Local:
         tf = to_float(self.traj.duration)
-        h = 2.0 ** math.frexp(tf)[1] if tf > 0 else 1.0
+        he = math.frexp(tf)[1] if tf > 0 else 0
         out = []
         for p in (self.traj.x, self.traj.y):
             cs = taylor(p, max(p.degree(), 0) + 1)
+            scale = [fmpq(2) ** (he * k) for k in range(len(cs))]  # h^k, exactly
             if e.exact is not None:
-                coeffs = [Ball.of_rational(c(e.exact) * fmpq(*h.as_integer_ratio()) ** k)
-                          for k, c in enumerate(cs)]  # fmt: skip
+                coeffs = [Ball.of_rational(c(e.exact) * scale[k]) for k, c in enumerate(cs)]
             else:
-                coeffs = [_arb_at(c, e, 256) * (h**k) for k, c in enumerate(cs)]
-            d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
-            d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
+                coeffs = [_arb_at(c, e, 256, scale[k]) for k, c in enumerate(cs)]
+            with quiet():  # beyond the double range: unbounded balls
+                d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
+                d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
             out.append((coeffs, d1, d2))
-        return _Local(e, h, out[0], out[1])
+        return _Local(e, he, out[0], out[1])
 
     def _cuts(self, leg: int) -> list[_Cut]:
         on_cut = (2,) if leg == 1 else (2, 3)
@@ -374,10 +376,10 @@ class CertifiedMotion:
             idx = np.nonzero(near == i)[0]
             if not len(idx):
                 continue
-            r = loc.time.eps(t[idx]) * (1.0 / loc.h)  # exact scaling by a power of 2
+            inv = np.ldexp(1.0, -loc.he)  # 1/h, exact (or inf: unbounded balls)
+            r = loc.time.eps(t[idx]) * inv  # exact scaling by a power of 2
             for slot, (c, c1, c2) in ((0, loc.x), (3, loc.y)):
-                vals = (horner(c, r), horner(c1, r) * (1.0 / loc.h),
-                        horner(c2, r) * (1.0 / loc.h**2))  # fmt: skip
+                vals = (horner(c, r), horner(c1, r) * inv, horner(c2, r) * inv * inv)
                 for k in range(3):
                     cur = out[slot + k]
                     best = _tighter(cur[idx], vals[k])
@@ -561,13 +563,14 @@ def _arb_hypot(u: Any, v: Any) -> Any:
     return (u * u + v * v).sqrt()
 
 
-def _arb_at(c: fmpq_poly, e: ExactTime, prec: int) -> Ball:
+def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:
+    """c(t_s) · scale for the exact time e (scale exact), in arb."""
     old = ctx.prec
     ctx.prec = prec
     try:
         if c.degree() <= 0:
-            return Ball.of_rational(c[0] if c.degree() == 0 else fmpq(0))
-        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)))
+            return Ball.of_rational((c[0] if c.degree() == 0 else fmpq(0)) * scale)
+        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)) * arb(scale))
     finally:
         ctx.prec = old
 
