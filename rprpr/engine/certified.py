@@ -61,16 +61,20 @@ TOL = 1e-9  # the mixed error every certified value meets
 START_PREC = 128  # bits of the arb refinement, to start with
 MAX_PREC = 4096  # ... doubled up to this
 
-# reason codes of a sample with NaN values (0: every value certified)
-OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED = 0, 1, 2, 3, 4, 5
+# reason codes of a sample with values that are not finite (0: every value certified);
+# where several apply, the first of UNCERTIFIED, BEYOND_DOUBLE, then the one that makes
+# values undefined (POLE, AT_A, AT_B before ON_LINE)
+OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED, BEYOND_DOUBLE = 0, 1, 2, 3, 4, 5, 6
 REASONS = {
     OK: "",
     POLE: "a singular instant with unbounded torques (a pole of λ2): λ2, T1, T2 undefined",
     AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
     AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
     ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
-    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits",
+    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits (NaN)",
+    BEYOND_DOUBLE: "beyond the double range: ±inf, the sign certified",
 }
+DBL_MAX = float(np.finfo(float).max)
 
 FIELDS = (
     "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot",
@@ -88,9 +92,10 @@ Values = dict[str, Ball]
 
 @dataclass(frozen=True)
 class CertifiedSamples:
-    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined),
-    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|)) and ``reason`` (one code
-    per sample, ``REASONS``; 0 when every value is finite)."""
+    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined
+    or not certified, ±inf where the true value is proven beyond the double range),
+    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|); inf beside ±inf) and
+    ``reason`` (one code per sample, ``REASONS``; 0 when every value is finite)."""
 
     t: np.ndarray
     value: dict[str, np.ndarray]
@@ -282,7 +287,7 @@ class CertifiedMotion:
             if refine:
                 self._refine(float(t[j]), int(j), value, radius, undefined, reason)
                 continue
-            reason[j] = reason[j] or UNCERTIFIED
+            reason[j] = UNCERTIFIED  # defined values left NaN: said before the others
             for n in FIELDS:
                 if not radius[n][j] <= TOL * (1.0 + abs(value[n][j])):
                     undefined[n][j] = True
@@ -492,25 +497,38 @@ class CertifiedMotion:
         self, t: float, j: int, value: dict[str, np.ndarray], radius: dict[str, np.ndarray],
         undefined: dict[str, np.ndarray], reason: np.ndarray,
     ) -> None:  # fmt: skip
-        """Values at t alone in arb, the precision doubled until each one is certified."""
+        """Values at t alone in arb, the precision doubled until each one is certified;
+        a value certified beyond the double range becomes ±inf (BEYOND_DOUBLE)."""
         todo = [n for n in FIELDS if not radius[n][j] <= TOL * (1 + abs(value[n][j]))]
         todo = [n for n in todo if not undefined[n][j]]
         prec = START_PREC
+        beyond = False
         while todo and prec <= MAX_PREC:
-            got = self.arb_point(t, prec)
+            got, raw = self._arb_point(t, prec)
             for n in list(todo):
                 b = got.get(n)
                 if b is not None and bool(b.certified(TOL)):
                     value[n][j], radius[n][j] = float(b.mid), float(b.rad)
                     todo.remove(n)
+                elif n in raw and _beyond_double(raw[n]):
+                    value[n][j] = math.inf if raw[n] > 0 else -math.inf
+                    radius[n][j] = math.inf
+                    todo.remove(n)
+                    beyond = True
             prec *= 2
         for n in todo:
             undefined[n][j] = True
-            if not reason[j]:
-                reason[j] = UNCERTIFIED
+        if todo:
+            reason[j] = UNCERTIFIED
+        elif beyond:
+            reason[j] = BEYOND_DOUBLE
 
     def arb_point(self, t: float, prec: int) -> Values:
         """Every quantity at the float time t in arb at ``prec`` bits (as balls)."""
+        return self._arb_point(t, prec)[0]
+
+    def _arb_point(self, t: float, prec: int) -> tuple[Values, dict[str, arb]]:
+        """``arb_point``, and the arb values themselves (all but θ)."""
         tq = fmpq(*t.as_integer_ratio())
         traj = self.traj
         exact = [p(tq) for p in (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)]
@@ -526,7 +544,7 @@ class CertifiedMotion:
             s2 = (u2 * u2 + y * y).sqrt()
             out["s1"], out["s2"] = s1, s2
             if not (s1 > 0 and s2 > 0):
-                return {n: Ball.of_arb(v) for n, v in out.items()}
+                return {n: Ball.of_arb(v) for n, v in out.items()}, out
             leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
             leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, _arb_hypot)
             d = dyn.dynamics(leg1, leg2, dyn.Params.of(self.robot, arb))
@@ -554,9 +572,15 @@ class CertifiedMotion:
                 raw = arb.atan2(y, u)  # y is exact: its sign is known (y = 0: π behind)
                 b = self._on_branch(leg, ta, Ball.of_arb(raw)[None])
                 balls[f"theta{leg}"] = Ball(b.mid[0], b.rad[0])
-            return balls
+            return balls, out
         finally:
             ctx.prec = old
+
+
+def _beyond_double(a: arb) -> bool:
+    """True when the arb ball is certified to the mixed tolerance and every member
+    exceeds the largest double in magnitude."""
+    return bool(a.is_finite() and a.rad() <= TOL * abs(a.mid()) and abs(a).lower() > DBL_MAX)
 
 
 def _arb_hypot(u: Any, v: Any) -> Any:
