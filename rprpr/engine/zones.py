@@ -46,6 +46,8 @@ class CertifiedMotion(Protocol):
     analysis: Any
     instants: Any
 
+    def ball_pass(self, t: Any) -> dict[str, Ball]: ...
+
 
 @dataclass
 class ExactTime:
@@ -395,20 +397,24 @@ def _tail(size: arb_poly, i: int, r: arb) -> arb:
 
 
 def _disc_bound(
-    motion: CertifiedMotion, coeffs: list[list[arb]], rho: float, proven: bool = False
-) -> list[arb] | None:
+    motion: CertifiedMotion, coeffs: list[list[arb]], rho: float, proven: bool = False,
+    circle: bool = True,
+) -> list[arb] | None:  # fmt: skip
     """Upper bounds M of |μ1|, |μ2|, |δ| on the disc |t - t_s| <= rho: where μ and δ are
     analytic on the disc (``_analytic_on_disc``), by the maximum modulus principle |f|
     there is at most its maximum on the circle |z| = rho, bounded on CIRCLE_BALLS complex
     balls covering the circle; one ball covering the whole disc bounds it as well.
-    ``proven``: the disc is already known to be analytic."""
+    ``proven``: the disc is already known to be analytic; without ``circle``, the one
+    ball only (cheap, looser)."""
     if not proven and not _analytic_on_disc(motion, coeffs, rho):
         return None
     whole = _on_ball(motion, coeffs, acb(0), arb(rho))
+    if not circle:
+        return None if whole is None else list(whole)
     n = CIRCLE_BALLS
     half = rho * math.sin(math.pi / n) * 1.01  # each ball covers its arc of the circle
     best = list(whole) if whole is not None else None
-    circle: list[arb] = [arb(0), arb(0), arb(0)]
+    most: list[arb] = [arb(0), arb(0), arb(0)]
     for j in range(n):
         th = 2 * math.pi * j / n
         got = _on_ball(
@@ -416,49 +422,59 @@ def _disc_bound(
         )
         if got is None:
             return best
-        circle = [c if c > g else g for c, g in zip(circle, got, strict=True)]
+        most = [c if c > g else g for c, g in zip(most, got, strict=True)]
     if best is None:
-        return circle
-    return [c if c < b else b for c, b in zip(circle, best, strict=True)]
+        return most
+    return [c if c < b else b for c, b in zip(most, best, strict=True)]
 
 
 def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
-    """The widest zone |ε| <= r (r <= t_f) whose remainders stay below ZONE_SLACK of the
-    leading terms; None when there is none.
+    """A zone |ε| <= r (r <= t_f) whose remainders stay below ZONE_SLACK of the leading
+    terms, as wide as the ball pass needs (``_needed``) or else the widest; None when
+    there is none.
 
     The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded by Cauchy's
     estimate: μ is analytic on the disc |ε| <= ρ with |μ| <= M there (``_disc_bound``),
     so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i (r/ρ)^i = M/(ρ^N (1 - r/ρ)); the same for δ.
-    ρ: the widest disc 2 t_f 2^(-i/2) proven analytic (and the next ones, DISC_TRIES in
-    all), r: the widest fraction ZONE_FRACTIONS of ρ that meets the slack with N <=
-    max(k, m) + ZONE_TERMS terms, N the fewest that do. Where no disc gives a zone,
-    Taylor's theorem on t_s + [-r, r], r = t_f/2^j: R = μ^(N)(ξ)/N! for some ξ there,
-    enclosed by series arithmetic on that ball (``_lagrange_zone``)."""
+    ρ: a fraction DISC_FRACTIONS of the widest disc proven analytic (``_widest_disc``); M
+    from one ball over the disc first (cheap, loose), from the circle when that falls
+    short; r a fraction ZONE_FRACTIONS of ρ, N the fewest terms (<= max(k, m) +
+    ZONE_TERMS) that meet the slack (``_choose``). Where no disc gives a zone, Taylor's
+    theorem on t_s + [-r, r], r = t_f/2^j: R = μ^(N)(ξ)/N! for some ξ there, enclosed by
+    series arithmetic on that ball (``_lagrange_zone``)."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
     m = s.order
     ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
-    n_max = max(*ks, m) + ZONE_TERMS
+    orders = (ks[0], ks[1], m)
+    top = max(orders)
     old_prec, old_cap = ctx.prec, ctx.cap
-    ctx.prec, ctx.cap = TAYLOR_PREC, n_max + 3
+    ctx.prec = TAYLOR_PREC
     try:
-        point = _series_parts(motion, coeffs, arb(0), n_max + 1)
+        point = _point_series(motion, coeffs, top + ZONE_START)
         lead = [_coef(point[0], ks[0]), _coef(point[1], ks[1]), _coef(point[2], m)]
         if lead[2].contains(0):
             return None
-        orders = (ks[0], ks[1], m)
         tf = to_float(motion.traj.duration)
         best: tuple[float, int, list[arb]] | None = None
         widest = _widest_disc(motion, coeffs, 2 * tf)
+        target = _needed(motion, e, widest) if widest else 0.0
         for f in DISC_FRACTIONS if widest else ():
             rho = f * widest
-            bounds = _disc_bound(motion, coeffs, rho, proven=True)  # within the widest
-            got = None if bounds is None else _widest(bounds, rho, lead, orders, n_max, tf)
-            if got is not None:
-                best = got
+            for circle in (False, True):
+                bounds = _disc_bound(motion, coeffs, rho, proven=True, circle=circle)
+                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, target)
+                if got is not None and (best is None or got[0] > best[0]):
+                    best = got
+                if best is not None and best[0] >= min(target, tf):
+                    break
+            if best is not None:  # the next disc is narrower: no wider zone
                 break
         if best is None:
-            return _lagrange_zone(motion, s, e, coeffs, point, lead, orders, n_max)
+            point = _point_series(motion, coeffs, top + LAGRANGE_TERMS)
+            return _lagrange_zone(motion, s, e, coeffs, point, lead, orders)
         r, n, rem = best
+        if n > top + ZONE_START:
+            point = _point_series(motion, coeffs, n)
         return _zone(e, r, n, rem, point, orders)
     except (ValueError, ZeroDivisionError):
         return None
@@ -466,10 +482,40 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
-ZONE_FRACTIONS = (0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01)
+ZONE_START = 16  # terms of the zone form beyond the leading ones, to start with
+ZONE_BASE = 48  # ... enough for a zone as wide as its disc allows, in most cases
+ZONE_FRACTIONS = (
+    *(0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1),
+    *(10.0 ** (-j / 2) for j in range(3, 19)),
+)  # r/ρ, from the widest
 DISC_STEPS = 40  # discs 2 t_f 2^(-i/2), i < DISC_STEPS, tried for analyticity
 DISC_FINE = 8  # ... and between the widest two, at steps of 2^(-1/(2 DISC_FINE))
 DISC_FRACTIONS = (0.9, 0.75)  # fractions of the widest analytic disc tried, in turn
+DIRECT_REL = 1e-13  # the relative error of λ the ball pass should reach outside a zone
+
+
+def _point_series(motion: CertifiedMotion, coeffs: list[list[arb]], n: int) -> tuple[Any, ...]:
+    """μ1, μ2, δ as series of n + 1 terms about t_s."""
+    ctx.cap = n + 3
+    return _series_parts(motion, coeffs, arb(0), n + 1)
+
+
+def _needed(motion: CertifiedMotion, e: ExactTime, rho: float) -> float:
+    """The |ε| beyond which the ball pass gives λ1, λ2 to DIRECT_REL at the probes
+    t_s ± ρ 10^(-j/4) (j < PROBES) inside [0, t_f], times 1.1: a measurement (one
+    vectorised pass) that only chooses how wide a zone to make."""
+    d = rho * 10.0 ** (-np.arange(PROBES) / 4)
+    tf = to_float(motion.traj.duration)
+    t = np.concatenate([e.hi + d, e.hi - d])
+    inside = (t >= 0) & (t <= tf)
+    with quiet():
+        b = motion.ball_pass(t)
+    good = b["lambda1"].certified(DIRECT_REL) & b["lambda2"].certified(DIRECT_REL)
+    poor = np.concatenate([d, d])[inside & ~good]
+    return 1.1 * float(poor.max()) if len(poor) else 0.0
+
+
+PROBES = 48  # probes of ``_needed``, from ρ down to ρ 10^-12
 
 
 def _widest_disc(motion: CertifiedMotion, coeffs: list[list[arb]], start: float) -> float:
@@ -491,26 +537,58 @@ def _widest_disc(motion: CertifiedMotion, coeffs: list[list[arb]], start: float)
     return 0.0
 
 
-def _widest(
-    bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], n_max: int,
-    tf: float,
+def _choose(
+    bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], tf: float,
+    target: float,
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """(r, N, remainders) for the widest r = f ρ (f in ZONE_FRACTIONS, r <= t_f) whose
-    Cauchy remainders R ε^N, |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the
-    leading terms |c| r^k, with the fewest terms N <= n_max that do."""
+    """(r, N, remainders): r = f ρ (f in ZONE_FRACTIONS, r <= t_f) whose Cauchy
+    remainders R ε^N, |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading
+    terms |c| r^k, with the fewest terms N that do: the widest r with N <= k + ZONE_BASE
+    terms; if that falls short of ``target``, the narrowest r reaching it with N <= k +
+    ZONE_TERMS, else the widest of those."""
+    top = max(orders)
+    base = _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf, 0.0)
+    if base is not None and base[0] >= min(target, tf):
+        return base
+    return _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, target) or base
+
+
+def _widest_of(
+    bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], n_max: int,
+    tf: float, target: float,
+) -> tuple[float, int, list[arb]] | None:  # fmt: skip
+    """The narrowest zone of at most n_max terms reaching ``target``, else the widest."""
+    chosen = None
     for f in ZONE_FRACTIONS:
         r = min(f * rho, tf)
-        q = arb(r) / arb(rho)
-        n = max(orders) + 1
-        while n <= n_max:
-            rem = [M / (arb(rho) ** n * (1 - q)) for M in bounds]
-            ok = True
-            for R, c, k in zip(rem, lead, orders, strict=True):
-                scale = abs(c).lower() if not c.contains(0) else arb(1)
-                ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
-            if ok:
-                return r, n, rem
-            n += 8
+        n = _fewest(bounds, rho, r, lead, orders, n_max)
+        if n is None:
+            continue
+        if r < target and chosen is not None:
+            break
+        chosen = (r, n[0], n[1])
+        if r < target or target == 0.0:
+            break
+    return chosen
+
+
+def _fewest(
+    bounds: list[arb], rho: float, r: float, lead: list[arb], orders: tuple[int, int, int],
+    n_max: int,
+) -> tuple[int, list[arb]] | None:  # fmt: skip
+    """The fewest terms N <= n_max (in steps of 4) for which the zone r meets the slack,
+    with its remainders."""
+    q = arb(r) / arb(rho)
+    n = max(orders) + 1
+    while n <= n_max:
+        rem = [M / (arb(rho) ** n * (1 - q)) for M in bounds]
+        ok = True
+        for R, c, k in zip(rem, lead, orders, strict=True):
+            scale = abs(c).lower() if not c.contains(0) else arb(1)
+            ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
+        if ok:
+            return n, rem
+        n += 4
     return None
 
 
@@ -530,7 +608,7 @@ def _zone(
 
 def _lagrange_zone(
     motion: CertifiedMotion, s: SingularInstant, e: ExactTime, coeffs: list[list[arb]],
-    point: tuple[Any, Any, Any], lead: list[arb], orders: tuple[int, int, int], n_max: int,
+    point: tuple[Any, Any, Any], lead: list[arb], orders: tuple[int, int, int],
 ) -> Zone | None:  # fmt: skip
     """The widest zone r = t_f/2^j (j = 2..20) whose Lagrange remainders (the N-th
     coefficients over t_s + [-r, r] by series arithmetic) meet the slack."""
