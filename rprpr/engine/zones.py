@@ -116,7 +116,7 @@ class ExactTime:
 
 TAYLOR_PREC = 128  # bits of the Taylor forms, to start with
 ZONE_TERMS = 160  # terms of the zone form beyond the leading ones, at most
-CIRCLE_BALLS = 64  # complex balls covering the circle of a Cauchy bound
+CIRCLE_BALLS = 32  # complex balls covering the circle of a Cauchy bound (then twice)
 DISC_GRID = 12  # complex balls per side of the grid proving analyticity on a disc
 ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading terms
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
@@ -325,10 +325,11 @@ def _on_ball(
         if (u * u + y * y).contains(0):
             return None
     out = [arb(0), arb(0), arb(0)]
-    for s1, s2 in ((1, 1), (1, -1), (-1, 1), (-1, -1)):  # every branch of s1, s2
-        l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _branch(s1))
-        l2 = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(s2))
-        d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
+    first = [dyn.leg(x, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    second = [dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    params = dyn.Params.of(motion.robot, arb)
+    for l1, l2 in ((a, b) for a in first for b in second):  # every branch of s1, s2
+        d = dyn.dynamics(l1, l2, params)
         got = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
         out = [o if o > g else g for o, g in zip(out, got, strict=True)]
     return (out[0], out[1], out[2]) if all(v.is_finite() for v in out) else None
@@ -398,20 +399,20 @@ def _tail(size: arb_poly, i: int, r: arb) -> arb:
 
 def _disc_bound(
     motion: CertifiedMotion, coeffs: list[list[arb]], rho: float, proven: bool = False,
-    circle: bool = True,
+    balls: int = CIRCLE_BALLS,
 ) -> list[arb] | None:  # fmt: skip
     """Upper bounds M of |μ1|, |μ2|, |δ| on the disc |t - t_s| <= rho: where μ and δ are
     analytic on the disc (``_analytic_on_disc``), by the maximum modulus principle |f|
-    there is at most its maximum on the circle |z| = rho, bounded on CIRCLE_BALLS complex
+    there is at most its maximum on the circle |z| = rho, bounded on ``balls`` complex
     balls covering the circle; one ball covering the whole disc bounds it as well.
-    ``proven``: the disc is already known to be analytic; without ``circle``, the one
-    ball only (cheap, looser)."""
+    ``proven``: the disc is already known to be analytic; ``balls`` = 0: the one ball
+    only (cheap, looser)."""
     if not proven and not _analytic_on_disc(motion, coeffs, rho):
         return None
     whole = _on_ball(motion, coeffs, acb(0), arb(rho))
-    if not circle:
+    if not balls:
         return None if whole is None else list(whole)
-    n = CIRCLE_BALLS
+    n = balls
     half = rho * math.sin(math.pi / n) * 1.01  # each ball covers its arc of the circle
     best = list(whole) if whole is not None else None
     most: list[arb] = [arb(0), arb(0), arb(0)]
@@ -460,8 +461,8 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         target = _needed(motion, e, widest) if widest else 0.0
         for f in DISC_FRACTIONS if widest else ():
             rho = f * widest
-            for circle in (False, True):
-                bounds = _disc_bound(motion, coeffs, rho, proven=True, circle=circle)
+            for balls in (0, CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+                bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
                 got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, target)
                 if got is not None and (best is None or got[0] > best[0]):
                     best = got
