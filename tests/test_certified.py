@@ -18,7 +18,18 @@ from flint import fmpq
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rprpr.engine.certified import AT_A, AT_B, FIELDS, OK, POLE, CertifiedMotion
+from rprpr.engine.certified import (
+    AT_A,
+    AT_B,
+    BEYOND_DOUBLE,
+    FIELDS,
+    OK,
+    ON_LINE,
+    POLE,
+    REASONS,
+    UNCERTIFIED,
+    CertifiedMotion,
+)
 from rprpr.engine.sampling import grid
 from rprpr.engine.singular import analyse
 from rprpr.engine.trajectory import trajectory
@@ -266,3 +277,40 @@ def test_reason_codes_are_documented() -> None:
 
     assert set(REASONS) >= {OK, POLE, AT_A, AT_B}
     assert all(REASONS[k] for k in REASONS if k != OK)
+
+
+def test_values_beyond_the_double_range_are_signed_infinities() -> None:
+    # y = x - 3, x = 3 + t^2: a pole of order 2 at t = 0 (E stops on the line); at
+    # t = 5e-324, λ2 = 2.46e647 and T1 = T2 = -7.37e647 (the reference): certified, and
+    # beyond the double range, they are ±inf with their own reason, not NaN
+    task = _task("x - 3", "3 + t^2")
+    ts = [5e-324, 1e-200, 1e-100]
+    c = _motion(task).sample(np.array(ts))
+    big = float(np.finfo(float).max)
+    for j, t in enumerate(ts):
+        ref = reference(task, t)
+        beyond = {n for n in FIELDS if abs(ref[n]) > big}
+        assert (beyond == {"lambda2", "T1", "T2"}) is (t < 1e-150)
+        assert c.reason[j] == (BEYOND_DOUBLE if beyond else OK), t
+        for n in FIELDS:
+            v = float(c.value[n][j])
+            if n in beyond:
+                assert v == math.copysign(math.inf, float(ref[n])), (n, t)
+            else:
+                assert _mixed(v, ref[n], angle=n.startswith("theta")) <= 1e-9, (n, t)
+    assert "double range" in REASONS[BEYOND_DOUBLE]
+
+
+def test_without_refinement_a_value_left_uncertified_says_so_on_the_singular_line() -> None:
+    # y ≡ 0: λ and T are undefined everywhere (ON_LINE); near B (s2 -> 0) the ball pass
+    # alone leaves some of leg 2's values uncertified: those samples say UNCERTIFIED
+    m = _motion(_task("0*x", "t", duration="7"))
+    ts = np.array([3.0, 5.999999, 6 - 1e-12, 6 + 1e-12, 6.5])
+    assert list(m.sample(ts).reason) == [ON_LINE] * len(ts)
+    quick = m.sample(ts, refine=False)
+    dynamic = {"lambda1", "lambda2", "T1", "T2"}
+    for j in range(len(ts)):
+        nan = {n for n in FIELDS if np.isnan(quick.value[n][j])}
+        assert nan >= dynamic
+        assert quick.reason[j] == (UNCERTIFIED if nan - dynamic else ON_LINE), ts[j]
+    assert UNCERTIFIED in quick.reason  # the case is met

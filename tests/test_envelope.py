@@ -112,6 +112,35 @@ def test_through_a_and_b_the_peak_is_the_one_sided_limit() -> None:
     assert _abs_ref(task, w.start_lo - 1e-6, "T1") < 100 < _abs_ref(task, w.start_hi + 1e-6, "T1")
 
 
+def test_the_peak_beside_an_instant_of_order_60_is_certified() -> None:
+    # y = (x - 3)^60, x = 2 + 0.4 t: a touch of order 60 at t = 2.5, bounded; λ = μ/δ
+    # loses 30 to 80 digits to cancellation for 0.3 < |t - 2.5| < 1.7, and s1², s2² have
+    # complex zeros 2.53 s from the instant: the zone form reaches across that band
+    task = _task("(x - 3)^60", "2 + 0.4*t", duration="5")
+    motion = _motion(task)
+    (s,) = motion.analysis.instants
+    assert (s.order, s.t, s.torque_bounded) == (60, 2.5, True)
+    zone = make_zone(motion, s, taylor_at_instant(motion, s, 128))
+    assert zone is not None and zone.r >= 1.7
+    for t in (2.5 - 0.95 * zone.r, 2.5 + 0.5 * zone.r, 2.5 + 0.95 * zone.r):
+        ref = reference(task, t)
+        for name, ball in zip(("lambda1", "lambda2"), zone.lam(zone.e.eps(np.array([t]))),
+                              strict=True):  # fmt: skip
+            mid, rad = float(ball.mid[0]), float(ball.rad[0])
+            assert abs(mid - float(ref[name])) <= rad and rad <= 1e-8 * (1 + abs(mid))
+    peaks = Envelope(motion).torque_peak()
+    assert peaks is not None
+    for name, p in zip(("T1", "T2"), peaks, strict=True):
+        assert p.certified and p.value <= p.upper <= p.value * (1 + 1e-6)
+        assert _abs_ref(task, p.t, name) == pytest.approx(p.value, rel=1e-9)  # attained
+        for t in np.linspace(0.7, 4.3, 12):  # across the band: below the certified bound
+            assert _abs_ref(task, float(t), name) <= p.upper
+    assert peaks[0].value == pytest.approx(REF_PEAK_60, rel=1e-9)
+
+
+REF_PEAK_60 = 3080.84278204547  # |T1(5)| = |T2(0)|, tests/reference.py
+
+
 @pytest.mark.parametrize(("path", "k"), [("(x - 3)^13", 13), ("(x - 3)^59", 59), ("x - 3", 1)])
 def test_zone_form_encloses_the_reference_lambda(path: str, k: int) -> None:
     task = _task(path, "2 + t")

@@ -258,9 +258,6 @@ HARD: dict[str, Hard] = {
 # time: a loaded machine or a parallel run must not turn a fast audit into a failure.
 TIME_LIMIT = 5.0
 TANGENT_AT_A = {"touching_the_line_at_A"}
-# an instant of order 59 whose zone form reaches |ε| = 0.125 only: the peak is a
-# certified lower bound with a far upper bound, reported as not certified
-NOT_YET_CERTIFIED = {"multiplicity_60"}
 
 
 @pytest.fixture(scope="module")
@@ -327,7 +324,7 @@ def test_hard_input_audit_is_exact_and_bounded(name: str, audited: dict) -> None
         for p in r.torque_peak:
             assert 0 <= p.value <= p.upper
             assert (p.value == float("inf")) is poles
-            assert p.certified or name in NOT_YET_CERTIFIED
+            assert p.certified
 
 
 @pytest.mark.parametrize("name", sorted(HARD))

@@ -61,16 +61,20 @@ TOL = 1e-9  # the mixed error every certified value meets
 START_PREC = 128  # bits of the arb refinement, to start with
 MAX_PREC = 4096  # ... doubled up to this
 
-# reason codes of a sample with NaN values (0: every value certified)
-OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED = 0, 1, 2, 3, 4, 5
+# reason codes of a sample with values that are not finite (0: every value certified);
+# where several apply, the first of UNCERTIFIED, BEYOND_DOUBLE, then the one that makes
+# values undefined (POLE, AT_A, AT_B before ON_LINE)
+OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED, BEYOND_DOUBLE = 0, 1, 2, 3, 4, 5, 6
 REASONS = {
     OK: "",
     POLE: "a singular instant with unbounded torques (a pole of λ2): λ2, T1, T2 undefined",
     AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
     AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
     ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
-    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits",
+    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits (NaN)",
+    BEYOND_DOUBLE: "beyond the double range: ±inf, the sign certified",
 }
+DBL_MAX = float(np.finfo(float).max)
 
 FIELDS = (
     "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot",
@@ -88,9 +92,10 @@ Values = dict[str, Ball]
 
 @dataclass(frozen=True)
 class CertifiedSamples:
-    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined),
-    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|)) and ``reason`` (one code
-    per sample, ``REASONS``; 0 when every value is finite)."""
+    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined
+    or not certified, ±inf where the true value is proven beyond the double range),
+    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|); inf beside ±inf) and
+    ``reason`` (one code per sample, ``REASONS``; 0 when every value is finite)."""
 
     t: np.ndarray
     value: dict[str, np.ndarray]
@@ -171,7 +176,7 @@ class _Local:
     """Exact Taylor polynomials about an exact root t_s of y (in ε/h, h a power of 2)."""
 
     time: ExactTime
-    h: float
+    he: int  # h = 2^he
     x: tuple[list[Ball], list[Ball], list[Ball]]
     y: tuple[list[Ball], list[Ball], list[Ball]]
 
@@ -204,7 +209,8 @@ class CertifiedMotion:
     def _center(self) -> fmpq:
         tf = to_float(self.traj.duration)
         ts = np.linspace(0.0, tf, 65)
-        xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
+        with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
+            xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
         xs = xs[np.isfinite(xs)]
         return _dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
 
@@ -222,19 +228,20 @@ class CertifiedMotion:
 
     def _local(self, e: ExactTime) -> _Local:
         tf = to_float(self.traj.duration)
-        h = 2.0 ** math.frexp(tf)[1] if tf > 0 else 1.0
+        he = math.frexp(tf)[1] if tf > 0 else 0
         out = []
         for p in (self.traj.x, self.traj.y):
             cs = taylor(p, max(p.degree(), 0) + 1)
+            scale = [fmpq(2) ** (he * k) for k in range(len(cs))]  # h^k, exactly
             if e.exact is not None:
-                coeffs = [Ball.of_rational(c(e.exact) * fmpq(*h.as_integer_ratio()) ** k)
-                          for k, c in enumerate(cs)]  # fmt: skip
+                coeffs = [Ball.of_rational(c(e.exact) * scale[k]) for k, c in enumerate(cs)]
             else:
-                coeffs = [_arb_at(c, e, 256) * (h**k) for k, c in enumerate(cs)]
-            d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
-            d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
+                coeffs = [_arb_at(c, e, 256, scale[k]) for k, c in enumerate(cs)]
+            with quiet():  # beyond the double range: unbounded balls
+                d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
+                d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
             out.append((coeffs, d1, d2))
-        return _Local(e, h, out[0], out[1])
+        return _Local(e, he, out[0], out[1])
 
     def _cuts(self, leg: int) -> list[_Cut]:
         on_cut = (2,) if leg == 1 else (2, 3)
@@ -280,7 +287,7 @@ class CertifiedMotion:
             if refine:
                 self._refine(float(t[j]), int(j), value, radius, undefined, reason)
                 continue
-            reason[j] = reason[j] or UNCERTIFIED
+            reason[j] = UNCERTIFIED  # defined values left NaN: said before the others
             for n in FIELDS:
                 if not radius[n][j] <= TOL * (1.0 + abs(value[n][j])):
                     undefined[n][j] = True
@@ -374,10 +381,10 @@ class CertifiedMotion:
             idx = np.nonzero(near == i)[0]
             if not len(idx):
                 continue
-            r = loc.time.eps(t[idx]) * (1.0 / loc.h)  # exact scaling by a power of 2
+            inv = np.ldexp(1.0, -loc.he)  # 1/h, exact (or inf: unbounded balls)
+            r = loc.time.eps(t[idx]) * inv  # exact scaling by a power of 2
             for slot, (c, c1, c2) in ((0, loc.x), (3, loc.y)):
-                vals = (horner(c, r), horner(c1, r) * (1.0 / loc.h),
-                        horner(c2, r) * (1.0 / loc.h**2))  # fmt: skip
+                vals = (horner(c, r), horner(c1, r) * inv, horner(c2, r) * inv * inv)
                 for k in range(3):
                     cur = out[slot + k]
                     best = _tighter(cur[idx], vals[k])
@@ -490,25 +497,38 @@ class CertifiedMotion:
         self, t: float, j: int, value: dict[str, np.ndarray], radius: dict[str, np.ndarray],
         undefined: dict[str, np.ndarray], reason: np.ndarray,
     ) -> None:  # fmt: skip
-        """Values at t alone in arb, the precision doubled until each one is certified."""
+        """Values at t alone in arb, the precision doubled until each one is certified;
+        a value certified beyond the double range becomes ±inf (BEYOND_DOUBLE)."""
         todo = [n for n in FIELDS if not radius[n][j] <= TOL * (1 + abs(value[n][j]))]
         todo = [n for n in todo if not undefined[n][j]]
         prec = START_PREC
+        beyond = False
         while todo and prec <= MAX_PREC:
-            got = self.arb_point(t, prec)
+            got, raw = self._arb_point(t, prec)
             for n in list(todo):
                 b = got.get(n)
                 if b is not None and bool(b.certified(TOL)):
                     value[n][j], radius[n][j] = float(b.mid), float(b.rad)
                     todo.remove(n)
+                elif n in raw and _beyond_double(raw[n]):
+                    value[n][j] = math.inf if raw[n] > 0 else -math.inf
+                    radius[n][j] = math.inf
+                    todo.remove(n)
+                    beyond = True
             prec *= 2
         for n in todo:
             undefined[n][j] = True
-            if not reason[j]:
-                reason[j] = UNCERTIFIED
+        if todo:
+            reason[j] = UNCERTIFIED
+        elif beyond:
+            reason[j] = BEYOND_DOUBLE
 
     def arb_point(self, t: float, prec: int) -> Values:
         """Every quantity at the float time t in arb at ``prec`` bits (as balls)."""
+        return self._arb_point(t, prec)[0]
+
+    def _arb_point(self, t: float, prec: int) -> tuple[Values, dict[str, arb]]:
+        """``arb_point``, and the arb values themselves (all but θ)."""
         tq = fmpq(*t.as_integer_ratio())
         traj = self.traj
         exact = [p(tq) for p in (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)]
@@ -524,7 +544,7 @@ class CertifiedMotion:
             s2 = (u2 * u2 + y * y).sqrt()
             out["s1"], out["s2"] = s1, s2
             if not (s1 > 0 and s2 > 0):
-                return {n: Ball.of_arb(v) for n, v in out.items()}
+                return {n: Ball.of_arb(v) for n, v in out.items()}, out
             leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
             leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, _arb_hypot)
             d = dyn.dynamics(leg1, leg2, dyn.Params.of(self.robot, arb))
@@ -552,22 +572,29 @@ class CertifiedMotion:
                 raw = arb.atan2(y, u)  # y is exact: its sign is known (y = 0: π behind)
                 b = self._on_branch(leg, ta, Ball.of_arb(raw)[None])
                 balls[f"theta{leg}"] = Ball(b.mid[0], b.rad[0])
-            return balls
+            return balls, out
         finally:
             ctx.prec = old
+
+
+def _beyond_double(a: arb) -> bool:
+    """True when the arb ball is certified to the mixed tolerance and every member
+    exceeds the largest double in magnitude."""
+    return bool(a.is_finite() and a.rad() <= TOL * abs(a.mid()) and abs(a).lower() > DBL_MAX)
 
 
 def _arb_hypot(u: Any, v: Any) -> Any:
     return (u * u + v * v).sqrt()
 
 
-def _arb_at(c: fmpq_poly, e: ExactTime, prec: int) -> Ball:
+def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:
+    """c(t_s) · scale for the exact time e (scale exact), in arb."""
     old = ctx.prec
     ctx.prec = prec
     try:
         if c.degree() <= 0:
-            return Ball.of_rational(c[0] if c.degree() == 0 else fmpq(0))
-        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)))
+            return Ball.of_rational((c[0] if c.degree() == 0 else fmpq(0)) * scale)
+        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)) * arb(scale))
     finally:
         ctx.prec = old
 

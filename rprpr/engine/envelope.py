@@ -151,6 +151,14 @@ class _Polys:
         return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
 
 
+def _full(b: Ball, n: int, rows: int = 2) -> Ball:
+    """The ball ``b`` broadcast to ``rows`` rows (0: none) of n columns (a motion that
+    does not move, x and y constant, gives balls that do not depend on t)."""
+    shape = (rows, n) if rows else (n,)
+    mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
+    return Ball._of(np.array(mid), np.array(rad))
+
+
 def _put(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
     """b (rows by columns) with its columns ``idx`` replaced by ``new`` where narrower."""
     if not len(idx):
@@ -483,7 +491,7 @@ class Envelope:
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-            V, D = T.v, T.d
+            V, D = _full(T.v, len(t.mid)), _full(T.d, len(t.mid))  # t-free parts too
             for th in self.throughs:
                 V, D = self._through(th, t, V, D)
         return V, D
@@ -871,7 +879,7 @@ class Envelope:
             x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
             lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
             delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
-            V, D = delta.v, delta.d[2 * n :]
+            V, D = _full(delta.v, 3 * n, 0), _full(delta.d, 3 * n, 0)[2 * n :]
             width = 2.0 * box.rad
             around = V[:n] + D * Ball(0.5 * width, 0.5 * width)
             low = np.maximum(V[2 * n :].lower_abs(), around.lower_abs())

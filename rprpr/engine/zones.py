@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
-from flint import acb, acb_poly, arb, arb_series, ctx, fmpq
+from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
@@ -45,6 +45,8 @@ class CertifiedMotion(Protocol):
     robot: Any
     analysis: Any
     instants: Any
+
+    def ball_pass(self, t: Any) -> dict[str, Ball]: ...
 
 
 @dataclass
@@ -113,8 +115,8 @@ class ExactTime:
 
 
 TAYLOR_PREC = 128  # bits of the Taylor forms, to start with
-ZONE_TERMS = 48  # terms of the zone form beyond the leading ones
-CIRCLE_BALLS = 64  # complex balls covering the circle of a Cauchy bound
+ZONE_TERMS = 160  # terms of the zone form beyond the leading ones, at most
+CIRCLE_BALLS = 32  # complex balls covering the circle of a Cauchy bound (then twice)
 DISC_GRID = 12  # complex balls per side of the grid proving analyticity on a disc
 ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading terms
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
@@ -309,39 +311,48 @@ def _series_parts(
 
 
 def _on_ball(
-    motion: CertifiedMotion, coeffs: list[list[arb]], z: acb
+    motion: CertifiedMotion, coeffs: list[list[arb]], z: acb, r: arb | None = None
 ) -> tuple[arb, arb, arb] | None:
-    """Upper bounds of |μ1|, |μ2|, |δ| at t_s + z for every z of the complex ball, or None
-    unless Re s² > 0 there for both legs (then the principal square root is the analytic
-    continuation of the real one)."""
-    vals = []
-    for cs in coeffs:  # x, x', x'' and y, y', y'' about t_s
-        d1 = [k * cs[k] for k in range(1, len(cs))] or [arb(0)]
-        d2 = [k * d1[k] for k in range(1, len(d1))] or [arb(0)]
-        for c in (cs, d1, d2):
-            acc = acb(c[-1])
-            for ck in c[-2::-1]:
-                acc = acc * z + ck
-            vals.append(acc)
+    """Upper bounds of |μ1|, |μ2|, |δ| at t_s + z for every z of the complex ball and
+    every choice of the square roots s1, s2 (±, on either side of the principal branch's
+    cut: the analytic continuation of the real functions is one of those choices at each
+    z), or None unless s1², s2² ≠ 0 on the ball. ``r``: the disc |ε - mid z| <= r instead
+    (``_on_disc``)."""
+    vals = _on_disc(coeffs, z, r)
     x, xd, xdd, y, yd, ydd = vals
     a1 = arb(motion.traj.a1)
     for u in (x, x - a1):
-        if not (u * u + y * y).real > 0:
+        if (u * u + y * y).contains(0):
             return None
-    l1 = dyn.leg(x, xd, xdd, y, yd, ydd, _hypot)
-    l2 = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _hypot)
-    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
-    out = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
-    return out if all(v.is_finite() for v in out) else None
+    out = [arb(0), arb(0), arb(0)]
+    first = [dyn.leg(x, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    second = [dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    params = dyn.Params.of(motion.robot, arb)
+    for l1, l2 in ((a, b) for a in first for b in second):  # every branch of s1, s2
+        d = dyn.dynamics(l1, l2, params)
+        got = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
+        out = [o if o > g else g for o, g in zip(out, got, strict=True)]
+    return (out[0], out[1], out[2]) if all(v.is_finite() for v in out) else None
 
 
-def _analytic_on_disc(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> bool:
-    """True when Re s_i² > 0 on the whole disc |t - t_s| <= rho for both legs, proven on
-    DISC_GRID² complex balls covering it: then s_i² has no zero there, the principal
-    square root is analytic on it and continues the real one, and so are μ and δ."""
-    x = acb_poly([acb(c) for c in coeffs[0]])
-    y = acb_poly([acb(c) for c in coeffs[1]])
-    polys = [x * x + y * y, (x - acb(arb(motion.traj.a1))) ** 2 + y * y]
+def _branch(sign: int) -> Callable[[Any, Any], Any]:
+    """√(u² + v²) on the principal branch times ``sign`` (complex balls)."""
+    return lambda u, v: (u * u + v * v).sqrt() * sign
+
+
+def _analytic_on_disc(
+    motion: CertifiedMotion, coeffs: list[list[arb]], rho: float, grid: bool = True
+) -> bool:
+    """True when s_i² ≠ 0 on the whole disc |t - t_s| <= rho for both legs, proven on
+    one ball (the centred form about t_s) or, unless ``grid`` is False, DISC_GRID² complex
+    balls covering it: then (the disc being simply connected) s_i has an analytic
+    continuation from the real segment over the disc, and so have μ and δ."""
+    a1 = arb(motion.traj.a1)
+    x, _, _, y, _, _ = _on_disc(coeffs, acb(0), arb(rho))
+    if not any((u * u + y * y).contains(0) for u in (x, x - a1)):
+        return True  # one ball (the centred form about t_s) proves it
+    if not grid:
+        return False
     n = DISC_GRID
     half = rho / n * 1.01
     for i in range(n):
@@ -349,24 +360,62 @@ def _analytic_on_disc(motion: CertifiedMotion, coeffs: list[list[arb]], rho: flo
             re, im = -rho + (2 * i + 1) * rho / n, -rho + (2 * j + 1) * rho / n
             if math.hypot(abs(re) - rho / n, abs(im) - rho / n) > rho:
                 continue  # this ball lies outside the disc
-            z = acb(arb(re, half), arb(im, half))
-            if not all(p(z).real > 0 for p in polys):
+            x, _, _, y, _, _ = _on_disc(coeffs, acb(arb(re, half), arb(im, half)))
+            if any((u * u + y * y).contains(0) for u in (x, x - a1)):
                 return False
     return True
 
 
-def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) -> list[arb] | None:
+def _on_disc(coeffs: list[list[arb]], z: acb, r: arb | None = None) -> list[acb]:
+    """x, x', x'', y, y', y'' at t_s + ε for every ε with |ε - z0| <= r (z0 the midpoint
+    of the complex ball z; r its half-diagonal unless given): by the centred form, from the
+    Taylor coefficients q_j of each polynomial about z0 (composition with z0 + h in ball
+    arithmetic), |p^(i)(z0 + h)/i! - q_i| <= Σ_{j>i} C(j, i) |q_j| |h|^(j-i). Horner's rule
+    on a complex ball would wrap (each product of rectangles grows by up to √2: 10^9
+    after 60 of them)."""
+    z0 = acb(z.real.mid(), z.imag.mid())
+    if r is None:
+        r = (z.real.rad() * z.real.rad() + z.imag.rad() * z.imag.rad()).sqrt()
+    shift = acb_poly([z0, acb(1)])
+    out = []
+    for cs in coeffs:  # x and y about t_s
+        q = acb_poly([acb(c) for c in cs])(shift).coeffs() + [acb(0)] * 3
+        size = arb_poly([abs(v) for v in q])  # Σ |q_j| h^j, a majorant
+        for i, fact in ((0, 1), (1, 1), (2, 2)):  # p, p', p'' = i! (the i-th coefficient)
+            rad = ((size(arb(r)) - abs(q[i])) if i == 0 else _tail(size, i, arb(r))).upper()
+            out.append((q[i] + acb(arb(0, rad), arb(0, rad))) * fact)
+    return out
+
+
+def _tail(size: arb_poly, i: int, r: arb) -> arb:
+    """Σ_{j>i} C(j, i) a_j r^(j-i) for the majorant Σ a_j h^j: its i-th derivative at r
+    over i!, less the constant term a_i."""
+    d = size
+    for _ in range(i):
+        d = d.derivative()
+    a = size.coeffs()
+    return d(r) / math.factorial(i) - (a[i] if i < len(a) else arb(0))
+
+
+def _disc_bound(
+    motion: CertifiedMotion, coeffs: list[list[arb]], rho: float, proven: bool = False,
+    balls: int = CIRCLE_BALLS,
+) -> list[arb] | None:  # fmt: skip
     """Upper bounds M of |μ1|, |μ2|, |δ| on the disc |t - t_s| <= rho: where μ and δ are
     analytic on the disc (``_analytic_on_disc``), by the maximum modulus principle |f|
-    there is at most its maximum on the circle |z| = rho, bounded on CIRCLE_BALLS complex
-    balls covering the circle; one ball covering the whole disc bounds it as well."""
-    if not _analytic_on_disc(motion, coeffs, rho):
+    there is at most its maximum on the circle |z| = rho, bounded on ``balls`` complex
+    balls covering the circle; one ball covering the whole disc bounds it as well.
+    ``proven``: the disc is already known to be analytic; ``balls`` = 0: the one ball
+    only (cheap, looser)."""
+    if not proven and not _analytic_on_disc(motion, coeffs, rho):
         return None
-    whole = _on_ball(motion, coeffs, acb(arb(0, rho), arb(0, rho)))
-    n = CIRCLE_BALLS
+    whole = _on_ball(motion, coeffs, acb(0), arb(rho))
+    if not balls:
+        return None if whole is None else list(whole)
+    n = balls
     half = rho * math.sin(math.pi / n) * 1.01  # each ball covers its arc of the circle
     best = list(whole) if whole is not None else None
-    circle: list[arb] = [arb(0), arb(0), arb(0)]
+    most: list[arb] = [arb(0), arb(0), arb(0)]
     for j in range(n):
         th = 2 * math.pi * j / n
         got = _on_ball(
@@ -374,62 +423,212 @@ def _disc_bound(motion: CertifiedMotion, coeffs: list[list[arb]], rho: float) ->
         )
         if got is None:
             return best
-        circle = [c if c > g else g for c, g in zip(circle, got, strict=True)]
+        most = [c if c > g else g for c, g in zip(most, got, strict=True)]
     if best is None:
-        return circle
-    return [c if c < b else b for c, b in zip(circle, best, strict=True)]
+        return most
+    return [c if c < b else b for c, b in zip(most, best, strict=True)]
 
 
 def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
-    """The widest zone r = t_f/2^j (j = 2..20) whose remainders stay below ZONE_SLACK of
-    the leading terms; None when there is none.
+    """A zone |ε| <= r (r <= t_f) whose remainders stay below ZONE_SLACK of the leading
+    terms, as wide as the ball pass needs (``_needed``) or else the widest; None when
+    there is none.
 
-    The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded twice, and
-    the smaller bound kept: by Taylor's theorem, R = μ^(N)(ξ)/N! for some ξ in t_s +
-    [-r, r], enclosed by series arithmetic on that ball; and by Cauchy's estimate: μ is
-    analytic on the disc |ε| <= ρ = 2r with |μ| <= M there (``_disc_bound``), so
-    |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i 2^-i = 2M/ρ^N. The same for δ."""
+    The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded by Cauchy's
+    estimate: μ is analytic on the disc |ε| <= ρ with |μ| <= M there (``_disc_bound``),
+    so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i (r/ρ)^i = M/(ρ^N (1 - r/ρ)); the same for δ.
+    ρ: a fraction DISC_FRACTIONS of the widest disc proven analytic (``_widest_disc``); M
+    from one ball over the disc first (cheap, loose), from the circle when that falls
+    short; r a fraction ZONE_FRACTIONS of ρ, N the fewest terms (<= max(k, m) +
+    ZONE_TERMS) that meet the slack (``_choose``). Where no disc gives a zone, Taylor's
+    theorem on t_s + [-r, r], r = t_f/2^j: R = μ^(N)(ξ)/N! for some ξ there, enclosed by
+    series arithmetic on that ball (``_lagrange_zone``)."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
     m = s.order
     ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
-    N = max(*ks, m) + ZONE_TERMS
+    orders = (ks[0], ks[1], m)
+    top = max(orders)
     old_prec, old_cap = ctx.prec, ctx.cap
-    ctx.prec, ctx.cap = TAYLOR_PREC, N + 3
+    ctx.prec = TAYLOR_PREC
     try:
-        point = _series_parts(motion, coeffs, arb(0), N + 1)
+        point = _point_series(motion, coeffs, top + ZONE_START)
         lead = [_coef(point[0], ks[0]), _coef(point[1], ks[1]), _coef(point[2], m)]
         if lead[2].contains(0):
             return None
         tf = to_float(motion.traj.duration)
-        for j in range(2, 21):
-            r = tf * 2.0**-j
-            bounds = _disc_bound(motion, coeffs, 2 * r)
-            rem = [2 * M / arb(2 * r) ** N for M in bounds] if bounds else [arb("inf")] * 3
-            try:  # Taylor's theorem: the N-th coefficients over t_s + [-r, r]
-                hull = arb(0).union(arb(r)).union(arb(-r))
-                lagrange = [
-                    abs(_coef(f, N)).upper() for f in _series_parts(motion, coeffs, hull, N + 1)
-                ]
-                rem = [b if not a.is_finite() or (b.is_finite() and b < a) else a
-                       for a, b in zip(rem, lagrange, strict=True)]  # fmt: skip
-            except (ValueError, ZeroDivisionError):
-                pass
-            ok = all(R.is_finite() for R in rem)
-            for R, c, k in zip(rem, lead, (ks[0], ks[1], m), strict=True):
-                size = R * arb(r) ** (N - k)
-                scale = abs(c).lower() if not c.contains(0) else arb(1)
-                ok &= bool(size < ZONE_SLACK * scale)
-            if ok:
-                num = tuple(
-                    [Ball.of_arb(_coef(point[i], j)) for j in range(ks[i], N)]
-                    + [Ball(0.0, float(rem[i].upper()) * (1 + 4 * U))]
-                    for i in (0, 1)
-                )
-                den = [Ball.of_arb(_coef(point[2], j)) for j in range(m, N)]
-                den.append(Ball(0.0, float(rem[2].upper()) * (1 + 4 * U)))
-                return Zone(e, r, (ks[0] - m, ks[1] - m), (num[0], num[1]), den)
-        return None
+        best: tuple[float, int, list[arb]] | None = None
+        widest = _widest_disc(motion, coeffs, 2 * tf)
+        target = _needed(motion, e, widest) if widest else 0.0
+        for f in DISC_FRACTIONS if widest else ():
+            rho = f * widest
+            for balls in (0, CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+                bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
+                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, target)
+                if got is not None and (best is None or got[0] > best[0]):
+                    best = got
+                if best is not None and best[0] >= min(target, tf):
+                    break
+            if best is not None:  # the next disc is narrower: no wider zone
+                break
+        if best is None:
+            point = _point_series(motion, coeffs, top + LAGRANGE_TERMS)
+            return _lagrange_zone(motion, s, e, coeffs, point, lead, orders)
+        r, n, rem = best
+        if n > top + ZONE_START:
+            point = _point_series(motion, coeffs, n)
+        return _zone(e, r, n, rem, point, orders)
     except (ValueError, ZeroDivisionError):
         return None
     finally:
         ctx.prec, ctx.cap = old_prec, old_cap
+
+
+ZONE_START = 16  # terms of the zone form beyond the leading ones, to start with
+ZONE_BASE = 48  # ... enough for a zone as wide as its disc allows, in most cases
+ZONE_FRACTIONS = (
+    *(0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1),
+    *(10.0 ** (-j / 2) for j in range(3, 19)),
+)  # r/ρ, from the widest
+DISC_STEPS = 40  # discs 2 t_f 2^(-i/2), i < DISC_STEPS, tried for analyticity
+DISC_FINE = 8  # ... and between the widest two, at steps of 2^(-1/(2 DISC_FINE))
+DISC_FRACTIONS = (0.9, 0.75)  # fractions of the widest analytic disc tried, in turn
+DIRECT_REL = 1e-13  # the relative error of λ the ball pass should reach outside a zone
+
+
+def _point_series(motion: CertifiedMotion, coeffs: list[list[arb]], n: int) -> tuple[Any, ...]:
+    """μ1, μ2, δ as series of n + 1 terms about t_s."""
+    ctx.cap = n + 3
+    return _series_parts(motion, coeffs, arb(0), n + 1)
+
+
+def _needed(motion: CertifiedMotion, e: ExactTime, rho: float) -> float:
+    """The |ε| beyond which the ball pass gives λ1, λ2 to DIRECT_REL at the probes
+    t_s ± ρ 10^(-j/4) (j < PROBES) inside [0, t_f], times 1.1: a measurement (one
+    vectorised pass) that only chooses how wide a zone to make."""
+    d = rho * 10.0 ** (-np.arange(PROBES) / 4)
+    tf = to_float(motion.traj.duration)
+    t = np.concatenate([e.hi + d, e.hi - d])
+    inside = (t >= 0) & (t <= tf)
+    with quiet():
+        b = motion.ball_pass(t)
+    good = b["lambda1"].certified(DIRECT_REL) & b["lambda2"].certified(DIRECT_REL)
+    poor = np.concatenate([d, d])[inside & ~good]
+    return 1.1 * float(poor.max()) if len(poor) else 0.0
+
+
+PROBES = 48  # probes of ``_needed``, from ρ down to ρ 10^-12
+
+
+def _widest_disc(motion: CertifiedMotion, coeffs: list[list[arb]], start: float) -> float:
+    """The widest disc |ε| <= ρ, ρ = start 2^(-i/2) refined between the widest two,
+    proven analytic (``_analytic_on_disc``: by one ball, else by grids); 0 when none."""
+    for grid in (False, True):  # one ball at each step first (cheap), then the grids
+        for i in range(DISC_STEPS):
+            rho = start * 2.0 ** (-i / 2)
+            if _analytic_on_disc(motion, coeffs, rho, grid):
+                break
+        else:
+            continue
+        step = 2.0 ** (1 / (2 * DISC_FINE))
+        for _ in range(DISC_FINE - 1 if i else 0):
+            if not _analytic_on_disc(motion, coeffs, rho * step, grid):
+                break
+            rho *= step
+        return rho
+    return 0.0
+
+
+def _choose(
+    bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], tf: float,
+    target: float,
+) -> tuple[float, int, list[arb]] | None:  # fmt: skip
+    """(r, N, remainders): r = f ρ (f in ZONE_FRACTIONS, r <= t_f) whose Cauchy
+    remainders R ε^N, |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading
+    terms |c| r^k, with the fewest terms N that do: the widest r with N <= k + ZONE_BASE
+    terms; if that falls short of ``target``, the narrowest r reaching it with N <= k +
+    ZONE_TERMS, else the widest of those."""
+    top = max(orders)
+    base = _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf, 0.0)
+    if base is not None and base[0] >= min(target, tf):
+        return base
+    return _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, target) or base
+
+
+def _widest_of(
+    bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], n_max: int,
+    tf: float, target: float,
+) -> tuple[float, int, list[arb]] | None:  # fmt: skip
+    """The narrowest zone of at most n_max terms reaching ``target``, else the widest."""
+    chosen = None
+    for f in ZONE_FRACTIONS:
+        r = min(f * rho, tf)
+        n = _fewest(bounds, rho, r, lead, orders, n_max)
+        if n is None:
+            continue
+        if r < target and chosen is not None:
+            break
+        chosen = (r, n[0], n[1])
+        if r < target or target == 0.0:
+            break
+    return chosen
+
+
+def _fewest(
+    bounds: list[arb], rho: float, r: float, lead: list[arb], orders: tuple[int, int, int],
+    n_max: int,
+) -> tuple[int, list[arb]] | None:  # fmt: skip
+    """The fewest terms N <= n_max (in steps of 4) for which the zone r meets the slack,
+    with its remainders."""
+    q = arb(r) / arb(rho)
+    n = max(orders) + 1
+    while n <= n_max:
+        rem = [M / (arb(rho) ** n * (1 - q)) for M in bounds]
+        ok = True
+        for R, c, k in zip(rem, lead, orders, strict=True):
+            scale = abs(c).lower() if not c.contains(0) else arb(1)
+            ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
+        if ok:
+            return n, rem
+        n += 4
+    return None
+
+
+def _zone(
+    e: ExactTime, r: float, n: int, rem: list[arb], point: tuple[Any, Any, Any],
+    orders: tuple[int, int, int],
+) -> Zone:  # fmt: skip
+    """The zone |ε| <= r with the first n Taylor coefficients and the remainders ``rem``."""
+    parts = [
+        [Ball.of_arb(_coef(point[i], j)) for j in range(orders[i], n)]
+        + [Ball(0.0, float(rem[i].upper()) * (1 + 4 * U))]
+        for i in (0, 1, 2)
+    ]
+    m = orders[2]
+    return Zone(e, r, (orders[0] - m, orders[1] - m), (parts[0], parts[1]), parts[2])
+
+
+def _lagrange_zone(
+    motion: CertifiedMotion, s: SingularInstant, e: ExactTime, coeffs: list[list[arb]],
+    point: tuple[Any, Any, Any], lead: list[arb], orders: tuple[int, int, int],
+) -> Zone | None:  # fmt: skip
+    """The widest zone r = t_f/2^j (j = 2..20) whose Lagrange remainders (the N-th
+    coefficients over t_s + [-r, r] by series arithmetic) meet the slack."""
+    n = max(orders) + LAGRANGE_TERMS
+    tf = to_float(motion.traj.duration)
+    for j in range(2, 21):
+        r = tf * 2.0**-j
+        try:
+            hull = arb(0).union(arb(r)).union(arb(-r))
+            rem = [abs(_coef(f, n)).upper() for f in _series_parts(motion, coeffs, hull, n + 1)]
+        except (ValueError, ZeroDivisionError):
+            continue
+        ok = all(R.is_finite() for R in rem)
+        for R, c, k in zip(rem, lead, orders, strict=True):
+            scale = abs(c).lower() if not c.contains(0) else arb(1)
+            ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
+        if ok:
+            return _zone(e, r, n, rem, point, orders)
+    return None
+
+
+LAGRANGE_TERMS = 48  # terms of a zone bounded by Taylor's theorem beyond the leading ones
