@@ -152,7 +152,8 @@ def test_header_names_the_task_and_the_version() -> None:
         " λ2): λ2, T1, T2 undefined; 2 = the end point is at A (s1 = 0): θ1, its rates, δ, λ"
         " and T undefined; 3 = the end point is at B (s2 = 0): θ2, its rates, δ, λ and T"
         " undefined; 4 = the path lies on y = 0 (δ ≡ 0): λ and T undefined; 5 = not"
-        " certified to 1e-09 at 4096 bits"
+        " certified to 1e-09 at 4096 bits: no value; 6 = beyond the double range: |value| >"
+        " 1.8e308 (certified)"
     )
 
     _, out, _ = run_cli("export", PATH2_FILE, "--samples", "3", "--format", "json")
@@ -162,7 +163,7 @@ def test_header_names_the_task_and_the_version() -> None:
     assert doc["columns"] == ISSUE_COLUMNS
     assert doc["units"]["theta1"] == "rad" and doc["units"]["T1"] == "N m"
     assert doc["units"]["reason"] == "code"
-    assert list(doc["reasons"]) == ["0", "1", "2", "3", "4", "5"]
+    assert list(doc["reasons"]) == ["0", "1", "2", "3", "4", "5", "6"]
     assert doc["reasons"]["0"] == "every value certified"
     assert doc["samples"] == len(doc["rows"]) == 3
     assert doc["singularities"][0]["torque_at_singularity"] == pytest.approx([63.225, -5.445])

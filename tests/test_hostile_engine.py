@@ -447,9 +447,11 @@ def test_hostile_files_through_the_command_line_give_strict_json(
         files.append(str(p))
     with pytest.raises(SystemExit) as e:
         main(["check", "--format", "json", *files])
-    assert e.value.code == 1  # the order-60 touch fails its slope principle; no error
+    # the order-60 touch fails its slope principle, the two crossings 1e-30 s from the
+    # start have unbounded torques (RPR201 fails by default); no error
+    assert e.value.code == 1
     out = capsys.readouterr().out
     doc = json.loads(out, parse_constant=lambda c: pytest.fail(f"not strict JSON: {c}"))
-    assert doc["summary"] == {"tasks": 4, "passed": 3, "failed": 1, "errors": 0}
+    assert doc["summary"] == {"tasks": 4, "passed": 2, "failed": 2, "errors": 0}
     assert [r["task"] for r in doc["reports"]] == files
     assert [len(r["beyond_double_range"]) for r in doc["reports"]] == [5, 1, 2, 5]

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from numpy.polynomial.chebyshev import cheb2poly
 from rich.console import Console
 
 from rprpr.engine.audit import audit
@@ -32,8 +33,15 @@ from .reference import reference
 PATH2 = CONFIGS / "paper_path2.yaml"  # torque_limit: [300, 300]
 CASE1 = CONFIGS / "case1_crossing.yaml"  # inconsistent first-order crossing at t = 2 s
 LINE = "timing:\n  duration: 2\n  x: 2 + t\n"
+# the Chebyshev polynomial T16(x - 3) scaled into y in [0.1, 0.3]: no singular instant,
+# but the torques swing 16 times; the envelope's work cap ends before its bound closes
+CHEBYSHEV_16 = task_text(
+    "("
+    + " + ".join(f"({int(c)})*(x-3)^{k}" for k, c in enumerate(cheb2poly([0] * 16 + [1])) if c)
+    + ")/10 + 1/5",
+    LINE,
+)
 NEAR_MISS = task_text("(x - 3)^2/10 + 0.0001", LINE)  # 0.1 mm above AB at t = 1 s
-ORDER_59 = task_text("(x - 3)^59", LINE)  # bounded; the peak is not certified to 1e-6
 
 
 def report_of(task_text_: str, name: str = "t.yaml", **kw: Any) -> dict[str, Any]:
@@ -78,7 +86,7 @@ def test_path2_peak_is_the_reference_torque_at_its_time_and_within_its_bound() -
 
 def test_path2_verdict_line_and_junit_name_the_peak_with_its_time() -> None:
     rep = task_report(audit(load_task(PATH2)), str(PATH2))
-    verdict = "peak |T1| 66.1221 N m at t = 2.743 s, |T2| 60.5504 N m at t = 0.2024 s"
+    verdict = "peak |T1| 66.1221 N m at t = 2.743 s, |T2| 60.5504 N m at t = 0.2023 s"
     assert text_lines(rep)[-1] == f"  verdict: PASS — 1 singular instant, 0 high-order; {verdict}"
     assert junit_out(rep)[-1] == f"verdict: pass, 1 singular instant; {verdict}"
 
@@ -94,16 +102,16 @@ def test_the_issue_order_13_peak_is_904_not_840() -> None:
 
 
 def test_an_uncertified_peak_reports_a_lower_bound_and_says_so() -> None:
-    task = parse_task(ORDER_59)
+    task = parse_task(CHEBYSHEV_16)
     rep = task_report(audit(task), "t.yaml")
     assert rep["torque_peak_certified"] is False
     for i, name in enumerate(("T1", "T2")):
         value, t = rep["torque_peak"][i], rep["torque_peak_t"][i]
         assert ref_abs(task, t, name) == pytest.approx(value, rel=1e-9)  # a value of |T|
-        assert rep["torque_peak_bound"][i] >= value
+        assert rep["torque_peak_bound"][i] is None  # no finite bound proven: null
     assert text_lines(rep)[-1] == (
-        "  verdict: FAIL — 1 singular instant, 1 high-order; peak |T1| ≥ 18310.3 N m at"
-        " t = 2 s, |T2| ≥ 18189.6 N m at t = 0 s, not certified"
+        "  verdict: PASS — 0 singular instants, 0 high-order; peak |T1| ≥ 11133.5 N m at"
+        " t = 2 s, |T2| ≥ 11133.5 N m at t = 0 s, not certified"
     )
 
 

@@ -71,8 +71,8 @@ REASONS = {
     AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
     AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
     ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
-    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits (NaN)",
-    BEYOND_DOUBLE: "beyond the double range: ±inf, the sign certified",
+    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits: no value",
+    BEYOND_DOUBLE: "beyond the double range: |value| > 1.8e308 (certified)",
 }
 DBL_MAX = float(np.finfo(float).max)
 

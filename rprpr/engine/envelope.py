@@ -37,7 +37,8 @@ from .series import taylor
 from .singular import SingularInstant
 from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
-PEAK_REL = 1e-6  # torque_peak: certified to this relative width
+PEAK_REL = 1e-6  # torque_peak: certified to this relative width ...
+PEAK_ABS = 1e-9  # ... or this absolute one [N m], whichever is larger (a peak of 0 N m)
 START_BOXES = 512  # the initial partition of [0, t_f]
 SPLIT_BUDGET = 1024  # boxes per refining pass, about (live boxes times their fan)
 MAX_FAN = 512  # a live box is cut into at most this many
@@ -178,7 +179,8 @@ class Peak:
     """sup |T_i| over the times of [0, t_f] where T_i is defined [N m]: ``value`` is a
     certified lower bound of it, attained at ``t`` or, when ``t`` is an instant at which
     E is at A or B (T undefined there), the one-sided limit of |T_i| as t is approached;
-    ``upper`` a certified upper bound; when ``certified``, upper - value <= PEAK_REL value.
+    ``upper`` a certified upper bound; when ``certified``, upper - value <= PEAK_REL value
+    + PEAK_ABS.
     ``value`` = ``upper`` = inf when T_i is unbounded (``t``: the first instant with a
     pole)."""
 
@@ -718,7 +720,7 @@ class Envelope:
                 j = int(np.argmax(b.low[i]))
                 if b.low[i, j] > best[i]:
                     best[i], best_t[i] = float(b.low[i, j]), float(b.low_t[i, j])
-            keep_i = b.up > (best * (1 + rel))[:, None]
+            keep_i = b.up > (best * (1 + rel) + PEAK_ABS)[:, None]
             dropped = np.maximum(dropped, np.where(keep_i, 0.0, b.up).max(axis=1))
             keep = keep_i.any(axis=0)
             n = int(keep.sum())

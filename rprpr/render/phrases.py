@@ -41,7 +41,13 @@ def approach(rep: dict[str, Any]) -> str:
     a = rep["closest_approach"]
     if a is None:
         return ""
+    distance = "beyond the double range" if a["distance"] is None else with_unit(a["distance"], "m")
+    delta = (
+        "beyond the double range"
+        if a["min_abs_delta"] is None
+        else number(a["min_abs_delta"], CELL)
+    )
     return (
-        f"closest approach to AB: {with_unit(a['distance'], 'm')} at t = {number(a['t'], CELL)}"
-        f" s, min |δ| = {number(a['min_abs_delta'], CELL)} at t = {number(a['t_delta'], CELL)} s"
+        f"closest approach to AB: {distance} at t = {number(a['t'], CELL)}"
+        f" s, min |δ| = {delta} at t = {number(a['t_delta'], CELL)} s"
     )

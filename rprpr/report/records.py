@@ -103,14 +103,15 @@ def limit_record(c: LimitCheck) -> dict[str, Any]:
 def approach_record(a: Approach | None) -> dict[str, Any] | None:
     """How close a motion that never meets the line AB comes to it: ``distance`` = min
     |y| (E to AB) [m] at ``t``; ``min_abs_delta`` = a proven lower bound of min |δ|
-    (within 1e-6 relative of it), reached at ``t_delta``. None when the motion meets AB."""
+    (within 1e-6 relative of it), reached at ``t_delta``. None when the motion meets AB;
+    a value beyond the double range is null."""
     if a is None:
         return None
     return {
-        "distance": a.distance,
-        "t": a.t_y,
-        "min_abs_delta": a.delta_lo,
-        "t_delta": a.t_delta,
+        "distance": _f(a.distance),
+        "t": _f(a.t_y),
+        "min_abs_delta": _f(a.delta_lo),
+        "t_delta": _f(a.t_delta),
     }
 
 
