@@ -18,8 +18,8 @@ from rprpr.render import sheet as P
 
 from .conftest import CONFIGS
 
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 MAX_BYTES = 3 * 1024 * 1024
 
 _cache: dict[str, P.Motion] = {}

@@ -81,8 +81,8 @@ def test_pre_commit_hook_entry_checks_the_files_it_is_given(
     repo = tmp_path / "repo"
     (repo / "tasks").mkdir(parents=True)
     (repo / ".github" / "workflows").mkdir(parents=True)
-    shutil.copy(CONFIGS / "paper_path2.yaml", repo / "tasks" / "good.yaml")
-    shutil.copy(CONFIGS / "paper_path1.yaml", repo / "tasks" / "bad_plan.yml")
+    shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", repo / "tasks" / "good.yaml")
+    shutil.copy(CONFIGS / "paper_path1.rprpr.yaml", repo / "tasks" / "bad_plan.yml")
     (repo / ".pre-commit-config.yaml").write_text("repos: []\n", encoding="utf-8")
     (repo / ".github" / "workflows" / "ci.yml").write_text("on: push\n", encoding="utf-8")
     staged = [
@@ -147,20 +147,19 @@ def _run_check_step(action: dict[str, Any], **inputs: str) -> subprocess.Complet
 
 
 def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]) -> None:
-    paths = (
-        "configs/paper_path2.yaml\n  configs/case1_crossing.yaml"  # newline- and space-separated
-    )
+    # newline- and space-separated
+    paths = "configs/paper_path2.rprpr.yaml\n  configs/case1_crossing.rprpr.yaml"
     p = _run_check_step(action, paths=paths, strict="false", args="--samples 101")
     assert p.returncode == 1  # unbounded torques fail by default
-    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::error file=configs/case1_crossing.rprpr.yaml,line=")
     assert "title=RPR201 unbounded-torque::" in p.stdout
     assert len(p.stdout.splitlines()) == 1
     p = _run_check_step(action, paths=paths, strict="false", args="--warn-unbounded")
     assert p.returncode == 0
-    assert p.stdout.startswith("::warning file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::warning file=configs/case1_crossing.rprpr.yaml,line=")
     p = _run_check_step(action, paths=paths, strict="true", args="--warn-unbounded")
     assert p.returncode == 1
-    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::error file=configs/case1_crossing.rprpr.yaml,line=")
 
 
 def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str, Any]) -> None:

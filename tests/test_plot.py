@@ -24,8 +24,8 @@ from rprpr.render import sheet as P
 
 from .conftest import CONFIGS, task_text
 
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
 CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))

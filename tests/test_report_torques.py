@@ -29,8 +29,8 @@ from rprpr.report.run import REPORT, Run
 from .conftest import CONFIGS, run_cli, task_text
 from .reference import reference
 
-PATH2 = CONFIGS / "paper_path2.yaml"  # torque_limit: [300, 300]
-CASE1 = CONFIGS / "case1_crossing.yaml"  # inconsistent first-order crossing at t = 2 s
+PATH2 = CONFIGS / "paper_path2.rprpr.yaml"  # torque_limit: [300, 300]
+CASE1 = CONFIGS / "case1_crossing.rprpr.yaml"  # inconsistent first-order crossing at t = 2 s
 LINE = "timing:\n  duration: 2\n  x: 2 + t\n"
 NEAR_MISS = task_text("(x - 3)^2/10 + 0.0001", LINE)  # 0.1 mm above AB at t = 1 s
 ORDER_59 = task_text("(x - 3)^59", LINE)  # bounded; the peak is not certified to 1e-6
