@@ -17,7 +17,6 @@ import click
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
-from . import workers
 from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show
 from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_option
 from .output import (
@@ -35,6 +34,7 @@ from .tasks import STDIN, read_task, tasks_or_usage_error
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
+    from . import workers
 
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
 
@@ -249,6 +249,7 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
     from ..report import records  # noqa: F401
     from ..report.run import Run
+    from . import workers
 
     run = Run()
     if not files:
@@ -268,6 +269,7 @@ def _outcomes(
     internal error (its worker died)."""
     from ..report.records import budget_error, internal_error
     from ..report.run import BUDGET, INTERNAL
+    from . import workers
 
     for path, result in results:
         if isinstance(result, workers.Done):

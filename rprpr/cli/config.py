@@ -18,14 +18,9 @@ engine.
 
 from __future__ import annotations
 
-import difflib
-import fnmatch
 import os
-import tomllib
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from decimal import Decimal
-from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -33,7 +28,9 @@ from ..model.defaults import DEFAULT_SAMPLES
 from ..model.rules import ALL, RULES, SelectorError, levels
 from ..report.exit import InputError
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the rest is imported when a configuration is read: --help stays light
+    from fractions import Fraction
+
     from ..model.task import Task
 
 CONFIG_FILES = (".rprpr.toml", "rprpr.toml", "pyproject.toml")  # looked for in this order
@@ -143,6 +140,8 @@ class FileSelection:
 
 
 def _matches(rel: str, name: str, globs: Sequence[str]) -> bool:
+    import fnmatch
+
     for g in globs:
         g = g.rstrip("/")
         if "/" in g:
@@ -172,6 +171,8 @@ def find_config(start: str | None = None) -> str | None:
 
 
 def _has_table(pyproject: Path) -> bool:
+    import tomllib
+
     try:
         doc = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
@@ -181,6 +182,9 @@ def _has_table(pyproject: Path) -> bool:
 
 def _table(file: str) -> dict[str, Any]:
     """The rprpr keys of ``file``: ``[tool.rprpr]`` of a pyproject.toml, else the top level."""
+    import tomllib
+    from decimal import Decimal
+
     try:
         text = Path(file).read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -239,6 +243,8 @@ def load_settings(
 
 
 def _near(key: str, known: Mapping[str, Any]) -> str:
+    import difflib
+
     near = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.6)
     return f" (did you mean {near[0]!r}?)" if near else f"; known keys: {', '.join(known)}"
 
@@ -286,6 +292,9 @@ def _checked(key: str, raw: Any, where: str) -> Any:
 def _number(raw: Any, where: str, *, positive: bool) -> Fraction:
     """An exact number of the configuration (a TOML integer or decimal): > 0 when
     ``positive``, else >= 0."""
+    from decimal import Decimal
+    from fractions import Fraction
+
     if isinstance(raw, bool) or not isinstance(raw, int | Decimal) or not Decimal(raw).is_finite():
         raise InputError(f"{where}: expected a number, found {_toml(raw)}")
     value = Fraction(raw)
@@ -296,6 +305,9 @@ def _number(raw: Any, where: str, *, positive: bool) -> Fraction:
 
 def _toml(value: Any) -> str:
     """A value as TOML writes it (for messages and ``--show-settings``)."""
+    from decimal import Decimal
+    from fractions import Fraction
+
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
