@@ -217,7 +217,7 @@ def load_settings(
     file = None if isolated else (config or find_config(cwd))
     values = {k: default for k, (_, default) in KEYS.items()}
     sources = dict.fromkeys(KEYS, DEFAULT)
-    root = os.path.dirname(os.path.abspath(file)) if file else os.path.abspath(cwd or ".")
+    root = _root(file, cwd)
     if file is not None:
         where = "[tool.rprpr]" if Path(file).name == "pyproject.toml" else "the configuration"
         for key, raw in _table(file).items():
@@ -240,6 +240,15 @@ def load_settings(
     except SelectorError as e:
         raise InputError(f"{file or 'the command line'}: {e}") from None
     return settings
+
+
+def _root(file: str | None, cwd: str | None) -> str:
+    """The project root: the configuration's folder, else the working directory (as
+    given, when it was deleted under the run)."""
+    try:
+        return os.path.dirname(os.path.abspath(file)) if file else os.path.abspath(cwd or ".")
+    except OSError:
+        return os.path.dirname(file) if file else (cwd or ".")
 
 
 def _near(key: str, known: Mapping[str, Any]) -> str:
