@@ -232,7 +232,7 @@ def test_with_two_workers_a_stopped_task_and_a_dead_worker_keep_the_task_order(
     source = (CONFIGS / "paper_path2.rprpr.yaml").read_text(encoding="utf-8")
     files = []
     for name in ("slow", "fine", "dies", "fine2"):
-        p = tmp_path / f"{name}.yaml"
+        p = tmp_path / f"{name}.rprpr.yaml"
         p.write_text(source.replace("name: Example 2 of the paper, path 2", f"name: {name}"))
         files.append(str(p))
     real = auditing.audit
@@ -435,7 +435,7 @@ def test_hostile_files_through_the_command_line_give_strict_json(
             ("x - 3", "  duration: 1e-30\n  x: (1e30)^11*t + 2\n"),
         ]
     ):
-        p = tmp_path / f"hostile{i}.yaml"
+        p = tmp_path / f"hostile{i}.rprpr.yaml"
         p.write_text(text(y, timing), encoding="utf-8")
         files.append(str(p))
     with pytest.raises(SystemExit) as e:

@@ -504,7 +504,7 @@ def test_bad_task_file_exits_2_with_one_line(
 
 def test_at_most_eight_tasks_overlay(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     for i in range(9):
-        (tmp_path / f"t{i}.yaml").write_text(Path(PATH2).read_text())
+        (tmp_path / f"t{i}.rprpr.yaml").write_text(Path(PATH2).read_text())
     code, _, err = run(["plot", str(tmp_path), "-o", str(tmp_path / "s.png")], capsys)
     assert code == 2 and "at most 8" in err
 

@@ -152,7 +152,7 @@ def batch(folder: Path, n: int = 6) -> Path:
     tasks = folder / "tasks"
     tasks.mkdir()
     for i in range(n):
-        shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", tasks / f"t{i}.yaml")
+        shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", tasks / f"t{i}.rprpr.yaml")
     return tasks
 
 
