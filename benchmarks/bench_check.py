@@ -1,4 +1,4 @@
-"""Wall time of `rprpr check configs/paper_path2.yaml` against the bare imports.
+"""Wall time of `rprpr check configs/paper_path2.rprpr.yaml` against the bare imports.
 
 The aim (issue: rprpr check) is at most about 100 ms above
 `python -c "import numpy, yaml, click, rich"` on the same machine. Each command is run
@@ -34,7 +34,7 @@ def main() -> None:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     ap.add_argument("--repeat", type=int, default=15)
-    ap.add_argument("--config", default="configs/paper_path2.yaml")
+    ap.add_argument("--config", default="configs/paper_path2.rprpr.yaml")
     args = ap.parse_args()
     base = wall([sys.executable, "-c", "import numpy, yaml, click, rich"], args.repeat)
     text = wall([sys.executable, "-m", "rprpr", "check", args.config], args.repeat)

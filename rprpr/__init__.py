@@ -3,7 +3,7 @@
 Python API::
 
     from rprpr import load_task, audit
-    result = audit(load_task("configs/paper_path2.yaml"))
+    result = audit(load_task("configs/paper_path2.rprpr.yaml"))
     result.verdict, result.singularities[0].order
 
 Importing the package costs nothing: ``audit`` and the engine (numpy, python-flint) load

@@ -35,8 +35,8 @@ QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"  # the paper's quintic timi
 # the paper's paths (eqs. 50 and 51) as the YAML of a task's path block: y, from, to
 PATH1_YAML = "x^3 - 9*x^2 + 27*x - 27\n  from: [2, -1]\n  to: [4, 1]"
 PATH2_YAML = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
-PATH1_FILE = str(CONFIGS / "paper_path1.yaml")  # the shipped task files of the two paths
-PATH2_FILE = str(CONFIGS / "paper_path2.yaml")
+PATH1_FILE = str(CONFIGS / "paper_path1.rprpr.yaml")  # the shipped task files of the two paths
+PATH2_FILE = str(CONFIGS / "paper_path2.rprpr.yaml")
 FAST = ["--samples", "101"]  # enough samples for tests that do not look at the torques
 
 

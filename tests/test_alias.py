@@ -16,7 +16,7 @@ def test_the_old_import_name_offers_the_same_api() -> None:
     import rprpr_cli
 
     assert rprpr_cli.audit is rprpr.audit and rprpr_cli.load_task is rprpr.load_task
-    result = rprpr_cli.audit(rprpr_cli.load_task(CONFIGS / "paper_path1.yaml"))
+    result = rprpr_cli.audit(rprpr_cli.load_task(CONFIGS / "paper_path1.rprpr.yaml"))
     assert result.verdict == "fail" and result.singularities[0].order == 3
 
 

@@ -18,9 +18,9 @@ from rprpr.render import sheet as P
 
 from .conftest import CONFIGS
 
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
-ZERO = str(CONFIGS / "zero_speed_crossing.yaml")
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
+ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
 MAX_BYTES = 3 * 1024 * 1024
 
 _cache: dict[str, P.Motion] = {}

@@ -594,8 +594,8 @@ def test_the_canary_would_catch_a_loader_that_constructs(
 
 
 def test_one_bad_file_among_good_ones(tmp_path: Path) -> None:
-    good1 = str(ROOT / "configs" / "paper_path2.yaml")
-    good2 = str(ROOT / "configs" / "paper_path1.yaml")
+    good1 = str(ROOT / "configs" / "paper_path2.rprpr.yaml")
+    good2 = str(ROOT / "configs" / "paper_path1.rprpr.yaml")
     bad = str(BAD / "unknown_timming.yaml")
     code, out, err = run_cli("check", "--format", "json", good1, bad, good2)
     assert code == 2
@@ -610,7 +610,7 @@ def test_one_bad_file_among_good_ones(tmp_path: Path) -> None:
 
 
 def test_a_batch_of_only_good_files_is_not_tainted() -> None:
-    good = str(ROOT / "configs" / "paper_path2.yaml")
+    good = str(ROOT / "configs" / "paper_path2.rprpr.yaml")
     code, out, _ = run_cli("check", "--format", "json", good)
     assert code == 0
     assert json.loads(out)["input_errors"] == []

@@ -176,7 +176,7 @@ def test_values_at_a_time_do_not_depend_on_the_grid(name: str) -> None:
 @given(
     n=st.integers(2, 400),
     extra=st.lists(st.floats(0, 2, allow_nan=False), max_size=5),
-    name=st.sampled_from(["zero_speed_crossing.yaml", "paper_path2.yaml"]),
+    name=st.sampled_from(["zero_speed_crossing.rprpr.yaml", "paper_path2.rprpr.yaml"]),
 )
 def test_the_value_at_t_is_the_same_for_every_grid_containing_t(
     n: int, extra: list[float], name: str
@@ -195,7 +195,7 @@ def test_the_value_at_t_is_the_same_for_every_grid_containing_t(
 
 
 def test_zero_speed_crossing_at_t0_is_the_true_value_on_any_grid() -> None:
-    task = _config("zero_speed_crossing.yaml")
+    task = _config("zero_speed_crossing.rprpr.yaml")
     for n in (11, 12, 2001):
         c = _motion(task).sample(grid(task.duration, n))
         assert c.value["lambda1"][0] == pytest.approx(1.43004, abs=5e-6)
@@ -204,7 +204,7 @@ def test_zero_speed_crossing_at_t0_is_the_true_value_on_any_grid() -> None:
 
 
 def test_zero_speed_crossing_every_sample_of_2001_is_certified() -> None:
-    task = _config("zero_speed_crossing.yaml")
+    task = _config("zero_speed_crossing.rprpr.yaml")
     c = _motion(task).sample(grid(task.duration, 2001))
     ok = c.reason == OK
     assert ok.sum() == 2000 and c.reason[1000] == POLE  # t = 1: the pole, exactly
@@ -266,7 +266,7 @@ def test_theta_stays_on_its_continuous_branch_where_y_underflows() -> None:
 
 
 def test_paper_path2_every_sample_certified_at_1001() -> None:
-    task = _config("paper_path2.yaml")
+    task = _config("paper_path2.rprpr.yaml")
     c = _motion(task).sample(grid(task.duration, 1001))
     assert np.all(c.reason == OK)
     _check(task, [float(t) for t in c.t[::125]])

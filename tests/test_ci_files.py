@@ -50,9 +50,11 @@ def test_pre_commit_hook_has_the_required_keys(hook: dict[str, Any]) -> None:
     assert {"id", "name", "entry", "language"} <= set(hook)
     assert hook["id"] == "rprpr-check"
     assert hook["language"] == "python"
-    assert hook["files"] == r"\.(ya?ml)$"
+    assert hook["types"] == ["yaml"]
+    assert "files" not in hook  # every YAML file: rprpr itself keeps the task files
     entry = shlex.split(hook["entry"])
     assert entry[:2] == ["rprpr", "check"]
+    assert "--force-exclude" in entry
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"][
         "scripts"
     ]
@@ -61,18 +63,57 @@ def test_pre_commit_hook_has_the_required_keys(hook: dict[str, Any]) -> None:
 
 
 def _selected(hook: dict[str, Any], files: list[str]) -> list[str]:
-    """The files pre-commit would pass: ``files`` matches and ``exclude`` does not."""
-    inc, exc = re.compile(hook["files"]), re.compile(hook.get("exclude", "^$"))
-    return [f for f in files if inc.search(f) and not exc.search(f)]
+    """The files pre-commit would pass: ``files`` matches (default: any), of type yaml
+    (identify: by suffix), and ``exclude`` does not."""
+    inc, exc = re.compile(hook.get("files", "")), re.compile(hook.get("exclude", "^$"))
+    yaml_type = "yaml" in hook.get("types", ["yaml"])
+    return [
+        f
+        for f in files
+        if inc.search(f) and not exc.search(f) and (not yaml_type or f.endswith((".yaml", ".yml")))
+    ]
 
 
-def test_pre_commit_hook_selects_task_files_not_hidden_configs(hook: dict[str, Any]) -> None:
+def test_pre_commit_hook_passes_yaml_files_not_hidden_configs(hook: dict[str, Any]) -> None:
     files = [
-        "tasks/a.yaml", "tasks/sub/b.yml", "tasks/c.json", "README.md", "tasks/yaml",
+        "tasks/a.rprpr.yaml", "tasks/sub/b.yml", "tasks/c.json", "README.md", "tasks/yaml",
         ".pre-commit-config.yaml", ".github/workflows/ci.yml", "tasks/.draft.yaml",
-        ".gitlab-ci.yml",
+        ".gitlab-ci.yml", "docker-compose.yml",
     ]  # fmt: skip
-    assert _selected(hook, files) == ["tasks/a.yaml", "tasks/sub/b.yml"]
+    assert _selected(hook, files) == ["tasks/a.rprpr.yaml", "tasks/sub/b.yml", "docker-compose.yml"]
+
+
+def _run_hook(
+    hook: dict[str, Any], repo: Path, staged: list[str]
+) -> subprocess.CompletedProcess[str]:
+    args = [*shlex.split(hook["entry"]), *hook.get("args", []), *_selected(hook, staged)]
+    return subprocess.run(
+        [str(BIN / args[0]), *args[1:], "--samples", "101"],
+        cwd=repo, capture_output=True, text=True, env=env_without_colour(), check=False,
+    )  # fmt: skip
+
+
+def test_pre_commit_hook_never_audits_other_yaml_files(
+    hook: dict[str, Any], tmp_path: Path
+) -> None:
+    """The trap of a docker-compose.yml (``unknown key 'services'``, exit 2) is gone: a
+    commit that changes only YAML files that are not tasks passes, and prints nothing."""
+    (tmp_path / "docker-compose.yml").write_text("services: {}\n", encoding="utf-8")
+    (tmp_path / "mkdocs.yaml").write_text("site_name: x\n", encoding="utf-8")
+    p = _run_hook(hook, tmp_path, ["docker-compose.yml", "mkdocs.yaml"])
+    assert (p.returncode, p.stdout, p.stderr) == (0, "", "")
+
+
+def test_pre_commit_hook_follows_the_configured_include(
+    hook: dict[str, Any], tmp_path: Path
+) -> None:
+    (tmp_path / "plans").mkdir()
+    shutil.copy(CONFIGS / "paper_path1.rprpr.yaml", tmp_path / "plans" / "p1.yaml")
+    (tmp_path / "compose.yaml").write_text("services: {}\n", encoding="utf-8")
+    (tmp_path / "rprpr.toml").write_text('include = ["plans/*.yaml"]\n', encoding="utf-8")
+    p = _run_hook(hook, tmp_path, ["plans/p1.yaml", "compose.yaml"])
+    assert p.returncode == 1  # the plan fails (RPR101); compose.yaml was never read
+    assert "plans/p1.yaml" in p.stdout and "compose" not in p.stdout + p.stderr
 
 
 def test_pre_commit_hook_entry_checks_the_files_it_is_given(
@@ -81,26 +122,23 @@ def test_pre_commit_hook_entry_checks_the_files_it_is_given(
     repo = tmp_path / "repo"
     (repo / "tasks").mkdir(parents=True)
     (repo / ".github" / "workflows").mkdir(parents=True)
-    shutil.copy(CONFIGS / "paper_path2.yaml", repo / "tasks" / "good.yaml")
-    shutil.copy(CONFIGS / "paper_path1.yaml", repo / "tasks" / "bad_plan.yml")
+    shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", repo / "tasks" / "good.rprpr.yaml")
+    shutil.copy(CONFIGS / "paper_path1.rprpr.yaml", repo / "tasks" / "bad_plan.rprpr.yml")
     (repo / ".pre-commit-config.yaml").write_text("repos: []\n", encoding="utf-8")
     (repo / ".github" / "workflows" / "ci.yml").write_text("on: push\n", encoding="utf-8")
+    (repo / "docker-compose.yml").write_text("services: {}\n", encoding="utf-8")
     staged = [
-        "tasks/good.yaml",
-        "tasks/bad_plan.yml",
+        "tasks/good.rprpr.yaml",
+        "tasks/bad_plan.rprpr.yml",
         ".pre-commit-config.yaml",
         ".github/workflows/ci.yml",
+        "docker-compose.yml",
     ]
-    args = [*shlex.split(hook["entry"]), *hook.get("args", []), *_selected(hook, staged)]
-    assert args[2:] == ["--quiet", "tasks/good.yaml", "tasks/bad_plan.yml"]
-    p = subprocess.run(
-        [str(BIN / args[0]), *args[1:], "--samples", "101"],
-        cwd=repo, capture_output=True, text=True, env=env_without_colour(), check=False,
-    )  # fmt: skip
+    p = _run_hook(hook, repo, staged)
     assert p.returncode == 1
     assert p.stderr == ""
-    assert "tasks/bad_plan.yml — Example 1 of the paper, path 1" in p.stdout
-    assert "tasks/good.yaml" not in p.stdout  # --quiet: only what fails
+    assert "tasks/bad_plan.rprpr.yml — Example 1 of the paper, path 1" in p.stdout
+    assert "tasks/good.rprpr.yaml" not in p.stdout  # --quiet: only what fails
     assert p.stdout.splitlines()[-1] == "2 tasks: 1 passed, 1 failed, 0 errors"
 
 
@@ -118,7 +156,7 @@ def test_action_has_the_required_keys_and_inputs(action: dict[str, Any]) -> None
     assert set(inputs) == {"paths", "strict", "args", "python-version"}
     assert all("description" in v for v in inputs.values())
     assert {k: v["default"] for k, v in inputs.items()} == {
-        "paths": ".", "strict": "false", "args": "", "python-version": "3.11",
+        "paths": "", "strict": "false", "args": "", "python-version": "3.11",
     }  # fmt: skip
     runs = action["runs"]
     assert runs["using"] == "composite"
@@ -134,7 +172,9 @@ def test_action_has_the_required_keys_and_inputs(action: dict[str, Any]) -> None
     assert "${{" not in check["run"] and "${{" not in install["run"]
 
 
-def _run_check_step(action: dict[str, Any], **inputs: str) -> subprocess.CompletedProcess[str]:
+def _run_check_step(
+    action: dict[str, Any], cwd: Path = ROOT, **inputs: str
+) -> subprocess.CompletedProcess[str]:
     bash = shutil.which("bash")
     if bash is None:
         pytest.skip("bash is not installed")
@@ -142,25 +182,36 @@ def _run_check_step(action: dict[str, Any], **inputs: str) -> subprocess.Complet
     env = env_without_colour(**{f"INPUT_{k.upper()}": v for k, v in inputs.items()})
     return subprocess.run(
         [bash, "--noprofile", "--norc", "-eo", "pipefail", "-c", script],  # as Actions runs it
-        cwd=ROOT, capture_output=True, text=True, env=env, check=False,
+        cwd=cwd, capture_output=True, text=True, env=env, check=False,
     )  # fmt: skip
 
 
+def test_action_by_default_checks_the_task_files_of_the_repository_only(
+    action: dict[str, Any], tmp_path: Path
+) -> None:
+    (tmp_path / "docker-compose.yml").write_text("services: {}\n", encoding="utf-8")
+    (tmp_path / "tasks").mkdir()
+    shutil.copy(CONFIGS / "paper_path1.rprpr.yaml", tmp_path / "tasks" / "p1.rprpr.yaml")
+    p = _run_check_step(action, tmp_path, paths="", strict="false", args="--samples 101")
+    assert p.returncode == 1  # the task fails; docker-compose.yml is never read
+    assert p.stdout.startswith("::error file=tasks/p1.rprpr.yaml,line=19,")
+    assert "docker-compose" not in p.stdout + p.stderr
+
+
 def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]) -> None:
-    paths = (
-        "configs/paper_path2.yaml\n  configs/case1_crossing.yaml"  # newline- and space-separated
-    )
+    # newline- and space-separated
+    paths = "configs/paper_path2.rprpr.yaml\n  configs/case1_crossing.rprpr.yaml"
     p = _run_check_step(action, paths=paths, strict="false", args="--samples 101")
     assert p.returncode == 1  # unbounded torques fail by default
-    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::error file=configs/case1_crossing.rprpr.yaml,line=")
     assert "title=RPR201 unbounded-torque::" in p.stdout
     assert len(p.stdout.splitlines()) == 1
     p = _run_check_step(action, paths=paths, strict="false", args="--warn-unbounded")
     assert p.returncode == 0
-    assert p.stdout.startswith("::warning file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::warning file=configs/case1_crossing.rprpr.yaml,line=")
     p = _run_check_step(action, paths=paths, strict="true", args="--warn-unbounded")
     assert p.returncode == 1
-    assert p.stdout.startswith("::error file=configs/case1_crossing.yaml,line=")
+    assert p.stdout.startswith("::error file=configs/case1_crossing.rprpr.yaml,line=")
 
 
 def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str, Any]) -> None:
@@ -207,9 +258,7 @@ def test_doc_examples_are_valid_and_agree_with_the_files(
     assert set(uses["with"]) <= set(action["inputs"])
     [repo] = precommit["repos"]
     assert [h["id"] for h in repo["hooks"]] == [hook["id"]]
-    assert _selected(
-        repo["hooks"][0] | {"exclude": hook["exclude"]}, ["tasks/a.yaml", "x.yaml"]
-    ) == ["tasks/a.yaml"]
+    assert set(repo["hooks"][0]) == {"id"}  # the hook's own defaults select the task files
     job = gitlab["rprpr"]
     [check] = [c for c in job["script"] if c.startswith("rprpr check")]
     out = shlex.split(check)[shlex.split(check).index("-o") + 1]

@@ -42,14 +42,15 @@ def mixed(tmp_path: Path) -> Path:
     """A folder of tasks: the configs, a bad file, a nested .yml, hidden files and dirs."""
     root = tmp_path / "tasks"
     shutil.copytree(CONFIGS, root / "configs")
-    (root / "b_bad.yaml").write_text(BAD_A1, encoding="utf-8")
+    (root / "b_bad.rprpr.yaml").write_text(BAD_A1, encoding="utf-8")
+    (root / "docker-compose.yml").write_text("services: {}\n", encoding="utf-8")  # no task
     (root / "nested" / "deeper").mkdir(parents=True)
-    (root / "nested" / "deeper" / "p2.yml").write_text(
+    (root / "nested" / "deeper" / "p2.rprpr.yml").write_text(
         task_text(PATH2_YAML, QUINTIC), encoding="utf-8"
     )
     (root / "nested" / "notes.txt").write_text("not a task", encoding="utf-8")
     (root / ".hidden").mkdir()
-    (root / ".hidden" / "x.yaml").write_text(BAD_A1, encoding="utf-8")
+    (root / ".hidden" / "x.rprpr.yaml").write_text(BAD_A1, encoding="utf-8")
     (root / ".gitlab-ci.yml").write_text("stages: [test]\n", encoding="utf-8")
     return root
 
@@ -58,11 +59,15 @@ def mixed(tmp_path: Path) -> Path:
 def test_directories_are_searched_recursively_sorted_skipping_hidden(mixed: Path) -> None:
     found = [Path(f).relative_to(mixed).as_posix() for f in collect_tasks([str(mixed)])]
     configs = sorted(p.name for p in CONFIGS.glob("*.yaml"))
-    assert found == ["b_bad.yaml", *(f"configs/{c}" for c in configs), "nested/deeper/p2.yml"]
+    assert found == [
+        "b_bad.rprpr.yaml",
+        *(f"configs/{c}" for c in configs),
+        "nested/deeper/p2.rprpr.yml",
+    ]
 
 
 def test_files_keep_their_order_and_are_checked_once(mixed: Path) -> None:
-    p2 = str(mixed / "configs" / "paper_path2.yaml")
+    p2 = str(mixed / "configs" / "paper_path2.rprpr.yaml")
     files = collect_tasks([p2, str(mixed / "configs"), "./" + os.path.relpath(p2)])
     assert files[0] == p2
     assert len(files) == len(collect_tasks([str(mixed / "configs")]))
@@ -80,14 +85,16 @@ def test_no_task_found_is_a_usage_error(tmp_path: Path) -> None:
     code, out, err = run_cli("check", str(tmp_path))
     assert code == 2
     assert out == ""
-    assert err.strip() == f"rprpr: usage error: no task files (*.yaml, *.yml) found in {tmp_path}"
+    assert err.strip() == (
+        f"rprpr: usage error: no task files (*.rprpr.yaml, *.rprpr.yml) found in {tmp_path}"
+    )
     assert len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (["check"], "Missing argument 'TASKS...'"),
+        (["check", "--isolated", "tests/golden"], "no task files"),
         (["check", "--format", "xml", "configs"], "'xml' is not one of"),
         (["check", "-j", "-1", "configs"], "-1 is not in the range"),
         (["check", "--samples", "1", "configs"], "1 is not in the range"),
@@ -104,7 +111,7 @@ def test_bad_invocations_exit_2_with_one_line(args: list[str], needle: str) -> N
 
 def test_an_unwritable_output_file_is_a_usage_error_before_auditing(tmp_path: Path) -> None:
     target = tmp_path / "missing" / "report.json"
-    code, out, err = run_cli("check", "-o", str(target), str(CONFIGS / "paper_path2.yaml"))
+    code, out, err = run_cli("check", "-o", str(target), str(CONFIGS / "paper_path2.rprpr.yaml"))
     assert code == 2
     assert out == ""
     assert err.strip() == (
@@ -123,10 +130,10 @@ def test_a_bad_file_is_reported_and_the_others_still_run(mixed: Path) -> None:
     assert doc["summary"]["passed"] + doc["summary"]["failed"] == n_configs + 1
     assert len(doc["reports"]) == n_configs + 1
     [bad] = doc["input_errors"]
-    assert bad["task"] == str(mixed / "b_bad.yaml")
+    assert bad["task"] == str(mixed / "b_bad.rprpr.yaml")
     assert (bad["line"], bad["column"], bad["key"], bad["rule"]) == (3, 7, "robot.a1", "RPR001")
     # the one-line error also reaches stderr for the log, naming file, line and key
-    assert err == f"{mixed / 'b_bad.yaml'}:3:7: robot.a1: {bad['message']} [RPR001]\n"
+    assert err == f"{mixed / 'b_bad.rprpr.yaml'}:3:7: robot.a1: {bad['message']} [RPR001]\n"
 
 
 def _write(tmp_path: Path, **files: str) -> list[str]:
@@ -205,7 +212,7 @@ def test_exit_zero_hides_failures_but_not_errors(tmp_path: Path) -> None:
 
 
 def test_unbounded_torque_fails_unless_accepted_and_strict_fails_it_again(tmp_path: Path) -> None:
-    case1 = str(CONFIGS / "case1_crossing.yaml")  # inconsistent crossing: RPR201
+    case1 = str(CONFIGS / "case1_crossing.rprpr.yaml")  # inconsistent crossing: RPR201
     code, out, _ = run_cli("check", "--format", "github", *FAST, case1)
     assert code == 1
     assert out.startswith("::error file=")
@@ -217,7 +224,7 @@ def test_unbounded_torque_fails_unless_accepted_and_strict_fails_it_again(tmp_pa
     assert code == 1
     assert out.startswith("::error file=")
     # the task file's own key accepts it too; the flag wins over "fail"
-    text = (CONFIGS / "case1_crossing.yaml").read_text(encoding="utf-8")
+    text = (CONFIGS / "case1_crossing.rprpr.yaml").read_text(encoding="utf-8")
     warn, fail = tmp_path / "warn.yaml", tmp_path / "fail.yaml"
     warn.write_text(text + "checks:\n  unbounded_torque: warn\n", encoding="utf-8")
     fail.write_text(text + "checks:\n  unbounded_torque: fail\n", encoding="utf-8")
@@ -268,7 +275,7 @@ def test_quiet_json_keeps_the_counts_of_every_task(tmp_path: Path) -> None:
 
 
 def test_quiet_github_drops_warnings_only() -> None:
-    p1 = str(CONFIGS / "paper_path1.yaml")  # RPR101 error + RPR201 accepted: a warning
+    p1 = str(CONFIGS / "paper_path1.rprpr.yaml")  # RPR101 error + RPR201 accepted: a warning
     _, out, _ = run_cli("check", "--format", "github", "--warn-unbounded", p1)
     assert [line.split(" ", 1)[0] for line in out.splitlines()] == ["::error", "::warning"]
     _, out, _ = run_cli("check", "-q", "--format", "github", "--warn-unbounded", p1)
@@ -278,7 +285,7 @@ def test_quiet_github_drops_warnings_only() -> None:
 # -- -o/--output-file ----------------------------------------------------------------------
 @pytest.mark.parametrize("fmt", ["text", "json", "junit", "github"])
 def test_output_file_holds_what_stdout_would(tmp_path: Path, fmt: str) -> None:
-    files = [str(CONFIGS / "paper_path1.yaml"), str(CONFIGS / "paper_path2.yaml")]
+    files = [str(CONFIGS / "paper_path1.rprpr.yaml"), str(CONFIGS / "paper_path2.rprpr.yaml")]
     code, out, err = run_cli("check", "--format", fmt, *FAST, *files)
     target = tmp_path / f"report.{fmt}"
     code2, out2, err2 = run_cli("check", "--format", fmt, "-o", str(target), *FAST, *files)
@@ -328,7 +335,7 @@ def varied(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("varied")
     counts = _bench().generate(folder, 48, seed=7)
     assert len(counts) >= 8  # many kinds of task
-    (folder / "zz_bad.yaml").write_text(BAD_A1, encoding="utf-8")
+    (folder / "zz_bad.rprpr.yaml").write_text(BAD_A1, encoding="utf-8")
     return folder
 
 
@@ -410,7 +417,7 @@ def test_text_report_colour_follows_the_environment(
 ) -> None:
     for k, v in env.items():
         monkeypatch.setenv(k, v)
-    code, out, _ = run_cli("check", *args, *FAST, str(CONFIGS / "paper_path1.yaml"))
+    code, out, _ = run_cli("check", *args, *FAST, str(CONFIGS / "paper_path1.rprpr.yaml"))
     assert code == 1
     assert (ANSI in out) is colored
     assert "verdict: FAIL" in re.sub(r"\x1b\[[0-9;]*m", "", out)
@@ -475,13 +482,13 @@ def test_progress_bar_goes_to_a_terminal_stderr_never_to_stdout(varied: Path) ->
     assert (code2, out2) == (code, out)  # stdout is the same with or without the bar
     assert b"checking" not in err2
     # a handful of tasks: no bar even on a terminal
-    small = ["check", *FAST, str(CONFIGS / "paper_path2.yaml")]
+    small = ["check", *FAST, str(CONFIGS / "paper_path2.rprpr.yaml")]
     _, _, err3 = _run_with_ptys(small, stdout_tty=False, stderr_tty=True, env=_env())
     assert err3 == b""
 
 
 def test_colour_on_a_terminal_stdout_and_no_colour_with_no_color() -> None:
-    args = ["check", *FAST, str(CONFIGS / "paper_path1.yaml")]
+    args = ["check", *FAST, str(CONFIGS / "paper_path1.rprpr.yaml")]
     code, out, _ = _run_with_ptys(args, stdout_tty=True, stderr_tty=False, env=_env())
     assert code == 1
     assert ANSI.encode() in out

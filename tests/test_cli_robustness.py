@@ -18,7 +18,7 @@ RPRPR = [sys.executable, "-m", "rprpr"]
 
 def test_output_file_that_is_a_task_is_refused_and_left_intact(tmp_path: Path) -> None:
     task = tmp_path / "plan.yaml"
-    shutil.copy(CONFIGS / "paper_path2.yaml", task)
+    shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", task)
     before = task.read_bytes()
     code, out, err = run_cli("check", "-o", str(task), str(tmp_path))
     assert code == 2 and out == ""
@@ -29,12 +29,14 @@ def test_output_file_that_is_a_task_is_refused_and_left_intact(tmp_path: Path) -
 
 
 def test_dash_is_standard_output(tmp_path: Path) -> None:
-    path2 = str(CONFIGS / "paper_path2.yaml")
+    path2 = str(CONFIGS / "paper_path2.rprpr.yaml")
     code, out, _ = run_cli("check", "--format", "json", "-o", "-", "--samples", "11", path2)
     assert code == 0 and out.startswith("{") and '"verdict": "pass"' in out
 
 
-@pytest.mark.parametrize(("config", "status"), [("paper_path2.yaml", 0), ("paper_path1.yaml", 1)])
+@pytest.mark.parametrize(
+    ("config", "status"), [("paper_path2.rprpr.yaml", 0), ("paper_path1.rprpr.yaml", 1)]
+)
 @pytest.mark.parametrize("fmt", ["text", "json"])
 def test_a_closed_pipe_keeps_the_verdicts_exit_status(config: str, status: int, fmt: str) -> None:
     cmd = [*RPRPR, "check", "--format", fmt, "--samples", "11", str(CONFIGS / config)]
@@ -56,7 +58,7 @@ def test_schema_into_a_closed_pipe_exits_0() -> None:
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 def test_a_full_disk_is_one_line_and_exit_2() -> None:
-    code, _, err = run_cli("check", "-o", "/dev/full", str(CONFIGS / "paper_path2.yaml"))
+    code, _, err = run_cli("check", "-o", "/dev/full", str(CONFIGS / "paper_path2.rprpr.yaml"))
     assert code == 2
     assert err.strip().splitlines()[0] == (
         "rprpr: cannot write the report to /dev/full: No space left on device"
@@ -67,7 +69,7 @@ def test_a_full_disk_is_one_line_and_exit_2() -> None:
 def test_control_characters_written_as_yaml_escapes_are_rejected(
     escape: str, tmp_path: Path
 ) -> None:
-    text = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text(encoding="utf-8")
     text = text.replace("name: Example 2 of the paper, path 2", f'name: "ok{escape} hidden"')
     task = tmp_path / "esc.yaml"
     task.write_text(text, encoding="utf-8")
@@ -91,7 +93,7 @@ def test_plot_and_export_name_the_task_in_an_internal_error(
 
     monkeypatch.setattr(rprpr.engine.audit, "audit", broken)
     monkeypatch.chdir(tmp_path)
-    task = str(CONFIGS / "paper_path2.yaml")
+    task = str(CONFIGS / "paper_path2.rprpr.yaml")
     code, _, err = run_cli(command, task)
     assert code == 3
     [line] = err.strip().splitlines()

@@ -29,12 +29,12 @@ HEAVY5 = """\
 
 @pytest.fixture(scope="module")
 def path1():  # type: ignore[no-untyped-def]
-    return audit(load_task(CONFIGS / "paper_path1.yaml"))
+    return audit(load_task(CONFIGS / "paper_path1.rprpr.yaml"))
 
 
 @pytest.fixture(scope="module")
 def path2():  # type: ignore[no-untyped-def]
-    return audit(load_task(CONFIGS / "paper_path2.yaml"))
+    return audit(load_task(CONFIGS / "paper_path2.rprpr.yaml"))
 
 
 def _f(q: fmpq) -> float:
@@ -184,7 +184,7 @@ def mechanical_energy(result, t):  # type: ignore[no-untyped-def]
     return e
 
 
-@pytest.mark.parametrize("config", ["paper_path1.yaml", "paper_path2.yaml"])
+@pytest.mark.parametrize("config", ["paper_path1.rprpr.yaml", "paper_path2.rprpr.yaml"])
 def test_power_balance_away_from_singular_instants(config):  # type: ignore[no-untyped-def]
     result = audit(load_task(CONFIGS / config), samples=11)
     t = np.concatenate([np.linspace(0.2, 2.3, 8), np.linspace(2.7, 4.8, 8)])
@@ -268,10 +268,10 @@ def test_path1_high_order_has_a_pole_of_order_two(path1):  # type: ignore[no-unt
 @pytest.mark.parametrize(
     ("config", "case", "order", "kind", "slope_ok", "speed_ok"),
     [
-        ("case1_crossing.yaml", 1, 1, "crossing", True, True),
-        ("case2_crossing.yaml", 2, 1, "crossing", True, True),
-        ("touch.yaml", 3, 2, "touch", False, True),
-        ("zero_speed_crossing.yaml", 3, 3, "crossing", True, False),
+        ("case1_crossing.rprpr.yaml", 1, 1, "crossing", True, True),
+        ("case2_crossing.rprpr.yaml", 2, 1, "crossing", True, True),
+        ("touch.rprpr.yaml", 3, 2, "touch", False, True),
+        ("zero_speed_crossing.rprpr.yaml", 3, 3, "crossing", True, False),
     ],
 )
 def test_shipped_configs(config, case, order, kind, slope_ok, speed_ok):  # type: ignore[no-untyped-def]
@@ -285,7 +285,7 @@ def test_shipped_configs(config, case, order, kind, slope_ok, speed_ok):  # type
 
 
 def test_theta_stays_continuous_through_the_cut_behind_A():  # type: ignore[no-untyped-def]
-    r = audit(load_task(CONFIGS / "case2_crossing.yaml"), samples=11)
+    r = audit(load_task(CONFIGS / "case2_crossing.rprpr.yaml"), samples=11)
     (s,) = r.singularities
     assert s.case.number == 2
     for res in (r, audit(r.task, samples=2001)):
@@ -373,7 +373,9 @@ def test_torque_limit_gates_only_in_strict_mode(write_task):  # type: ignore[no-
 
 
 def test_torque_limit_with_an_unbounded_instant_names_the_pole(write_task):  # type: ignore[no-untyped-def]
-    text = (CONFIGS / "paper_path1.yaml").read_text() + "checks:\n  torque_limit: [300, 300]\n"
+    text = (
+        CONFIGS / "paper_path1.rprpr.yaml"
+    ).read_text() + "checks:\n  torque_limit: [300, 300]\n"
     r = audit(load_task(write_task(text)))
     msgs = [f.message for f in r.findings if f.rule == "RPR202"]
     assert msgs == [
@@ -416,7 +418,8 @@ def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
 def test_check_path_never_imports_matplotlib():  # type: ignore[no-untyped-def]
     code = (
         "import sys\nfrom rprpr.cli.main import main\n"
-        f"try:\n    main(['check', '--format', 'json', {str(CONFIGS / 'paper_path2.yaml')!r}])\n"
+        "try:\n    main(['check', '--format', 'json', "
+        f"{str(CONFIGS / 'paper_path2.rprpr.yaml')!r}])\n"
         "except SystemExit:\n    pass\n"
         "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)"
     )
@@ -508,7 +511,7 @@ def test_readme_python_api_example_runs_as_written(monkeypatch):  # type: ignore
 def test_audit_scales_with_time_down_to_tiny_durations(write_task):  # type: ignore[no-untyped-def]
     """Without gravity the torques scale as 1/t_f^2 (time scaling of eq. 4); the series
     about t_s must stay within the double range even for t_f = 1e-30 s."""
-    base = (CONFIGS / "paper_path2.yaml").read_text().replace("gravity: 9.81", "gravity: 0")
+    base = (CONFIGS / "paper_path2.rprpr.yaml").read_text().replace("gravity: 9.81", "gravity: 0")
     ref = audit(load_task(write_task(base.replace("duration: 5 ", "duration: 1 "))), samples=11)
     for tf in ("1e-10", "1e-30"):
         r = audit(

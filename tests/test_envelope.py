@@ -27,8 +27,8 @@ def _abs_ref(task: Task, t: float, name: str) -> float:
 
 
 def test_paper_path2_peak_is_certified_and_grid_free() -> None:
-    task = _config("paper_path2.yaml")
-    peaks = _envelope("paper_path2.yaml").torque_peak()
+    task = _config("paper_path2.rprpr.yaml")
+    peaks = _envelope("paper_path2.rprpr.yaml").torque_peak()
     assert peaks is not None
     for name, p in zip(("T1", "T2"), peaks, strict=True):
         assert p.certified and p.value <= p.upper <= p.value * (1 + 1e-6)
@@ -43,8 +43,8 @@ def test_paper_path2_peak_is_certified_and_grid_free() -> None:
 
 
 def test_paper_path2_torque_limit_fails_whatever_the_grid() -> None:
-    task = _config("paper_path2.yaml")
-    t1, t2 = _envelope("paper_path2.yaml").limit_violations((66, 61))
+    task = _config("paper_path2.rprpr.yaml")
+    t1, t2 = _envelope("paper_path2.rprpr.yaml").limit_violations((66, 61))
     assert t1.passed is False and t2.passed is True and t2.windows == ()
     (w,) = t1.windows
     assert w.start_hi - w.start_lo <= 2 * t1.resolution and w.end_hi - w.end_lo <= 2 * t1.resolution
@@ -57,7 +57,7 @@ def test_paper_path2_torque_limit_fails_whatever_the_grid() -> None:
 
 
 def test_a_limit_touching_the_peak_terminates_undecided_or_failing() -> None:
-    env = _envelope("paper_path2.yaml")
+    env = _envelope("paper_path2.rprpr.yaml")
     peaks = env.torque_peak()
     assert peaks is not None
     t1, _ = env.limit_violations((peaks[0].value, 1000))
@@ -65,8 +65,8 @@ def test_a_limit_touching_the_peak_terminates_undecided_or_failing() -> None:
 
 
 def test_saturation_window_around_an_unbounded_instant() -> None:
-    task = _config("zero_speed_crossing.yaml")
-    env = _envelope("zero_speed_crossing.yaml")
+    task = _config("zero_speed_crossing.rprpr.yaml")
+    env = _envelope("zero_speed_crossing.rprpr.yaml")
     peaks = env.torque_peak()
     assert peaks is not None and math.isinf(peaks[0].value) and peaks[0].t == 1.0
     ((s, w1, w2),) = env.saturation_windows((300, 300))
@@ -88,7 +88,7 @@ def test_closest_approach_of_a_near_miss() -> None:
     ref = abs(float(reference(task, a.t_delta)["delta"]))
     assert a.delta_lo <= ref <= a.delta_hi * (1 + 1e-12)
     assert a.delta_hi - a.delta_lo <= 1e-6 * a.delta_hi
-    assert Envelope(_motion(_config("paper_path2.yaml"))).closest_approach() is None
+    assert Envelope(_motion(_config("paper_path2.rprpr.yaml"))).closest_approach() is None
 
 
 def test_through_a_and_b_the_peak_is_the_one_sided_limit() -> None:
@@ -162,7 +162,7 @@ def test_zone_form_encloses_the_reference_lambda(path: str, k: int) -> None:
 def test_lagrange_form_contains_the_limit_at_a_bounded_instant() -> None:
     from rprpr.engine.zones import taylor_lambda
 
-    task = _config("paper_path2.yaml")
+    task = _config("paper_path2.rprpr.yaml")
     motion = _motion(task)
     (s,) = motion.analysis.instants
     lam = taylor_lambda(motion, s, 2.5 - 1e-3, 2.5 + 1e-3)

@@ -3,7 +3,6 @@ one home each, and every command follows them."""
 
 from __future__ import annotations
 
-import dataclasses
 import inspect
 import subprocess
 import sys
@@ -129,9 +128,16 @@ def _params(command: str) -> dict[str, click.Parameter]:
     return {p.name: p for p in cmd.params if p.name}
 
 
-@pytest.mark.parametrize("command", ["check", "plot", "export"])
+@pytest.mark.parametrize("command", ["plot", "export"])
 def test_every_samples_option_defaults_to_the_one_default(command: str) -> None:
     assert _params(command)["samples"].default == DEFAULT_SAMPLES == 1001
+
+
+def test_check_samples_default_to_the_one_default_through_the_settings() -> None:
+    from rprpr.cli.config import KEYS
+
+    assert _params("check")["samples"].default is None  # not given: the configuration's
+    assert KEYS["samples"][1] == DEFAULT_SAMPLES
 
 
 def test_the_audit_defaults_to_the_same_sample_count() -> None:
@@ -143,12 +149,14 @@ def test_the_audit_defaults_to_the_same_sample_count() -> None:
 def test_check_options_default_to_the_command_lines_defaults() -> None:
     cmd = main_group.get_command(click.Context(main_group), "check")
     assert cmd is not None
-    given = cmd.make_context("check", ["task.yaml"]).params
+    from rprpr.cli.check import resolve
+
+    given = cmd.make_context("check", ["--isolated", "task.yaml"]).params
     del given["tasks"]
-    assert tuple(given.values()) == dataclasses.astuple(CheckOptions())
-    assert [f.name for f in dataclasses.fields(CheckOptions)] == [
-        "format" if name == "fmt" else name for name in given
-    ]
+    settings, options = resolve(given)
+    assert options == CheckOptions()
+    assert settings.file is None
+    assert set(settings.sources.values()) == {"default"}
 
 
 def test_check_options_are_one_frozen_value() -> None:

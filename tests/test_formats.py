@@ -28,9 +28,9 @@ from rprpr.report.run import Run
 
 from .conftest import BAD_A1, FAST, ROOT, run_cli
 
-P1 = "configs/paper_path1.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
-P2 = "configs/paper_path2.yaml"  # passes, no finding
-ZERO = "configs/zero_speed_crossing.yaml"  # fails RPR102 (velocity) and RPR201
+P1 = "configs/paper_path1.rprpr.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
+P2 = "configs/paper_path2.rprpr.yaml"  # passes, no finding
+ZERO = "configs/zero_speed_crossing.rprpr.yaml"  # fails RPR102 (velocity) and RPR201
 TRICKY = "50% done: a, b\r\nnext line"
 
 

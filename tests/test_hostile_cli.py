@@ -307,8 +307,8 @@ def test_an_unreadable_directory_is_that_entrys_error(
 ) -> None:
     top = tmp_path / "tasks"
     (top / "locked").mkdir(parents=True)
-    copy_as(top / "locked", "hidden.yaml")
-    ok = copy_as(top, "z.yaml")
+    copy_as(top / "locked", "hidden.rprpr.yaml")
+    ok = copy_as(top, "z.rprpr.yaml")
     locked = str(top / "locked")
     _unreadable(locked, monkeypatch)
     args = [locked, ok] if named else [str(top)]
@@ -327,13 +327,13 @@ def test_a_fifo_named_on_the_command_line_does_not_hang(tmp_path: Path) -> None:
 
 
 def test_a_symbolic_link_loop_in_a_task_directory_does_not_hang(tmp_path: Path) -> None:
-    copy_as(tmp_path, "t.yaml")
+    copy_as(tmp_path, "t.rprpr.yaml")
     (tmp_path / "loop").symlink_to(tmp_path)
-    (tmp_path / "self.yaml").symlink_to(tmp_path / "self.yaml")
+    (tmp_path / "self.rprpr.yaml").symlink_to(tmp_path / "self.rprpr.yaml")
     code, out, err = run_cli("check", "--format", "json", str(tmp_path))
     doc = json.loads(out)
-    assert [r["task"] for r in doc["reports"]] == [str(tmp_path / "t.yaml")]
-    assert code == 2 and "self.yaml" in err
+    assert [r["task"] for r in doc["reports"]] == [str(tmp_path / "t.rprpr.yaml")]
+    assert code == 2 and "self.rprpr.yaml" in err
 
 
 # -- 14. one file, several names: audited once, by its identity ------------------------------

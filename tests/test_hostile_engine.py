@@ -196,7 +196,7 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     slow = tmp_path / "slow.yaml"
-    source = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
+    source = (CONFIGS / "paper_path2.rprpr.yaml").read_text(encoding="utf-8")
     slow.write_text(source.replace("name: Example 2 of the paper, path 2", "name: slow"))
     real = auditing.audit
 
@@ -205,7 +205,11 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
 
     monkeypatch.setattr(auditing, "audit", audit_or_hang)
     start = time.monotonic()
-    files = [str(slow), str(CONFIGS / "paper_path1.yaml"), str(CONFIGS / "paper_path2.yaml")]
+    files = [
+        str(slow),
+        str(CONFIGS / "paper_path1.rprpr.yaml"),
+        str(CONFIGS / "paper_path2.rprpr.yaml"),
+    ]
     run = run_checks(files, CheckOptions(samples=101, budget=0.5))
     assert time.monotonic() - start < 5
     assert [kind for kind, _, _ in run.entries()] == ["budget", "report", "report"]
@@ -225,10 +229,10 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
 def test_with_two_workers_a_stopped_task_and_a_dead_worker_keep_the_task_order(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    source = (CONFIGS / "paper_path2.yaml").read_text(encoding="utf-8")
+    source = (CONFIGS / "paper_path2.rprpr.yaml").read_text(encoding="utf-8")
     files = []
     for name in ("slow", "fine", "dies", "fine2"):
-        p = tmp_path / f"{name}.yaml"
+        p = tmp_path / f"{name}.rprpr.yaml"
         p.write_text(source.replace("name: Example 2 of the paper, path 2", f"name: {name}"))
         files.append(str(p))
     real = auditing.audit
@@ -261,7 +265,7 @@ def test_budget_exceeded_is_reported_in_every_format_with_exit_4(
     # the real audit of path 1, whose torque envelope (the last stage but the findings)
     # never ends: the budget stops it there, whatever the exact analysis before it cost
     monkeypatch.setattr(auditing.Envelope, "torque_peak", _deaf_envelope)
-    path1, path2 = str(CONFIGS / "paper_path1.yaml"), str(CONFIGS / "paper_path2.yaml")
+    path1, path2 = str(CONFIGS / "paper_path1.rprpr.yaml"), str(CONFIGS / "paper_path2.rprpr.yaml")
     common = ["check", "--budget", "0.5", path1]
     message = "the exact analysis exceeded its budget of 0.5 s at the torque envelope"
     outputs = {}
@@ -442,7 +446,7 @@ def test_hostile_files_through_the_command_line_give_strict_json(
             ("x - 3", "  duration: 1e-30\n  x: (1e30)^11*t + 2\n"),
         ]
     ):
-        p = tmp_path / f"hostile{i}.yaml"
+        p = tmp_path / f"hostile{i}.rprpr.yaml"
         p.write_text(text(y, timing), encoding="utf-8")
         files.append(str(p))
     with pytest.raises(SystemExit) as e:

@@ -32,6 +32,7 @@ from rprpr.io.expression import MAX_DIGITS, MAX_EXP10, parse_polynomial
 from rprpr.io.loader import parse_task
 from rprpr.io.schema import TASK, Spec
 from rprpr.model.errors import ExpressionError, TaskFileError
+from rprpr.model.rules import RULES
 from rprpr.model.task import Task
 
 CONFIGS = sorted((Path(__file__).resolve().parent.parent / "configs").glob("*.yaml"))
@@ -45,6 +46,7 @@ FUZZ = settings(
 )
 
 # -- a task document with a slot at every key of the schema ------------------------------
+AUDIT_RULES = [r for r in RULES if r != "RPR001"]  # what checks.ignore and checks.warn name
 
 # The paper's path 1 (Example 1), every optional key given. Values are YAML text.
 BASE: dict[str, str] = {
@@ -69,6 +71,7 @@ BASE: dict[str, str] = {
     "checks.torque_limit[1]": "200",
     "checks.strict": "true",
     "checks.unbounded_torque": "warn",
+    **{f"checks.{level}.{r}": f"why {r}" for level in ("ignore", "warn") for r in AUDIT_RULES},
 }
 EXPLICIT_X = "2 + 2*t/5"  # x(0) = 2, x(5) = 4: the same ends as the law
 
@@ -124,6 +127,11 @@ def document(
     out += [f"  {k('checks.torque_limit')}: {pair('checks.torque_limit')}"]
     out += [f"  {k('checks.strict')}: {values['checks.strict']}"]
     out += [f"  {k('checks.unbounded_torque')}: {values['checks.unbounded_torque']}"]
+    for level in ("ignore", "warn"):
+        out.append("  " + m(f"checks.{level}"))
+        out += [
+            f"    {k(f'checks.{level}.{r}')}: {values[f'checks.{level}.{r}']}" for r in AUDIT_RULES
+        ]
     return "\n".join(out) + "\n"
 
 
@@ -421,7 +429,7 @@ _TOKENS = [
 ]
 
 
-PATH1 = CONFIGS[[c.name for c in CONFIGS].index("paper_path1.yaml")]
+PATH1 = CONFIGS[[c.name for c in CONFIGS].index("paper_path1.rprpr.yaml")]
 _PATH1 = PATH1.read_text(encoding="utf-8")
 
 

@@ -23,6 +23,7 @@ from rprpr.io import schema
 from rprpr.io.loader import parse_task
 from rprpr.io.schema import TASK, Spec
 from rprpr.model.errors import TaskFileError
+from rprpr.model.rules import RULES
 from rprpr.model.task import Checks, Robot, Task
 
 from .test_bad_input import GOOD  # the paper's path 2, without gravity or checks
@@ -32,6 +33,9 @@ FULL["robot"]["gravity"] = 1.62  # the Moon: not the default
 FULL["checks"] = {
     "min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True,
     "unbounded_torque": "warn",
+    # every rule a task can silence or demote, each with its reason (ignore wins over warn)
+    "ignore": {r: f"why {r} is silenced" for r in RULES if r != "RPR001"},
+    "warn": {r: f"why {r} is a warning" for r in RULES if r != "RPR001"},
 }  # fmt: skip
 FULL_X = copy.deepcopy(FULL)  # timing by x(t) instead of a law (x(0) = 2, x(5) = 4)
 FULL_X["timing"] = {"duration": 5, "x": "2 + 2*t/5"}
@@ -84,7 +88,7 @@ def _error(text: str) -> TaskFileError:
 
 
 def _line_of(text: str, fragment: str) -> int:
-    (line,) = [i for i, ln in enumerate(text.splitlines(), 1) if fragment in ln]
+    (line,) = [i for i, ln in enumerate(text.splitlines(), 1) if ln.strip().startswith(fragment)]
     return line
 
 
@@ -95,7 +99,10 @@ def _exact(v: fmpq) -> Fraction:
 def test_the_full_task_reads_every_value_given() -> None:
     task = parse_task(yaml.safe_dump(FULL, sort_keys=False), "full.yaml")
     assert task.robot.gravity == fmpq(162, 100)
-    assert task.checks == Checks(fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True, "warn")
+    ignored = {r: "ignore" for r in RULES if r != "RPR001"}
+    assert task.checks == Checks(
+        fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True, "warn", ignored
+    )
 
 
 def test_the_defaulted_keys_are_gravity_and_the_checks_margins() -> None:

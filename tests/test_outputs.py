@@ -156,7 +156,7 @@ def test_a_disk_that_fills_while_writing_is_exit_2_and_keeps_the_old_file(
         (["check", "--format", "text", PATH2_FILE], "report"),
         (["check", "--format", "json", PATH2_FILE], "report"),
         (["check", "--format", "junit", PATH2_FILE], "report"),
-        (["check", "--format", "github", str(CONFIGS / "paper_path1.yaml")], "report"),
+        (["check", "--format", "github", str(CONFIGS / "paper_path1.rprpr.yaml")], "report"),
         (["export", PATH2_FILE, "--format", "json"], "samples"),
         (["schema"], "schema"),
     ],

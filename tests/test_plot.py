@@ -24,8 +24,8 @@ from rprpr.render import sheet as P
 
 from .conftest import CONFIGS, task_text
 
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
 CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
@@ -519,7 +519,7 @@ def test_bad_task_file_exits_2_with_one_line(
 
 def test_at_most_eight_tasks_overlay(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     for i in range(9):
-        (tmp_path / f"t{i}.yaml").write_text(Path(PATH2).read_text())
+        (tmp_path / f"t{i}.rprpr.yaml").write_text(Path(PATH2).read_text())
     code, _, err = run(["plot", str(tmp_path), "-o", str(tmp_path / "s.png")], capsys)
     assert code == 2 and "at most 8" in err
 

@@ -30,8 +30,8 @@ from rprpr.report.run import REPORT, Run
 from .conftest import CONFIGS, run_cli, task_text
 from .reference import reference
 
-PATH2 = CONFIGS / "paper_path2.yaml"  # torque_limit: [300, 300]
-CASE1 = CONFIGS / "case1_crossing.yaml"  # inconsistent first-order crossing at t = 2 s
+PATH2 = CONFIGS / "paper_path2.rprpr.yaml"  # torque_limit: [300, 300]
+CASE1 = CONFIGS / "case1_crossing.rprpr.yaml"  # inconsistent first-order crossing at t = 2 s
 LINE = "timing:\n  duration: 2\n  x: 2 + t\n"
 # the Chebyshev polynomial T16(x - 3) scaled into y in [0.1, 0.3]: no singular instant,
 # but the torques swing 16 times; the envelope's work cap ends before its bound closes

@@ -28,7 +28,7 @@ def test_singular_instant_holds_only_what_the_paper_and_the_reports_need() -> No
 def test_resample_on_the_grid_reproduces_the_audit_bit_for_bit() -> None:
     # paper path 1: a third-order instant whose neighbours take λ from the Laurent series,
     # so the sampler's private record of the instant must reach ``resample``
-    r = audit(load_task(CONFIGS / "paper_path1.yaml"), samples=201)
+    r = audit(load_task(CONFIGS / "paper_path1.rprpr.yaml"), samples=201)
     (s,) = r.singularities
     assert s.order == 3
     again = r.resample(r.samples.t)

@@ -31,8 +31,8 @@ from rprpr.render import sheet as P
 from .conftest import CONFIGS, task_text
 from .reference import reference
 
-PATH1 = str(CONFIGS / "paper_path1.yaml")
-PATH2 = str(CONFIGS / "paper_path2.yaml")
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
 SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
 DPI = 50  # enough to measure text; the sheet's sizes are in inches and points

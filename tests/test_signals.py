@@ -152,7 +152,7 @@ def batch(folder: Path, n: int = 6) -> Path:
     tasks = folder / "tasks"
     tasks.mkdir()
     for i in range(n):
-        shutil.copy(CONFIGS / "paper_path2.yaml", tasks / f"t{i}.yaml")
+        shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", tasks / f"t{i}.rprpr.yaml")
     return tasks
 
 
@@ -218,7 +218,7 @@ def test_a_second_signal_stops_at_once_and_still_cleans_up(tmp_path: Path) -> No
     report = tmp_path / "report.json"
     report.write_text(PREVIOUS)
     r = Rprpr("stubborn", "check", "--format", "json", "-o", str(report),
-              str(CONFIGS / "paper_path2.yaml"), cwd=tmp_path)  # fmt: skip
+              str(CONFIGS / "paper_path2.rprpr.yaml"), cwd=tmp_path)  # fmt: skip
     r.wait_ready()
     os.kill(r.proc.pid, signal.SIGINT)
     r.wait_ready(2)  # it swallowed the first and goes on
@@ -244,7 +244,7 @@ def test_plot_and_export_stopped_while_writing_leave_no_temporary_file(
 ) -> None:
     previous = tmp_path / output
     previous.write_text(PREVIOUS)
-    args = [command, str(CONFIGS / "paper_path2.yaml"), "-o", output, "--samples", "51"]
+    args = [command, str(CONFIGS / "paper_path2.rprpr.yaml"), "-o", output, "--samples", "51"]
     r = Rprpr(mode, *args, cwd=tmp_path)
     r.wait_ready()
     [half] = temporaries(tmp_path)  # the half-written temporary file is there ...
@@ -261,7 +261,7 @@ def test_an_ignored_sigint_stays_ignored(tmp_path: Path) -> None:
     """A job started with SIGINT ignored (``nohup``, ``cmd &`` in a script) keeps it so:
     rprpr does not make itself interruptible where its caller chose otherwise."""
     r = subprocess.Popen(
-        [sys.executable, "-c", DRIVER, "slow", "check", str(CONFIGS / "paper_path2.yaml")],
+        [sys.executable, "-c", DRIVER, "slow", "check", str(CONFIGS / "paper_path2.rprpr.yaml")],
         stderr=subprocess.PIPE,
         stdout=subprocess.DEVNULL,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),

@@ -14,18 +14,11 @@ from typing import TYPE_CHECKING, Any, TextIO
 
 import click
 
+from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
-from . import workers
-from .options import (
-    CHECK_FORMATS,
-    DEFAULT_BUDGET,
-    CheckOptions,
-    color_option,
-    output_file_option,
-    samples_option,
-    tasks_argument,
-)
+from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show
+from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_option
 from .output import (
     Lossy,
     color_enabled,
@@ -37,10 +30,11 @@ from .output import (
     utf8,
     writing,
 )
-from .tasks import tasks_or_usage_error, unreadable_folder
+from .tasks import STDIN, read_task, tasks_or_usage_error
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
+    from . import workers
 
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
 
@@ -52,15 +46,16 @@ REPORTING = "the report"
 
 
 @click.command()
-@tasks_argument()
+@click.argument("tasks", nargs=-1, type=click.Path(readable=False))
 @click.option(
+    "--output-format",
     "--format",
     "fmt",
     type=click.Choice(CHECK_FORMATS),
-    default="text",
-    show_default=True,
-    help="Report format: text (rich), json, junit (JUnit XML) or github "
-    "(GitHub Actions annotations).",
+    default=None,
+    help="Report format: text (rich), json, junit (JUnit XML), github (GitHub Actions "
+    "annotations), sarif (SARIF 2.1.0, for code scanning) or gitlab (GitLab Code "
+    "Quality).  [default: text]",
 )
 @output_file_option("Write the report to this file instead of standard output.")
 @click.option(
@@ -75,16 +70,19 @@ REPORTING = "the report"
     help="Accept unbounded torques at singular instants (RPR201): a warning instead of a "
     "failure, for every task, whatever its checks.unbounded_torque says.",
 )
-@samples_option(
-    2, 1_000_000, "Grid size of the sampled motion; no verdict depends on it (grid-free)."
+@click.option(
+    "--samples",
+    type=click.IntRange(2, 1_000_000),
+    default=None,
+    help=f"Grid size of the sampled motion; no verdict depends on it (grid-free).  "
+    f"[default: {DEFAULT_SAMPLES}]",
 )
 @click.option(
     "-j",
     "--jobs",
     type=click.IntRange(0, 256),
-    default=1,
-    show_default=True,
-    help="Worker processes (0: one per CPU). The report is the same for any N.",
+    default=None,
+    help="Worker processes (0: one per CPU). The report is the same for any N.  [default: 1]",
 )
 @click.option(
     "-q",
@@ -100,42 +98,63 @@ REPORTING = "the report"
 @click.option(
     "--budget",
     type=click.FloatRange(0, 1e6),
-    default=DEFAULT_BUDGET,
-    show_default=True,
+    default=None,
     metavar="SECONDS",
     help="Work budget per task: a task still being audited after SECONDS is stopped and "
-    "reported (exit status 4); the others go on. 0: no limit.",
+    f"reported (exit status 4); the others go on. 0: no limit.  [default: {DEFAULT_BUDGET:g}]",
 )
 @color_option()
-def check(
-    tasks: tuple[str, ...], fmt: str, output_file: str | None, strict: bool | None,
-    warn_unbounded: bool, samples: int, jobs: int, quiet: bool, exit_zero: bool,
-    budget: float, color: str,
-) -> ExitCode:  # fmt: skip
+@click.option(
+    "--config",
+    type=click.Path(dir_okay=False, readable=False),
+    help="Read this configuration file (rprpr.toml, or a pyproject.toml's [tool.rprpr]) "
+    "instead of the one found from the working directory upward.",
+)
+@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option(
+    "--show-settings",
+    is_flag=True,
+    help="Print the resolved settings, and where each comes from, then exit.",
+)
+@click.option("--statistics", is_flag=True, help="Print the count of findings per rule.")
+@click.option(
+    "--force-exclude",
+    is_flag=True,
+    help="Apply include and exclude to the files named on the command line too (for "
+    "pre-commit and editors): a file that is not a task file is skipped.",
+)
+@click.option(
+    "--stdin-filename",
+    metavar="NAME",
+    help="The name of the task file read from standard input (TASK -) in the report.",
+)
+def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
     """Audit every Type II singular instant of each TASK (task files, or directories
-    searched recursively for *.yaml and *.yml).
+    searched recursively for task files: *.rprpr.yaml and *.rprpr.yml unless the
+    configuration's include says otherwise; - reads a task from standard input). With no
+    TASK, the configuration's paths (default: the working directory).
 
-    Exit status: 0 every task passed, 1 a task failed, 2 bad invocation or bad task
-    file, 3 internal error, 4 a task exceeded its work budget (the highest that
-    applies); 128 + N stopped by signal N."""
-    options = CheckOptions(
-        format=fmt,
-        output_file=None if output_file == "-" else output_file,  # "-": standard output
-        strict=strict or None,
-        warn_unbounded=warn_unbounded,
-        samples=samples,
-        jobs=jobs or _cpus(),
-        quiet=quiet,
-        exit_zero=exit_zero,
-        budget=budget or None,  # 0: no limit
-        color=color,
-    )
-    files = tasks_or_usage_error(tasks)
+    Exit status: 0 every task passed, 1 a task failed, 2 bad invocation, bad task file
+    or bad configuration, 3 internal error, 4 a task exceeded its work budget (the
+    highest that applies); 128 + N stopped by signal N."""
+    settings, options = resolve(params)
+    if params["show_settings"]:
+        for line in show(settings):
+            click.echo(line)
+        return ExitCode.PASSED
+    selection = settings.selection(force=params["force_exclude"])
+    files = tasks_or_usage_error(tasks or settings["paths"], selection)
+    if not files:  # every file named was left out (--force-exclude): nothing to do
+        return ExitCode.PASSED
+    if STDIN in files:
+        options = replace(options, stdin=_read_stdin())
     refuse_overwriting_inputs([options.output_file], files)
     with report_stream(options.output_file, "the report") as out:
-        show = want_progress(len(files), sys.stderr, quiet)
+        show_bar = want_progress(len(files), sys.stderr, options.quiet)
         progress = (
-            make_console(Lossy(sys.stderr), color_enabled(color, sys.stderr)) if show else None
+            make_console(Lossy(sys.stderr), color_enabled(options.color, sys.stderr))
+            if show_bar
+            else None
         )
         run = run_checks(files, options, progress)
         status = run_status(run, exit_zero=options.exit_zero)
@@ -145,6 +164,44 @@ def check(
     return status
 
 
+def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
+    """The settings of the run (the configuration under the options given) and the
+    options of ``check`` they make."""
+    given = {
+        "format": params["fmt"],
+        "strict": params["strict"] or None,
+        "samples": params["samples"],
+        "jobs": params["jobs"],
+        "budget": params["budget"],
+    }
+    settings = load_settings(params["config"], params["isolated"], given)
+    output_file = params["output_file"]
+    options = CheckOptions(
+        format=settings["format"],
+        output_file=None if output_file == "-" else output_file,  # "-": standard output
+        strict=params["strict"] or None,  # the command line's: over every task's own
+        warn_unbounded=params["warn_unbounded"],
+        samples=settings["samples"],
+        jobs=settings["jobs"] or _cpus(),
+        quiet=params["quiet"],
+        exit_zero=params["exit_zero"],
+        budget=settings["budget"] or None,  # 0: no limit
+        color=params["color"],
+        defaults=settings.task_defaults(),
+        statistics=params["statistics"],
+        stdin_filename=params["stdin_filename"] or STDIN,
+    )
+    return settings, options
+
+
+def _read_stdin() -> bytes:
+    """Standard input, whole (read here: the workers have none)."""
+    try:
+        return sys.stdin.buffer.read() if sys.stdin is not None else b""
+    except (OSError, ValueError, AttributeError):
+        return b""
+
+
 def check_one(
     path: str, options: CheckOptions, on_stage: Callable[[str], None] | None = None
 ) -> Outcome:
@@ -152,19 +209,23 @@ def check_one(
     (item: the report), "input" (a bad task file) or "internal" (a bug; the item names
     the file). ``on_stage`` is told each stage as it begins (LOADING is where it starts)."""
     from ..engine.audit import audit
-    from ..io.loader import load_task
     from ..report.records import input_error, internal_error, task_report
     from ..report.run import INPUT, INTERNAL, REPORT
 
     start = time.perf_counter()
+    if path == STDIN:
+        path = options.stdin_filename
+        name = STDIN
+    else:
+        name = path
     try:
-        task = load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
+        task = read_task(name, options.stdin, path)
+        # the configuration's defaults and levels; --warn-unbounded over the task's own
+        task = configure(task, options.defaults, options.warn_unbounded)
     except TaskFileError as e:
         return INPUT, input_error(e, path), time.perf_counter() - start
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start
-    if options.warn_unbounded:  # the command line wins over the task's own choice
-        task = replace(task, checks=replace(task.checks, unbounded_torque="warn"))
     try:
         result = audit(task, samples=options.samples, strict=options.strict, on_stage=on_stage)
         if on_stage is not None:
@@ -188,6 +249,7 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
     from ..report import records  # noqa: F401
     from ..report.run import Run
+    from . import workers
 
     run = Run()
     if not files:
@@ -207,6 +269,7 @@ def _outcomes(
     internal error (its worker died)."""
     from ..report.records import budget_error, internal_error
     from ..report.run import BUDGET, INTERNAL
+    from . import workers
 
     for path, result in results:
         if isinstance(result, workers.Done):
@@ -243,11 +306,16 @@ def want_progress(n_tasks: int, stream: Any, quiet: bool) -> bool:
 
 
 def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
-    """Render ``run`` on ``out`` in ``options.format``."""
-    if options.format == "text":
+    """Render ``run`` on ``out`` in ``options.format`` (``--statistics``: the counts per
+    rule, as JSON for ``json``, else as text)."""
+    if options.statistics:
+        from ..render.statistics import render as statistics
+
+        text = statistics(run, as_json=options.format == "json")
+    elif options.format == "text":
         _write_text(run, options, out)
         return
-    if options.format == "json":
+    elif options.format == "json":
         from ..render.json import render as json_report
 
         text = json_report(run, quiet=options.quiet)
@@ -257,6 +325,14 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
         text = junit(run)
         if not utf8(out):  # the document says UTF-8: keep it true on any stream
             text = text.encode("ascii", "xmlcharrefreplace").decode("ascii")
+    elif options.format == "sarif":
+        from ..render.sarif import render as sarif
+
+        text = sarif(run)
+    elif options.format == "gitlab":
+        from ..render.gitlab import render as gitlab
+
+        text = gitlab(run)
     else:
         from ..render.github import render as github
 

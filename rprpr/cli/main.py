@@ -22,7 +22,16 @@ import click
 from .._version import __version__
 from ..report.exit import OUT_OF_SPACE, Interrupted, error_status, returned_status
 
-COMMANDS = ("check", "export", "plot", "schema")  # each in the module of its name
+# each command in the module of its name, with the line ``rprpr --help`` lists it with (so
+# that the list imports none of them; tests/test_cli_conventions.py keeps the lines true)
+COMMANDS = {
+    "check": "Audit every Type II singular instant of each TASK",
+    "export": "Write the sampled motion of TASK",
+    "init": "Write a commented task file to start from",
+    "plot": "Draw the audit sheet of TASK",
+    "rule": "Explain the rule ID",
+    "schema": "Print the JSON Schema (draft 2020-12) of the task file",
+}
 
 
 class _LazyGroup(click.Group):
@@ -38,9 +47,14 @@ class _LazyGroup(click.Group):
         command: click.Command = getattr(importlib.import_module(f".{name}", __package__), name)
         return command
 
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """The list of commands, from ``COMMANDS`` (no command module imported)."""
+        with formatter.section("Commands"):
+            formatter.write_dl(sorted(COMMANDS.items()))
+
 
 @click.group(cls=_LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, prog_name="rprpr")
+@click.version_option(__version__, "-V", "--version", prog_name="rprpr")
 def main_group() -> None:
     """rprpr: audit planned motions of an RPRPR planar parallel robot for Type II and
     high-order singularities (exact), consistency and bounded torques."""

@@ -7,18 +7,18 @@ down, to the workers and the renderers, instead of one parameter per option.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
 import click
 
 from ..model.defaults import DEFAULT_SAMPLES
+from .config import DEFAULT_BUDGET, FORMATS, TaskDefaults
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-CHECK_FORMATS = ("text", "json", "junit", "github")
-DEFAULT_BUDGET = 10.0  # seconds of work per task (``check --budget``); 0 on the command line: none
+CHECK_FORMATS = FORMATS
 COLORS = ("auto", "always", "never")
 
 
@@ -30,7 +30,10 @@ class CheckOptions:
     ``checks.strict``; ``warn_unbounded`` accepts unbounded torques (RPR201 a warning)
     in every task, False leaves each task's ``checks.unbounded_torque``; ``jobs`` is
     the number of worker processes; ``budget`` the wall-clock seconds each task may
-    take before it is stopped (None: no limit).
+    take before it is stopped (None: no limit). ``defaults``: what the repository's
+    configuration sets in every task (``config.configure``); ``statistics``: counts per
+    rule instead of the report; ``stdin``: the bytes of the task file ``-``, named
+    ``stdin_filename`` in the report.
     """
 
     format: str = "text"
@@ -43,6 +46,10 @@ class CheckOptions:
     exit_zero: bool = False
     budget: float | None = DEFAULT_BUDGET
     color: str = "auto"
+    defaults: TaskDefaults = field(default_factory=TaskDefaults)
+    statistics: bool = False
+    stdin: bytes | None = None
+    stdin_filename: str = "-"
 
 
 def tasks_argument(name: str = "tasks") -> Callable[[F], F]:

@@ -17,7 +17,6 @@ import io
 import os
 import stat
 import sys
-import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from typing import Any, TextIO
@@ -151,6 +150,8 @@ class AtomicFile:
         if self.in_place:
             return self.target
         folder, name = os.path.split(self.target)
+        import tempfile  # only when an output file is written (--version stays light)
+
         fd, tmp = tempfile.mkstemp(dir=folder or ".", prefix=f".{name}.", suffix=".tmp")
         os.close(fd)
         self.temporary = tmp

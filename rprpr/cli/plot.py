@@ -89,7 +89,7 @@ def plot(
         raise click.UsageError(
             f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
         )
-    default = f"{Path(files[0]).stem}.png"  # in the working directory
+    default = f"{Path(files[0]).stem.removesuffix('.rprpr')}.png"  # in the working directory
     refuse_overwriting_inputs([output_file or default, animate_file], files)
     motions = _motions(files, samples)
     if show:

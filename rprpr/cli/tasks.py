@@ -17,24 +17,33 @@ import click
 
 from ..model.errors import TaskFileError
 from ..report.exit import InputError, InternalError
+from .config import FileSelection
 
 if TYPE_CHECKING:
     from ..model.task import Task
 
-TASK_SUFFIXES = (".yaml", ".yml")
+STDIN = "-"  # the task file read from standard input
 
 
-def collect_tasks(paths: Sequence[str]) -> list[str]:
-    """The task files to check, in order: each file as given; each directory searched
-    recursively for *.yaml and *.yml, sorted by path, skipping hidden files and
-    directories (.git, .venv, .github, .pre-commit-config.yaml ...); a directory that
-    cannot be read is kept as it is (``unreadable_folder`` tells why, for that entry
-    alone). A file is checked once, at its first place, however many names it has: two
-    paths are the same file when they have the same identity (device and inode, after
-    symbolic links: ``t.yaml``, ``./t.yaml``, a link to it, a hard link)."""
+def collect_tasks(paths: Sequence[str], selection: FileSelection | None = None) -> list[str]:
+    """The task files to check, in order: each file as given (with ``selection.force``,
+    only if the selection takes it); each directory searched recursively for the files
+    the selection includes (by default ``*.rprpr.yaml`` and ``*.rprpr.yml``), sorted by
+    path, skipping what it excludes (hidden files and directories: .git, .venv, .github
+    ...); a directory that cannot be read is kept as it is (``unreadable_folder`` tells
+    why, for that entry alone). A file is checked once, at its first place, however many
+    names it has: two paths are the same file when they have the same identity (device
+    and inode, after symbolic links: ``t.yaml``, ``./t.yaml``, a link to it, a hard
+    link). ``-`` is standard input."""
+    select = selection or FileSelection()
     out: list[str] = []
     for p in paths:
-        out.extend(_tasks_in(p) if os.path.isdir(p) else [p])
+        if p == STDIN:
+            out.append(p)
+        elif os.path.isdir(p):
+            out.extend(_tasks_in(p, select))
+        elif not select.force or (select.included(p) and not _excluded_on_the_way(p, select)):
+            out.append(p)
     seen: set[object] = set()
     unique = []
     for f in out:
@@ -59,9 +68,23 @@ def _identity_or_name(path: str) -> object:
         return os.path.normcase(os.path.normpath(path))
 
 
-def _tasks_in(folder: str) -> list[str]:
-    """The *.yaml and *.yml files under ``folder``, sorted by path, hidden ones skipped;
-    a directory that cannot be listed is returned in its place (see ``collect_tasks``)."""
+def _excluded_on_the_way(path: str, select: FileSelection) -> bool:
+    """Whether the file ``path`` or a folder it lies in (below the project root) is
+    excluded."""
+    try:
+        rel = os.path.relpath(os.path.abspath(path), os.path.abspath(select.root))
+    except (OSError, ValueError):
+        rel = os.pardir
+    if rel.startswith(os.pardir):  # outside the project: the file alone
+        return select.excluded(path)
+    parts = PurePath(rel).parts
+    root = select.root
+    return any(select.excluded(os.path.join(root, *parts[: i + 1])) for i in range(len(parts)))
+
+
+def _tasks_in(folder: str, select: FileSelection) -> list[str]:
+    """The task files under ``folder`` (``select``), sorted by path; a directory that
+    cannot be listed is returned in its place (see ``collect_tasks``)."""
     found: list[tuple[tuple[str, ...], str]] = []
 
     def unreadable(error: OSError) -> None:
@@ -70,10 +93,10 @@ def _tasks_in(folder: str) -> list[str]:
             found.append((_parts(where, folder), where))
 
     for top, dirs, files in os.walk(folder, onerror=unreadable):
-        dirs[:] = [d for d in dirs if not d.startswith(".")]
+        dirs[:] = [d for d in dirs if not select.excluded(os.path.join(top, d))]
         for f in files:
-            if f.endswith(TASK_SUFFIXES) and not f.startswith("."):
-                full = os.path.join(top, f)
+            full = os.path.join(top, f)
+            if select.included(full) and not select.excluded(full):
                 found.append((_parts(full, folder), full))
     return [full for _, full in sorted(found)]
 
@@ -97,21 +120,41 @@ def unreadable_folder(path: str) -> Task:
     raise TaskFileError("is a directory, expected a task file (YAML)", file=path)
 
 
-def tasks_or_usage_error(paths: Sequence[str]) -> list[str]:
-    """``collect_tasks(paths)``; a usage error when it finds none."""
-    files = collect_tasks(paths)
-    if not files:
-        raise click.UsageError(f"no task files (*.yaml, *.yml) found in {', '.join(paths)}")
+def tasks_or_usage_error(paths: Sequence[str], selection: FileSelection | None = None) -> list[str]:
+    """``collect_tasks(paths, selection)``; a usage error when it finds none (but for
+    files that ``selection.force`` left out: then none is nothing to do)."""
+    select = selection or FileSelection()
+    files = collect_tasks(paths, select)
+    if not files and not (select.force and not any(os.path.isdir(p) for p in paths)):
+        globs = ", ".join(select.include)
+        raise click.UsageError(f"no task files ({globs}) found in {', '.join(paths)}")
     return files
 
 
-def load(path: str) -> Task:
-    """The task in the file ``path``; a bad task file is an ``InputError`` (its message
-    names the file, line, column and key)."""
-    from ..io.loader import load_task
+def read_task(path: str, stdin: bytes | None = None, name: str = STDIN) -> Task:
+    """The task in the file ``path`` (``-``: ``stdin``, the bytes of standard input, named
+    ``name`` in errors); raises ``TaskFileError``."""
+    from ..io.loader import load_task, parse_task
+
+    if path == STDIN:
+        return parse_task(stdin if stdin is not None else _stdin_bytes(), name)
+    return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
+
+
+def _stdin_bytes() -> bytes:
+    import sys
 
     try:
-        return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
+        return sys.stdin.buffer.read() if sys.stdin is not None else b""
+    except (OSError, ValueError, AttributeError):
+        return b""
+
+
+def load(path: str) -> Task:
+    """The task in the file ``path`` (``-``: standard input); a bad task file is an
+    ``InputError`` (its message names the file, line, column and key)."""
+    try:
+        return read_task(path)
     except TaskFileError as e:
         raise InputError(str(e)) from None
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.numbers import to_float
-from ..model.rules import Finding
+from ..model.rules import Finding, with_levels
 from ..model.task import Task
 from .certified import CertifiedMotion
 from .envelope import Approach, Envelope, LimitCheck, Peak, Window
@@ -135,7 +135,7 @@ def audit(
         saturation = envelope.saturation_windows(pair)
     approach = envelope.closest_approach()
     tell(FINDINGS)
-    found = findings(task, analysis, peak, checked)
+    found = with_levels(findings(task, analysis, peak, checked), task.checks.rules)
     return AuditResult(
         task=task,
         strict=strict,

@@ -293,6 +293,12 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
             torque_limit=v.get("checks.torque_limit"),
             strict=v["checks.strict"],
             unbounded_torque=v["checks.unbounded_torque"],
+            rules={
+                k.rsplit(".", 1)[1]: level
+                for level in ("warn", "ignore")  # both: ignore wins
+                for k in v
+                if k.startswith(f"checks.{level}.")
+            },
         ),
         law=law,
         lines=dict(w.lines),

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
 UNBOUNDED_TORQUE = ("fail", "warn")  # checks.unbounded_torque
@@ -48,6 +49,19 @@ def _num(
     default: Any = None,
 ) -> Spec:
     return Spec("number", description, required, default, minimum, exclusive)
+
+
+def _reasons(description: str) -> Spec:
+    """``checks.ignore`` / ``checks.warn``: rule id -> the reason, as text (required)."""
+    return Spec(
+        "mapping",
+        description,
+        children={
+            r.id: Spec("string", f"Why {r.id} ({r.name}) is accepted here.")
+            for r in RULES.values()
+            if r.id != INVALID_TASK
+        },
+    )
 
 
 def _link(i: int, r_means: str) -> Spec:
@@ -150,6 +164,8 @@ TASK = Spec(
                     default="fail",
                     choices=UNBOUNDED_TORQUE,
                 ),
+                "ignore": _reasons("Rules silenced for this task (no finding), each with why."),
+                "warn": _reasons("Rules downgraded to warnings for this task, each with why."),
             },
         ),
     },

@@ -6,21 +6,38 @@ warning otherwise. ``key`` is the task-file key a finding points back to. A gati
 the user chose to accept (RPR201 under ``checks.unbounded_torque: warn`` or
 ``--warn-unbounded``) is ``downgraded``: it then fails only in strict mode, like a strict
 rule's.
+
+Each rule's *level* can be set per repository (``[tool.rprpr]``: ``select``, ``ignore``,
+``warn``, ``error``) and per task (``checks.ignore``, ``checks.warn``): ``ignore`` drops
+its findings, ``warn`` downgrades them, ``error`` promotes them (they fail in every mode).
+``levels`` resolves rule selectors (``RPR2`` names RPR201 and RPR202) into one level per
+rule, ``with_levels`` applies them to findings.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+INVALID_TASK = "RPR001"  # a task file that cannot be read: never audited, never silenced
+LEVELS = ("error", "warn", "ignore")
+ALL = "ALL"  # the selector of every rule
 
 
 @dataclass(frozen=True)
 class Rule:
+    """A rule: its id and name, whether it gates only in strict mode, the task-file key a
+    finding points at; what it checks (``meaning``), the paper's equation it rests on,
+    why it matters and how to fix it (``rprpr rule ID`` prints them all)."""
+
     id: str
     name: str
     strict_only: bool
     key: str
     meaning: str
     fix: str
+    equation: str = ""
+    why: str = ""
 
     @property
     def title(self) -> str:
@@ -34,28 +51,45 @@ RULES: dict[str, Rule] = {
             "RPR001", "invalid-task", False, "",
             "The task file could not be read or validated.",
             "Correct the key the message names; `rprpr schema` prints what is allowed.",
+            "",
+            "A task that cannot be read is never audited: no verdict can be trusted.",
         ),
         Rule(
             "RPR101", "slope-principle", False, "path.y",
             "At a Type II singular point the path is horizontal (dy/dx = 0, eq. 48) or its "
             "slope does not exceed checks.min_slope: the singularity is of high order.",
             "Reshape path.y so that it crosses y = 0 with a nonzero slope (paper, Section 3).",
+            "eq. (48): dy_E/dx_E = 0 at δ = 0 (eq. 29) makes the singularity of high order "
+            "(eq. 46)",
+            "A high-order singularity needs more conditions than the consistency of eq. (34) "
+            "to be passed with bounded torques; with a nonzero slope, consistency alone "
+            "suffices (the paper's path design principle).",
         ),
         Rule(
             "RPR102", "velocity-principle", False, "timing",
             "At a Type II singular instant the end point is at rest (eq. 47) or slower than "
             "checks.min_speed: the singularity is of high order.",
             "Change the timing law so that the end point moves through the singular point.",
+            "eq. (47): the end-point velocity is zero at δ = 0 (eq. 29), which makes the "
+            "singularity of high order (eq. 46)",
+            "An end point at rest on the singular line turns a first-order singularity into "
+            "a high-order one; keeping it moving is the paper's trajectory design principle.",
         ),
         Rule(
             "RPR103", "kinematic-singularity", False, "path.y",
             "The end point reaches A or B (s1 = 0 or s2 = 0): the inverse kinematics fail.",
             "Keep the path away from the base joints A = (0, 0) and B = (a1, 0).",
+            "s1 = |AE| = 0 or s2 = |BE| = 0: the joint angles θ1, θ2 are undefined",
+            "The inverse kinematics have no solution there: no joint motion follows the "
+            "path, whatever the torques.",
         ),
         Rule(
             "RPR104", "path-on-singular-line", False, "path.y",
             "The path lies on the line AB (y = 0): the robot is singular all along the motion.",
             "Move the path off the x-axis; cross it only at isolated points.",
+            "eq. (29): δ = sin(θ1 - θ2) ≡ 0 when y_E ≡ 0",
+            "The robot stays in a Type II singular configuration (Table 1): the actuated "
+            "joints cannot control the end point anywhere along the motion.",
         ),
         Rule(
             "RPR201", "unbounded-torque", False, "robot.links",
@@ -65,11 +99,18 @@ RULES: dict[str, Rule] = {
             "Change the mass distribution or the timing so that eq. (34) and the conditions "
             "on the derivatives of μ1, μ2 hold at t_s, or avoid the singularity; to accept "
             "it, checks.unbounded_torque: warn or --warn-unbounded.",
+            "eqs. (30)-(36): λ = μ/δ stays finite at δ = 0 only if μ1 = μ2 = 0 there "
+            "(eq. 35), i.e. the consistency condition eq. (34) holds, plus the higher "
+            "conditions of a high-order singularity",
+            "Unbounded torques saturate the actuators: the robot becomes uncontrollable at "
+            "the singular instant (the paper's Introduction).",
         ),
         Rule(
             "RPR202", "torque-limit", True, "checks.torque_limit",
             "A required actuator torque exceeds checks.torque_limit.",
             "Slow the motion down (timing.duration) or raise the limit if the drives allow.",
+            "eq. (28): the torques T1, T2 of the inverse dynamics, certified over [0, t_f]",
+            "A drive asked for more than it can give saturates: the motion is not followed.",
         ),
     )
 }  # fmt: skip
@@ -86,6 +127,7 @@ class Finding:
     message: str
     t: float | None = None
     downgraded: bool = False  # accepted by the user: fails only in strict mode
+    promoted: bool = False  # made an error by the user: fails in every mode
 
     @property
     def key(self) -> str:
@@ -93,8 +135,85 @@ class Finding:
 
     @property
     def strict_only(self) -> bool:
-        """The finding fails its task only in strict mode (its rule's, or downgraded)."""
-        return RULES[self.rule].strict_only or self.downgraded
+        """The finding fails its task only in strict mode (its rule's, or downgraded),
+        unless promoted."""
+        return not self.promoted and (RULES[self.rule].strict_only or self.downgraded)
 
     def fails(self, strict: bool) -> bool:
         return strict or not self.strict_only
+
+
+def with_levels(findings: Iterable[Finding], levels: Mapping[str, str]) -> list[Finding]:
+    """``findings`` at the levels chosen for their rules (``levels``: rule id -> "error",
+    "warn" or "ignore"; a rule not named keeps its own level): an ignored rule's findings
+    are dropped, a warned one's downgraded, an error's promoted."""
+    out = []
+    for f in findings:
+        level = levels.get(f.rule)
+        if level == "ignore":
+            continue
+        if level is not None:
+            f = replace(f, downgraded=level == "warn", promoted=level == "error")
+        out.append(f)
+    return out
+
+
+class SelectorError(ValueError):
+    """A rule selector that names no rule, or a rule given two levels at once."""
+
+
+def selected(selector: str) -> list[str]:
+    """The audit rules a selector names: ``ALL``, a rule id (``RPR201``) or the start of
+    ids (``RPR2``: RPR201 and RPR202); RPR001 is never among them. A selector that names
+    no rule is a ``SelectorError`` (with the closest id, when one is close)."""
+    audit_rules = [r for r in RULES if r != INVALID_TASK]
+    if selector == ALL:
+        return audit_rules
+    if selector == INVALID_TASK:
+        raise SelectorError(
+            f"{INVALID_TASK} ({RULES[INVALID_TASK].name}) cannot be selected, ignored or"
+            " demoted: a task file that cannot be read is never audited"
+        )
+    found = [r for r in audit_rules if r.startswith(selector)]
+    if not found or not selector.startswith("RPR"):
+        import difflib
+
+        near = difflib.get_close_matches(selector.upper(), audit_rules, n=1, cutoff=0.6)
+        hint = f" (did you mean {near[0]}?)" if near else ""
+        raise SelectorError(f"unknown rule {selector!r}{hint}; `rprpr rule` lists the rules")
+    return found
+
+
+def levels(
+    select: Sequence[str] = (ALL,),
+    ignore: Sequence[str] = (),
+    warn: Sequence[str] = (),
+    error: Sequence[str] = (),
+) -> dict[str, str]:
+    """The level of each rule that the selectors change (rule id -> "error", "warn" or
+    "ignore"), as ruff resolves them: a rule not selected is ignored; between selectors
+    naming the same rule the most specific (longest) wins; ``ignore`` wins a tie with
+    ``select``; ``warn`` and ``error`` naming a rule equally specifically is a
+    ``SelectorError``."""
+    spec: dict[str, dict[str, int]] = {}
+    for kind, selectors in (("select", select), ("ignore", ignore), ("warn", warn),
+                            ("error", error)):  # fmt: skip
+        for sel in selectors:
+            weight = 0 if sel == ALL else len(sel)
+            for r in selected(sel):
+                best = spec.setdefault(r, {})
+                best[kind] = max(best.get(kind, -1), weight)
+    out: dict[str, str] = {}
+    for r in RULES:
+        if r == INVALID_TASK:
+            continue
+        s = spec.get(r, {})
+        if s.get("select", -1) < 0 or s.get("ignore", -1) >= s["select"]:
+            out[r] = "ignore"
+            continue
+        w, e = s.get("warn", -1), s.get("error", -1)
+        if w == e >= 0:
+            raise SelectorError(f"{r} is both in warn and in error: name it in one")
+        if max(w, e) >= 0:
+            out[r] = "warn" if w > e else "error"
+    return out

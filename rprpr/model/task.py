@@ -41,13 +41,17 @@ class Checks:
     instant; torque_limit = (|T1| max, |T2| max) in N m or None; strict gates also on
     the torque limit (and on every finding); unbounded_torque "fail" (unbounded torques
     at a singular instant fail the task) or "warn" (accepted: a warning, failing only in
-    strict mode)."""
+    strict mode); ``rules``: the level chosen for a rule (rule id -> "error", "warn" or
+    "ignore", ``rules.with_levels``), from the task's ``checks.ignore`` and
+    ``checks.warn`` (each with the reason the file gives) and the repository's
+    configuration."""
 
     min_slope: fmpq
     min_speed: fmpq
     torque_limit: tuple[fmpq, fmpq] | None
     strict: bool
     unbounded_torque: str
+    rules: dict[str, str]
 
 
 @dataclass(frozen=True)

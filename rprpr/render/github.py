@@ -1,6 +1,6 @@
 """``rprpr check --format github``: GitHub Actions workflow commands, one line per finding.
 
-    ::error file=configs/paper_path1.yaml,line=19,title=RPR101 slope-principle::t = 2.5 s, ...
+    ::error file=configs/paper_path1.rprpr.yaml,line=19,title=RPR101 slope-principle::t = 2.5 s, ...
 
 A finding that fails the task is an ``::error`` (unbounded torques, RPR201, among them);
 a strict-mode-only finding (RPR202, or RPR201 accepted with ``checks.unbounded_torque:

@@ -2,8 +2,8 @@
 
 One ``testsuite`` per run (inside a ``testsuites`` root), one ``testcase`` per task::
 
-    <testcase classname="configs/paper_path1.yaml" name="Example 1 of the paper, path 1"
-              file="configs/paper_path1.yaml" time="0.004">
+    <testcase classname="configs/paper_path1.rprpr.yaml" name="Example 1 of the paper, path 1"
+              file="configs/paper_path1.rprpr.yaml" time="0.004">
       <failure type="RPR101" message="RPR101 slope-principle: t = 2.5 s, ...">...</failure>
       <system-out>...</system-out>
     </testcase>

@@ -47,6 +47,8 @@ VARIANTS = (
     Variant("json", ("--format", "json"), suffix="json"),
     Variant("junit", ("--format", "junit"), suffix="xml"),
     Variant("github", ("--format", "github")),
+    Variant("sarif", ("--format", "sarif"), suffix="json"),
+    Variant("gitlab", ("--format", "gitlab"), suffix="json"),
 )
 
 
@@ -61,12 +63,12 @@ class Case:
 
 
 CASES = (
-    *(Case(p.stem, (f"configs/{p.name}",)) for p in sorted(CONFIGS.glob("*.yaml"))),
+    *(Case(p.name.split(".")[0], (f"configs/{p.name}",)) for p in sorted(CONFIGS.glob("*.yaml"))),
     Case("configs_directory", ("configs",)),
     Case(
         "bad_tasks",
         (
-            "configs/paper_path2.yaml",
+            "configs/paper_path2.rprpr.yaml",
             "tests/bad_tasks/a1_negative.yaml",
             "tests/bad_tasks/syntax_unclosed_flow.yaml",
         ),

@@ -1,0 +1,388 @@
+"""The repository's configuration of ``rprpr check``: ``[tool.rprpr]`` in ``pyproject.toml``,
+or the top level of ``rprpr.toml`` / ``.rprpr.toml``, found as ruff finds its own.
+
+Discovery: from the working directory upward, the first directory holding ``.rprpr.toml``,
+``rprpr.toml`` or a ``pyproject.toml`` with a ``[tool.rprpr]`` table (in that order) is
+the project's root and its file the configuration; ``--config FILE`` names one instead,
+``--isolated`` uses none. Paths and globs in it are relative to the root.
+
+Every value has one source: the built-in default, the configuration file, or the command
+line (which wins); ``Settings.sources`` records which, ``--show-settings`` prints it. The
+task-file defaults (``torque_limit``, ``min_slope``, ``min_speed``, ``strict``) yield to a
+task's own ``checks:``; the rule levels (``select``, ``ignore``, ``warn``, ``error``) to
+a task's ``checks.ignore`` / ``checks.warn`` (``configure``).
+
+Plain Python (tomllib, fractions): reading the configuration imports neither numpy nor the
+engine.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..model.defaults import DEFAULT_SAMPLES
+from ..model.rules import ALL, RULES, SelectorError, levels
+from ..report.exit import InputError
+
+if TYPE_CHECKING:  # the rest is imported when a configuration is read: --help stays light
+    from fractions import Fraction
+
+    from ..model.task import Task
+
+CONFIG_FILES = (".rprpr.toml", "rprpr.toml", "pyproject.toml")  # looked for in this order
+TASK_GLOBS = ("*.rprpr.yaml", "*.rprpr.yml")  # what a task file is called, by default
+# never searched (as ruff): besides these, every hidden file and directory (.git, .venv ...)
+ALWAYS_EXCLUDED = ("build", "dist", "node_modules", "site-packages", "venv", "__pypackages__")
+FORMATS = ("text", "json", "junit", "github", "sarif", "gitlab")
+DEFAULT_BUDGET = 10.0  # seconds of work per task
+DEFAULT = "default"
+COMMAND_LINE = "command line"
+
+# key -> (kind, built-in default); the order is that of --show-settings
+KEYS: dict[str, tuple[str, Any]] = {
+    "paths": ("paths", (".",)),
+    "include": ("globs", TASK_GLOBS),
+    "exclude": ("globs", ()),
+    "select": ("rules", (ALL,)),
+    "ignore": ("rules", ()),
+    "warn": ("rules", ()),
+    "error": ("rules", ()),
+    "strict": ("bool", None),
+    "torque_limit": ("limits", None),
+    "min_slope": ("margin", None),
+    "min_speed": ("margin", None),
+    "samples": ("samples", DEFAULT_SAMPLES),
+    "jobs": ("jobs", 1),
+    "budget": ("budget", DEFAULT_BUDGET),
+    "format": ("format", "text"),
+}
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The resolved configuration: each key's value (``values``), where it came from
+    (``sources``: "default", the configuration file, or "command line"), the project
+    root (paths and globs are relative to it) and the configuration file (None: none)."""
+
+    values: dict[str, Any]
+    sources: dict[str, str]
+    root: str
+    file: str | None = None
+
+    def __getitem__(self, key: str) -> Any:
+        return self.values[key]
+
+    @property
+    def rule_levels(self) -> dict[str, str]:
+        """The level the configuration gives each rule it changes (``rules.levels``)."""
+        return levels(self["select"], self["ignore"], self["warn"], self["error"])
+
+    def task_defaults(self) -> TaskDefaults:
+        return TaskDefaults(
+            min_slope=self["min_slope"],
+            min_speed=self["min_speed"],
+            torque_limit=self["torque_limit"],
+            strict=self["strict"],
+            rules=self.rule_levels,
+        )
+
+    def selection(self, force: bool = False) -> FileSelection:
+        return FileSelection(tuple(self["include"]), tuple(self["exclude"]), self.root, force)
+
+
+@dataclass(frozen=True)
+class TaskDefaults:
+    """What the configuration sets in every task: each value None leaves the task's own;
+    a task's ``checks:`` key wins over the configuration's."""
+
+    min_slope: Fraction | None = None
+    min_speed: Fraction | None = None
+    torque_limit: tuple[Fraction, Fraction] | None = None
+    strict: bool | None = None
+    rules: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class FileSelection:
+    """Which files are tasks: a file named in ``include`` and not in ``exclude`` (globs:
+    without a ``/`` a file or folder name, with one a path relative to ``root``); hidden
+    files and folders and ``ALWAYS_EXCLUDED`` never. ``force``: files named on the command
+    line are selected too (else a file named is always checked)."""
+
+    include: tuple[str, ...] = TASK_GLOBS
+    exclude: tuple[str, ...] = ()
+    root: str = "."
+    force: bool = False
+
+    def excluded(self, path: str) -> bool:
+        """Whether ``path`` (a file or folder) is excluded: hidden, built-in or configured."""
+        name = os.path.basename(os.path.normpath(path))
+        if name.startswith(".") and name not in (".", ".."):
+            return True
+        if name in ALWAYS_EXCLUDED:
+            return True
+        return _matches(self._relative(path), name, self.exclude)
+
+    def included(self, path: str) -> bool:
+        """Whether the file ``path`` is a task file by name (``include``)."""
+        return _matches(self._relative(path), os.path.basename(path), self.include)
+
+    def _relative(self, path: str) -> str:
+        try:
+            rel = os.path.relpath(os.path.abspath(path), os.path.abspath(self.root))
+        except (OSError, ValueError):  # no working directory, another drive
+            rel = path
+        return Path(rel).as_posix()
+
+
+def _matches(rel: str, name: str, globs: Sequence[str]) -> bool:
+    import fnmatch
+
+    for g in globs:
+        g = g.rstrip("/")
+        if "/" in g:
+            if fnmatch.fnmatchcase(rel, g.removeprefix("./")):
+                return True
+        elif fnmatch.fnmatchcase(name, g):
+            return True
+    return False
+
+
+# -- finding and reading the file ----------------------------------------------------------
+def find_config(start: str | None = None) -> str | None:
+    """The configuration that applies in ``start`` (the working directory): the first
+    ``CONFIG_FILES`` from there upward (a ``pyproject.toml`` only with ``[tool.rprpr]``)."""
+    try:
+        here = Path(start or os.getcwd()).resolve()
+    except OSError:
+        return None
+    for folder in (here, *here.parents):
+        for name in CONFIG_FILES:
+            candidate = folder / name
+            if not candidate.is_file():
+                continue
+            if name != "pyproject.toml" or _has_table(candidate):
+                return str(candidate)
+    return None
+
+
+def _has_table(pyproject: Path) -> bool:
+    import tomllib
+
+    try:
+        doc = tomllib.loads(pyproject.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False  # a broken pyproject.toml that may not be rprpr's: not this one
+    return isinstance(doc.get("tool"), dict) and "rprpr" in doc["tool"]
+
+
+def _table(file: str) -> dict[str, Any]:
+    """The rprpr keys of ``file``: ``[tool.rprpr]`` of a pyproject.toml, else the top level."""
+    import tomllib
+    from decimal import Decimal
+
+    try:
+        text = Path(file).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{file}: no such configuration file") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(f"{file}: cannot read the configuration: {e}") from None
+    try:
+        doc = tomllib.loads(text, parse_float=Decimal)
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"{file}: invalid TOML: {e}") from None
+    if Path(file).name == "pyproject.toml":
+        tool = doc.get("tool", {})
+        table = tool.get("rprpr", {}) if isinstance(tool, dict) else {}
+        if not isinstance(table, dict):
+            raise InputError(f"{file}: [tool.rprpr] must be a table")
+        return table
+    return doc
+
+
+def load_settings(
+    config: str | None = None,
+    isolated: bool = False,
+    overrides: Mapping[str, Any] | None = None,
+    cwd: str | None = None,
+) -> Settings:
+    """The settings of a run: the built-in defaults, then the configuration file
+    (``config``, else the one ``find_config`` finds; none when ``isolated``), then
+    ``overrides`` (the command line's options that were given; None values ignored).
+    An unknown key or rule, or a bad value, is an ``InputError`` naming it (exit 2)."""
+    file = None if isolated else (config or find_config(cwd))
+    values = {k: default for k, (_, default) in KEYS.items()}
+    sources = dict.fromkeys(KEYS, DEFAULT)
+    root = _root(file, cwd)
+    if file is not None:
+        where = "[tool.rprpr]" if Path(file).name == "pyproject.toml" else "the configuration"
+        for key, raw in _table(file).items():
+            if key not in KEYS:
+                raise InputError(f"{file}: unknown key {key!r} in {where}{_near(key, KEYS)}")
+            values[key] = _checked(key, raw, f"{file}: {key}")
+            sources[key] = file
+    for key, raw in (overrides or {}).items():
+        if raw is not None:
+            values[key] = raw
+            sources[key] = COMMAND_LINE
+    if file is not None and sources["paths"] == file:  # relative to the root, as given
+        values["paths"] = tuple(
+            p if os.path.isabs(p) else os.path.relpath(os.path.join(root, p))
+            for p in values["paths"]
+        )
+    settings = Settings(values, sources, root, file)
+    try:
+        settings.rule_levels  # noqa: B018  (validates the rule selectors together)
+    except SelectorError as e:
+        raise InputError(f"{file or 'the command line'}: {e}") from None
+    return settings
+
+
+def _root(file: str | None, cwd: str | None) -> str:
+    """The project root: the configuration's folder, else the working directory (as
+    given, when it was deleted under the run)."""
+    try:
+        return os.path.dirname(os.path.abspath(file)) if file else os.path.abspath(cwd or ".")
+    except OSError:
+        return os.path.dirname(file) if file else (cwd or ".")
+
+
+def _near(key: str, known: Mapping[str, Any]) -> str:
+    import difflib
+
+    near = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.6)
+    return f" (did you mean {near[0]!r}?)" if near else f"; known keys: {', '.join(known)}"
+
+
+def _checked(key: str, raw: Any, where: str) -> Any:
+    """The value of ``key`` as the settings hold it; an ``InputError`` naming ``where``."""
+    kind = KEYS[key][0]
+    if kind in ("paths", "globs", "rules"):
+        if not isinstance(raw, list) or not all(isinstance(x, str) and x for x in raw):
+            raise InputError(f"{where}: expected a list of strings, found {_toml(raw)}")
+        if kind == "rules":
+            for selector in raw:
+                try:
+                    levels(select=[selector])
+                except SelectorError as e:
+                    raise InputError(f"{where}: {e}") from None
+        return tuple(raw)
+    if kind == "bool":
+        if not isinstance(raw, bool):
+            raise InputError(f"{where}: expected true or false, found {_toml(raw)}")
+        return raw
+    if kind == "format":
+        if raw not in FORMATS:
+            raise InputError(f"{where}: expected one of {', '.join(FORMATS)}, found {_toml(raw)}")
+        return raw
+    if kind == "limits":
+        if not isinstance(raw, list) or len(raw) != 2:
+            raise InputError(f"{where}: expected [|T1| limit, |T2| limit] in N m")
+        pair = tuple(_number(x, where, positive=True) for x in raw)
+        return pair
+    if kind == "margin":
+        return _number(raw, where, positive=False)
+    bounds = {"samples": (2, 1_000_000), "jobs": (0, 256)}
+    if kind in bounds:
+        low, high = bounds[kind]
+        if isinstance(raw, bool) or not isinstance(raw, int) or not low <= raw <= high:
+            raise InputError(f"{where}: expected an integer from {low} to {high}")
+        return raw
+    number = _number(raw, where, positive=False)  # budget
+    if number > 1_000_000:
+        raise InputError(f"{where}: expected at most 1000000 seconds")
+    return float(number)
+
+
+def _number(raw: Any, where: str, *, positive: bool) -> Fraction:
+    """An exact number of the configuration (a TOML integer or decimal): > 0 when
+    ``positive``, else >= 0."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    if isinstance(raw, bool) or not isinstance(raw, int | Decimal) or not Decimal(raw).is_finite():
+        raise InputError(f"{where}: expected a number, found {_toml(raw)}")
+    value = Fraction(raw)
+    if value < 0 or (positive and value == 0):
+        raise InputError(f"{where}: expected a number {'>' if positive else '>='} 0")
+    return value
+
+
+def _toml(value: Any) -> str:
+    """A value as TOML writes it (for messages and ``--show-settings``)."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    if isinstance(value, Fraction):
+        return str(value.numerator) if value.denominator == 1 else str(float(value))
+    if isinstance(value, Decimal):
+        return str(value)
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def show(settings: Settings) -> Iterator[str]:
+    """The lines of ``--show-settings``: each key as TOML, with where it came from; then
+    the level of each rule."""
+    yield f"# configuration: {settings.file or '(none)'}"
+    yield f"# root: {settings.root}"
+    width = max(len(k) for k in KEYS)
+    for key in KEYS:
+        value = settings[key]
+        text = "(unset: each task's own)" if value is None else _toml(value)
+        yield f"{key:<{width}} = {text}  # {settings.sources[key]}"
+    chosen = settings.rule_levels
+    yield "# rules (a task's checks.ignore / checks.warn win over these)"
+    for rule in RULES.values():
+        if rule.id == "RPR001":
+            continue
+        default = "warn (error if strict)" if rule.strict_only else "error"
+        level = chosen.get(rule.id)
+        text = default if level is None else level
+        yield f"{rule.id} {rule.name:<22} {text}"
+
+
+# -- a task under the configuration --------------------------------------------------------
+def configure(task: Task, d: TaskDefaults, warn_unbounded: bool = False) -> Task:
+    """``task`` with the configuration's defaults where its file gives no value (a key the
+    file gives is in ``task.lines``), and its rule levels: the configuration's, then the
+    task's own (``checks.ignore``, ``checks.warn``, ``checks.unbounded_torque``), then
+    ``--warn-unbounded``."""
+    from flint import fmpq
+
+    def exact(q: Fraction) -> fmpq:
+        return fmpq(q.numerator, q.denominator)
+
+    given = task.lines
+    checks = task.checks
+    changes: dict[str, Any] = {}
+    if d.min_slope is not None and "checks.min_slope" not in given:
+        changes["min_slope"] = exact(d.min_slope)
+    if d.min_speed is not None and "checks.min_speed" not in given:
+        changes["min_speed"] = exact(d.min_speed)
+    if d.torque_limit is not None and "checks.torque_limit" not in given:
+        changes["torque_limit"] = (exact(d.torque_limit[0]), exact(d.torque_limit[1]))
+    if d.strict is not None and "checks.strict" not in given:
+        changes["strict"] = d.strict
+    rules = dict(d.rules)
+    if "checks.unbounded_torque" in given:  # the task's own choice for RPR201
+        rules["RPR201"] = "warn" if checks.unbounded_torque == "warn" else "error"
+    rules.update(checks.rules)
+    if warn_unbounded:
+        rules["RPR201"] = "warn"
+    if rules != checks.rules:
+        changes["rules"] = rules
+    if not changes:
+        return task
+    return replace(task, checks=replace(checks, **changes))
