@@ -114,7 +114,7 @@ EXTRA: dict[str, Motion] = {
     "tf_1000_order_5": Motion("(x - 3)^5", "2 + t/500", (Fraction(500),), duration="1000"),
     # the shipped task files (quintic timing for the paper's paths)
     **{
-        name: Motion("", "", (Fraction(ts),), duration=tf, config=f"{name}.yaml")
+        name: Motion("", "", (Fraction(ts),), duration=tf, config=f"{name}.rprpr.yaml")
         for name, ts, tf in (
             ("paper_path1", "5/2", "5"), ("paper_path2", "5/2", "5"),
             ("case1_crossing", "2", "4"), ("case2_crossing", "2", "4"), ("touch", "2", "4"),

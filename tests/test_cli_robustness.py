@@ -17,7 +17,7 @@ RPRPR = [sys.executable, "-m", "rprpr"]
 
 
 def test_output_file_that_is_a_task_is_refused_and_left_intact(tmp_path: Path) -> None:
-    task = tmp_path / "plan.yaml"
+    task = tmp_path / "plan.rprpr.yaml"  # a task file by the naming convention
     shutil.copy(CONFIGS / "paper_path2.rprpr.yaml", task)
     before = task.read_bytes()
     code, out, err = run_cli("check", "-o", str(task), str(tmp_path))
