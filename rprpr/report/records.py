@@ -27,10 +27,13 @@ def _f(v: float | None) -> float | None:
 def singularity_record(
     s: SingularInstant, saturation: list[dict[str, Any] | None] | None = None
 ) -> dict[str, Any]:
-    """One singular instant as JSON-ready data (``singularities[]`` of a report);
-    ``saturation``: its ``saturation_record`` (None: bounded, or no torque limit)."""
+    """One singular instant as JSON-ready data (``singularities[]`` of a report): ``t``
+    the nearest double, ``t_exact`` the exact time as text ("5/2", "1/10") when it is
+    rational, null when it is irrational; ``saturation``: its ``saturation_record``
+    (None: bounded, or no torque limit)."""
     return {
         "t": s.t,
+        "t_exact": None if s.t_exact is None else str(s.t_exact),
         "x": s.x,
         "y": s.y,
         "case": s.case.number,
