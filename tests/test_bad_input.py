@@ -143,7 +143,7 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
         "path.from",
         13,
         9,
-        ("expected a list of two numbers [x [m], y [m]]", "found the number 2"),
+        ("expected a number (x [m])", "found a boolean (true)"),
     ),
     "from_boolean": (
         "path.from[0]",
@@ -511,7 +511,7 @@ def test_number_spellings_that_are_read_exactly(spelling: str, value: Fraction) 
         ("017", "ambiguous number 017"),
         ("!!str 6", "found the text '6'"),
         ("'6'", "found the text '6'"),
-        ("4/25", "a fraction is only allowed in path.y and timing.x"),
+        ("4/25", "a fraction is only allowed in path.y, timing.x, path.from and path.to"),
         ("6 m", "found the text '6 m'"),
         ("1:30", "expected a decimal number"),
         ("-.INF", "found infinity"),

@@ -26,7 +26,7 @@ from ..model.errors import ExpressionError, TaskFileError
 from ..model.numbers import rational as _q
 from ..model.task import Checks, Link, Robot, Task
 from ..model.timing import timing_law
-from .expression import MAX_DEGREE, height, parse_decimal, parse_polynomial
+from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
 from .schema import TASK, Spec
 
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
@@ -73,7 +73,14 @@ _TAG_MEANS = {
     "seq": "a list",
 }
 _FRACTION = re.compile(r"[-+]?[0-9.]+\s*/\s*[0-9.]+")
-_FRACTION_HINT = " (a fraction is only allowed in path.y and timing.x: write a decimal here)"
+_FRACTION_HINT = (
+    " (a fraction is only allowed in path.y, timing.x, path.from and path.to: write a decimal here)"
+)
+_POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
+    "mapping",
+    "a point",
+    children={"x": Spec("number", "x [m]", required=True), "y": Spec("number", "y [m]")},
+)
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
@@ -323,9 +330,12 @@ def _motion(v: dict[str, Any]) -> tuple[str, fmpq_poly]:
 
 
 def _on_path(w: _Walk, key: str) -> None:
-    """path.from or path.to lies on y = p(x)."""
+    """path.from or path.to lies on y = p(x); a point given by its x alone gets y = p(x)."""
     p = w.values["path.y"]
     x0, y0 = w.values[key]
+    if y0 is None:
+        w.values[key] = (x0, p(x0))
+        return
     if p(x0) != y0:
         raise w.error(
             f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
@@ -659,6 +669,43 @@ class _Walk:
         )
         return a, b
 
+    def point(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq | None]:
+        """A point of the path: x alone, [x, y] or {x: ..., y: ...}; (x, None) when y is
+        left out (``_on_path`` computes it)."""
+        if isinstance(node, yaml.ScalarNode):
+            return self.coordinate(node, spec.items[0], key), None
+        if isinstance(node, yaml.SequenceNode) and len(node.value) == 2:
+            x, y = (
+                self.coordinate(v, what, f"{key}[{i}]", depth + 1)
+                for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
+            )
+            return x, y
+        if isinstance(node, yaml.MappingNode):
+            given = self.keys(node, _POINT_KEYS, key, depth)
+            coordinates = [
+                self.coordinate(given[k], what, f"{key}.{k}", depth + 1) if k in given else None
+                for k, what in zip("xy", spec.items, strict=True)
+            ]
+            assert coordinates[0] is not None  # x is required (``keys``)
+            return coordinates[0], coordinates[1]
+        raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+
+    def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
+        """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
+        self.visit(node, key, depth)
+        spec = Spec("number", what)
+        if (
+            isinstance(node, yaml.ScalarNode)
+            and node.tag == _TAG + "str"
+            and _FRACTION.fullmatch(str(node.value).strip())
+        ):
+            try:
+                return parse_fraction(str(node.value))
+            except ExpressionError as e:
+                raise self.error(e.message, node, key) from None
+        self.fit(node, spec, key)
+        return self.number(node, spec, key, depth)
+
     def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
         bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
@@ -711,6 +758,7 @@ class _Walk:
 _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
     "number": _Walk.number,
     "pair": _Walk.pair,
+    "point": _Walk.point,
     "polynomial": _Walk.polynomial,
     "string": _Walk.text,
     "bool": _Walk.boolean,
@@ -736,6 +784,8 @@ def _expected(spec: Spec, key: str) -> str:
         return f"a number ({spec.description.rstrip('.')})"
     if spec.kind == "pair":
         return f"a list of two numbers [{', '.join(spec.items)}]"
+    if spec.kind == "point":
+        return "a point: x alone, [x, y] or {x: ..., y: ...} (numbers, or fractions such as -2/3)"
     if spec.kind == "polynomial":
         return f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
     if spec.kind == "string":
