@@ -209,8 +209,14 @@ def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
     """An input error as data (``input_errors[]`` of ``--format json``).
 
     ``line``/``column`` are 1-based, None when unknown; ``key`` is the dotted key path,
-    None for the whole file. ``text`` is the one-line message of the command line.
+    None for the whole file. ``text`` is the one-line message of the command line. These
+    are the file's first error; ``errors`` lists every error of the file (the first
+    among them), each with the same fields but ``errors``.
     """
+    return {**_one_error(e, task_path), "errors": [_one_error(x, task_path) for x in e.errors]}
+
+
+def _one_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
     return {
         "task": task_path,
         "line": e.line or None,
@@ -218,7 +224,7 @@ def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
         "key": e.key or None,
         "message": e.message,
         "rule": INVALID_TASK,
-        "text": f"{e.with_file(task_path)} [{INVALID_TASK}]",
+        "text": f"{e.naming(task_path)} [{INVALID_TASK}]",
     }
 
 
