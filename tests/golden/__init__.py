@@ -42,7 +42,9 @@ class Variant:
 
 
 VARIANTS = (
+    Variant("text-60", (), {"COLUMNS": "60"}),
     Variant("text-80", (), {"COLUMNS": "80"}),
+    Variant("text-120", (), {"COLUMNS": "120"}),
     Variant("text-160", (), {"COLUMNS": "160"}),
     Variant("json", ("--format", "json"), suffix="json"),
     Variant("junit", ("--format", "junit"), suffix="xml"),
