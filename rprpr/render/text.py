@@ -1,10 +1,10 @@
 """The human report of ``rprpr check`` (rich), from the plain reports of ``report``.
 
 For each task, as a linter writes it (ruff's concise style): one line per finding,
-``FILE:LINE:COL: RPRnnn [severity] message`` (editors and terminals jump to it), then the
-task's summary (its verdict, its instants, the certified torque peak), then its singular
-instants: the table when it fits the width, else stacked ``key  value`` rows per instant,
-so that nothing is cut at any width (80 columns, 60). Lines wrap at the width; only a
+``FILE:LINE:COL: RPRnnn [severity] name: message`` (editors and terminals jump to it),
+then the task (file and name), its singular instants (the table when it fits the width,
+else stacked ``key  value`` rows per instant, so that nothing is cut at any width: 80
+columns, 60) and its verdict line with the certified torque peak. Lines wrap at the width; only a
 token longer than the width is folded.
 
 Every text that came from outside (a file name, a task's name, a value quoted in a
@@ -129,44 +129,50 @@ def render(
 
 
 def finding_line(rep: dict[str, Any], f: dict[str, Any]) -> Text:
-    """``FILE:LINE:1: RPRnnn [severity] message`` (the column: the key's line starts it)."""
+    """``FILE:LINE:1: RPRnnn [severity] name: message`` (the column: the key starts its
+    line); a warning is a strict-mode-only finding, which fails only with --strict."""
     style = "red" if f["severity"] == "error" else "yellow"
     return Text.assemble(
         (f"{printable(rep['task'])}:{f['line']}:1:", "bold"),
         " ",
         (f["rule"], style),
-        f" [{f['severity']}] {printable(f['message'])}",
+        f" [{f['severity']}] {f['name']}: {printable(f['message'])}",
     )
 
 
 def _task(rep: dict[str, Any], console: Console) -> None:
     for f in rep["findings"]:
         console.print(finding_line(rep, f))
+    console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
+    times = instant_times(rep)
+    for line in _details(rep, times):
+        console.print(Text(f"  {line}"))
+    if rep["singularities"]:
+        table = singularity_table(rep)
+        console.print(table if _fits(console, table) else stacked(rep))
+    console.print(_verdict(rep))
+
+
+def _verdict(rep: dict[str, Any]) -> Text:
+    """``  verdict: FAIL — 1 singular instant, 1 high-order; <the torque peak>``."""
     n = len(rep["singularities"])
     high = sum(s["high_order"] for s in rep["singularities"])
+    peak = phrases.peak(rep)
     verdict = (
         Text("PASS", style="bold green")
         if rep["verdict"] == "pass"
         else Text("FAIL", style="bold red")
     )
-    console.print(
-        Text.assemble(
-            (printable(rep["task"]), "bold"), ": ", verdict,
-            " (strict)" if rep["strict"] else "", " — ", printable(rep["name"]),
-            f"; {n} singular instant{'s' if n != 1 else ''}, {high} high-order",
-        )
+    return Text.assemble(
+        "  verdict: ", verdict,
+        f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order",
+        f"; {peak}" if peak else "", " (strict)" if rep["strict"] else "",
     )  # fmt: skip
-    times = instant_times(rep)
-    for line in _details(rep, times):
-        console.print(Text(f"  {line}"))
-    if n:
-        table = singularity_table(rep)
-        console.print(table if _fits(console, table) else stacked(rep))
 
 
 def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
     """The task's lines in words: the path on y = 0, E through A or B, values beyond the
-    double range, the closest approach and the certified torque peak."""
+    double range and the closest approach (the torque peak is in the verdict line)."""
     out = []
     if rep["on_singular_line"]:
         out.append("the path lies on the singular line y = 0")
@@ -177,7 +183,7 @@ def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
         out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
     for b in rep["beyond_double_range"]:
         out.append(f"{b['quantity']} = {b['value']}: beyond the double range")
-    for phrase in (phrases.approach(rep), phrases.peak(rep)):
-        if phrase:
-            out.append(phrase)
+    near = phrases.approach(rep)
+    if near:
+        out.append(near)
     return out
