@@ -114,7 +114,7 @@ def render(
             style = "red" if kind == "input" else "bold red"
             target = console if errors_inline else err_console
             for e in item.get("errors", [item]):  # a bad task file: each of its errors
-                target.print(Text(printable(e["text"]), style=style))
+                target.print(Text(printable(e["text"]), style=style), soft_wrap=True)
             continue
         if quiet and item["verdict"] == "pass":
             continue
