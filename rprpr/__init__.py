@@ -5,6 +5,8 @@ Python API::
     from rprpr import load_task, audit
     result = audit(load_task("configs/paper_path2.rprpr.yaml"))
     result.verdict, result.singularities[0].order
+    result.singularities[0].t_exact  # Fraction(5, 2), or None where irrational
+    result.to_dict()  # the entry of ``rprpr check --format json``'s reports[]
 
 Importing the package costs nothing: ``audit`` and the engine (numpy, python-flint) load
 when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so that
@@ -26,13 +28,13 @@ from typing import TYPE_CHECKING, Any
 from ._version import __version__
 
 if TYPE_CHECKING:
-    from .engine.audit import AuditResult, audit
+    from .api import AuditResult, audit
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
 
 _LAZY = {
-    "AuditResult": ".engine.audit",
-    "audit": ".engine.audit",
+    "AuditResult": ".api",
+    "audit": ".api",
     "load_task": ".io.loader",
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",

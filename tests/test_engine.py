@@ -64,7 +64,7 @@ def test_quintic_is_eq_49(path2):  # type: ignore[no-untyped-def]
 
 def test_path1_singularity_is_third_order_at_2_5(path1):  # type: ignore[no-untyped-def]
     (s,) = path1.singularities
-    assert s.t_exact == fmpq(5, 2)
+    assert s.t_rational == fmpq(5, 2)
     assert (s.x, s.y) == (3.0, 0.0)
     assert s.order == 3 and s.kind == "crossing"
     assert s.delta_derivatives[:3] == [0.0, 0.0, 0.0]
@@ -83,7 +83,7 @@ def test_path1_fails_slope_principle_passes_velocity(path1):  # type: ignore[no-
 
 def test_path2_first_order_slope_0_2_and_passes(path2):  # type: ignore[no-untyped-def]
     (s,) = path2.singularities
-    assert s.t_exact == fmpq(5, 2) and s.order == 1
+    assert s.t_rational == fmpq(5, 2) and s.order == 1
     assert s.slope == pytest.approx(0.2, rel=1e-15)
     assert s.delta_derivatives[0] == 0.0
     assert s.delta_derivatives[1] == pytest.approx(-6 * 0.2 * 0.75 / 9, rel=1e-15)
@@ -314,7 +314,7 @@ def test_high_multiplicity_touch_and_crossing(write_task):  # type: ignore[no-un
     for power, kind in ((8, "touch"), (9, "crossing")):
         text = task_text(f"(x-3)^{power}", "timing:\n  duration: 2\n  x: 2 + t\n")
         (s,) = audit(load_task(write_task(text)), samples=51).singularities
-        assert (s.order, s.kind, s.t_exact) == (power, kind, fmpq(1))
+        assert (s.order, s.kind, s.t_rational) == (power, kind, fmpq(1))
         assert s.delta_derivatives[:power] == [0.0] * power and s.delta_derivatives[power] != 0
 
 
@@ -397,7 +397,7 @@ def test_decimal_text_is_exact():  # type: ignore[no-untyped-def]
     task = parse_task(task_text("0.1*x - 0.3", "timing:\n  duration: 0.1\n  x: 30*t\n"))
     assert task.path[1] == fmpq(1, 10) and task.duration == fmpq(1, 10)
     (s,) = audit(task, samples=11).singularities
-    assert s.t_exact == fmpq(1, 10)  # exact, although 0.1 is no binary float
+    assert s.t_rational == fmpq(1, 10)  # exact, although 0.1 is no binary float
 
 
 def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def]
@@ -505,7 +505,7 @@ def test_readme_python_api_example_runs_as_written(monkeypatch):  # type: ignore
     exec(block.group(1), scope)  # the README's own snippet, as a user would paste it
     result = scope["result"]
     assert result.verdict == "fail"  # type: ignore[attr-defined]
-    assert scope["s"].order == 3 and scope["s"].t_exact == fmpq(5, 2)  # type: ignore[attr-defined]
+    assert scope["s"].order == 3 and scope["s"].t_rational == fmpq(5, 2)  # type: ignore[attr-defined]
 
 
 def test_audit_scales_with_time_down_to_tiny_durations(write_task):  # type: ignore[no-untyped-def]

@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from unittest import mock
 
 import pytest
 
@@ -404,21 +406,29 @@ def test_rule_ids_appear_in_every_format(fmt: str, bad_file: str) -> None:
     both = out + err
     for rule in ("RPR101", "RPR102", "RPR201", "RPR001"):
         assert rule in both, (fmt, rule)
-    if fmt != "json":
+    if fmt == "text":  # FILE:LINE:COL: RPRnnn [severity] name: message
+        for rule in ("RPR101", "RPR102", "RPR201"):
+            assert f"{rule} [error] {RULES[rule].name}: " in out, (fmt, rule)
+    elif fmt != "json":
         for rule in ("RPR101", "RPR102", "RPR201"):
             assert RULES[rule].title in out, (fmt, rule)
 
 
 def test_text_marks_strict_only_findings_as_warnings() -> None:
-    _, out, _ = run_cli("check", *FAST, P1)
-    lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("RPR")]
-    assert lines[0].startswith("RPR101 slope-principle: t = 2.5 s")
-    assert lines[1] == f"RPR201 unbounded-torque: {P1_UNBOUNDED}"
-    _, out, _ = run_cli("check", "--warn-unbounded", *FAST, P1)
-    lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("RPR")]
-    assert lines[1] == f"RPR201 unbounded-torque (warning, fails with --strict): {P1_UNBOUNDED}"
-    _, out, _ = run_cli("check", "--strict", "--warn-unbounded", *FAST, P1)
-    assert f"RPR201 unbounded-torque: {P1_UNBOUNDED}" in out
+    y = line_of(P1, "  y:")
+    wide = {**os.environ, "COLUMNS": "400"}  # one line per finding
+    with mock.patch.dict(os.environ, wide):
+        _, out, _ = run_cli("check", *FAST, P1)
+    lines = [ln for ln in out.splitlines() if ln.startswith(f"{P1}:")]
+    assert lines[0].startswith(f"{P1}:{y}:1: RPR101 [error] slope-principle: t = 2.5 s")
+    assert lines[1].endswith(f":1: RPR201 [error] unbounded-torque: {P1_UNBOUNDED}")
+    with mock.patch.dict(os.environ, wide):
+        _, out, _ = run_cli("check", "--warn-unbounded", *FAST, P1)
+    lines = [ln for ln in out.splitlines() if ln.startswith(f"{P1}:")]
+    assert lines[1].endswith(f":1: RPR201 [warning] unbounded-torque: {P1_UNBOUNDED}")
+    with mock.patch.dict(os.environ, wide):
+        _, out, _ = run_cli("check", "--strict", "--warn-unbounded", *FAST, P1)
+    assert f"RPR201 [error] unbounded-torque: {P1_UNBOUNDED}" in out
 
 
 def test_renderers_do_not_change_the_run() -> None:

@@ -295,7 +295,7 @@ def test_hard_input_audit_is_exact_and_bounded(name: str, audited: dict) -> None
     for s, want in zip(r.singularities, case.instants, strict=True):
         assert _close(s.t, want.t), (s.t, want.t)
         if isinstance(want.t, Fraction):
-            assert s.t_exact == fmpq(want.t.numerator, want.t.denominator)  # exact, not rounded
+            assert s.t_rational == fmpq(want.t.numerator, want.t.denominator)  # exact, not rounded
         assert (s.order, s.kind, s.case.number) == (want.order, want.kind, want.case)
         assert s.slope_principle.passed is (want.slope == "pass"), s.slope_principle.reason
         assert s.velocity_principle.passed is (want.velocity == "pass"), s.velocity_principle.reason
@@ -422,7 +422,7 @@ def test_finite_torque_limits_agree_with_eq28_beside_t_s(name: str, audited: dic
                 continue
             # beside t_s, μ and δ are O(ε^m): about 27 m bits cancel at ε = 1e-8
             ctx.prec = 800 + 30 * s.order
-            ts = arb(s.t_exact) if s.t_exact is not None else _refine(task, s.t)
+            ts = arb(s.t_rational) if s.t_exact is not None else _refine(task, s.t)
             side = arb(1) if s.t < float(task.duration) else arb(-1)
             got = torques_eq28(task, ts + side * arb(10) ** -8)
             scale = max(1.0, *(abs(v) for v in got))
@@ -461,7 +461,7 @@ def test_unbounded_torques_diverge_with_the_reported_pole_order(name: str, audit
                 continue
             gap = min([abs(s.t - u) for j, u in enumerate(times) if j != i], default=1.0)
             ctx.prec = 1000 + 150 * s.order  # ε down to 1e-40: about 133 m bits cancel
-            ts = arb(s.t_exact) if s.t_exact is not None else _refine(task, s.t)
+            ts = arb(s.t_rational) if s.t_exact is not None else _refine(task, s.t)
             side = arb(1) if s.t < float(task.duration) else arb(-1)
             eps = arb(min(1e-6, gap / 1e4))
             size = [max(abs(v) for v in torques_eq28(task, ts + side * eps))]

@@ -52,7 +52,7 @@ def text_lines(rep: dict[str, Any]) -> list[str]:
     run = Run()
     run.add(REPORT, rep)
     out = io.StringIO()
-    console = Console(file=out, width=80, color_system=None)
+    console = Console(file=out, width=200, color_system=None)
     text(run, console, console)
     return out.getvalue().splitlines()
 

@@ -364,7 +364,8 @@ def _log(run: Run, options: CheckOptions) -> None:
     line when the report went to a file."""
     if options.format != "text" or options.output_file:  # the one-line errors, for the log
         for e in run.input_errors + run.internal_errors + run.budget_errors:
-            say(e["text"])
+            for line in e.get("errors", [e]):  # a bad task file: each of its errors
+                say(line["text"])
     if os.environ.get("RPRPR_DEBUG"):  # the tracebacks of bugs met in a task, for a report
         for e in run.internal_errors:
             say(e["traceback"], keep="\n")

@@ -105,6 +105,17 @@ class AuditResult:
     def passed(self) -> bool:
         return self.verdict == "pass"
 
+    def __repr__(self) -> str:
+        """One short line: ``<AuditResult 'paper_path1': fail, 1 singular instant (1
+        high-order), findings RPR101, RPR201>`` (the fields themselves hold the rest)."""
+        n = len(self.singularities)
+        high = sum(s.high_order for s in self.singularities)
+        rules = ", ".join(dict.fromkeys(f.rule for f in self.findings)) or "none"
+        return (
+            f"<AuditResult {self.task.name!r}: {self.verdict}, {n} singular"
+            f" instant{'s' if n != 1 else ''} ({high} high-order), findings {rules}>"
+        )
+
 
 def audit(
     task: Task,

@@ -115,7 +115,7 @@ def _instant_time(analysis: SingularAnalysis, s: SingularInstant) -> ExactTime:
     def at(prec: int) -> arb:
         return field.evaluate(fmpq_poly([0, 1]), prec)
 
-    return ExactTime(s.t_exact, at)
+    return ExactTime(s.t_rational, at)
 
 
 def _roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
@@ -474,7 +474,7 @@ class CertifiedMotion:
         if key not in self._limits:
             m = s.order
             X, Xd, Xdd, Y, Yd, Ydd = expansion(
-                self.traj, self.analysis.hints(s).field, m + 1, exact=s.t_exact
+                self.traj, self.analysis.hints(s).field, m + 1, exact=s.t_rational
             )
             sx = 1 if X.c[0] > 0 else -1
             sxa = 1 if X.c[0] - self.traj.a1 > 0 else -1

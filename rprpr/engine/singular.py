@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 from flint import arb, fmpq, fmpq_poly
@@ -55,14 +56,18 @@ class SingularInstant:
     ``beyond_double_range`` = ((name, exact value as text), ...) for each quantity whose
     double is not faithful (``numbers.faithful``): ``("speed", "1.41421e+400")``,
     ``("delta_derivatives[1]", ...)``, ``("torque_at_singularity[0]", ...)``.
-    What only the sampler needs (the number field of t_s, the orders of μ, the sign of y)
-    is kept apart, private to the engine, in ``SingularAnalysis``.
+    ``t_exact`` is t_s as a ``fractions.Fraction`` when it is rational (``t_exact ==
+    2.5``, ``str(t_exact) == "5/2"``), None when it is irrational (an algebraic number:
+    ``t`` is then the double nearest it, and the engine keeps it exactly as a root of
+    y(t) isolated in a ball). What only the sampler needs (the number field of t_s, the
+    orders of μ, the sign of y) is kept apart, private to the engine, in
+    ``SingularAnalysis``.
     """
 
     t: float
     x: float
     y: float
-    t_exact: fmpq | None  # the exact time when t_s is rational, else None
+    t_exact: Fraction | None  # t_s exactly when rational (see ``t_rational``), else None
     case: Case
     order: int
     delta_derivatives: list[float]
@@ -76,6 +81,13 @@ class SingularInstant:
     conditions_met: int
     torque_at_singularity: tuple[float, float] | None
     beyond_double_range: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def t_rational(self) -> fmpq | None:
+        """``t_exact`` as the engine's exact rational (``flint.fmpq``), None when t_s is
+        irrational (a root of an irreducible factor of y(t) of degree 2 or more)."""
+        e = self.t_exact
+        return None if e is None else fmpq(e.numerator, e.denominator)
 
     def number(self, name: str) -> str:
         """The quantity ``name`` (``x``, ``slope``, ...) as text: ``numbers.number`` of its
@@ -378,7 +390,7 @@ def _instant(
         t=t,
         x=x,
         y=0.0,
-        t_exact=exact,
+        t_exact=None if exact is None else Fraction(int(exact.p), int(exact.q)),
         case=case,
         order=m,
         delta_derivatives=[delta_m if i == m else 0.0 for i in range(m + 1)],

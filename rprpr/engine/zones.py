@@ -131,8 +131,8 @@ def taylor_at_instant(motion: CertifiedMotion, s: SingularInstant, prec: int) ->
     out = []
     for p in (motion.traj.x, motion.traj.y):
         cs = taylor(p, max(p.degree(), 0) + 1)
-        if s.t_exact is not None:
-            out.append([arb(c(s.t_exact)) for c in cs])
+        if s.t_rational is not None:
+            out.append([arb(c(s.t_rational)) for c in cs])
         else:
             field = motion.analysis.hints(s).field
             out.append([field.evaluate(c % field.f, prec) for c in cs])

@@ -61,6 +61,23 @@ def parse_decimal(text: str) -> fmpq:
     return sign * _literal(m.group(0))
 
 
+def parse_fraction(text: str) -> fmpq:
+    """The exact rational of ``text``: a decimal (``parse_decimal``) or a fraction of two
+    decimals, ``-2/3`` or ``1.5 / 4``. Raises ``ExpressionError`` for anything else and
+    for a zero denominator."""
+    numerator, slash, denominator = text.partition("/")
+    value = parse_decimal(numerator)
+    if not slash:
+        return value
+    d = text.strip()
+    below = parse_decimal(denominator) if denominator.strip()[:1] not in "+-" else None
+    if below is None:
+        raise ExpressionError(f"expected a fraction such as -2/3, found {_shown(d)!r}")
+    if below == 0:
+        raise ExpressionError(f"division by zero in {_shown(d)!r}")
+    return value / below
+
+
 def _shown(text: str, n: int = 24) -> str:
     """``text`` for a message: abbreviated beyond ``n`` characters."""
     return text if len(text) <= n else text[: n - 4] + "..."

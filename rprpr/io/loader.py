@@ -26,7 +26,7 @@ from ..model.errors import ExpressionError, TaskFileError
 from ..model.numbers import rational as _q
 from ..model.task import Checks, Link, Robot, Task
 from ..model.timing import timing_law
-from .expression import MAX_DEGREE, height, parse_decimal, parse_polynomial
+from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
 from .schema import TASK, Spec
 
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
@@ -73,7 +73,14 @@ _TAG_MEANS = {
     "seq": "a list",
 }
 _FRACTION = re.compile(r"[-+]?[0-9.]+\s*/\s*[0-9.]+")
-_FRACTION_HINT = " (a fraction is only allowed in path.y and timing.x: write a decimal here)"
+_FRACTION_HINT = (
+    " (a fraction is only allowed in path.y, timing.x, path.from and path.to: write a decimal here)"
+)
+_POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
+    "mapping",
+    "a point",
+    children={"x": Spec("number", "x [m]", required=True), "y": Spec("number", "y [m]")},
+)
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
@@ -106,14 +113,22 @@ def load_task(path: str | os.PathLike[str]) -> Task:
 def parse_task(data: bytes | str, file: str = "<task>") -> Task:
     """Validate a task given as bytes or text; ``file`` names it in errors.
 
-    Raises ``TaskFileError`` and nothing else, whatever ``data`` holds.
+    Raises ``TaskFileError`` and nothing else, whatever ``data`` holds: the first error
+    found, with every independent error of the file in its ``errors`` (by line and column).
+    An error that makes the rest meaningless (the file cannot be decoded, a YAML syntax
+    error, a file too large, too many nodes or too deep) is the only one.
     """
     try:
         return _parse(data, file)
     except TaskFileError as e:
-        raise TaskFileError(
-            _one_line(e.message), file=file, line=e.line, column=e.column, key=_one_line(e.key)
-        ) from None
+        first, *others = (
+            TaskFileError(
+                _one_line(x.message), file=file, line=x.line, column=x.column, key=_one_line(x.key)
+            )
+            for x in e.errors
+        )
+        first.errors = (first, *others)
+        raise first from None
     except RecursionError:
         raise TaskFileError(f"nested deeper than {MAX_DEPTH} levels", file=file) from None
 
@@ -270,6 +285,10 @@ def _parse(data: bytes | str, file: str) -> Task:
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     walk = _Walk(explicit)
     walk.read(root, TASK, "", 0)
+    if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
+        errors = sorted(walk.errors, key=lambda e: (isinstance(e, _Missing), e.line, e.column))
+        errors[0].errors = tuple(errors)
+        raise errors[0]
     return _task(walk, Path(file).stem, file)
 
 
@@ -329,9 +348,12 @@ def _motion(v: dict[str, Any]) -> tuple[str, fmpq_poly]:
 
 
 def _on_path(w: _Walk, key: str) -> None:
-    """path.from or path.to lies on y = p(x)."""
+    """path.from or path.to lies on y = p(x); a point given by its x alone gets y = p(x)."""
     p = w.values["path.y"]
     x0, y0 = w.values[key]
+    if y0 is None:
+        w.values[key] = (x0, p(x0))
+        return
     if p(x0) != y0:
         raise w.error(
             f"point ({_q(x0)}, {_q(y0)}) is not on the path: y({_q(x0)}) = {_q(p(x0))},"
@@ -344,6 +366,8 @@ def _on_path(w: _Walk, key: str) -> None:
 def _law_or_x(w: _Walk, key: str) -> None:
     """timing gives exactly one of law and x (checked once its duration is read)."""
     law, x = "timing.law" in w.nodes, "timing.x" in w.nodes
+    if not (law or x) and {"timing.law", "timing.x"} & w.misspelt:
+        return  # the misspelt key is reported as such
     if law and x:
         raise w.error(
             "give either law or x, not both (law moves x between path.from and path.to;"
@@ -361,7 +385,10 @@ def _law_or_x(w: _Walk, key: str) -> None:
 
 def _law_has_ends(w: _Walk, key: str) -> None:
     """A rest-to-rest law moves between path.from and path.to: both must be given."""
-    missing = [end for end in ("from", "to") if f"path.{end}" not in w.values]
+    if "path" not in w.nodes:
+        return  # the path is missing (or misspelt): reported as such
+    ends = [f"path.{end}" for end in ("from", "to")]
+    missing = [end[5:] for end in ends if end not in w.nodes and end not in w.misspelt]
     if missing:
         raise w.error(
             f"law {w.values[key]} needs path.{' and path.'.join(missing)} (the points it"
@@ -391,7 +418,10 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
     p(x) = sum P_k X^k dx^(d-k) / (dp dx^d), so every integer in it has at most
     h(p) + d (h(x) + log2 len(X)) + log2 (d + 1) bits, h = ``expression.height``.
     """
-    p, x = w.values["path.y"], _motion(w.values)[1]
+    v = w.values
+    if not ("timing.x" in v or all(k in v for k in ("timing.law", "path.from", "path.to"))):
+        return  # x(t) could not be read: its own error is reported
+    p, x = v["path.y"], _motion(v)[1]
     dp, dx = max(p.degree(), 0), max(x.degree(), 0)
     if dp * dx > MAX_DEGREE:
         raise w.error(
@@ -411,17 +441,31 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
 
 
 _Rule = Callable[["_Walk", str], None]
-_RULES: dict[str, _Rule] = {
-    "path.from": _on_path,
-    "path.to": _on_path,
-    "timing.duration": _law_or_x,  # before law or x is read
-    "timing.law": _law_has_ends,
-    "timing.x": _x_meets_ends,
-    "timing": _composition_within_caps,  # needs path.y and the whole timing
+# key -> (its rule, the values the rule needs besides the key's own): a rule runs only
+# when they were all read, so that a bad value is reported once, by its own reader
+_RULES: dict[str, tuple[_Rule, tuple[str, ...]]] = {
+    "path.from": (_on_path, ("path.y",)),
+    "path.to": (_on_path, ("path.y",)),
+    "timing.duration": (_law_or_x, ()),  # before law or x is read
+    "timing.law": (_law_has_ends, ()),
+    "timing.x": (_x_meets_ends, ("timing.duration",)),
+    "timing": (_composition_within_caps, ("path.y", "timing.duration")),
 }
 
 
 # -- the generic walk along the schema ---------------------------------------------------
+
+
+class _Stop(TaskFileError):
+    """An error after which the walk reads nothing more (the node budget, the depth)."""
+
+
+class _Missing(TaskFileError):
+    """A required key not given (listed after the errors of the keys that are)."""
+
+
+class _Recorded(Exception):
+    """A value that cannot be read, whose errors are already in ``_Walk.errors``."""
 
 
 class _Walk:
@@ -443,23 +487,52 @@ class _Walk:
         self.values: dict[str, Any] = {}
         self.nodes: dict[str, yaml.Node] = {}
         self.lines: dict[str, int] = {}
+        self.errors: list[TaskFileError] = []  # every independent error, in reading order
+        self.misspelt: set[str] = set()  # keys an unknown key was likely meant as
 
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
         line, column = _where(node) if node is not None else (0, 0)
         return TaskFileError(message, key=key, line=line, column=column)
 
+    def stop(self, message: str, node: yaml.Node | None, key: str) -> _Stop:
+        """An error after which nothing more is read (the node budget, the depth)."""
+        line, column = _where(node) if node is not None else (0, 0)
+        return _Stop(message, key=key, line=line, column=column)
+
     def read(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
         """Check ``node`` against ``spec``, record its value under ``key``, then run the
-        cross-field rule filed under ``key``, if any."""
-        self.visit(node, key, depth)
-        self.fit(node, spec, key)
-        if spec.kind == "mapping":
-            self.mapping(node, spec, key, depth)
-        else:
-            self.values[key] = _READERS[spec.kind](self, node, spec, key, depth)
-        rule = _RULES.get(key)
-        if rule is not None:
+        cross-field rule filed under ``key``, if any. An error is recorded in ``errors``
+        (the key then has no value, and what depends on it is not checked) and the walk
+        goes on with the next key; only a ``_Stop`` ends it."""
+        try:
+            self.visit(node, key, depth)
+            self.fit(node, spec, key)
+            if spec.kind == "mapping":
+                self.mapping(node, spec, key, depth)
+            else:
+                self.values[key] = _READERS[spec.kind](self, node, spec, key, depth)
+        except _Stop:
+            raise
+        except TaskFileError as e:
+            self.errors.append(e)
+            return
+        except _Recorded:
+            return
+        self.check(key)
+
+    def check(self, key: str) -> None:
+        """The cross-field rule filed under ``key``, when every value it needs was read."""
+        rule, needs = _RULES.get(key, (None, ()))
+        if rule is None or (key not in self.values and key not in self.nodes):
+            return
+        if any(k not in self.values for k in needs):
+            return
+        try:
             rule(self, key)
+        except _Stop:
+            raise
+        except TaskFileError as e:
+            self.errors.append(e)
 
     def omitted(self, spec: Spec, key: str) -> None:
         """A key not given: its default, and those of its keys if it is a mapping."""
@@ -471,14 +544,14 @@ class _Walk:
     def visit(self, node: yaml.Node, key: str, depth: int) -> None:
         self.visited += 1
         if self.visited > MAX_NODES:
-            raise self.error(
+            raise self.stop(
                 f"too many YAML nodes (over {MAX_NODES}, aliases included):"
                 " excessive aliasing rejected",
                 node,
                 key,
             )
         if depth > MAX_DEPTH:
-            raise self.error(f"nested deeper than {MAX_DEPTH} levels", node, key)
+            raise self.stop(f"nested deeper than {MAX_DEPTH} levels", node, key)
         if node.tag == _TAG + "merge":
             raise self.error(
                 "merge keys (<<) are not supported: write the keys out (an alias of a whole"
@@ -543,26 +616,49 @@ class _Walk:
     ) -> dict[str, yaml.Node]:
         """The mapping's value nodes by key: plain, known, unique keys; the required all given."""
         out: dict[str, yaml.Node] = {}
+        bad: set[str] = set()  # keys given but unusable (duplicated): not "missing"
         for knode, vnode in node.value:
-            k, full = self.known_key(knode, spec, key, depth)
-            if k in out:
+            if knode.tag == _TAG + "merge":  # its keys are unknown: none is "missing"
+                bad.update(spec.children)
+            try:
+                k, full = self.known_key(knode, spec, key, depth)
+            except _Stop:
+                raise
+            except TaskFileError as e:
+                self.errors.append(e)
+                if isinstance(knode, yaml.ScalarNode):  # a misspelt key: not also "missing"
+                    near = _near(str(knode.value), list(spec.children))
+                    bad.update(near)
+                    self.misspelt.update(f"{key}.{k}" if key else k for k in near)
+                continue
+            if k in out or k in bad:
                 first = self.lines.get(full, 0)
-                raise self.error(
-                    f"duplicate key {k!r} (first given on line {first}); YAML would silently"
-                    " keep the last",
-                    knode,
-                    full,
+                self.errors.append(
+                    self.error(
+                        f"duplicate key {k!r} (first given on line {first}); YAML would"
+                        " silently keep the last",
+                        knode,
+                        full,
+                    )
                 )
+                out.pop(k, None)  # neither value is read: which one was meant is unknown
+                self.nodes.pop(full, None)
+                bad.add(k)
+                continue
             out[k] = self.nodes[full] = vnode
             self.lines[full] = knode.start_mark.line + 1
         for k, child in spec.children.items():
-            if child.required and k not in out:
+            if child.required and k not in out and k not in bad:
                 full = f"{key}.{k}" if key else k
                 where = f"in {key}" if key else "at the top level"
-                raise self.error(
-                    f"missing required key {k!r} {where} ({child.description.rstrip('.')})",
-                    node,
-                    full,
+                line, column = _where(node)
+                self.errors.append(
+                    _Missing(
+                        f"missing required key {k!r} {where} ({child.description.rstrip('.')})",
+                        key=full,
+                        line=line,
+                        column=column,
+                    )
                 )
         return out
 
@@ -577,7 +673,7 @@ class _Walk:
         full = f"{key}.{shown}" if key else shown
         if k not in spec.children:
             allowed = list(spec.children)
-            near = difflib.get_close_matches(k, allowed, n=1, cutoff=0.6)
+            near = _near(k, allowed)
             hint = (
                 f"; did you mean {near[0]!r}?"
                 if near
@@ -665,6 +761,43 @@ class _Walk:
         )
         return a, b
 
+    def point(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq | None]:
+        """A point of the path: x alone, [x, y] or {x: ..., y: ...}; (x, None) when y is
+        left out (``_on_path`` computes it)."""
+        if isinstance(node, yaml.ScalarNode):
+            return self.coordinate(node, spec.items[0], key), None
+        if isinstance(node, yaml.SequenceNode) and len(node.value) == 2:
+            x, y = (
+                self.coordinate(v, what, f"{key}[{i}]", depth + 1)
+                for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
+            )
+            return x, y
+        if isinstance(node, yaml.MappingNode):
+            given = self.keys(node, _POINT_KEYS, key, depth)
+            if "x" not in given:
+                raise _Recorded  # missing, or given twice: ``keys`` said so
+            x = self.coordinate(given["x"], spec.items[0], f"{key}.x", depth + 1)
+            if "y" not in given:
+                return x, None
+            return x, self.coordinate(given["y"], spec.items[1], f"{key}.y", depth + 1)
+        raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+
+    def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
+        """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
+        self.visit(node, key, depth)
+        spec = Spec("number", what)
+        if (
+            isinstance(node, yaml.ScalarNode)
+            and node.tag == _TAG + "str"
+            and _FRACTION.fullmatch(str(node.value).strip())
+        ):
+            try:
+                return parse_fraction(str(node.value))
+            except ExpressionError as e:
+                raise self.error(e.message, node, key) from None
+        self.fit(node, spec, key)
+        return self.number(node, spec, key, depth)
+
     def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
         bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
@@ -717,11 +850,17 @@ class _Walk:
 _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
     "number": _Walk.number,
     "pair": _Walk.pair,
+    "point": _Walk.point,
     "polynomial": _Walk.polynomial,
     "string": _Walk.text,
     "bool": _Walk.boolean,
     "enum": _Walk.enum,
 }
+
+
+def _near(key: str, allowed: list[str]) -> list[str]:
+    """The key of ``allowed`` that ``key`` is likely a misspelling of ([] when none)."""
+    return difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
 
 
 def _default(spec: Spec) -> Any:
@@ -742,6 +881,8 @@ def _expected(spec: Spec, key: str) -> str:
         return f"a number ({spec.description.rstrip('.')})"
     if spec.kind == "pair":
         return f"a list of two numbers [{', '.join(spec.items)}]"
+    if spec.kind == "point":
+        return "a point: x alone, [x, y] or {x: ..., y: ...} (numbers, or fractions such as -2/3)"
     if spec.kind == "polynomial":
         return f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
     if spec.kind == "string":

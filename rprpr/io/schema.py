@@ -21,11 +21,13 @@ UNBOUNDED_TORQUE = ("fail", "warn")  # checks.unbounded_torque
 class Spec:
     """One key of the task file.
 
-    kind: "mapping", "number", "polynomial", "string", "bool", "enum" or "pair" (a list
-    of two numbers, ``items`` naming each). For numbers and pairs, ``minimum`` with
-    ``exclusive`` bounds the value. ``default`` is the value of an omitted key (a number
-    as its decimal text, so that it is exact); the loader applies it, ``rprpr schema``
-    prints it.
+    kind: "mapping", "number", "polynomial", "string", "bool", "enum", "pair" (a list
+    of two numbers, ``items`` naming each) or "point" (a point of the path: its x alone,
+    ``[x, y]`` or ``{x: ..., y: ...}``, each coordinate a decimal or a fraction such as
+    ``-2/3``; y, when given, must be p(x) exactly, and is p(x) when left out). For
+    numbers and pairs, ``minimum`` with ``exclusive`` bounds the value. ``default`` is
+    the value of an omitted key (a number as its decimal text, so that it is exact); the
+    loader applies it, ``rprpr schema`` prints it.
     """
 
     kind: str
@@ -78,6 +80,13 @@ def _link(i: int, r_means: str) -> Spec:
 
 
 _POINT = ("x [m]", "y [m]")
+_POINT_MEANS = (
+    "{} point on the path [m]: x alone (1, -2/3), [x, y] or {{x: ..., y: ...}}; numbers"
+    " or fractions such as -2/3; y, when given, must equal p(x) exactly (left out: p(x))."
+)
+# a coordinate of a point written as a fraction of two decimals: -2/3, 1.5/4
+_DECIMAL = r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?"
+FRACTION_PATTERN = rf"^\s*[-+]?\s*{_DECIMAL}\s*(/\s*{_DECIMAL}\s*)?$"
 
 TASK = Spec(
     "mapping",
@@ -115,8 +124,8 @@ TASK = Spec(
                     required=True,
                     variable="x",
                 ),
-                "from": Spec("pair", "Start point [x, y] [m]; must lie on the path.", items=_POINT),
-                "to": Spec("pair", "End point [x, y] [m]; must lie on the path.", items=_POINT),
+                "from": Spec("point", _POINT_MEANS.format("Start"), items=_POINT),
+                "to": Spec("point", _POINT_MEANS.format("End"), items=_POINT),
             },
         ),
         "timing": Spec(
@@ -215,6 +224,19 @@ def _json(s: Spec) -> dict[str, Any]:
         out["type"] = "boolean"
     elif s.kind == "enum":
         out["enum"] = list(s.choices)
+    elif s.kind == "point":
+        fraction = {"type": "string", "pattern": FRACTION_PATTERN}
+        coordinate = {"oneOf": [{"type": "number"}, fraction]}
+        out["oneOf"] = [
+            coordinate,
+            {"type": "array", "items": coordinate, "minItems": 2, "maxItems": 2},
+            {
+                "type": "object",
+                "properties": {"x": coordinate, "y": coordinate},
+                "required": ["x"],
+                "additionalProperties": False,
+            },
+        ]
     elif s.kind == "pair":
         item: dict[str, Any] = {"type": "number"}
         if s.minimum is not None:

@@ -14,6 +14,9 @@ class TaskFileError(RprprError, ValueError):
     """A task file that cannot be audited: names the file, the line, the column and the key.
 
     ``key`` is a dotted key path such as ``robot.links.3.mass`` ('' for the whole file).
+    ``errors`` holds every error found in the file, by line and column, this one first: a
+    file with three independent mistakes raises one ``TaskFileError`` (the first) whose
+    ``errors`` names all three.
     """
 
     def __init__(
@@ -24,6 +27,7 @@ class TaskFileError(RprprError, ValueError):
         line: int = 0,
         column: int = 0,
         key: str = "",
+        errors: tuple[TaskFileError, ...] = (),
     ) -> None:
         super().__init__(message)
         self.message = message
@@ -31,9 +35,16 @@ class TaskFileError(RprprError, ValueError):
         self.line = line
         self.column = column
         self.key = key
+        self.errors: tuple[TaskFileError, ...] = errors or (self,)
 
     def with_file(self, file: str) -> TaskFileError:
-        """The same error, naming ``file``."""
+        """The same error (and every one of ``errors``), naming ``file``."""
+        first = self.naming(file)
+        first.errors = (first, *(e.naming(file) for e in self.errors if e is not self))
+        return first
+
+    def naming(self, file: str) -> TaskFileError:
+        """This error alone (``errors`` just itself), naming ``file``."""
         return TaskFileError(
             self.message, file=file, line=self.line, column=self.column, key=self.key
         )

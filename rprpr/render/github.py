@@ -6,7 +6,8 @@ A finding that fails the task is an ``::error`` (unbounded torques, RPR201, amon
 a strict-mode-only finding (RPR202, or RPR201 accepted with ``checks.unbounded_torque:
 warn`` or ``--warn-unbounded``) when not strict is a ``::warning``. ``line`` is the line
 of the task-file key the finding belongs to (``path.y``, ``timing``, ...), or of the
-offending key for a task file that could not be read (then with ``col`` when known).
+offending key for a task file that could not be read (then with ``col`` when known; one
+annotation for each error in that file).
 Passing tasks print nothing.
 
 Escaping is that of the Actions toolkit (``@actions/core``, ``command.ts``): in the
@@ -92,13 +93,14 @@ def render(run: Run, *, quiet: bool = False, root: str | None = None) -> str:
             lines.append(
                 command("error", {"file": file, "title": "rprpr budget exceeded"}, item["message"])
             )
-        else:
-            props = {
-                "file": file,
-                "line": item["line"],
-                "col": item["column"] if item["line"] else None,
-                "title": RULES[item["rule"]].title,
-            }
-            message = f"{item['key']}: {item['message']}" if item["key"] else item["message"]
-            lines.append(command("error", props, message))
+        else:  # a task file that could not be read: an annotation per error in it
+            for e in item["errors"]:
+                props = {
+                    "file": file,
+                    "line": e["line"],
+                    "col": e["column"] if e["line"] else None,
+                    "title": RULES[e["rule"]].title,
+                }
+                message = f"{e['key']}: {e['message']}" if e["key"] else e["message"]
+                lines.append(command("error", props, message))
     return "".join(line + "\n" for line in lines)

@@ -126,8 +126,10 @@ def render(run: Run) -> str:
             errors += 1
             rule = RULES[item["rule"]].title
             where = _where(path, item["line"], item["key"])
-            _el(case, "error", f"{item['text']}\n", type=item["rule"],
-                message=f"{rule}: {where} {item['message']}")  # fmt: skip
+            more = len(item["errors"]) - 1
+            also = f" (and {more} more error{'s' if more != 1 else ''})" if more else ""
+            _el(case, "error", "".join(f"{e['text']}\n" for e in item["errors"]),
+                type=item["rule"], message=f"{rule}: {where} {item['message']}{also}")  # fmt: skip
         elif kind == INTERNAL:
             errors += 1
             _el(case, "error", item["traceback"], type="internal-error", message=item["text"])

@@ -1,5 +1,12 @@
 """The human report of ``rprpr check`` (rich), from the plain reports of ``report``.
 
+For each task, as a linter writes it (ruff's concise style): one line per finding,
+``FILE:LINE:COL: RPRnnn [severity] name: message`` (editors and terminals jump to it),
+then the task (file and name), its singular instants (the table when it fits the width,
+else stacked ``key  value`` rows per instant, so that nothing is cut at any width: 80
+columns, 60) and its verdict line with the certified torque peak. Lines wrap at the width; only a
+token longer than the width is folded.
+
 Every text that came from outside (a file name, a task's name, a value quoted in a
 message) is printed through ``escape.printable``: no control character reaches the
 terminal, and no line can be forged."""
@@ -9,6 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 from rich.console import Console
+from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
@@ -17,6 +25,13 @@ from ..report.records import instant_times
 from ..report.run import Run
 from . import phrases
 from .escape import printable
+
+# the columns of an instant: (title, justify in the table)
+COLUMNS = (
+    ("t [s]", "right"), ("(x, y) [m]", "left"), ("case σ ψ", "left"), ("order", "left"),
+    ("dy/dx", "right"), ("speed [m/s]", "right"), ("slope", "left"), ("velocity", "left"),
+    ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
+)  # fmt: skip
 
 
 def _cell(v: float | None) -> str:
@@ -27,42 +42,63 @@ def _pf(v: str) -> Text:
     return Text("pass", style="green") if v == "pass" else Text("FAIL", style="bold red")
 
 
-def singularity_table(rep: dict[str, Any]) -> Table:
-    table = Table(title=None, show_lines=False, header_style="bold")
-    for col, just in (
-        ("t [s]", "right"), ("(x, y) [m]", "left"), ("case σ ψ", "left"), ("order", "left"),
-        ("dy/dx", "right"), ("speed [m/s]", "right"), ("slope", "left"), ("velocity", "left"),
-        ("eq.(34) [N]", "right"), ("bounded", "left"), ("T(t_s) [N m]", "left"),
-    ):  # fmt: skip
-        table.add_column(Text(col), justify=just)  # type: ignore[arg-type]
-    times = instant_times(rep)
-    for s in rep["singularities"]:
-        order = f"{s['order']} {s['kind']}"
-        order_text = Text(order, style="bold red" if s["high_order"] else "")
-        bounded = f"{s['conditions_met']}/{s['conditions_required']}"
-        bounded_text = Text(
+def _cells(s: dict[str, Any], t: str) -> list[Text]:
+    """The cells of one singular instant, in the order of ``COLUMNS``."""
+    order = f"{s['order']} {s['kind']}"
+    bounded = f"{s['conditions_met']}/{s['conditions_required']}"
+    torque = (
+        ", ".join(_cell(v) for v in s["torque_at_singularity"])
+        if s["torque_at_singularity"]
+        else "unbounded"
+    )
+    return [
+        Text(t),
+        Text(f"({_cell(s['x'])}, 0)"),
+        Text(f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}"),
+        Text(order, style="bold red" if s["high_order"] else ""),
+        Text(_cell(s["slope"])),
+        Text(_cell(s["speed"])),
+        _pf(s["slope_principle"]),
+        _pf(s["velocity_principle"]),
+        Text(_cell(s["consistency_residual"])),
+        Text(
             bounded + (" yes" if s["torque_bounded"] else f" no, pole {s['pole_order']}"),
             style="green" if s["torque_bounded"] else "yellow",
-        )
-        torque = (
-            ", ".join(_cell(v) for v in s["torque_at_singularity"])
-            if s["torque_at_singularity"]
-            else "unbounded"
-        )
-        table.add_row(
-            times[s["t"]],
-            f"({_cell(s['x'])}, 0)",
-            f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}",
-            order_text,
-            _cell(s["slope"]),
-            _cell(s["speed"]),
-            _pf(s["slope_principle"]),
-            _pf(s["velocity_principle"]),
-            _cell(s["consistency_residual"]),
-            bounded_text,
-            torque,
-        )
+        ),
+        Text(torque),
+    ]
+
+
+def singularity_table(rep: dict[str, Any]) -> Table:
+    """The singular instants of ``rep`` as one table, a row per instant."""
+    table = Table(title=None, show_lines=False, header_style="bold")
+    for col, just in COLUMNS:
+        table.add_column(Text(col), justify=just, no_wrap=True)  # type: ignore[arg-type]
+    times = instant_times(rep)
+    for s in rep["singularities"]:
+        table.add_row(*_cells(s, times[s["t"]]))
     return table
+
+
+def stacked(rep: dict[str, Any]) -> Table:
+    """The singular instants of ``rep`` as ``key  value`` rows, one block per instant:
+    every cell of the table, in any width."""
+    grid = Table.grid(padding=(0, 2))
+    grid.add_column(style="bold", no_wrap=True)
+    grid.add_column(overflow="fold")
+    times = instant_times(rep)
+    for i, s in enumerate(rep["singularities"]):
+        cells = _cells(s, times[s["t"]])
+        grid.add_row(Text(f"instant {i + 1}"), Text.assemble("t = ", cells[0], " s"))
+        for (title, _), cell in zip(COLUMNS[1:], cells[1:], strict=True):
+            grid.add_row(Text(f"  {title}"), cell)
+    return grid
+
+
+def _fits(console: Console, table: Table) -> bool:
+    """Whether ``table`` fits the console's width with no cell wrapped or cut."""
+    unbounded = console.options.update_width(1 << 16)  # its natural width, not capped
+    return Measurement.get(console, unbounded, table).maximum <= console.width
 
 
 def render(
@@ -70,14 +106,15 @@ def render(
     errors_inline: bool = False,
 ) -> None:  # fmt: skip
     """Print each task's report in task order, then a summary line when more than one
-    task was checked. A task file that could not be read (or met a bug) is one line on
-    ``err_console``, or in the report itself when ``errors_inline``. ``quiet`` leaves out
-    passing tasks, and the summary when every task passed."""
+    task was checked. A task file that could not be read (or met a bug) is one line per
+    error on ``err_console``, or in the report itself when ``errors_inline``. ``quiet``
+    leaves out passing tasks, and the summary when every task passed."""
     for kind, item, _ in run.entries():
         if kind != "report":
             style = "red" if kind == "input" else "bold red"
             target = console if errors_inline else err_console
-            target.print(Text(printable(item["text"]), style=style), soft_wrap=True)
+            for e in item.get("errors", [item]):  # a bad task file: each of its errors
+                target.print(Text(printable(e["text"]), style=style), soft_wrap=True)
             continue
         if quiet and item["verdict"] == "pass":
             continue
@@ -91,45 +128,62 @@ def render(
         )
 
 
+def finding_line(rep: dict[str, Any], f: dict[str, Any]) -> Text:
+    """``FILE:LINE:1: RPRnnn [severity] name: message`` (the column: the key starts its
+    line); a warning is a strict-mode-only finding, which fails only with --strict."""
+    style = "red" if f["severity"] == "error" else "yellow"
+    return Text.assemble(
+        (f"{printable(rep['task'])}:{f['line']}:1:", "bold"),
+        " ",
+        (f["rule"], style),
+        f" [{f['severity']}] {f['name']}: {printable(f['message'])}",
+    )
+
+
 def _task(rep: dict[str, Any], console: Console) -> None:
+    for f in rep["findings"]:
+        console.print(finding_line(rep, f))
     console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
     times = instant_times(rep)
+    for line in _details(rep, times):
+        console.print(Text(f"  {line}"))
+    if rep["singularities"]:
+        table = singularity_table(rep)
+        console.print(table if _fits(console, table) else stacked(rep))
+    console.print(_verdict(rep))
+
+
+def _verdict(rep: dict[str, Any]) -> Text:
+    """``  verdict: FAIL — 1 singular instant, 1 high-order; <the torque peak>``."""
     n = len(rep["singularities"])
-    if n:
-        console.print(singularity_table(rep))
-    elif rep["on_singular_line"]:
-        console.print("  the path lies on the singular line y = 0", style="red")
-    else:
-        console.print("  no Type II singular instant in [0, t_f]")
-    for k in rep["kinematic_singularities"]:
-        joint = "A" if k["leg"] == 1 else "B"
-        console.print(
-            f"  inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}", style="red"
-        )
-    for b in rep["beyond_double_range"]:
-        console.print(f"  {b['quantity']} = {b['value']}: beyond the double range", style="yellow")
-    for f in rep["findings"]:
-        if f["severity"] == "error":
-            title = (f"{f['rule']} {f['name']}", "red")
-        else:  # strict-mode-only, not strict: shown, does not fail the task
-            title = (f"{f['rule']} {f['name']} (warning, fails with --strict)", "yellow")
-        console.print(Text.assemble("  ", title, f": {printable(f['message'])}"), soft_wrap=True)
-    near = phrases.approach(rep)
-    if near:
-        console.print(f"  {near}", soft_wrap=True)
+    high = sum(s["high_order"] for s in rep["singularities"])
     peak = phrases.peak(rep)
-    peak_text = f"; {peak}" if peak else ""
     verdict = (
         Text("PASS", style="bold green")
         if rep["verdict"] == "pass"
         else Text("FAIL", style="bold red")
     )
-    high = sum(s["high_order"] for s in rep["singularities"])
-    console.print(
-        Text.assemble(
-            "  verdict: ", verdict,
-            f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order{peak_text}",
-            " (strict)" if rep["strict"] else "",
-        ),
-        soft_wrap=True,  # one line, as the findings: the terminal wraps it, if at all
+    return Text.assemble(
+        "  verdict: ", verdict,
+        f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order",
+        f"; {peak}" if peak else "", " (strict)" if rep["strict"] else "",
     )  # fmt: skip
+
+
+def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
+    """The task's lines in words: the path on y = 0, E through A or B, values beyond the
+    double range and the closest approach (the torque peak is in the verdict line)."""
+    out = []
+    if rep["on_singular_line"]:
+        out.append("the path lies on the singular line y = 0")
+    elif not rep["singularities"]:
+        out.append("no Type II singular instant in [0, t_f]")
+    for k in rep["kinematic_singularities"]:
+        joint = "A" if k["leg"] == 1 else "B"
+        out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
+    for b in rep["beyond_double_range"]:
+        out.append(f"{b['quantity']} = {b['value']}: beyond the double range")
+    near = phrases.approach(rep)
+    if near:
+        out.append(near)
+    return out

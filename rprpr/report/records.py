@@ -27,10 +27,13 @@ def _f(v: float | None) -> float | None:
 def singularity_record(
     s: SingularInstant, saturation: list[dict[str, Any] | None] | None = None
 ) -> dict[str, Any]:
-    """One singular instant as JSON-ready data (``singularities[]`` of a report);
-    ``saturation``: its ``saturation_record`` (None: bounded, or no torque limit)."""
+    """One singular instant as JSON-ready data (``singularities[]`` of a report): ``t``
+    the nearest double, ``t_exact`` the exact time as text ("5/2", "1/10") when it is
+    rational, null when it is irrational; ``saturation``: its ``saturation_record``
+    (None: bounded, or no torque limit)."""
     return {
         "t": s.t,
+        "t_exact": None if s.t_exact is None else str(s.t_exact),
         "x": s.x,
         "y": s.y,
         "case": s.case.number,
@@ -207,8 +210,14 @@ def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
     """An input error as data (``input_errors[]`` of ``--format json``).
 
     ``line``/``column`` are 1-based, None when unknown; ``key`` is the dotted key path,
-    None for the whole file. ``text`` is the one-line message of the command line.
+    None for the whole file. ``text`` is the one-line message of the command line. These
+    are the file's first error; ``errors`` lists every error of the file (the first
+    among them), each with the same fields but ``errors``.
     """
+    return {**_one_error(e, task_path), "errors": [_one_error(x, task_path) for x in e.errors]}
+
+
+def _one_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
     return {
         "task": task_path,
         "line": e.line or None,
@@ -216,7 +225,7 @@ def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
         "key": e.key or None,
         "message": e.message,
         "rule": INVALID_TASK,
-        "text": f"{e.with_file(task_path)} [{INVALID_TASK}]",
+        "text": f"{e.naming(task_path)} [{INVALID_TASK}]",
     }
 
 

@@ -42,7 +42,9 @@ class Variant:
 
 
 VARIANTS = (
+    Variant("text-60", (), {"COLUMNS": "60"}),
     Variant("text-80", (), {"COLUMNS": "80"}),
+    Variant("text-120", (), {"COLUMNS": "120"}),
     Variant("text-160", (), {"COLUMNS": "160"}),
     Variant("json", ("--format", "json"), suffix="json"),
     Variant("junit", ("--format", "junit"), suffix="xml"),
@@ -62,6 +64,26 @@ class Case:
     files: dict[str, str] = field(default_factory=dict)
 
 
+# four independent mistakes in one file (a1 < 0, a negative mass, a text for a number, a
+# misspelt key): every one is reported, in the order of the file, in one run
+MANY_ERRORS = """\
+name: four mistakes
+robot:
+  a1: -6
+  links:
+    2: {mass: 2.0, inertia: 0.10, r: 0.5}
+    3: {mass: -1.0, inertia: 0.05, r: 0.5}
+    4: {mass: 2.0, inertia: 0.10, r: 0.5}
+    5: {mass: 1.0, inertia: 0.05, r: 0.5}
+path:
+  y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2
+  from: [2, -1]
+  to: 4
+timing:
+  duration: five
+  lwa: quintic
+"""
+
 CASES = (
     *(Case(p.name.split(".")[0], (f"configs/{p.name}",)) for p in sorted(CONFIGS.glob("*.yaml"))),
     Case("configs_directory", ("configs",)),
@@ -74,6 +96,7 @@ CASES = (
         ),
     ),
     Case("close_instants", ("close_instants.yaml",), {"close_instants.yaml": CLOSE_INSTANTS}),
+    Case("many_errors", ("many_errors.yaml",), {"many_errors.yaml": MANY_ERRORS}),
 )
 
 

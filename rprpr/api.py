@@ -1,0 +1,41 @@
+"""The Python API's audit result: ``engine.audit.AuditResult`` with what a notebook or a
+script wants from it as data (``to_dict``, the JSON report's entry) and as a table
+(``_repr_html_``).
+
+This module stands outside the stages (as the package root does): the engine's result
+cannot import the report or the renderers (dependencies point one way, cli -> render ->
+report -> engine -> model), so ``rprpr.audit`` hands back this thin subclass, which can.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from typing import Any
+
+from .engine import audit as _engine
+from .model.task import Task
+from .render.html import report_html
+from .render.json import finite
+from .report.records import task_report
+
+
+class AuditResult(_engine.AuditResult):
+    """An ``engine.audit.AuditResult`` that also gives its report (``to_dict``) and an
+    HTML table for notebooks (``_repr_html_``)."""
+
+    def to_dict(self, task_path: str | None = None) -> dict[str, Any]:
+        """The report of this task exactly as ``rprpr check --format json`` writes it
+        (an entry of ``reports[]``): ``task`` is ``task_path``, by default the file the
+        task was loaded from (``Task.source``)."""
+        report = task_report(self, task_path or self.task.source or self.task.name)
+        return finite(report)
+
+    def _repr_html_(self) -> str:
+        return report_html(self.to_dict())
+
+
+def audit(task: Task, **options: Any) -> AuditResult:
+    """``engine.audit.audit(task, **options)`` (``samples``, ``strict``, ``on_stage``),
+    as an ``AuditResult`` of this module."""
+    result = _engine.audit(task, **options)
+    return AuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})
