@@ -58,3 +58,21 @@ def test_findings_are_file_line_col_rule_severity() -> None:
     lines = [ln for ln in out.splitlines() if re.match(r"^configs/\w+\.rprpr\.yaml:\d", ln)]
     assert lines and all(finding.match(ln) for ln in lines)
     assert "configs/paper_path1.rprpr.yaml:19:1: RPR101 [error] slope-principle: t = 2.5 s" in out
+
+
+def _layout(columns: int, layout: str) -> str:
+    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}):
+        _, out, _ = run_cli("check", "--layout", layout, *TASKS)
+    return out
+
+
+def test_the_table_on_request_at_80_columns_is_the_wide_table_whole() -> None:
+    forced = _layout(80, "table")
+    # the same table rows as on a wide terminal, none of them squeezed or cut
+    assert _table_cells(forced) == _table_cells(_text(400))
+    assert "…" not in forced
+
+
+def test_the_rows_on_request_on_a_wide_terminal() -> None:
+    rows = _layout(400, "rows")
+    assert "┃" not in rows and "  T(t_s) [N m]  unbounded" in rows

@@ -91,6 +91,14 @@ REPORTING = "the report"
     help="Report only failures and errors (text, json, github; JUnit lists every task).",
 )
 @click.option(
+    "--layout",
+    type=click.Choice(["auto", "table", "rows"]),
+    default="auto",
+    show_default=True,
+    help="Text report: each task's singular instants as a table (table), as key/value rows"
+    " per instant (rows), or as a table where the terminal is wide enough (auto).",
+)
+@click.option(
     "--exit-zero",
     is_flag=True,
     help="Exit 0 even when a task fails (bad input and internal errors still count).",
@@ -184,6 +192,7 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         samples=settings["samples"],
         jobs=settings["jobs"] or _cpus(),
         quiet=params["quiet"],
+        layout=params["layout"],
         exit_zero=params["exit_zero"],
         budget=settings["budget"] or None,  # 0: no limit
         color=params["color"],
@@ -355,6 +364,7 @@ def _write_text(run: Run, options: CheckOptions, out: TextIO) -> None:
         err,
         quiet=options.quiet,
         errors_inline=bool(options.output_file),
+        layout=options.layout,
     )
 
 

@@ -43,6 +43,7 @@ class CheckOptions:
     samples: int = DEFAULT_SAMPLES
     jobs: int = 1
     quiet: bool = False
+    layout: str = "auto"  # the text report's instants: "auto", "table" or "rows"
     exit_zero: bool = False
     budget: float | None = DEFAULT_BUDGET
     color: str = "auto"

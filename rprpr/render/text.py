@@ -95,20 +95,27 @@ def stacked(rep: dict[str, Any]) -> Table:
     return grid
 
 
+def _natural(console: Console, table: Table) -> int:
+    """The width ``table`` takes with no cell wrapped or cut."""
+    unbounded = console.options.update_width(1 << 16)  # its natural width, not capped
+    return Measurement.get(console, unbounded, table).maximum
+
+
 def _fits(console: Console, table: Table) -> bool:
     """Whether ``table`` fits the console's width with no cell wrapped or cut."""
-    unbounded = console.options.update_width(1 << 16)  # its natural width, not capped
-    return Measurement.get(console, unbounded, table).maximum <= console.width
+    return _natural(console, table) <= console.width
 
 
 def render(
     run: Run, console: Console, err_console: Console, quiet: bool = False,
-    errors_inline: bool = False,
+    errors_inline: bool = False, layout: str = "auto",
 ) -> None:  # fmt: skip
     """Print each task's report in task order, then a summary line when more than one
     task was checked. A task file that could not be read (or met a bug) is one line per
     error on ``err_console``, or in the report itself when ``errors_inline``. ``quiet``
-    leaves out passing tasks, and the summary when every task passed."""
+    leaves out passing tasks, and the summary when every task passed. ``layout``: the
+    singular instants as a "table", as key/value "rows", or "auto" (the table where it
+    fits the width)."""
     for kind, item, _ in run.entries():
         if kind != "report":
             style = "red" if kind == "input" else "bold red"
@@ -118,7 +125,7 @@ def render(
             continue
         if quiet and item["verdict"] == "pass":
             continue
-        _task(item, console)
+        _task(item, console, layout)
     s = run.summary()
     if s["tasks"] > 1 and not (quiet and s["passed"] == s["tasks"]):
         errors = f"{s['errors']} error{'s' if s['errors'] != 1 else ''}"
@@ -140,7 +147,7 @@ def finding_line(rep: dict[str, Any], f: dict[str, Any]) -> Text:
     )
 
 
-def _task(rep: dict[str, Any], console: Console) -> None:
+def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
     for f in rep["findings"]:
         console.print(finding_line(rep, f))
     console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
@@ -149,7 +156,14 @@ def _task(rep: dict[str, Any], console: Console) -> None:
         console.print(Text(f"  {line}"))
     if rep["singularities"]:
         table = singularity_table(rep)
-        console.print(table if _fits(console, table) else stacked(rep))
+        if layout == "table":  # asked for: at its natural width, however narrow the terminal
+            narrow = console.width
+            console.width = max(_natural(console, table), narrow)
+            console.print(table)
+            console.width = narrow
+        else:
+            wide = layout == "auto" and _fits(console, table)
+            console.print(table if wide else stacked(rep))
     console.print(_verdict(rep))
 
 
