@@ -103,3 +103,18 @@ def test_a_task_on_standard_input(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"robot: [\n")))
     code, out, err = run_cli("check", "-")
     assert code == 2 and err.startswith("-:")
+
+
+def test_a_missing_library_is_named_not_an_internal_error(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "flint" else real(name, *a)
+    )
+    code, out, err = run_cli("check", PATH2_FILE)
+    assert code == 2 and out == ""
+    assert err.startswith("rprpr: python-flint not installed for ")
+    assert "internal error" not in err

@@ -34,6 +34,18 @@ COMMANDS = {
 }
 
 
+# the libraries each command needs beyond click (import name: distribution name)
+NEEDS = {"flint": "python-flint", "numpy": "numpy", "yaml": "pyyaml", "rich": "rich"}
+ENGINE_COMMANDS = {"check", "export", "plot"}
+
+
+def _missing_libraries() -> list[str]:
+    """The distributions of ``NEEDS`` this Python cannot import (found without importing)."""
+    from importlib.util import find_spec
+
+    return [dist for name, dist in NEEDS.items() if find_spec(name) is None]
+
+
 class _LazyGroup(click.Group):
     """A group whose commands are imported only when used: ``rprpr check`` pays nothing
     for ``plot`` at start-up."""
@@ -44,6 +56,12 @@ class _LazyGroup(click.Group):
     def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
         if name not in COMMANDS:
             return None
+        missing = _missing_libraries() if name in ENGINE_COMMANDS else []
+        if missing:  # an installation without its dependencies: say so, not "internal error"
+            raise click.ClickException(
+                f"{', '.join(missing)} not installed for {sys.executable}: install rprpr with"
+                " pip (pip install .), or run the rprpr of the environment it was installed in"
+            )
         command: click.Command = getattr(importlib.import_module(f".{name}", __package__), name)
         return command
 
