@@ -52,11 +52,7 @@ class Trajectory:
 
 
 def trajectory(task: Task) -> Trajectory:
-    """The exact trajectory of ``task``: y(t) = p(x(t)) by composition."""
-    return Trajectory(
-        x=task.x_of_t,
-        y=task.path(task.x_of_t),
-        path=task.path,
-        a1=task.robot.a1,
-        duration=task.duration,
-    )
+    """The exact trajectory of ``task``'s first piece: y(t) = p(x(t)) by composition."""
+    piece = task.motion[0]
+    assert piece.path is not None
+    return Trajectory(x=piece.x, y=piece.y, path=piece.path, a1=task.robot.a1, duration=piece.end)

@@ -55,20 +55,64 @@ class Checks:
 
 
 @dataclass(frozen=True)
-class Task:
-    """An audited motion: the end point follows y = path(x) with x = x_of_t(t), 0 <= t <= duration.
+class Piece:
+    """One piece of a piecewise-polynomial motion: for ``start`` <= t <= ``end`` the end
+    point is at (``x``(t), ``y``(t)), polynomials in *absolute* time t (exact rationals).
 
-    ``law`` records how x(t) was given ("quintic", "cubic" or "explicit"); ``lines`` maps
-    dotted key paths (``path.y``, ``timing``) to their 1-based line in the task file, so
-    that findings can point back at the file.
+    ``path`` is y = p(x) when the task gives the path (then ``y`` = p(x(t)) exactly), and
+    None when the task gives the end point's motion directly (``motion.pieces``,
+    ``motion.waypoints``). ``line`` is the 1-based line in the task file (or the row of a
+    waypoint CSV, then ``file`` names it) where the piece ends, 0 when unknown; findings
+    at the knot ``end`` point there.
+    """
+
+    start: fmpq
+    end: fmpq
+    x: fmpq_poly
+    y: fmpq_poly
+    path: fmpq_poly | None = None
+    line: int = 0
+    file: str = ""
+
+
+@dataclass(frozen=True)
+class Task:
+    """An audited motion over 0 <= t <= duration.
+
+    The paper's form: the end point follows y = path(x) with x = x_of_t(t), one
+    polynomial each. A piecewise motion (a piecewise or trapezoidal timing law, the
+    end point's pieces, waypoints) gives ``pieces`` instead, consecutive from t = 0 to
+    ``duration``; then ``x_of_t`` is None, and ``path`` is the path y(x) when the task
+    gives one, else None. ``motion`` is the pieces in both cases.
+
+    ``law`` records how the motion was given ("quintic", "cubic", "explicit",
+    "trapezoidal", "pieces" (timing.x as pieces), "motion" (motion.pieces) or
+    "waypoints"); ``lines`` maps dotted key paths (``path.y``, ``timing``) to their
+    1-based line in the task file, so that findings can point back at the file.
     """
 
     name: str
     robot: Robot
-    path: fmpq_poly
-    x_of_t: fmpq_poly
+    path: fmpq_poly | None
+    x_of_t: fmpq_poly | None
     duration: fmpq
     checks: Checks
     law: str = "explicit"
     lines: dict[str, int] = field(default_factory=dict)
     source: str = ""
+    pieces: tuple[Piece, ...] = ()
+
+    @property
+    def motion(self) -> tuple[Piece, ...]:
+        """The motion as consecutive pieces from t = 0 to ``duration``: ``pieces``, or the
+        one piece y = path(x_of_t(t)) of the paper's form."""
+        if self.pieces:
+            return self.pieces
+        assert self.path is not None and self.x_of_t is not None
+        x, line = self.x_of_t, self.lines.get("timing", 0)
+        return (Piece(fmpq(0), self.duration, x, self.path(x), self.path, line),)
+
+    @property
+    def knots(self) -> tuple[fmpq, ...]:
+        """The interior break times of a piecewise motion (none for one polynomial)."""
+        return tuple(p.end for p in self.motion[:-1])

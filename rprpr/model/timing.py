@@ -22,3 +22,31 @@ def timing_law(law: str, x0: fmpq, x1: fmpq, duration: fmpq) -> fmpq_poly:
     else:
         raise ValueError(f"unknown timing law {law!r}; expected one of {', '.join(LAWS)}")
     return x0 + (x1 - x0) * shape
+
+
+def trapezoidal(x0: fmpq, x1: fmpq, duration: fmpq, cruise: fmpq) -> list[tuple[fmpq, fmpq_poly]]:
+    """The trapezoidal (LSPB) law from x0 to x1 in ``duration`` s with cruise speed
+    ``cruise`` = |dx/dt|, as pieces (end time, x(t) in absolute t), exact.
+
+    Constant acceleration a = V / t_b up to the blend time t_b = (V t_f - D) / V
+    (D = |x1 - x0|), cruise at V, then constant deceleration to rest at t_f; C1 at the
+    knots t_b and t_f - t_b. V must lie in (D / t_f, 2 D / t_f]; at V = 2 D / t_f the
+    cruise is empty and the law has two pieces (a triangular profile).
+    """
+    D = abs(x1 - x0)
+    if D == 0 or not (D / duration < cruise <= 2 * D / duration):
+        raise ValueError(
+            f"cruise_speed {cruise} outside ({D / duration}, {2 * D / duration}]"
+            if D
+            else "a trapezoidal law needs path.from and path.to at different x"
+        )
+    sign = 1 if x1 > x0 else -1
+    tb = (cruise * duration - D) / cruise
+    acc = sign * cruise / tb
+    t = fmpq_poly([0, 1])
+    rise = x0 + acc / 2 * t**2
+    pieces = [(tb, rise)]
+    if 2 * tb < duration:  # x(t_b) = x0 + sign V t_b / 2
+        pieces.append((duration - tb, x0 + sign * cruise * (t - tb / 2)))
+    pieces.append((duration, x1 - acc / 2 * (duration - t) ** 2))
+    return pieces
