@@ -3,6 +3,7 @@ here (exact rational arithmetic) and against tests/reference.py (independent mpm
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import replace
 from fractions import Fraction
@@ -131,7 +132,7 @@ def _three_ways() -> list[Task]:
     y = (T - HALF) / 2 + (T - HALF) ** 3 / 10
     whole = task([Piece(fmpq(0), fmpq(5), x, y)])
     cuts = [fmpq(0), fmpq(7, 5), HALF, fmpq(37, 10), fmpq(5)]
-    split = task([Piece(a, b, x, y) for a, b in zip(cuts, cuts[1:], strict=False)])
+    split = task([Piece(a, b, x, y) for a, b in itertools.pairwise(cuts)])
     d1, d2 = (
         (x.derivative(), y.derivative()),
         (x.derivative().derivative(), y.derivative().derivative()),
@@ -163,7 +164,9 @@ def test_the_same_motion_three_ways_gives_the_same_report() -> None:
     for other in u[1:]:
         for name in ("T1", "T2", "theta1", "x_ddot", "s2_ddot"):
             a, b = getattr(u[0], name), getattr(other, name)
-            assert all(math.isclose(p, q, rel_tol=1e-9, abs_tol=1e-9) for p, q in zip(a, b))
+            assert all(
+                math.isclose(p, q, rel_tol=1e-9, abs_tol=1e-9) for p, q in zip(a, b, strict=False)
+            )
 
 
 def test_example_2_as_a_trapezoidal_law() -> None:
@@ -186,10 +189,10 @@ def test_example_2_as_a_trapezoidal_law() -> None:
         assert math.isclose(s.torque_at_singularity[j], float(ref[name]), rel_tol=1e-12)
     # the two C1 knots: x'' jumps by -0.36 and -0.36 (a = V/t_b = 9/25, then 0, then -9/25)
     assert [f.rule for f in r.findings] == ["RPR204", "RPR204"]
-    for k, (left, right) in zip(r.knot_jumps, zip(laws, laws[1:]), strict=True):
+    for k, (left, right) in zip(r.knot_jumps, itertools.pairwise(laws), strict=True):
         tk = fmpq(k.t_exact.numerator, k.t_exact.denominator)
-        jumps = [float(R.reference(side_task(right[1]), tk)[n] - R.reference(side_task(left[1]), tk)[n])
-                 for n in ("T1", "T2")]  # fmt: skip
+        lo, hi = R.reference(side_task(left[1]), tk), R.reference(side_task(right[1]), tk)
+        jumps = [float(hi[n] - lo[n]) for n in ("T1", "T2")]
         assert k.torque_jump is not None
         for got, want in zip(k.torque_jump, jumps, strict=True):
             assert math.isclose(got, want, rel_tol=1e-9, abs_tol=1e-9)
