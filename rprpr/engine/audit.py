@@ -157,8 +157,6 @@ def audit(
     whole = len(on_line) == len(parts) and not task.pieces
     tell(FINDINGS)
     found = findings(task, analysis, peak, checked, knots, [] if whole else on_line)
-    if len(parts) > 1:
-        P.theta_offsets(parts)
     return AuditResult(
         task=task,
         strict=strict,

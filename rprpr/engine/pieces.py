@@ -45,6 +45,7 @@ class Part:
     start: fmpq
     end: fmpq
     theta_offset: tuple[float, float] = field(default=(0.0, 0.0))  # 2πk per leg
+    offsets_known: bool = False  # (on the first part) ``theta_offsets`` made
 
     @property
     def origin(self) -> fmpq:
@@ -286,6 +287,9 @@ def sample(parts: list[Part], t: np.ndarray) -> Samples:
     if len(parts) == 1:
         c = parts[0].motion.sample(t)
         return Samples(t=c.t, reason=c.reason, **c.value)
+    if not parts[0].offsets_known:  # made when first sampled, not by the audit
+        theta_offsets(parts)
+        parts[0].offsets_known = True
     idx = which(parts, t)
     value = {n: np.full(len(t), np.nan) for n in FIELDS}
     reason = np.zeros(len(t), dtype=np.int8)
