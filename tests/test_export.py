@@ -23,7 +23,8 @@ from .conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 ISSUE_COLUMNS = [
     "t", "x", "y", "x_dot", "y_dot", "theta1", "s1", "theta2", "s2",
     "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
-    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2", "reason",
+    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+    "x_ddot", "y_ddot", "theta1_ddot", "s1_ddot", "theta2_ddot", "s2_ddot", "reason",
 ]  # fmt: skip
 WIDTH = len(ISSUE_COLUMNS)
 

@@ -31,6 +31,7 @@ from rprpr.cli.check import run_checks
 from rprpr.cli.main import main
 from rprpr.cli.options import CheckOptions
 from rprpr.engine import audit as auditing
+from rprpr.engine import envelope as enveloping
 from rprpr.engine.audit import AuditResult, audit
 from rprpr.engine.singular import ISOLATING
 from rprpr.io.loader import parse_task
@@ -264,7 +265,7 @@ def test_budget_exceeded_is_reported_in_every_format_with_exit_4(
 ) -> None:
     # the real audit of path 1, whose torque envelope (the last stage but the findings)
     # never ends: the budget stops it there, whatever the exact analysis before it cost
-    monkeypatch.setattr(auditing.Envelope, "torque_peak", _deaf_envelope)
+    monkeypatch.setattr(enveloping.Envelope, "torque_peak", _deaf_envelope)
     path1, path2 = str(CONFIGS / "paper_path1.rprpr.yaml"), str(CONFIGS / "paper_path2.rprpr.yaml")
     common = ["check", "--budget", "0.5", path1]
     message = "the exact analysis exceeded its budget of 0.5 s at the torque envelope"

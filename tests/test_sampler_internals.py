@@ -19,6 +19,7 @@ def test_singular_instant_holds_only_what_the_paper_and_the_reports_need() -> No
         "t", "x", "y", "t_exact", "case", "order", "delta_derivatives", "slope", "speed",
         "slope_principle", "velocity_principle", "consistency_residual", "consistent",
         "conditions_required", "conditions_met", "torque_at_singularity", "beyond_double_range",
+        "knot", "sides",
     ]  # fmt: skip
     assert [f.name for f in fields(KinematicSingularity)] == [
         "t", "x", "y", "leg", "order", "beyond_double_range",

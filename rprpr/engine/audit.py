@@ -14,18 +14,22 @@ command line's business.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property
 
 import numpy as np
+from flint import fmpq
 
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.numbers import to_float
 from ..model.rules import Finding, with_levels
 from ..model.task import Task
+from . import knots as K
+from . import pieces as P
 from .certified import CertifiedMotion
-from .envelope import Approach, Envelope, LimitCheck, Peak, Window
+from .envelope import Approach, LimitCheck, Peak, Window
 from .findings import findings
-from .sampling import Samples, grid, sample
+from .sampling import Samples, grid
 from .singular import (
     EXPANDING,
     FACTORING,
@@ -34,9 +38,8 @@ from .singular import (
     OnStage,
     SingularAnalysis,
     SingularInstant,
-    analyse,
 )
-from .trajectory import Trajectory, trajectory
+from .trajectory import Trajectory, trajectories
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -73,7 +76,10 @@ class AuditResult:
     grid_size: int = field(repr=False)
     trajectory: Trajectory = field(repr=False)
     analysis: SingularAnalysis = field(repr=False, compare=False)
-    motion: CertifiedMotion = field(repr=False, compare=False)  # what ``resample`` reads
+    motion: CertifiedMotion = field(repr=False, compare=False)  # the first piece's
+    parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
+    knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
+    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
 
     @cached_property
     def samples(self) -> Samples:
@@ -83,7 +89,7 @@ class AuditResult:
     def resample(self, t: np.ndarray) -> Samples:
         """The motion, joints, δ, λ and torques at the times ``t`` [s], certified, from
         the exact analysis already made (no new analysis)."""
-        return sample(self.motion, np.asarray(t, dtype=float))
+        return P.sample(list(self.parts), np.asarray(t, dtype=float))
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
         """The findings the audit made at the singular instant ``s``."""
@@ -127,26 +133,30 @@ def audit(
     """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
     (nothing the audit decides depends on it); ``strict`` overrides
     ``task.checks.strict``. ``on_stage``, when given, is told the name of each stage
-    (``STAGES``) as it begins (a caller that stops a long audit can say where it was)."""
+    (``STAGES``) as it begins (a caller that stops a long audit can say where it was).
+
+    A piecewise motion is audited piece by piece (``pieces``): between knots as one
+    polynomial, at each knot from both sides."""
     if samples < 2:
         raise ValueError("at least 2 samples are needed")
     strict = task.checks.strict if strict is None else strict
     tell = on_stage or _quiet
-    traj = trajectory(task)
-    analysis = analyse(traj, task.robot, task.checks, tell)
+    parts = [P.part(traj, task.robot, task.checks, tell) for traj in trajectories(task)]
     tell(ENVELOPE)
-    motion = CertifiedMotion(traj, task.robot, analysis)
-    envelope = Envelope(motion)
-    peak = envelope.torque_peak()
+    peak = P.peaks(parts, [p.envelope.torque_peak() for p in parts])
     limit = task.checks.torque_limit
-    checked = saturation = None
+    checked = None
     if limit is not None:
         pair = (to_float(limit[0]), to_float(limit[1]))
-        checked = envelope.limit_violations(pair)
-        saturation = envelope.saturation_windows(pair)
-    approach = envelope.closest_approach()
+        checked = P.limits(parts, [p.envelope.limit_violations(pair) for p in parts])
+    approach = P.approach(parts, [p.envelope.closest_approach() for p in parts])
+    analysis = _joined(task, parts)
+    saturation = _saturation(analysis, checked) if checked is not None else []
+    knots = K.knots(task.motion, task.robot)
+    on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
+    whole = len(on_line) == len(parts) and not task.pieces
     tell(FINDINGS)
-    found = with_levels(findings(task, analysis, peak, checked), task.checks.rules)
+    found = findings(task, analysis, peak, checked, knots, [] if whole else on_line)
     return AuditResult(
         task=task,
         strict=strict,
@@ -155,14 +165,71 @@ def audit(
         on_singular_line=analysis.on_singular_line,
         torque_peak=peak,
         torque_limit=checked,
-        saturation=saturation or [],
+        saturation=saturation,
         closest_approach=approach,
-        findings=found,
+        findings=with_levels(found, task.checks.rules),
         grid_size=samples,
-        trajectory=traj,
+        trajectory=parts[0].traj,
         analysis=analysis,
-        motion=motion,
+        motion=parts[0].motion,
+        parts=tuple(parts),
+        knots=tuple(k.t for k in knots),
+        knot_jumps=tuple(knots),
     )
+
+
+def _joined(task: Task, parts: list[P.Part]) -> SingularAnalysis:
+    """The singular analyses of all pieces as one, in absolute time: an instant at a
+    break of a piecewise motion (0 and t_f included) becomes one knot instant with its
+    sides (``pieces.at_knot``); ``on_singular_line`` when every piece lies on y = 0."""
+    if len(parts) == 1 and not task.pieces:
+        return parts[0].analysis
+    sides: dict[Fraction, dict[str, SingularInstant]] = {}
+    hints: dict[Fraction, object] = {}
+    plain: list[tuple[SingularInstant, object]] = []
+    kinematic: dict[tuple[float, int], tuple[KinematicSingularity, int]] = {}
+    for p in parts:
+        a = p.analysis
+        for s, h in zip(a.instants, a._hints, strict=True):
+            s = P.absolute(p, s)
+            e = s.t_exact
+            if e is not None and e in (_fraction(p.start), _fraction(p.end)):
+                sides.setdefault(e, {})["after" if e == _fraction(p.start) else "before"] = s
+                hints.setdefault(e, h)
+            else:
+                plain.append((s, h))
+        for k, g in zip(a.kinematic, a._kinematic_signs, strict=True):
+            k = P.absolute_kinematic(p, k)
+            kinematic.setdefault((k.t, k.leg), (k, g))
+    for e, pair in sides.items():
+        plain.append((P.at_knot(pair.get("before"), pair.get("after")), hints[e]))
+    plain.sort(key=lambda sh: sh[0].t)
+    kin = sorted(kinematic.values(), key=lambda kg: kg[0].t)
+    return SingularAnalysis(
+        [s for s, _ in plain], [k for k, _ in kin],
+        all(p.analysis.on_singular_line for p in parts),
+        tuple(h for _, h in plain),  # type: ignore[misc]
+        tuple(g for _, g in kin),
+    )  # fmt: skip
+
+
+def _fraction(q: fmpq) -> Fraction:
+    return Fraction(int(q.p), int(q.q))
+
+
+def _saturation(a: SingularAnalysis, checks: tuple[LimitCheck, LimitCheck]) -> list[Saturation]:
+    """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
+    their limits (the limit checks' windows that hold it)."""
+    out: list[Saturation] = []
+    for s in a.instants:
+        if s.torque_bounded:
+            continue
+        pair = []
+        for c in checks:
+            w = [w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi]
+            pair.append(w[0] if w else None)
+        out.append((s, pair[0], pair[1]))
+    return out
 
 
 def _quiet(stage: str) -> None:

@@ -7,7 +7,8 @@ proven bound of the true value of the paper's formulas at t: the mixed error
 How (all choices depend on t alone, never on the other times asked for):
 
 1. **A vectorised ball pass** (``balls.Ball``, rigorous under round-to-nearest): x, x', x''
-   by Horner from the exact coefficients rounded to balls; y = p(x) with the path
+   by Horner from the exact coefficients rounded to balls; y(t) likewise, recentred on
+   the middle of the span, when the task gives no path; else y = p(x) with the path
    recentred, y = q(x - c) where q(w) = p(c + w) is formed exactly in Q and c is a short
    dyadic number in the middle of the x range (this keeps Horner well conditioned); near
    each exact root t_s of y (Type II instants, E at A or B), y and x also from their exact
@@ -195,8 +196,14 @@ class CertifiedMotion:
         self.a1 = Ball.of_rational(traj.a1)
         self.x3 = _poly3(traj.x)
         self.center = self._center()
-        q = traj.path(fmpq_poly([self.center, 1]))  # p(c + w), exact
-        self.q3 = _poly3(q)
+        # y = p(x) through the path recentred on x's range; without a path, y(t)
+        # itself recentred on the middle of the span, y(t) = r(t - c_t)
+        self.t_center = _dyadic_middle(0.0, to_float(traj.duration))
+        if traj.path is not None:
+            self.q3 = _poly3(traj.path(fmpq_poly([self.center, 1])))  # p(c + w), exact
+            self.y3 = None
+        else:
+            self.y3 = _poly3(traj.y(fmpq_poly([self.t_center, 1])))
         self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
         self.kinematic = self._kinematic()
         self.locals = [self._local(e) for _, e in self.instants]
@@ -355,12 +362,16 @@ class CertifiedMotion:
         x = horner(xc, tb)
         xd = horner(xdc, tb)
         xdd = horner(xddc, tb)
-        w = x - self.center
-        qc, q1c, q2c = self.q3
-        q1 = horner(q1c, w)
-        y = horner(qc, w)
-        yd = q1 * xd
-        ydd = horner(q2c, w) * xd * xd + q1 * xdd
+        if self.y3 is None:
+            w = x - self.center
+            qc, q1c, q2c = self.q3
+            q1 = horner(q1c, w)
+            y = horner(qc, w)
+            yd = q1 * xd
+            ydd = horner(q2c, w) * xd * xd + q1 * xdd
+        else:
+            wt = tb - self.t_center
+            y, yd, ydd = (horner(c, wt) for c in self.y3)
         if isinstance(t, Ball):
             return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
         x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)

@@ -128,11 +128,17 @@ def _hypot(u: Any, v: Any) -> Any:
 
 
 class _Polys:
-    """Ball coefficients of x, x', x'', x''' in t and of q, q', q'', q''' in w = x - c."""
+    """Ball coefficients of x, x', x'', x''' in t and of q, q', q'', q''' in w = x - c
+    (q: the path recentred), or without a path q = y recentred, in w = t - c_t."""
 
     def __init__(self, motion: CertifiedMotion) -> None:
         x = motion.traj.x
-        q = motion.traj.path(fmpq_poly([motion.center, 1]))
+        self.direct = motion.traj.path is None  # then q is y in w = t - c_t
+        path = motion.traj.path
+        if path is None:
+            q = motion.traj.y(fmpq_poly([motion.t_center, 1]))
+        else:
+            q = path(fmpq_poly([motion.center, 1]))
         self.x = [poly_balls(x)]
         self.q = [poly_balls(q)]
         for _ in range(3):
@@ -144,6 +150,9 @@ class _Polys:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
         xv = [horner(c, box) for c in self.x]
         x, xd, xdd = Jet(xv[0], xv[1]), Jet(xv[1], xv[2]), Jet(xv[2], xv[3])
+        if self.direct:
+            yv = [horner(c, box - motion.t_center) for c in self.q]
+            return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
         w = xv[0] - motion.center
         qv = [horner(c, w) for c in self.q]
         q1 = Jet(qv[1], qv[2] * xv[1])

@@ -9,15 +9,34 @@ a message goes through ``model.numbers``; the instants of a task are told apart 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from decimal import Decimal
+from fractions import Fraction
 
-from ..model.numbers import apart, distinct, labels, number, with_unit
+from flint import fmpq
+
+from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
 from .envelope import LimitCheck, Peak, Window
+from .knots import Knot
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
+
+
+def exact_text(t: fmpq | Fraction) -> str:
+    """An exact time as text: its decimal when finite and short ("2.5", "0.001"), else
+    the fraction ("5/3")."""
+    q = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else t
+    d, twos_fives = q.denominator, 0
+    for f in (2, 5):
+        while d % f == 0:
+            d, twos_fives = d // f, twos_fives + 1
+    if d == 1 and twos_fives <= 24:
+        text = format(Decimal(q.numerator) / Decimal(q.denominator), "f")
+        return text.rstrip("0").rstrip(".") if "." in text else text
+    return str(q)
 
 
 def findings(
@@ -25,14 +44,19 @@ def findings(
     a: SingularAnalysis,
     peak: tuple[Peak, Peak] | None,
     limit: tuple[LimitCheck, LimitCheck] | None,
+    knots: Sequence[Knot] = (),
+    on_line: Sequence[tuple[fmpq, fmpq]] = (),
 ) -> list[Finding]:
     """What the audit found wrong with ``task``, in report order: the path on the singular
     line, the inverse-kinematic singularities, each singular instant's broken principles
     and unbounded torques, then the torque limit (``limit``: the certified check of
     ``checks.torque_limit`` over [0, t_f], ``envelope.limit_violations``; ``peak``: the
-    certified max |T1|, max |T2|, ``envelope.torque_peak``)."""
+    certified max |T1|, max |T2|, ``envelope.torque_peak``). A piecewise motion adds
+    its ``knots`` (velocity and torque jumps) and ``on_line``, the pieces [start, end]
+    that lie on y = 0 (then RPR104 names each)."""
     at = instant_text(a)
-    out = path_on_singular_line(a)
+    out = path_on_singular_line(a) if not on_line else pieces_on_singular_line(on_line)
+    out += [f for k in knots for f in knot(k)]
     out += [kinematic(k, at) for k in a.kinematic]
     accepted = task.checks.unbounded_torque == "warn"
     for s in a.instants:
@@ -59,6 +83,43 @@ def path_on_singular_line(a: SingularAnalysis) -> list[Finding]:
         "the path lies on the singular line y = 0 (δ ≡ 0): every instant is a Type II singularity"
     )
     return [Finding("RPR104", message)]
+
+
+def pieces_on_singular_line(spans: Sequence[tuple[fmpq, fmpq]]) -> list[Finding]:
+    """RPR104 for a piecewise motion: y ≡ 0 on the piece [start, end] (one finding each)."""
+    out = []
+    for start, end in spans:
+        message = (
+            f"the path lies on the singular line y = 0 for t = {exact_text(start)} .."
+            f" {exact_text(end)} s (δ ≡ 0): every instant of that piece is a Type II"
+            " singularity"
+        )
+        out.append(Finding("RPR104", message, to_float(start)))
+    return out
+
+
+def knot(k: Knot) -> list[Finding]:
+    """RPR203 where the velocity jumps at the knot ``k``, RPR204 where only the
+    acceleration does (with the jumps of T1, T2 when both sides' torques are defined)."""
+    at = f"t = {exact_text(k.t_exact)} s (knot between pieces {k.before + 1} and {k.before + 2})"
+    if k.velocity_jump is not None:
+        dx, dy = (number(v) for v in k.velocity_jump)
+        message = (
+            f"{at}: the end-point velocity jumps by (Δẋ, Δẏ) = ({dx}, {dy}) m/s"
+            " (a C0 knot): the torques are impulsive there"
+        )
+        return [Finding("RPR203", message, k.t)]
+    if k.acceleration_jump is None:
+        return []
+    ax, ay = (number(v) for v in k.acceleration_jump)
+    jump = k.torque_jump
+    torques = (
+        f": T1 jumps by {number(jump[0])} N m, T2 by {number(jump[1])} N m"
+        if jump is not None
+        else " (the torques are undefined or unbounded on a side)"
+    )
+    message = f"{at}: the end-point acceleration jumps by (Δẍ, Δÿ) = ({ax}, {ay}) m/s²{torques}"
+    return [Finding("RPR204", message, k.t)]
 
 
 def kinematic(k: KinematicSingularity, at: At) -> Finding:

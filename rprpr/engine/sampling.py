@@ -16,11 +16,13 @@ from flint import fmpq
 
 from .certified import REASONS, CertifiedMotion
 
-# the export columns, in order (SI units, angles in radians, θ continuous)
+# the export columns, in order (SI units, angles in radians, θ continuous); the
+# accelerations (for a controller's feed-forward) last, so earlier columns keep their place
 COLUMNS = (
     "t", "x", "y", "x_dot", "y_dot", "theta1", "s1", "theta2", "s2",
     "theta1_dot", "s1_dot", "theta2_dot", "s2_dot", "delta", "delta_dot",
     "lambda1", "lambda2", "T1", "T2",
+    "x_ddot", "y_ddot", "theta1_ddot", "s1_ddot", "theta2_ddot", "s2_ddot",
 )  # fmt: skip
 
 __all__ = ["COLUMNS", "REASONS", "Samples", "grid", "sample"]

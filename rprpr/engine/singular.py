@@ -81,6 +81,12 @@ class SingularInstant:
     conditions_met: int
     torque_at_singularity: tuple[float, float] | None
     beyond_double_range: tuple[tuple[str, str], ...] = ()
+    knot: bool = False  # t_s is a break of a piecewise motion (0 and t_f included)
+    sides: tuple[tuple[str, SingularInstant], ...] = ()  # ("before", s), ("after", s)
+
+    def side(self, name: str) -> SingularInstant | None:
+        """The one-sided analysis ``name`` ("before" or "after") at a knot, else None."""
+        return dict(self.sides).get(name)
 
     @property
     def t_rational(self) -> fmpq | None:
@@ -371,7 +377,11 @@ def _instant(
         e = done[sx, sxa] = _expanded(traj, robot, K, m, exact, sx, sxa, case)
     k = min(*e.mu_valuations, m)
     # the design principles: path slope dy/dx and end-point speed at t_s
-    slope = traj.slope(exact) if exact is not None else K.elem(traj.slope)
+    if traj.path is not None:
+        slope: Any = traj.slope(exact) if exact is not None else K.elem(traj.slope)
+        slope_principle = _slope_principle(slope, checks.min_slope)
+    else:
+        slope, slope_principle = _tangent_slope(traj, K, exact, checks.min_slope)
     speed = _speed(e.speed2)
     beyond: list[tuple[str, str]] = []  # filled in the order of the fields
     t = _double("t", exact if exact is not None else at(128), beyond)
@@ -396,7 +406,7 @@ def _instant(
         delta_derivatives=[delta_m if i == m else 0.0 for i in range(m + 1)],
         slope=slope_f,
         speed=speed_f,
-        slope_principle=_slope_principle(slope, checks.min_slope),
+        slope_principle=slope_principle,
         velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
         consistency_residual=residual_f,
         consistent=is_zero(e.residual),
@@ -501,6 +511,32 @@ def _slope_principle(slope: Any, min_slope: fmpq) -> Principle:
             *exact_apart(abs(_shown(slope)), min_slope)
         ),
     )
+
+
+def _tangent_slope(
+    traj: Trajectory, K: NumberField, exact: fmpq | None, min_slope: fmpq
+) -> tuple[Any, Principle]:
+    """dy/dx at t_s for a motion given as x(t), y(t) (no path): the slope of the tangent,
+    ẏ/ẋ, or where the end point is at rest the limit direction y^(k)/x^(k) of the lowest
+    derivatives k >= 1 that do not both vanish. A vertical tangent (x^(k) = 0) has an
+    infinite slope (``inf``: JSON null) and passes; no direction at all (x, y constant)
+    is slope 0. The principle |dy/dx| > min_slope is decided exactly as
+    |y^(k)| > min_slope |x^(k)|."""
+    dx: Any = 0
+    dy: Any = 0
+    px, py = traj.x, traj.y
+    for _ in range(max(px.degree(), py.degree(), 0)):
+        px, py = px.derivative(), py.derivative()
+        dx = px(exact) if exact is not None else K.elem(px)
+        dy = py(exact) if exact is not None else K.elem(py)
+        if not (is_zero(dx) and is_zero(dy)):
+            break
+    if is_zero(dx) and not is_zero(dy):
+        return math.inf, Principle(
+            True, "the tangent is vertical here (dx/dt = 0): |dy/dx| is infinite"
+        )
+    slope = dy / dx if not is_zero(dx) else fmpq(0)
+    return slope, _slope_principle(slope, min_slope)
 
 
 def _velocity_principle(speed2: Any, speed: arb | float, min_speed: fmpq) -> Principle:

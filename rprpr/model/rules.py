@@ -112,6 +112,26 @@ RULES: dict[str, Rule] = {
             "eq. (28): the torques T1, T2 of the inverse dynamics, certified over [0, t_f]",
             "A drive asked for more than it can give saturates: the motion is not followed.",
         ),
+        Rule(
+            "RPR203", "velocity-jump", False, "motion",
+            "At a knot t_k of a piecewise motion the end-point velocity jumps (a C0 knot, "
+            "e.g. waypoints with positions only): the torques would be impulsive there.",
+            "Give the waypoints velocities (cubic or quintic segments), or pieces whose "
+            "first derivatives agree at every knot.",
+            "eq. (28): the torques depend on the accelerations s'', θ'', which are a Dirac "
+            "impulse where the velocity jumps",
+            "No actuator delivers an impulse: the motion is not followed at the knot.",
+        ),
+        Rule(
+            "RPR204", "torque-jump", True, "motion",
+            "At a knot t_k of a piecewise motion the end-point acceleration jumps (a C1 "
+            "knot): the torques T1, T2 jump by the amounts the message gives.",
+            "Give the waypoints accelerations (quintic segments) or pieces whose second "
+            "derivatives agree at every knot, if the drives cannot follow a torque step.",
+            "eq. (28): the torques depend on the accelerations, which jump at a C1 knot",
+            "A torque step excites the structure and the current loops; it is executable, "
+            "so it is a warning (it fails only in strict mode).",
+        ),
     )
 }  # fmt: skip
 

@@ -50,7 +50,9 @@ UNITS = {
     "theta1": "rad", "s1": "m", "theta2": "rad", "s2": "m",
     "theta1_dot": "rad/s", "s1_dot": "m/s", "theta2_dot": "rad/s", "s2_dot": "m/s",
     "delta": "1", "delta_dot": "1/s",
-    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m", "reason": "code",
+    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m",
+    "x_ddot": "m/s^2", "y_ddot": "m/s^2", "theta1_ddot": "rad/s^2", "s1_ddot": "m/s^2",
+    "theta2_ddot": "rad/s^2", "s2_ddot": "m/s^2", "reason": "code",
 }  # fmt: skip
 
 EXPORTED = (*COLUMNS, "reason")  # the columns of a row, in order

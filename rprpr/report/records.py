@@ -12,6 +12,7 @@ from typing import Any
 
 from ..engine.audit import AuditResult, Saturation
 from ..engine.envelope import Approach, LimitCheck, Peak, Window
+from ..engine.knots import Knot
 from ..engine.singular import SingularInstant
 from ..model.errors import TaskFileError
 from ..model.numbers import labels, number
@@ -30,7 +31,35 @@ def singularity_record(
     """One singular instant as JSON-ready data (``singularities[]`` of a report): ``t``
     the nearest double, ``t_exact`` the exact time as text ("5/2", "1/10") when it is
     rational, null when it is irrational; ``saturation``: its ``saturation_record``
-    (None: bounded, or no torque limit)."""
+    (None: bounded, or no torque limit). ``knot``: t_s is a break of a piecewise motion
+    (0 and t_f included); then ``sides`` holds the one-sided analyses ``before`` and
+    ``after`` (``side_record``; none before t = 0, none after t_f) and the fields above
+    are their conservative combination."""
+    out = _instant_fields(s)
+    out["saturation"] = saturation
+    out["knot"] = s.knot
+    if s.knot:
+        out["sides"] = {name: side_record(side) for name, side in s.sides}
+    return out
+
+
+SIDE_FIELDS = (
+    "order", "kind", "high_order", "delta_derivatives", "slope", "speed", "slope_principle",
+    "slope_reason", "velocity_principle", "velocity_reason", "consistency_residual",
+    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
+def side_record(s: SingularInstant) -> dict[str, Any]:
+    """One side of a singular instant at a knot: its order (the multiplicity of the root
+    of that side's y(t)), slope, speed, eq. (34) residual, conditions, boundedness and
+    limit torque (``SIDE_FIELDS``)."""
+    fields = _instant_fields(s)
+    return {k: fields[k] for k in SIDE_FIELDS}
+
+
+def _instant_fields(s: SingularInstant) -> dict[str, Any]:
     return {
         "t": s.t,
         "t_exact": None if s.t_exact is None else str(s.t_exact),
@@ -60,7 +89,6 @@ def singularity_record(
             if s.torque_at_singularity
             else None
         ),
-        "saturation": saturation,
     }
 
 
@@ -173,6 +201,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
             {"t": k.t, "x": k.x, "y": k.y, "leg": k.leg} for k in result.kinematic_singularities
         ],
         "on_singular_line": result.on_singular_line,
+        "knots": [_knot_record(k) for k in result.knot_jumps],
         **peak_fields(result.torque_peak),
         "torque_limit": (
             [limit_record(c) for c in result.torque_limit] if result.torque_limit else None
@@ -180,6 +209,21 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "closest_approach": approach_record(result.closest_approach),
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
+    }
+
+
+def _knot_record(k: Knot) -> dict[str, Any]:
+    """An interior knot of a piecewise motion: ``t``, ``t_exact`` (text), the jumps of
+    velocity [ẋ, ẏ] and acceleration [ẍ, ÿ] (null where continuous) and of the torques
+    [T1, T2] (null where the velocity jumps, the acceleration does not, or a side's
+    torques are undefined)."""
+    jump = k.torque_jump
+    return {
+        "t": k.t,
+        "t_exact": str(k.t_exact),
+        "velocity_jump": None if k.velocity_jump is None else list(k.velocity_jump),
+        "acceleration_jump": None if k.acceleration_jump is None else list(k.acceleration_jump),
+        "torque_jump": None if jump is None else [_f(jump[0]), _f(jump[1])],
     }
 
 

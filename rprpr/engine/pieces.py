@@ -1,0 +1,305 @@
+"""A piecewise motion audited piece by piece, and the results put back together (pure).
+
+Each piece is analysed, certified and enveloped alone in its local time (``trajectory``:
+u = t - origin, exact); what it finds is moved back to absolute time here: exact instants
+stay exact (origin + u), float ends of windows are rounded outward. A singular instant
+exactly at a knot is found by both pieces that meet there, each with its own one-sided
+analysis (its own order, slope, speed, eq. 34 residual, conditions and limit torque):
+the two are combined conservatively (``at_knot``).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+
+import numpy as np
+from flint import arb, ctx, fmpq, fmpq_poly
+
+from ..model.numbers import to_float
+from ..model.task import Checks, Robot
+from .certified import FIELDS, CertifiedMotion
+from .envelope import Approach, Envelope, LimitCheck, Peak, Window
+from .sampling import Samples
+from .singular import (
+    KinematicSingularity,
+    OnStage,
+    Principle,
+    SingularAnalysis,
+    SingularInstant,
+    analyse,
+)
+from .trajectory import Trajectory
+
+
+@dataclass
+class Part:
+    """One piece [start, end] (absolute, exact) audited in its local time."""
+
+    traj: Trajectory
+    analysis: SingularAnalysis  # local times, instants before the piece's start dropped
+    motion: CertifiedMotion
+    envelope: Envelope
+    start: fmpq
+    end: fmpq
+    theta_offset: tuple[float, float] = field(default=(0.0, 0.0))  # 2πk per leg
+    offsets_known: bool = False  # (on the first part) ``theta_offsets`` made
+
+    @property
+    def origin(self) -> fmpq:
+        return self.traj.origin
+
+
+def part(traj: Trajectory, robot: Robot, checks: Checks, tell: OnStage) -> Part:
+    """The exact analysis, the certified motion and the envelope of one piece."""
+    analysis = _trimmed(analyse(traj, robot, checks, tell), traj.lead)
+    motion = CertifiedMotion(traj, robot, analysis)
+    start = traj.origin + traj.lead
+    return Part(traj, analysis, motion, Envelope(motion), start, traj.origin + traj.duration)
+
+
+def _root_ball(a: SingularAnalysis, s: SingularInstant, prec: int) -> arb:
+    return a.hints(s).field.evaluate(fmpq_poly([0, 1]), prec)
+
+
+def _before(a: SingularAnalysis, s: SingularInstant, lead: fmpq) -> bool:
+    """t_s < lead, decided exactly (an irrational t_s is never equal to it)."""
+    if lead == 0:
+        return False
+    if s.t_rational is not None:
+        return s.t_rational < lead
+    prec = 64
+    while prec <= 1 << 16:
+        b = _root_ball(a, s, prec)
+        if b < arb(lead):
+            return True
+        if b > arb(lead):
+            return False
+        prec *= 2
+    return False
+
+
+def _trimmed(a: SingularAnalysis, lead: fmpq) -> SingularAnalysis:
+    """``a`` without what lies in the sliver before the piece's start (``trajectory``)."""
+    if lead == 0:
+        return a
+    keep = [(s, h) for s, h in zip(a.instants, a._hints, strict=True) if not _before(a, s, lead)]
+    lead_f = to_float(lead)
+    kin = [(k, g) for k, g in zip(a.kinematic, a._kinematic_signs, strict=True) if k.t >= lead_f]
+    return SingularAnalysis(
+        [s for s, _ in keep], [k for k, _ in kin], a.on_singular_line,
+        tuple(h for _, h in keep), tuple(g for _, g in kin),
+    )  # fmt: skip
+
+
+# -- back to absolute time --------------------------------------------------------------
+
+
+def shift(origin: fmpq, u: float, up: bool | None = None) -> float:
+    """origin + u as a double: nearest (``up`` None), or rounded up / down."""
+    if origin == 0 or not math.isfinite(u):
+        return u
+    v = origin + fmpq(*u.as_integer_ratio())
+    f = to_float(v)
+    g = fmpq(*f.as_integer_ratio())
+    if up is True and g < v:
+        f = math.nextafter(f, math.inf)
+    elif up is False and g > v:
+        f = math.nextafter(f, -math.inf)
+    return f
+
+
+def absolute(p: Part, s: SingularInstant) -> SingularInstant:
+    """The instant ``s`` of the piece ``p`` at its absolute time."""
+    o = p.origin
+    if o == 0:
+        return s
+    if s.t_rational is not None:
+        t = o + s.t_rational
+        return replace(s, t=to_float(t), t_exact=Fraction(int(t.p), int(t.q)))
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        return replace(s, t=float((arb(o) + _root_ball(p.analysis, s, 128)).mid()))
+    finally:
+        ctx.prec = old
+
+
+def absolute_kinematic(p: Part, k: KinematicSingularity) -> KinematicSingularity:
+    return k if p.origin == 0 else replace(k, t=shift(p.origin, k.t))
+
+
+def _window(o: fmpq, w: Window) -> Window:
+    return Window(
+        shift(o, w.start_lo, False), shift(o, w.start_hi, True),
+        shift(o, w.end_lo, False), shift(o, w.end_hi, True), w.pole,
+    )  # fmt: skip
+
+
+# -- one-sided instants at knots ------------------------------------------------------
+
+
+def _side(name: str, principle: Principle, two: bool) -> Principle:
+    return replace(principle, reason=f"{name} the knot: {principle.reason}") if two else principle
+
+
+def at_knot(before: SingularInstant | None, after: SingularInstant | None) -> SingularInstant:
+    """One instant at a knot from its one-sided analyses (either may be absent: t = 0,
+    t = t_f): ``order`` the larger; a principle fails if it fails on either side; the
+    eq. (34) residual of an inconsistent side; ``torque_bounded`` only if both are (the
+    pole of the higher order); ``torque_at_singularity`` the common limit, else None."""
+    sides = tuple((n, s) for n, s in (("before", before), ("after", after)) if s is not None)
+    ss = [s for _, s in sides]
+    two = len(ss) == 2
+    base = max(ss, key=lambda s: s.order)
+    order = base.order
+    slope_n, slope_s = min(sides, key=lambda p: (p[1].slope_principle.passed, abs(p[1].slope)))
+    speed_n, speed_s = min(sides, key=lambda p: (p[1].velocity_principle.passed, p[1].speed))
+    _, resid_s = max(sides, key=lambda p: (not p[1].consistent, abs(p[1].consistency_residual)))
+    pole = max(s.pole_order for s in ss)
+    limits = {s.torque_at_singularity for s in ss}
+    torque = limits.pop() if len(limits) == 1 else None
+    beyond = tuple(dict.fromkeys(b for s in ss for b in s.beyond_double_range))
+    return replace(
+        base,
+        order=order,
+        slope=slope_s.slope,
+        slope_principle=_side(slope_n, slope_s.slope_principle, two),
+        speed=speed_s.speed,
+        velocity_principle=_side(speed_n, speed_s.velocity_principle, two),
+        consistency_residual=resid_s.consistency_residual,
+        consistent=all(s.consistent for s in ss),
+        conditions_required=order,
+        conditions_met=order - pole,
+        torque_at_singularity=torque,
+        beyond_double_range=beyond,
+        knot=True,
+        sides=sides,
+    )
+
+
+# -- the envelopes put together ---------------------------------------------------------
+
+
+def peaks(parts: list[Part], got: list[tuple[Peak, Peak] | None]) -> tuple[Peak, Peak] | None:
+    """max |T1|, max |T2| over all pieces (None where undefined on one; the first pole)."""
+    if any(g is None for g in got):
+        return None
+    pairs = [(p, g) for p, g in zip(parts, got, strict=True) if g is not None]
+    poles = [shift(p.origin, g[0].t) for p, g in pairs if math.isinf(g[0].value)]
+    if poles:
+        t = min(poles)
+        return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
+    out = []
+    for i in (0, 1):
+        p, g = max(pairs, key=lambda pg: pg[1][i].value)
+        out.append(
+            Peak(
+                g[i].value, shift(p.origin, g[i].t), max(h[i].upper for _, h in pairs),
+                all(h[i].certified for _, h in pairs),
+            )
+        )  # fmt: skip
+    return out[0], out[1]
+
+
+def limits(
+    parts: list[Part], got: list[tuple[LimitCheck, LimitCheck]]
+) -> tuple[LimitCheck, LimitCheck]:
+    """The limit checks of all pieces as one: failed if one fails, undecided if one is;
+    windows in absolute time, joined where they meet across a knot."""
+    out = []
+    for i in (0, 1):
+        checks = [g[i] for g in got]
+        passed: bool | None = True
+        if any(c.passed is False for c in checks):
+            passed = False
+        elif any(c.passed is None for c in checks):
+            passed = None
+        windows: list[Window] = []
+        for p, c in zip(parts, checks, strict=True):
+            for w in c.windows:
+                w = _window(p.origin, w)
+                if windows and windows[-1].end_hi >= w.start_lo:
+                    last = windows.pop()
+                    w = Window(last.start_lo, last.start_hi, w.end_lo, w.end_hi,
+                               last.pole or w.pole)  # fmt: skip
+                windows.append(w)
+        resolution = max(c.resolution for c in checks)
+        out.append(LimitCheck(checks[0].limit, passed, tuple(windows), resolution))
+    return out[0], out[1]
+
+
+def approach(parts: list[Part], got: list[Approach | None]) -> Approach | None:
+    """The closest approach over all pieces (None when one of them meets the line)."""
+    if any(a is None for a in got):
+        return None
+    pairs = [(p, a) for p, a in zip(parts, got, strict=True) if a is not None]
+    py, ay = min(pairs, key=lambda pa: pa[1].distance)
+    pd, ad = min(pairs, key=lambda pa: pa[1].delta_hi)
+    low = min(a.delta_lo for _, a in pairs)
+    return Approach(ay.distance, shift(py.origin, ay.t_y), low, ad.delta_hi,
+                    shift(pd.origin, ad.t_delta))  # fmt: skip
+
+
+# -- samples ----------------------------------------------------------------------------
+
+
+def which(parts: list[Part], t: np.ndarray) -> np.ndarray:
+    """The piece holding each float time (the later one exactly at a knot)."""
+    starts = [p.start for p in parts[1:]]
+    floats = np.array([to_float(s) for s in starts])
+    idx = np.searchsorted(floats, t, side="right")
+    for j in np.nonzero(idx > 0)[0]:
+        k = int(idx[j]) - 1
+        if t[j] == floats[k] and fmpq(*float(t[j]).as_integer_ratio()) < starts[k]:
+            idx[j] = k  # the double of a knot that is no double, below it
+    return idx
+
+
+def _theta_at(p: Part, t: float) -> tuple[float, float]:
+    u = float(t - to_float(p.origin))
+    c = p.motion.sample(np.array([u]), refine=False)
+    return float(c.value["theta1"][0]), float(c.value["theta2"][0])
+
+
+def theta_offsets(parts: list[Part]) -> None:
+    """Each piece's 2πk per leg, so that θ is continuous across every knot: the angle
+    just after the knot (a double above it) is moved by the multiple of 2π nearest its
+    difference from the angle just before (a double below it)."""
+    offset = [0.0, 0.0]
+    for prev, p in itertools.pairwise(parts):
+        t = to_float(p.start)
+        lo = t if fmpq(*t.as_integer_ratio()) < p.start else math.nextafter(t, -math.inf)
+        hi = t if fmpq(*t.as_integer_ratio()) > p.start else math.nextafter(t, math.inf)
+        before, after = _theta_at(prev, lo), _theta_at(p, hi)
+        for leg in (0, 1):
+            jump = before[leg] + prev.theta_offset[leg] - after[leg]
+            if math.isfinite(jump):
+                offset[leg] = 2 * math.pi * round(jump / (2 * math.pi))
+        p.theta_offset = (offset[0], offset[1])
+
+
+def sample(parts: list[Part], t: np.ndarray) -> Samples:
+    """Certified samples at the absolute times ``t``, each from its own piece."""
+    t = np.asarray(t, dtype=float)
+    if len(parts) == 1:
+        c = parts[0].motion.sample(t)
+        return Samples(t=c.t, reason=c.reason, **c.value)
+    if not parts[0].offsets_known:  # made when first sampled, not by the audit
+        theta_offsets(parts)
+        parts[0].offsets_known = True
+    idx = which(parts, t)
+    value = {n: np.full(len(t), np.nan) for n in FIELDS}
+    reason = np.zeros(len(t), dtype=np.int8)
+    for i in np.unique(idx):
+        p = parts[int(i)]
+        sel = np.nonzero(idx == i)[0]
+        c = p.motion.sample(t[sel] - to_float(p.origin))  # exact (``trajectory``)
+        for n in FIELDS:
+            value[n][sel] = c.value[n]
+        value["theta1"][sel] += p.theta_offset[0]
+        value["theta2"][sel] += p.theta_offset[1]
+        reason[sel] = c.reason
+    return Samples(t=t, reason=reason, **value)
