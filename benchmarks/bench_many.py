@@ -334,21 +334,57 @@ def stages(folder: Path, samples: int | None) -> None:
     totals = [0.0] * len(STAGES)
     _instrument(totals)
     run = Run()
+    costs: list[tuple[float, str]] = []  # (ms, file) per task
     t0 = time.perf_counter()
     for f in files:
+        c0 = time.perf_counter()
         run.add(*check_one(f, options))
+        costs.append(((time.perf_counter() - c0) * 1000, str(f)))
     t1 = time.perf_counter()
     text = json_report(run, quiet=True)
     t2 = time.perf_counter()
     n = len(files)
     per_task = (t1 - t0) / n * 1000
     print(f"\nin-process, {n} tasks, --samples {options.samples}: {per_task:.2f} ms/task")
+    _per_task(costs)
     print(f"  {'stage':42s} {'ms/task':>8s} {'share':>6s}")
     rows = [(label, v) for (label, _, _, _), v in zip(STAGES, totals, strict=True)]
     rows.append(("JSON rendering (-q, indent 2)", t2 - t1))
     for label, v in rows:
         print(f"  {label:42s} {v / n * 1000:8.3f} {v / (t1 - t0):6.1%}")
     print(f"  ({len(text)} bytes of JSON)")
+    floor = sum(totals[i] for i, (label, _, _, _) in enumerate(STAGES) if label in FLOOR)
+    print(
+        f"  floor (reading + exact analysis, what every task needs): {floor / n * 1000:.2f}"
+        f" ms/task; certification (motion + envelope) and the rest:"
+        f" {per_task - floor / n * 1000:.2f} ms/task"
+    )
+
+
+FLOOR = (
+    "load_task (read + YAML + validate)",
+    "  trajectory (compose y(x(t)))",
+    "  analyse (exact)",
+)
+
+
+def _per_task(costs: list[tuple[float, str]]) -> None:
+    """The distribution of the per-task costs: median, 90th percentile, worst and its
+    ratio to the median (the aim: no task above 5x the median), the slowest tasks."""
+    ms = sorted(c for c, _ in costs)
+    med = ms[len(ms) // 2] if len(ms) % 2 else 0.5 * (ms[len(ms) // 2 - 1] + ms[len(ms) // 2])
+    worst, where = max(costs)
+    over = sum(c > 5 * med for c in ms)
+    print(
+        f"  per task: median {med:.2f} ms, 90th percentile {ms[int(0.9 * (len(ms) - 1))]:.2f} ms,"
+        f" worst {worst:.2f} ms = {worst / med:.1f}x the median ({Path(where).name});"
+        f" {over} of {len(ms)} tasks above 5x the median"
+    )
+    for c, f in sorted(costs, reverse=True)[:5]:
+        name = next(
+            (ln[6:] for ln in Path(f).read_text().splitlines() if ln.startswith("name:")), ""
+        )
+        print(f"    {c:8.2f} ms  {Path(f).name}  {name}")
 
 
 def main() -> int:

@@ -45,6 +45,7 @@ MAX_FAN = 512  # a live box is cut into at most this many
 MAX_ROUNDS = 60  # refining passes, at most
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
+CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 MAX_BOX_MODELS = 400  # box Taylor models per task, at most (the work cap near an instant)
 NEAR_PER_PASS = 8  # boxes given a Taylor form per pass, at most (arb, one box at a time)
 
@@ -474,6 +475,8 @@ class _Bounds:
     low_t: np.ndarray
     up: np.ndarray
     floor: np.ndarray
+    ends: tuple[np.ndarray, ...] | None = None  # |T| at the ends: bounds, values (``_crossing``)
+    monotone: np.ndarray | None = None  # |T_i| monotone on the box (T' ∌ 0, T ∌ 0)
 
 
 class Envelope:
@@ -506,6 +509,16 @@ class Envelope:
             for th in self.throughs:
                 V, D = self._through(th, t, V, D)
         return V, D
+
+    def _values(self, t: np.ndarray) -> Ball:
+        """T (stacked rows) at the float times ``t``: the values of ``_pass`` (the same
+        operations on the same operands), without the derivatives."""
+        if self.throughs:  # rare: the factored form near t_A works on jets
+            return self._pass(Ball(t, np.zeros_like(t)))[0]
+        with quiet():
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, Ball.exact(t)))
+            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+        return _full(T, len(t))
 
     def _through(self, th: _Through, t: Ball, V: Ball, D: Ball) -> tuple[Ball, Ball]:
         """V (T) and D (T') made narrower near t_A by the factored form (``_Through``) on
@@ -556,15 +569,13 @@ class Envelope:
         """One vectorised pass over the boxes and their ends (``_Bounds``), with the zone
         and Taylor forms near singular instants where the direct form is poor."""
         n = len(lo)
-        pts = np.concatenate([lo, hi])
+        times, where = np.unique(np.concatenate([lo, hi]), return_inverse=True)
         with quiet():
             box = Ball.hull(lo, hi)
-            t = Ball._of(np.concatenate([pts, box.mid]), np.concatenate([0 * pts, box.rad]))
-            V, D = self._pass(t)
-            P = V[:, : 2 * n]  # T at the ends
-            B = V[:, 2 * n :]  # T over the boxes
-            D = D[:, 2 * n :]  # T' over the boxes
-            P, B = self._near(pts, lo, hi, P, B, need)
+            B, D = self._pass(box)  # T and T' over the boxes
+            P = self._values(times)  # T at the ends, each once (boxes share their ends)
+            P, B = self._near(times, lo, hi, P, B, need)
+            P = Ball._of(P.mid[:, where], P.rad[:, where])
             pa, pb = P[:, :n], P[:, n:]
             ua, ub = pa.upper_abs(), pb.upper_abs()
             la, lb = pa.lower_abs(), pb.lower_abs()
@@ -588,7 +599,9 @@ class Envelope:
             low = np.maximum(la, lb)
             low_t = np.where(la >= lb, lo, hi)
         up = np.where(np.isnan(up), np.inf, up)
-        return _Bounds(lo, hi, low, low_t, up, floor)
+        ends = (np.where(valid[:n], ua, np.inf), np.where(valid[n:], ub, np.inf), la, lb,
+                np.abs(pa.mid), np.abs(pb.mid))  # fmt: skip
+        return _Bounds(lo, hi, low, low_t, up, floor, ends, same)
 
     def _near(
         self, pts: np.ndarray, lo: np.ndarray, hi: np.ndarray, P: Ball, B: Ball, need: float
@@ -777,8 +790,10 @@ class Envelope:
             seen_above |= (active & (b.low > L[:, None])).any(axis=1)
             wide = b.hi - b.lo > res
             open_ = active & (state == 0) & wide[None, :]
+            settled = self._crossing(b, L, open_, res, done)
+            open_ &= ~settled
             for i in (0, 1):
-                rec = active[i] & ~open_[i]
+                rec = active[i] & ~open_[i] & ~settled[i]
                 if rec.any():
                     done[i].append((b.lo[rec], b.hi[rec], state[i][rec]))
             split = open_.any(axis=0)
@@ -791,8 +806,14 @@ class Envelope:
                     rec = open_[i]
                     done[i].append((b.lo[rec], b.hi[rec], np.zeros(int(rec.sum()), dtype=int)))
                 break
-            lo, hi = _split(b.lo[split], b.hi[split], k)
-            active = np.repeat(open_[:, split], k, axis=1)
+            pole = self._holds_pole(b.lo, b.hi) & split
+            plain = split & ~pole
+            lo, hi = _split(b.lo[plain], b.hi[plain], k)
+            active = np.repeat(open_[:, plain], k, axis=1)
+            for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
+                plo, phi = self._around_pole(float(b.lo[j]), float(b.hi[j]), res)
+                lo, hi = np.concatenate([lo, plo]), np.concatenate([hi, phi])
+                active = np.concatenate([active, np.repeat(open_[:, [j]], len(plo), axis=1)], 1)
             b = self.bounds(lo, hi, float(L.min()))
         out = []
         for i in (0, 1):
@@ -807,6 +828,97 @@ class Envelope:
             passed: bool | None = False if above else (True if (Ss == -1).all() else None)
             out.append(LimitCheck(float(L[i]), passed, tuple(windows), res))
         return out[0], out[1]
+
+    def _crossing(
+        self, b: _Bounds, L: np.ndarray, open_: np.ndarray, res: float,
+        done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
+    ) -> np.ndarray:  # fmt: skip
+        """The open boxes on which |T_i| is monotone (``_Bounds.monotone``) with one end
+        certified <= L_i and the other > L_i hold exactly one crossing: it is bracketed
+        to ``res`` by certified values at points (regula falsi, Illinois variant, to choose
+        the points; each point's certified value decides on which side of the crossing it
+        lies). Such a box [lo, hi] is recorded in ``done`` as three: below the limit up to
+        a, open on [a, b] (b - a <= res), above from b (or the mirror image), by
+        monotonicity. Returns the boxes settled so (rows: torques)."""
+        settled = np.zeros_like(open_)
+        if b.ends is None or b.monotone is None:
+            return settled
+        ua, ub, la, lb, va, vb = b.ends
+        Lc = L[:, None]
+        rising = (ua <= Lc) & (lb > Lc)  # below at lo, above at hi
+        falling = (la > Lc) & (ub <= Lc)
+        cand = open_ & b.monotone & (rising | falling) & (b.hi <= self.t_last)[None, :]
+        rows, cols = np.nonzero(cand)
+        if not len(rows):
+            return settled
+        up = rising[rows, cols]  # |T| - L rises through 0
+        a, z = b.lo[cols].copy(), b.hi[cols].copy()  # below end (a), above end (z)
+        a, z = np.where(up, a, z), np.where(up, z, a)
+        lim = L[rows]
+        t1, t2 = a.copy(), z.copy()  # the last two points tried, |T| - L there (estimates)
+        f1 = np.where(up, va[rows, cols], vb[rows, cols]) - lim
+        f2 = np.where(up, vb[rows, cols], va[rows, cols]) - lim
+        k = len(rows)
+        L3 = np.tile(lim, 3)
+        for _ in range(CROSSING_STEPS):
+            todo = np.abs(z - a) > res
+            if not todo.any():
+                break
+            lo_p, hi_p = np.minimum(a, z), np.maximum(a, z)
+            with quiet():
+                est = t2 - f2 * (t2 - t1) / (f2 - f1)  # a secant step, kept strictly inside
+            bad = ~((est > lo_p) & (est < hi_p))
+            est = np.where(bad, 0.5 * lo_p + 0.5 * hi_p, est)
+            near = 0.45 * res
+            probe = np.clip(np.concatenate([est, est - near, est + near]),
+                            np.tile(lo_p, 3), np.tile(hi_p, 3))  # fmt: skip
+            V = self._values(probe)
+            at = np.tile(rows, 3), np.arange(3 * k)
+            Vi = Ball._of(V.mid[at], V.rad[at])
+            below = Vi.upper_abs() <= L3
+            above = Vi.lower_abs() > L3
+            for q in (0, 1, 2):  # move the bracket's ends to the certified points
+                p = probe[q * k : (q + 1) * k]
+                inside = todo & ((p - a) * (z - p) > 0)
+                a = np.where(inside & below[q * k : (q + 1) * k], p, a)
+                z = np.where(inside & above[q * k : (q + 1) * k], p, z)
+            t1, f1 = t2, f2
+            t2, f2 = est, np.abs(Vi.mid[:k]) - lim
+        ok = np.abs(z - a) <= res
+        for i in (0, 1):
+            sel = ok & (rows == i)
+            if not sel.any():
+                continue
+            j = cols[sel]
+            x0, x1 = np.minimum(a[sel], z[sel]), np.maximum(a[sel], z[sel])
+            left = np.where(up[sel], -1, 1)  # the state of [lo, x0]
+            states = np.concatenate([left, np.zeros(len(j), dtype=int), -left])
+            done[i].append(
+                (np.concatenate([b.lo[j], x0, x1]), np.concatenate([x0, x1, b.hi[j]]), states)
+            )
+            settled[i, j] = True
+        return settled
+
+    def _holds_pole(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The boxes [lo, hi] that may hold an instant with unbounded torques."""
+        out = np.zeros(len(lo), dtype=bool)
+        for s, e in self.motion.instants:
+            if not s.torque_bounded:
+                out |= (lo <= e.hi + e.err + abs(e.lo)) & (hi >= e.hi - e.err - abs(e.lo))
+        return out
+
+    def _around_pole(self, lo: float, hi: float, res: float) -> tuple[np.ndarray, np.ndarray]:
+        """[lo, hi] (holding a pole) cut at t_p ± d 4^j (d = 0.45 res, t_p the nearest
+        float to the pole): a piece of width 2d about the pole (left undecided), and pieces
+        whose widths grow with their distance to it, on which |T| ~ C/|t - t_s|^k changes
+        by a bounded factor (a uniform cut would spend most pieces far from the pole)."""
+        c = min((e.hi for s, e in self.motion.instants if not s.torque_bounded),
+                key=lambda t: abs(t - 0.5 * (lo + hi)))  # fmt: skip
+        d = 0.45 * res
+        steps = d * 4.0 ** np.arange(0, 64)
+        cuts = np.concatenate([c - steps, c + steps])
+        ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
+        return ends[:-1], ends[1:]
 
     def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
         """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
@@ -884,17 +996,21 @@ class Envelope:
         [0, t_f] (the boxes' ends), with those times."""
         n = len(lo)
         pts = np.concatenate([lo, hi])
+        ends, where = np.unique(pts, return_inverse=True)
         with quiet():
             box = Ball.hull(lo, hi)
-            t = Ball._of(np.concatenate([pts, box.mid]), np.concatenate([0 * pts, box.rad]))
-            x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
+            x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, box)
             lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
             delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
-            V, D = _full(delta.v, 3 * n, 0), _full(delta.d, 3 * n, 0)[2 * n :]
+            V, D = _full(delta.v, n, 0), _full(delta.d, n, 0)
+            v = [J.v for J in self.polys.jets(self.motion, Ball.exact(ends))]
+            lp = self.stacked.legs(*v)
+            P = _full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), len(ends), 0)
+            P = Ball._of(P.mid[where], P.rad[where])  # δ at the ends, each made once
             width = 2.0 * box.rad
-            around = V[:n] + D * Ball(0.5 * width, 0.5 * width)
-            low = np.maximum(V[2 * n :].lower_abs(), around.lower_abs())
-            up = V[: 2 * n].upper_abs()
+            around = P[:n] + D * Ball(0.5 * width, 0.5 * width)
+            low = np.maximum(V.lower_abs(), around.lower_abs())
+            up = P.upper_abs()
         up = np.where(pts <= self.t_last, up, np.inf)
         return low, up, pts
 
