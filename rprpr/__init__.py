@@ -8,6 +8,11 @@ Python API::
     result.singularities[0].t_exact  # Fraction(5, 2), or None where irrational
     result.to_dict()  # the entry of ``rprpr check --format json``'s reports[]
 
+    # a planner's spline (scipy's PPoly layout), on the robot and checks of a task file
+    from rprpr import Motion, with_motion
+    motion = Motion.from_ppoly(CubicSpline(t, xy))  # or from_pieces(breaks, cx, cy)
+    result = audit(with_motion(load_task("configs/paper_path2.rprpr.yaml"), motion))
+
 Importing the package costs nothing: ``audit`` and the engine (numpy, python-flint) load
 when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so that
 ``rprpr --version`` stays light and the core stays free of YAML, click and rich.
@@ -31,11 +36,14 @@ if TYPE_CHECKING:
     from .api import AuditResult, audit
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
+    from .model.motion import Motion, with_motion
 
 _LAZY = {
     "AuditResult": ".api",
     "audit": ".api",
     "load_task": ".io.loader",
+    "Motion": ".model.motion",
+    "with_motion": ".model.motion",
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",
@@ -43,12 +51,14 @@ _LAZY = {
 
 __all__ = [
     "AuditResult",
+    "Motion",
     "RprprError",
     "TaskFileError",
     "__version__",
     "audit",
     "load_task",
     "parse_task",
+    "with_motion",
 ]
 
 

@@ -104,7 +104,7 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
         "timing.velocity",
         18,
         3,
-        ("unknown key 'velocity'; expected one of: duration, law, x",),
+        ("unknown key 'velocity'; expected one of: duration, law, cruise_speed, x",),
     ),
     "null_key": ("timing", 18, 3, ("expected a plain key, found null",)),
     "missing_a1": ("robot.a1", 4, 3, ("missing required key 'a1' in robot", "|AB| [m]")),

@@ -39,6 +39,13 @@ FULL["checks"] = {
 }  # fmt: skip
 FULL_X = copy.deepcopy(FULL)  # timing by x(t) instead of a law (x(0) = 2, x(5) = 4)
 FULL_X["timing"] = {"duration": 5, "x": "2 + 2*t/5"}
+FULL_TRAPEZOIDAL = copy.deepcopy(FULL)  # the trapezoidal law, cruising at 0.6 m/s
+FULL_TRAPEZOIDAL["timing"] = {"duration": 5, "law": "trapezoidal", "cruise_speed": 0.6}
+FULL_MOTION = copy.deepcopy(FULL)  # the end point's motion as pieces instead of path + timing
+del FULL_MOTION["path"], FULL_MOTION["timing"]
+FULL_MOTION["motion"] = {"pieces": [{"until": 5, "x": "2 + 2*t/5", "y": "-1 + 2*t/5"}]}
+FULL_WAYPOINTS = copy.deepcopy(FULL_MOTION)  # ... and as waypoints
+FULL_WAYPOINTS["motion"] = {"waypoints": [{"t": 0, "p": [2, -1]}, {"t": 5, "p": [4, 1]}]}
 
 
 def _specs(spec: Spec = TASK, key: str = "") -> Iterator[tuple[str, Spec]]:
@@ -60,8 +67,17 @@ def _parts(key: str) -> list[str | int]:
 
 
 def _base(key: str) -> dict[str, Any]:
-    """A copy of the full task that gives ``key`` (timing.x is given instead of a law)."""
-    return copy.deepcopy(FULL_X if key.startswith("timing.x") else FULL)
+    """A copy of the full task that gives ``key`` (timing.x is given instead of a law,
+    cruise_speed with the trapezoidal law, motion instead of path and timing)."""
+    for prefix, doc in (
+        ("timing.x", FULL_X),
+        ("timing.cruise_speed", FULL_TRAPEZOIDAL),
+        ("motion.waypoints", FULL_WAYPOINTS),
+        ("motion", FULL_MOTION),
+    ):
+        if key.startswith(prefix):
+            return copy.deepcopy(doc)
+    return copy.deepcopy(FULL)
 
 
 def _at(doc: dict[str, Any], key: str) -> Any:
@@ -246,6 +262,7 @@ def test_every_bounded_number_is_tested_at_its_bound() -> None:
         "robot.gravity",
         *(f"robot.links.{i}.{f}" for i in (2, 3, 4, 5) for f in ("mass", "inertia", "r")),
         "timing.duration",
+        "timing.cruise_speed",
         "checks.min_slope",
         "checks.min_speed",
         "checks.torque_limit",

@@ -149,9 +149,9 @@ def schema_accepts(text: str) -> bool:
     return VALIDATOR.is_valid(_jsonish(data))
 
 
-def loader_accepts(text: str) -> bool:
+def loader_accepts(text: str, directory: str = ".") -> bool:
     try:
-        parse_task(text)
+        parse_task(text, directory=directory)
     except TaskFileError:
         return False
     return True
@@ -187,7 +187,7 @@ def test_every_config_validates_and_points_at_the_schema(config: Path) -> None:
     modeline = "# yaml-language-server: $schema=../rprpr/io/task.schema.json"
     assert text.splitlines()[0] == modeline
     assert (config.parent / "../rprpr/io/task.schema.json").resolve() == SHIPPED.resolve()
-    assert loader_accepts(text)
+    assert loader_accepts(text, str(config.parent))  # a waypoint CSV is beside it
 
 
 @pytest.mark.parametrize("name", sorted(VALID))

@@ -12,6 +12,7 @@ rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10)
 from __future__ import annotations
 
 import difflib
+import itertools
 import os
 import re
 import stat
@@ -23,11 +24,14 @@ import yaml
 from flint import fmpq, fmpq_poly
 
 from ..model.errors import ExpressionError, TaskFileError
+from ..model.motion import position_jump
 from ..model.numbers import rational as _q
-from ..model.task import Checks, Link, Robot, Task
-from ..model.timing import timing_law
+from ..model.task import Checks, Link, Piece, Robot, Task
+from ..model.timing import timing_law, trapezoidal
+from ..model.waypoints import Waypoint, interpolate
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
-from .schema import TASK, Spec
+from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
+from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
 MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
@@ -84,7 +88,8 @@ _POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
 
 
 def load_task(path: str | os.PathLike[str]) -> Task:
-    """Read and validate the task file at ``path``; raises ``TaskFileError``."""
+    """Read and validate the task file at ``path``; raises ``TaskFileError``. A waypoint
+    CSV it names is read relative to the task file's directory."""
     name = os.fspath(path)
     try:
         st = os.stat(name)
@@ -107,11 +112,13 @@ def load_task(path: str | os.PathLike[str]) -> Task:
         raise TaskFileError(f"cannot read the file: {e.strerror or e}", file=name) from None
     except ValueError as e:  # e.g. a NUL byte in the name
         raise TaskFileError(f"not a usable file name: {e}", file=name) from None
-    return parse_task(data, name)
+    return parse_task(data, name, directory=os.path.dirname(name) or os.curdir)
 
 
-def parse_task(data: bytes | str, file: str = "<task>") -> Task:
-    """Validate a task given as bytes or text; ``file`` names it in errors.
+def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.curdir) -> Task:
+    """Validate a task given as bytes or text; ``file`` names it in errors, and a
+    waypoint CSV it names (``motion.waypoints: planned.csv``) is read relative to
+    ``directory`` (default: the working directory, as for a task on standard input).
 
     Raises ``TaskFileError`` and nothing else, whatever ``data`` holds: the first error
     found, with every independent error of the file in its ``errors`` (by line and column).
@@ -119,7 +126,7 @@ def parse_task(data: bytes | str, file: str = "<task>") -> Task:
     error, a file too large, too many nodes or too deep) is the only one.
     """
     try:
-        return _parse(data, file)
+        return _parse(data, file, directory)
     except TaskFileError as e:
         first, *others = (
             TaskFileError(
@@ -276,14 +283,14 @@ def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
     )
 
 
-def _parse(data: bytes | str, file: str) -> Task:
+def _parse(data: bytes | str, file: str, directory: str) -> Task:
     text = _decode(data)
     if all(not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     root, explicit = _compose(text)
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    walk = _Walk(explicit)
+    walk = _Walk(explicit, directory)
     walk.read(root, TASK, "", 0)
     if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
         errors = sorted(walk.errors, key=lambda e: (isinstance(e, _Missing), e.line, e.column))
@@ -299,13 +306,13 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
     """The ``Task`` of a walk over the whole file (defaults applied); ``stem`` names it
     when the file does not."""
     v = w.values
-    law, x_of_t = _motion(v)
+    law, x_of_t, pieces = _motion(w)
     return Task(
         name=v.get("name", stem),
         robot=_robot(v),
-        path=v["path.y"],
+        path=v.get("path.y"),
         x_of_t=x_of_t,
-        duration=v["timing.duration"],
+        duration=pieces[-1].end if pieces else v["timing.duration"],
         checks=Checks(
             min_slope=v["checks.min_slope"],
             min_speed=v["checks.min_speed"],
@@ -322,6 +329,7 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
         law=law,
         lines=dict(w.lines),
         source=file,
+        pieces=tuple(pieces),
     )
 
 
@@ -334,12 +342,64 @@ def _link(v: dict[str, Any], key: str) -> Link:
     return Link(mass=v[f"{key}.mass"], inertia=v[f"{key}.inertia"], r=v[f"{key}.r"])
 
 
-def _motion(v: dict[str, Any]) -> tuple[str, fmpq_poly]:
-    """(law, x_E(t)): a rest-to-rest law from path.from to path.to, or "explicit" timing.x."""
+def _motion(w: _Walk) -> tuple[str, fmpq_poly | None, list[Piece]]:
+    """(law, x_E(t), pieces): the paper's form (a rest-to-rest law from path.from to
+    path.to, or "explicit" timing.x) with no pieces, or a piecewise motion ("trapezoidal",
+    "pieces", "motion", "waypoints") with x_E(t) None."""
+    v = w.values
+    if "motion.pieces" in v:
+        return "motion", None, _motion_pieces(v["motion.pieces"])
+    if "motion.waypoints" in v:
+        return "waypoints", None, _waypoint_pieces(v["motion.waypoints"], w.csv_file)
+    p = v["path.y"]
+    if v.get("timing.law") == TRAPEZOIDAL:
+        line = w.lines.get("timing.law", 0)
+        return TRAPEZOIDAL, None, [Piece(s, e, x, p(x), p, line) for s, e, x in _x_pieces(v)]
     if "timing.law" in v:
         law: str = v["timing.law"]
-        return law, timing_law(law, v["path.from"][0], v["path.to"][0], v["timing.duration"])
-    return "explicit", v["timing.x"]
+        return law, timing_law(law, v["path.from"][0], v["path.to"][0], v["timing.duration"]), []
+    if isinstance(v["timing.x"], list):
+        return "pieces", None, [Piece(s, e, x, p(x), p, ln) for s, e, x, ln in _timed(v)]
+    return "explicit", v["timing.x"], []
+
+
+def _x_pieces(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly]]:
+    """(start, end, x(t)) of the timing: the trapezoidal law's pieces, timing.x's pieces,
+    or the one polynomial of a rest-to-rest law or of an explicit x(t)."""
+    t_f = v["timing.duration"]
+    if v.get("timing.law") == TRAPEZOIDAL:
+        law = trapezoidal(v["path.from"][0], v["path.to"][0], t_f, v["timing.cruise_speed"])
+        ends = [fmpq(0), *(end for end, _ in law)]
+        return [(s, e, x) for s, (e, x) in zip(ends, law, strict=False)]
+    if "timing.law" in v:
+        return [
+            (fmpq(0), t_f, timing_law(v["timing.law"], v["path.from"][0], v["path.to"][0], t_f))
+        ]
+    if isinstance(v["timing.x"], list):
+        return [(s, e, x) for s, e, x, _ in _timed(v)]
+    return [(fmpq(0), t_f, v["timing.x"])]
+
+
+def _timed(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly, int]]:
+    """(start, end, x(t), line) of each piece of timing.x given as pieces."""
+    items = v["timing.x"]
+    starts = [fmpq(0), *(it["until"] for it in items[:-1])]
+    return [(s, it["until"], it["x"], it["line"]) for s, it in zip(starts, items, strict=True)]
+
+
+def _motion_pieces(items: list[dict[str, Any]]) -> list[Piece]:
+    """The pieces of motion.pieces, from t = 0 (polynomials in absolute time)."""
+    starts = [fmpq(0), *(it["until"] for it in items[:-1])]
+    return [
+        Piece(s, it["until"], it["x"], it["y"], None, it["line"])
+        for s, it in zip(starts, items, strict=True)
+    ]
+
+
+def _waypoint_pieces(points: list[Waypoint], file: str) -> list[Piece]:
+    """The joint_trajectory_controller's pieces through the waypoints; ``file`` is the
+    CSV file they were read from ('' when inline: their lines are the task file's)."""
+    return [Piece(s, e, x, y, None, ln, file) for s, e, x, y, ln in interpolate(points)]
 
 
 # -- cross-field rules: what no single key's Spec can say --------------------------------
@@ -364,7 +424,18 @@ def _on_path(w: _Walk, key: str) -> None:
 
 
 def _law_or_x(w: _Walk, key: str) -> None:
-    """timing gives exactly one of law and x (checked once its duration is read)."""
+    """timing gives exactly one of law and x (checked once its duration is read); with
+    motion, neither (nor cruise_speed): its duration alone."""
+    if "motion" in w.nodes:
+        given = [k for k in ("law", "cruise_speed", "x") if f"timing.{k}" in w.nodes]
+        if given:
+            raise w.error(
+                f"with motion, timing gives only duration (the motion's own times say how"
+                f" it moves), found {', '.join(given)}",
+                w.nodes[f"timing.{given[0]}"],
+                f"timing.{given[0]}",
+            )
+        return
     law, x = "timing.law" in w.nodes, "timing.x" in w.nodes
     if not (law or x) and {"timing.law", "timing.x"} & w.misspelt:
         return  # the misspelt key is reported as such
@@ -383,8 +454,21 @@ def _law_or_x(w: _Walk, key: str) -> None:
         )
 
 
-def _law_has_ends(w: _Walk, key: str) -> None:
-    """A rest-to-rest law moves between path.from and path.to: both must be given."""
+def _law_needs(w: _Walk, key: str) -> None:
+    """A rest-to-rest law moves between path.from and path.to: both must be given; the
+    trapezoidal law needs its cruise_speed too."""
+    if "motion" in w.nodes:
+        return  # timing.law with motion: _law_or_x said so
+    cruise = "timing.cruise_speed"
+    if w.values[key] == TRAPEZOIDAL and cruise not in w.nodes and cruise not in w.misspelt:
+        w.errors.append(
+            w.error(
+                "law trapezoidal needs cruise_speed (|dx/dt| while cruising [m/s], in"
+                " (D/t_f, 2D/t_f], D = |x1 - x0|)",
+                w.nodes[key],
+                key,
+            )
+        )
     if "path" not in w.nodes:
         return  # the path is missing (or misspelt): reported as such
     ends = [f"path.{end}" for end in ("from", "to")]
@@ -398,14 +482,107 @@ def _law_has_ends(w: _Walk, key: str) -> None:
         )
 
 
+def _cruise(w: _Walk, key: str) -> None:
+    """cruise_speed goes with law trapezoidal, and lies in (D/t_f, 2D/t_f]: slower, the
+    motion cannot cover D in t_f; faster, it cannot reach the speed and stop again."""
+    if "motion" in w.nodes or ("timing.law" in w.nodes and "timing.law" not in w.values):
+        return  # said so by _law_or_x, or the law is bad: reported as such
+    if w.values.get("timing.law") != TRAPEZOIDAL:
+        raise w.error("cruise_speed is only for law: trapezoidal", w.nodes[key], key)
+    if "path.from" not in w.values or "path.to" not in w.values:
+        return  # missing or bad: reported as such
+    V, t_f = w.values[key], w.values["timing.duration"]
+    D = abs(w.values["path.to"][0] - w.values["path.from"][0])
+    if D == 0:
+        raise w.error(
+            "law trapezoidal needs path.from and path.to at different x (it moves x"
+            f" from one to the other), both have x = {_q(w.values['path.to'][0])}",
+            w.nodes["timing.law"],
+            "timing.law",
+        )
+    lo, hi = D / t_f, 2 * D / t_f
+    if not lo < V <= hi:
+        why = (
+            "too slow to cover D in t_f"
+            if lo >= V
+            else "too fast to reach and leave again in t_f (at 2D/t_f the profile is a triangle)"
+        )
+        raise w.error(
+            f"cruise_speed {_q(V)} is outside (D/t_f, 2D/t_f] = ({_q(lo)}, {_q(hi)}] for"
+            f" D = |x1 - x0| = {_q(D)} m and t_f = {_q(t_f)} s: {why}",
+            w.nodes[key],
+            key,
+        )
+
+
+def _pieces_meet(w: _Walk, key: str, coords: tuple[str, ...], t_f: fmpq | None) -> bool:
+    """The pieces at ``key`` are consecutive from t = 0, in increasing time, end at
+    ``t_f`` (when given) and are continuous in position (``coords``) at every knot;
+    errors are recorded, True when there were none."""
+    items = w.values[key]
+    before = len(w.errors)
+    prev = fmpq(0)
+    for i, it in enumerate(items):
+        if not it["until"] > prev:
+            after = "t = 0" if i == 0 else f"the previous piece's until ({_q(prev)})"
+            w.errors.append(
+                w.error(
+                    f"until {_q(it['until'])} must come after {after}: pieces are consecutive"
+                    " from t = 0, in increasing time",
+                    w.nodes[f"{it['key']}.until"],
+                    f"{it['key']}.until",
+                )
+            )
+        prev = max(prev, it["until"])
+    if len(w.errors) > before:
+        return False
+    for a, b in itertools.pairwise(items):
+        t = a["until"]
+        jump = position_jump([a[c] for c in coords], [b[c] for c in coords], t)
+        if jump is not None:
+            names = coords[0] if len(coords) == 1 else f"({', '.join(coords)})"
+            left, right = (
+                _q(v[0]) if len(v) == 1 else f"({', '.join(_q(c) for c in v)})" for v in jump
+            )
+            w.errors.append(
+                w.error(
+                    f"the position jumps at the knot t = {_q(t)}: {names} = {left} before,"
+                    f" {right} after (line {b['line']}); position must be continuous",
+                    w.nodes[f"{a['key']}.until"],
+                    f"{a['key']}.until",
+                )
+            )
+    last = items[-1]
+    if t_f is not None and last["until"] != t_f:
+        w.errors.append(
+            w.error(
+                f"the last piece ends at until = {_q(last['until'])}, but timing.duration is"
+                f" {_q(t_f)}: they must be equal",
+                w.nodes[f"{last['key']}.until"],
+                f"{last['key']}.until",
+            )
+        )
+    return len(w.errors) == before
+
+
 def _x_meets_ends(w: _Walk, key: str) -> None:
-    """An explicit x(t) starts at path.from's x and ends at path.to's, where given."""
+    """An explicit x(t) starts at path.from's x and ends at path.to's, where given; given
+    as pieces, they are consecutive and continuous, and end at the duration."""
     x, t_f = w.values[key], w.values["timing.duration"]
-    for end, at, when in (("path.from", fmpq(0), "0"), ("path.to", t_f, f"t_f = {_q(t_f)}")):
-        if end in w.values and x(at) != w.values[end][0]:
+    if isinstance(x, list):
+        if not _pieces_meet(w, key, ("x",), t_f):
+            return
+        first, last = x[0]["x"], x[-1]["x"]
+    else:
+        first = last = x
+    for end, poly, at, when in (
+        ("path.from", first, fmpq(0), "0"),
+        ("path.to", last, t_f, f"t_f = {_q(t_f)}"),
+    ):
+        if end in w.values and poly(at) != w.values[end][0]:
             raise w.error(
                 f"{end} has x = {_q(w.values[end][0])} but timing.x gives"
-                f" x({when}) = {_q(x(at))}: they must agree",
+                f" x({when}) = {_q(poly(at))}: they must agree",
                 w.nodes[end],
                 end,
             )
@@ -419,9 +596,19 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
     h(p) + d (h(x) + log2 len(X)) + log2 (d + 1) bits, h = ``expression.height``.
     """
     v = w.values
+    if "motion" in w.nodes:
+        return
     if not ("timing.x" in v or all(k in v for k in ("timing.law", "path.from", "path.to"))):
         return  # x(t) could not be read: its own error is reported
-    p, x = v["path.y"], _motion(v)[1]
+    try:
+        pieces = _x_pieces(v)
+    except (KeyError, ValueError):
+        return  # no cruise_speed, or a bad one: reported as such
+    for _, _, x in pieces:
+        _composed_within_caps(w, v["path.y"], x)
+
+
+def _composed_within_caps(w: _Walk, p: fmpq_poly, x: fmpq_poly) -> None:
     dp, dx = max(p.degree(), 0), max(x.degree(), 0)
     if dp * dx > MAX_DEGREE:
         raise w.error(
@@ -440,6 +627,91 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
         )
 
 
+def _given_duration(w: _Walk) -> fmpq | None:
+    """timing.duration when the task gives it with motion (then the motion must end
+    there), else None."""
+    return w.values.get("timing.duration") if "timing.duration" in w.nodes else None
+
+
+def _motion_pieces_meet(w: _Walk, key: str) -> None:
+    """motion.pieces: consecutive from t = 0, continuous in (x, y), ending at
+    timing.duration when given."""
+    _pieces_meet(w, key, ("x", "y"), _given_duration(w))
+
+
+def _waypoints_in_order(w: _Walk, key: str) -> None:
+    """At least two waypoints, from t = 0, in increasing time, all giving the same
+    fields; the last at timing.duration when given. A CSV row's error names the file
+    and the row (at the line of ``waypoints:``)."""
+    points: list[Waypoint] = w.values[key]
+
+    def error(i: int, message: str) -> TaskFileError:
+        if w.csv_name:
+            return w.error(f"{w.csv_name}:{points[i].line}: {message}", w.nodes[key], key)
+        return w.error(message, w.nodes[f"{key}[{i}].t"], f"{key}[{i}].t")
+
+    if len(points) < 2:
+        raise w.error(f"expected at least two waypoints, found {len(points)}", w.nodes[key], key)
+    if points[0].t != 0:
+        w.errors.append(
+            error(0, f"the first waypoint is at t = {_q(points[0].t)}; waypoints start at t = 0")
+        )
+    first = _fields(points[0])
+    for i in range(1, len(points)):
+        if not points[i].t > points[i - 1].t:
+            w.errors.append(
+                error(
+                    i,
+                    f"t = {_q(points[i].t)} does not come after the previous waypoint's"
+                    f" t = {_q(points[i - 1].t)}: times must increase",
+                )
+            )
+        if _fields(points[i]) != first:
+            w.errors.append(
+                error(
+                    i,
+                    f"this waypoint gives {_fields(points[i])} but the first gives {first}:"
+                    " every waypoint must give the same fields (p; p, v; or p, v, a)",
+                )
+            )
+    t_f = _given_duration(w)
+    if t_f is not None and points[-1].t != t_f:
+        w.errors.append(
+            error(
+                len(points) - 1,
+                f"the last waypoint is at t = {_q(points[-1].t)}, but timing.duration is"
+                f" {_q(t_f)}: they must be equal",
+            )
+        )
+
+
+def _fields(point: Waypoint) -> str:
+    return ", ".join(k for k, v in (("p", 1), ("v", point.v), ("a", point.a)) if v is not None)
+
+
+def _motion_alone(w: _Walk, key: str) -> None:
+    """motion gives exactly one of pieces and waypoints, and replaces path."""
+    given = [k for k in ("pieces", "waypoints") if f"motion.{k}" in w.nodes]
+    if "path" in w.nodes:
+        w.errors.append(
+            w.error(
+                "give either path (with timing) or motion, not both (motion gives the end"
+                " point's x(t) and y(t) directly)",
+                w.nodes[key],
+                key,
+            )
+        )
+    if len(given) == 2:
+        raise w.error("give either pieces or waypoints, not both", w.nodes[key], key)
+    if not given and not {"motion.pieces", "motion.waypoints"} & w.misspelt:
+        raise w.error(
+            "missing motion: give pieces (a list of {until, x, y}) or waypoints (a list of"
+            " {t, p, v, a}, or a CSV file's name)",
+            w.nodes[key],
+            key,
+        )
+
+
 _Rule = Callable[["_Walk", str], None]
 # key -> (its rule, the values the rule needs besides the key's own): a rule runs only
 # when they were all read, so that a bad value is reported once, by its own reader
@@ -447,9 +719,13 @@ _RULES: dict[str, tuple[_Rule, tuple[str, ...]]] = {
     "path.from": (_on_path, ("path.y",)),
     "path.to": (_on_path, ("path.y",)),
     "timing.duration": (_law_or_x, ()),  # before law or x is read
-    "timing.law": (_law_has_ends, ()),
+    "timing.law": (_law_needs, ()),
+    "timing.cruise_speed": (_cruise, ("timing.duration",)),
     "timing.x": (_x_meets_ends, ("timing.duration",)),
     "timing": (_composition_within_caps, ("path.y", "timing.duration")),
+    "motion.pieces": (_motion_pieces_meet, ()),
+    "motion.waypoints": (_waypoints_in_order, ()),
+    "motion": (_motion_alone, ()),
 }
 
 
@@ -481,8 +757,13 @@ class _Walk:
     then read as its text written plain: a tag never makes an invalid value valid.
     """
 
-    def __init__(self, explicit: dict[tuple[int, int], str] | None = None) -> None:
+    def __init__(
+        self, explicit: dict[tuple[int, int], str] | None = None, directory: str = os.curdir
+    ) -> None:
         self.explicit = explicit or {}  # the explicit tags of scalars, by _span
+        self.directory = directory  # where a waypoint CSV's name is relative to
+        self.csv_file = ""  # the waypoint CSV read, as a path (relative to the working dir)
+        self.csv_name = ""  # ... and as the task file names it
         self.visited = 0
         self.values: dict[str, Any] = {}
         self.nodes: dict[str, yaml.Node] = {}
@@ -648,7 +929,8 @@ class _Walk:
             out[k] = self.nodes[full] = vnode
             self.lines[full] = knode.start_mark.line + 1
         for k, child in spec.children.items():
-            if child.required and k not in out and k not in bad:
+            instead = child.unless and (child.unless in out or child.unless in bad)
+            if child.required and k not in out and k not in bad and not instead:
                 full = f"{key}.{k}" if key else k
                 where = f"in {key}" if key else "at the top level"
                 line, column = _where(node)
@@ -804,7 +1086,12 @@ class _Walk:
         self.fit(node, bound, key)
         return self.number(node, bound, key, depth)
 
-    def polynomial(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq_poly:
+    def polynomial(
+        self, node: yaml.Node, spec: Spec, key: str, depth: int
+    ) -> fmpq_poly | list[dict[str, Any]]:
+        """A polynomial; with ``spec.item``, also a list of pieces (``items``)."""
+        if spec.item is not None and isinstance(node, yaml.SequenceNode):
+            return self.items(node, spec, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
             raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value)
@@ -825,6 +1112,98 @@ class _Walk:
             raise TaskFileError(
                 f"bad polynomial in {spec.variable}: {e.message}", key=key, line=line, column=column
             ) from None
+
+    def time(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
+        """An instant [s] >= 0: a decimal, or a fraction such as 5/3 (exact)."""
+        if (
+            isinstance(node, yaml.ScalarNode)
+            and node.tag == _TAG + "str"
+            and _FRACTION.fullmatch(str(node.value).strip())
+        ):
+            try:
+                value = parse_fraction(str(node.value))
+            except ExpressionError as e:
+                raise self.error(e.message, node, key) from None
+        else:
+            value = self.number(node, Spec("number", "t [s], a decimal or a fraction"), key, depth)
+        if value < 0:
+            raise self.error(f"expected a time >= 0 [s], found {_q(value)}", node, key)
+        return value
+
+    def vector(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
+        """Two numbers or fractions, [x, y]."""
+        if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+        a, b = (
+            self.coordinate(v, what, f"{key}[{i}]", depth + 1)
+            for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
+        )
+        return a, b
+
+    def items(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> list[dict[str, Any]]:
+        """A non-empty list of mappings, each read with ``spec.item`` under ``key[i]``:
+        per element, its values by key and ``line``, the line of its first key (a
+        piece's ``until``, a waypoint's ``t``)."""
+        item = spec.item
+        assert item is not None
+        if not isinstance(node, yaml.SequenceNode) or not node.value:
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+        before = len(self.errors)
+        for i, element in enumerate(node.value):
+            self.read(element, item, f"{key}[{i}]", depth + 1)
+        if len(self.errors) > before:
+            raise _Recorded  # an element could not be read: said so already
+        first = next(iter(item.children))
+        out = []
+        for i in range(len(node.value)):
+            at = f"{key}[{i}]"
+            values = {
+                k: self.values[f"{at}.{k}"] for k in item.children if f"{at}.{k}" in self.values
+            }
+            out.append({**values, "line": self.lines.get(f"{at}.{first}", 0), "key": at})
+        return out
+
+    def waypoints(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> list[Waypoint]:
+        """Waypoints given inline (a list of {t, p, v, a}) or as a CSV file's name."""
+        if isinstance(node, yaml.ScalarNode) and node.tag == _TAG + "str":
+            return self.csv(node, key)
+        if not isinstance(node, yaml.SequenceNode):
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+        points = []
+        for it in self.items(node, spec, key, depth):
+            if "a" in it and "v" not in it:
+                raise self.error(
+                    "a waypoint giving a must give v too (p; p, v; or p, v, a)",
+                    self.nodes[f"{it['key']}.a"],
+                    f"{it['key']}.a",
+                )
+            points.append(Waypoint(it["t"], it["p"], it.get("v"), it.get("a"), it["line"]))
+        return points
+
+    def csv(self, node: yaml.ScalarNode, key: str) -> list[Waypoint]:
+        """The waypoints of the CSV file named by ``node`` (relative to the task's
+        directory); every problem of the file is an error at ``node`` naming the file
+        and the row."""
+        name = str(node.value)
+        if not re.fullmatch(CSV_PATTERN, name) or _ESCAPED_CONTROL.search(name):
+            raise self.error(
+                f"expected a CSV file's name relative to the task file (no '..', ending in"
+                f" .csv), found {_short(name)!r}",
+                node,
+                key,
+            )
+        path = os.path.normpath(os.path.join(self.directory, name))
+        try:
+            points, problems = parse_waypoints(read_bytes(path))
+        except CsvProblem as e:
+            where = f"{name}:{e.row}" if e.row else name
+            raise self.error(f"{where}: {e.message}", node, key) from None
+        for row, message in problems:
+            self.errors.append(self.error(f"{name}:{row}: {message}", node, key))
+        if problems:
+            raise _Recorded
+        self.csv_file, self.csv_name = path, name
+        return points
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
@@ -852,6 +1231,10 @@ _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
     "pair": _Walk.pair,
     "point": _Walk.point,
     "polynomial": _Walk.polynomial,
+    "time": _Walk.time,
+    "vector": _Walk.vector,
+    "list": _Walk.items,
+    "waypoints": _Walk.waypoints,
     "string": _Walk.text,
     "bool": _Walk.boolean,
     "enum": _Walk.enum,
@@ -884,12 +1267,28 @@ def _expected(spec: Spec, key: str) -> str:
     if spec.kind == "point":
         return "a point: x alone, [x, y] or {x: ..., y: ...} (numbers, or fractions such as -2/3)"
     if spec.kind == "polynomial":
-        return f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
+        text = f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
+        return text if spec.item is None else f"{text} or a list of pieces {_keys(spec.item)}"
+    if spec.kind == "time":
+        return "a time [s] >= 0 (a decimal or a fraction such as 5/3)"
+    if spec.kind == "vector":
+        return f"a list of two numbers [{', '.join(spec.items)}]"
+    if spec.kind == "list":
+        assert spec.item is not None
+        return f"a list of {_keys(spec.item)}"
+    if spec.kind == "waypoints":
+        assert spec.item is not None
+        return f"a list of waypoints {_keys(spec.item)} or a CSV file's name"
     if spec.kind == "string":
         return "text (a name for reports)"
     if spec.kind == "bool":
         return "true or false"
     return f"one of {', '.join(spec.choices)}"  # enum
+
+
+def _keys(spec: Spec) -> str:
+    """The keys of a mapping ``spec``, as written in YAML: {until, x, y}."""
+    return "{" + ", ".join(spec.children) + "}"
 
 
 def _misfit(node: yaml.Node, explicit: bool) -> str | None:

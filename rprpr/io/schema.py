@@ -14,6 +14,8 @@ from typing import Any
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
+TRAPEZOIDAL = "trapezoidal"  # timing.law: the piecewise LSPB law (model.timing.trapezoidal)
+
 UNBOUNDED_TORQUE = ("fail", "warn")  # checks.unbounded_torque
 
 
@@ -28,6 +30,14 @@ class Spec:
     numbers and pairs, ``minimum`` with ``exclusive`` bounds the value. ``default`` is
     the value of an omitted key (a number as its decimal text, so that it is exact); the
     loader applies it, ``rprpr schema`` prints it.
+
+    The piecewise motions add: "time" (an instant [s], >= 0: a decimal or a fraction
+    such as ``5/3``), "vector" (a list of two numbers or fractions, ``items`` naming
+    each), "list" (a list of mappings, each read with ``item``) and "waypoints" (such a
+    list, or the name of a CSV file). A "polynomial" with ``item`` may also be given as a
+    list of pieces, each read with ``item``. A key ``required`` ``unless`` its sibling
+    key ``unless`` is given (``path`` and ``timing``, unless ``motion``) is only required
+    without it.
     """
 
     kind: str
@@ -40,6 +50,8 @@ class Spec:
     choices: tuple[str, ...] = ()
     children: dict[str, Spec] = field(default_factory=dict)
     items: tuple[str, ...] = ()  # of a pair: what each number is, for messages
+    item: Spec | None = None  # of a list: the mapping each element is
+    unless: str = ""  # a required key is not required when this sibling key is given
 
 
 def _num(
@@ -88,6 +100,58 @@ _POINT_MEANS = (
 _DECIMAL = r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?"
 FRACTION_PATTERN = rf"^\s*[-+]?\s*{_DECIMAL}\s*(/\s*{_DECIMAL}\s*)?$"
 
+_TIME = "a decimal or a fraction such as 5/3"
+_VECTOR = ("x", "y")
+
+
+def _time(description: str) -> Spec:
+    return Spec("time", f"{description} [s]: {_TIME}.", required=True, minimum=0)
+
+
+def _vector(what: str, unit: str, *, required: bool = False) -> Spec:
+    return Spec(
+        "vector",
+        f"{what} [{unit}]: [x, y], numbers or fractions such as -2/3.",
+        required=required,
+        items=tuple(f"{what} {c} [{unit}]" for c in _VECTOR),
+    )
+
+
+_X_PIECE = Spec(
+    "mapping",
+    "A piece of x_E(t): from the previous piece's until (0 for the first) to until.",
+    children={
+        "until": _time("End of the piece"),
+        "x": Spec("polynomial", "x_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
+    },
+)
+_MOTION_PIECE = Spec(
+    "mapping",
+    "A piece of the motion: from the previous piece's until (0 for the first) to until.",
+    children={
+        "until": _time("End of the piece"),
+        "x": Spec("polynomial", "x_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
+        "y": Spec("polynomial", "y_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
+    },
+)
+_WAYPOINT = Spec(
+    "mapping",
+    "A waypoint: time, position, and optionally velocity and acceleration (every point"
+    " gives the same fields).",
+    children={
+        "t": _time("Time from the start"),
+        "p": _vector("position", "m", required=True),
+        "v": _vector("velocity", "m/s"),
+        "a": _vector("acceleration", "m/s^2"),
+    },
+)
+WAYPOINT_COLUMNS = ("t", "x", "y", "vx", "vy", "ax", "ay")  # a waypoint CSV's header
+
+_FRACTION_SCHEMA = {"type": "string", "pattern": FRACTION_PATTERN}
+_COORDINATE = {"oneOf": [{"type": "number"}, _FRACTION_SCHEMA]}
+# a waypoint CSV: a relative path without "..", ending in .csv
+CSV_PATTERN = r"^(?!/)(?!.*(^|/)\.\.(/|$))[^\\\x00-\x1f]*\.[cC][sS][vV]$"
+
 TASK = Spec(
     "mapping",
     "An rprpr task: an RPRPR planar parallel robot and a planned end-point motion.",
@@ -117,6 +181,7 @@ TASK = Spec(
             "mapping",
             "The end-point path y = p(x).",
             required=True,
+            unless="motion",
             children={
                 "y": Spec(
                     "polynomial",
@@ -132,14 +197,46 @@ TASK = Spec(
             "mapping",
             "How x_E moves in time: a rest-to-rest law between path.from and path.to, or x.",
             required=True,
+            unless="motion",
             children={
                 "duration": _num("t_f [s]", required=True, minimum=0, exclusive=True),
                 "law": Spec(
                     "enum",
-                    "Rest-to-rest law in x (eq. 49 is the quintic).",
-                    choices=LAWS,
+                    "Rest-to-rest law in x (eq. 49 is the quintic; trapezoidal: constant"
+                    " acceleration, cruise at cruise_speed, constant deceleration).",
+                    choices=(*LAWS, TRAPEZOIDAL),
                 ),
-                "x": Spec("polynomial", "x_E(t) [m], explicitly, instead of law.", variable="t"),
+                "cruise_speed": _num(
+                    "|dx/dt| while cruising [m/s], law trapezoidal only; in (D/t_f, 2D/t_f],"
+                    " D = |x1 - x0|",
+                    minimum=0,
+                    exclusive=True,
+                ),
+                "x": Spec(
+                    "polynomial",
+                    "x_E(t) [m], explicitly, instead of law: one polynomial in t, or a list"
+                    " of consecutive pieces {until, x}, each a polynomial in absolute time t.",
+                    variable="t",
+                    item=_X_PIECE,
+                ),
+            },
+        ),
+        "motion": Spec(
+            "mapping",
+            "The end point's motion directly, instead of path and timing: pieces {until, x,"
+            " y} (polynomials in absolute time t), or waypoints interpolated as"
+            " joint_trajectory_controller does (linear, cubic or quintic by the fields"
+            " given), inline or as a CSV file (header t,x,y[,vx,vy[,ax,ay]]) relative to"
+            " the task file.",
+            children={
+                "pieces": Spec(
+                    "list", "Consecutive pieces from t = 0: {until, x, y}.", item=_MOTION_PIECE
+                ),
+                "waypoints": Spec(
+                    "waypoints",
+                    "Waypoints {t, p, v, a} from t = 0 (at least two), or a CSV file's name.",
+                    item=_WAYPOINT,
+                ),
             },
         ),
         "checks": Spec(
@@ -195,10 +292,31 @@ def json_schema() -> dict[str, Any]:
     doc["$id"] = "https://rprpr.dev/schema/task.json"
     doc["title"] = "rprpr task file"
     timing = doc["properties"]["timing"]
-    timing["oneOf"] = [{"required": ["law"]}, {"required": ["x"]}]
-    # A rest-to-rest law moves between path.from and path.to, so it needs both.
-    doc["if"] = {"required": ["timing"], "properties": {"timing": {"required": ["law"]}}}
-    doc["then"] = {"properties": {"path": {"required": ["from", "to"]}}}
+    # cruise_speed with law trapezoidal, and only with it
+    timing["if"] = {"required": ["law"], "properties": {"law": {"const": TRAPEZOIDAL}}}
+    timing["then"] = {"required": ["cruise_speed"]}
+    timing["else"] = {"not": {"required": ["cruise_speed"]}}
+    motion = doc["properties"]["motion"]
+    motion["oneOf"] = [{"required": ["pieces"]}, {"required": ["waypoints"]}]
+    doc["allOf"] = [
+        # A rest-to-rest law moves between path.from and path.to, so it needs both.
+        {
+            "if": {"required": ["timing"], "properties": {"timing": {"required": ["law"]}}},
+            "then": {"properties": {"path": {"required": ["from", "to"]}}},
+        },
+        # path and timing (law or x), or motion (then timing gives its duration alone)
+        {
+            "if": {"not": {"required": ["motion"]}},
+            "then": {
+                "required": ["path", "timing"],
+                "properties": {"timing": {"oneOf": [{"required": ["law"]}, {"required": ["x"]}]}},
+            },
+            "else": {
+                "not": {"required": ["path"]},
+                "properties": {"timing": {"propertyNames": {"const": "duration"}}},
+            },
+        },
+    ]
     return doc
 
 
@@ -207,17 +325,32 @@ def _json(s: Spec) -> dict[str, Any]:
     if s.kind == "mapping":
         out["type"] = "object"
         out["properties"] = {k: _json(v) for k, v in s.children.items()}
-        out["required"] = [k for k, v in s.children.items() if v.required]
+        out["required"] = [k for k, v in s.children.items() if v.required and not v.unless]
         out["additionalProperties"] = False
     elif s.kind == "number":
         out["type"] = "number"
         if s.minimum is not None:
             out["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
     elif s.kind == "polynomial":
-        out["type"] = ["string", "number"]
         # the grammar's characters only, with at least one digit or the variable
         chars = rf"[0-9{s.variable}+\-*/^(). \t\r\neE]*"
-        out["pattern"] = rf"^{chars}[0-9{s.variable}]{chars}$"
+        text = {"type": ["string", "number"], "pattern": rf"^{chars}[0-9{s.variable}]{chars}$"}
+        if s.item is None:
+            out.update(text)
+        else:  # or a list of pieces
+            pieces = {"type": "array", "items": _json(s.item), "minItems": 1}
+            out["oneOf"] = [text, pieces]
+    elif s.kind == "time":
+        out["oneOf"] = [{"type": "number", "minimum": 0}, _FRACTION_SCHEMA]
+    elif s.kind == "vector":
+        out.update(type="array", items=_COORDINATE, minItems=2, maxItems=2)
+    elif s.kind == "list":
+        assert s.item is not None
+        out.update(type="array", items=_json(s.item), minItems=1)
+    elif s.kind == "waypoints":
+        assert s.item is not None
+        inline = {"type": "array", "items": _json(s.item), "minItems": 2}
+        out["oneOf"] = [inline, {"type": "string", "pattern": CSV_PATTERN}]
     elif s.kind == "string":
         out["type"] = ["string", "number"]  # a name such as 2024 is taken as written
     elif s.kind == "bool":
@@ -225,8 +358,7 @@ def _json(s: Spec) -> dict[str, Any]:
     elif s.kind == "enum":
         out["enum"] = list(s.choices)
     elif s.kind == "point":
-        fraction = {"type": "string", "pattern": FRACTION_PATTERN}
-        coordinate = {"oneOf": [{"type": "number"}, fraction]}
+        coordinate = _COORDINATE
         out["oneOf"] = [
             coordinate,
             {"type": "array", "items": coordinate, "minItems": 2, "maxItems": 2},

@@ -1,0 +1,139 @@
+"""Reading a waypoint CSV (``motion.waypoints: planned.csv``): bytes -> ``Waypoint`` list.
+
+The file is a planner's output: a header ``t,x,y``, ``t,x,y,vx,vy`` or
+``t,x,y,vx,vy,ax,ay`` (names in this order; spaces around them allowed), then one
+waypoint a row. Every number is taken by its text (``0.1`` is 1/10; a fraction such as
+``5/3`` is allowed, as in the task file), so the waypoints are exact. Blank lines and
+lines starting with ``#`` are skipped. Problems are collected, each as (row, message),
+the row 1-based in the file as an editor counts lines; the caller names the file.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+
+from flint import fmpq
+
+from ..model.errors import ExpressionError
+from ..model.waypoints import Waypoint
+from .expression import MAX_EXP10, parse_fraction
+from .schema import WAYPOINT_COLUMNS
+
+MAX_CSV_BYTES = 16 << 20  # 16 MiB: 100,000 rows of seven 20-digit numbers
+MAX_CSV_ROWS = 100_000  # waypoints in one file (a 1 kHz planner over 100 s)
+MAX_CSV_ERRORS = 20  # problems listed before the rest are summed up in one line
+HEADERS = tuple(WAYPOINT_COLUMNS[:n] for n in (3, 5, 7))
+# a planner's plain decimal, read here directly (what parse_fraction does, faster): at
+# most MAX_DIGITS digits and an exponent within MAX_EXP10; anything else goes through
+# parse_fraction, which reads fractions and names what is wrong
+_PLAIN = re.compile(r"(-?)([0-9]{1,20})(?:\.([0-9]{0,20}))?(?:[eE]([-+]?[0-9]{1,2}))?")
+
+
+class CsvProblem(Exception):
+    """The file cannot be read (missing, a directory, too large, no header), or a row
+    of it; ``row`` is 1-based, 0 for the whole file."""
+
+    def __init__(self, message: str, row: int = 0) -> None:
+        super().__init__(message)
+        self.message = message
+        self.row = row
+
+
+def read_bytes(path: str) -> bytes:
+    """The bytes of the CSV file at ``path``; raises ``CsvProblem`` saying why not."""
+    try:
+        st = os.stat(path)
+        if stat.S_ISDIR(st.st_mode):
+            raise CsvProblem("is a directory, expected a CSV file")
+        if not stat.S_ISREG(st.st_mode):
+            raise CsvProblem("not a regular file (a device, pipe or socket), expected a CSV file")
+        if st.st_size > MAX_CSV_BYTES:
+            raise CsvProblem(_too_large(st.st_size))
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_CSV_BYTES + 1)  # it may have grown since stat
+    except FileNotFoundError:
+        raise CsvProblem("no such file") from None
+    except OSError as e:
+        raise CsvProblem(f"cannot read the file: {e.strerror or e}") from None
+    except ValueError as e:  # a NUL byte in the name
+        raise CsvProblem(f"not a usable file name: {e}") from None
+    if len(data) > MAX_CSV_BYTES:
+        raise CsvProblem(_too_large(len(data)))
+    return data
+
+
+def _too_large(size: int) -> str:
+    return f"file too large: {size} bytes, the cap is {MAX_CSV_BYTES} bytes (16 MiB)"
+
+
+def parse_waypoints(data: bytes) -> tuple[list[Waypoint], list[tuple[int, str]]]:
+    """The waypoints of a CSV file's bytes, and its problems as (row, message), at most
+    ``MAX_CSV_ERRORS`` and a last one counting the rest. Raises ``CsvProblem`` when the
+    file has no usable header (nothing else can be read then)."""
+    try:
+        text = data.decode("utf-8").removeprefix("\ufeff")
+    except UnicodeDecodeError as e:
+        row = data.count(b"\n", 0, e.start) + 1
+        raise CsvProblem(f"not UTF-8 text (byte 0x{data[e.start]:02x})", row) from None
+    rows = [
+        (i, line)
+        for i, line in enumerate(text.splitlines(), 1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not rows:
+        raise CsvProblem("empty file, expected a header t,x,y[,vx,vy[,ax,ay]] and waypoints")
+    (header_row, header), *body = rows
+    names = tuple(c.strip().lower() for c in header.split(","))
+    if names not in HEADERS:
+        raise CsvProblem(
+            "expected the header t,x,y or t,x,y,vx,vy or t,x,y,vx,vy,ax,ay, found"
+            f" {_shown(header.strip())!r}",
+            header_row,
+        )
+    if len(body) > MAX_CSV_ROWS:
+        raise CsvProblem(f"{len(body)} waypoints, the cap is {MAX_CSV_ROWS}")
+    points: list[Waypoint] = []
+    problems: list[tuple[int, str]] = []
+    for row, line in body:
+        try:
+            points.append(_waypoint(row, line, names))
+        except CsvProblem as e:
+            problems.append((row, e.message))
+    if len(problems) > MAX_CSV_ERRORS:
+        rest = len(problems) - MAX_CSV_ERRORS
+        problems = [*problems[:MAX_CSV_ERRORS], (problems[MAX_CSV_ERRORS][0], f"{rest} more")]
+    return points, problems
+
+
+def _waypoint(row: int, line: str, names: tuple[str, ...]) -> Waypoint:
+    cells = line.split(",")
+    if len(cells) != len(names):
+        raise CsvProblem(f"expected {len(names)} values ({','.join(names)}), found {len(cells)}")
+    values = [_number(cell, name) for cell, name in zip(cells, names, strict=True)]
+    t, x, y = values[:3]
+    v = (values[3], values[4]) if len(values) >= 5 else None
+    a = (values[5], values[6]) if len(values) == 7 else None
+    return Waypoint(t, (x, y), v, a, line=row)
+
+
+def _number(cell: str, name: str) -> fmpq:
+    text = cell.strip()
+    if not text:
+        raise CsvProblem(f"column {name}: empty, expected a number")
+    plain = _PLAIN.fullmatch(text)
+    if plain and abs(int(plain.group(4) or 0)) <= MAX_EXP10:
+        sign, whole, frac, exp = plain.groups()
+        scale = int(exp or 0) - len(frac or "")
+        n = int(whole + (frac or ""))
+        value = fmpq(n * 10**scale) if scale >= 0 else fmpq(n, 10**-scale)
+        return -value if sign else value
+    try:
+        return parse_fraction(text)
+    except ExpressionError as e:
+        raise CsvProblem(f"column {name}: {e.message}") from None
+
+
+def _shown(text: str, n: int = 40) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
