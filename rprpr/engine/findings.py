@@ -101,14 +101,17 @@ def pieces_on_singular_line(spans: Sequence[tuple[fmpq, fmpq]]) -> list[Finding]
 def knot(k: Knot) -> list[Finding]:
     """RPR203 where the velocity jumps at the knot ``k``, RPR204 where only the
     acceleration does (with the jumps of T1, T2 when both sides' torques are defined)."""
-    at = f"t = {exact_text(k.t_exact)} s (knot between pieces {k.before + 1} and {k.before + 2})"
+    row = f", row {k.line} of {k.file}" if k.file and k.line else ""
+    pieces = f"knot between pieces {k.before + 1} and {k.before + 2}{row}"
+    at = f"t = {exact_text(k.t_exact)} s ({pieces})"
+    line = k.line if k.line and not k.file else None
     if k.velocity_jump is not None:
         dx, dy = (number(v) for v in k.velocity_jump)
         message = (
             f"{at}: the end-point velocity jumps by (Δẋ, Δẏ) = ({dx}, {dy}) m/s"
             " (a C0 knot): the torques are impulsive there"
         )
-        return [Finding("RPR203", message, k.t)]
+        return [Finding("RPR203", message, k.t, line=line)]
     if k.acceleration_jump is None:
         return []
     ax, ay = (number(v) for v in k.acceleration_jump)
@@ -119,7 +122,7 @@ def knot(k: Knot) -> list[Finding]:
         else " (the torques are undefined or unbounded on a side)"
     )
     message = f"{at}: the end-point acceleration jumps by (Δẍ, Δÿ) = ({ax}, {ay}) m/s²{torques}"
-    return [Finding("RPR204", message, k.t)]
+    return [Finding("RPR204", message, k.t, line=line)]
 
 
 def kinematic(k: KinematicSingularity, at: At) -> Finding:

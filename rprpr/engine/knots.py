@@ -39,7 +39,8 @@ class Knot:
     velocity_jump: tuple[float, float] | None
     acceleration_jump: tuple[float, float] | None
     torques: tuple[tuple[float, float] | None, tuple[float, float] | None]
-    line: int = 0
+    line: int = 0  # where the piece before the knot ends: the task file's line, or
+    file: str = ""  # the row of the waypoint CSV ``file``
 
     @property
     def torque_jump(self) -> tuple[float, float] | None:
@@ -98,5 +99,5 @@ def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
         sides: tuple[Any, Any] = (None, None)
         if v is None and a is not None:
             sides = (torques_at(p, t, robot), torques_at(q, t, robot))
-        out.append(Knot(to_float(t), Fraction(int(t.p), int(t.q)), i, v, a, sides, p.line))
+        out.append(Knot(to_float(t), Fraction(int(t.p), int(t.q)), i, v, a, sides, p.line, p.file))
     return out

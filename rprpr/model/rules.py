@@ -148,6 +148,7 @@ class Finding:
     t: float | None = None
     downgraded: bool = False  # accepted by the user: fails only in strict mode
     promoted: bool = False  # made an error by the user: fails in every mode
+    line: int | None = None  # the task file's line it points at, when not its key's (a knot)
 
     @property
     def key(self) -> str:

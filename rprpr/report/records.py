@@ -188,7 +188,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
                 "message": f.message,
                 "t": _f(f.t),
                 "key": f.key,
-                "line": task.lines.get(f.key, task.lines.get(f.key.split(".")[0], 1)),
+                "line": f.line or _key_line(task.lines, f.key),
             }
         )
     return {
@@ -295,3 +295,18 @@ def budget_error(task_path: str, budget: float, stage: str) -> dict[str, Any]:
         "message": message,
         "text": f"{task_path}: {message} (check --budget SECONDS allows more)",
     }
+
+
+# A key the task does not have points at the key that gives the same thing in its form:
+# the motion of a path-and-timing task is its timing, the path of a motion is the motion.
+_SAME_PLACE = {"motion": "timing", "path": "motion"}
+
+
+def _key_line(lines: dict[str, int], key: str) -> int:
+    """The line of a finding's key, of its top-level section, or of the section that
+    gives the same thing in this task's form; 1 when the file has none of them."""
+    head = key.split(".")[0]
+    for k in (key, head, _SAME_PLACE.get(head, "")):
+        if k in lines:
+            return lines[k]
+    return 1
