@@ -12,14 +12,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
@@ -28,31 +26,9 @@ from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 
-from .conftest import CONFIGS, task_text
+from .conftest import task_text
 from .reference import reference
-
-PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
-PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
-CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
-SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
-DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
-
-_cache: dict[str, P.Motion] = {}
-
-
-def motions(paths: Sequence[str]) -> list[P.Motion]:
-    for p in paths:
-        if p not in _cache:
-            _cache[p] = P.motion(audit(load_task(p), samples=101), p)
-    return [_cache[p] for p in paths]
-
-
-def drawn(fig: Figure) -> Any:
-    """Draw ``fig`` on an Agg canvas at ``DPI``; returns the renderer."""
-    fig.set_dpi(DPI)
-    canvas = FigureCanvasAgg(fig)
-    canvas.draw()
-    return canvas.get_renderer()
+from .sheets import CONFIG_FILES, DPI, PATH1, PATH2, SETS, drawn, motions, sheet
 
 
 def texts(fig: Figure) -> list[Text]:
@@ -92,7 +68,7 @@ def time_axes(fig: Figure) -> list[Any]:
 @pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
 def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[str]) -> None:
     ms = motions(paths)
-    fig = P.render(ms, pole_inset=True)
+    fig = sheet(paths)
     renderer = drawn(fig)
     boxes = [(t.get_text(), extent(t, renderer)) for t in texts(fig)]
     page = fig.bbox
@@ -118,8 +94,7 @@ def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[s
 def test_overlay_colours_each_task_and_sets_coinciding_marks_side_by_side() -> None:
     """Paths 1 and 2 both cross at (3, 0), t = 2.5 s: the passing diamond sits beside the
     failing star on every panel (defect 3); the tasks' colours differ (defect 5)."""
-    ms = motions([PATH1, PATH2])
-    fig = P.render(ms)
+    fig = sheet([PATH1, PATH2])
     drawn(fig)
     by = {a.get_gid(): a for ax in fig.get_axes() for a in ax.get_children() if a.get_gid()}
     colours = {by[f"path-{i}"].get_color() for i in range(2)}
@@ -136,7 +111,7 @@ def test_overlay_colours_each_task_and_sets_coinciding_marks_side_by_side() -> N
 
 def test_more_than_three_tasks_are_small_multiples_sharing_axes() -> None:
     ms = motions(CONFIG_FILES)
-    fig = P.render(ms, ["delta", "torques"])
+    fig = sheet(CONFIG_FILES)
     axes = {
         n: [ax for ax in fig.get_axes() if ax.get_gid() == f"panel-{n}"]
         for n in ("delta", "torques")
