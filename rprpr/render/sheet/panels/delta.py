@@ -16,7 +16,7 @@ from ..markers import badge, mark
 from ..motion import finite
 from ..page import Indexed, Sheet
 from ..style import DELTA, NEAR_DELTA
-from ..words import instant_times, near_miss_delta, order_text, short, vanishing
+from ..words import near_miss_delta, order_text, vanishing
 
 ROW = 1.9  # in
 APPROACH: dict[str, Any] = {
@@ -71,14 +71,10 @@ def notes(sheet: Sheet) -> list[str]:
     """The keys of the marks: each singular instant's time, order and what vanishes;
     each closest approach's min |δ|."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            out.append(
-                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} ({vanishing(s.order)})"
-            )
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
+            out.append(f"{key}  {who}t = {t} s, {order_text(s)} ({vanishing(s.order)})")
         if m.result.closest_approach is not None:
             out.append(
                 f"{sheet.keys[i, 'approach']}  {who}{near_miss_delta(m.result.closest_approach)}"

@@ -31,7 +31,7 @@ from ..robot import (
     workspace,
 )
 from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, task_colour
-from ..words import instant_times, near_miss_path, order_text, short, verdict_text
+from ..words import near_miss_path, order_text, verdict_text
 
 CASES = (  # the singular line's stretches (Table 1): left of A, between A and B, right of B
     "case 2\nθ1 = θ2 = π",
@@ -244,16 +244,13 @@ def notes(sheet: Sheet) -> list[str]:
     """The keys of the workspace's marks: each singular instant's time, order, verdict
     and why (as ``rprpr check`` lists them); each near miss's distance."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            st = m.result.status_of(s)
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
             why = verdict_text(s)
             out.append(
-                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} — "
-                f"{STATUS_WORD[st].upper()}" + (f": {why}" if why else "")
+                f"{key}  {who}t = {t} s, {order_text(s)} — "
+                f"{STATUS_WORD[m.result.status_of(s)].upper()}" + (f": {why}" if why else "")
             )
         if m.result.closest_approach is not None:
             out.append(

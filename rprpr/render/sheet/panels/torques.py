@@ -30,7 +30,6 @@ from ..markers import badge, spread
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
 from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
-from ..words import instant_times, short
 
 ROW = 2.2  # in
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
@@ -225,17 +224,14 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
     """The keys of the instants (finite limits, or where T diverges and how long |T|
     stays above its limit) and each task's limit."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            key = sheet.keys[i, k]
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
             if s.torque_at_singularity is not None:
                 t1, t2 = (number(v, 4) for v in s.torque_at_singularity)
-                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {times[k]} s (ring)")
+                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {t} s (ring)")
             else:
-                out.append(f"{key}  {who}T → ∞ at t = {times[k]} s: pole of order {s.pole_order}")
+                out.append(f"{key}  {who}T → ∞ at t = {t} s: pole of order {s.pole_order}")
         L = m.task.checks.torque_limit
         if L is not None:
             lim = " N m, ".join(dict.fromkeys(number(float(v)) for v in L)) + " N m"
