@@ -40,8 +40,8 @@ TASK_COLOURS = (  # Okabe and Ito: told apart with each common colour-vision def
 OVERLAID = 3  # at most this many tasks share axes; beyond, one column per task
 # a knot of a piecewise motion (where one piece meets the next), on every time axis: light,
 # dotted, under the curves; the same for every task
-KNOT: dict[str, Any] = {"color": "#A0A0A0", "lw": 0.9, "ls": (0, (1, 2)), "zorder": 0.5}
-KNOT_LABEL = "knot (one piece of the motion meets the next)"
+KNOT: dict[str, Any] = {"color": "#8A8A8A", "lw": 1.0, "ls": (0, (1, 1.6)), "zorder": 0.5}
+KNOT_LABEL = "knot: one piece of the motion meets the next"
 MARK_EDGE = 1.5  # points: an overlaid task's singular mark edged in the task's colour
 
 NEAR_DELTA = 0.1  # |δ| below this is "near" a Type II singularity (band on δ, cue in the GIF)

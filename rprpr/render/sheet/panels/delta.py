@@ -11,7 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ....model.numbers import number
-from ..axes import handles, instant_lines, look
+from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import badge, mark
 from ..motion import finite
 from ..page import Indexed, Sheet
@@ -39,12 +39,12 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
         for i, m in col:
             kw = look(sheet, i, DELTA)
             ax.plot(m.s.t, finite(m.s.delta), lw=1.7, gid=f"delta-{i}", **kw)
-        mark(ax, "delta", col, lambda m, s: 0.0, sheet.keys)
+        mark(ax, "delta", sheet, col, lambda m, s: 0.0)
         _approaches(sheet, ax, col)
     row[0].set_ylabel(r"$\delta$ [–]")
     near = f"near singular: |δ| < {number(NEAR_DELTA)}"
     band = Line2D([], [], color="#999999", alpha=0.35, lw=6, label=near)
-    sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band], notes(sheet))
+    sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band, *knot_handles(sheet)], notes(sheet))
     return row
 
 
