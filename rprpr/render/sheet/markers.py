@@ -50,6 +50,12 @@ def marker_handles(motions: Sequence[Motion]) -> list[Line2D]:
     return [seen[k] for k in sorted(seen, key=lambda k: (not k[0], k[1]))]
 
 
+def mark_handle(label: str, marker: str, face: str, edge: str, ms: float = 6, **kw: Any) -> Line2D:
+    """A legend entry for a mark alone (no line): ``marker`` filled ``face``, edged
+    ``edge``."""
+    return Line2D([], [], marker=marker, ms=ms, mfc=face, mec=edge, ls="none", label=label, **kw)
+
+
 SPREAD = 15.0  # points between the centres of marks that would sit on one another
 
 

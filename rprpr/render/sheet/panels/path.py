@@ -18,7 +18,7 @@ from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, look
 from ..labels import case_label_x
-from ..markers import badge, edge, marker_handles, marker_style, shifted, spread
+from ..markers import badge, edge, mark_handle, marker_handles, marker_style, shifted, spread
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
 from ..robot import (
@@ -271,26 +271,8 @@ def _legend(sheet: Sheet) -> list[Any]:
     motions = sheet.motions
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
-        Line2D(
-            [],
-            [],
-            marker="o",
-            ms=6,
-            mfc="white",
-            mec="#333333",
-            ls="none",
-            label="start of the path (t = 0)",
-        ),
-        Line2D(
-            [],
-            [],
-            marker="o",
-            ms=6,
-            mfc="#333333",
-            mec="#333333",
-            ls="none",
-            label="end of the path (t = t_f)",
-        ),
+        mark_handle("start of the path (t = 0)", "o", "white", "#333333"),
+        mark_handle("end of the path (t = t_f)", "o", "#333333", "#333333"),
         singular_line_handle(),
         *marker_handles(motions),
     ]

@@ -26,7 +26,7 @@ from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
-from ..markers import arrow_mark, badge, spread
+from ..markers import arrow_mark, badge, mark_handle, spread
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
 from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
@@ -180,32 +180,9 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
     if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
         out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
-        out.append(
-            Line2D(
-                [],
-                [],
-                marker="o",
-                ms=6,
-                mfc="white",
-                mec="#555555",
-                mew=1.6,
-                ls="none",
-                label="finite limit at t_s",
-            )
-        )
+        out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
-        out.append(
-            Line2D(
-                [],
-                [],
-                marker="^",
-                ms=7,
-                color="#777777",
-                mec="black",
-                ls="none",
-                label="leaves the axis: diverges",
-            )
-        )
+        out.append(mark_handle("leaves the axis: diverges", "^", "#777777", "black", 7))
     return out
 
 
