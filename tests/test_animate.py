@@ -3,7 +3,6 @@ the singular instant and its neighbourhood."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -11,26 +10,12 @@ import pytest
 from PIL import Image, ImageSequence
 
 from rprpr.cli.main import main
-from rprpr.engine.audit import audit
-from rprpr.io.loader import load_task
 from rprpr.render import animation as A
 from rprpr.render import sheet as P
 
-from .conftest import CONFIGS
+from .sheets import PATH1, PATH2, ZERO, motions, sheet
 
-PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
-PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
-ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
 MAX_BYTES = 3 * 1024 * 1024
-
-_cache: dict[str, P.Motion] = {}
-
-
-def motions(paths: Sequence[str]) -> list[P.Motion]:
-    for p in paths:
-        if p not in _cache:
-            _cache[p] = P.motion(audit(load_task(p), samples=101), p)
-    return [_cache[p] for p in paths]
 
 
 def frames_of(path: Path) -> list[tuple[np.ndarray, int]]:
@@ -115,14 +100,14 @@ def test_the_gif_draws_the_robot_as_the_sheet_does() -> None:
     from rprpr.render.sheet.robot import MovingRobot
 
     (m,) = motions([PATH1])
-    sheet = P.render([m], ["path"]).axes[0]
+    path = sheet([PATH1]).axes[0]
     robot = MovingRobot(Figure().subplots(), m)
     (s,) = m.result.singularities
     j = int(np.nonzero(m.s.t == s.t)[0][0])
     robot.move(np.array([m.s.x[j], m.s.y[j]]))
     for n, (cylinder, rod) in robot.legs.items():
         for moving, part in ((cylinder, "cylinder"), (rod, "leg")):
-            [drawn] = [a for a in sheet.lines if a.get_gid() == f"robot-0-singular-0-{part}{n}"]
+            [drawn] = [a for a in path.lines if a.get_gid() == f"robot-0-singular-0-{part}{n}"]
             assert np.array_equal(moving.get_xydata(), drawn.get_xydata())
             assert moving.get_linewidth() == drawn.get_linewidth()
             assert moving.get_color() == drawn.get_color()
@@ -158,7 +143,7 @@ def test_the_command_line_writes_a_bounded_gif(
                 "--panels",
                 "delta",
                 "--samples",
-                "101",
+                "21",
                 "--dpi",
                 "50",
                 "-o",

@@ -22,16 +22,12 @@ from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 
-from .conftest import CONFIGS, task_text
+from .conftest import task_text
+from .sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, motions, sheet
 
-PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
-PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
-CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
-SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2]]  # each config, and the paper's overlay
 AXES_PER_ROW = {"path": 1, "x": 2, "delta": 1, "joints": 2, "torques": 1}
-SAMPLES = 101  # enough for the checks below, and fast
 HEAVY5 = """\
   links:
     2: {mass: 2.0, inertia: 0.10, r: 0.5}
@@ -41,18 +37,6 @@ HEAVY5 = """\
 """
 PATH2_Y = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2\n  from: [2, -1]\n  to: [4, 1]"
 QUINTIC = "timing:\n  duration: 5\n  law: quintic\n"
-
-_cache: dict[str, P.Motion] = {}
-
-
-def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
-    out = []
-    for p in paths:
-        key = f"{p}@{samples}"
-        if key not in _cache:
-            _cache[key] = P.motion(audit(load_task(p), samples=samples), p)
-        out.append(_cache[key])
-    return out
 
 
 def panel_axes(fig: Figure) -> dict[str, list[Any]]:
@@ -179,51 +163,49 @@ def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> No
 @pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
 def test_every_panel_shows_its_content(paths: list[str]) -> None:
     ms = motions(paths)
-    fig = P.render(ms)
+    fig = sheet(paths)
     check_content(fig, ms)
     check_words_and_ids(figure_texts(fig), figure_gids(fig), ms)
 
 
 @pytest.fixture(scope="module")
-def saved(tmp_path_factory: pytest.TempPathFactory) -> tuple[Figure, list[P.Motion], Path]:
-    """The overlay of every shipped config, saved once as PNG (at 40 dpi), SVG and PDF:
-    every config drawn, in every format."""
+def saved(tmp_path_factory: pytest.TempPathFactory) -> tuple[list[P.Motion], Path]:
+    """The sheet of every shipped config, saved once as SVG and PDF: every config drawn
+    in the formats that keep its text as text and as embedded fonts."""
     ms = motions(CONFIG_FILES)
-    fig = P.render(ms)
+    fig = sheet(CONFIG_FILES)
     out = tmp_path_factory.mktemp("sheet")
-    P.save(fig, str(out / "sheet.png"), "png", dpi=40, motions=ms)
-    # The PNG laid the sheet out; keep that layout for the other two files (saves two
-    # layout passes; the command-line tests below save through the full path).
-    fig.set_layout_engine(None)
     P.save(fig, str(out / "sheet.svg"), "svg", motions=ms)
     P.save(fig, str(out / "sheet.pdf"), "pdf", motions=ms)
-    return fig, ms, out
+    return ms, out
 
 
-def test_png_has_the_sheets_size_and_names_the_tasks(
-    saved: tuple[Figure, list[P.Motion], Path],
-) -> None:
-    fig, ms, out = saved
-    with Image.open(out / "sheet.png") as im:
+def test_png_has_the_sheets_size_and_names_the_tasks(tmp_path: Path) -> None:
+    """The paper's overlay as PNG at 40 dpi (Agg lays out every config's sheet in
+    tests/test_sheet_layout.py; a raster of the six would add only time)."""
+    ms = motions([PATH1, PATH2])
+    fig = sheet([PATH1, PATH2])
+    P.save(fig, str(tmp_path / "sheet.png"), "png", dpi=40, motions=ms)
+    with Image.open(tmp_path / "sheet.png") as im:
         im.verify()
-    with Image.open(out / "sheet.png") as im:
+    with Image.open(tmp_path / "sheet.png") as im:
         w, h = fig.get_size_inches()
-        assert im.size == (round(w * 40), round(h * 40))
+        assert im.size == (int(w * 40), int(h * 40))  # whole pixels, as Agg cuts them
         assert all(m.name in im.text["Title"] for m in ms)
         assert im.text["Software"].startswith("rprpr ")
 
 
 def test_svg_keeps_the_text_and_an_id_per_curve_and_instant(
-    saved: tuple[Figure, list[P.Motion], Path],
+    saved: tuple[list[P.Motion], Path],
 ) -> None:
-    _, ms, out = saved
+    ms, out = saved
     check_words_and_ids(*svg_texts(out / "sheet.svg"), ms)
 
 
 def test_pdf_is_one_page_naming_the_tasks_in_truetype(
-    saved: tuple[Figure, list[P.Motion], Path],
+    saved: tuple[list[P.Motion], Path],
 ) -> None:
-    _, ms, out = saved
+    ms, out = saved
     data = (out / "sheet.pdf").read_bytes()
     assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF")
     title = re.search(rb"/Title \((.*?)\)", data)
@@ -287,8 +269,7 @@ def test_fig5_joint_angles_in_degrees_are_continuous() -> None:
 
 
 def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
-    ms = motions([PATH1, PATH2])
-    fig = P.render(ms, ["path"])
+    fig = sheet([PATH1, PATH2])
     ax = panel_axes(fig)["path"][0]
     assert ax.get_aspect() == 1.0
     texts = {t.get_text() for t in ax.texts}
@@ -329,7 +310,7 @@ def test_fig3_workspace_shows_bases_singular_line_and_robots() -> None:
 def test_torques_clip_to_the_bounded_part_and_mark_the_divergence() -> None:
     (m,) = motions([PATH1])
     assert np.nanmax(np.abs(m.s.T1)) > 1e6  # the samples beside t_s are huge ...
-    fig = P.render([m], ["torques"])
+    fig = sheet([PATH1])
     ax = panel_axes(fig)["torques"][0]
     lo, hi = ax.get_ylim()
     assert -200 < lo < -60 and 60 < hi < 200  # ... the axis keeps the bounded part
@@ -347,8 +328,7 @@ def test_torques_clip_to_the_bounded_part_and_mark_the_divergence() -> None:
 def test_torques_bounded_limit_far_outside_is_marked_at_the_edge() -> None:
     """Path 2 peaks at 66 N m under a ±300 N m limit: the axis keeps to the data (defect
     7) and the limit is marked at its right edge, not as a band over it (defect 4)."""
-    (m,) = motions([PATH2])
-    fig = P.render([m], ["torques"])
+    fig = sheet([PATH2])
     ax = panel_axes(fig)["torques"][0]
     assert tuple(by_gid(ax, "torques-limit-0-0-T1").get_xydata()[0]) == pytest.approx((2.5, 63.225))
     assert tuple(by_gid(ax, "torques-limit-0-0-T2").get_xydata()[0]) == pytest.approx((2.5, -5.445))
@@ -441,9 +421,9 @@ def test_the_issues_overlay_command_writes_figs_3_and_4(
             "-o",
             str(out),
             "--samples",
-            str(SAMPLES),
+            "21",
             "--dpi",
-            "60",
+            "50",
         ],
         capsys,
     )
@@ -461,7 +441,7 @@ def test_panels_pick_and_order(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert list(panel_axes(fig)) == ["torques", "path"]
     out = tmp_path / "two.svg"
     code, _, _ = run(
-        ["plot", PATH2, "--panels", " torques , PATH", "-o", str(out), "--samples", str(SAMPLES)],
+        ["plot", PATH2, "--panels", " torques , PATH", "-o", str(out), "--samples", "21"],
         capsys,
     )
     assert code == 0
@@ -545,11 +525,10 @@ def test_show_opens_a_pyplot_window_and_writes_o(
     monkeypatch.setattr(P, "can_show", lambda: True)
     monkeypatch.setattr(plt, "show", lambda: shown.extend(plt.get_fignums()))
     try:
-        out = tmp_path / "s.pdf"
-        code, _, _ = run(
-            ["plot", PATH2, "--show", "-o", str(out), "--panels", "x", "--samples", "21"], capsys
-        )
-        assert code == 0 and out.read_bytes().startswith(b"%PDF-")
+        out = tmp_path / "s.png"
+        args = ["--show", "-o", str(out), "--panels", "x", "--samples", "21", "--dpi", "50"]
+        code, _, _ = run(["plot", PATH2, *args], capsys)
+        assert code == 0 and out.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
         assert len(shown) == 1
         fig = plt.figure(shown[0])
         assert list(panel_axes(fig)) == ["x"]
@@ -571,7 +550,7 @@ def test_plot_loads_matplotlib_only_when_plotting() -> None:
 
 
 def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:
-    fig = P.render(motions([PATH1, PATH2]), ["joints", "torques"])
+    fig = sheet([PATH1, PATH2])
     axes = panel_axes(fig)
     th = axes["joints"][0]
     # overlaid, colour is the task (defect 5) and line style the leg
@@ -584,6 +563,6 @@ def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:
     assert by_gid(tq, "T2-1").get_color() == P.TASK_COLOURS[1]
     assert isinstance(by_gid(tq, "T1-1"), Line2D)
     # one task alone: colour is the quantity, as on the robot's legs
-    (one,) = panel_axes(P.render(motions([PATH1]), ["joints"]))["joints"][:1]
+    (one,) = panel_axes(sheet([PATH1]))["joints"][:1]
     assert by_gid(one, "theta1-0").get_color() == P.LEG1
     assert by_gid(one, "theta2-0").get_color() == P.LEG2

@@ -12,47 +12,30 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+import re
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
-from matplotlib.backends.backend_agg import FigureCanvasAgg
+from flint import fmpq
+from matplotlib.colors import same_color
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
+from rprpr.model.task import Piece, Task
+from rprpr.model.timing import trapezoidal
 from rprpr.render import sheet as P
 
-from .conftest import CONFIGS, task_text
+from .conftest import task_text
 from .reference import reference
-
-PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
-PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
-CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
-SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
-DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
-
-_cache: dict[str, P.Motion] = {}
-
-
-def motions(paths: Sequence[str]) -> list[P.Motion]:
-    for p in paths:
-        if p not in _cache:
-            _cache[p] = P.motion(audit(load_task(p), samples=101), p)
-    return [_cache[p] for p in paths]
-
-
-def drawn(fig: Figure) -> Any:
-    """Draw ``fig`` on an Agg canvas at ``DPI``; returns the renderer."""
-    fig.set_dpi(DPI)
-    canvas = FigureCanvasAgg(fig)
-    canvas.draw()
-    return canvas.get_renderer()
+from .sheets import CONFIG_FILES, DPI, PATH1, PATH2, SETS, drawn, motions, sheet
 
 
 def texts(fig: Figure) -> list[Text]:
@@ -89,10 +72,8 @@ def time_axes(fig: Figure) -> list[Any]:
     return [ax for ax in fig.get_axes() if ax.get_gid() not in ("panel-path", "inset")]
 
 
-@pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
-def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[str]) -> None:
-    ms = motions(paths)
-    fig = P.render(ms, pole_inset=True)
+def check_texts(fig: Figure) -> None:
+    """No text overlaps another or leaves the figure (defects 1, 2, 4)."""
     renderer = drawn(fig)
     boxes = [(t.get_text(), extent(t, renderer)) for t in texts(fig)]
     page = fig.bbox
@@ -100,6 +81,13 @@ def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[s
         assert page.x0 <= b.x0 and b.x1 <= page.x1 and page.y0 <= b.y0 and b.y1 <= page.y1, text
     clashes = [(s, t) for (s, a), (t, b) in itertools.combinations(boxes, 2) if overlap(a, b)]
     assert not clashes, clashes[:5]
+
+
+@pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))
+def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[str]) -> None:
+    ms = motions(paths)
+    fig = sheet(paths)
+    check_texts(fig)
     # one t axis: the same limits, and in each column the same pixel extent (defect 6)
     axes = time_axes(fig)
     assert len({ax.get_xlim() for ax in axes}) == 1
@@ -118,8 +106,7 @@ def test_no_text_overlaps_or_leaves_the_figure_and_time_axes_align(paths: list[s
 def test_overlay_colours_each_task_and_sets_coinciding_marks_side_by_side() -> None:
     """Paths 1 and 2 both cross at (3, 0), t = 2.5 s: the passing diamond sits beside the
     failing star on every panel (defect 3); the tasks' colours differ (defect 5)."""
-    ms = motions([PATH1, PATH2])
-    fig = P.render(ms)
+    fig = sheet([PATH1, PATH2])
     drawn(fig)
     by = {a.get_gid(): a for ax in fig.get_axes() for a in ax.get_children() if a.get_gid()}
     colours = {by[f"path-{i}"].get_color() for i in range(2)}
@@ -136,7 +123,7 @@ def test_overlay_colours_each_task_and_sets_coinciding_marks_side_by_side() -> N
 
 def test_more_than_three_tasks_are_small_multiples_sharing_axes() -> None:
     ms = motions(CONFIG_FILES)
-    fig = P.render(ms, ["delta", "torques"])
+    fig = sheet(CONFIG_FILES)
     axes = {
         n: [ax for ax in fig.get_axes() if ax.get_gid() == f"panel-{n}"]
         for n in ("delta", "torques")
@@ -218,3 +205,134 @@ def test_a_near_miss_is_marked_with_its_value(write_task) -> None:  # type: igno
     assert f"1  near miss: min |δ| = {min(ref):.3g} at t = " in keys
     gids = {a.get_gid() for ax in fig.get_axes() for a in ax.get_children()}
     assert {"path-approach-0", "path-approach-key-0", "delta-approach-0"} <= gids
+
+
+def marks(fig: Figure) -> list[Line2D]:
+    """Every mark the panels draw: a line with a marker and an id."""
+    return [
+        a
+        for ax in fig.get_axes()
+        for a in ax.get_lines()
+        if a.get_gid() and a.get_marker() not in (None, "None", "none", "", " ")
+    ]
+
+
+def near_miss_task(write_task: Any) -> Task:
+    """y = 0.5 (x - 2)(x - 4) + 0.7 over x in [2.5, 3.5]: it never meets y = 0 and comes
+    closest at x = 3 (y = 0.2, t = 1)."""
+    y = "0.5*(x - 2)*(x - 4) + 0.7\n  from: [2.5, 0.325]\n  to: [3.5, 0.325]"
+    return load_task(write_task(task_text(y, "timing:\n  duration: 2\n  x: 2.5 + 0.5*t\n")))
+
+
+def test_every_mark_of_an_overlaid_task_carries_its_colour(write_task) -> None:  # type: ignore[no-untyped-def]
+    """Overlaid, colour is the task (defect 5): each task's singular marks (edged in it,
+    filled with the verdict's colour), the torques' ▲ ▼ where they leave the axis, the
+    rings at finite limits, a limit's ▲ ▼ beyond the axis, the path's ends, the robot's
+    end point and a near miss's rings; only the ring round a high-order point stays red
+    (the verdict, as a mark's fill). Alone, a torque's marks take its leg's colour."""
+    miss = P.motion(audit(near_miss_task(write_task), samples=51), "miss.yaml")
+    ms = [*motions([PATH1, PATH2]), miss]
+    fig = P.render(ms, ["path", "x", "delta", "torques"])
+    kinds = set()
+    for a in marks(fig):
+        gid = a.get_gid()
+        kind, i = re.fullmatch(r"(\D+)-(\d+)(-.*)?", gid).group(1, 2)  # type: ignore[union-attr]
+        if kind == "path-ring":
+            assert same_color(a.get_markeredgecolor(), P.STATUS_COLOUR["fail"])
+            continue
+        colour = P.TASK_COLOURS[int(i)]
+        assert same_color(a.get_markeredgecolor(), colour) or same_color(
+            a.get_markerfacecolor(), colour
+        ), (gid, a.get_markerfacecolor(), a.get_markeredgecolor())
+        kinds.add(kind)
+        if kind.endswith("-singular"):  # the fill says the verdict, the edge the task
+            assert same_color(a.get_markeredgecolor(), colour)
+            assert a.get_markerfacecolor() in P.STATUS_COLOUR.values()
+    assert {
+        "path-singular",
+        "x-singular",
+        "y-singular",
+        "delta-singular",
+        "torques-exit",  # path 1's ▲ (task 0)
+        "torques-limit",  # path 2's rings at its finite limits (task 1)
+        "torque-limit",  # path 2's ±300 N m limit, beyond the axis (task 1)
+        "path-start",
+        "path-end",
+        "robot",
+        "path-near",  # the near miss (task 2)
+        "delta-approach",
+    } <= kinds
+    (alone,) = panel(sheet([PATH1]), "torques")
+    for q, leg in (("T1", P.LEG1), ("T2", P.LEG2)):
+        up = next(a for a in alone.get_lines() if a.get_gid() == f"torques-exit-0-0-{q}-before")
+        assert same_color(up.get_markerfacecolor(), leg)
+    star = next(a for a in marks(sheet([PATH1])) if a.get_gid() == "delta-singular-0-0")
+    assert star.get_markeredgecolor() == "black"
+
+
+def panel(fig: Figure, name: str) -> list[Any]:
+    return [ax for ax in fig.get_axes() if ax.get_gid() == f"panel-{name}"]
+
+
+def trapezoidal_task() -> Task:
+    """Paper path 2 (eq. 51) under a trapezoidal law from x = 2 to 4 in 5 s at a cruise
+    speed of 0.5 m/s: blend time t_b = (V t_f - D) / V = 1 s, so the pieces meet at the
+    knots t = 1 s and t = 4 s."""
+    base = load_task(PATH2)
+    assert base.path is not None
+    start, pieces = fmpq(0), []
+    for end, x in trapezoidal(fmpq(2), fmpq(4), fmpq(5), fmpq(1, 2)):
+        pieces.append(Piece(start, end, x, base.path(x), base.path))
+        start = end
+    return replace(base, pieces=tuple(pieces), x_of_t=None, law="trapezoidal")
+
+
+def test_knots_are_marked_lightly_on_every_time_axis() -> None:
+    """A piecewise motion's knots: one light dotted line each on every time axis (x_E,
+    y_E, δ, θ, s, T) at exactly the knot, in one style under the curves, named once in
+    the lanes; none on the workspace, and none on a sheet whose tasks have no knots."""
+    from rprpr.render import animation as A
+    from rprpr.render.sheet.style import KNOT, KNOT_LABEL
+
+    task = trapezoidal_task()
+    assert task.knots == (fmpq(1), fmpq(4))
+    m = P.motion(audit(task, samples=51), "trapezoidal.yaml")
+    fig = P.render([m], pole_inset=True)
+    time = time_axes(fig)
+    assert [ax.get_gid() for ax in time] == [
+        "panel-x",
+        "panel-x",
+        "panel-delta",
+        "panel-joints",
+        "panel-joints",
+        "panel-torques",
+    ]
+    for ax in time:
+        knots = [a for a in ax.get_lines() if "-knot-" in str(a.get_gid())]
+        assert [tuple(a.get_xdata()) for a in knots] == [(1.0, 1.0), (4.0, 4.0)]
+        curves = [a for a in ax.get_lines() if re.fullmatch(r"\w+-0", str(a.get_gid()))]
+        assert curves
+        for a in knots:
+            assert same_color(a.get_color(), KNOT["color"]) and a.get_linewidth() == KNOT["lw"]
+            assert a.get_zorder() < min(c.get_zorder() for c in curves)
+    assert not [a for a in panel(fig, "path")[0].get_lines() if "knot" in str(a.get_gid())]
+    entries = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert entries.count(KNOT_LABEL) == 1
+    # the knots' entry fits the lane (the workspace is left out: beyond its first piece the
+    # engine does not follow this motion yet, and the path drawn runs far up)
+    check_texts(P.render([m], ["x", "delta", "joints", "torques"]))
+    # the GIF's δ and torque strips mark them too
+    gif = Figure()
+    A._Column(gif.subfigures(1, 1), m, A.clock([m], 5), m.duration)
+    knots = sorted(
+        (a.get_gid(), a.get_xdata()[0])
+        for ax in gif.get_axes()
+        for a in ax.get_lines()
+        if "knot" in str(a.get_gid())
+    )
+    assert [x for _, x in knots] == [1.0, 4.0, 1.0, 4.0]
+    # a motion of one polynomial: nothing
+    for paths in SETS:
+        f = sheet(paths)
+        assert not any("knot" in str(a.get_gid()) for ax in f.get_axes() for a in ax.get_lines())
+        assert KNOT_LABEL not in [t.get_text() for leg in f.legends for t in leg.get_texts()]

@@ -41,6 +41,7 @@ from ..engine.singular import SingularInstant
 from ..model.numbers import number
 from . import sheet as P
 from .sheet import robot
+from .sheet.axes import knot_lines
 
 FRAMES = 100  # default frame count: 5 s at FPS
 MAX_FRAMES = 120
@@ -202,6 +203,7 @@ class _Column:
         for s in m.result.singularities:
             if not s.torque_bounded:
                 ax.axvline(s.t, color=P.STATUS_COLOUR["fail"], lw=1.0, ls="--")
+        knot_lines(ax, m, "gif-torques-knot")
         ax.set_xlim(0, tf)
         ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
         ax.set_ylabel("T [N m]", fontsize=8)
@@ -213,6 +215,7 @@ class _Column:
         ax.plot(m.s.t, P.finite(m.s.delta), color=P.DELTA, lw=1.4)
         ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
         ax.axhline(0, color="#444444", lw=0.7)
+        knot_lines(ax, m, "gif-delta-knot")
         for s in m.result.singularities:
             small = {"markersize": 11 if s.high_order else 6}  # the strip is narrow
             ax.plot([s.t], [0], **{**P.marker_style(s, m.result.status_of(s)), **small})

@@ -1,5 +1,6 @@
 """What the panels share: the look of a task's curve, the lines at the singular instants
-on a time axis, degree ticks, and the legend entries (quantities and tasks)."""
+and at the knots of a piecewise motion on a time axis, degree ticks, and the legend
+entries (quantities and tasks, the knots once)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,15 @@ from matplotlib.lines import Line2D
 
 from .motion import Motion
 from .page import Indexed, Sheet
-from .style import QUANTITY_STYLES, SEVERITY, STATUS_COLOUR, style, task_colour
+from .style import (
+    KNOT,
+    KNOT_LABEL,
+    QUANTITY_STYLES,
+    SEVERITY,
+    STATUS_COLOUR,
+    style,
+    task_colour,
+)
 from .words import short
 
 
@@ -45,9 +54,27 @@ def handles(sheet: Sheet, quantities: Sequence[tuple[str, str]]) -> list[Any]:
 
 def instant_lines(ax: Axes, column: Indexed, name: str) -> None:
     """Vertical lines at each task's singular instants (gid ``<name>-tsline-<task>-<k>``;
-    in its status's colour, grey when it passes) and inverse-kinematic ones (red, dotted)."""
+    in its status's colour, grey when it passes), inverse-kinematic ones (red, dotted) and
+    the knots of a piecewise motion (light, ``KNOT``; gid ``<name>-knot-<task>-<k>``)."""
     for i, m in column:
         _lines(ax, m, i, name)
+        knot_lines(ax, m, f"{name}-knot-{i}")
+
+
+def knot_lines(ax: Axes, m: Motion, gid: str) -> None:
+    """A light vertical line at each knot of ``m``'s motion (gid ``<gid>-<k>``), on the
+    sheet and in the GIF alike; none for a motion of one polynomial."""
+    for k, t in enumerate(m.task.knots):
+        ax.axvline(float(t), gid=f"{gid}-{k}", **KNOT)
+
+
+def knot_handles(sheet: Sheet) -> list[Any]:
+    """The knots' legend entry, for the first time panel's legend only (none when no
+    task has knots)."""
+    if sheet.knot_said or not any(m.task.knots for m in sheet.motions):
+        return []
+    sheet.knot_said = True
+    return [Line2D([], [], label=KNOT_LABEL, **{k: v for k, v in KNOT.items() if k != "zorder"})]
 
 
 def _lines(ax: Axes, m: Motion, i: int, name: str) -> None:

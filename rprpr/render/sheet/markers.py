@@ -12,19 +12,21 @@ from matplotlib.transforms import ScaledTranslation
 
 from ...engine.singular import SingularInstant
 from .motion import Motion
-from .style import STATUS_COLOUR, STATUS_WORD
+from .page import Sheet
+from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, task_colour
 
 
-def marker_style(s: SingularInstant, status: str) -> dict[str, Any]:
+def marker_style(s: SingularInstant, status: str, edge: str | None = None) -> dict[str, Any]:
     """Keyword arguments of ``Axes.plot`` for the mark of ``s`` with the audit's
-    ``status`` ("fail", "warn" or "ok")."""
+    ``status`` ("fail", "warn" or "ok"): edged black, or in ``edge`` (an overlaid task's
+    colour), thicker."""
     high = s.high_order
     return {
         "marker": "*" if high else "D",
         "markersize": 17 if high else 7.5,
         "markerfacecolor": STATUS_COLOUR[status],
-        "markeredgecolor": "black",
-        "markeredgewidth": 0.9,
+        "markeredgecolor": edge or "black",
+        "markeredgewidth": 0.9 if edge is None else MARK_EDGE,
         "linestyle": "none",
         "zorder": 6.5 if high else 6,  # a high-order mark stays on top of a coinciding one
     }
@@ -46,6 +48,12 @@ def marker_handles(motions: Sequence[Motion]) -> list[Line2D]:
                     **marker_style(s, st),
                 )
     return [seen[k] for k in sorted(seen, key=lambda k: (not k[0], k[1]))]
+
+
+def mark_handle(label: str, marker: str, face: str, edge: str, ms: float = 6, **kw: Any) -> Line2D:
+    """A legend entry for a mark alone (no line): ``marker`` filled ``face``, edged
+    ``edge``."""
+    return Line2D([], [], marker=marker, ms=ms, mfc=face, mec=edge, ls="none", label=label, **kw)
 
 
 SPREAD = 15.0  # points between the centres of marks that would sit on one another
@@ -71,6 +79,32 @@ def spread(
         for j, (key, _, _) in enumerate(g):
             out[key] = (j - (len(g) - 1) / 2) * SPREAD
     return out
+
+
+def edge(sheet: Sheet, i: int) -> str | None:
+    """The edge of task i's singular marks: its colour in an overlay, else black (None)."""
+    return task_colour(i) if sheet.overlay else None
+
+
+def arrow_mark(
+    ax: Axes, x: float, y: float, up: bool, colour: str, gid: str, size: float, **kw: Any
+) -> None:
+    """▲ (``up``) or ▼ at (x, y) in ``colour``, edged black, over the axis's edge (not
+    clipped): where a curve leaves the axis, or a limit lies beyond it."""
+    ax.plot(
+        [x],
+        [y],
+        marker="^" if up else "v",
+        ms=size,
+        color=colour,
+        mec="black",
+        mew=0.6,
+        ls="none",
+        clip_on=False,
+        zorder=9,
+        gid=gid,
+        **kw,
+    )
 
 
 def shifted(ax: Axes, dx: float) -> Any:
@@ -100,12 +134,13 @@ def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: 
 def mark(
     ax: Axes,
     panel: str,
+    sheet: Sheet,
     column: Sequence[tuple[int, Motion]],
     value: Callable[[Motion, SingularInstant], float],
-    keys: dict[tuple[int, Any], int],
 ) -> None:
     """A mark at each singular instant at (t_s, value), side by side where several
     coincide, with its key number above; gid panel-singular-task-k."""
+    keys = sheet.keys
     tf = max(m.duration for _, m in column)
     ax.autoscale_view()
     y0, y1 = ax.get_ylim()
@@ -123,7 +158,7 @@ def mark(
                 [y],
                 gid=f"{panel}-singular-{i}-{k}",
                 transform=shifted(ax, dx),
-                **marker_style(s, m.result.status_of(s)),
+                **marker_style(s, m.result.status_of(s), edge(sheet, i)),
             )
             if (i, k) in keys:  # above the mark, below it in the axes' upper half
                 dy = (15 if s.high_order else 12) * (1 if y < (y0 + y1) / 2 else -1)

@@ -26,10 +26,11 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from ..._version import __version__
+from ...engine.singular import SingularInstant
 from .labels import MAX_LABELS
 from .motion import Motion
 from .style import LABEL_SIZE, OVERLAID, WIDTH, task_colour
-from .words import heading_lines, short
+from .words import heading_lines, instant_times, short
 
 MARGIN = 0.15  # in, at the figure's edges
 LEFT = 0.95  # in, from the figure's left edge to the axes: y tick labels and label
@@ -63,6 +64,7 @@ class Sheet:
     texts: list[tuple[Text, float, float]] = field(default_factory=list)
     time: list[Axes] = field(default_factory=list)  # every time axis (the first leads)
     keys: dict[tuple[int, Any], int] = field(default_factory=dict)
+    knot_said: bool = False  # the knots' legend entry is on the sheet (once)
 
     def __post_init__(self) -> None:
         indexed = list(enumerate(self.motions))
@@ -90,6 +92,19 @@ class Sheet:
     @property
     def duration(self) -> float:
         return max(m.duration for m in self.motions)
+
+    def who(self, m: Motion) -> str:
+        """The prefix naming task ``m`` in the lane ("" when the sheet has one task)."""
+        return f"{short(m.name, 30)}: " if len(self.motions) > 1 else ""
+
+    def keyed(self, i: int) -> list[tuple[int, SingularInstant, str]]:
+        """Task i's singular instants that carry a key number: (key, instant, its time as
+        written); none when there are too many to key (``crowded``)."""
+        if (i, 0) not in self.keys:
+            return []
+        r = self.motions[i].result
+        times = instant_times(r)
+        return [(self.keys[i, k], s, times[k]) for k, s in enumerate(r.singularities)]
 
     def left(self, c: int) -> float:
         """The left edge of column c's axes [in]."""

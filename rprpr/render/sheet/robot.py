@@ -141,9 +141,10 @@ def draw_robot(
     singular: bool = False,
     colour: str | None = None,
 ) -> np.ndarray:
-    """The robot at sample i of ``m`` (gids ``<gid>-cylinder<n>``, ``<gid>-leg<n>``), in
-    the legs' colours or in ``colour``; at a ``singular`` instant its rods dashed, so
-    that the line AB they lie on shows through. Returns points along the legs."""
+    """The robot at sample i of ``m`` (gids ``<gid>-cylinder<n>``, ``<gid>-leg<n>``,
+    ``<gid>-end-point``), in the legs' colours or all in ``colour``; at a ``singular``
+    instant its rods dashed, so that the line AB they lie on shows through. Returns points
+    along the legs."""
     E = np.array([m.s.x[i], m.s.y[i]])
     if not np.all(np.isfinite(E)):
         return np.empty((0, 2))
@@ -156,7 +157,8 @@ def draw_robot(
         rod = {**ROD, "ls": SINGULAR_LEGS} if singular else ROD
         ax.plot([P[0], E[0]], [P[1], E[1]], color=c, alpha=alpha, gid=f"{gid}-leg{n}", **rod)
         pts.append(P + along * (E - P))
-    ax.plot([E[0]], [E[1]], "o", alpha=alpha, **END_POINT)
+    end = {**END_POINT, "mec": colour or POINT}
+    ax.plot([E[0]], [E[1]], "o", alpha=alpha, gid=f"{gid}-end-point", **end)
     return np.concatenate(pts) if pts else np.empty((0, 2))
 
 

@@ -8,7 +8,8 @@ style is the quantity (``QUANTITY_STYLES``: leg 1 solid, leg 2 dashed); a task's
 curves (path, δ) also take the task's line style (``style``), so greyscale still tells
 them apart. More tasks are drawn as small multiples, one column each (``OVERLAID``).
 A singular instant's status (the audit's, ``AuditResult.status_of``) is red when it fails
-the task, amber when it warns, yellow when it passes.
+the task, amber when it warns, yellow when it passes. Overlaid, every mark of a task
+carries the task's colour: a singular mark's edge, a ▲ ▼ or a ring its fill or edge.
 """
 
 from __future__ import annotations
@@ -37,6 +38,11 @@ TASK_COLOURS = (  # Okabe and Ito: told apart with each common colour-vision def
     "#8C564B",  # brown
 )
 OVERLAID = 3  # at most this many tasks share axes; beyond, one column per task
+# a knot of a piecewise motion (where one piece meets the next), on every time axis: light,
+# dotted, under the curves; the same for every task
+KNOT: dict[str, Any] = {"color": "#8A8A8A", "lw": 1.0, "ls": (0, (1, 1.6)), "zorder": 0.5}
+KNOT_LABEL = "knot: one piece of the motion meets the next"
+MARK_EDGE = 1.5  # points: an overlaid task's singular mark edged in the task's colour
 
 NEAR_DELTA = 0.1  # |δ| below this is "near" a Type II singularity (band on δ, cue in the GIF)
 WIDTH = 11.0  # sheet width [in] (wider for small multiples)

@@ -11,12 +11,12 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ....model.numbers import number
-from ..axes import handles, instant_lines, look
+from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import badge, mark
 from ..motion import finite
 from ..page import Indexed, Sheet
 from ..style import DELTA, NEAR_DELTA
-from ..words import instant_times, near_miss_delta, order_text, short, vanishing
+from ..words import near_miss_delta, order_text, vanishing
 
 ROW = 1.9  # in
 APPROACH: dict[str, Any] = {
@@ -39,12 +39,12 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
         for i, m in col:
             kw = look(sheet, i, DELTA)
             ax.plot(m.s.t, finite(m.s.delta), lw=1.7, gid=f"delta-{i}", **kw)
-        mark(ax, "delta", col, lambda m, s: 0.0, sheet.keys)
+        mark(ax, "delta", sheet, col, lambda m, s: 0.0)
         _approaches(sheet, ax, col)
     row[0].set_ylabel(r"$\delta$ [–]")
     near = f"near singular: |δ| < {number(NEAR_DELTA)}"
     band = Line2D([], [], color="#999999", alpha=0.35, lw=6, label=near)
-    sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band], notes(sheet))
+    sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band, *knot_handles(sheet)], notes(sheet))
     return row
 
 
@@ -71,14 +71,10 @@ def notes(sheet: Sheet) -> list[str]:
     """The keys of the marks: each singular instant's time, order and what vanishes;
     each closest approach's min |δ|."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            out.append(
-                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} ({vanishing(s.order)})"
-            )
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
+            out.append(f"{key}  {who}t = {t} s, {order_text(s)} ({vanishing(s.order)})")
         if m.result.closest_approach is not None:
             out.append(
                 f"{sheet.keys[i, 'approach']}  {who}{near_miss_delta(m.result.closest_approach)}"

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.axes import Axes
 
-from ..axes import degree_ticks, handles, instant_lines, look
+from ..axes import degree_ticks, handles, instant_lines, knot_handles, look
 from ..motion import finite
 from ..page import Sheet
 from ..style import LEG1, LEG2
@@ -39,7 +39,10 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     row_s[0].set_ylabel("$s$ [m]")
     sheet.lane(
         row_t[-1],
-        handles(sheet, [(r"$\theta_1$ (joint A)", LEG1), (r"$\theta_2$ (joint B)", LEG2)]),
+        [
+            *handles(sheet, [(r"$\theta_1$ (joint A)", LEG1), (r"$\theta_2$ (joint B)", LEG2)]),
+            *knot_handles(sheet),
+        ],
     )
     sheet.lane(row_s[-1], handles(sheet, [("$s_1 = |AE|$", LEG1), ("$s_2 = |BE|$", LEG2)]))
     return [*row_t, *row_s]

@@ -18,7 +18,7 @@ from ....engine.singular import SingularInstant
 from ....model.numbers import number
 from ..axes import handles, look
 from ..labels import case_label_x
-from ..markers import badge, marker_handles, marker_style, shifted, spread
+from ..markers import badge, edge, mark_handle, marker_handles, marker_style, shifted, spread
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
 from ..robot import (
@@ -31,7 +31,7 @@ from ..robot import (
     workspace,
 )
 from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, task_colour
-from ..words import instant_times, near_miss_path, order_text, short, verdict_text
+from ..words import near_miss_path, order_text, verdict_text
 
 CASES = (  # the singular line's stretches (Table 1): left of A, between A and B, right of B
     "case 2\nθ1 = θ2 = π",
@@ -119,7 +119,7 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
             draw_robot(ax, m, at(m, s.t), 0.85, gid, singular=True, colour=colour)
 
 
-def _ends(ax: Axes, m: Motion, colour: str) -> None:
+def _ends(ax: Axes, m: Motion, colour: str, i: int) -> None:
     """The path's start (an open circle) and end (a filled one): the legend says which."""
     for j, (word, face) in ((0, ("start", "white")), (len(m.s.t) - 1, ("end", colour))):
         ax.plot(
@@ -131,7 +131,7 @@ def _ends(ax: Axes, m: Motion, colour: str) -> None:
             mec=colour,
             mew=1.3,
             zorder=7,
-            gid=f"path-{word}",
+            gid=f"path-{word}-{i}",
         )
 
 
@@ -141,7 +141,7 @@ def _paths(sheet: Sheet, ax: Axes, col: Indexed) -> None:
     for i, m in col:
         kw = look(sheet, i, POINT)
         ax.plot(m.s.x, m.s.y, lw=1.8, zorder=4, gid=f"path-{i}", **kw)
-        _ends(ax, m, kw["color"])
+        _ends(ax, m, kw["color"], i)
         x, y = m.s.x, m.s.y
         j = int(0.3 * (len(x) - 1))
         if np.all(np.isfinite([x[j], y[j], x[j + 1], y[j + 1]])):
@@ -173,14 +173,16 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
             tr = shifted(ax, dxs[i, k])
             if s.high_order:
                 _ring(ax, s, f"path-ring-{i}-{k}", tr)
-            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **marker_style(s, st))
+            style = marker_style(s, st, edge(sheet, i))
+            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **style)
             dy = 22.0 if s.high_order else 13.0
             side = _freer_side(paths, s.x + dxs[i, k] / ppu, dy / ppu)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
                 badge(ax, key, (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
-            ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **_CROSS)
+            cross = {**_CROSS, "mec": edge(sheet, i) or _CROSS["mec"]}
+            ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **cross)
 
 
 def _freer_side(paths: np.ndarray, x: float, d: float) -> int:
@@ -216,7 +218,9 @@ def _approaches(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
             zorder=6,
             gid=f"path-approach-{i}",
         )
-        ax.plot([x], [y], "o", ms=5, mfc="white", mec=colour, mew=1.3, zorder=7)
+        ax.plot(
+            [x], [y], "o", ms=5, mfc="white", mec=colour, mew=1.3, zorder=7, gid=f"path-near-{i}"
+        )
         badge(ax, sheet.keys[i, "approach"], (x, y / 2), 12, 0, f"path-approach-key-{i}")
 
 
@@ -244,16 +248,13 @@ def notes(sheet: Sheet) -> list[str]:
     """The keys of the workspace's marks: each singular instant's time, order, verdict
     and why (as ``rprpr check`` lists them); each near miss's distance."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            st = m.result.status_of(s)
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
             why = verdict_text(s)
             out.append(
-                f"{sheet.keys[i, k]}  {who}t = {times[k]} s, {order_text(s)} — "
-                f"{STATUS_WORD[st].upper()}" + (f": {why}" if why else "")
+                f"{key}  {who}t = {t} s, {order_text(s)} — "
+                f"{STATUS_WORD[m.result.status_of(s)].upper()}" + (f": {why}" if why else "")
             )
         if m.result.closest_approach is not None:
             out.append(
@@ -270,26 +271,8 @@ def _legend(sheet: Sheet) -> list[Any]:
     motions = sheet.motions
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
-        Line2D(
-            [],
-            [],
-            marker="o",
-            ms=6,
-            mfc="white",
-            mec="#333333",
-            ls="none",
-            label="start of the path (t = 0)",
-        ),
-        Line2D(
-            [],
-            [],
-            marker="o",
-            ms=6,
-            mfc="#333333",
-            mec="#333333",
-            ls="none",
-            label="end of the path (t = t_f)",
-        ),
+        mark_handle("start of the path (t = 0)", "o", "white", "#333333"),
+        mark_handle("end of the path (t = t_f)", "o", "#333333", "#333333"),
         singular_line_handle(),
         *marker_handles(motions),
     ]

@@ -25,12 +25,11 @@ from matplotlib.transforms import blended_transform_factory
 from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
 from ....model.numbers import number
-from ..axes import handles, instant_lines, look
-from ..markers import badge, spread
+from ..axes import handles, instant_lines, knot_handles, look
+from ..markers import arrow_mark, badge, mark_handle, spread
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
 from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
-from ..words import instant_times, short
 
 ROW = 2.2  # in
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
@@ -65,7 +64,7 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
             ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
     row[0].set_ylabel("$T$ [N m]")
     legend = [*handles(sheet, [("$T_1$ (joint A)", LEG1), ("$T_2$ (joint B)", LEG2)])]
-    legend += _extra_handles(sheet)
+    legend += [*_extra_handles(sheet), *knot_handles(sheet)]
     pole = _first_pole(sheet.motions) if pole_inset else None
     inset = sheet.lane(row[-1], legend, notes(sheet, scale), inset=pole is not None)
     if inset is not None and pole is not None:
@@ -112,21 +111,9 @@ def _limit_lines(sheet: Sheet, ax: Axes, col: Indexed, scale: float, lo: float, 
                         gid=f"torque-limit-{i}-{j}-{'upper' if sign > 0 else 'lower'}",
                     )
             else:
-                for y, shape, end in ((hi, "^", "upper"), (lo, "v", "lower")):
-                    ax.plot(
-                        [1.0],
-                        [y],
-                        marker=shape,
-                        ms=7,
-                        color=colour,
-                        mec="black",
-                        mew=0.5,
-                        ls="none",
-                        transform=edge,
-                        clip_on=False,
-                        zorder=9,
-                        gid=f"torque-limit-{i}-{j}-edge-{end}",
-                    )
+                for y, up, end in ((hi, True, "upper"), (lo, False, "lower")):
+                    gid = f"torque-limit-{i}-{j}-edge-{end}"
+                    arrow_mark(ax, 1.0, y, up, colour, gid, 7, transform=edge)
 
 
 def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
@@ -171,12 +158,13 @@ def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> Non
     pts = [((i, k), s.t, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
     dxs = spread(pts, (0.01 * sheet.duration, 1.0))
     for i, m in col:
+        colours = [look(sheet, i, c, j, pair=True)["color"] for j, (c, _) in enumerate(TORQUES)]
         for k, s in enumerate(m.result.singularities):
             if s.torque_at_singularity is not None:
-                _finite_limits(ax, s, f"{i}-{k}")
+                _finite_limits(ax, s, f"{i}-{k}", colours)
             else:
                 ax.axvline(s.t, gid=f"torques-unbounded-{i}-{k}", **_UNBOUNDED)
-                _exit_marks(ax, m, s, f"{i}-{k}", lo, hi)
+                _exit_marks(ax, m, s, f"{i}-{k}", lo, hi, colours)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
                 badge(ax, key, (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
@@ -192,32 +180,9 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
     if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
         out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
-        out.append(
-            Line2D(
-                [],
-                [],
-                marker="o",
-                ms=6,
-                mfc="white",
-                mec="#555555",
-                mew=1.6,
-                ls="none",
-                label="finite limit at t_s",
-            )
-        )
+        out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
-        out.append(
-            Line2D(
-                [],
-                [],
-                marker="^",
-                ms=7,
-                color="#777777",
-                mec="black",
-                ls="none",
-                label="leaves the axis: diverges",
-            )
-        )
+        out.append(mark_handle("leaves the axis: diverges", "^", "#777777", "black", 7))
     return out
 
 
@@ -225,17 +190,14 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
     """The keys of the instants (finite limits, or where T diverges and how long |T|
     stays above its limit) and each task's limit."""
     out = []
-    several = len(sheet.motions) > 1
     for i, m in enumerate(sheet.motions):
-        who = f"{short(m.name, 30)}: " if several else ""
-        times = instant_times(m.result)
-        for k, s in enumerate(m.result.singularities if (i, 0) in sheet.keys else ()):
-            key = sheet.keys[i, k]
+        who = sheet.who(m)
+        for key, s, t in sheet.keyed(i):
             if s.torque_at_singularity is not None:
                 t1, t2 = (number(v, 4) for v in s.torque_at_singularity)
-                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {times[k]} s (ring)")
+                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {t} s (ring)")
             else:
-                out.append(f"{key}  {who}T → ∞ at t = {times[k]} s: pole of order {s.pole_order}")
+                out.append(f"{key}  {who}T → ∞ at t = {t} s: pole of order {s.pole_order}")
         L = m.task.checks.torque_limit
         if L is not None:
             lim = " N m, ".join(dict.fromkeys(number(float(v)) for v in L)) + " N m"
@@ -336,10 +298,10 @@ def _bounded_extremes(v: np.ndarray, keep: np.ndarray) -> list[float]:
     return list(np.percentile(v[ok], [10, 90])) if np.any(ok) else []
 
 
-def _finite_limits(ax: Axes, s: SingularInstant, tag: str) -> None:
-    """A ring at each torque's finite limit at t_s."""
+def _finite_limits(ax: Axes, s: SingularInstant, tag: str, colours: Sequence[str]) -> None:
+    """A ring at each torque's finite limit at t_s, in its curve's colour."""
     assert s.torque_at_singularity is not None
-    for v, (c, q) in zip(s.torque_at_singularity, TORQUES, strict=True):
+    for v, c, (_, q) in zip(s.torque_at_singularity, colours, TORQUES, strict=True):
         ax.plot(
             [s.t],
             [v],
@@ -353,24 +315,22 @@ def _finite_limits(ax: Axes, s: SingularInstant, tag: str) -> None:
         )
 
 
-def _exit_marks(ax: Axes, m: Motion, s: SingularInstant, tag: str, lo: float, hi: float) -> None:
-    """▲ or ▼ on the axis's edge where each torque leaves it approaching t_s."""
-    for v, (c, q) in zip((m.s.T1, m.s.T2), TORQUES, strict=True):
+def _exit_marks(
+    ax: Axes,
+    m: Motion,
+    s: SingularInstant,
+    tag: str,
+    lo: float,
+    hi: float,
+    colours: Sequence[str],
+) -> None:
+    """▲ or ▼ on the axis's edge, in the curve's colour, where each torque leaves it
+    approaching t_s."""
+    for v, c, (_, q) in zip((m.s.T1, m.s.T2), colours, TORQUES, strict=True):
         for tx, up in exits(m.s.t, v, s.t, m.duration, lo, hi):
             side = "before" if tx < s.t else "after"
-            ax.plot(
-                [tx],
-                [hi if up else lo],
-                marker="^" if up else "v",
-                ms=8,
-                color=c,
-                mec="black",
-                mew=0.6,
-                ls="none",
-                clip_on=False,
-                zorder=9,
-                gid=f"torques-exit-{tag}-{q}-{side}",
-            )
+            gid = f"torques-exit-{tag}-{q}-{side}"
+            arrow_mark(ax, tx, hi if up else lo, up, c, gid, 8)
 
 
 def exits(

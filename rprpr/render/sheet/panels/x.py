@@ -5,7 +5,7 @@ from __future__ import annotations
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
-from ..axes import handles, instant_lines, look
+from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import mark
 from ..motion import finite
 from ..page import Sheet
@@ -24,10 +24,10 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
             for i, m in col:
                 kw = look(sheet, i, POINT)
                 ax.plot(m.s.t, finite(getattr(m.s, v)), lw=1.6, gid=f"{name}-{i}", **kw)
-        mark(ax_x, "x", col, lambda m, s: s.x, sheet.keys)
-        mark(ax_y, "y", col, lambda m, s: 0.0, sheet.keys)
+        mark(ax_x, "x", sheet, col, lambda m, s: s.x)
+        mark(ax_y, "y", sheet, col, lambda m, s: 0.0)
     row_x[0].set_ylabel("$x_E$ [m]")
     row_y[0].set_ylabel("$y_E$ [m]")
     line = Line2D([], [], color=LINE, lw=1.0, ls=LINE_DASH, label="singular line y = 0")
-    sheet.lane(row_x[-1], [*handles(sheet, [("$x_E$, $y_E$", POINT)]), line])
+    sheet.lane(row_x[-1], [*handles(sheet, [("$x_E$, $y_E$", POINT)]), line, *knot_handles(sheet)])
     return [*row_x, *row_y]

@@ -1,0 +1,58 @@
+"""What the plot tests share (tests/test_plot.py, test_sheet_layout.py, test_animate.py):
+each task audited once and each sheet rendered once per test process, and a figure laid
+out for measuring without painting a pixel. The shared figures are only read by the tests
+that share them, never changed (``drawn`` sets the resolution text is measured at, which
+every reader of a shared figure takes as it finds it)."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+from typing import Any
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
+from rprpr.render import sheet as P
+
+from .conftest import CONFIGS
+
+PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
+PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
+ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
+CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
+# each config alone, the paper's two paths overlaid, and every config (small multiples)
+SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
+SAMPLES = 101  # enough for every check on a shared sheet
+DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
+
+
+@functools.cache
+def _motion(path: str, samples: int) -> P.Motion:
+    return P.motion(audit(load_task(path), samples=samples), path)
+
+
+def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
+    """The shipped tasks ``paths``, audited (once) with ``samples`` samples."""
+    return [_motion(p, samples) for p in paths]
+
+
+@functools.cache
+def _sheet(paths: tuple[str, ...]) -> Figure:
+    return P.render(motions(paths), pole_inset=True)
+
+
+def sheet(paths: Sequence[str]) -> Figure:
+    """The whole sheet of ``paths`` (every panel, with the pole inset), rendered once."""
+    return _sheet(tuple(paths))
+
+
+def drawn(fig: Figure, dpi: int = DPI) -> Any:
+    """Lay ``fig`` out at ``dpi`` on an Agg canvas as a draw would (ticks, text, legends
+    placed) without painting; returns the renderer to measure it with."""
+    fig.set_dpi(dpi)
+    canvas = FigureCanvasAgg(fig)
+    fig.draw_without_rendering()
+    return canvas.get_renderer()
