@@ -22,7 +22,10 @@ from .conftest import CONFIGS
 PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
 PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
-CONFIG_FILES = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
+# the shipped tasks in the paper's form (one polynomial each); the piecewise ones apart
+ALL_CONFIGS = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
+CONFIG_FILES = [p for p in ALL_CONFIGS if not load_task(p).pieces]
+PIECEWISE = [p for p in ALL_CONFIGS if p not in CONFIG_FILES]
 # each config alone, the paper's two paths overlaid, and every config (small multiples)
 SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
 SAMPLES = 101  # enough for every check on a shared sheet

@@ -35,7 +35,7 @@ from rprpr.render import sheet as P
 
 from .conftest import task_text
 from .reference import reference
-from .sheets import CONFIG_FILES, DPI, PATH1, PATH2, SETS, drawn, motions, sheet
+from .sheets import CONFIG_FILES, DPI, PATH1, PATH2, PIECEWISE, SETS, drawn, motions, sheet
 
 
 def texts(fig: Figure) -> list[Text]:
@@ -336,3 +336,11 @@ def test_knots_are_marked_lightly_on_every_time_axis() -> None:
         f = sheet(paths)
         assert not any("knot" in str(a.get_gid()) for ax in f.get_axes() for a in ax.get_lines())
         assert KNOT_LABEL not in [t.get_text() for leg in f.legends for t in leg.get_texts()]
+    # each shipped piecewise task: a line at each of its knots, on the six time axes
+    for path in PIECEWISE:
+        knots = sorted(float(k) for k in load_task(path).knots)
+        assert knots
+        f = P.render(motions([path], 21))
+        xs = [a.get_xdata()[0] for ax in f.get_axes() for a in ax.get_lines()
+              if "knot" in str(a.get_gid())]  # fmt: skip
+        assert sorted(xs) == sorted(knots * 6)
