@@ -797,7 +797,13 @@ def test_floats_are_taken_as_their_exact_binary_value() -> None:
     first, second = motion.pieces
     assert first.x == fmpq_poly([1, exact(0.1)]) and first.y == fmpq_poly([2, exact(-0.2)])
     assert second.start == fmpq(1, 2) and second.end == fmpq(5, 4)
-    assert second.x == fmpq_poly([exact(1.05) - exact(0.3) / 2, exact(0.3)])
+    # the knot's rounding is closed: piece 1 gains the constant that continues piece 0
+    assert second.x == fmpq_poly([1 + exact(0.1) / 2 - exact(0.3) / 2, exact(0.3)])
+    jumps = (exact(1.05) - (1 + exact(0.1) / 2), exact(1.9) - (2 + exact(-0.2) / 2))
+    assert motion.snapped == max(abs(j) for j in jumps) > 0  # value only: slopes differ by 0.2
+    assert first.x(fmpq(1, 2)) == second.x(fmpq(1, 2)) and first.y(fmpq(1, 2)) == second.y(
+        fmpq(1, 2)
+    )
 
 
 def test_from_pieces_rejects_a_position_jump_beyond_its_tolerance() -> None:
@@ -805,8 +811,9 @@ def test_from_pieces_rejects_a_position_jump_beyond_its_tolerance() -> None:
     y = [[0.0, 0.0], [0.0, 0.0]]
     with pytest.raises(ValueError, match=r"the position jumps at the knot t = 1 \(breaks\[1\]\)"):
         Motion.from_pieces([0, 1, 2], x, y)
-    kept = Motion.from_pieces([0, 1, 2], x, y, tolerance=0.2)
-    assert kept.pieces[1].x(1) == exact(1.1)  # taken as it is
+    closed = Motion.from_pieces([0, 1, 2], x, y, tolerance=0.2)
+    assert closed.pieces[1].x == fmpq_poly([0, 1])  # 1.1 + (t - 1) - 0.1 exactly: x = t
+    assert closed.snapped == exact(1.1) - 1
     with pytest.raises(ValueError, match="a motion starts at t = 0"):
         Motion.from_pieces([1, 2], [[1.0]], [[0.0]])
     with pytest.raises(ValueError, match=r"expected a finite number"):
@@ -822,3 +829,37 @@ def test_from_waypoints_equals_the_yaml_waypoints() -> None:
     assert [(p.start, p.end, p.x, p.y) for p in motion.pieces] == _shape(
         load_task(CONFIGS / "waypoints.rprpr.yaml")
     )
+
+
+def test_a_float_cubic_spline_audits_as_c2_once_its_rounding_is_closed() -> None:
+    """A C2 cubic spline in floats: its knots agree in slope and curvature only to
+    rounding; with a tolerance the later pieces are corrected (by an amount ``snapped``
+    bounds) and every knot is exactly C2, so the audit finds no jump."""
+    from rprpr.engine.knots import knots as knot_list
+
+    # x = t^3/3 on [0, 1], then 1/3 + u + u^2 - u^3/3 (u = t - 1): C2 in exact arithmetic
+    # (value 1/3, slope 1, curvature 2 at t = 1); in floats 1/3 rounds, 3 fl(1/3) != 1
+    third = 1 / 3
+    xc = [[third, -third], [0.0, 1.0], [0.0, 1.0], [0.0, third]]
+    yc = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [1.0, 1.0]]
+    given = fmpq_poly([exact(third), 1, 1, -exact(third)])(fmpq_poly([-1, 1]))
+    exact_after = fmpq_poly([fmpq(1, 3), 1, 1, fmpq(-1, 3)])(fmpq_poly([-1, 1]))
+    raw = Motion.from_pieces([0, 1, 2], xc, yc)  # position is continuous: accepted as given
+    assert raw.pieces[1].x == given and raw.snapped == 0
+    assert raw.pieces[0].x.derivative()(1) != given.derivative()(1)  # the slope jumps
+    motion = Motion.from_pieces([0, 1, 2], xc, yc, tolerance=1e-12)
+    first, second = motion.pieces
+    a, b = first.x, second.x
+    for _ in range(3):
+        assert a(1) == b(1)  # value, slope and curvature closed exactly
+        a, b = a.derivative(), b.derivative()
+    assert 0 < motion.snapped < fmpq(1, 10**15)
+    for t in (fmpq(1), fmpq(3, 2), fmpq(2)):
+        assert abs(second.x(t) - given(t)) <= motion.snapped  # within the stated bound
+        assert abs(second.x(t) - exact_after(t)) < fmpq(1, 10**15)  # and near the exact one
+    task = with_motion(load_task(PATH2_FILE), motion)
+    assert [(k.velocity_jump, k.acceleration_jump) for k in knot_list(task.motion, task.robot)] == [
+        (None, None)
+    ]
+    before = with_motion(load_task(PATH2_FILE), raw)
+    assert knot_list(before.motion, before.robot)[0].velocity_jump is not None

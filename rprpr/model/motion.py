@@ -67,6 +67,7 @@ class Motion:
 
     pieces: tuple[Piece, ...]
     tolerance: fmpq = field(default_factory=fmpq)  # 0: exactly continuous
+    snapped: fmpq = field(default_factory=fmpq)  # the largest change made by closing jumps [m]
 
     def __post_init__(self) -> None:
         if not self.pieces:
@@ -114,20 +115,32 @@ class Motion:
         ``x_coeffs[j][i]``, ``y_coeffs[j][i]`` the coefficients of the power k - 1 - j on
         the interval i (highest first), in t - breaks[i] (``local=False``: in t).
 
-        Floats are taken as their exact binary value. Position must be continuous at
-        every knot: a jump larger than ``tolerance`` [m] in x or y (default 0: exactly
-        continuous) raises ValueError; a smaller one (a float spline's rounding, about
-        1e-16 m) is kept as it is, and the audit sees the pieces as given.
+        Floats are taken as their exact binary value, so a float spline is continuous
+        at its knots only to rounding (about 1e-16). Position must be continuous at every
+        knot: a jump larger than ``tolerance`` [m] in x or y (default 0: exactly
+        continuous) raises ValueError. A jump no larger than ``tolerance`` in position,
+        velocity [m/s] or acceleration [m/s^2] is *closed*: the later piece gains the
+        exact polynomial d0 + d1 u + d2 u^2 (u = t - knot) that makes it continue the
+        one before, so a C2 spline audits as C2 and not as a chain of rounding jumps; a
+        larger velocity or acceleration jump is kept (the audit reports it). ``snapped``
+        bounds the largest change so made to x or y over any piece [m] (0: none).
         """
         ts = [exact(b) for b in breaks]
         m = len(ts) - 1
         xs, ys = _columns(x_coeffs, m, "x_coeffs"), _columns(y_coeffs, m, "y_coeffs")
-        pieces = []
+        tol = exact(tolerance)
+        pieces: list[Piece] = []
+        change = fmpq(0)
         for i in range(m):
             shift = fmpq_poly([-ts[i], 1]) if local else fmpq_poly([0, 1])
             x, y = fmpq_poly(xs[i])(shift), fmpq_poly(ys[i])(shift)
+            if pieces and tol > 0:
+                before, span = pieces[-1], ts[i + 1] - ts[i]
+                (x, dx), (y, dy) = (_closed(before.x, x, ts[i], span, tol),
+                                    _closed(before.y, y, ts[i], span, tol))  # fmt: skip
+                change = max(change, dx, dy)
             pieces.append(Piece(ts[i], ts[i + 1], x, y, None, i + 1))
-        return cls(tuple(pieces), exact(tolerance))
+        return cls(tuple(pieces), tol, change)
 
     @classmethod
     def from_ppoly(cls, ppoly: Any, *, tolerance: Any = 0) -> Motion:
@@ -177,6 +190,26 @@ class Motion:
                 raise ValueError(f"waypoint {i + 1}: t = {w1.t} does not follow t = {w0.t}")
         pieces = tuple(Piece(s, e, x, y, None, ln) for s, e, x, y, ln in interpolate(points))
         return cls(pieces)
+
+
+def _closed(
+    before: fmpq_poly, after: fmpq_poly, t: fmpq, span: fmpq, tol: fmpq
+) -> tuple[fmpq_poly, fmpq]:
+    """``after`` continuing ``before`` at the knot ``t`` in value, first and second
+    derivative wherever they differ by at most ``tol``: plus d0 + d1 u + d2 u^2/2
+    (u = t - knot, exact), and a bound on that change over the piece's ``span``."""
+    d = []
+    a, b = before, after
+    for _ in range(3):
+        jump = a(t) - b(t)
+        d.append(jump if abs(jump) <= tol else fmpq(0))
+        a, b = a.derivative(), b.derivative()
+    if not any(d):
+        return after, fmpq(0)
+    u = fmpq_poly([-t, 1])
+    correction = fmpq_poly([d[0], d[1], d[2] / 2])
+    bound = abs(d[0]) + abs(d[1]) * span + abs(d[2]) / 2 * span**2
+    return after + correction(u), bound
 
 
 def _columns(coeffs: Sequence[Sequence[Any]], m: int, name: str) -> list[list[fmpq]]:
