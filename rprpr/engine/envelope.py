@@ -35,6 +35,7 @@ from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots
 from .series import taylor
 from .singular import SingularInstant
+from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width ...
@@ -1015,18 +1016,21 @@ class Envelope:
         return low, up, pts
 
     def _min_abs_y(self) -> tuple[float, float]:
-        """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""
-        traj = self.motion.traj
-        cands: list[tuple[arb, float]] = []
-        old = ctx.prec
-        ctx.prec = 128
-        try:
-            for t in (fmpq(0), self.duration):
-                cands.append((abs(arb(traj.y(t))), to_float(t)))
-            for e in _roots(traj.yd, self.duration):
-                tb = arb(e.exact) if e.exact is not None else e.at(128)
-                cands.append((abs(arb_poly(traj.y.coeffs())(tb)), e.hi))
-        finally:
-            ctx.prec = old
-        v, t = min(cands, key=lambda c: float(c[0].mid()))
-        return float(v.mid()), t
+        return min_abs_y(self.motion.traj, self.duration)
+
+
+def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
+    """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""
+    cands: list[tuple[arb, float]] = []
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        for t in (fmpq(0), duration):
+            cands.append((abs(arb(traj.y(t))), to_float(t)))
+        for e in _roots(traj.yd, duration):
+            tb = arb(e.exact) if e.exact is not None else e.at(128)
+            cands.append((abs(arb_poly(traj.y.coeffs())(tb)), e.hi))
+    finally:
+        ctx.prec = old
+    v, t = min(cands, key=lambda c: float(c[0].mid()))
+    return float(v.mid()), t
