@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from .balls import Ball, horner, quiet, round_up
-from .certified import CertifiedMotion
+from .certified import CertifiedMotion, per_robot
 from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
@@ -78,7 +78,7 @@ class Batch:
         cs = [Ball.of_rational(m.t_center if self.direct else m.center) for m in motions]
         self.center = Ball._of(np.array([float(c.mid) for c in cs]),
                                np.array([float(c.rad) for c in cs]))  # fmt: skip
-        self.stacked = _Stacked(motions[0])
+        self.stacked = per_robot(motions[0].robot, _Stacked)
         self.durations = [m.traj.duration for m in motions]
         self.t_last = np.array([_last_float(d) for d in self.durations])
 

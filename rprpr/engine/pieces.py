@@ -208,7 +208,8 @@ def envelopes(parts: list[Part], limit: tuple[float, float] | None) -> Verdicts:
     whole motion: the plain pieces enclosed together (``batch``), each other piece by its
     own envelope."""
     groups = batches(parts)
-    alone = [j for j in range(len(parts)) if all(j not in ids for _, ids in groups)]
+    grouped = {j for _, ids in groups for j in ids}
+    alone = [j for j in range(len(parts)) if j not in grouped]
     got = {j: parts[j].envelope.torque_peak() for j in alone}
     together = [(b, ids, b.torque_peak()) for b, ids in groups]
     extra = [tuple((parts[ids[j]], pk) for pk, j in both) for _, ids, both in together]
