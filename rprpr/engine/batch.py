@@ -21,6 +21,7 @@ that ``pieces.peaks`` and ``pieces.approach`` would make from one envelope per p
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 
@@ -138,7 +139,9 @@ class Batch:
         up = np.where(np.isnan(up), np.inf, up)
         return _Bounds(lo, hi, low, low_t, up, np.zeros_like(up))
 
+    @cached_property
     def _start(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The first partition: START_PER_PIECE boxes per piece, each box's piece."""
         parts = [_boxes(d, START_PER_PIECE) for d in self.durations]
         lo = np.concatenate([p[0] for p in parts])
         hi = np.concatenate([p[1] for p in parts])
@@ -148,7 +151,7 @@ class Batch:
     def torque_peak(self, rel: float = PEAK_REL) -> tuple[tuple[Peak, int], tuple[Peak, int]]:
         """max |T1| and max |T2| over all the pieces, each with the index of the piece
         where its value is reached (``t``: local time of that piece)."""
-        lo, hi, idx = self._start()
+        lo, hi, idx = self._start
         cap = MAX_LIVE * len(self.motions)
         best, best_t = np.zeros(2), np.zeros(2)
         best_j = np.zeros(2, dtype=int)
@@ -188,7 +191,7 @@ class Batch:
         to the piece of the first index, ``t_delta`` to that of the second)."""
         ys = [min_abs_y(m.traj, d) for m, d in zip(self.motions, self.durations, strict=True)]
         jy = min(range(len(ys)), key=lambda j: ys[j][0])
-        lo, hi, idx = self._start()
+        lo, hi, idx = self._start
         cap = MAX_LIVE * len(self.motions)
         best, best_t, best_j = math.inf, 0.0, 0
         floor = math.inf
