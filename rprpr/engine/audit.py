@@ -143,13 +143,9 @@ def audit(
     tell = on_stage or _quiet
     parts = [P.part(traj, task.robot, task.checks, tell) for traj in trajectories(task)]
     tell(ENVELOPE)
-    peak = P.peaks(parts, [p.envelope.torque_peak() for p in parts])
     limit = task.checks.torque_limit
-    checked = None
-    if limit is not None:
-        pair = (to_float(limit[0]), to_float(limit[1]))
-        checked = P.limits(parts, [p.envelope.limit_violations(pair) for p in parts])
-    approach = P.approach(parts, [p.envelope.closest_approach() for p in parts])
+    pair = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
+    peak, checked, approach = P.envelopes(parts, pair)
     analysis = _joined(task, parts)
     saturation = _saturation(analysis, checked) if checked is not None else []
     knots = K.knots(task.motion, task.robot)

@@ -299,7 +299,16 @@ def two_sum(a: Array, b: Array) -> tuple[Array, Array]:
 
 def poly_balls(p: fmpq_poly) -> list[Ball]:
     """The coefficients of the exact polynomial ``p`` (low to high) as balls."""
-    return [Ball.of_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
+    return [_rational(c) for c in p.coeffs()] or [Ball.exact(0.0)]
+
+
+def _rational(q: fmpq) -> Ball:
+    """``Ball.of_rational`` for an fmpq, by the shortest way (made per coefficient)."""
+    m = to_float(q)
+    if not np.isfinite(m):
+        return Ball(np.nan, np.inf)
+    exact = fmpq(*m.as_integer_ratio()) == q
+    return Ball._of(np.array(m), np.array(0.0 if exact else _up(U * abs(m) + ETA)))
 
 
 def horner(c: list[Ball], x: Ball) -> Ball:

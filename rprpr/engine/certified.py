@@ -43,8 +43,9 @@ How (all choices depend on t alone, never on the other times asked for):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
@@ -182,6 +183,27 @@ class _Local:
     y: tuple[list[Ball], list[Ball], list[Ball]]
 
 
+# -- what one robot shares -------------------------------------------------------------
+
+Shared = TypeVar("Shared")
+
+_SHARED: dict[Callable[[Robot], Any], tuple[Robot, Any]] = {}
+
+
+def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
+    """make(robot), made once for the robot last given (the pieces of one motion share
+    their robot: its constants as balls are converted once, not once per piece)."""
+    hit = _SHARED.get(make)
+    if hit is None or hit[0] is not robot:
+        hit = (robot, make(robot))
+        _SHARED[make] = hit
+    return hit[1]
+
+
+def _ball_params(robot: Robot) -> dyn.Params:
+    return dyn.Params.of(robot, Ball.of_rational)
+
+
 # -- the motion ---------------------------------------------------------------------
 
 
@@ -192,7 +214,7 @@ class CertifiedMotion:
         self.traj = traj
         self.robot = robot
         self.analysis = analysis
-        self.params = dyn.Params.of(robot, Ball.of_rational)
+        self.params = per_robot(robot, _ball_params)
         self.a1 = Ball.of_rational(traj.a1)
         self.x3 = _poly3(traj.x)
         self.center = self._center()
@@ -200,10 +222,12 @@ class CertifiedMotion:
         # itself recentred on the middle of the span, y(t) = r(t - c_t)
         self.t_center = _dyadic_middle(0.0, to_float(traj.duration))
         if traj.path is not None:
-            self.q3 = _poly3(traj.path(fmpq_poly([self.center, 1])))  # p(c + w), exact
+            self.recentred = traj.path(fmpq_poly([self.center, 1]))  # p(c + w), exact
+            self.q3 = _poly3(self.recentred)
             self.y3 = None
         else:
-            self.y3 = _poly3(traj.y(fmpq_poly([self.t_center, 1])))
+            self.recentred = traj.y(fmpq_poly([self.t_center, 1]))  # r(w), exact
+            self.y3 = _poly3(self.recentred)
         self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
         self.kinematic = self._kinematic()
         self.locals = [self._local(e) for _, e in self.instants]

@@ -30,11 +30,13 @@ import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
+from ..model.task import Robot
 from . import equations as dyn
 from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
-from .certified import CertifiedMotion, _roots
+from .certified import CertifiedMotion, _roots, per_robot
 from .series import taylor
 from .singular import SingularInstant
+from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width ...
@@ -133,19 +135,12 @@ class _Polys:
     (q: the path recentred), or without a path q = y recentred, in w = t - c_t."""
 
     def __init__(self, motion: CertifiedMotion) -> None:
-        x = motion.traj.x
         self.direct = motion.traj.path is None  # then q is y in w = t - c_t
-        path = motion.traj.path
-        if path is None:
-            q = motion.traj.y(fmpq_poly([motion.t_center, 1]))
-        else:
-            q = path(fmpq_poly([motion.center, 1]))
-        self.x = [poly_balls(x)]
-        self.q = [poly_balls(q)]
-        for _ in range(3):
-            x, q = x.derivative(), q.derivative()
-            self.x.append(poly_balls(x))
-            self.q.append(poly_balls(q))
+        q3 = motion.y3 if self.direct else motion.q3  # up to the second derivative
+        assert q3 is not None
+        x, q = motion.traj.x, motion.recentred
+        self.x = [*motion.x3, poly_balls(x.derivative().derivative().derivative())]
+        self.q = [*q3, poly_balls(q.derivative().derivative().derivative())]
 
     def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
@@ -262,8 +257,7 @@ class _Stacked:
         T_i = M_i θ_i'' + N_i ± s_i (sin θ_i λ1 - cos θ_i λ2)   (+ for T1, - for T2),
     with m_i = m3, m5 and r_i = r3, r5."""
 
-    def __init__(self, motion: CertifiedMotion) -> None:
-        r = motion.robot
+    def __init__(self, r: Robot) -> None:
         L, g = r.links, r.gravity
         self.base = _pair(0, r.a1)  # u = x - base: (x, x - a1)
         self.a1 = Ball.of_rational(r.a1)
@@ -486,7 +480,7 @@ class Envelope:
         self.motion = motion
         self.duration = motion.traj.duration
         self.polys = _Polys(motion)
-        self.stacked = _Stacked(motion)
+        self.stacked = per_robot(motion.robot, _Stacked)
         self.bounded = [s for s in motion.analysis.instants if s.torque_bounded]
         self.poles = [s for s in motion.analysis.instants if not s.torque_bounded]
         self.throughs = [_Through(motion, k.leg, k.time) for k in motion.kinematic]
@@ -1015,18 +1009,21 @@ class Envelope:
         return low, up, pts
 
     def _min_abs_y(self) -> tuple[float, float]:
-        """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""
-        traj = self.motion.traj
-        cands: list[tuple[arb, float]] = []
-        old = ctx.prec
-        ctx.prec = 128
-        try:
-            for t in (fmpq(0), self.duration):
-                cands.append((abs(arb(traj.y(t))), to_float(t)))
-            for e in _roots(traj.yd, self.duration):
-                tb = arb(e.exact) if e.exact is not None else e.at(128)
-                cands.append((abs(arb_poly(traj.y.coeffs())(tb)), e.hi))
-        finally:
-            ctx.prec = old
-        v, t = min(cands, key=lambda c: float(c[0].mid()))
-        return float(v.mid()), t
+        return min_abs_y(self.motion.traj, self.duration)
+
+
+def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
+    """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""
+    cands: list[tuple[arb, float]] = []
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        for t in (fmpq(0), duration):
+            cands.append((abs(arb(traj.y(t))), to_float(t)))
+        for e in _roots(traj.yd, duration):
+            tb = arb(e.exact) if e.exact is not None else e.at(128)
+            cands.append((abs(arb_poly(traj.y.coeffs())(tb)), e.hi))
+    finally:
+        ctx.prec = old
+    v, t = min(cands, key=lambda c: float(c[0].mid()))
+    return float(v.mid()), t

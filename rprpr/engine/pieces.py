@@ -20,8 +20,9 @@ from flint import arb, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from ..model.task import Checks, Robot
+from .batch import Batch, plain
 from .certified import FIELDS, CertifiedMotion
-from .envelope import Approach, Envelope, LimitCheck, Peak, Window
+from .envelope import CROSSING_REL, Approach, Envelope, LimitCheck, Peak, Window
 from .sampling import Samples
 from .singular import (
     KinematicSingularity,
@@ -183,22 +184,80 @@ def at_knot(before: SingularInstant | None, after: SingularInstant | None) -> Si
 # -- the envelopes put together ---------------------------------------------------------
 
 
-def peaks(parts: list[Part], got: list[tuple[Peak, Peak] | None]) -> tuple[Peak, Peak] | None:
-    """max |T1|, max |T2| over all pieces (None where undefined on one; the first pole)."""
+def batches(parts: list[Part]) -> list[tuple[Batch, list[int]]]:
+    """The plain pieces (``batch.plain``) of a motion of several, in one ``Batch`` per
+    form (a path, or y(t)); the others keep an envelope each."""
+    if len(parts) < 2:
+        return []
+    groups: dict[bool, list[int]] = {}
+    for j, p in enumerate(parts):
+        if plain(p.motion):
+            groups.setdefault(p.traj.path is None, []).append(j)
+    return [
+        (Batch([parts[j].motion for j in ids], [parts[j].envelope.polys for j in ids]), ids)
+        for ids in groups.values()
+        if len(ids) > 1
+    ]
+
+
+Verdicts = tuple[tuple[Peak, Peak] | None, tuple[LimitCheck, LimitCheck] | None, Approach | None]
+
+
+def envelopes(parts: list[Part], limit: tuple[float, float] | None) -> Verdicts:
+    """The torque peak, the limit check (``limit`` given) and the closest approach of the
+    whole motion: the plain pieces enclosed together (``batch``), each other piece by its
+    own envelope."""
+    groups = batches(parts)
+    grouped = {j for _, ids in groups for j in ids}
+    alone = [j for j in range(len(parts)) if j not in grouped]
+    got = {j: parts[j].envelope.torque_peak() for j in alone}
+    together = [(b, ids, b.torque_peak()) for b, ids in groups]
+    extra = [tuple((parts[ids[j]], pk) for pk, j in both) for _, ids, both in together]
+    peak = peaks([parts[j] for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+    checked = None
+    if limit is not None:
+        checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
+        for _, ids, both in together:
+            if all(
+                pk.certified and pk.upper <= lim for (pk, _), lim in zip(both, limit, strict=True)
+            ):
+                for j in ids:  # the peak of all of them decides the limit at once
+                    res = CROSSING_REL * to_float(parts[j].traj.duration)
+                    checks[j] = tuple(LimitCheck(lim, True, (), res) for lim in limit)  # type: ignore[assignment]
+        for j, p in enumerate(parts):
+            if j not in checks:
+                checks[j] = p.envelope.limit_violations(limit)
+        checked = limits(parts, [checks[j] for j in range(len(parts))])
+    near = {j: parts[j].envelope.closest_approach() for j in alone}
+    pairs: list[tuple[Part, Part, Approach | None]] = [(parts[j], parts[j], near[j]) for j in alone]
+    for b, ids in groups if all(a is not None for a in near.values()) else ():
+        a, jy, jd = b.closest_approach()
+        pairs.append((parts[ids[jy]], parts[ids[jd]], a))
+    return peak, checked, approach(pairs)
+
+
+def peaks(
+    parts: list[Part],
+    got: list[tuple[Peak, Peak] | None],
+    extra: list[tuple[tuple[Part, Peak], tuple[Part, Peak]]] = (),  # type: ignore[assignment]
+) -> tuple[Peak, Peak] | None:
+    """max |T1|, max |T2| over all pieces (None where undefined on one; the first pole);
+    ``extra``: the peaks of batches, each torque's with the piece where it is reached."""
     if any(g is None for g in got):
         return None
-    pairs = [(p, g) for p, g in zip(parts, got, strict=True) if g is not None]
-    poles = [shift(p.origin, g[0].t) for p, g in pairs if math.isinf(g[0].value)]
+    each = [[(p, g[i]) for p, g in zip(parts, got, strict=True) if g is not None]
+            + [e[i] for e in extra] for i in (0, 1)]  # fmt: skip
+    poles = [shift(p.origin, g.t) for p, g in each[0] if math.isinf(g.value)]
     if poles:
         t = min(poles)
         return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
     out = []
     for i in (0, 1):
-        p, g = max(pairs, key=lambda pg: pg[1][i].value)
+        p, g = max(each[i], key=lambda pg: pg[1].value)
         out.append(
             Peak(
-                g[i].value, shift(p.origin, g[i].t), max(h[i].upper for _, h in pairs),
-                all(h[i].certified for _, h in pairs),
+                g.value, shift(p.origin, g.t), max(h.upper for _, h in each[i]),
+                all(h.certified for _, h in each[i]),
             )
         )  # fmt: skip
     return out[0], out[1]
@@ -231,14 +290,15 @@ def limits(
     return out[0], out[1]
 
 
-def approach(parts: list[Part], got: list[Approach | None]) -> Approach | None:
-    """The closest approach over all pieces (None when one of them meets the line)."""
-    if any(a is None for a in got):
+def approach(pairs: list[tuple[Part, Part, Approach | None]]) -> Approach | None:
+    """The closest approach over all pieces (None when one of them meets the line); each
+    approach with the pieces of its ``t_y`` and its ``t_delta``."""
+    if any(a is None for _, _, a in pairs):
         return None
-    pairs = [(p, a) for p, a in zip(parts, got, strict=True) if a is not None]
-    py, ay = min(pairs, key=lambda pa: pa[1].distance)
-    pd, ad = min(pairs, key=lambda pa: pa[1].delta_hi)
-    low = min(a.delta_lo for _, a in pairs)
+    got = [(py, pd, a) for py, pd, a in pairs if a is not None]
+    py, _, ay = min(got, key=lambda g: g[2].distance)
+    _, pd, ad = min(got, key=lambda g: g[2].delta_hi)
+    low = min(a.delta_lo for _, _, a in got)
     return Approach(ay.distance, shift(py.origin, ay.t_y), low, ad.delta_hi,
                     shift(pd.origin, ad.t_delta))  # fmt: skip
 
