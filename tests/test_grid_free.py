@@ -130,6 +130,21 @@ def test_through_a_and_b_the_peak_is_finite_and_the_reference_supremum() -> None
     _peak_is_the_reference_maximum(task, r)
 
 
+def test_a_chebyshev_path_with_heavy_cancellation_has_a_certified_peak() -> None:
+    """y = T16(x - 3)/10 + 1/5 on x = 2 + t: in monomials its coefficients reach 2.1e4 and
+    cancel to |y| <= 0.3, so Horner's rule over a box of 4 ms encloses y as +-260 and the
+    peak was left uncertified (bound +inf); the centred form certifies it. The peak is at
+    the ends, where T16's derivatives are largest."""
+    coeffs = [1, 0, -128, 0, 2688, 0, -21504, 0, 84480, 0, -180224, 0, 212992, 0, -131072, 0,
+              32768]  # fmt: skip
+    t16 = "+".join(f"({c})*(x - 3)^{k}" for k, c in enumerate(coeffs) if c)
+    task = _task(f"({t16})/10 + 1/5", "2 + t")
+    r = _audited(task, samples=11)
+    assert not r.singularities and r.torque_peak is not None
+    assert sorted(p.t for p in r.torque_peak) == [0.0, 2.0]
+    _peak_is_the_reference_maximum(task, r, n=40)
+
+
 # -- row 11: a torque-limit gate never depends on the grid ---------------------------
 
 

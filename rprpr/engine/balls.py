@@ -317,3 +317,35 @@ def horner(c: list[Ball], x: Ball) -> Ball:
     for ck in c[-2::-1]:
         acc = acc * x + ck
     return acc
+
+
+def intersect(a: Ball, b: Ball) -> Ball:
+    """A ball containing the members common to ``a`` and ``b`` (both enclose the same
+    quantity): the hull of [max of the lower bounds, min of the upper bounds]."""
+    lo = np.maximum(a.lower(), b.lower())
+    hi = np.minimum(a.upper(), b.upper())
+    with quiet():
+        return _finish(*_hull_parts(lo, np.maximum(lo, hi)))
+
+
+def _hull_parts(lo: Array, hi: Array) -> tuple[Array, Array]:
+    h = Ball.hull(lo, hi)
+    return h.mid, h.rad
+
+
+def centred(cs: list[list[Ball]], x: Ball) -> list[Ball]:
+    """Enclosures of p, p', ..., p^(K) over the balls ``x`` from the ball coefficients
+    ``cs[k]`` of p^(k), k = 0..K: the centred (mean-value) form
+    p^(k)(x) ⊂ p^(k)(m) + p^(k+1)(x)·[-r, r] (m, r: the balls' midpoints and radii),
+    from the highest derivative down, intersected with Horner's rule.
+
+    Horner's rule over a ball of radius r widens by about r times the sum of the
+    partial sums' sizes, which cancellation can make 10^4-10^5 times |p'| (a Chebyshev
+    path y = T16(x - 3)/10 encloses y ∈ [0.1, 0.3] as ±260 on boxes of 4 ms); the
+    centred form's excess over the true range shrinks like r^2."""
+    m = Ball(x.mid, np.zeros_like(x.mid))
+    e = Ball(np.zeros_like(x.mid), x.rad)
+    out = [horner(cs[-1], x)]
+    for c in reversed(cs[:-1]):
+        out.append(intersect(horner(c, m) + out[-1] * e, horner(c, x)))
+    return out[::-1]

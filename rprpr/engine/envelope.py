@@ -32,7 +32,7 @@ from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 from ..model.numbers import to_float
 from ..model.task import Robot
 from . import equations as dyn
-from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
+from .balls import Ball, U, centred, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots, per_robot
 from .series import taylor
 from .singular import SingularInstant
@@ -45,6 +45,7 @@ START_BOXES = 512  # the initial partition of [0, t_f]
 SPLIT_BUDGET = 1024  # boxes per refining pass, about (live boxes times their fan)
 MAX_FAN = 512  # a live box is cut into at most this many
 MAX_ROUNDS = 60  # refining passes, at most
+CENTRED_DEGREE = 7  # a longer polynomial is enclosed over boxes by the centred form
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
@@ -132,25 +133,38 @@ def _hypot(u: Any, v: Any) -> Any:
 
 class _Polys:
     """Ball coefficients of x, x', x'', x''' in t and of q, q', q'', q''' in w = x - c
-    (q: the path recentred), or without a path q = y recentred, in w = t - c_t."""
+    (q: the path recentred), or without a path q = y recentred, in w = t - c_t; and the
+    fourth derivatives, which the centred form (``balls.centred``) needs where a long
+    polynomial is enclosed over boxes."""
 
     def __init__(self, motion: CertifiedMotion) -> None:
         self.direct = motion.traj.path is None  # then q is y in w = t - c_t
         q3 = motion.y3 if self.direct else motion.q3  # up to the second derivative
         assert q3 is not None
         x, q = motion.traj.x, motion.recentred
-        self.x = [*motion.x3, poly_balls(x.derivative().derivative().derivative())]
-        self.q = [*q3, poly_balls(q.derivative().derivative().derivative())]
+        x3 = x.derivative().derivative().derivative()
+        q3d = q.derivative().derivative().derivative()
+        self.x = [*motion.x3, poly_balls(x3), poly_balls(x3.derivative())]
+        self.q = [*q3, poly_balls(q3d), poly_balls(q3d.derivative())]
+
+    @staticmethod
+    def _enclose(cs: list[list[Ball]], box: Ball) -> list[Ball]:
+        """The polynomial and its first three derivatives over the balls ``box``: by
+        Horner's rule, or by the centred form for a degree over CENTRED_DEGREE on balls
+        of some width (where cancellation makes Horner's enclosure far too wide)."""
+        if len(cs[0]) > CENTRED_DEGREE + 1 and bool(np.any(box.rad > 0)):
+            return centred(cs, box)[:4]
+        return [horner(c, box) for c in cs[:4]]
 
     def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
-        xv = [horner(c, box) for c in self.x]
+        xv = self._enclose(self.x, box)
         x, xd, xdd = Jet(xv[0], xv[1]), Jet(xv[1], xv[2]), Jet(xv[2], xv[3])
         if self.direct:
-            yv = [horner(c, box - motion.t_center) for c in self.q]
+            yv = self._enclose(self.q, box - motion.t_center)
             return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
         w = xv[0] - motion.center
-        qv = [horner(c, w) for c in self.q]
+        qv = self._enclose(self.q, w)
         q1 = Jet(qv[1], qv[2] * xv[1])
         q2 = Jet(qv[2], qv[3] * xv[1])
         y = Jet(qv[0], qv[1] * xv[1])
