@@ -26,8 +26,9 @@ ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
 ALL_CONFIGS = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
 CONFIG_FILES = [p for p in ALL_CONFIGS if not load_task(p).pieces]
 PIECEWISE = [p for p in ALL_CONFIGS if p not in CONFIG_FILES]
-# each config alone, the paper's two paths overlaid, and every config (small multiples)
-SETS = [[p] for p in CONFIG_FILES] + [[PATH1, PATH2], CONFIG_FILES]
+# each config alone, the paper's two paths overlaid, and every paper-form config (small
+# multiples)
+SETS = [[p] for p in ALL_CONFIGS] + [[PATH1, PATH2], CONFIG_FILES]
 SAMPLES = 101  # enough for every check on a shared sheet
 DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
 
