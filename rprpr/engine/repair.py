@@ -38,6 +38,7 @@ and only a passing one is returned.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 
@@ -188,7 +189,11 @@ def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
     peak = before.torque_peak
     where = ""
     if peak is not None:
-        where = f"; peak |T1| {peak[0].value:.6g} N m at t = {peak[0].t:.4g} s, |T2| {peak[1].value:.6g} N m at t = {peak[1].t:.4g} s"
+        t1, t2 = peak
+        where = (
+            f"; peak |T1| {t1.value:.6g} N m at t = {t1.t:.4g} s,"
+            f" |T2| {t2.value:.6g} N m at t = {t2.t:.4g} s"
+        )
     return (
         f"every singular instant passes; what fails ({', '.join(rules)}) is not at a"
         " singular instant, and rprpr repair changes the motion only locally around"
@@ -364,7 +369,7 @@ def _apply(task: Task, plans: list[_Plan]) -> Task | None:
             {piece.start, piece.end}
             | {e for p in plans for e in (p.t - p.w, p.t + p.w) if piece.start < e < piece.end}
         )
-        for lo, hi in zip(cuts, cuts[1:], strict=False):
+        for lo, hi in itertools.pairwise(cuts):
             x, dy = piece.x, fmpq_poly([0])
             for p in plans:
                 if p.t - p.w <= lo and hi <= p.t + p.w:
