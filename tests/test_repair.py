@@ -164,7 +164,7 @@ def test_two_failing_crossings_are_both_repaired() -> None:
 def test_a_torque_limit_exceeded_away_from_singular_instants_is_refused() -> None:
     text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
     old = parse_task(text.replace("[300, 300]", "[20, 20]"))
-    with pytest.raises(NoRepair, match="RPR202.*not at a singular instant"):
+    with pytest.raises(NoRepair, match=r"RPR202.*not at a singular instant"):
         repair(old)
 
 

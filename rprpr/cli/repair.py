@@ -58,9 +58,9 @@ def repair(
     slope: str | None,
     plot_file: str | None,
 ) -> ExitCode:
-    """Write the nearest passing motion of a failing TASK: local, exact changes of the timing law and/or the path around each
-    failing singular instant (zero slope, zero speed, inconsistency of eq. 34, a touch),
-    checked strictly before the repaired task is written."""
+    """Write the nearest passing motion of a failing TASK: local, exact changes of the
+    timing law and/or the path around each failing singular instant (zero slope, zero
+    speed, inconsistency of eq. 34, a touch), checked strictly before it is written."""
     from ..engine.repair import NoRepair
     from ..engine.repair import repair as repaired
     from ..io.loader import parse_task
