@@ -29,6 +29,7 @@ COMMANDS = {
     "export": "Write the sampled motion of TASK",
     "init": "Write a commented task file to start from",
     "plot": "Draw the audit sheet of TASK",
+    "repair": "Write the nearest passing motion of a failing TASK",
     "rule": "Explain the rule ID",
     "schema": "Print the JSON Schema (draft 2020-12) of the task file",
 }
@@ -36,7 +37,7 @@ COMMANDS = {
 
 # the libraries each command needs beyond click (import name: distribution name)
 NEEDS = {"flint": "python-flint", "numpy": "numpy", "yaml": "pyyaml", "rich": "rich"}
-ENGINE_COMMANDS = {"check", "export", "plot"}
+ENGINE_COMMANDS = {"check", "export", "plot", "repair"}
 
 
 def _missing_libraries() -> list[str]:

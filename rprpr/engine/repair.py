@@ -1,0 +1,446 @@
+"""Repair of a failing motion: the smallest local, exact change that makes it pass (pure).
+
+At a Type II instant of the paper's scheme E is on AB: y = 0, sin θ1 = sin θ2 = 0,
+cos θ1 = c1 = sign(x), cos θ2 = c2 = sign(x - a1), s1 = |x|, s2 = |x - a1|. With v = 0 the
+inverse kinematics (``equations``) give s_i' = c_i ẋ, θ_i' = c_i ẏ / s_i and
+s_i'' = ẏ²/s_i + c_i ẍ, so eqs. (8), (12) (and (10), (14)) read, gravity dropping out
+with sin θ_i,
+
+    F1 = M22 s1'' + N2 = m3 c1 ẍ + m3 r3 ẏ²/s1²,   F2 = m5 c2 ẍ + m5 r5 ẏ²/s2².
+
+μ1 = -sin θ2 F1 - sin θ1 F2 vanishes, and eq. (34) (μ2 = c2 F1 + c1 F2 = 0, eq. 33) is
+linear in ẍ(t_s); multiplied by c1 c2 = ±1:
+
+    (m3 + m5) ẍ(t_s) = -ẏ(t_s)² (c1 m3 r3 / s1² + c2 m5 r5 / s2²)
+
+    case 1 (x > a1, c1 = c2 = 1):   (m3 + m5) ẍ = -ẏ² (m3 r3/s1² + m5 r5/s2²)
+    case 2 (x < 0, c1 = c2 = -1):   (m3 + m5) ẍ = +ẏ² (m3 r3/s1² + m5 r5/s2²)
+    case 3 (0 < x < a1, c2 = -1):   (m3 + m5) ẍ = ẏ² (m5 r5/s2² - m3 r3/s1²)
+
+(``consistent_acceleration``). Only m3, m5, r3, r5 enter. The paper's path 2 (s1 = s2,
+legs alike) needs ẍ(t_s) = 0, which the symmetric quintic has at its midpoint.
+
+At a first-order crossing (ẏ(t_s) != 0) eq. (34) is the only condition for bounded
+torques (one condition for order 1). So a failing instant is repaired by local bumps of
+half-width w about t_s, u = (t - t_s)/w, W = (1 - u²)³ on |u| <= 1 (zero outside; W and
+its first two derivatives vanish at u = ±1, so the motion stays C2 and its torques
+continuous):
+
+* timing, Δx = (t - t_s)(b1 + a (t - t_s)) W: keeps x(t_s), changes ẋ(t_s) by b1 (a zero
+  speed made nonzero) and ẍ(t_s) by 2a (to the consistent value);
+* path, Δy = b (t - t_s) W: keeps the crossing point, changes ẏ(t_s) by b (a zero slope
+  made b/ẋ); a touch (even order) is lifted clear of AB instead, Δy = h W.
+
+Every bump is a polynomial with rational coefficients in rational windows, so the
+repaired motion is exact and its audit is exact; every candidate is audited (strict)
+and only a passing one is returned.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable
+from dataclasses import dataclass, field, replace
+
+from flint import fmpq, fmpq_poly, fmpz
+
+from ..model.task import Piece, Robot, Task
+from .audit import AuditResult, audit
+from .roots import isolate
+from .singular import SingularInstant
+
+KEEPS = ("path", "timing")
+
+
+class NoRepair(Exception):
+    """No repair exists within the constraints; the message says exactly why."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """What was done at one singular instant: ``kind`` ("consistency", "speed", "slope",
+    "lift"), the window [t_s - w, t_s + w] and the values before and after."""
+
+    t: fmpq
+    x: fmpq
+    window: fmpq
+    actions: tuple[str, ...]
+    speed: tuple[fmpq, fmpq]  # ẋ(t_s) before, after
+    acceleration: tuple[fmpq, fmpq]  # ẍ(t_s) before, after
+    ydot: tuple[fmpq, fmpq]  # ẏ(t_s) before, after
+
+
+@dataclass(frozen=True)
+class Repair:
+    """The repaired task and an honest account of the change.
+
+    ``task`` is the new task (``before.task`` the old one); ``changes`` one per repaired
+    instant; ``path_deviation`` = (max |Δy| at equal x [m], the x where) or None when the
+    path is kept; ``timing_change`` = (max |Δx(t)| [m], the t where) or None; both are
+    measured on a fine rational grid of each window (a lower estimate of the exact
+    maximum, reported, never deciding). ``before``/``after``: the strict audits.
+    ``changed`` is False for a task that already passes (then ``task is before.task``).
+    """
+
+    task: Task
+    before: AuditResult
+    after: AuditResult
+    changes: tuple[Change, ...] = ()
+    path_deviation: tuple[float, float] | None = None
+    timing_change: tuple[float, float] | None = None
+    path_kept: bool = True
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def changed(self) -> bool:
+        return self.task is not self.before.task
+
+
+def consistent_acceleration(robot: Robot, x: fmpq, ydot: fmpq) -> fmpq | None:
+    """ẍ(t_s) for which eq. (34) holds at the singular point (x, 0) with speed ẏ along the
+    normal (the closed form above); None when m3 + m5 = 0 (then ẍ does not enter)."""
+    m3, m5 = robot.links[3].mass, robot.links[5].mass
+    if m3 + m5 == 0:
+        return None
+    return -(ydot**2) * _k(robot, x) / (m3 + m5)
+
+
+def _k(robot: Robot, x: fmpq) -> fmpq:
+    """c1 m3 r3 / s1² + c2 m5 r5 / s2² at (x, 0)."""
+    a1, L = robot.a1, robot.links
+    c1 = 1 if x > 0 else -1
+    c2 = 1 if x > a1 else -1
+    return c1 * L[3].mass * L[3].r / x**2 + c2 * L[5].mass * L[5].r / (x - a1) ** 2
+
+
+def bump(t_s: fmpq, w: fmpq) -> fmpq_poly:
+    """W(t) = (1 - ((t - t_s)/w)²)³, the window of every local change."""
+    u = fmpq_poly([-t_s / w, 1 / w])
+    return (1 - u * u) ** 3
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """One failing instant: where, and the bumps' coefficients (Δx: b1, a; Δy: b or lift h)."""
+
+    t: fmpq
+    w: fmpq
+    b1: fmpq
+    a: fmpq
+    b: fmpq
+    h: fmpq
+    change: Change
+
+
+def repair(
+    task: Task,
+    *,
+    keep: str | None = None,
+    window: fmpq | None = None,
+    slope: fmpq | None = None,
+    clearance: fmpq | None = None,
+) -> Repair:
+    """The nearest passing motion: local bumps at each failing singular instant, each
+    candidate window tried (``window``, or the largest that fits, then halves) and
+    audited strictly; the first that passes is returned. ``keep`` = "path" (timing
+    changes only) or "timing" (path changes only); ``slope`` the |dy/dx| to give a
+    zero-slope crossing (default max(1/5, 2 min_slope)); ``clearance`` the lift of a
+    touch [m] (default w ẋ(t_s) slope / 2, at least 1/100). Raises ``NoRepair``."""
+    if keep not in (None, *KEEPS):
+        raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
+    before = audit(task, strict=True)
+    if before.passed:
+        return Repair(task, before, before)
+    failing = [s for s in before.singularities if before.status_of(s) == "fail"]
+    other = [f for f in before.findings if f.fails(True) and f.t not in {s.t for s in failing}]
+    if not failing:
+        raise NoRepair(_no_local_repair(before, other))
+    if before.on_singular_line:
+        raise NoRepair("the path lies on the singular line y = 0: no local change helps")
+    target = slope if slope is not None else max(fmpq(1, 5), 2 * task.checks.min_slope)
+    last = "no candidate window"
+    for fraction in (fmpq(1), fmpq(1, 2), fmpq(1, 4), fmpq(1, 8)):
+        try:
+            plans = [
+                _plan(task, before, s, keep, window, fraction, target, clearance) for s in failing
+            ]
+        except _Skip as why:
+            last = str(why)
+            continue
+        new = _apply(task, plans)
+        if new is None:
+            last = "the changed timing law is not monotone in x"
+            continue
+        after = audit(new, strict=True)
+        if after.passed:
+            return _account(task, new, before, after, plans)
+        last = "; ".join(f.message for f in after.findings if f.fails(True))[:400]
+        if window is not None:
+            break
+    raise NoRepair(f"no candidate passes the strict check (last: {last})")
+
+
+class _Skip(Exception):
+    """This candidate window does not apply (too wide, non-monotone): try the next one."""
+
+
+def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
+    rules = sorted({getattr(f, "rule", "") for f in other})
+    peak = before.torque_peak
+    where = ""
+    if peak is not None:
+        t1, t2 = peak
+        where = (
+            f"; peak |T1| {t1.value:.6g} N m at t = {t1.t:.4g} s,"
+            f" |T2| {t2.value:.6g} N m at t = {t2.t:.4g} s"
+        )
+    return (
+        f"every singular instant passes; what fails ({', '.join(rules)}) is not at a"
+        " singular instant, and rprpr repair changes the motion only locally around"
+        " singular instants (a torque limit exceeded away from them needs a slower or"
+        f" longer motion, a knot's jump a smoother planner){where}"
+    )
+
+
+def _piece_at(task: Task, t: fmpq) -> Piece:
+    for p in task.motion:
+        if p.start < t < p.end:
+            return p
+    raise NoRepair(f"the singular instant t = {t} s is at a knot of the motion: not repaired")
+
+
+def _neighbours(task: Task, before: AuditResult, t: fmpq) -> fmpq:
+    """The largest half-width that keeps the window inside the piece holding t (so off
+    every knot, 0 and t_f) and clear of the other singular instants' windows."""
+    p = _piece_at(task, t)
+    gap = min(t - p.start, p.end - t)
+    for s in before.singularities:
+        q = s.t_rational
+        if q is not None and q != t:
+            gap = min(gap, abs(q - t) / 2)
+        elif q is None and abs(s.t - float(t)) > 0:
+            gap = min(gap, fmpq(int(abs(s.t - float(t)) * 512), 1024))
+    return gap
+
+
+def _plan(
+    task: Task,
+    before: AuditResult,
+    s: SingularInstant,
+    keep: str | None,
+    window: fmpq | None,
+    fraction: fmpq,
+    target: fmpq,
+    clearance: fmpq | None,
+) -> _Plan:
+    t = s.t_rational
+    if t is None:
+        raise NoRepair(
+            f"the singular instant t ≈ {s.t:.6g} s is irrational (a root of an irreducible"
+            " factor of y(t)): a rational window cannot be centred on it"
+        )
+    piece = _piece_at(task, t)
+    gap = _neighbours(task, before, t)
+    w = window if window is not None else _rational_below(gap * fraction, task.duration / 5)
+    if w > gap:
+        raise NoRepair(
+            f"the window ±{w} s about t = {t} s reaches past a knot, an end of the motion"
+            f" or another singular instant's window (at most ±{gap} s fits)"
+        )
+    x, y = piece.x, piece.y
+    dx, ddx = x.derivative(), x.derivative().derivative()
+    x_s, v0, acc0 = x(t), dx(t), ddx(t)
+    ydot0 = y.derivative()(t)
+    order = _multiplicity(y, t)
+    xs = f"(x, y) = ({x_s}, 0) at t = {t} s"
+    if order % 2 == 0:  # a touch: lift it clear of AB
+        if keep == "path":
+            raise NoRepair(
+                f"a touch of the singular line at {xs} (order {order}): the path itself meets"
+                " AB tangentially, and no change of the timing removes that; allow a path"
+                " change (drop --keep path)"
+            )
+        side = 1 if _leading(y, t, order) > 0 else -1
+        lift = clearance if clearance is not None else max(fmpq(1, 100), w * abs(v0) * target / 2)
+        change = Change(t, x_s, w, ("lift",), (v0, v0), (acc0, acc0), (ydot0, ydot0))
+        return _Plan(t, w, fmpq(0), fmpq(0), fmpq(0), side * lift, change)
+    actions: list[str] = []
+    v = v0
+    if v0 == 0:
+        if keep == "timing":
+            raise NoRepair(
+                f"zero speed at {xs}: only a change of the timing gives the end point a"
+                " speed there; allow it (drop --keep timing)"
+            )
+        span = x(t + w) - x(t - w)
+        if span == 0:
+            raise NoRepair(f"the end point dwells at {xs} over the whole window: no speed")
+        v = span / (2 * w) * fraction
+        actions.append("speed")
+    slope_now = task.path.derivative()(x_s) if task.path is not None and piece.path else None
+    ydot = slope_now * v if slope_now is not None else ydot0
+    b = fmpq(0)
+    if ydot == 0:
+        if keep == "path":
+            raise NoRepair(
+                f"the path has slope dy/dx = 0 at {xs}: the crossing is of order {order},"
+                " and no change of the timing changes the path's slope; allow a path change"
+                " (drop --keep path)"
+            )
+        b = _leading_sign(y, t, order) * target * abs(v)
+        ydot = b
+        actions.append("slope")
+    c = consistent_acceleration(task.robot, x_s, ydot)
+    if c is None:
+        if _k(task.robot, x_s) != 0:
+            raise NoRepair(f"m3 + m5 = 0: ẍ(t_s) does not enter eq. (34) at {xs}")
+        c = acc0
+    if c != acc0:
+        if keep == "timing":
+            b = _slope_for(task.robot, x_s, acc0, ydot, b, xs)
+            ydot = ydot + b if "slope" not in actions else b
+            c = acc0
+        actions.append("consistency")
+    change = Change(t, x_s, w, tuple(actions), (v0, v), (acc0, c), (ydot0, ydot))
+    return _Plan(t, w, v - v0, (c - acc0) / 2, b, fmpq(0), change)
+
+
+def _slope_for(robot: Robot, x_s: fmpq, acc: fmpq, ydot: fmpq, b: fmpq, xs: str) -> fmpq:
+    """With the timing kept (ẍ fixed), the Δẏ that makes eq. (34) hold: ẏ² = -(m3 + m5)
+    ẍ / K must be the square of a rational of the crossing's sign."""
+    k = _k(robot, x_s)
+    m = robot.links[3].mass + robot.links[5].mass
+    if k == 0:
+        raise NoRepair(f"with the timing kept, eq. (34) at {xs} needs ẍ(t_s) = 0, not {acc}")
+    q = -m * acc / k
+    root = _rational_sqrt(q) if q > 0 else None
+    if root is None:
+        raise NoRepair(
+            f"with the timing kept (ẍ(t_s) = {acc}), eq. (34) at {xs} needs ẏ(t_s)² = {q},"
+            " which is not the square of a nonzero rational: no exact path change gives it;"
+            " allow a timing change (drop --keep timing)"
+        )
+    sign = 1 if ydot > 0 else -1
+    return sign * root - (ydot - b)
+
+
+def _rational_sqrt(q: fmpq) -> fmpq | None:
+    p, d = fmpz(q.p), fmpz(q.q)
+    rp, rd = p.isqrt(), d.isqrt()
+    return fmpq(rp, rd) if rp * rp == p and rd * rd == d else None
+
+
+def _rational_below(value: fmpq, cap: fmpq) -> fmpq:
+    """A short rational (denominator a power of two times 10) at most min(value, cap)."""
+    v = min(value, cap)
+    for den in (1, 2, 4, 5, 8, 10, 16, 20, 40, 80, 160, 320, 640, 1280):
+        r = fmpq(int(v.p * den // v.q), den)
+        if r > 0 and r >= v * fmpq(3, 4):
+            return r
+    return v
+
+
+def _multiplicity(y: fmpq_poly, t: fmpq) -> int:
+    m, d = 0, y
+    while d != 0 and d(t) == 0:
+        m, d = m + 1, d.derivative()
+    return m
+
+
+def _leading(y: fmpq_poly, t: fmpq, order: int) -> fmpq:
+    d = y
+    for _ in range(order):
+        d = d.derivative()
+    return d(t)
+
+
+def _leading_sign(y: fmpq_poly, t: fmpq, order: int) -> int:
+    return 1 if _leading(y, t, order) > 0 else -1
+
+
+def _apply(task: Task, plans: list[_Plan]) -> Task | None:
+    """The task with every plan's bumps; None when a timing change makes x non-monotone."""
+    pieces = list(task.motion)
+    path = task.path
+    path_changed = any(p.b != 0 or p.h != 0 for p in plans)
+    out: list[Piece] = []
+    for piece in pieces:
+        cuts = sorted(
+            {piece.start, piece.end}
+            | {e for p in plans for e in (p.t - p.w, p.t + p.w) if piece.start < e < piece.end}
+        )
+        for lo, hi in itertools.pairwise(cuts):
+            x, dy = piece.x, fmpq_poly([0])
+            for p in plans:
+                if p.t - p.w <= lo and hi <= p.t + p.w:
+                    tau, W = fmpq_poly([-p.t, 1]), bump(p.t, p.w)
+                    x = x + tau * (p.b1 + p.a * tau) * W
+                    dy = dy + (p.b * tau + p.h) * W
+                    if x != piece.x and not _monotone(x, lo, hi):
+                        return None
+            y = (path(x) if path is not None else piece.y) + dy
+            keep_path = path is not None and not path_changed
+            out.append(Piece(lo, hi, x, y, path if keep_path else None))
+    if path is not None and not path_changed:
+        return replace(task, x_of_t=None, pieces=tuple(out), law="pieces", lines={})
+    return replace(task, path=None, x_of_t=None, pieces=tuple(out), law="motion", lines={})
+
+
+def _monotone(x: fmpq_poly, lo: fmpq, hi: fmpq) -> bool:
+    """ẋ keeps one sign on (lo, hi) (exactly: no root of odd multiplicity inside)."""
+    d = x.derivative()
+    if d == 0:
+        return False
+    mid = (lo + hi) / 2
+    for f, e in d.factor()[1]:
+        if e % 2 == 0:
+            continue
+        if f.degree() == 1:
+            r = -f[0] / f[1]
+            if lo < r < hi:
+                return False
+            continue
+        g = f(fmpq_poly([lo, 1]))
+        if isolate(g, hi - lo):
+            return False
+    return bool(d(mid) != 0) or _monotone_far(d, lo, hi)
+
+
+def _monotone_far(d: fmpq_poly, lo: fmpq, hi: fmpq) -> bool:
+    return any(d(lo + (hi - lo) * fmpq(k, 7)) != 0 for k in range(1, 7))
+
+
+def _account(task: Task, new: Task, before: AuditResult, after: AuditResult,
+             plans: list[_Plan]) -> Repair:  # fmt: skip
+    """The change's metrics: max |Δx(t)| and max |Δy| at equal x over each window."""
+    dxm: tuple[float, float] | None = None
+    dym: tuple[float, float] | None = None
+    old = task.motion
+    for p in plans:
+        piece = next(q for q in old if q.start < p.t < q.end)
+        for k in range(-400, 401):
+            t = p.t + p.w * fmpq(k, 400)
+            new_piece = next(q for q in new.motion if q.start <= t <= q.end)
+            ddx = abs(float(new_piece.x(t) - piece.x(t)))
+            if ddx > 0 and (dxm is None or ddx > dxm[0]):
+                dxm = (ddx, float(t))
+    path_changed = any(p.b != 0 or p.h != 0 for p in plans)
+    if path_changed:
+        for p in plans:
+            lo, hi = p.t - p.w, p.t + p.w
+            for k in range(0, 801):
+                t = lo + (hi - lo) * fmpq(k, 800)
+                new_piece = next(q for q in new.motion if q.start <= t <= q.end)
+                dev = abs(float(new_piece.y(t) - _old_y_at(task, new_piece.x(t), t)))
+                if dym is None or dev > dym[0]:
+                    dym = (dev, float(new_piece.x(t)))
+    return Repair(new, before, after, tuple(p.change for p in plans), dym, dxm, not path_changed)
+
+
+def _old_y_at(task: Task, x: fmpq, t: fmpq) -> fmpq:
+    """The old path's height at x: p(x) for a path, else the old y at the time the old
+    motion reaches x (the same t when x was not retimed)."""
+    if task.path is not None:
+        return task.path(x)
+    piece = next(q for q in task.motion if q.start <= t <= q.end)
+    return piece.y(t)

@@ -1,0 +1,146 @@
+"""A task as task-file text (YAML), exactly: every number an exact rational.
+
+``task_text`` writes the robot, the checks and the motion of a ``Task`` in the form the
+loader reads back to the same task: the paper's form (``path`` and ``timing.x``), the
+piecewise timing (``timing.x`` as ``{until, x}`` pieces, the path kept) or the end
+point's pieces (``motion.pieces``). Used by ``rprpr repair`` for its output.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import yaml
+from flint import fmpq, fmpq_poly
+
+from ..model.task import Task
+
+
+def number(q: fmpq) -> str:
+    """An exact rational as the loader reads it: 3, -1/20."""
+    return str(q.p) if q.q == 1 else f"{q.p}/{q.q}"
+
+
+def polynomial(p: fmpq_poly, var: str) -> str:
+    """p in ``var`` as an expression the loader reads exactly: 3/2*t^2 - t + 1."""
+    terms: list[str] = []
+    for k in range(p.degree(), -1, -1):
+        c = p[k]
+        if c == 0:
+            continue
+        sign = "-" if c < 0 else "+"
+        a = abs(c)
+        power = "" if k == 0 else (var if k == 1 else f"{var}^{k}")
+        body = number(a) if not power else (power if a == 1 else f"{number(a)}*{power}")
+        terms.append(f"{sign} {body}")
+    if not terms:
+        return "0"
+    text = " ".join(terms)
+    return text[2:] if text.startswith("+ ") else "-" + text[2:]
+
+
+def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
+    """The task file's mapping of ``task`` (its name, robot, motion and checks)."""
+    r = task.robot
+    out: dict[str, Any] = {
+        "name": task.name,
+        "robot": {
+            "a1": _D(r.a1),
+            "gravity": _D(r.gravity),
+            "links": {
+                i: {"mass": _D(k.mass), "inertia": _D(k.inertia), "r": _D(k.r)}
+                for i, k in sorted(r.links.items())
+            },
+        },
+    }
+    pieces = task.motion
+    if task.path is not None:
+        x0, xf = pieces[0].x(fmpq(0)), pieces[-1].x(task.duration)
+        out["path"] = {
+            "y": polynomial(task.path, "x"),
+            "from": [_Q(x0), _Q(task.path(x0))],
+            "to": [_Q(xf), _Q(task.path(xf))],
+        }
+        timing: dict[str, Any] = {"duration": _D(task.duration)}
+        if len(pieces) == 1:
+            timing["x"] = polynomial(pieces[0].x, "t")
+        else:
+            timing["x"] = [{"until": _Q(p.end), "x": polynomial(p.x, "t")} for p in pieces]
+        out["timing"] = timing
+    else:
+        out["motion"] = {
+            "pieces": [
+                {"until": _Q(p.end), "x": polynomial(p.x, "t"), "y": polynomial(p.y, "t")}
+                for p in pieces
+            ]
+        }
+    c = task.checks
+    checks: dict[str, Any] = {}
+    if c.min_slope:
+        checks["min_slope"] = _D(c.min_slope)
+    if c.min_speed:
+        checks["min_speed"] = _D(c.min_speed)
+    if c.torque_limit is not None:
+        checks["torque_limit"] = [_D(c.torque_limit[0]), _D(c.torque_limit[1])]
+    if c.strict:
+        checks["strict"] = True
+    if c.unbounded_torque != "fail":
+        checks["unbounded_torque"] = c.unbounded_torque
+    if checks:
+        out["checks"] = checks
+    return out
+
+
+def decimal(q: fmpq) -> str:
+    """An exact rational as a terminating decimal (0.05), for the keys that take no
+    fraction; ValueError when its denominator has a prime factor other than 2 and 5."""
+    d, k2, k5 = int(q.q), 0, 0
+    while d % 2 == 0:
+        d, k2 = d // 2, k2 + 1
+    while d % 5 == 0:
+        d, k5 = d // 5, k5 + 1
+    if d != 1:
+        raise ValueError(f"{number(q)} has no exact decimal form")
+    k = max(k2, k5)
+    if k == 0:
+        return str(q.p)
+    scaled = abs(int(q.p)) * 10**k // int(q.q)
+    digits = str(scaled).rjust(k + 1, "0")
+    return ("-" if q < 0 else "") + digits[:-k] + "." + digits[-k:]
+
+
+class _Q(str):
+    """An exact number, written plain (3) or as a fraction (1/20)."""
+
+    def __new__(cls, q: fmpq) -> _Q:
+        return super().__new__(cls, number(q))
+
+
+class _D(str):
+    """An exact number written as a decimal (0.05)."""
+
+    def __new__(cls, q: fmpq) -> _D:
+        return super().__new__(cls, decimal(q))
+
+
+class _Dumper(yaml.SafeDumper):  # type: ignore[misc]
+    pass
+
+
+def _represent_q(dumper: yaml.SafeDumper, value: str) -> yaml.Node:
+    tag = "tag:yaml.org,2002:" + ("str" if "/" in value else "float" if "." in value else "int")
+    return dumper.represent_scalar(tag, str(value))
+
+
+_Dumper.add_representer(_Q, _represent_q)
+_Dumper.add_representer(_D, _represent_q)
+
+
+def task_text(task: Task, comment: str = "") -> str:
+    """``task`` as task-file text, with ``comment`` (lines) at its top."""
+    head = "# yaml-language-server: $schema=../rprpr/io/task.schema.json\n"
+    head += "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    body = yaml.dump(
+        task_mapping(task), Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=10_000
+    )
+    return head + body

@@ -1,0 +1,240 @@
+"""``rprpr repair``: values derived here, independently of the engine (closed forms of the
+bumps, eq. (34) at y = 0 by hand, tests/reference.py for the torque limit at t_s)."""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from flint import fmpq, fmpq_poly
+
+from rprpr import load_task, parse_task
+from rprpr.engine.audit import audit
+from rprpr.engine.repair import NoRepair, repair
+from rprpr.io.writer import task_text
+
+from . import reference as R
+from .conftest import CONFIGS, run_cli
+
+LEGS = """robot:
+  a1: 6
+  links:
+    2: {mass: 2.0, inertia: 0.10, r: 0.5}
+    3: {mass: 1.0, inertia: 0.05, r: 0.5}
+    4: {mass: 2.0, inertia: 0.10, r: 0.5}
+    5: {mass: %s, inertia: 0.05, r: %s}
+"""
+
+
+def _task(body: str, m5: str = "1.0", r5: str = "0.5", name: str = "t") -> str:
+    return f"name: {name}\n" + LEGS % (m5, r5) + body
+
+
+def _piece(task, t):  # type: ignore[no-untyped-def]
+    return next(p for p in task.motion if p.start <= t <= p.end)
+
+
+def _d(p: fmpq_poly, k: int) -> fmpq_poly:
+    for _ in range(k):
+        p = p.derivative()
+    return p
+
+
+def _ends_kept(old, new) -> None:  # type: ignore[no-untyped-def]
+    """Start and end points with their velocities and accelerations unchanged."""
+    for t in (fmpq(0), old.duration):
+        a, b = _piece(old, t), _piece(new, t)
+        for k in range(3):
+            assert _d(a.x, k)(t) == _d(b.x, k)(t)
+            assert _d(a.y, k)(t) == _d(b.y, k)(t)
+    assert new.duration == old.duration
+
+
+def _round_trip(task):  # type: ignore[no-untyped-def]
+    """The repaired task written and read back passes strict."""
+    back = parse_task(task_text(task))
+    assert audit(back, strict=True).passed
+    return back
+
+
+def test_example_1_becomes_a_first_order_consistent_crossing() -> None:
+    old = load_task(CONFIGS / "paper_path1.rprpr.yaml")
+    r = repair(old, slope=fmpq(1, 4))
+    (s,) = r.after.singularities
+    assert r.after.passed and s.order == 1 and s.consistent and s.torque_bounded
+    assert s.t_exact == Fraction(5, 2) and abs(s.slope) >= 0.25
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+    # the bump Δy = b τ (1 - (τ/w)²)³ with b = slope ẋ(t_s): ẋ(5/2) of the quintic 2 + 2 s(t/5)
+    # is 2 * 30/16 / 5 = 3/4; its maximum |b| w 7^(-1/2) (6/7)³ at τ = ±w/√7
+    (c,) = r.changes
+    b, w = Fraction(1, 4) * Fraction(3, 4), Fraction(int(c.window.p), int(c.window.q))
+    assert r.path_deviation is not None
+    expected = float(b * w) / math.sqrt(7) * (6 / 7) ** 3
+    assert r.path_deviation[0] == pytest.approx(expected, rel=1e-4)
+    # independently: the new y(t) minus the old path at the new x(t), on a fine grid
+    dev = 0.0
+    for k in range(2001):
+        t = fmpq(k, 400)
+        p = _piece(r.task, t)
+        dev = max(dev, abs(float(p.y(t) - old.path(p.x(t)))))  # type: ignore[misc]
+    assert dev == pytest.approx(expected, rel=1e-4)
+
+
+def test_path_2_with_a_heavier_leg_is_repaired_by_its_timing_alone() -> None:
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
+    text = text.replace("5: {mass: 1.0", "5: {mass: 2.0")
+    old = parse_task(text)
+    (s0,) = audit(old).singularities
+    assert not s0.consistent and s0.pole_order == 1
+    r = repair(old, keep="path")
+    assert r.path_kept and r.task.path == old.path
+    (s,) = r.after.singularities
+    assert s.consistency_residual == 0 and s.torque_bounded and r.after.passed
+    # case 3 at x = 3: (m3 + m5) ẍ = ẏ² (m5 r5 / s2² - m3 r3 / s1²), ẏ = p'(3) ẋ = 0.2 * 3/4
+    ydot = Fraction(1, 5) * Fraction(3, 4)
+    closed = ydot**2 * (2 * Fraction(1, 2) / 9 - Fraction(1, 2) / 9) / 3
+    p = _piece(r.task, fmpq(5, 2))
+    assert _d(p.x, 2)(fmpq(5, 2)) == fmpq(closed.numerator, closed.denominator)
+    assert p.x(fmpq(5, 2)) == 3 and _d(p.x, 1)(fmpq(5, 2)) == fmpq(3, 4)
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+    # T(t_s) against the independent reference, on the window's polynomial extended
+    ref = R.limit(replace(r.task, x_of_t=p.x, pieces=(), law="explicit"), Fraction(5, 2))
+    assert ref is not None and s.torque_at_singularity is not None
+    assert s.torque_at_singularity[0] == pytest.approx(float(ref["T1"]), rel=1e-9)
+    assert s.torque_at_singularity[1] == pytest.approx(float(ref["T2"]), rel=1e-9)
+    limit = r.after.torque_peak
+    assert limit is not None and max(limit[0].value, limit[1].value) < 300
+
+
+def test_zero_speed_crossing_gets_a_speed() -> None:
+    old = load_task(CONFIGS / "zero_speed_crossing.rprpr.yaml")
+    r = repair(old)
+    (s,) = r.after.singularities
+    assert s.order == 1 and s.speed > 0 and r.after.passed and r.path_kept
+    (c,) = r.changes
+    assert c.speed[0] == 0 and c.speed[1] > 0
+    # legs alike at the midpoint x = 3 = a1/2: eq. (34) needs ẍ(t_s) = 0
+    p = _piece(r.task, fmpq(1))
+    assert _d(p.x, 2)(fmpq(1)) == 0 and p.x(fmpq(1)) == 3
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+    with pytest.raises(NoRepair, match="zero speed"):
+        repair(old, keep="timing")
+
+
+def test_a_touch_is_lifted_clear_of_the_line_or_refused_with_the_path_kept() -> None:
+    old = load_task(CONFIGS / "touch.rprpr.yaml")
+    r = repair(old, clearance=fmpq(1, 20))
+    assert r.after.passed and r.after.singularities == []
+    p = _piece(r.task, fmpq(2))
+    assert p.y(fmpq(2)) == fmpq(1, 20)  # lifted by the clearance at the touch
+    assert r.path_deviation is not None and r.path_deviation[0] == pytest.approx(0.05)
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+    with pytest.raises(NoRepair, match="touch"):
+        repair(old, keep="path")
+
+
+TWO = """path:
+  y: 1/27*(x - 2)^3*(x - 4)^3
+  from: [1, 1]
+  to: [5, 1]
+timing:
+  duration: 4
+  x: 1 + t
+"""
+
+
+def test_two_failing_crossings_are_both_repaired() -> None:
+    old = parse_task(_task(TWO))
+    assert [s.order for s in audit(old).singularities] == [3, 3]
+    r = repair(old)
+    assert [s.t_exact for s in r.after.singularities] == [1, 3]
+    assert all(s.order == 1 and s.torque_bounded for s in r.after.singularities)
+    assert r.after.passed and len(r.changes) == 2
+    _round_trip(r.task)
+
+
+def test_a_torque_limit_exceeded_away_from_singular_instants_is_refused() -> None:
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
+    old = parse_task(text.replace("[300, 300]", "[20, 20]"))
+    with pytest.raises(NoRepair, match=r"RPR202.*not at a singular instant"):
+        repair(old)
+
+
+def test_a_passing_task_is_unchanged() -> None:
+    old = load_task(CONFIGS / "paper_path2.rprpr.yaml")
+    r = repair(old)
+    assert not r.changed and r.task is old and r.changes == ()
+    code, out, _ = run_cli("repair", str(CONFIGS / "paper_path2.rprpr.yaml"), "-o", "/nonexistent")
+    assert code == 0 and "nothing to repair" in out
+
+
+REPAIRABLE = ["case1_crossing", "case2_crossing", "paper_path1", "touch", "zero_speed_crossing"]
+
+
+@pytest.mark.parametrize("name", REPAIRABLE)
+def test_round_trip_of_the_shipped_failing_configs(name: str, tmp_path: Path) -> None:
+    src = str(CONFIGS / f"{name}.rprpr.yaml")
+    assert run_cli("check", "--strict", src)[0] == 1
+    out = str(tmp_path / "r.rprpr.yaml")
+    code, text, _ = run_cli("repair", src, "-o", out)
+    assert code == 0 and f"checked {out} (strict): pass" in text
+    assert run_cli("check", "--strict", out)[0] == 0
+
+
+def test_keep_path_with_a_zero_slope_writes_nothing(tmp_path: Path) -> None:
+    out = tmp_path / "r.yaml"
+    code, _, err = run_cli(
+        "repair", str(CONFIGS / "paper_path1.rprpr.yaml"), "--keep", "path", "-o", str(out)
+    )
+    assert code == 1 and "slope dy/dx = 0" in err and "nothing written" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_generated_zero_slope_crossings_with_random_legs(seed: int) -> None:
+    rng = random.Random(seed)
+    xs = Fraction(rng.randint(5, 25), 10)  # the crossing, 0.5 .. 2.5 (case 3, a1 = 6)
+    half = Fraction(rng.randint(3, 8), 10)
+    m5, r5 = f"{rng.randint(5, 30) / 10}", f"{rng.randint(2, 9) / 10}"
+    body = f"""path:
+  y: {rng.choice([1, -1]) * rng.randint(1, 9)}/10*(x - {xs})^3
+  from: [{xs - half}, {-(half**3)}]
+  to: [{xs + half}, {half**3}]
+timing:
+  duration: 2
+  law: quintic
+"""
+    text = _task(body, m5, r5).replace(f"{-(half**3)}]", "0]").replace(f"{half**3}]", "0]")
+    # from/to heights from the path itself
+    old = parse_task(_fixed_ends(text))
+    assert not audit(old, strict=True).passed
+    r = repair(old)
+    (s,) = r.after.singularities
+    assert s.order == 1 and s.consistency_residual == 0 and r.after.passed
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+
+
+def _fixed_ends(text: str) -> str:
+    """path.from/to on the path y(x) (computed with fractions here)."""
+    lines = text.splitlines()
+    y = next(ln for ln in lines if ln.startswith("  y:")).split(":", 1)[1].strip()
+    k, rest = y.split("*(x - ")
+    xs = Fraction(rest.split(")")[0])
+    coef = Fraction(k)
+    out = []
+    for ln in lines:
+        if ln.startswith(("  from:", "  to:")):
+            key, v = ln.split(":", 1)
+            x = Fraction(v.strip(" []").split(",")[0])
+            ln = f"{key}: [{x}, {coef * (x - xs) ** 3}]"
+        out.append(ln)
+    return "\n".join(out) + "\n"
