@@ -13,6 +13,10 @@ Python API::
     motion = Motion.from_ppoly(CubicSpline(t, xy))  # or from_pieces(breaks, cx, cy)
     result = audit(with_motion(load_task("configs/paper_path2.rprpr.yaml"), motion))
 
+    # a failing motion made executable (raises NoRepair, saying why, where none exists)
+    from rprpr import repair
+    fixed = repair(load_task("configs/paper_path1.rprpr.yaml"))  # fixed.task, .changes
+
 Importing the package costs nothing: ``audit`` and the engine (numpy, python-flint) load
 when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so that
 ``rprpr --version`` stays light and the core stays free of YAML, click and rich.
@@ -34,6 +38,7 @@ from ._version import __version__
 
 if TYPE_CHECKING:
     from .api import AuditResult, audit
+    from .engine.repair import NoRepair, Repair, repair
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
@@ -44,6 +49,9 @@ _LAZY = {
     "load_task": ".io.loader",
     "Motion": ".model.motion",
     "with_motion": ".model.motion",
+    "repair": ".engine.repair",
+    "Repair": ".engine.repair",
+    "NoRepair": ".engine.repair",
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",
@@ -52,12 +60,15 @@ _LAZY = {
 __all__ = [
     "AuditResult",
     "Motion",
+    "NoRepair",
+    "Repair",
     "RprprError",
     "TaskFileError",
     "__version__",
     "audit",
     "load_task",
     "parse_task",
+    "repair",
     "with_motion",
 ]
 

@@ -46,7 +46,7 @@ from flint import fmpq, fmpq_poly, fmpz
 
 from ..model.task import Piece, Robot, Task
 from .audit import AuditResult, audit
-from .roots import isolate
+from .roots import isolate, max_abs
 from .singular import SingularInstant
 
 KEEPS = ("path", "timing")
@@ -77,8 +77,8 @@ class Repair:
     ``task`` is the new task (``before.task`` the old one); ``changes`` one per repaired
     instant; ``path_deviation`` = (max |Δy| at equal x [m], the x where) or None when the
     path is kept; ``timing_change`` = (max |Δx(t)| [m], the t where) or None; both are
-    measured on a fine rational grid of each window (a lower estimate of the exact
-    maximum, reported, never deciding). ``before``/``after``: the strict audits.
+    exact maxima of the polynomial differences (upper bounds within about 1e-15).
+    ``before``/``after``: the strict audits.
     ``changed`` is False for a task that already passes (then ``task is before.task``).
     """
 
@@ -412,29 +412,42 @@ def _monotone_far(d: fmpq_poly, lo: fmpq, hi: fmpq) -> bool:
 
 def _account(task: Task, new: Task, before: AuditResult, after: AuditResult,
              plans: list[_Plan]) -> Repair:  # fmt: skip
-    """The change's metrics: max |Δx(t)| and max |Δy| at equal x over each window."""
+    """The change's metrics, exact maxima (``roots.max_abs``, an upper bound within
+    about 1e-15): max |Δx(t)| over the motion, and max |Δy| at equal x — the new y(t)
+    against the old path at the new x(t) (or, without a path, the old y(t))."""
     dxm: tuple[float, float] | None = None
     dym: tuple[float, float] | None = None
-    old = task.motion
-    for p in plans:
-        piece = next(q for q in old if q.start < p.t < q.end)
-        for k in range(-400, 401):
-            t = p.t + p.w * fmpq(k, 400)
-            new_piece = next(q for q in new.motion if q.start <= t <= q.end)
-            ddx = abs(float(new_piece.x(t) - piece.x(t)))
-            if ddx > 0 and (dxm is None or ddx > dxm[0]):
-                dxm = (ddx, float(t))
     path_changed = any(p.b != 0 or p.h != 0 for p in plans)
-    if path_changed:
-        for p in plans:
-            lo, hi = p.t - p.w, p.t + p.w
-            for k in range(0, 801):
-                t = lo + (hi - lo) * fmpq(k, 800)
-                new_piece = next(q for q in new.motion if q.start <= t <= q.end)
-                dev = abs(float(new_piece.y(t) - _old_y_at(task, new_piece.x(t), t)))
-                if dym is None or dev > dym[0]:
-                    dym = (dev, float(new_piece.x(t)))
+    for q, o, lo, hi in _overlaps(new.motion, task.motion):
+        m, t = max_abs(q.x - o.x, lo, hi)
+        if m > 0 and (dxm is None or m > dxm[0]):
+            dxm = (m, t)
+        if path_changed:
+            old_y = task.path(q.x) if task.path is not None else o.y
+            m, t = max_abs(q.y - old_y, lo, hi)
+            if dym is None or m > dym[0]:
+                dym = (m, float(q.x(fmpq(*t.as_integer_ratio()))))
     return Repair(new, before, after, tuple(p.change for p in plans), dym, dxm, not path_changed)
+
+
+Overlap = tuple[Piece, Piece, fmpq, fmpq]
+
+
+def _overlaps(new: tuple[Piece, ...], old: tuple[Piece, ...]) -> list[Overlap]:
+    """(new piece, old piece, lo, hi) for every interval [lo, hi] of positive length on
+    which one new and one old piece both hold."""
+    out = []
+    i = j = 0
+    while i < len(new) and j < len(old):  # both consecutive from t = 0: one merge pass
+        q, o = new[i], old[j]
+        lo, hi = max(q.start, o.start), min(q.end, o.end)
+        if lo < hi:
+            out.append((q, o, lo, hi))
+        if q.end <= o.end:
+            i += 1
+        else:
+            j += 1
+    return out
 
 
 def _old_y_at(task: Task, x: fmpq, t: fmpq) -> fmpq:

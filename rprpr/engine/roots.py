@@ -237,3 +237,70 @@ def _secant_cell(g_lo: arb, g_hi: arb, n: int) -> int:
 def _sgn(v: arb) -> int:
     """The sign of a ball that excludes zero."""
     return 1 if v > 0 else -1
+
+
+def max_abs(p: fmpq_poly, a: fmpq, b: fmpq) -> tuple[float, float]:
+    """(M, t): an upper bound M of max |p(t)| over a <= t <= b, within about 1e-15 of
+    the maximum, and a time t where it is reached (to about 1e-15 of b - a).
+
+    The maximum is at a or b or at a root of p' in between: the rational roots of p'
+    exactly (its linear factors over Q), the others isolated in (a, b) by ``isolate``
+    (an irreducible factor of degree >= 2 has no rational root), narrowed by exact
+    bisection, and |p| bounded over each root's interval in arb. Exact values are
+    rounded up to a double."""
+    best = [(abs(p(a)), a), (abs(p(b)), b)]
+    out = [(_up_float(v), float(t)) for v, t in best]
+    g = p.derivative()
+    if not g.is_zero():
+        for fac, _ in g.factor()[1]:
+            if fac.degree() == 1:
+                c = fac.coeffs()
+                r = -c[0] / c[1]
+                if a < r < b:
+                    out.append((_up_float(abs(p(r))), float(r)))
+                continue
+            h = fac(fmpq_poly([a, 1]))  # in u = t - a
+            for lo, hi in isolate(h, b - a):
+                lo, hi = _narrowed(h, lo, hi, (b - a) / fmpq(2**64))
+                out.append((_arb_abs_upper(p, a + lo, a + hi), float(a + (lo + hi) / 2)))
+    return max(out)
+
+
+def _narrowed(h: fmpq_poly, lo: fmpq, hi: fmpq, width: fmpq) -> tuple[fmpq, fmpq]:
+    """The root of h in (lo, hi) (opposite signs at the ends) in an interval of at most
+    ``width``, by exact bisection."""
+    s_lo = _sign_q(h(lo))
+    while hi - lo > width:
+        mid = (lo + hi) / 2
+        s = _sign_q(h(mid))
+        if s == 0:
+            return mid, mid
+        if s == s_lo:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+def _sign_q(v: fmpq) -> int:
+    return (v > 0) - (v < 0)
+
+
+def _arb_abs_upper(p: fmpq_poly, lo: fmpq, hi: fmpq) -> float:
+    """An upper bound of |p| over [lo, hi] (arb at 128 bits), as a double rounded up."""
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        t = arb((lo + hi) / 2, (hi - lo) / 2)
+        v = arb_poly([arb(c) for c in p.coeffs()])(t)
+        return _up_float(abs(v).upper())
+    finally:
+        ctx.prec = old
+
+
+def _up_float(v: fmpq | arb) -> float:
+    """A double >= v (v >= 0): 0 for an exact 0."""
+    if isinstance(v, fmpq) and v == 0:
+        return 0.0
+    f = float(v) if isinstance(v, fmpq) else float(v.mid() + v.rad())
+    return math.nextafter(f, math.inf)
