@@ -382,8 +382,16 @@ def _apply(task: Task, plans: list[_Plan]) -> Task | None:
             keep_path = path is not None and not path_changed
             out.append(Piece(lo, hi, x, y, path if keep_path else None))
     if path is not None and not path_changed:
-        return replace(task, x_of_t=None, pieces=tuple(out), law="pieces", lines={})
-    return replace(task, path=None, x_of_t=None, pieces=tuple(out), law="motion", lines={})
+        return replace(task, name=_renamed(task.name), x_of_t=None, pieces=tuple(out),
+                       law="pieces", lines={})  # fmt: skip
+    return replace(task, name=_renamed(task.name), path=None, x_of_t=None, pieces=tuple(out),
+                   law="motion", lines={})  # fmt: skip
+
+
+def _renamed(name: str) -> str:
+    """The repaired task's name: the old one marked, so that reports and overlays tell
+    the two apart."""
+    return name if name.endswith(" (repaired)") else f"{name} (repaired)"
 
 
 def _monotone(x: fmpq_poly, lo: fmpq, hi: fmpq) -> bool:
