@@ -3,6 +3,7 @@ bumps, eq. (34) at y = 0 by hand, tests/reference.py for the torque limit at t_s
 
 from __future__ import annotations
 
+import itertools
 import math
 import random
 from dataclasses import replace
@@ -176,7 +177,17 @@ def test_a_passing_task_is_unchanged() -> None:
     assert code == 0 and "nothing to repair" in out
 
 
-REPAIRABLE = ["case1_crossing", "case2_crossing", "paper_path1", "touch", "zero_speed_crossing"]
+REPAIRABLE = ["case1_crossing", "case2_crossing", "paper_path1", "piecewise_timing",
+              "touch", "trapezoidal", "zero_speed_crossing"]  # fmt: skip
+
+
+def test_the_repairable_configs_are_every_shipped_config_that_fails_strict() -> None:
+    failing = sorted(
+        p.name.removesuffix(".rprpr.yaml")
+        for p in CONFIGS.glob("*.rprpr.yaml")
+        if not audit(load_task(p), strict=True).passed
+    )
+    assert failing == REPAIRABLE
 
 
 @pytest.mark.parametrize("name", REPAIRABLE)
@@ -254,3 +265,47 @@ def test_the_largest_change_is_the_exact_maximum_of_the_difference() -> None:
     q = fmpq_poly([0, fmpq(3, 4), fmpq(-3, 2), 1])  # (t - 1/2)^3 + 1/8
     assert max_abs(q, fmpq(0), fmpq(1)) == (pytest.approx(0.25, rel=1e-15), 1.0)
     assert max_abs(fmpq_poly([fmpq(-1, 3)]), fmpq(0), fmpq(1))[0] == pytest.approx(1 / 3, rel=1e-15)
+
+
+def test_a_trapezoidal_law_is_blended_at_its_knots_into_a_c2_motion() -> None:
+    """The trapezoid's C1 knots (acceleration jumps, RPR204 in strict mode) are blended:
+    the new x(t) is C2 at every break, keeps its ends, rests and the crossing, and the
+    reported largest change is the maximum of |Δx| (checked on a dense rational grid,
+    and against the closed form: at the blend about the knot t_b, where x_R - x_L =
+    -(a/2)(t - t_b)², Δx = (x_R - x_L) S on the left and (x_R - x_L)(S - 1) on the right)."""
+    old = load_task(CONFIGS / "trapezoidal.rprpr.yaml")
+    assert not audit(old, strict=True).passed
+    r = repair(old)
+    assert r.after.passed and r.path_deviation is None and r.task.path == old.path
+    assert [n.split(":")[0] for n in r.notes] == ["knot t = 5/3 s", "knot t = 10/3 s"]
+    new = r.task.motion
+    for p, q in itertools.pairwise(new):  # C2 at every break, exactly
+        a, b = p.x, q.x
+        for _ in range(3):
+            assert a(p.end) == b(p.end)
+            a, b = a.derivative(), b.derivative()
+    _ends_kept(old, r.task)
+    (s,) = r.after.singularities
+    assert s.t_exact == Fraction(5, 2) and s.consistent and s.order == 1
+    # the largest change: a dense scan of |Δx| (a lower estimate) and the bound reported
+    scan = 0.0
+    for k in range(20001):
+        t = fmpq(5 * k, 20000)
+        xn = next(p for p in new if p.start <= t <= p.end).x(t)
+        xo = next(p for p in old.motion if p.start <= t <= p.end).x(t)
+        scan = max(scan, abs(float(xn - xo)))
+    assert r.timing_change is not None
+    assert scan <= r.timing_change[0] <= scan * (1 + 1e-6)
+    # closed form at the first knot: a = V/t_b = 0.36, blend ±w; |Δx| = (a/2) τ² S(σ)
+    w = next(p for p in new if p.start < fmpq(5, 3) < p.end)
+    half = (w.end - w.start) / 2
+    m = max(
+        float(fmpq(9, 50) * (fmpq(k, 4000) * 2 * half - half) ** 2)
+        * _smooth(k / 4000 if k <= 2000 else 1 - k / 4000)
+        for k in range(4001)
+    )
+    assert abs(m - r.timing_change[0]) <= 1e-6 * m  # both knots alike, by symmetry
+
+
+def _smooth(s: float) -> float:
+    return s**3 * (10 - 15 * s + 6 * s * s)

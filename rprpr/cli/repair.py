@@ -106,7 +106,7 @@ def repair(
 
 def summary(r: Repair) -> list[str]:
     """The account of the change, one line each."""
-    lines = []
+    lines = list(r.notes)  # the knots blended, first
     for c in r.changes:
         lines.append(
             f"t = {c.t} s, x = {c.x} m: {', '.join(c.actions)} within ±{c.window} s;"

@@ -31,6 +31,14 @@ continuous):
 * path, Δy = b (t - t_s) W: keeps the crossing point, changes ẏ(t_s) by b (a zero slope
   made b/ẋ); a touch (even order) is lifted clear of AB instead, Δy = h W.
 
+A knot where the velocity or the acceleration jumps (RPR203, RPR204: impulsive or
+jumping torques) is smoothed by blending the two pieces over [t_k - w, t_k + w]:
+x_B = x_L + (x_R - x_L) S(σ), σ = (t - t_k + w)/(2w), S = 10σ³ - 15σ⁴ + 6σ⁵ (the
+quintic smoothstep: S and its first two derivatives are 0 at σ = 0 and match 1, 0, 0 at
+σ = 1), so x_B continues x_L and x_R with two derivatives at the window's ends; y alike
+(or y = p(x_B) when the task gives its path). At a C1 knot x_R - x_L = O((t - t_k)²),
+so the change is of order Δẍ w².
+
 Every bump is a polynomial with rational coefficients in rational windows, so the
 repaired motion is exact and its audit is exact; every candidate is audited (strict)
 and only a passing one is returned.
@@ -139,18 +147,24 @@ def repair(
     window: fmpq | None = None,
     slope: fmpq | None = None,
     clearance: fmpq | None = None,
+    blend: bool = True,
 ) -> Repair:
     """The nearest passing motion: local bumps at each failing singular instant, each
     candidate window tried (``window``, or the largest that fits, then halves) and
     audited strictly; the first that passes is returned. ``keep`` = "path" (timing
     changes only) or "timing" (path changes only); ``slope`` the |dy/dx| to give a
     zero-slope crossing (default max(1/5, 2 min_slope)); ``clearance`` the lift of a
-    touch [m] (default w ẋ(t_s) slope / 2, at least 1/100). Raises ``NoRepair``."""
+    touch [m] (default w ẋ(t_s) slope / 2, at least 1/100); ``blend``: first smooth the
+    knots whose velocity or acceleration jump fails (``_smooth_knots``). Raises
+    ``NoRepair``."""
     if keep not in (None, *KEEPS):
         raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
     before = audit(task, strict=True)
     if before.passed:
         return Repair(task, before, before)
+    jumps = [f.t for f in before.findings if f.rule in JUMP_RULES and f.fails(True)]
+    if jumps and blend:
+        return _smooth_knots(task, before, jumps, keep, window, slope, clearance)
     failing = [s for s in before.singularities if before.status_of(s) == "fail"]
     other = [f for f in before.findings if f.fails(True) and f.t not in {s.t for s in failing}]
     if not failing:
@@ -180,6 +194,110 @@ def repair(
     raise NoRepair(f"no candidate passes the strict check (last: {last})")
 
 
+JUMP_RULES = ("RPR203", "RPR204")  # a velocity or acceleration jump at a knot
+
+
+def _smooth_knots(
+    task: Task,
+    before: AuditResult,
+    jumps: list[float | None],
+    keep: str | None,
+    window: fmpq | None,
+    slope: fmpq | None,
+    clearance: fmpq | None,
+) -> Repair:
+    """Blend the pieces at each knot whose jump fails (``jumps``: the findings' times),
+    then repair what still fails at the singular instants (``repair`` on the blended
+    motion); the account is against the task as given."""
+    if keep == "timing" or (keep == "path" and task.path is None):
+        raise NoRepair(
+            "a knot's velocity or acceleration jump is smoothed by blending the pieces"
+            " about it, which changes the timing (and, without a path, the path); allow"
+            " it (drop --keep)"
+        )
+    knots = [i for i, p in enumerate(task.motion[:-1]) if float(p.end) in set(jumps)]
+    last = ""
+    for fraction in (fmpq(1), fmpq(1, 2), fmpq(1, 4), fmpq(1, 8)):
+        widths = [_blend_width(task, before, i, window, fraction) for i in knots]
+        new = _blended(task, dict(zip(knots, widths, strict=True)))
+        if new is None:
+            last = "the blended timing law is not monotone in x"
+            continue
+        try:
+            inner = repair(new, keep=keep, window=window, slope=slope, clearance=clearance,
+                           blend=False)  # fmt: skip
+        except NoRepair as why:
+            last = str(why)
+            if window is not None:
+                break
+            continue
+        blends = tuple(
+            f"knot t = {task.motion[i].end} s: the pieces blended over ±{w} s (C2)"
+            for i, w in zip(knots, widths, strict=True)
+        )
+        path_changed = task.path is None or not inner.path_kept
+        r = _account(task, inner.task, before, inner.after, [], path_changed)
+        return replace(r, changes=inner.changes, notes=blends + inner.notes)
+    raise NoRepair(f"no blend of the knots passes the strict check (last: {last})")
+
+
+def _blend_width(task: Task, before: AuditResult, i: int, window: fmpq | None,
+                 fraction: fmpq) -> fmpq:  # fmt: skip
+    """The half-width of the blend at the knot after piece i: ``window``, or the largest
+    that keeps to a quarter of each neighbouring piece and half-way to any singular
+    instant, times ``fraction``."""
+    left, right = task.motion[i], task.motion[i + 1]
+    t = left.end
+    gap = min(left.end - left.start, right.end - right.start) / 4
+    for s in before.singularities:
+        q = s.t_rational
+        d = abs(q - t) if q is not None else fmpq(int(abs(s.t - float(t)) * 1024), 1024)
+        if d > 0:
+            gap = min(gap, d / 2)
+    w = window if window is not None else _rational_below(gap * fraction, task.duration / 5)
+    if w > gap:
+        raise NoRepair(
+            f"the blend ±{w} s about the knot t = {t} s reaches past a quarter of a"
+            f" neighbouring piece or half-way to a singular instant (at most ±{gap} s fits)"
+        )
+    return w
+
+
+def smoothstep(lo: fmpq, hi: fmpq) -> fmpq_poly:
+    """S(σ) = 10σ³ - 15σ⁴ + 6σ⁵, σ = (t - lo)/(hi - lo): 0 at lo and 1 at hi, with zero
+    first and second derivatives at both."""
+    sig = fmpq_poly([-lo / (hi - lo), 1 / (hi - lo)])
+    return sig**3 * (10 - 15 * sig + 6 * sig * sig)
+
+
+def _blended(task: Task, widths: dict[int, fmpq]) -> Task | None:
+    """The task with the pieces blended at the knots after pieces ``widths`` (index ->
+    half-width); None when a blend makes x non-monotone where the path is kept."""
+    out: list[Piece] = []
+    motion = task.motion
+    for j, p in enumerate(motion):
+        start = p.start + widths.get(j - 1, fmpq(0))
+        end = p.end - widths.get(j, fmpq(0))
+        out.append(replace(p, start=start, end=end, line=0, file=""))
+        if j in widths:
+            r, w = motion[j + 1], widths[j]
+            lo, hi = p.end - w, p.end + w
+            S = smoothstep(lo, hi)
+            x = p.x + (r.x - p.x) * S
+            if task.path is not None and p.path is not None:
+                if not _monotone(x, lo, hi):
+                    return None
+                y = task.path(x)
+            else:
+                y = p.y + (r.y - p.y) * S
+            out.append(Piece(lo, hi, x, y, p.path))
+    name = _renamed(task.name)
+    if task.path is not None and all(q.path is not None for q in out):
+        return replace(task, name=name, x_of_t=None, pieces=tuple(out), law="pieces", lines={})
+    pieces = tuple(replace(q, path=None) for q in out)
+    return replace(task, name=name, path=None, x_of_t=None, pieces=pieces, law="motion", lines={})
+
+
 class _Skip(Exception):
     """This candidate window does not apply (too wide, non-monotone): try the next one."""
 
@@ -197,8 +315,8 @@ def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
     return (
         f"every singular instant passes; what fails ({', '.join(rules)}) is not at a"
         " singular instant, and rprpr repair changes the motion only locally around"
-        " singular instants (a torque limit exceeded away from them needs a slower or"
-        f" longer motion, a knot's jump a smoother planner){where}"
+        " singular instants and its knots (a torque limit exceeded away from them needs a"
+        f" slower or longer motion){where}"
     )
 
 
@@ -419,13 +537,14 @@ def _monotone_far(d: fmpq_poly, lo: fmpq, hi: fmpq) -> bool:
 
 
 def _account(task: Task, new: Task, before: AuditResult, after: AuditResult,
-             plans: list[_Plan]) -> Repair:  # fmt: skip
+             plans: list[_Plan], path_changed: bool | None = None) -> Repair:  # fmt: skip
     """The change's metrics, exact maxima (``roots.max_abs``, an upper bound within
     about 1e-15): max |Δx(t)| over the motion, and max |Δy| at equal x — the new y(t)
     against the old path at the new x(t) (or, without a path, the old y(t))."""
     dxm: tuple[float, float] | None = None
     dym: tuple[float, float] | None = None
-    path_changed = any(p.b != 0 or p.h != 0 for p in plans)
+    if path_changed is None:
+        path_changed = any(p.b != 0 or p.h != 0 for p in plans)
     for q, o, lo, hi in _overlaps(new.motion, task.motion):
         m, t = max_abs(q.x - o.x, lo, hi)
         if m > 0 and (dxm is None or m > dxm[0]):
