@@ -309,3 +309,25 @@ def test_a_trapezoidal_law_is_blended_at_its_knots_into_a_c2_motion() -> None:
 
 def _smooth(s: float) -> float:
     return s**3 * (10 - 15 * s + 6 * s * s)
+
+
+def test_the_checks_margins_are_reached_not_only_zeros() -> None:
+    """Path 2 with checks.min_speed = 1 m/s and min_slope = 0.5: its crossing (speed
+    0.765 m/s, slope 0.2) fails both margins; the repair gives ẋ(t_s) = 5/4 (the first
+    short rational at least 11/10 of the margin) and |dy/dx| = 1 (twice the margin), so
+    speed √(ẋ² + ẏ²) = 5√2/4 > 1, with x(t_s), the crossing point and the ends kept."""
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
+    old = parse_task(text.replace("torque_limit: [300, 300]", "min_speed: 1\n  min_slope: 0.5"))
+    assert not audit(old, strict=True).passed
+    r = repair(old)
+    (c,) = r.changes
+    assert set(c.actions) == {"speed", "slope"}
+    assert c.speed == (fmpq(3, 4), fmpq(5, 4)) and c.ydot == (fmpq(3, 20), fmpq(5, 4))
+    (s,) = r.after.singularities
+    assert s.t_exact == Fraction(5, 2) and s.x == 3 and s.consistent
+    assert s.slope == pytest.approx(1.0, rel=1e-15)
+    assert s.speed == pytest.approx(5 * math.sqrt(2) / 4, rel=1e-15)
+    _ends_kept(old, r.task)
+    _round_trip(r.task)
+    with pytest.raises(NoRepair, match=r"slope dy/dx = 1/5, not above checks.min_slope = 1/2"):
+        repair(old, keep="path")

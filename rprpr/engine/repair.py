@@ -383,30 +383,24 @@ def _plan(
         change = Change(t, x_s, w, ("lift",), (v0, v0), (acc0, acc0), (ydot0, ydot0))
         return _Plan(t, w, fmpq(0), fmpq(0), fmpq(0), side * lift, change)
     actions: list[str] = []
-    v = v0
-    if v0 == 0:
-        if keep == "timing":
-            raise NoRepair(
-                f"zero speed at {xs}: only a change of the timing gives the end point a"
-                " speed there; allow it (drop --keep timing)"
-            )
-        span = x(t + w) - x(t - w)
-        if span == 0:
-            raise NoRepair(f"the end point dwells at {xs} over the whole window: no speed")
-        v = span / (2 * w) * fraction
+    v = _speed_for(task, x, t, w, v0, ydot0, fraction, keep, xs)
+    if v != v0:
         actions.append("speed")
     slope_now = task.path.derivative()(x_s) if task.path is not None and piece.path else None
-    ydot = slope_now * v if slope_now is not None else ydot0
-    b = fmpq(0)
-    if ydot == 0:
+    base = slope_now * v if slope_now is not None else ydot0  # ẏ(t_s) before a path change
+    ydot, b = base, fmpq(0)
+    margin = task.checks.min_slope
+    if ydot == 0 or (v != 0 and abs(ydot) <= margin * abs(v)):  # |dy/dx| <= the margin
         if keep == "path":
+            what = "= 0" if ydot == 0 else f"= {ydot / v}, not above checks.min_slope = {margin},"
             raise NoRepair(
-                f"the path has slope dy/dx = 0 at {xs}: the crossing is of order {order},"
+                f"the path has slope dy/dx {what} at {xs}: the crossing is of order {order},"
                 " and no change of the timing changes the path's slope; allow a path change"
                 " (drop --keep path)"
             )
-        b = _leading_sign(y, t, order) * target * abs(v)
-        ydot = b
+        sign = (1 if ydot > 0 else -1) if ydot != 0 else _leading_sign(y, t, order)
+        ydot = sign * target * abs(v)
+        b = ydot - base
         actions.append("slope")
     c = consistent_acceleration(task.robot, x_s, ydot)
     if c is None:
@@ -416,11 +410,44 @@ def _plan(
     if c != acc0:
         if keep == "timing":
             b = _slope_for(task.robot, x_s, acc0, ydot, b, xs)
-            ydot = ydot + b if "slope" not in actions else b
+            ydot = base + b
             c = acc0
         actions.append("consistency")
     change = Change(t, x_s, w, tuple(actions), (v0, v), (acc0, c), (ydot0, ydot))
     return _Plan(t, w, v - v0, (c - acc0) / 2, b, fmpq(0), change)
+
+
+def _speed_for(task: Task, x: fmpq_poly, t: fmpq, w: fmpq, v0: fmpq, ydot0: fmpq,
+               fraction: fmpq, keep: str | None, xs: str) -> fmpq:  # fmt: skip
+    """ẋ(t_s) to reach: v0 when the speed already exceeds checks.min_speed; else, from a
+    zero speed, the window's mean speed (times ``fraction``), and at least 11/10 of the
+    margin (|ẋ| > min_speed makes the speed exceed it)."""
+    margin = task.checks.min_speed
+    if v0 != 0 and v0 * v0 + ydot0 * ydot0 > margin * margin:
+        return v0
+    if keep == "timing":
+        what = "zero speed" if v0 == 0 and ydot0 == 0 else f"speed not above {margin} m/s"
+        raise NoRepair(
+            f"{what} at {xs}: only a change of the timing gives the end point a"
+            " speed there; allow it (drop --keep timing)"
+        )
+    span = x(t + w) - x(t - w)
+    if v0 == 0 and span == 0:
+        raise NoRepair(f"the end point dwells at {xs} over the whole window: no speed")
+    sign = (1 if v0 > 0 else -1) if v0 != 0 else (1 if span > 0 else -1)
+    mean = abs(span) / (2 * w) * fraction if v0 == 0 else abs(v0)
+    return sign * max(mean, _rational_above(margin * fmpq(11, 10)))
+
+
+def _rational_above(value: fmpq) -> fmpq:
+    """A short rational at least ``value`` (0 for 0)."""
+    if value <= 0:
+        return fmpq(0)
+    for den in (1, 2, 4, 5, 8, 10, 16, 20, 40, 80, 160, 320, 640, 1280):
+        r = fmpq(-((-value.p * den) // value.q), den)
+        if r <= value * fmpq(5, 4):
+            return r
+    return value
 
 
 def _slope_for(robot: Robot, x_s: fmpq, acc: fmpq, ydot: fmpq, b: fmpq, xs: str) -> fmpq:
