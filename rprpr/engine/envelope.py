@@ -29,8 +29,8 @@ from typing import Any
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
+from ..model.actuation import PRISMATIC
 from ..model.numbers import to_float
-from ..model.task import PRISMATIC
 from . import equations as dyn
 from .balls import Ball, U, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots

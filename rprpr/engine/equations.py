@@ -19,7 +19,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..model.task import PRISMATIC, REVOLUTE, Robot
+from ..model.actuation import PRISMATIC, REVOLUTE
+from ..model.task import Robot
 
 Num = Any  # numpy array, float, or Series
 
@@ -106,8 +107,6 @@ class Params:
 # μ2 = -y (U1 + U2)/(s1 s2), so λ2 = (U1 + U2)/a1 is bounded for every prismatic motion.
 
 AUTOMATIC = {REVOLUTE: 0, PRISMATIC: 1}  # the index of the μ that vanishes at every t_s
-EFFORTS = {REVOLUTE: ("T1", "T2"), PRISMATIC: ("F1", "F2")}  # the actuators' efforts
-EFFORT_UNIT = {REVOLUTE: "N m", PRISMATIC: "N"}
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..model.actuation import ACTUATIONS, REVOLUTE
 from ..model.rules import INVALID_TASK, RULES
-from ..model.task import ACTUATIONS, REVOLUTE
 from ..model.timing import LAWS
 
 TRAPEZOIDAL = "trapezoidal"  # timing.law: the piecewise LSPB law (model.timing.trapezoidal)

@@ -15,9 +15,7 @@ from dataclasses import dataclass, field
 
 from flint import fmpq, fmpq_poly
 
-REVOLUTE = "revolute"  # robot.actuation: the paper's scheme, motors at A and B
-PRISMATIC = "prismatic"  # robot.actuation: linear actuators in the legs (s1, s2)
-ACTUATIONS = (REVOLUTE, PRISMATIC)
+from .actuation import REVOLUTE
 
 
 @dataclass(frozen=True)
