@@ -12,7 +12,14 @@ significant digits and more, straight from the paper's equations:
   s'' = u'' cos θ + v'' sin θ + s θ'^2, θ'' = (v'' cos θ - u'' sin θ - 2 s' θ')/s;
 * M, N of eqs. (7)-(14); λ from eq. (18), (J_u)^T λ = M_u q'' + N_u, a 2x2 system solved
   by Cramer's rule; T from eq. (17), T = M_a q'' + N_a - (J_a)^T λ; δ = det (J_u)^T
-  (eq. 29) and δ' = cos(θ1 - θ2)(θ1' - θ2').
+  (eq. 29) and δ' = cos(θ1 - θ2)(θ1' - θ2');
+* with ``robot.actuation: prismatic``, a direct solve of the four equations (4),
+  M q'' + N = Q + J^T λ with Q = (0, F1, 0, F2) and J = ∂Φ/∂q of the loop constraint
+  Φ = (s1 cos θ1 - a1 - s2 cos θ2, s1 sin θ1 - s2 sin θ2), for (F1, F2, λ1, λ2) by
+  mpmath's LU solver; "T1", "T2" then hold the forces F1, F2 [N] (the efforts);
+* ``energy``: the kinetic plus potential energy of links 2-5 from the joint values
+  (link 2 about A, link 3 sliding on it with its centre at s1 - r3 from A; the same for
+  leg 2), for the power balance Q·q' = dE/dt.
 
 x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
 working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
@@ -125,6 +132,15 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...]) -> dict[str, Any]:
     if delta == 0:
         out["lambda1"] = out["lambda2"] = out["T1"] = out["T2"] = None
         return out
+    if r.actuation == "prismatic":
+        rhs = [M11 * th1dd + N1, M22 * s1dd + N2, M33 * th2dd + N3, M44 * s2dd + N4]
+        # J = dΦ/dq, rows Φ_x, Φ_y; columns θ1, s1, θ2, s2
+        J = [[-s1 * sn1, c1, s2 * sn2, -c2], [s1 * c1, sn1, -s2 * c2, -sn2]]
+        Q = [[0, 0], [1, 0], [0, 0], [0, 1]]  # ∂Q/∂(F1, F2)
+        A4 = mpmath.matrix([[*Q[i], J[0][i], J[1][i]] for i in range(4)])
+        F1, F2, lam1, lam2 = mpmath.lu_solve(A4, mpmath.matrix(rhs))
+        out.update(lambda1=lam1, lambda2=lam2, T1=F1, T2=F2)
+        return out
     lam1 = (b[0] * A[1][1] - A[0][1] * b[1]) / delta
     lam2 = (A[0][0] * b[1] - b[0] * A[1][0]) / delta
     # (17): T = M_a q'' + N_a - (J_a)^T λ, J_a of eq. (23)
@@ -133,6 +149,25 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...]) -> dict[str, Any]:
     out["T1"] = M11 * th1dd + N1 - (Ja[0][0] * lam1 + Ja[1][0] * lam2)
     out["T2"] = M33 * th2dd + N3 - (Ja[0][1] * lam1 + Ja[1][1] * lam2)
     return out
+
+
+def energy(task: Task, t: Any) -> Any:
+    """The kinetic plus potential energy of links 2-5 at the time t [J] (mpf)."""
+    r = task.robot
+    L = r.links
+    g = _mpf(r.gravity)
+    q = reference(task, t)
+    total = mpmath.mpf(0)
+    for i, (inner, outer) in enumerate(((2, 3), (4, 5)), start=1):
+        m_in, I_in, r_in = (_mpf(v) for v in (L[inner].mass, L[inner].inertia, L[inner].r))
+        m_out, I_out, r_out = (_mpf(v) for v in (L[outer].mass, L[outer].inertia, L[outer].r))
+        th, s, th_d, s_d = q[f"theta{i}"], q[f"s{i}"], q[f"theta{i}_dot"], q[f"s{i}_dot"]
+        d = s - r_out  # link `outer`'s centre from the base joint along the leg
+        kinetic = (m_in * r_in**2 + I_in + I_out) * th_d**2 / 2
+        kinetic += m_out * (s_d**2 + d**2 * th_d**2) / 2
+        potential = g * (m_in * r_in + m_out * d) * mpmath.sin(th)
+        total += kinetic + potential
+    return total
 
 
 def _agree(a: dict[str, Any], b: dict[str, Any], digits: int) -> bool:

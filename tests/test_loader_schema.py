@@ -30,6 +30,7 @@ from .test_bad_input import GOOD  # the paper's path 2, without gravity or check
 
 FULL: dict[str, Any] = yaml.safe_load(GOOD)
 FULL["robot"]["gravity"] = 1.62  # the Moon: not the default
+FULL["robot"]["actuation"] = "prismatic"  # not the default
 FULL["checks"] = {
     "min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True,
     "unbounded_torque": "warn",
@@ -123,7 +124,7 @@ def test_the_full_task_reads_every_value_given() -> None:
 
 def test_the_defaulted_keys_are_gravity_and_the_checks_margins() -> None:
     assert DEFAULTED == [
-        "robot.gravity", "checks.min_slope", "checks.min_speed", "checks.strict",
+        "robot.gravity", "robot.actuation", "checks.min_slope", "checks.min_speed", "checks.strict",
         "checks.unbounded_torque",
     ]  # fmt: skip
 

@@ -125,7 +125,9 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
         r"$\theta$ [deg]",
         "$s$ [m]",
     ]
-    assert axes["torques"][0].get_ylabel() == "$T$ [N m]"
+    kinds = {m.task.robot.actuation for m in ms}  # forces in N for linear actuators
+    unit = {frozenset({"revolute"}): "$T$ [N m]", frozenset({"prismatic"}): "$F$ [N]"}
+    assert axes["torques"][0].get_ylabel() == unit.get(frozenset(kinds), "$T$ [N m], $F$ [N]")
     for i, m in enumerate(ms):
         for k, s in enumerate(m.result.singularities):
             shape = "*" if s.high_order else "D"
@@ -148,7 +150,13 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
 def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> None:
     """The panels' titles, the axes and the tasks' names are written; every curve and
     singular instant has its id."""
-    for words in (*PANEL_WORDS, *(m.name for m in ms)):
+    kinds = {m.task.robot.actuation for m in ms}  # the effort panel names its scheme
+    efforts = {
+        frozenset({"revolute"}): PANEL_WORDS[4],
+        frozenset({"prismatic"}): "Leg forces F1, F2 (prismatic actuation)",
+    }.get(frozenset(kinds), "Actuator efforts: torques T [N m] (revolute), forces F [N]")
+    panel_words = [w if w != PANEL_WORDS[4] else efforts for w in PANEL_WORDS]
+    for words in (*panel_words, *(m.name for m in ms)):
         assert words in texts, words
     for i, m in enumerate(ms):
         assert {f"path-{i}", f"delta-{i}", f"theta1-{i}", f"T1-{i}", f"T2-{i}"} <= ids

@@ -372,7 +372,7 @@ class CertifiedMotion:
             leg2 = dyn.leg(
                 b["x"] - self.a1, b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot
             )
-            T1, T2 = dyn.torques(dyn.dynamics(leg1, leg2, self.params), lam[0], lam[1])
+            T1, T2 = dyn.efforts(dyn.dynamics(leg1, leg2, self.params), lam[0], lam[1])
             for name, new in (("lambda1", lam[0]), ("lambda2", lam[1]), ("T1", T1), ("T2", T2)):
                 better = new.rad < radius[name][idx]
                 value[name][idx[better]] = new.mid[better]
@@ -439,7 +439,7 @@ class CertifiedMotion:
         delta_dot = -(self.a1 / s12) * (yd - y * (leg1.s_d / leg1.s + leg2.s_d / leg2.s))
         lam1 = d.mu1 / delta
         lam2 = d.mu2 / delta
-        T1, T2 = dyn.torques(d, lam1, lam2)
+        T1, T2 = dyn.efforts(d, lam1, lam2)
         out = {
             "x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd,
             "s1": leg1.s, "s2": leg2.s,
@@ -500,7 +500,8 @@ class CertifiedMotion:
             value[name][j], radius[name][j] = float(b.mid), float(b.rad)
         if not s.torque_bounded:
             reason[j] = POLE
-            for name in ("lambda2", "T1", "T2"):
+            pole = "lambda2" if dyn.AUTOMATIC[self.robot.actuation] == 0 else "lambda1"
+            for name in (pole, "T1", "T2"):
                 undefined[name][j] = True
 
     def _limits_at(self, s: SingularInstant) -> tuple[Ball, Ball, Ball, Ball]:
@@ -515,16 +516,20 @@ class CertifiedMotion:
             sxa = 1 if X.c[0] - self.traj.a1 > 0 else -1
             l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, self.traj.a1, sx, sxa)
             d = dyn.dynamics(l1, l2, dyn.Params.of(self.robot))
-            lam1 = d.mu1.c[m] / d.delta.c[m]  # μ1 = O(ε^m): always bounded
-            out = [Ball.of_rational(lam1)]
+            mu = (d.mu1, d.mu2)
+            auto = dyn.AUTOMATIC[self.robot.actuation]  # μ_auto = O(ε^m): always bounded
+            pole = Ball(np.nan, np.inf)
+            lam: list[Any] = [None, None]
+            lam[auto] = mu[auto].c[m] / d.delta.c[m]
+            lam_b = [pole, pole]
+            lam_b[auto] = Ball.of_rational(lam[auto])
+            T = [pole, pole]
             if s.torque_bounded:
-                lam2 = d.mu2.c[m] / d.delta.c[m]
-                T1, T2 = dyn.torques(d, lam1, lam2)
-                out += [Ball.of_rational(lam2), Ball.of_rational(T1.c[0]),
-                        Ball.of_rational(T2.c[0])]  # fmt: skip
-            else:
-                out += [Ball(np.nan, np.inf)] * 3
-            self._limits[key] = (out[0], out[1], out[2], out[3])
+                lam[1 - auto] = mu[1 - auto].c[m] / d.delta.c[m]
+                lam_b[1 - auto] = Ball.of_rational(lam[1 - auto])
+                T1, T2 = dyn.efforts(d, lam[0], lam[1])
+                T = [Ball.of_rational(T1.c[0]), Ball.of_rational(T2.c[0])]
+            self._limits[key] = (lam_b[0], lam_b[1], T[0], T[1])
         return self._limits[key]
 
     # -- refinement in arb ------------------------------------------------------------
@@ -599,7 +604,7 @@ class CertifiedMotion:
             )
             if not self.analysis.on_singular_line and (delta > 0 or delta < 0):
                 lam1, lam2 = d.mu1 / delta, d.mu2 / delta
-                T1, T2 = dyn.torques(d, lam1, lam2)
+                T1, T2 = dyn.efforts(d, lam1, lam2)
                 out.update(lambda1=lam1, lambda2=lam2, T1=T1, T2=T2)
             balls = {n: Ball.of_arb(v) for n, v in out.items()}
             ta = np.array([t])

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
+from ..model.actuation import PRISMATIC
 from ..model.numbers import to_float
 from ..model.task import Robot
 from . import equations as dyn
@@ -269,7 +270,10 @@ class _Stacked:
         F_i = m_i (s_i'' - d_i θ_i'²) + m_i g sin θ_i   (M22 s1'' + N2, M44 s2'' + N4),
         μ1 = -(sin θ2 F1 + sin θ1 F2),  μ2 = cos θ2 F1 + cos θ1 F2,  δ = -a1 y/(s1 s2),
         T_i = M_i θ_i'' + N_i ± s_i (sin θ_i λ1 - cos θ_i λ2)   (+ for T1, - for T2),
-    with m_i = m3, m5 and r_i = r3, r5."""
+    with m_i = m3, m5 and r_i = r3, r5. Under the prismatic scheme (``equations``), with
+    V_i = (M_i θ_i'' + N_i)/s_i:
+        μ1 = -(cos θ2 V1 + cos θ1 V2),  μ2 = -(sin θ1 V2 + sin θ2 V1),
+        F_i ∓ (cos θ_i λ1 + sin θ_i λ2)   (- for F1, + for F2) are the efforts."""
 
     def __init__(self, r: Robot) -> None:
         L, g = r.links, r.gravity
@@ -285,6 +289,7 @@ class _Stacked:
                        (L[4].mass * L[4].r - L[5].mass * L[5].r) * g)  # fmt: skip
         self.mg = _pair(L[3].mass * g, L[5].mass * g)
         self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
+        self.prismatic = r.actuation == PRISMATIC
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
@@ -300,6 +305,13 @@ class _Stacked:
         F = self.m * (lg.s_dd - d * (lg.th_d * lg.th_d)) + self.mg * lg.sin
         if delta is None:
             delta = -(self.a1 * y) / (lg.s[0] * lg.s[1])
+        if self.prismatic:
+            U = M * lg.th_dd + N
+            if lam is None:
+                V = U / lg.s
+                cV, sV = lg.cos * V[::-1], lg.sin * V[::-1]
+                lam = (-(cV[0] + cV[1]) / delta, -(sV[0] + sV[1]) / delta)
+            return F - self.sign * (lg.cos * lam[0] + lg.sin * lam[1]), delta
         if lam is None:
             sF, cF = lg.sin * F[::-1], lg.cos * F[::-1]
             lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)

@@ -19,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..model.actuation import PRISMATIC, REVOLUTE
 from ..model.task import Robot
 
 Num = Any  # numpy array, float, or Series
@@ -68,6 +69,7 @@ class Params:
     m5: Any
     I5: Any
     r5: Any
+    actuation: str = REVOLUTE  # ``Robot.actuation``: which rows of eq. (4) are actuated
 
     @staticmethod
     def of(robot: Robot, convert: Callable[[Any], Any] = lambda v: v) -> Params:
@@ -78,16 +80,43 @@ class Params:
             convert(L[3].mass), convert(L[3].inertia), convert(L[3].r),
             convert(L[4].mass), convert(L[4].inertia), convert(L[4].r),
             convert(L[5].mass), convert(L[5].inertia), convert(L[5].r),
+            robot.actuation,
         )  # fmt: skip
+
+
+# The two actuation schemes (``Robot.actuation``). Eq. (4), M q'' + N = Q + J^T λ with
+# q = (θ1, s1, θ2, s2), splits into the actuated rows (the efforts) and the unactuated
+# rows (Q = 0 there), which fix λ:
+#
+# * revolute (the paper): Q = (T1, 0, T2, 0). Unactuated s1, s2: F1 = M22 s1'' + N2,
+#   F2 = M44 s2'' + N4 and (J_u)^T λ = (F1, F2) with J_u of eq. (24), det (J_u)^T = δ;
+#   λ = μ/δ with μ of eqs. (32)-(33); T = M_a q'' + N_a - (J_a)^T λ (eq. 28).
+# * prismatic: Q = (0, F1, 0, F2). Unactuated θ1, θ2: U1 = M11 θ1'' + N1,
+#   U2 = M33 θ2'' + N3 [N m] and (J_a)^T λ = (U1, U2) with J_a of eq. (23):
+#       -s1 sin θ1 λ1 + s1 cos θ1 λ2 = U1,   s2 sin θ2 λ1 - s2 cos θ2 λ2 = U2,
+#   det = s1 s2 sin(θ1 - θ2) = s1 s2 δ; by Cramer's rule λ = μ/δ with
+#       μ1 = -(cos θ2 U1/s1 + cos θ1 U2/s2),  μ2 = -(sin θ1 U2/s2 + sin θ2 U1/s1),
+#   the same δ, so the same singular instants and orders. The efforts are the s rows:
+#       (F1, F2) = M_s q'' + N_s - (J_u)^T λ:
+#       F1 = M22 s1'' + N2 - (cos θ1 λ1 + sin θ1 λ2),
+#       F2 = M44 s2'' + N4 + (cos θ2 λ1 + sin θ2 λ2)   [N].
+# At a Type II instant (sin θ1 = sin θ2 = 0) the automatic μ is μ1 for revolute (sin θ's
+# multiply it, the paper's remark below eq. 35) and μ2 for prismatic; consistency is the
+# other one: eq. (34) σ F1 + F2 = 0 (revolute), and U1/s1 + σ U2/s2 = 0 (prismatic:
+# the legs' moments about A and B, as forces at E across AB). With sin θi = y/si:
+# μ2 = -y (U1 + U2)/(s1 s2), so λ2 = (U1 + U2)/a1 is bounded for every prismatic motion.
+
+AUTOMATIC = {REVOLUTE: 0, PRISMATIC: 1}  # the index of the μ that vanishes at every t_s
 
 
 @dataclass(frozen=True)
 class Dynamics:
-    """Terms of eqs. (7)-(14), (32)-(33) and (29) along a motion.
+    """Terms of eqs. (7)-(14), (32)-(33) and (29) along a motion, for the robot's scheme.
 
-    F1 = M22 s1'' + N2 and F2 = M44 s2'' + N4 are the unactuated rows of eq. (18), so
-    (F1, F2) = (J_u)^T λ; ``F1_abs``/``F2_abs``/``mu*_abs`` are the sums of the absolute
-    values of their terms, the scale against which a cancellation is judged.
+    F1 = M22 s1'' + N2 and F2 = M44 s2'' + N4 are the s rows' inertial terms (the
+    unactuated rows of eq. (18) under the paper's scheme, so (F1, F2) = (J_u)^T λ there);
+    U1 = M11 θ1'' + N1 and U2 = M33 θ2'' + N3 are the θ rows' (the unactuated rows under
+    the prismatic scheme). μ1, μ2 are the scheme's numerators of λ = μ/δ.
     """
 
     leg1: Leg
@@ -101,6 +130,9 @@ class Dynamics:
     mu1: Num
     mu2: Num
     delta: Num
+    actuation: str = REVOLUTE
+    U1: Num = None
+    U2: Num = None
 
 
 def dynamics(leg1: Leg, leg2: Leg, p: Params) -> Dynamics:
@@ -115,10 +147,25 @@ def dynamics(leg1: Leg, leg2: Leg, p: Params) -> Dynamics:
     N4 = -p.m5 * d2 * leg2.th_d * leg2.th_d + p.m5 * p.g * leg2.sin  # eq. (14)
     F1 = p.m3 * leg1.s_dd + N2  # M22 s1'' + N2, eq. (8)
     F2 = p.m5 * leg2.s_dd + N4  # M44 s2'' + N4, eq. (10)
+    delta = leg1.sin * leg2.cos - leg1.cos * leg2.sin  # sin(θ1 - θ2), eq. (29)
+    if p.actuation == PRISMATIC:
+        U1 = M11 * leg1.th_dd + N1  # the θ rows (module comment above)
+        U2 = M33 * leg2.th_dd + N3
+        V1, V2 = U1 / leg1.s, U2 / leg2.s  # the legs' moments as forces at E [N]
+        mu1 = -(leg2.cos * V1 + leg1.cos * V2)
+        mu2 = -(leg1.sin * V2 + leg2.sin * V1)
+        return Dynamics(leg1, leg2, M11, M33, N1, N3, F1, F2, mu1, mu2, delta, PRISMATIC, U1, U2)
     mu1 = -leg2.sin * F1 - leg1.sin * F2  # eq. (32)
     mu2 = leg2.cos * F1 + leg1.cos * F2  # eq. (33)
-    delta = leg1.sin * leg2.cos - leg1.cos * leg2.sin  # sin(θ1 - θ2), eq. (29)
     return Dynamics(leg1, leg2, M11, M33, N1, N3, F1, F2, mu1, mu2, delta)
+
+
+def efforts(d: Dynamics, lambda1: Num, lambda2: Num) -> tuple[Num, Num]:
+    """The actuators' efforts given λ: (T1, T2) [N m] of eq. (28) for the revolute scheme,
+    (F1, F2) [N] for the prismatic one (the module comment above)."""
+    if d.actuation == PRISMATIC:
+        return prismatic_forces(d, lambda1, lambda2)
+    return torques(d, lambda1, lambda2)
 
 
 def torques(d: Dynamics, lambda1: Num, lambda2: Num) -> tuple[Num, Num]:
@@ -127,3 +174,22 @@ def torques(d: Dynamics, lambda1: Num, lambda2: Num) -> tuple[Num, Num]:
     T1 = d.M11 * l1.th_dd + d.N1 - (-l1.s * l1.sin * lambda1 + l1.s * l1.cos * lambda2)
     T2 = d.M33 * l2.th_dd + d.N3 - (l2.s * l2.sin * lambda1 - l2.s * l2.cos * lambda2)
     return T1, T2
+
+
+def prismatic_forces(d: Dynamics, lambda1: Num, lambda2: Num) -> tuple[Num, Num]:
+    """(F1, F2) [N]: M_s q'' + N_s - (J_u)^T λ, with J_u of eq. (24) (columns s1, s2)."""
+    l1, l2 = d.leg1, d.leg2
+    F1 = d.F1 - (l1.cos * lambda1 + l1.sin * lambda2)
+    F2 = d.F2 + (l2.cos * lambda1 + l2.sin * lambda2)
+    return F1, F2
+
+
+def consistency(d: Dynamics, sigma: int, at: Callable[[Num], Any]) -> tuple[Any, Any]:
+    """The consistency residual at a Type II instant [N] as (numerator, denominator or
+    None), from the values ``at`` t_s of the series' terms: eq. (34), σ F1 + F2, for the
+    revolute scheme (= cos θ1 μ2(t_s)); U1/s1 + σ U2/s2 = (s2 U1 + σ s1 U2)/(s1 s2) for
+    the prismatic one (= -cos θ2 μ1(t_s)). A zero numerator: consistent."""
+    if d.actuation == PRISMATIC:
+        s1, s2 = at(d.leg1.s), at(d.leg2.s)
+        return (s2 * at(d.U1) + sigma * s1 * at(d.U2), s1 * s2)
+    return (sigma * at(d.F1) + at(d.F2), None)

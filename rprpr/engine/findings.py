@@ -15,6 +15,7 @@ from fractions import Fraction
 
 from flint import fmpq
 
+from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
@@ -55,12 +56,13 @@ def findings(
     its ``knots`` (velocity and torque jumps) and ``on_line``, the pieces [start, end]
     that lie on y = 0 (then RPR104 names each)."""
     at = instant_text(a)
+    e = SCHEMES[task.robot.actuation]
     out = path_on_singular_line(a) if not on_line else pieces_on_singular_line(on_line)
-    out += [f for k in knots for f in knot(k)]
+    out += [f for k in knots for f in knot(k, e)]
     out += [kinematic(k, at) for k in a.kinematic]
     accepted = task.checks.unbounded_torque == "warn"
     for s in a.instants:
-        out += slope(s, at) + velocity(s, at) + unbounded(s, at, accepted)
+        out += slope(s, at) + velocity(s, at) + unbounded(s, at, accepted, e)
     out += torque_limit(task, a, peak, limit, at)
     return out
 
@@ -98,9 +100,10 @@ def pieces_on_singular_line(spans: Sequence[tuple[fmpq, fmpq]]) -> list[Finding]
     return out
 
 
-def knot(k: Knot) -> list[Finding]:
+def knot(k: Knot, e: Scheme = SCHEMES[REVOLUTE]) -> list[Finding]:
     """RPR203 where the velocity jumps at the knot ``k``, RPR204 where only the
-    acceleration does (with the jumps of T1, T2 when both sides' torques are defined)."""
+    acceleration does (with the jumps of T1, T2 when both sides' torques are defined;
+    F1, F2 [N] under the prismatic scheme ``e``)."""
     row = f", row {k.line} of {k.file}" if k.file and k.line else ""
     pieces = f"knot between pieces {k.before + 1} and {k.before + 2}{row}"
     at = f"t = {exact_text(k.t_exact)} s ({pieces})"
@@ -109,7 +112,7 @@ def knot(k: Knot) -> list[Finding]:
         dx, dy = (number(v) for v in k.velocity_jump)
         message = (
             f"{at}: the end-point velocity jumps by (Δẋ, Δẏ) = ({dx}, {dy}) m/s"
-            " (a C0 knot): the torques are impulsive there"
+            f" (a C0 knot): the {e.noun} are impulsive there"
         )
         return [Finding("RPR203", message, k.t, line=line)]
     if k.acceleration_jump is None:
@@ -117,9 +120,10 @@ def knot(k: Knot) -> list[Finding]:
     ax, ay = (number(v) for v in k.acceleration_jump)
     jump = k.torque_jump
     torques = (
-        f": T1 jumps by {number(jump[0])} N m, T2 by {number(jump[1])} N m"
+        f": {e.letter}1 jumps by {number(jump[0])} {e.unit},"
+        f" {e.letter}2 by {number(jump[1])} {e.unit}"
         if jump is not None
-        else " (the torques are undefined or unbounded on a side)"
+        else f" (the {e.noun} are undefined or unbounded on a side)"
     )
     message = f"{at}: the end-point acceleration jumps by (Δẍ, Δÿ) = ({ax}, {ay}) m/s²{torques}"
     return [Finding("RPR204", message, k.t, line=line)]
@@ -150,19 +154,23 @@ def velocity(s: SingularInstant, at: At) -> list[Finding]:
     return [Finding("RPR102", message, s.t)]
 
 
-def unbounded(s: SingularInstant, at: At, accepted: bool = False) -> list[Finding]:
-    """RPR201: the torques have a pole at ``s``, and why: eq. (34) fails (with its
-    residual), or it holds but only k of the m boundedness conditions do. ``accepted``
+def unbounded(
+    s: SingularInstant, at: At, accepted: bool = False, e: Scheme = SCHEMES[REVOLUTE]
+) -> list[Finding]:
+    """RPR201: the torques (forces, prismatic ``e``) have a pole at ``s``, and why: the
+    consistency condition (eq. 34; the legs' moment balance) fails (with its residual),
+    or it holds but only k of the m boundedness conditions do. ``accepted``
     (``checks.unbounded_torque: warn``): the finding is downgraded to a warning."""
     if s.torque_bounded:
         return []
+    cond = "eq. 34" if e.name == REVOLUTE else e.condition
     why = (
-        f"consistent (eq. 34), but only {s.conditions_met} of {s.conditions_required}"
+        f"consistent ({cond}), but only {s.conditions_met} of {s.conditions_required}"
         " boundedness conditions hold"
         if s.consistent
-        else f"inconsistent: eq. (34) residual {s.number('consistency_residual')} N ≠ 0"
+        else f"inconsistent: {e.condition} residual {s.number('consistency_residual')} N ≠ 0"
     )
-    message = f"{_where(s, at)}: torques unbounded (pole of order {s.pole_order}): {why}"
+    message = f"{_where(s, at)}: {e.noun} unbounded (pole of order {s.pole_order}): {why}"
     return [Finding("RPR201", message, s.t, downgraded=accepted)]
 
 
@@ -181,14 +189,15 @@ def torque_limit(
     (the peak touches it) fails too: a gate passes only what is proven."""
     if task.checks.torque_limit is None or checks is None:
         return []
+    e = SCHEMES[task.robot.actuation]
     out = []
     for s in a.instants:
         if s.torque_bounded:
             continue
-        windows = [_around(s, c, j, at) for j, c in enumerate(checks)]
+        windows = [_around(s, c, j, at, e) for j, c in enumerate(checks)]
         beyond = "; ".join(w for w in windows if w)
         message = (
-            f"{at(s.t)}: the torques are unbounded (pole of order {s.pole_order}):"
+            f"{at(s.t)}: the {e.noun} are unbounded (pole of order {s.pole_order}):"
             f" beyond any limit{': ' + beyond if beyond else ''}"
         )
         out.append(Finding("RPR202", message, s.t))
@@ -197,10 +206,11 @@ def torque_limit(
         above = [w for w in c.windows if not w.pole]
         if above:
             top = peak[j] if peak is not None and math.isfinite(peak[j].value) else None
-            out.append(Finding("RPR202", _exceeded(j, c.limit, top, above)))
+            out.append(Finding("RPR202", _exceeded(j, c.limit, top, above, e)))
         elif c.passed is None:
             message = (
-                f"|T{j + 1}| cannot be proven within the limit {limit} N m: its maximum"
+                f"|{e.letter}{j + 1}| cannot be proven within the limit {limit} {e.unit}:"
+                " its maximum"
                 " touches the limit (within the certified bounds)"
             )
             out.append(Finding("RPR202", message))
@@ -212,24 +222,24 @@ def _span(w: Window) -> tuple[float, float]:
     return w.start_lo, w.end_hi
 
 
-def _exceeded(j: int, limit: float, peak: Peak | None, windows: list[Window]) -> str:
+def _exceeded(j: int, limit: float, peak: Peak | None, windows: list[Window], e: Scheme) -> str:
     """|Tj| above ``limit`` in ``windows`` (each bracketed by its certified crossings),
     with the peak it reaches (told apart from the limit)."""
     ends = distinct([v for w in windows for v in _span(w)])
     spans = [f"{ends[2 * k]} .. {ends[2 * k + 1]}" for k in range(len(windows))]
     shown = ", ".join(spans[:3]) + (f" and {len(spans) - 3} more" if len(spans) > 3 else "")
     if peak is None:
-        head = f"|T{j + 1}| exceeds the limit {number(limit)} N m"
+        head = f"|{e.letter}{j + 1}| exceeds the limit {number(limit)} {e.unit}"
     else:
         reached, allowed = apart(peak.value, limit)
         head = (
-            f"|T{j + 1}| reaches {reached} N m at t = {number(peak.t)} s,"
-            f" beyond the limit {allowed} N m"
+            f"|{e.letter}{j + 1}| reaches {reached} {e.unit} at t = {number(peak.t)} s,"
+            f" beyond the limit {allowed} {e.unit}"
         )
     return f"{head}: above it from t = {ends[0]} s (t = {shown} s)"
 
 
-def _around(s: SingularInstant, check: LimitCheck, j: int, at: At) -> str:
+def _around(s: SingularInstant, check: LimitCheck, j: int, at: At, e: Scheme) -> str:
     """The window around the unbounded instant ``s`` in which |Tj| exceeds its limit, in
     words: ``|T1| > 300 N m for 10.8 ms around t = 2 s (t = 1.99689 .. 2.00769 s)``."""
     for w in check.windows:
@@ -237,7 +247,8 @@ def _around(s: SingularInstant, check: LimitCheck, j: int, at: At) -> str:
             start, end = _span(w)
             t0, t1 = distinct([start, end])
             return (
-                f"|T{j + 1}| > {number(check.limit)} N m for {with_unit(end - start, 's')}"
+                f"|{e.letter}{j + 1}| > {number(check.limit)} {e.unit}"
+                f" for {with_unit(end - start, 's')}"
                 f" around {at(s.t)} (t = {t0} .. {t1} s)"
             )
     return ""

@@ -79,7 +79,7 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
         delta = -(a1 * Y) / (s1 * s2)
         if not (delta > 0 or delta < 0):
             return None
-        T1, T2 = dyn.torques(d, d.mu1 / delta, d.mu2 / delta)
+        T1, T2 = dyn.efforts(d, d.mu1 / delta, d.mu2 / delta)
         return float(T1.mid()), float(T2.mid())
     finally:
         ctx.prec = old

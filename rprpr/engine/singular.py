@@ -311,7 +311,7 @@ class _Expanded:
 
     delta_m: Any  # the coefficient of ε^m of δ (eq. 29)
     mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2
-    residual: Any  # eq. (34) at t_s
+    residual: tuple[Any, Any]  # the consistency residual at t_s (``dyn.consistency``)
     limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ is bounded there
     speed2: Any  # x'(t_s)^2 + y'(t_s)^2
     y_m: Any  # the coefficient of ε^m of y
@@ -324,7 +324,8 @@ class _Expanded:
 
         limit = None if self.limit is None else (move(self.limit[0]), move(self.limit[1]))
         return _Expanded(
-            move(self.delta_m), self.mu_valuations, move(self.residual), limit,
+            move(self.delta_m), self.mu_valuations,
+            (move(self.residual[0]), move(self.residual[1])), limit,
             move(self.speed2), move(self.y_m),
         )  # fmt: skip
 
@@ -345,7 +346,7 @@ def _expanded(
     return _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
-        residual=case.sigma * d.F1.c[0] + d.F2.c[0],  # eq. (34), exact
+        residual=dyn.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
         limit=_limit_torque(d, m) if min(*valuations, m) >= m else None,
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
@@ -389,7 +390,7 @@ def _instant(
     delta_m = _double(f"delta_derivatives[{m}]", e.delta_m * math.factorial(m), beyond)
     slope_f = _double("slope", slope, beyond)
     speed_f = _double("speed", speed, beyond)
-    residual_f = _double("consistency_residual", e.residual, beyond)
+    residual_f = _double("consistency_residual", _residual(*e.residual), beyond)
     torque = None
     if e.limit is not None:
         torque = (
@@ -409,13 +410,22 @@ def _instant(
         slope_principle=slope_principle,
         velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
         consistency_residual=residual_f,
-        consistent=is_zero(e.residual),
+        consistent=is_zero(e.residual[0]),
         conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
         beyond_double_range=tuple(beyond),
     )
     return instant, _SamplerHints(K, e.mu_valuations, sign(e.y_m))
+
+
+def _residual(numerator: Any, denominator: Any) -> Any:
+    """The residual's value: exact when rational, a ball in K (no inverse taken there)."""
+    if denominator is None:
+        return numerator
+    if isinstance(numerator, KElem):
+        return _quotient(numerator, denominator)
+    return numerator / denominator
 
 
 def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
@@ -426,12 +436,12 @@ def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     with an exact numerator, and that one division is made in ball arithmetic."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
-        T1, T2 = dyn.torques(d, Series([N1 / D]), Series([N2 / D]))
+        T1, T2 = dyn.efforts(d, Series([N1 / D]), Series([N2 / D]))
         return T1.c[0], T2.c[0]
     zero, one = D * 0, D * 0 + 1
-    A = dyn.torques(d, Series([zero]), Series([zero]))
-    B1 = dyn.torques(d, Series([one]), Series([zero]))
-    B2 = dyn.torques(d, Series([zero]), Series([one]))
+    A = dyn.efforts(d, Series([zero]), Series([zero]))
+    B1 = dyn.efforts(d, Series([one]), Series([zero]))
+    B2 = dyn.efforts(d, Series([zero]), Series([one]))
     out = []
     for a, b1, b2 in zip(A, B1, B2, strict=True):
         a0 = a.c[0]

@@ -217,7 +217,7 @@ def _torque_series(motion: CertifiedMotion, ser: tuple[Any, ...]) -> tuple[Any, 
     l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
     d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
     delta = -(Y * a1) / (l1.s * l2.s)  # eq. (29), product form
-    T1, T2 = dyn.torques(d, d.mu1 / delta, d.mu2 / delta)
+    T1, T2 = dyn.efforts(d, d.mu1 / delta, d.mu2 / delta)
     return T1, T2
 
 

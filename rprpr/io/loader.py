@@ -335,7 +335,9 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
 
 def _robot(v: dict[str, Any]) -> Robot:
     links = {int(i): _link(v, f"robot.links.{i}") for i in _LINKS.children}
-    return Robot(a1=v["robot.a1"], links=links, gravity=v["robot.gravity"])
+    return Robot(
+        a1=v["robot.a1"], links=links, gravity=v["robot.gravity"], actuation=v["robot.actuation"]
+    )
 
 
 def _link(v: dict[str, Any], key: str) -> Link:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..model.actuation import ACTUATIONS, REVOLUTE
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
@@ -159,11 +160,20 @@ TASK = Spec(
         "name": Spec("string", "A name for reports (default: the file's stem)."),
         "robot": Spec(
             "mapping",
-            "The robot: A at the origin, B at (a1, 0); actuated revolute joints at A and B.",
+            "The robot: A at the origin, B at (a1, 0); actuated revolute joints at A and B"
+            " (torques T1, T2 [N m]) or actuated prismatic joints in the legs (forces"
+            " F1, F2 [N]).",
             required=True,
             children={
                 "a1": _num("|AB| [m]", required=True, minimum=0, exclusive=True),
                 "gravity": _num("g [m/s^2], along -y", minimum=0, default="9.81"),
+                "actuation": Spec(
+                    "enum",
+                    "The actuated joints: revolute (at A and B, torques T1, T2 [N m], the"
+                    " paper) or prismatic (the legs' s1, s2, forces F1, F2 [N]).",
+                    default=REVOLUTE,
+                    choices=ACTUATIONS,
+                ),
                 "links": Spec(
                     "mapping",
                     "The paper's moving links 2..5.",
@@ -253,7 +263,8 @@ TASK = Spec(
                 ),
                 "torque_limit": Spec(
                     "pair",
-                    "|T1|, |T2| limits [N m], each > 0; gated in strict mode.",
+                    "|T1|, |T2| limits [N m], each > 0 (with robot.actuation prismatic:"
+                    " |F1|, |F2| limits [N]); gated in strict mode.",
                     minimum=0,
                     exclusive=True,
                     items=("|T1| limit [N m]", "|T2| limit [N m]"),

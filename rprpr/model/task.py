@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 
 from flint import fmpq, fmpq_poly
 
+from .actuation import REVOLUTE
+
 
 @dataclass(frozen=True)
 class Link:
@@ -28,11 +30,14 @@ class Link:
 @dataclass(frozen=True)
 class Robot:
     """Fixed link length a1 = |AB| (A at the origin, B at (a1, 0)), gravity g along -y,
-    and the moving links 2 (leg A, revolute side), 3 (leg A, at E), 4 and 5 (leg B)."""
+    the moving links 2 (leg A, revolute side), 3 (leg A, at E), 4 and 5 (leg B), and the
+    actuation scheme: ``"revolute"`` (the paper: torques T1, T2 [N m] at A and B) or
+    ``"prismatic"`` (forces F1, F2 [N] in the legs' prismatic joints s1, s2)."""
 
     a1: fmpq
     links: dict[int, Link]
     gravity: fmpq
+    actuation: str = REVOLUTE
 
 
 @dataclass(frozen=True)

@@ -39,8 +39,9 @@ from .._version import __version__
 from ..engine.audit import AuditResult
 from ..engine.certified import REASONS, TOL
 from ..engine.sampling import COLUMNS
+from ..model.actuation import REVOLUTE
 from ..model.numbers import number, round_trip
-from ..report.records import singularity_record
+from ..report.records import actuation_fields, singularity_record
 from .escape import printable
 
 FORMATS = {".csv": "csv", ".json": "json"}
@@ -50,12 +51,22 @@ UNITS = {
     "theta1": "rad", "s1": "m", "theta2": "rad", "s2": "m",
     "theta1_dot": "rad/s", "s1_dot": "m/s", "theta2_dot": "rad/s", "s2_dot": "m/s",
     "delta": "1", "delta_dot": "1/s",
-    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m",
+    "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m", "F1": "N", "F2": "N",
     "x_ddot": "m/s^2", "y_ddot": "m/s^2", "theta1_ddot": "rad/s^2", "s1_ddot": "m/s^2",
     "theta2_ddot": "rad/s^2", "s2_ddot": "m/s^2", "reason": "code",
 }  # fmt: skip
 
 EXPORTED = (*COLUMNS, "reason")  # the columns of a row, in order
+FORCES = {"T1": "F1", "T2": "F2"}  # a prismatic robot's efforts: the legs' forces [N]
+
+
+def exported(result: AuditResult) -> tuple[str, ...]:
+    """The columns of a row for ``result``'s robot: ``EXPORTED``, with F1, F2 [N] in the
+    place of T1, T2 when the legs' prismatic joints are actuated."""
+    if result.task.robot.actuation == REVOLUTE:
+        return EXPORTED
+    return tuple(FORCES.get(c, c) for c in EXPORTED)
+
 
 CERTIFIED = f"every value certified to |err| <= {number(TOL)} (1 + |value|)"
 
@@ -111,7 +122,7 @@ def comment(result: AuditResult, source: str) -> str:
 def write_csv(result: AuditResult, out: TextIO, source: str = "") -> None:
     """Write the samples as CSV: the comment line, the column names, one line per sample."""
     out.write(comment(result, source) + "\n")
-    out.write(",".join(EXPORTED) + "\n")
+    out.write(",".join(exported(result)) + "\n")
     for row, reason in _rows(result):
         out.write(",".join(_csv_number(v) for v in row) + f",{reason}\n")
 
@@ -137,9 +148,10 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
         "file": source,
         "samples": len(t),
         "duration": _json_number(float(t[-1])),
+        **actuation_fields(result.task.robot.actuation),
         "verdict": result.verdict,
-        "columns": list(EXPORTED),
-        "units": {c: UNITS[c] for c in EXPORTED},
+        "columns": list(exported(result)),
+        "units": {c: UNITS[c] for c in exported(result)},
         "reasons": {str(code): text for code, text in reasons().items()},
         "singularities": _singularities(result),
     }

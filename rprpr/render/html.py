@@ -10,7 +10,7 @@ from html import escape
 from typing import Any
 
 from ..model.numbers import CELL, number
-from ..report.records import instant_times
+from ..report.records import instant_times, scheme
 from . import phrases
 
 _COLUMNS = ("t [s]", "x [m]", "order", "case σ ψ", "dy/dx", "speed [m/s]", "slope",
@@ -53,7 +53,7 @@ def report_html(rep: dict[str, Any]) -> str:
         f"<b>{'PASS' if rep['verdict'] == 'pass' else 'FAIL'}</b></p>"
     ]
     if rep["singularities"]:
-        rows = [_row(list(_COLUMNS), "th")]
+        rows = [_row([*_COLUMNS[:-1], scheme(rep).noun], "th")]
         rows += [_row(_instant(s, times[s["t"]])) for s in rep["singularities"]]
         parts.append("<table>" + "".join(rows) + "</table>")
     else:

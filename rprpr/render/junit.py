@@ -37,7 +37,7 @@ from typing import Any
 
 from ..model.numbers import fixed, number
 from ..model.rules import RULES
-from ..report.records import instant_times
+from ..report.records import instant_times, scheme
 from ..report.run import BUDGET, INPUT, INTERNAL, Run
 from . import phrases
 from .escape import printable
@@ -68,12 +68,13 @@ def _where(file: str, line: int | None, key: str | None) -> str:
     return f"{loc}: {key}:" if key else f"{loc}:"
 
 
-def _instant_line(s: dict[str, Any], t: str) -> str:
-    """One singular instant of the system-out; ``t`` = its time as text."""
+def _instant_line(s: dict[str, Any], t: str, effort: str = "torque") -> str:
+    """One singular instant of the system-out; ``t`` = its time as text; ``effort``:
+    "torque", or "force" for a prismatic robot."""
     bounded = (
-        "torque bounded"
+        f"{effort} bounded"
         if s["torque_bounded"]
-        else f"torque unbounded (pole of order {s['pole_order']})"
+        else f"{effort} unbounded (pole of order {s['pole_order']})"
     )
     return (
         f"t = {t} s: (x, y) = ({number(s['x'])}, 0), case {s['case']}, order {s['order']}"
@@ -85,7 +86,8 @@ def _instant_line(s: dict[str, Any], t: str) -> str:
 def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
     """Fill the testcase of an audited task; True when it failed."""
     times = instant_times(rep)
-    out = [_instant_line(s, times[s["t"]]) for s in rep["singularities"]]
+    effort = scheme(rep).noun[:-1]  # torque, force
+    out = [_instant_line(s, times[s["t"]], effort) for s in rep["singularities"]]
     for f in rep["findings"]:
         title = RULES[f["rule"]].title
         where = _where(rep["task"], f["line"], f["key"])

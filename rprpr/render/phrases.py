@@ -15,22 +15,24 @@ from __future__ import annotations
 from typing import Any
 
 from ..model.numbers import CELL, number, with_unit
-from ..report.records import instant_times
+from ..report.records import instant_times, scheme
 
 
 def peak(rep: dict[str, Any]) -> str:
     """The torque peak of ``rep`` in words ("" when the torques are undefined: the path
     on y = 0, or E through A or B)."""
     times = instant_times(rep)
+    e = scheme(rep)  # |F1| ... N for a prismatic robot
     poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
     if poles:
-        return f"torques unbounded at t = {', '.join(poles)}"
+        return f"{e.noun} unbounded at t = {', '.join(poles)}"
     values = rep["torque_peak"]
     if values is None:
         return ""
     certified = rep["torque_peak_certified"]
     parts = [
-        f"|T{i + 1}| {'' if certified else '≥ '}{number(v)} N m at t = {number(t, CELL)} s"
+        f"|{e.letter}{i + 1}| {'' if certified else '≥ '}{number(v)} {e.unit}"
+        f" at t = {number(t, CELL)} s"
         for i, (v, t) in enumerate(zip(values, rep["torque_peak_t"], strict=True))
     ]
     return f"peak {', '.join(parts)}{'' if certified else ', not certified'}"

@@ -20,8 +20,9 @@ from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
+from ..model.actuation import REVOLUTE
 from ..model.numbers import CELL, number
-from ..report.records import instant_times
+from ..report.records import instant_times, scheme
 from ..report.run import Run
 from . import phrases
 from .escape import printable
@@ -40,6 +41,16 @@ def _cell(v: float | None) -> str:
 
 def _pf(v: str) -> Text:
     return Text("pass", style="green") if v == "pass" else Text("FAIL", style="bold red")
+
+
+def columns(rep: dict[str, Any]) -> tuple[tuple[str, str], ...]:
+    """``COLUMNS`` with the titles of the task's actuation scheme (prismatic: the
+    moment balance residual and F(t_s) [N])."""
+    e = scheme(rep)
+    if e.name == REVOLUTE:
+        return COLUMNS
+    named = {"eq.(34) [N]": e.column, "T(t_s) [N m]": f"{e.letter}(t_s) [{e.unit}]"}
+    return tuple((named.get(title, title), just) for title, just in COLUMNS)
 
 
 def _cells(s: dict[str, Any], t: str) -> list[Text]:
@@ -72,7 +83,7 @@ def _cells(s: dict[str, Any], t: str) -> list[Text]:
 def singularity_table(rep: dict[str, Any]) -> Table:
     """The singular instants of ``rep`` as one table, a row per instant."""
     table = Table(title=None, show_lines=False, header_style="bold")
-    for col, just in COLUMNS:
+    for col, just in columns(rep):
         table.add_column(Text(col), justify=just, no_wrap=True)  # type: ignore[arg-type]
     times = instant_times(rep)
     for s in rep["singularities"]:
@@ -90,7 +101,7 @@ def stacked(rep: dict[str, Any]) -> Table:
     for i, s in enumerate(rep["singularities"]):
         cells = _cells(s, times[s["t"]])
         grid.add_row(Text(f"instant {i + 1}"), Text.assemble("t = ", cells[0], " s"))
-        for (title, _), cell in zip(COLUMNS[1:], cells[1:], strict=True):
+        for (title, _), cell in zip(columns(rep)[1:], cells[1:], strict=True):
             grid.add_row(Text(f"  {title}"), cell)
     return grid
 
@@ -188,6 +199,9 @@ def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
     """The task's lines in words: the path on y = 0, E through A or B, values beyond the
     double range and the closest approach (the torque peak is in the verdict line)."""
     out = []
+    e = scheme(rep)
+    if e.name != REVOLUTE:
+        out.append(f"actuation: {e.name} (efforts: forces F1, F2 [{e.unit}] in the legs)")
     if rep["on_singular_line"]:
         out.append("the path lies on the singular line y = 0")
     elif not rep["singularities"]:

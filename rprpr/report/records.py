@@ -14,6 +14,7 @@ from ..engine.audit import AuditResult, Saturation
 from ..engine.envelope import Approach, LimitCheck, Peak, Window
 from ..engine.knots import Knot
 from ..engine.singular import SingularInstant
+from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.numbers import labels, number
 from ..model.rules import RULES
@@ -194,6 +195,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
     return {
         "task": task_path,
         "name": task.name,
+        **actuation_fields(task.robot.actuation),
         "verdict": result.verdict,
         "strict": result.strict,
         "singularities": sings,
@@ -210,6 +212,21 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
     }
+
+
+def actuation_fields(actuation: str) -> dict[str, Any]:
+    """``actuation`` and ``effort_unit`` of a prismatic task's report: its efforts (the
+    ``torque_*`` fields, ``torque_limit``, ``torque_jump``) are the legs' forces F1, F2
+    in N. Nothing for the paper's revolute scheme (torques T1, T2 in N m), whose reports
+    stay as they were before the scheme was a choice."""
+    if actuation == REVOLUTE:
+        return {}
+    return {"actuation": actuation, "effort_unit": SCHEMES[actuation].unit}
+
+
+def scheme(rep: dict[str, Any]) -> Scheme:
+    """The actuation scheme of a task report (revolute when it names none)."""
+    return SCHEMES[rep.get("actuation", REVOLUTE)]
 
 
 def _knot_record(k: Knot) -> dict[str, Any]:

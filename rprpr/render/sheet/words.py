@@ -11,6 +11,7 @@ from ..._version import __version__
 from ...engine.audit import AuditResult
 from ...engine.envelope import Approach
 from ...engine.singular import SingularInstant
+from ...model.actuation import REVOLUTE, SCHEMES, Scheme
 from ...model.numbers import distinct, number
 from .motion import Motion
 
@@ -36,18 +37,19 @@ def vanishing(order: int) -> str:
     return f"δ = δ' = … = δ^({order - 1}) = 0"
 
 
-def verdict_text(s: SingularInstant) -> str:
-    """Why a singular instant is marked as it is, in a few words."""
+def verdict_text(s: SingularInstant, e: Scheme = SCHEMES[REVOLUTE]) -> str:
+    """Why a singular instant is marked as it is, in a few words (the efforts of the
+    actuation scheme ``e``: T [N m] or F [N])."""
     why = []
     if not s.slope_principle.passed:
         why.append("slope principle fails")
     if not s.velocity_principle.passed:
         why.append("velocity principle fails")
     if not s.torque_bounded:
-        why.append(f"T unbounded (pole {s.pole_order})")
+        why.append(f"{e.letter} unbounded (pole {s.pole_order})")
     elif s.torque_at_singularity is not None:
         t1, t2 = (number(v, LABEL_DIGITS) for v in s.torque_at_singularity)
-        why.append(f"T → ({t1}, {t2}) N m")
+        why.append(f"{e.letter} → ({t1}, {t2}) {e.unit}")
     return ", ".join(why)
 
 
@@ -105,14 +107,15 @@ def abbreviated(path: str, n: int = 80) -> str:
 def _torque_summary(r: AuditResult) -> list[str]:
     """Where the torques are unbounded, or else their peak (nothing if neither is known)."""
     times = instant_times(r)
+    e = SCHEMES[r.task.robot.actuation]
     unbounded = [times[k] for k, s in enumerate(r.singularities) if not s.torque_bounded]
     if len(unbounded) > 4:
-        return [f"torques unbounded at {len(unbounded)} instants"]
+        return [f"{e.noun} unbounded at {len(unbounded)} instants"]
     if unbounded:
-        return ["torques unbounded at t = " + ", ".join(unbounded) + " s"]
+        return [f"{e.noun} unbounded at t = " + ", ".join(unbounded) + " s"]
     if r.torque_peak is not None:
         t1, t2 = (number(p.value, LABEL_DIGITS) for p in r.torque_peak)
-        return [f"peak |T1|, |T2| = {t1}, {t2} N m"]
+        return [f"peak |{e.letter}1|, |{e.letter}2| = {t1}, {t2} {e.unit}"]
     return []
 
 

@@ -15,6 +15,7 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ....engine.singular import SingularInstant
+from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from ..axes import handles, look
 from ..labels import case_label_x
@@ -251,7 +252,7 @@ def notes(sheet: Sheet) -> list[str]:
     for i, m in enumerate(sheet.motions):
         who = sheet.who(m)
         for key, s, t in sheet.keyed(i):
-            why = verdict_text(s)
+            why = verdict_text(s, SCHEMES[m.task.robot.actuation])
             out.append(
                 f"{key}  {who}t = {t} s, {order_text(s)} — "
                 f"{STATUS_WORD[m.result.status_of(s)].upper()}" + (f": {why}" if why else "")

@@ -24,6 +24,7 @@ from matplotlib.transforms import blended_transform_factory
 
 from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
+from ....model.actuation import REVOLUTE
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import arrow_mark, badge, mark_handle, spread
@@ -41,8 +42,29 @@ LIMIT_DASH: Any = (0, (6, 2, 1.2, 2))
 _UNBOUNDED: dict[str, Any] = {"color": STATUS_COLOUR["fail"], "lw": 1.2, "ls": "--", "zorder": 5}
 
 
+def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
+    """The panel's heading, y label and legend names for the motions' actuation schemes:
+    the motor torques T [N m] (the paper), the legs' forces F [N] (all prismatic), or
+    both named when the sheet overlays the two schemes."""
+    kinds = {m.task.robot.actuation for m in motions}
+    if kinds <= {REVOLUTE}:
+        return "Motor torques T1, T2, eq. (28)", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
+    if REVOLUTE not in kinds:
+        return (
+            "Leg forces F1, F2 (prismatic actuation)",
+            "$F$ [N]",
+            ("$F_1$ (leg A)", "$F_2$ (leg B)"),
+        )
+    return (
+        "Actuator efforts: torques T [N m] (revolute), forces F [N] (prismatic)",
+        "$T$ [N m], $F$ [N]",
+        ("$T_1$, $F_1$ (leg A)", "$T_2$, $F_2$ (leg B)"),
+    )
+
+
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading("Motor torques T1, T2, eq. (28)")
+    heading, ylabel, names = efforts(sheet.motions)
+    sheet.heading(heading)
     (row,) = sheet.rows("torques", (ROW,))
     rng = torque_range(sheet.motions)
     lo, hi = rng if rng is not None else (-1.0, 1.0)
@@ -62,8 +84,8 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
         _instants(sheet, ax, col, lo, hi)
         if rng is None:
             ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
-    row[0].set_ylabel("$T$ [N m]")
-    legend = [*handles(sheet, [("$T_1$ (joint A)", LEG1), ("$T_2$ (joint B)", LEG2)])]
+    row[0].set_ylabel(ylabel)
+    legend = [*handles(sheet, [(names[0], LEG1), (names[1], LEG2)])]
     legend += [*_extra_handles(sheet), *knot_handles(sheet)]
     pole = _first_pole(sheet.motions) if pole_inset else None
     inset = sheet.lane(row[-1], legend, notes(sheet, scale), inset=pole is not None)
