@@ -9,6 +9,10 @@ acceleration, each written as a planner writes a double: up to 17 digits) into a
 temporary folder, then times ``load_task`` in this process: reading the CSV (numbers by
 their decimal text), the checks (times increasing from 0, the same fields on every row)
 and the controller's quintic segments, exact over the rationals. The audit is not timed.
+
+Measured (2 shared cores, median of 3): 5,000 rows 0.44 s (0.99 s before the segment
+formulas were shortened), 1,000 rows 0.09 s; the audit of the 5,000 pieces ~1.0 s, and
+``rprpr check`` of the task end to end ~2.1 s (1,000 rows: ~1.15 s).
 """
 
 from __future__ import annotations

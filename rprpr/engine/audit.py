@@ -39,7 +39,7 @@ from .singular import (
     SingularAnalysis,
     SingularInstant,
 )
-from .trajectory import Trajectory, trajectories
+from .trajectory import Trajectory
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -141,11 +141,11 @@ def audit(
         raise ValueError("at least 2 samples are needed")
     strict = task.checks.strict if strict is None else strict
     tell = on_stage or _quiet
-    parts = [P.part(traj, task.robot, task.checks, tell) for traj in trajectories(task)]
+    parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
     limit = task.checks.torque_limit
     pair = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
-    peak, checked, approach = P.envelopes(parts, pair)
+    peak, checked, approach = P.envelopes(parts, pair, batch)
     analysis = _joined(task, parts)
     saturation = _saturation(analysis, checked) if checked is not None else []
     knots = K.knots(task.motion, task.robot)

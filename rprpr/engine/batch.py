@@ -24,9 +24,11 @@ import math
 from functools import cached_property
 
 import numpy as np
+from flint import fmpq, fmpq_poly
 
-from .balls import Ball, horner, quiet, round_up
-from .certified import CertifiedMotion, per_robot
+from ..model.task import Piece, Robot
+from .balls import ETA, Ball, U, horner, quiet, round_up
+from .certified import CertifiedMotion, _dyadic_middle, per_robot
 from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
@@ -40,13 +42,15 @@ from .envelope import (
     _fan,
     _full,
     _last_float,
-    _Polys,
     _split,
     _Stacked,
     min_abs_y,
 )
+from .trajectory import Trajectory
 
 START_PER_PIECE = 2  # the initial partition: boxes per piece (short pieces, smooth torques)
+LEVELS = 4  # a polynomial and its first three derivatives: what the jets read
+_ZERO = fmpq(0)
 
 
 def plain(motion: CertifiedMotion) -> bool:
@@ -55,33 +59,167 @@ def plain(motion: CertifiedMotion) -> bool:
     return not (a.instants or a.kinematic or a.on_singular_line or motion.kinematic)
 
 
-def _gather(coeffs: list[list[Ball]]) -> tuple[np.ndarray, np.ndarray]:
-    """Ball coefficients of many polynomials (low to high, one list per piece) as two
-    arrays (degree + 1, pieces), padded with exact zeros."""
-    n = max(len(c) for c in coeffs)
-    mid, rad = np.zeros((n, len(coeffs))), np.zeros((n, len(coeffs)))
-    for j, c in enumerate(coeffs):
-        for k, b in enumerate(c):
-            mid[k, j], rad[k, j] = float(b.mid), float(b.rad)
-    return mid, rad
+def _balls(qs: list[fmpq]) -> tuple[np.ndarray, np.ndarray]:
+    """Exact rationals as balls (what ``Ball.of_rational`` makes of each, in one array):
+    the double m nearest each, radius 0 when m is the rational itself (only a dyadic
+    rational can be), else u|m| + η/2 rounded up; unbounded beyond the double range."""
+    mid = np.empty(len(qs))
+    exact = np.zeros(len(qs), dtype=bool)
+    for i, q in enumerate(qs):
+        d = int(q.q)
+        try:
+            m = int(q.p) / d
+        except OverflowError:
+            m = math.inf
+        mid[i] = m
+        if d & (d - 1) == 0 and math.isfinite(m):
+            exact[i] = fmpq(*m.as_integer_ratio()) == q
+    bad = ~np.isfinite(mid)
+    with quiet():
+        rad = np.where(exact, 0.0, round_up(U * np.abs(mid) + ETA))
+    return np.where(bad, np.nan, mid), np.where(bad, np.inf, rad)
+
+
+def _levels(coeffs: list[list[fmpq]]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Ball coefficients, low to high, of the polynomials ``coeffs`` (one list per
+    piece) and of their first LEVELS - 1 derivatives, as (mid, rad) arrays of shape
+    (degree + 1, pieces) padded with exact zeros: the polynomials' own coefficients
+    rounded (``_balls``), each derivative's from the one before times the exact integers
+    k in ball arithmetic (a ball that contains k c_k)."""
+    n = max(max(len(c) for c in coeffs), 1)
+    mid, rad = _balls([c[k] if k < len(c) else _ZERO for k in range(n) for c in coeffs])
+    b = Ball._of(mid.reshape(n, len(coeffs)), rad.reshape(n, len(coeffs)))
+    out = [(b.mid, b.rad)]
+    with quiet():
+        for _ in range(LEVELS - 1):
+            if len(b.mid) > 1:
+                k = np.arange(1, len(b.mid), dtype=float)[:, None]
+                b = Ball._of(b.mid[1:], b.rad[1:]) * k
+            else:
+                b = Ball._of(np.zeros_like(b.mid), np.zeros_like(b.rad))
+            out.append((b.mid, b.rad))
+    return out
+
+
+def local_form(piece: Piece) -> tuple[fmpq_poly, fmpq_poly]:
+    """x and y of ``piece`` as exact polynomials in its local time v = t - start: its
+    ``local`` form when it carries one, else shifted exactly (y = path(x) is not formed
+    for a piece with a path: zero stands in for it)."""
+    if piece.local is not None:
+        return piece.local
+    shift = fmpq_poly([piece.start, 1])
+    x = piece.x(shift) if piece.start != 0 else piece.x
+    if piece.path is not None:
+        return x, fmpq_poly([])
+    return x, piece.y(shift) if piece.start != 0 else piece.y
+
+
+def _ends(duration: fmpq) -> tuple[float, float]:
+    """The largest float <= t_f and the least float >= t_f."""
+    lo = _last_float(duration)
+    hi = lo if fmpq(*lo.as_integer_ratio()) == duration else math.nextafter(lo, math.inf)
+    return lo, hi
 
 
 class Batch:
-    """The direct torque and δ enclosures of many plain pieces (``plain``), one pass for
-    all their boxes; the pieces share one robot and one form (a path, or y(t))."""
+    """The direct torque and δ enclosures of many pieces, one pass for all their boxes;
+    the pieces share one robot and one form (a path, or y(t)). Each piece is taken in its
+    own local time v = t - start (``local_form``: exact, and short when the piece comes
+    in that form, as waypoint segments do); the times the batch reports are local to
+    their piece's start. ``apart`` says which pieces are proven plain before any exact
+    analysis; ``take`` keeps the plain ones."""
 
-    def __init__(self, motions: list[CertifiedMotion], polys: list[_Polys]) -> None:
-        self.motions = motions
-        self.direct = polys[0].direct
-        assert all(p.direct == self.direct for p in polys)
-        self.x = [_gather([p.x[k] for p in polys]) for k in range(4)]
-        self.q = [_gather([p.q[k] for p in polys]) for k in range(4)]
-        cs = [Ball.of_rational(m.t_center if self.direct else m.center) for m in motions]
-        self.center = Ball._of(np.array([float(c.mid) for c in cs]),
-                               np.array([float(c.rad) for c in cs]))  # fmt: skip
-        self.stacked = per_robot(motions[0].robot, _Stacked)
-        self.durations = [m.traj.duration for m in motions]
-        self.t_last = np.array([_last_float(d) for d in self.durations])
+    def __init__(self, pieces: list[Piece], robot: Robot) -> None:
+        self.robot = robot
+        self.starts = [p.start for p in pieces]
+        self.durations = [p.end - p.start for p in pieces]
+        self.path = pieces[0].path
+        self.direct = self.path is None
+        assert all((p.path is None) == self.direct for p in pieces)
+        self.forms = [local_form(p) for p in pieces]
+        self.x = _levels([x.coeffs() for x, _ in self.forms])
+        ends = [_ends(d) for d in self.durations]
+        self.t_last = np.array([e[0] for e in ends])
+        self.t_end = np.array([e[1] for e in ends])
+        if self.path is None:
+            centres = [_dyadic_middle(0.0, t) for t in self.t_last]
+            qs = [y(fmpq_poly([c, 1])) for (_, y), c in zip(self.forms, centres, strict=True)]
+        else:  # y = q(x - c), q the path recentred on the middle of the piece's x range
+            centres = self._x_centres()
+            qs = [self.path(fmpq_poly([c, 1])) for c in centres]
+        self.q = _levels([q.coeffs() for q in qs])
+        self.center = Ball._of(*_balls(centres))
+        self.stacked = per_robot(robot, _Stacked)
+
+    def _x_centres(self) -> list[fmpq]:
+        """A short dyadic number in the middle of each piece's x range, from 17 float
+        values of x (conditioning only: any centre keeps the enclosures rigorous)."""
+        f = np.linspace(0.0, 1.0, 17)[:, None] * self.t_last[None, :]
+        mid = self.x[0][0]
+        with quiet():
+            xs = np.zeros_like(f)
+            for k in range(len(mid) - 1, -1, -1):
+                xs = xs * f + mid[k]
+            xs = np.where(np.isfinite(xs), xs, np.nan)
+            lo, hi = np.nanmin(xs, axis=0), np.nanmax(xs, axis=0)
+        return [_dyadic_middle(float(a), float(b)) if math.isfinite(a) and math.isfinite(b)
+                else fmpq(0) for a, b in zip(lo, hi, strict=True)]  # fmt: skip
+
+    def __len__(self) -> int:
+        return len(self.starts)
+
+    def take(self, ids: list[int]) -> Batch:
+        """The batch of the pieces ``ids`` (indices into this one), in that order."""
+        sel = np.array(ids, dtype=int)
+        b = object.__new__(Batch)
+        b.__dict__.update(self.__dict__)
+        for name in ("_start", "_y_span"):
+            b.__dict__.pop(name, None)
+        b.starts = [self.starts[j] for j in ids]
+        b.durations = [self.durations[j] for j in ids]
+        b.forms = [self.forms[j] for j in ids]
+        b.x = [(m[:, sel], r[:, sel]) for m, r in self.x]
+        b.q = [(m[:, sel], r[:, sel]) for m, r in self.q]
+        b.center = Ball._of(self.center.mid[sel], self.center.rad[sel])
+        b.t_last, b.t_end = self.t_last[sel], self.t_end[sel]
+        if "_y_span" in self.__dict__:
+            low, up = self._y_span
+            b.__dict__["_y_span"] = (low[sel], up[sel])
+        return b
+
+    @cached_property
+    def _y_span(self) -> tuple[np.ndarray, np.ndarray]:
+        """A lower bound of |y| over each whole piece (one box [0, end] each) and an
+        upper bound of |y| at its start."""
+        n = len(self)
+        idx = np.arange(n)
+        with quiet():
+            y = _full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
+            y0 = _full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
+            low, up = y.lower_abs(), y0.upper_abs()
+        return np.where(np.isnan(low), 0.0, low), np.where(np.isnan(up), np.inf, up)
+
+    def apart(self) -> np.ndarray:
+        """Which pieces are proven never to meet y = 0 (|y| > 0 over the whole piece, in
+        ball arithmetic): such a piece has no singular instant and E is never at A or B
+        on it, so its exact singular analysis is the empty one."""
+        return self._y_span[0] > 0
+
+    def _min_abs_y(self) -> tuple[int, tuple[float, float]]:
+        """min |y| over all the pieces, exactly (``envelope.min_abs_y``), and the piece
+        where it is reached (with the local time): only a piece whose certified lower
+        bound of |y| does not exceed the least certified |y(start)| can hold it."""
+        low, at_start = self._y_span
+        bound = float(at_start.min())
+        got = []
+        for j in (int(k) for k in np.nonzero(low <= bound)[0]):
+            x, y = self.forms[j]
+            if self.path is not None:
+                y = self.path(x)
+            d = self.durations[j]
+            got.append((min_abs_y(Trajectory(x, y, self.path, self.robot.a1, d), d), j))
+        best, jy = min(got, key=lambda g: g[0][0])
+        return jy, best
 
     # -- one pass ---------------------------------------------------------------------------
     def jets(self, box: Ball, idx: np.ndarray) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
@@ -152,7 +290,7 @@ class Batch:
         """max |T1| and max |T2| over all the pieces, each with the index of the piece
         where its value is reached (``t``: local time of that piece)."""
         lo, hi, idx = self._start
-        cap = MAX_LIVE * len(self.motions)
+        cap = MAX_LIVE * len(self)
         best, best_t = np.zeros(2), np.zeros(2)
         best_j = np.zeros(2, dtype=int)
         dropped = np.zeros(2)
@@ -189,10 +327,9 @@ class Batch:
     def closest_approach(self, rel: float = PEAK_REL) -> tuple[Approach, int, int]:
         """``Envelope.closest_approach`` over all the pieces: the Approach (``t_y`` local
         to the piece of the first index, ``t_delta`` to that of the second)."""
-        ys = [min_abs_y(m.traj, d) for m, d in zip(self.motions, self.durations, strict=True)]
-        jy = min(range(len(ys)), key=lambda j: ys[j][0])
+        jy, ys = self._min_abs_y()
         lo, hi, idx = self._start
-        cap = MAX_LIVE * len(self.motions)
+        cap = MAX_LIVE * len(self)
         best, best_t, best_j = math.inf, 0.0, 0
         floor = math.inf
         low = np.zeros(0)
@@ -213,7 +350,7 @@ class Batch:
             lo, hi = _split(lo[keep], hi[keep], k)
             idx = np.repeat(idx[keep], k)
         delta_lo = min(floor, best, float(low.min(initial=best)))
-        a = Approach(ys[jy][0], ys[jy][1], delta_lo, best, best_t)
+        a = Approach(ys[0], ys[1], delta_lo, best, best_t)
         return a, jy, best_j
 
     def _delta_bounds(

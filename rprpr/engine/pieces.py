@@ -12,14 +12,15 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from fractions import Fraction
+from functools import cached_property
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
-from ..model.task import Checks, Robot
+from ..model.task import Checks, Piece, Robot, Task
 from .batch import Batch, plain
 from .certified import FIELDS, CertifiedMotion
 from .envelope import CROSSING_REL, Approach, Envelope, LimitCheck, Peak, Window
@@ -32,33 +33,74 @@ from .singular import (
     SingularInstant,
     analyse,
 )
-from .trajectory import Trajectory
+from .trajectory import Trajectory, origin_of, piece_trajectory
 
 
-@dataclass
 class Part:
-    """One piece [start, end] (absolute, exact) audited in its local time."""
+    """One piece [start, end] (absolute, exact) audited in its local time. Its exact
+    trajectory, certified motion and envelope are made when first read: a plain piece of
+    a batch (``batch``) needs none of them unless it is sampled."""
 
-    traj: Trajectory
-    analysis: SingularAnalysis  # local times, instants before the piece's start dropped
-    motion: CertifiedMotion
-    envelope: Envelope
-    start: fmpq
-    end: fmpq
-    theta_offset: tuple[float, float] = field(default=(0.0, 0.0))  # 2πk per leg
-    offsets_known: bool = False  # (on the first part) ``theta_offsets`` made
+    def __init__(
+        self, piece: Piece, robot: Robot, analysis: SingularAnalysis, apart: bool = False
+    ) -> None:
+        self.piece = piece
+        self.robot = robot
+        self.analysis = analysis  # local times, instants before the piece's start dropped
+        self.apart = apart  # proven never to meet y = 0 (``Batch.apart``)
+        self.start: fmpq = piece.start
+        self.end: fmpq = piece.end
+        self.origin: fmpq = origin_of(piece.start, piece.end)
+        self.theta_offset: tuple[float, float] = (0.0, 0.0)  # 2πk per leg
+        self.offsets_known = False  # (on the first part) ``theta_offsets`` made
+
+    @cached_property
+    def traj(self) -> Trajectory:
+        return piece_trajectory(self.piece, self.robot.a1)
+
+    @cached_property
+    def motion(self) -> CertifiedMotion:
+        return CertifiedMotion(self.traj, self.robot, self.analysis)
+
+    @cached_property
+    def envelope(self) -> Envelope:
+        return Envelope(self.motion)
 
     @property
-    def origin(self) -> fmpq:
-        return self.traj.origin
+    def duration(self) -> fmpq:
+        """The local span's length (``trajectory``: end - origin)."""
+        return self.end - self.origin
+
+    @property
+    def plain(self) -> bool:
+        """Whether the batch can enclose the piece (``batch.plain``)."""
+        return self.apart or plain(self.motion)
 
 
-def part(traj: Trajectory, robot: Robot, checks: Checks, tell: OnStage) -> Part:
-    """The exact analysis, the certified motion and the envelope of one piece."""
-    analysis = _trimmed(analyse(traj, robot, checks, tell), traj.lead)
-    motion = CertifiedMotion(traj, robot, analysis)
-    start = traj.origin + traj.lead
-    return Part(traj, analysis, motion, Envelope(motion), start, traj.origin + traj.duration)
+def part(piece: Piece, robot: Robot, checks: Checks, tell: OnStage) -> Part:
+    """One piece with its exact singular analysis (in its local time, trimmed)."""
+    traj = piece_trajectory(piece, robot.a1)
+    p = Part(piece, robot, _trimmed(analyse(traj, robot, checks, tell), traj.lead))
+    p.__dict__["traj"] = traj  # made already: the cached property, set
+    return p
+
+
+def parts(task: Task, tell: OnStage) -> tuple[list[Part], Batch | None]:
+    """The parts of ``task``'s motion, and the batch of all its pieces when there are
+    several of one form: a piece the batch proves apart from y = 0 gets the empty
+    analysis (exact: y has no root on it) without the exact root finding."""
+    motion = list(task.motion)
+    batch = None
+    if len(motion) > 1 and len({p.path is None for p in motion}) == 1:
+        batch = Batch(motion, task.robot)
+    apart = batch.apart() if batch is not None else np.zeros(len(motion), dtype=bool)
+    out = []
+    for piece, free in zip(motion, apart, strict=True):
+        if free:
+            out.append(Part(piece, task.robot, SingularAnalysis([], [], False, (), ()), True))
+        else:
+            out.append(part(piece, task.robot, task.checks, tell))
+    return out, batch
 
 
 def _root_ball(a: SingularAnalysis, s: SingularInstant, prec: int) -> arb:
@@ -184,36 +226,31 @@ def at_knot(before: SingularInstant | None, after: SingularInstant | None) -> Si
 # -- the envelopes put together ---------------------------------------------------------
 
 
-def batches(parts: list[Part]) -> list[tuple[Batch, list[int]]]:
-    """The plain pieces (``batch.plain``) of a motion of several, in one ``Batch`` per
-    form (a path, or y(t)); the others keep an envelope each."""
-    if len(parts) < 2:
+def batches(parts: list[Part], batch: Batch | None) -> list[tuple[Batch, list[int]]]:
+    """The plain pieces (``Part.plain``) of a motion of several, as one ``Batch`` (taken
+    from ``batch``, that of all the pieces); the others keep an envelope each."""
+    if len(parts) < 2 or batch is None:
         return []
-    groups: dict[bool, list[int]] = {}
-    for j, p in enumerate(parts):
-        if plain(p.motion):
-            groups.setdefault(p.traj.path is None, []).append(j)
-    return [
-        (Batch([parts[j].motion for j in ids], [parts[j].envelope.polys for j in ids]), ids)
-        for ids in groups.values()
-        if len(ids) > 1
-    ]
+    ids = [j for j, p in enumerate(parts) if p.plain]
+    return [(batch.take(ids), ids)] if len(ids) > 1 else []
 
 
 Verdicts = tuple[tuple[Peak, Peak] | None, tuple[LimitCheck, LimitCheck] | None, Approach | None]
 
 
-def envelopes(parts: list[Part], limit: tuple[float, float] | None) -> Verdicts:
+def envelopes(
+    parts: list[Part], limit: tuple[float, float] | None, batch: Batch | None = None
+) -> Verdicts:
     """The torque peak, the limit check (``limit`` given) and the closest approach of the
-    whole motion: the plain pieces enclosed together (``batch``), each other piece by its
-    own envelope."""
-    groups = batches(parts)
+    whole motion: the plain pieces enclosed together (``batch``, of all the pieces),
+    each other piece by its own envelope."""
+    groups = batches(parts, batch)
     grouped = {j for _, ids in groups for j in ids}
     alone = [j for j in range(len(parts)) if j not in grouped]
     got = {j: parts[j].envelope.torque_peak() for j in alone}
     together = [(b, ids, b.torque_peak()) for b, ids in groups]
-    extra = [tuple((parts[ids[j]], pk) for pk, j in both) for _, ids, both in together]
-    peak = peaks([parts[j] for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+    extra = [tuple((parts[ids[j]].start, pk) for pk, j in both) for _, ids, both in together]
+    peak = peaks([parts[j].origin for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
     checked = None
     if limit is not None:
         checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
@@ -222,41 +259,44 @@ def envelopes(parts: list[Part], limit: tuple[float, float] | None) -> Verdicts:
                 pk.certified and pk.upper <= lim for (pk, _), lim in zip(both, limit, strict=True)
             ):
                 for j in ids:  # the peak of all of them decides the limit at once
-                    res = CROSSING_REL * to_float(parts[j].traj.duration)
+                    res = CROSSING_REL * to_float(parts[j].duration)
                     checks[j] = tuple(LimitCheck(lim, True, (), res) for lim in limit)  # type: ignore[assignment]
         for j, p in enumerate(parts):
             if j not in checks:
                 checks[j] = p.envelope.limit_violations(limit)
         checked = limits(parts, [checks[j] for j in range(len(parts))])
     near = {j: parts[j].envelope.closest_approach() for j in alone}
-    pairs: list[tuple[Part, Part, Approach | None]] = [(parts[j], parts[j], near[j]) for j in alone]
+    pairs: list[tuple[fmpq, fmpq, Approach | None]] = [
+        (parts[j].origin, parts[j].origin, near[j]) for j in alone
+    ]
     for b, ids in groups if all(a is not None for a in near.values()) else ():
         a, jy, jd = b.closest_approach()
-        pairs.append((parts[ids[jy]], parts[ids[jd]], a))
+        pairs.append((parts[ids[jy]].start, parts[ids[jd]].start, a))
     return peak, checked, approach(pairs)
 
 
 def peaks(
-    parts: list[Part],
+    origins: list[fmpq],
     got: list[tuple[Peak, Peak] | None],
-    extra: list[tuple[tuple[Part, Peak], tuple[Part, Peak]]] = (),  # type: ignore[assignment]
+    extra: list[tuple[tuple[fmpq, Peak], tuple[fmpq, Peak]]] = (),  # type: ignore[assignment]
 ) -> tuple[Peak, Peak] | None:
-    """max |T1|, max |T2| over all pieces (None where undefined on one; the first pole);
-    ``extra``: the peaks of batches, each torque's with the piece where it is reached."""
+    """max |T1|, max |T2| over all pieces (None where undefined on one; the first pole),
+    each piece's times local to its ``origins``; ``extra``: the peaks of batches, each
+    torque's with the origin of the times of the piece where it is reached."""
     if any(g is None for g in got):
         return None
-    each = [[(p, g[i]) for p, g in zip(parts, got, strict=True) if g is not None]
+    each = [[(o, g[i]) for o, g in zip(origins, got, strict=True) if g is not None]
             + [e[i] for e in extra] for i in (0, 1)]  # fmt: skip
-    poles = [shift(p.origin, g.t) for p, g in each[0] if math.isinf(g.value)]
+    poles = [shift(o, g.t) for o, g in each[0] if math.isinf(g.value)]
     if poles:
         t = min(poles)
         return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
     out = []
     for i in (0, 1):
-        p, g = max(each[i], key=lambda pg: pg[1].value)
+        o, g = max(each[i], key=lambda pg: pg[1].value)
         out.append(
             Peak(
-                g.value, shift(p.origin, g.t), max(h.upper for _, h in each[i]),
+                g.value, shift(o, g.t), max(h.upper for _, h in each[i]),
                 all(h.certified for _, h in each[i]),
             )
         )  # fmt: skip
@@ -290,17 +330,17 @@ def limits(
     return out[0], out[1]
 
 
-def approach(pairs: list[tuple[Part, Part, Approach | None]]) -> Approach | None:
+def approach(pairs: list[tuple[fmpq, fmpq, Approach | None]]) -> Approach | None:
     """The closest approach over all pieces (None when one of them meets the line); each
-    approach with the pieces of its ``t_y`` and its ``t_delta``."""
+    approach with the origins of the times of its ``t_y`` and its ``t_delta``."""
     if any(a is None for _, _, a in pairs):
         return None
     got = [(py, pd, a) for py, pd, a in pairs if a is not None]
     py, _, ay = min(got, key=lambda g: g[2].distance)
     _, pd, ad = min(got, key=lambda g: g[2].delta_hi)
     low = min(a.delta_lo for _, _, a in got)
-    return Approach(ay.distance, shift(py.origin, ay.t_y), low, ad.delta_hi,
-                    shift(pd.origin, ad.t_delta))  # fmt: skip
+    return Approach(ay.distance, shift(py, ay.t_y), low, ad.delta_hi,
+                    shift(pd, ad.t_delta))  # fmt: skip
 
 
 # -- samples ----------------------------------------------------------------------------

@@ -28,7 +28,8 @@ from ..model.motion import position_jump
 from ..model.numbers import rational as _q
 from ..model.task import Checks, Link, Piece, Robot, Task
 from ..model.timing import timing_law, trapezoidal
-from ..model.waypoints import Waypoint, interpolate
+from ..model.waypoints import Waypoint
+from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
@@ -401,7 +402,7 @@ def _motion_pieces(items: list[dict[str, Any]]) -> list[Piece]:
 def _waypoint_pieces(points: list[Waypoint], file: str) -> list[Piece]:
     """The joint_trajectory_controller's pieces through the waypoints; ``file`` is the
     CSV file they were read from ('' when inline: their lines are the task file's)."""
-    return [Piece(s, e, x, y, None, ln, file) for s, e, x, y, ln in interpolate(points)]
+    return waypoint_pieces(points, file)
 
 
 # -- cross-field rules: what no single key's Spec can say --------------------------------

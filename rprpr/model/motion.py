@@ -20,7 +20,8 @@ from typing import Any
 from flint import fmpq, fmpq_poly
 
 from .task import Piece, Task
-from .waypoints import Waypoint, interpolate
+from .waypoints import Waypoint
+from .waypoints import pieces as waypoint_pieces
 
 
 def exact(value: Any) -> fmpq:
@@ -163,7 +164,7 @@ class Motion:
         """The motion through waypoints (times ``t`` from 0, positions ``p[i] = (x, y)``,
         optionally velocities ``v`` and accelerations ``a`` alike), interpolated as
         ros2_controllers' joint_trajectory_controller does: linear, cubic or quintic
-        Hermite segments (``waypoints.interpolate``)."""
+        Hermite segments (``waypoints.pieces``)."""
 
         def pair(q: Sequence[Any]) -> tuple[fmpq, fmpq]:
             return exact(q[0]), exact(q[1])
@@ -188,7 +189,7 @@ class Motion:
         for i, (w0, w1) in enumerate(itertools.pairwise(points)):
             if not w0.t < w1.t:
                 raise ValueError(f"waypoint {i + 1}: t = {w1.t} does not follow t = {w0.t}")
-        pieces = tuple(Piece(s, e, x, y, None, ln) for s, e, x, y, ln in interpolate(points))
+        pieces = tuple(waypoint_pieces(points))
         return cls(pieces)
 
 

@@ -68,7 +68,10 @@ class Piece:
     None when the task gives the end point's motion directly (``motion.pieces``,
     ``motion.waypoints``). ``line`` is the 1-based line in the task file (or the row of a
     waypoint CSV, then ``file`` names it) where the piece ends, 0 when unknown; findings
-    at the knot ``end`` point there.
+    at the knot ``end`` point there. ``local``, when given, is (x, y) again as
+    polynomials in the local time t - ``start`` (the same motion, exactly: what a planner's
+    segment is written in, with shorter coefficients), which the engine uses where it works
+    in local time; it takes no part in comparisons.
     """
 
     start: fmpq
@@ -78,6 +81,7 @@ class Piece:
     path: fmpq_poly | None = None
     line: int = 0
     file: str = ""
+    local: tuple[fmpq_poly, fmpq_poly] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
