@@ -331,3 +331,42 @@ def test_the_checks_margins_are_reached_not_only_zeros() -> None:
     _round_trip(r.task)
     with pytest.raises(NoRepair, match=r"slope dy/dx = 1/5, not above checks.min_slope = 1/2"):
         repair(old, keep="path")
+
+
+def test_a_prismatic_crossing_is_repaired_by_the_schemes_own_condition() -> None:
+    """Linear actuators: the legs' moment balance at y = 0 is linear in ÿ(t_s), not ẍ
+    (``test_prismatic``'s hand derivation gives the ÿ* that satisfies it). The shipped
+    prismatic crossing with ÿ(t_s) one m/s² off ÿ* fails; with the path kept, ÿ = p' ẍ +
+    p'' ẋ² and p' = 3, so the timing bump sets ẍ(t_s) = -1/3; with the timing kept, the
+    path bump (t - t_s)² W restores ÿ(t_s) = ÿ* itself. Both pass strict, residual 0."""
+    from .test_prismatic import _crossing, _prismatic_ydd
+
+    want = _prismatic_ydd(Fraction(4), Fraction(1), Fraction(3))
+    assert want == Fraction(-37323, 2450)  # the config's value
+    old = _crossing(want + 1, "prismatic")
+    assert not audit(old, strict=True).passed
+    for keep, path_kept in (("path", True), ("timing", False)):
+        r = repair(old, keep=keep)
+        (c,) = r.changes
+        assert c.yddot is not None and Fraction(str(c.yddot[1])) == want
+        assert Fraction(str(c.yddot[0])) == want + 1
+        if path_kept:
+            assert c.acceleration == (0, fmpq(-1, 3)) and r.path_deviation is None
+        else:
+            assert c.acceleration == (0, 0) and r.timing_change is None
+        (s,) = r.after.singularities
+        assert s.consistent and s.consistency_residual == 0 and s.torque_bounded
+        assert r.task.robot.actuation == "prismatic"
+        _ends_kept(old, r.task)
+        _round_trip(r.task)
+
+
+def test_path_2_on_linear_actuators_is_refused_with_the_reason() -> None:
+    """Path 2 crosses slowly upward (ẏ = 0.15 m/s) where the moment balance needs
+    ÿ(t_s) = -14.9 m/s² (gravity on the horizontal legs): every local change that gives
+    it makes E fall back across AB within tens of ms (new, inconsistent crossings) or
+    drives forces far past the limit, so no candidate passes and nothing is claimed."""
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
+    old = parse_task(text.replace("robot:\n", "robot:\n  actuation: prismatic\n", 1))
+    with pytest.raises(NoRepair, match="no candidate passes the strict check"):
+        repair(old, window=fmpq(1, 2))  # one window (each is refused alike): a fast test

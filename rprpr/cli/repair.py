@@ -112,6 +112,7 @@ def summary(r: Repair) -> list[str]:
             f"t = {c.t} s, x = {c.x} m: {', '.join(c.actions)} within ±{c.window} s;"
             f" ẋ {_f(c.speed[0])} -> {_f(c.speed[1])} m/s, ẍ {_f(c.acceleration[0])} ->"
             f" {_f(c.acceleration[1])} m/s², ẏ {_f(c.ydot[0])} -> {_f(c.ydot[1])} m/s"
+            + (f", ÿ {_f(c.yddot[0])} -> {_f(c.yddot[1])} m/s²" if c.yddot is not None else "")
         )
     for s in r.after.singularities:
         lines.append(

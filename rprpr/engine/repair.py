@@ -52,12 +52,15 @@ from dataclasses import dataclass, field, replace
 
 from flint import fmpq, fmpq_poly, fmpz
 
+from ..model.actuation import PRISMATIC
 from ..model.task import Piece, Robot, Task
+from . import equations as dyn
 from .audit import AuditResult, audit
 from .roots import isolate, max_abs
 from .singular import SingularInstant
 
 KEEPS = ("path", "timing")
+FRACTIONS = tuple(fmpq(1, 2**k) for k in range(8))  # of the largest window, tried in turn
 
 
 class NoRepair(Exception):
@@ -76,6 +79,7 @@ class Change:
     speed: tuple[fmpq, fmpq]  # ẋ(t_s) before, after
     acceleration: tuple[fmpq, fmpq]  # ẍ(t_s) before, after
     ydot: tuple[fmpq, fmpq]  # ẏ(t_s) before, after
+    yddot: tuple[fmpq, fmpq] | None = None  # ÿ(t_s) before, after (the prismatic scheme)
 
 
 @dataclass(frozen=True)
@@ -138,6 +142,7 @@ class _Plan:
     b: fmpq
     h: fmpq
     change: Change
+    ay: fmpq = field(default_factory=fmpq)  # Δy += ay (t - t_s)² W: ÿ(t_s) changed by 2 ay
 
 
 def repair(
@@ -173,10 +178,14 @@ def repair(
         raise NoRepair("the path lies on the singular line y = 0: no local change helps")
     target = slope if slope is not None else max(fmpq(1, 5), 2 * task.checks.min_slope)
     last = "no candidate window"
-    for fraction in (fmpq(1), fmpq(1, 2), fmpq(1, 4), fmpq(1, 8)):
+    # the candidates: each window (the largest that fits, then halves) and, where the
+    # prismatic scheme can set ÿ(t_s) by the timing or by the path, the timing first
+    routes = (True, False) if task.robot.actuation == PRISMATIC and keep is None else (True,)
+    for fraction, timing in itertools.product(FRACTIONS, routes):
         try:
             plans = [
-                _plan(task, before, s, keep, window, fraction, target, clearance) for s in failing
+                _plan(task, before, s, keep, window, fraction, target, clearance, timing)
+                for s in failing
             ]
         except _Skip as why:
             last = str(why)
@@ -217,7 +226,7 @@ def _smooth_knots(
         )
     knots = [i for i, p in enumerate(task.motion[:-1]) if float(p.end) in set(jumps)]
     last = ""
-    for fraction in (fmpq(1), fmpq(1, 2), fmpq(1, 4), fmpq(1, 8)):
+    for fraction in FRACTIONS:
         widths = [_blend_width(task, before, i, window, fraction) for i in knots]
         new = _blended(task, dict(zip(knots, widths, strict=True)))
         if new is None:
@@ -350,6 +359,7 @@ def _plan(
     fraction: fmpq,
     target: fmpq,
     clearance: fmpq | None,
+    timing: bool = True,
 ) -> _Plan:
     t = s.t_rational
     if t is None:
@@ -402,6 +412,10 @@ def _plan(
         ydot = sign * target * abs(v)
         b = ydot - base
         actions.append("slope")
+    if task.robot.actuation == PRISMATIC:
+        route = "path" if keep == "path" or timing else None  # None: by the path bump
+        return _prismatic_plan(task, piece, t, w, b, v0, v, acc0, ydot0, ydot, actions, keep,
+                               xs, route)  # fmt: skip
     c = consistent_acceleration(task.robot, x_s, ydot)
     if c is None:
         if _k(task.robot, x_s) != 0:
@@ -415,6 +429,60 @@ def _plan(
         actions.append("consistency")
     change = Change(t, x_s, w, tuple(actions), (v0, v), (acc0, c), (ydot0, ydot))
     return _Plan(t, w, v - v0, (c - acc0) / 2, b, fmpq(0), change)
+
+
+def consistent_ydd(robot: Robot, x: fmpq, xdot: fmpq, ydot: fmpq) -> fmpq | None:
+    """ÿ(t_s) for which the prismatic scheme's consistency holds at (x, 0) with velocity
+    (ẋ, ẏ): μ1(t_s) = -(c2 U1/s1 + c1 U2/s2) = 0 (μ2 vanishes by itself), where
+    U_i = M θ_i'' + N_i and θ_i'' = c_i ÿ/s_i - 2 s_i' θ_i'/s_i at y = 0 — affine in ÿ (and
+    free of ẍ), so two exact evaluations of ``equations.dynamics`` give its root; None
+    when ÿ does not enter (massless, inertia-free legs)."""
+    params = dyn.Params.of(robot)
+
+    def mu1(ydd: fmpq) -> fmpq:
+        def exact_hypot(u: fmpq, v: fmpq) -> fmpq:
+            return abs(u)  # v = y = 0 at a Type II instant
+
+        legs = [dyn.leg(u, xdot, fmpq(0), fmpq(0), ydot, ydd, exact_hypot)
+                for u in (x, x - robot.a1)]  # fmt: skip
+        return fmpq(dyn.dynamics(legs[0], legs[1], params).mu1)
+
+    r0, r1 = mu1(fmpq(0)), mu1(fmpq(1))
+    return None if r0 == r1 else -r0 / (r1 - r0)
+
+
+def _prismatic_plan(task: Task, piece: Piece, t: fmpq, w: fmpq, b: fmpq, v0: fmpq, v: fmpq,
+                    acc0: fmpq, ydot0: fmpq, ydot: fmpq, actions: list[str],
+                    keep: str | None, xs: str, route: str | None) -> _Plan:  # fmt: skip
+    """The plan at a prismatic crossing: the scheme's consistency fixes ÿ(t_s)
+    (``consistent_ydd``). With the path given and its slope nonzero, ÿ = p'' ẋ² + p' ẍ, so
+    a timing bump sets ẍ (path kept; ``route`` "path"); otherwise a path bump
+    Δy = ay (t - t_s)² W adds 2 ay to ÿ (timing kept)."""
+    x_s = piece.x(t)
+    want = consistent_ydd(task.robot, x_s, v, ydot)
+    path = task.path if task.path is not None and piece.path is not None else None
+    if path is not None:
+        p1, p2 = path.derivative()(x_s), path.derivative().derivative()(x_s)
+        now = p2 * v * v + p1 * acc0
+    else:
+        p1, p2 = fmpq(0), fmpq(0)
+        now = piece.y.derivative().derivative()(t)
+    c, ay = acc0, fmpq(0)
+    if want is not None and want != now:
+        if path is not None and p1 != 0 and keep != "timing" and route == "path":
+            c = (want - p2 * v * v) / p1
+        elif keep != "path":
+            ay = (want - now) / 2
+        else:
+            raise NoRepair(
+                f"the prismatic consistency at {xs} needs ÿ(t_s) = {want} (now {now}); with"
+                " the path kept only ẍ can change, which moves ÿ only along a sloped path"
+                " given as y(x); allow a path change (drop --keep path)"
+            )
+        actions.append("consistency")
+    change = Change(t, x_s, w, tuple(actions), (v0, v), (acc0, c), (ydot0, ydot),
+                    (now, want if want is not None else now))  # fmt: skip
+    return _Plan(t, w, v - v0, (c - acc0) / 2, b, fmpq(0), change, ay)
 
 
 def _speed_for(task: Task, x: fmpq_poly, t: fmpq, w: fmpq, v0: fmpq, ydot0: fmpq,
@@ -507,7 +575,7 @@ def _apply(task: Task, plans: list[_Plan]) -> Task | None:
     """The task with every plan's bumps; None when a timing change makes x non-monotone."""
     pieces = list(task.motion)
     path = task.path
-    path_changed = any(p.b != 0 or p.h != 0 for p in plans)
+    path_changed = any(p.b != 0 or p.h != 0 or p.ay != 0 for p in plans)
     out: list[Piece] = []
     for piece in pieces:
         cuts = sorted(
@@ -520,7 +588,7 @@ def _apply(task: Task, plans: list[_Plan]) -> Task | None:
                 if p.t - p.w <= lo and hi <= p.t + p.w:
                     tau, W = fmpq_poly([-p.t, 1]), bump(p.t, p.w)
                     x = x + tau * (p.b1 + p.a * tau) * W
-                    dy = dy + (p.b * tau + p.h) * W
+                    dy = dy + (p.b * tau + p.h + p.ay * tau * tau) * W
                     if x != piece.x and not _monotone(x, lo, hi):
                         return None
             y = (path(x) if path is not None else piece.y) + dy
@@ -571,7 +639,7 @@ def _account(task: Task, new: Task, before: AuditResult, after: AuditResult,
     dxm: tuple[float, float] | None = None
     dym: tuple[float, float] | None = None
     if path_changed is None:
-        path_changed = any(p.b != 0 or p.h != 0 for p in plans)
+        path_changed = any(p.b != 0 or p.h != 0 or p.ay != 0 for p in plans)
     for q, o, lo, hi in _overlaps(new.motion, task.motion):
         m, t = max_abs(q.x - o.x, lo, hi)
         if m > 0 and (dxm is None or m > dxm[0]):

@@ -13,6 +13,7 @@ from typing import Any
 import yaml
 from flint import fmpq, fmpq_poly
 
+from ..model.actuation import REVOLUTE
 from ..model.task import Task
 
 
@@ -53,6 +54,8 @@ def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
             },
         },
     }
+    if r.actuation != REVOLUTE:  # the default is not written (as the user's file had it)
+        out["robot"] = {"actuation": r.actuation, **out["robot"]}
     pieces = task.motion
     if task.path is not None:
         x0, xf = pieces[0].x(fmpq(0)), pieces[-1].x(task.duration)
