@@ -197,3 +197,26 @@ def test_example_2_as_a_trapezoidal_law() -> None:
         for got, want in zip(k.torque_jump, jumps, strict=True):
             assert math.isclose(got, want, rel_tol=1e-9, abs_tol=1e-9)
     assert r.verdict == "pass"
+
+
+def test_a_crossing_at_a_c0_knot_with_finite_but_different_sides_says_so() -> None:
+    """Linear waypoints (2, -1) at 0, (3, 0) at 2, (4, 1.5) at 5: the crossing at the knot
+    t = 2 has a different velocity on each side, each side's torques are bounded (a first
+    order crossing, consistent: ẍ = 0 and the legs alike at the midpoint) but their
+    limits differ, so the combined limit is null, and the table says the sides differ
+    rather than calling bounded torques unbounded."""
+    from rprpr.render.text import _cells
+    from rprpr.report.records import task_report
+
+    pts = [Waypoint(fmpq(0), (fmpq(2), fmpq(-1))), Waypoint(fmpq(2), (fmpq(3), fmpq(0))),
+           Waypoint(fmpq(5), (fmpq(4), fmpq(3, 2)))]  # fmt: skip
+    r = audit(task([Piece(a, b, x, y) for a, b, x, y, _ in interpolate(pts)]))
+    (s,) = task_report(r, "t.yaml")["singularities"]
+    assert s["knot"] and s["torque_bounded"] and s["torque_at_singularity"] is None
+    before, after = (
+        s["sides"]["before"]["torque_at_singularity"],
+        s["sides"]["after"]["torque_at_singularity"],
+    )
+    assert before is not None and after is not None and before != after
+    assert s["sides"]["before"]["slope"] == 1.0 and s["sides"]["after"]["slope"] == 1.5
+    assert [c.plain for c in _cells(s, "2")][-1] == "sides differ"

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import click
 from flint import fmpq
 
+from ..model.actuation import SCHEMES
 from ..report.exit import ExitCode
 from .options import output_file_option
 from .output import refuse_overwriting_inputs, say, write_atomic
@@ -106,6 +107,7 @@ def repair(
 
 def summary(r: Repair) -> list[str]:
     """The account of the change, one line each."""
+    e = SCHEMES[r.task.robot.actuation]  # the efforts' words: T [N m] or F [N]
     lines = list(r.notes)  # the knots blended, first
     for c in r.changes:
         lines.append(
@@ -117,7 +119,7 @@ def summary(r: Repair) -> list[str]:
     for s in r.after.singularities:
         lines.append(
             f"  now at t = {s.t:.6g} s: order {s.order}, slope {s.slope:.6g}, speed"
-            f" {s.speed:.6g} m/s, eq. (34) residual {s.consistency_residual:.6g} N"
+            f" {s.speed:.6g} m/s, {e.condition} residual {s.consistency_residual:.6g} N"
         )
     if r.path_deviation is not None:
         d, x = r.path_deviation
@@ -133,7 +135,8 @@ def summary(r: Repair) -> list[str]:
         peak = a.torque_peak
         if peak is not None:
             lines.append(
-                f"torque peak {name}: |T1| {peak[0].value:.6g} N m, |T2| {peak[1].value:.6g} N m"
+                f"{e.noun[:-1]} peak {name}: |{e.letter}1| {peak[0].value:.6g} {e.unit},"
+                f" |{e.letter}2| {peak[1].value:.6g} {e.unit}"
             )
     return lines
 

@@ -526,7 +526,13 @@ def _slope_for(robot: Robot, x_s: fmpq, acc: fmpq, ydot: fmpq, b: fmpq, xs: str)
     if k == 0:
         raise NoRepair(f"with the timing kept, eq. (34) at {xs} needs ẍ(t_s) = 0, not {acc}")
     q = -m * acc / k
-    root = _rational_sqrt(q) if q > 0 else None
+    if q <= 0:
+        raise NoRepair(
+            f"with the timing kept (ẍ(t_s) = {acc}), eq. (34) at {xs} needs ẏ(t_s)² = {q}:"
+            " no nonzero speed across AB satisfies it; allow a timing change (drop --keep"
+            " timing)"
+        )
+    root = _rational_sqrt(q)
     if root is None:
         raise NoRepair(
             f"with the timing kept (ẍ(t_s) = {acc}), eq. (34) at {xs} needs ẏ(t_s)² = {q},"

@@ -60,6 +60,8 @@ def _cells(s: dict[str, Any], t: str) -> list[Text]:
     torque = (
         ", ".join(_cell(v) for v in s["torque_at_singularity"])
         if s["torque_at_singularity"]
+        else "sides differ"  # a knot whose two one-sided limits are finite but differ
+        if s["torque_bounded"]
         else "unbounded"
     )
     return [

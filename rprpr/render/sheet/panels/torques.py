@@ -24,7 +24,7 @@ from matplotlib.transforms import blended_transform_factory
 
 from ....engine.envelope import Window
 from ....engine.singular import SingularInstant
-from ....model.actuation import REVOLUTE
+from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import arrow_mark, badge, mark_handle, spread
@@ -214,22 +214,24 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
     out = []
     for i, m in enumerate(sheet.motions):
         who = sheet.who(m)
+        e = SCHEMES[m.task.robot.actuation]  # T [N m] or F [N]
+        T, u = e.letter, e.unit
         for key, s, t in sheet.keyed(i):
             if s.torque_at_singularity is not None:
                 t1, t2 = (number(v, 4) for v in s.torque_at_singularity)
-                out.append(f"{key}  {who}T → ({t1}, {t2}) N m at t = {t} s (ring)")
+                out.append(f"{key}  {who}{T} → ({t1}, {t2}) {u} at t = {t} s (ring)")
             else:
-                out.append(f"{key}  {who}T → ∞ at t = {t} s: pole of order {s.pole_order}")
+                out.append(f"{key}  {who}{T} → ∞ at t = {t} s: pole of order {s.pole_order}")
         L = m.task.checks.torque_limit
         if L is not None:
-            lim = " N m, ".join(dict.fromkeys(number(float(v)) for v in L)) + " N m"
+            lim = f" {u}, ".join(dict.fromkeys(number(float(v)) for v in L)) + f" {u}"
             far = all(float(v) > LIMIT_NEAR * scale for v in L)
             where = "beyond the axis, ▲ ▼ at its right edge" if far else "dash-dot lines"
-            out.append(f"-  {who}limits |T1|, |T2| ≤ {lim}: {where}")
+            out.append(f"-  {who}limits |{T}1|, |{T}2| ≤ {lim}: {where}")
         if m.result.torque_limit is not None:
             for j, check in enumerate(m.result.torque_limit):
                 for w in check.windows:
-                    out.append(f"    |T{j + 1}| > {number(check.limit)} N m over {_span(w)} s")
+                    out.append(f"    |{T}{j + 1}| > {number(check.limit)} {u} over {_span(w)} s")
     return out + sheet.crowded()
 
 
