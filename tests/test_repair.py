@@ -370,3 +370,37 @@ def test_path_2_on_linear_actuators_is_refused_with_the_reason() -> None:
     old = parse_task(text.replace("robot:\n", "robot:\n  actuation: prismatic\n", 1))
     with pytest.raises(NoRepair, match="no candidate passes the strict check"):
         repair(old, window=fmpq(1, 2))  # one window (each is refused alike): a fast test
+
+
+def test_crossings_at_irrational_times_are_moved_to_rational_ones_and_repaired(
+    tmp_path: Path,
+) -> None:
+    """y = (x - 5/2)(x - 7/2)/2 under the quintic law crosses AB at x = 5/2 and 7/2 at the
+    irrational times 1.79718... and 3.20281... (roots of quintics), inconsistently. The
+    repair moves each crossing to the nearest short decimal time (t_r = 1797/1000 and
+    3203/1000: x(t_r) set to the crossing point exactly by a timing bump), then meets
+    eq. (34) there; the path is kept. The exact task's coefficients outgrow a task
+    file's 40-digit numbers, so the command refuses to write it and says why."""
+    text = (CONFIGS / "paper_path2.rprpr.yaml").read_text()
+    text = text.replace("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "0.5*(x - 2.5)*(x - 3.5)")
+    text = text.replace("from: [2, -1]", "from: [2, 0.375]").replace("to: [4, 1]", "to: [4, 0.375]")
+    src = tmp_path / "irr.rprpr.yaml"
+    src.write_text(text)
+    old = load_task(src)
+    assert [s.t_rational for s in audit(old).singularities] == [None, None]
+    r = repair(old)
+    assert r.after.passed and r.path_deviation is None and r.task.path == old.path
+    assert [n.split(" moved to ")[1] for n in r.notes] == ["t = 1797/1000 s", "t = 3203/1000 s"]
+    new = r.after.singularities
+    assert [s.t_exact for s in new] == [Fraction(1797, 1000), Fraction(3203, 1000)]
+    for s, x_s in zip(new, (Fraction(5, 2), Fraction(7, 2)), strict=True):
+        piece = _piece(r.task, fmpq(s.t_exact.numerator, s.t_exact.denominator))
+        assert piece.x(fmpq(s.t_exact.numerator, s.t_exact.denominator)) == fmpq(
+            x_s.numerator, x_s.denominator
+        )
+        assert s.consistent and s.consistency_residual == 0 and s.order == 1
+    assert r.timing_change is not None and r.timing_change[0] < 0.01
+    _ends_kept(old, r.task)
+    out = tmp_path / "out.rprpr.yaml"
+    code, _, err = run_cli("repair", str(src), "-o", str(out))
+    assert code == 1 and "exceed what a task file holds" in err and not out.exists()

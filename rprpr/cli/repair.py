@@ -16,6 +16,7 @@ import click
 from flint import fmpq
 
 from ..model.actuation import SCHEMES
+from ..model.errors import TaskFileError
 from ..report.exit import ExitCode
 from .options import output_file_option
 from .output import refuse_overwriting_inputs, say, write_atomic
@@ -86,7 +87,16 @@ def repair(
     text = task_text(r.task, comment)
     from ..engine.audit import audit
 
-    check = audit(parse_task(text, out), strict=True)
+    try:
+        back = parse_task(text, out)
+    except TaskFileError as e:  # exact, but beyond a task file's number limits
+        say(
+            f"rprpr: {task}: the repaired motion is exact but its coefficients exceed what a"
+            f" task file holds ({e.message}); use the Python API (rprpr.repair) for the"
+            " task itself; nothing written"
+        )
+        return ExitCode.FAILED
+    check = audit(back, strict=True)
     if not check.passed:  # never write a failing task
         say(f"rprpr: {task}: the repaired task read back fails the strict check; nothing written")
         return ExitCode.INTERNAL

@@ -143,6 +143,7 @@ class _Plan:
     h: fmpq
     change: Change
     ay: fmpq = field(default_factory=fmpq)  # Δy += ay (t - t_s)² W: ÿ(t_s) changed by 2 ay
+    x0: fmpq = field(default_factory=fmpq)  # Δx += x0 W: x(t_s) moved by x0 (a snap)
 
 
 def repair(
@@ -153,6 +154,7 @@ def repair(
     slope: fmpq | None = None,
     clearance: fmpq | None = None,
     blend: bool = True,
+    snap: bool = True,
 ) -> Repair:
     """The nearest passing motion: local bumps at each failing singular instant, each
     candidate window tried (``window``, or the largest that fits, then halves) and
@@ -160,7 +162,8 @@ def repair(
     changes only) or "timing" (path changes only); ``slope`` the |dy/dx| to give a
     zero-slope crossing (default max(1/5, 2 min_slope)); ``clearance`` the lift of a
     touch [m] (default w ẋ(t_s) slope / 2, at least 1/100); ``blend``: first smooth the
-    knots whose velocity or acceleration jump fails (``_smooth_knots``). Raises
+    knots whose velocity or acceleration jump fails (``_smooth_knots``); ``snap``: move
+    failing instants at irrational times to rational ones (``_snap_instants``). Raises
     ``NoRepair``."""
     if keep not in (None, *KEEPS):
         raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
@@ -176,6 +179,9 @@ def repair(
         raise NoRepair(_no_local_repair(before, other))
     if before.on_singular_line:
         raise NoRepair("the path lies on the singular line y = 0: no local change helps")
+    irrational = [s for s in failing if s.t_rational is None]
+    if irrational and snap:
+        return _snap_instants(task, before, irrational, keep, window, slope, clearance)
     target = slope if slope is not None else max(fmpq(1, 5), 2 * task.checks.min_slope)
     last = "no candidate window"
     # the candidates: each window (the largest that fits, then halves) and, where the
@@ -327,6 +333,98 @@ def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
         " singular instants and its knots (a torque limit exceeded away from them needs a"
         f" slower or longer motion){where}"
     )
+
+
+def _snap_instants(
+    task: Task,
+    before: AuditResult,
+    instants: list[SingularInstant],
+    keep: str | None,
+    window: fmpq | None,
+    slope: fmpq | None,
+    clearance: fmpq | None,
+) -> Repair:
+    """Failing instants at irrational times (roots of an irreducible factor of y(t) of
+    degree >= 2, as a quintic law's crossing of a rational point usually is) moved to a
+    short decimal t_r within 10^-4 t_f of t_s, so that the exact bumps can be centred on
+    them: with the path given and the crossing point x_s rational, the timing is moved,
+    Δx = (x_s - x(t_r)) W (W = (1 - ((t - t_r)/w)²)³: x(t_r) = x_s, x' and the rest of
+    the motion kept, a change of order |x'| |t_r - t_s|); otherwise the path, Δy =
+    -y(t_r) W. Then the moved instants are repaired as rational ones (``repair``), and
+    the account is against the task as given."""
+    plans = []
+    for s in instants:
+        t_r, piece = _rational_near(task, s.t)
+        w = _snap_width(task, before, s, t_r, piece, window)
+        x0 = h = fmpq(0)
+        x_s = _rational_crossing(task, piece, t_r) if keep != "timing" else None
+        if x_s is not None:
+            x0 = x_s - piece.x(t_r)
+        elif keep != "path":
+            h = -piece.y(t_r)
+        else:
+            raise NoRepair(
+                f"the singular instant t ≈ {s.t:.6g} s is irrational and its crossing point"
+                " too: no exact change of the timing alone moves it to a rational time;"
+                " allow a path change (drop --keep path)"
+            )
+        x_r = piece.x(t_r)
+        change = Change(t_r, x_r, w, ("snap",), (fmpq(0), fmpq(0)), (fmpq(0), fmpq(0)),
+                        (fmpq(0), fmpq(0)))  # fmt: skip
+        plans.append(_Plan(t_r, w, fmpq(0), fmpq(0), fmpq(0), h, change, fmpq(0), x0))
+    new = _apply(task, plans)
+    if new is None:
+        raise NoRepair("moving the irrational singular instants to rational times makes x(t)"
+                       " non-monotone")  # fmt: skip
+    inner = repair(new, keep=keep, window=window, slope=slope, clearance=clearance, blend=False,
+                   snap=False)  # fmt: skip
+    path_changed = any(p.h != 0 for p in plans) or not inner.path_kept
+    r = _account(task, inner.task, before, inner.after, [], path_changed)
+    moved = tuple(
+        f"t ≈ {s.t:.12g} s (irrational) moved to t = {p.t} s" for s, p in zip(instants, plans,
+                                                                            strict=True)
+    )  # fmt: skip
+    return replace(r, changes=inner.changes, notes=moved + inner.notes)
+
+
+def _rational_near(task: Task, t: float) -> tuple[fmpq, Piece]:
+    """A short decimal t_r within 10^-4 t_f of ``t`` (the fewest digits, so that the
+    repaired task's numbers stay short) and the piece holding it."""
+    tol = 1e-4 * float(task.duration)
+    den = 10
+    while abs(round(t * den) / den - t) > tol:
+        den *= 10
+    t_r = fmpq(round(t * den), den)
+    for p in task.motion:
+        if p.start < t_r < p.end:
+            return t_r, p
+    raise NoRepair(f"the singular instant t ≈ {t:.6g} s is too near a knot to be moved")
+
+
+def _snap_width(task: Task, before: AuditResult, s: SingularInstant, t_r: fmpq, piece: Piece,
+                window: fmpq | None) -> fmpq:  # fmt: skip
+    """The snap's half-width: the window the repair will use about t_r (``window``, or
+    the largest inside the piece and half-way to the other instants)."""
+    gap = min(t_r - piece.start, piece.end - t_r)
+    for o in before.singularities:
+        if o is not s:
+            d = abs(o.t - s.t)
+            gap = min(gap, fmpq(int(d * 512), 1024))
+    w = window if window is not None else _rational_below(gap, task.duration / 5)
+    if not 0 < w <= gap:
+        raise NoRepair(f"no room about t ≈ {s.t:.6g} s to move the instant (at most ±{gap} s)")
+    return w
+
+
+def _rational_crossing(task: Task, piece: Piece, t_r: fmpq) -> fmpq | None:
+    """The rational root of the path y = p(x) nearest x(t_r) (within 1e-3 m), or None
+    (no path, or the crossing point is irrational)."""
+    if task.path is None or piece.path is None:
+        return None
+    x = piece.x(t_r)
+    roots = [-f[0] / f[1] for f, _ in task.path.factor()[1] if f.degree() == 1]
+    near = [r for r in roots if abs(r - x) < fmpq(1, 10**3)]  # |ẋ| |t_r - t_s| is far less
+    return min(near, key=lambda r: abs(r - x)) if near else None
 
 
 def _piece_at(task: Task, t: fmpq) -> Piece:
@@ -593,7 +691,7 @@ def _apply(task: Task, plans: list[_Plan]) -> Task | None:
             for p in plans:
                 if p.t - p.w <= lo and hi <= p.t + p.w:
                     tau, W = fmpq_poly([-p.t, 1]), bump(p.t, p.w)
-                    x = x + tau * (p.b1 + p.a * tau) * W
+                    x = x + (tau * (p.b1 + p.a * tau) + p.x0) * W
                     dy = dy + (p.b * tau + p.h + p.ay * tau * tau) * W
                     if x != piece.x and not _monotone(x, lo, hi):
                         return None
