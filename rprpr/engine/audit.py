@@ -27,7 +27,7 @@ from ..model.task import Task
 from . import knots as K
 from . import pieces as P
 from .certified import CertifiedMotion
-from .envelope import Approach, LimitCheck, Peak, Window
+from .envelope import Approach, LimitCheck, Peak, Window, around_poles
 from .findings import findings
 from .sampling import Samples, grid
 from .singular import (
@@ -216,16 +216,7 @@ def _fraction(q: fmpq) -> Fraction:
 def _saturation(a: SingularAnalysis, checks: tuple[LimitCheck, LimitCheck]) -> list[Saturation]:
     """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
     their limits (the limit checks' windows that hold it)."""
-    out: list[Saturation] = []
-    for s in a.instants:
-        if s.torque_bounded:
-            continue
-        pair = []
-        for c in checks:
-            w = [w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi]
-            pair.append(w[0] if w else None)
-        out.append((s, pair[0], pair[1]))
-    return out
+    return around_poles(a.instants, checks)
 
 
 def _quiet(stage: str) -> None:

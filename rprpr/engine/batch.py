@@ -32,7 +32,6 @@ from .certified import CertifiedMotion, _dyadic_middle, per_robot
 from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
-    PEAK_ABS,
     PEAK_REL,
     Approach,
     Jet,
@@ -45,6 +44,7 @@ from .envelope import (
     _split,
     _Stacked,
     min_abs_y,
+    prune,
 )
 from .trajectory import Trajectory
 
@@ -297,13 +297,10 @@ class Batch:
         certified = False
         b = self.bounds(lo, hi, idx)
         for _ in range(MAX_ROUNDS):
-            for i in (0, 1):
-                j = int(np.argmax(b.low[i]))
-                if b.low[i, j] > best[i]:
-                    best[i], best_t[i], best_j[i] = b.low[i, j], b.low_t[i, j], idx[j]
-            keep_i = b.up > (best * (1 + rel) + PEAK_ABS)[:, None]
-            dropped = np.maximum(dropped, np.where(keep_i, 0.0, b.up).max(axis=1))
-            keep = keep_i.any(axis=0)
+            keep, better = prune(b, best, best_t, dropped, rel)
+            for i, j in enumerate(better):
+                if j is not None:
+                    best_j[i] = idx[j]
             n = int(keep.sum())
             if not n:
                 certified = True

@@ -23,6 +23,7 @@ partition of [0, t_f]), so no answer depends on a sampling grid.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -499,6 +500,43 @@ class _Bounds:
     monotone: np.ndarray | None = None  # |T_i| monotone on the box (T' ∌ 0, T ∌ 0)
 
 
+def prune(
+    b: _Bounds, best: np.ndarray, best_t: np.ndarray, dropped: np.ndarray, rel: float
+) -> tuple[np.ndarray, list[int | None]]:
+    """One round of the peak's branch and bound: ``best``/``best_t`` (per torque) raised
+    to the boxes' largest certified lower bound, and ``dropped`` to the largest upper
+    bound of a box set aside (it cannot hold a value above best (1 + rel) + PEAK_ABS);
+    returns the boxes kept and, per torque, the box whose lower bound became the best
+    (None where the best stayed)."""
+    better: list[int | None] = []
+    for i in (0, 1):
+        j = int(np.argmax(b.low[i]))
+        better.append(j if b.low[i, j] > best[i] else None)
+        if better[i] is not None:
+            best[i], best_t[i] = float(b.low[i, j]), float(b.low_t[i, j])
+    keep_i = b.up > (best * (1 + rel) + PEAK_ABS)[:, None]
+    dropped[:] = np.maximum(dropped, np.where(keep_i, 0.0, b.up).max(axis=1))
+    return np.asarray(keep_i.any(axis=0)), better
+
+
+def around_poles(
+    instants: Iterable[SingularInstant], checks: tuple[LimitCheck, LimitCheck]
+) -> list[tuple[SingularInstant, Window | None, Window | None]]:
+    """For each unbounded instant of ``instants``, the windows of the limit checks in
+    which |T1|, |T2| exceed their limits around it (None where a limit is not exceeded
+    there)."""
+    out = []
+    for s in instants:
+        if s.torque_bounded:
+            continue
+        pair = []
+        for c in checks:
+            w = [w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi]
+            pair.append(w[0] if w else None)
+        out.append((s, pair[0], pair[1]))
+    return out
+
+
 class Envelope:
     """Grid-free torque verdicts for one task (module docstring)."""
 
@@ -758,13 +796,7 @@ class Envelope:
         dropped = np.zeros(2)  # the largest upper bound of a box set aside
         certified = False
         for _ in range(MAX_ROUNDS):
-            for i in (0, 1):
-                j = int(np.argmax(b.low[i]))
-                if b.low[i, j] > best[i]:
-                    best[i], best_t[i] = float(b.low[i, j]), float(b.low_t[i, j])
-            keep_i = b.up > (best * (1 + rel) + PEAK_ABS)[:, None]
-            dropped = np.maximum(dropped, np.where(keep_i, 0.0, b.up).max(axis=1))
-            keep = keep_i.any(axis=0)
+            keep, _ = prune(b, best, best_t, dropped, rel)
             n = int(keep.sum())
             if not n:
                 certified = True
@@ -971,15 +1003,7 @@ class Envelope:
     ) -> list[tuple[SingularInstant, Window | None, Window | None]]:
         """For each unbounded instant: the windows around it in which |T1| and |T2| exceed
         their limits (``limit_violations``' windows that contain the instant)."""
-        checks = self.limit_violations(limit)
-        out = []
-        for s in self.poles:
-            pair = []
-            for c in checks:
-                w = [w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi]
-                pair.append(w[0] if w else None)
-            out.append((s, pair[0], pair[1]))
-        return out
+        return around_poles(self.poles, self.limit_violations(limit))
 
     # -- near misses ------------------------------------------------------------------------
     def closest_approach(self, rel: float = PEAK_REL) -> Approach | None:
