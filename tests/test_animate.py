@@ -162,3 +162,21 @@ def test_the_command_line_writes_a_bounded_gif(
             frame.load()  # every frame decodes
     assert gif.stat().st_size < MAX_BYTES
     assert sorted(p.name for p in tmp_path.iterdir()) == ["robot.gif", "sheet.png"]
+
+
+def test_the_gif_names_each_tasks_efforts_in_its_units() -> None:
+    """The strip under each robot plots that task's efforts: T [N m] for motors at A and
+    B, F [N] for linear actuators (a column of each in one GIF)."""
+    from matplotlib.figure import Figure
+
+    from .conftest import CONFIGS
+
+    prismatic = str(CONFIGS / "prismatic_crossing.rprpr.yaml")
+    ms = motions([PATH2, prismatic])
+    fig = Figure()
+    subs = fig.subfigures(1, 2).ravel()
+    t = A.clock(ms, 4)
+    tf = max(m.duration for m in ms)
+    for sf, m in zip(subs, ms, strict=True):
+        A._Column(sf, m, t, tf)
+    assert [sf.axes[2].get_ylabel() for sf in subs] == ["T [N m]", "F [N]"]

@@ -38,6 +38,7 @@ from PIL import Image
 
 from ..engine.sampling import Samples
 from ..engine.singular import SingularInstant
+from ..model.actuation import SCHEMES
 from ..model.numbers import number
 from . import sheet as P
 from .sheet import robot
@@ -191,7 +192,8 @@ class _Column:
         ax.add_patch(self.tint)
 
     def _torques(self, ax: Axes, tf: float) -> None:
-        """T1, T2 over the task's motion, scaled to their bounded part, and a cursor."""
+        """T1, T2 (or F1, F2) over the task's motion, scaled to their bounded part, and a
+        cursor."""
         from .sheet.panels.torques import torque_range
 
         m = self.m
@@ -206,7 +208,8 @@ class _Column:
         knot_lines(ax, m, "gif-torques-knot")
         ax.set_xlim(0, tf)
         ax.set_xlabel("t [s]", labelpad=1, fontsize=8)
-        ax.set_ylabel("T [N m]", fontsize=8)
+        e = SCHEMES[m.task.robot.actuation]  # T [N m], or F [N] for linear actuators
+        ax.set_ylabel(f"{e.letter} [{e.unit}]", fontsize=8)
         ax.tick_params(labelsize=7)
         self.tcursor = ax.axvline(0, color="black", lw=1.0)
 
