@@ -276,6 +276,9 @@ def test_export_has_force_columns(tmp_path: Path) -> None:
     assert run_cli("export", str(CONFIG), "-o", str(out_json), "--samples", "51")[0] == 0
     doc = json.loads(out_json.read_text())
     assert doc["units"]["F1"] == "N" and doc["actuation"] == "prismatic"
+    # at a pole it is λ1 that diverges under linear actuators, with F1, F2
+    pole = "a singular instant with unbounded forces (a pole of λ1): λ1, F1, F2 undefined"
+    assert doc["reasons"]["1"] == pole and pole in out_csv.read_text().splitlines()[0]
 
 
 def test_plot_labels_forces(tmp_path: Path) -> None:

@@ -37,9 +37,9 @@ import numpy as np
 
 from .._version import __version__
 from ..engine.audit import AuditResult
-from ..engine.certified import REASONS, TOL
+from ..engine.certified import POLE, REASONS, TOL
 from ..engine.sampling import COLUMNS
-from ..model.actuation import REVOLUTE
+from ..model.actuation import PRISMATIC, REVOLUTE
 from ..model.numbers import number, round_trip
 from ..report.records import actuation_fields, singularity_record
 from .escape import printable
@@ -71,9 +71,17 @@ def exported(result: AuditResult) -> tuple[str, ...]:
 CERTIFIED = f"every value certified to |err| <= {number(TOL)} (1 + |value|)"
 
 
-def reasons() -> dict[int, str]:
-    """What each ``reason`` code of a row means (0: every value certified)."""
-    return {code: text or "every value certified" for code, text in REASONS.items()}
+# at a pole under linear actuators it is λ1 (not λ2) that diverges, with the forces
+_PRISMATIC_POLE = "a singular instant with unbounded forces (a pole of λ1): λ1, F1, F2 undefined"
+
+
+def reasons(actuation: str = REVOLUTE) -> dict[int, str]:
+    """What each ``reason`` code of a row means (0: every value certified), in the words
+    of the task's actuation scheme (the pole's text differs for linear actuators)."""
+    out = {code: text or "every value certified" for code, text in REASONS.items()}
+    if actuation == PRISMATIC:
+        out[POLE] = _PRISMATIC_POLE
+    return out
 
 
 def rows(result: AuditResult) -> np.ndarray:
@@ -115,7 +123,9 @@ def comment(result: AuditResult, source: str) -> str:
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
         f"{CERTIFIED}, or nan; reason codes: "
-        + "; ".join(f"{code} = {text}" for code, text in reasons().items())
+        + "; ".join(
+            f"{code} = {text}" for code, text in reasons(result.task.robot.actuation).items()
+        )
     )
 
 
@@ -152,7 +162,7 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
         "verdict": result.verdict,
         "columns": list(exported(result)),
         "units": {c: UNITS[c] for c in exported(result)},
-        "reasons": {str(code): text for code, text in reasons().items()},
+        "reasons": {str(code): text for code, text in reasons(result.task.robot.actuation).items()},
         "singularities": _singularities(result),
     }
 
