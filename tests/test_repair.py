@@ -404,3 +404,14 @@ def test_crossings_at_irrational_times_are_moved_to_rational_ones_and_repaired(
     out = tmp_path / "out.rprpr.yaml"
     code, _, err = run_cli("repair", str(src), "-o", str(out))
     assert code == 1 and "exceed what a task file holds" in err and not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("value", "says"),
+    [("1e99999999", "exponent beyond"), ("abc", "expected a number"), ("0", "positive")],
+)
+def test_a_bad_window_is_one_usage_line_and_never_a_hang(value: str, says: str) -> None:
+    """--window is read by the task file's number rules (capped digits and exponent):
+    a huge exponent is refused at once instead of building a 10^99999999 integer."""
+    code, _, err = run_cli("repair", str(CONFIGS / "paper_path1.rprpr.yaml"), "--window", value)
+    assert code == 2 and says in err and len(err.strip().splitlines()) == 1

@@ -164,17 +164,20 @@ def _stem(path: str) -> str:
 
 
 def _rational(text: str | None, option: str) -> fmpq | None:
+    """A positive exact number from the option's text (the task file's number rules: a
+    decimal or a fraction, digits and exponent capped)."""
     if text is None:
         return None
-    from fractions import Fraction
+    from ..io.expression import parse_fraction
+    from ..model.errors import ExpressionError
 
     try:
-        q = Fraction(text.strip())
-    except (ValueError, ZeroDivisionError):
-        raise click.BadParameter(f"expected a number, found {text!r}", param_hint=option) from None
+        q = parse_fraction(text)
+    except ExpressionError as e:
+        raise click.BadParameter(str(e), param_hint=option) from None
     if q <= 0:
         raise click.BadParameter(f"expected a positive number, found {text}", param_hint=option)
-    return fmpq(q.numerator, q.denominator)
+    return q
 
 
 def _plot(r: Repair, old: str, new: str, out: str) -> None:

@@ -146,15 +146,16 @@ class _Polys:
         x, q = motion.traj.x, motion.recentred
         x3 = x.derivative().derivative().derivative()
         q3d = q.derivative().derivative().derivative()
-        self.x = [*motion.x3, poly_balls(x3), poly_balls(x3.derivative())]
-        self.q = [*q3, poly_balls(q3d), poly_balls(q3d.derivative())]
+        self.x = [*motion.x3, poly_balls(x3), *_fourth(x3)]
+        self.q = [*q3, poly_balls(q3d), *_fourth(q3d)]
 
     @staticmethod
     def _enclose(cs: list[list[Ball]], box: Ball) -> list[Ball]:
         """The polynomial and its first three derivatives over the balls ``box``: by
-        Horner's rule, or by the centred form for a degree over CENTRED_DEGREE on balls
-        of some width (where cancellation makes Horner's enclosure far too wide)."""
-        if len(cs[0]) > CENTRED_DEGREE + 1 and bool(np.any(box.rad > 0)):
+        Horner's rule, or, where ``cs`` carries the fourth derivative (a degree over
+        CENTRED_DEGREE), by the centred form on balls of some width (where cancellation
+        makes Horner's enclosure far too wide)."""
+        if len(cs) > 4 and bool(np.any(box.rad > 0)):
             return centred(cs, box)[:4]
         return [horner(c, box) for c in cs[:4]]
 
@@ -171,6 +172,12 @@ class _Polys:
         q2 = Jet(qv[2], qv[3] * xv[1])
         y = Jet(qv[0], qv[1] * xv[1])
         return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
+
+
+def _fourth(third: fmpq_poly) -> list[list[Ball]]:
+    """The fourth derivative's ball coefficients from the third derivative, where the
+    polynomial's degree (the third's plus 3) calls for the centred form; else none."""
+    return [poly_balls(third.derivative())] if third.degree() + 3 > CENTRED_DEGREE else []
 
 
 def _full(b: Ball, n: int, rows: int = 2) -> Ball:

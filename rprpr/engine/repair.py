@@ -263,13 +263,8 @@ def _blend_width(task: Task, before: AuditResult, i: int, window: fmpq | None,
     instant, times ``fraction``."""
     left, right = task.motion[i], task.motion[i + 1]
     t = left.end
-    gap = min(left.end - left.start, right.end - right.start) / 4
-    for s in before.singularities:
-        q = s.t_rational
-        d = abs(q - t) if q is not None else fmpq(int(abs(s.t - float(t)) * 1024), 1024)
-        if d > 0:
-            gap = min(gap, d / 2)
-    w = window if window is not None else _rational_below(gap * fraction, task.duration / 5)
+    gap = _half_way(before, t, min(left.end - left.start, right.end - right.start) / 4)
+    w = window if window is not None else _short(min(gap * fraction, task.duration / 5))
     if w > gap:
         raise NoRepair(
             f"the blend ±{w} s about the knot t = {t} s reaches past a quarter of a"
@@ -405,12 +400,8 @@ def _snap_width(task: Task, before: AuditResult, s: SingularInstant, t_r: fmpq, 
                 window: fmpq | None) -> fmpq:  # fmt: skip
     """The snap's half-width: the window the repair will use about t_r (``window``, or
     the largest inside the piece and half-way to the other instants)."""
-    gap = min(t_r - piece.start, piece.end - t_r)
-    for o in before.singularities:
-        if o is not s:
-            d = abs(o.t - s.t)
-            gap = min(gap, fmpq(int(d * 512), 1024))
-    w = window if window is not None else _rational_below(gap, task.duration / 5)
+    gap = _half_way(before, t_r, min(t_r - piece.start, piece.end - t_r), skip=s)
+    w = window if window is not None else _short(min(gap, task.duration / 5))
     if not 0 < w <= gap:
         raise NoRepair(f"no room about t ≈ {s.t:.6g} s to move the instant (at most ±{gap} s)")
     return w
@@ -438,13 +429,17 @@ def _neighbours(task: Task, before: AuditResult, t: fmpq) -> fmpq:
     """The largest half-width that keeps the window inside the piece holding t (so off
     every knot, 0 and t_f) and clear of the other singular instants' windows."""
     p = _piece_at(task, t)
-    gap = min(t - p.start, p.end - t)
+    return _half_way(before, t, min(t - p.start, p.end - t))
+
+
+def _half_way(before: AuditResult, t: fmpq, gap: fmpq, skip: object = None) -> fmpq:
+    """``gap``, or less: half-way from t to every singular instant but ``skip`` (and
+    one at t itself), exactly to a rational instant, rounded down to an irrational one."""
     for s in before.singularities:
         q = s.t_rational
-        if q is not None and q != t:
-            gap = min(gap, abs(q - t) / 2)
-        elif q is None and abs(s.t - float(t)) > 0:
-            gap = min(gap, fmpq(int(abs(s.t - float(t)) * 512), 1024))
+        d = abs(q - t) / 2 if q is not None else fmpq(int(abs(s.t - float(t)) * 512), 1024)
+        if s is not skip and d > 0:
+            gap = min(gap, d)
     return gap
 
 
@@ -467,7 +462,7 @@ def _plan(
         )
     piece = _piece_at(task, t)
     gap = _neighbours(task, before, t)
-    w = window if window is not None else _rational_below(gap * fraction, task.duration / 5)
+    w = window if window is not None else _short(min(gap * fraction, task.duration / 5))
     if w > gap:
         raise NoRepair(
             f"the window ±{w} s about t = {t} s reaches past a knot, an end of the motion"
@@ -602,18 +597,7 @@ def _speed_for(task: Task, x: fmpq_poly, t: fmpq, w: fmpq, v0: fmpq, ydot0: fmpq
         raise NoRepair(f"the end point dwells at {xs} over the whole window: no speed")
     sign = (1 if v0 > 0 else -1) if v0 != 0 else (1 if span > 0 else -1)
     mean = abs(span) / (2 * w) * fraction if v0 == 0 else abs(v0)
-    return sign * max(mean, _rational_above(margin * fmpq(11, 10)))
-
-
-def _rational_above(value: fmpq) -> fmpq:
-    """A short rational at least ``value`` (0 for 0)."""
-    if value <= 0:
-        return fmpq(0)
-    for den in (1, 2, 4, 5, 8, 10, 16, 20, 40, 80, 160, 320, 640, 1280):
-        r = fmpq(-((-value.p * den) // value.q), den)
-        if r <= value * fmpq(5, 4):
-            return r
-    return value
+    return sign * max(mean, _short(margin * fmpq(11, 10), up=True))
 
 
 def _slope_for(robot: Robot, x_s: fmpq, acc: fmpq, ydot: fmpq, b: fmpq, xs: str) -> fmpq:
@@ -647,14 +631,19 @@ def _rational_sqrt(q: fmpq) -> fmpq | None:
     return fmpq(rp, rd) if rp * rp == p and rd * rd == d else None
 
 
-def _rational_below(value: fmpq, cap: fmpq) -> fmpq:
-    """A short rational (denominator a power of two times 10) at most min(value, cap)."""
-    v = min(value, cap)
-    for den in (1, 2, 4, 5, 8, 10, 16, 20, 40, 80, 160, 320, 640, 1280):
-        r = fmpq(int(v.p * den // v.q), den)
-        if r > 0 and r >= v * fmpq(3, 4):
+_DENOMINATORS = (1, 2, 4, 5, 8, 10, 16, 20, 40, 80, 160, 320, 640, 1280)
+
+
+def _short(value: fmpq, up: bool = False) -> fmpq:
+    """A short rational (a denominator of a power of two times 1, 5 or 10) near
+    ``value`` >= 0: at most it and at least 3/4 of it, or (``up``) at least it and at
+    most 5/4 of it; ``value`` itself when none is found."""
+    for den in _DENOMINATORS:
+        n = -((-value.p * den) // value.q) if up else (value.p * den) // value.q
+        r = fmpq(int(n), den)
+        if (r <= value * fmpq(5, 4)) if up else (r > 0 and r >= value * fmpq(3, 4)):
             return r
-    return v
+    return value
 
 
 def _multiplicity(y: fmpq_poly, t: fmpq) -> int:

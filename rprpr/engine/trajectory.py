@@ -94,11 +94,6 @@ def piece_trajectory(piece: Piece, a1: fmpq) -> Trajectory:
     )  # fmt: skip
 
 
-def trajectories(task: Task) -> list[Trajectory]:
-    """The exact trajectory of every piece of ``task``'s motion, in order."""
-    return [piece_trajectory(p, task.robot.a1) for p in task.motion]
-
-
 def trajectory(task: Task) -> Trajectory:
     """The exact trajectory of ``task``'s first piece (the whole motion in the paper's
     form): y(t) = p(x(t)) by composition."""

@@ -118,23 +118,20 @@ def _vector(what: str, unit: str, *, required: bool = False) -> Spec:
     )
 
 
-_X_PIECE = Spec(
-    "mapping",
-    "A piece of x_E(t): from the previous piece's until (0 for the first) to until.",
-    children={
-        "until": _time("End of the piece"),
-        "x": Spec("polynomial", "x_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
-    },
-)
-_MOTION_PIECE = Spec(
-    "mapping",
-    "A piece of the motion: from the previous piece's until (0 for the first) to until.",
-    children={
-        "until": _time("End of the piece"),
-        "x": Spec("polynomial", "x_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
-        "y": Spec("polynomial", "y_E(t) [m] on the piece, in absolute time t.", True, variable="t"),
-    },
-)
+def _piece(what: str, coordinates: str) -> Spec:
+    """A piece of ``what`` with the polynomials ``coordinates`` (of x_E, y_E) in
+    absolute time t, ending at ``until``."""
+    children = {"until": _time("End of the piece")}
+    for c in coordinates:
+        children[c] = Spec(
+            "polynomial", f"{c}_E(t) [m] on the piece, in absolute time t.", True, variable="t"
+        )
+    text = f"A piece of {what}: from the previous piece's until (0 for the first) to until."
+    return Spec("mapping", text, children=children)
+
+
+_X_PIECE = _piece("x_E(t)", "x")
+_MOTION_PIECE = _piece("the motion", "xy")
 _WAYPOINT = Spec(
     "mapping",
     "A waypoint: time, position, and optionally velocity and acceleration (every point"

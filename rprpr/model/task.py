@@ -12,6 +12,7 @@ one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from flint import fmpq, fmpq_poly
 
@@ -111,10 +112,10 @@ class Task:
     source: str = ""
     pieces: tuple[Piece, ...] = ()
 
-    @property
+    @cached_property
     def motion(self) -> tuple[Piece, ...]:
         """The motion as consecutive pieces from t = 0 to ``duration``: ``pieces``, or the
-        one piece y = path(x_of_t(t)) of the paper's form."""
+        one piece y = path(x_of_t(t)) of the paper's form (composed once per task)."""
         if self.pieces:
             return self.pieces
         assert self.path is not None and self.x_of_t is not None
