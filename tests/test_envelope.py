@@ -5,14 +5,17 @@ from __future__ import annotations
 import math
 from functools import cache
 
+import mpmath
 import numpy as np
 import pytest
 
 from rprpr.engine.envelope import Envelope
 from rprpr.engine.sampling import grid
 from rprpr.engine.zones import make_zone, taylor_at_instant
+from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
 
+from .conftest import task_text
 from .reference import reference
 from .test_certified import _config, _motion, _task
 
@@ -89,6 +92,53 @@ def test_closest_approach_of_a_near_miss() -> None:
     assert a.delta_lo <= ref <= a.delta_hi * (1 + 1e-12)
     assert a.delta_hi - a.delta_lo <= 1e-6 * a.delta_hi
     assert Envelope(_motion(_config("paper_path2.rprpr.yaml"))).closest_approach() is None
+
+
+_NEAR_MISSES = {
+    # an irrational interior minimum of |δ| (a root of the path's R~ of degree > 1)
+    "interior": ("(x - 3)^2/10 + 3/10", "2 + t", "2", "6"),
+    # the cubic law ends at E = B: the least |δ| at an end, where x' = 0
+    "at an end": ("4/25*x^2 - 19/25*x + 96/25", "2 + 24/25*t^2 - 32/125*t^3", "2.5", "4"),
+    # symmetric about x = 3: a rational critical point (a linear factor of R~)
+    "rational": ("(x - 3)^2/4 + 1/2", "1 + 2*t", "2", "6"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_NEAR_MISSES))
+def test_closest_approach_is_the_least_delta_against_the_reference(name: str) -> None:
+    """min |δ| from the critical points: never above |δ| at any of 401 times of the
+    60-digit reference (a critical point missed would show), and the reference at the
+    reported time inside the bracket."""
+    y, x, duration, a1 = _NEAR_MISSES[name]
+    task = _task(y, x, duration, a1)
+    a = Envelope(_motion(task)).closest_approach()
+    assert a is not None and a.delta_lo <= a.delta_hi <= a.delta_lo * (1 + 1e-12)
+    tf = float(task.duration)
+    grid_min = min(abs(float(reference(task, t)["delta"])) for t in np.linspace(0, tf, 401))
+    assert a.delta_hi <= grid_min * (1 + 1e-12)
+    ref = abs(float(reference(task, a.t_delta)["delta"]))
+    assert a.delta_lo * (1 - 1e-12) <= ref <= a.delta_hi * (1 + 1e-9)
+
+
+def test_closest_approach_of_a_motion_without_a_path() -> None:
+    """y(t) given directly (pieces): the critical points of δ² in t."""
+    text = task_text("x", "timing:\n  duration: 1\n  x: t\n").split("path:")[0] + (
+        "motion:\n  pieces:\n    - until: 2\n      x: 2 + t\n      y: 1/2 + (t - 6/5)^2\n"
+    )
+    task = parse_task(text)
+    a = Envelope(_motion(task)).closest_approach()
+    assert a is not None
+
+    def delta(t: float) -> float:  # eq. (29) by hand: |δ| = a1 |y|/(s1 s2), 60 digits
+        with mpmath.workdps(60):
+            t_ = mpmath.mpf(t)
+            x, y = 2 + t_, mpmath.mpf(1) / 2 + (t_ - mpmath.mpf(6) / 5) ** 2
+            return float(6 * y / (mpmath.hypot(x, y) * mpmath.hypot(x - 6, y)))
+
+    grid_min = min(delta(t) for t in np.linspace(0, 2, 401))
+    assert a.delta_lo <= grid_min and a.delta_hi <= grid_min * (1 + 1e-12)
+    assert a.delta_lo * (1 - 1e-12) <= delta(a.t_delta) <= a.delta_hi * (1 + 1e-9)
+    assert a.delta_hi - a.delta_lo <= 1e-12 * a.delta_hi
 
 
 def test_through_a_and_b_the_peak_is_the_one_sided_limit() -> None:

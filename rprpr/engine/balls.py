@@ -67,11 +67,20 @@ def round_up(r: Any) -> Any:
 
 def stack(parts: list[Ball]) -> Ball:
     """One ball array from balls of equal (or broadcastable) shape, along a new first axis."""
-    shape = np.broadcast_shapes(*(np.shape(b.mid) for b in parts),
-                                *(np.shape(b.rad) for b in parts))  # fmt: skip
-    mid = np.stack([np.broadcast_to(b.mid, shape) for b in parts])
-    rad = np.stack([np.broadcast_to(b.rad, shape) for b in parts])
-    return Ball._of(mid, rad)
+    shapes = {np.shape(a) for b in parts for a in (b.mid, b.rad)}
+    if len(shapes) == 1:  # the usual case: no broadcasting (np.broadcast_to is slow)
+        return Ball._of(np.array([b.mid for b in parts]), np.array([b.rad for b in parts]))
+    shape = np.broadcast_shapes(*shapes)
+    return Ball._of(np.stack([full(b.mid, shape) for b in parts]),
+                    np.stack([full(b.rad, shape) for b in parts]))  # fmt: skip
+
+
+def full(a: Any, shape: tuple[int, ...]) -> Array:
+    """A new float array of ``shape`` holding ``a`` broadcast (what
+    ``np.array(np.broadcast_to(a, shape))`` gives, at a fraction of its cost)."""
+    out = np.empty(shape)
+    out[...] = a
+    return out
 
 
 class Ball:
@@ -257,8 +266,11 @@ class Ball:
         return self.rad <= tol * (1.0 + np.abs(self.mid))
 
     def __getitem__(self, index: Any) -> Ball:
-        return Ball(np.broadcast_to(self.mid, np.shape(self.rad + self.mid))[index],
-                    np.broadcast_to(self.rad, np.shape(self.rad + self.mid))[index])  # fmt: skip
+        mid, rad = self.mid, self.rad
+        if mid.shape != rad.shape:
+            shape = np.broadcast_shapes(mid.shape, rad.shape)
+            mid, rad = full(mid, shape), full(rad, shape)
+        return Ball._of(np.asarray(mid[index], dtype=float), np.asarray(rad[index], dtype=float))
 
     def __repr__(self) -> str:
         return f"Ball({self.mid!r}, {self.rad!r})"

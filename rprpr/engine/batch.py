@@ -322,8 +322,10 @@ class Batch:
 
     # -- near misses ------------------------------------------------------------------------
     def closest_approach(self, rel: float = PEAK_REL) -> tuple[Approach, int, int]:
-        """``Envelope.closest_approach`` over all the pieces: the Approach (``t_y`` local
-        to the piece of the first index, ``t_delta`` to that of the second)."""
+        """The closest approach over all the pieces (one piece alone: ``Envelope``'s, from
+        its critical points): min |y| exactly, min |δ| by one branch and bound over the
+        boxes of every piece, certified to ``rel``. The Approach (``t_y`` local to the
+        piece of the first index, ``t_delta`` to that of the second)."""
         jy, ys = self._min_abs_y()
         lo, hi, idx = self._start
         cap = MAX_LIVE * len(self)
@@ -353,7 +355,8 @@ class Batch:
     def _delta_bounds(
         self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``Envelope._delta_bounds`` over boxes of many pieces, with the piece of each end."""
+        """Lower bounds of |δ| over boxes of many pieces (the mean-value form on jets), and
+        certified values of |δ| at their ends, with the piece of each end."""
         n = len(lo)
         pts = np.concatenate([lo, hi])
         both = np.concatenate([idx, idx])

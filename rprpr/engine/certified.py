@@ -45,6 +45,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, TypeVar
 
 import numpy as np
@@ -230,13 +231,18 @@ class CertifiedMotion:
             self.y3 = _poly3(self.recentred)
         self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
         self.kinematic = self._kinematic()
-        self.locals = [self._local(e) for _, e in self.instants]
-        self.locals += [self._local(k.time) for k in self.kinematic]
         self.cuts = {1: self._cuts(1), 2: self._cuts(2)}
         self._limits: dict[int, tuple[Ball, Ball, Ball, Ball]] = {}
         self._zones: dict[int, Zone | None] = {}
 
     # -- set-up ------------------------------------------------------------------------
+    @cached_property
+    def locals(self) -> list[_Local]:
+        """The Taylor polynomials about each exact root of y (made when first sampled)."""
+        return [self._local(e) for _, e in self.instants] + [
+            self._local(k.time) for k in self.kinematic
+        ]
+
     def _center(self) -> fmpq:
         tf = to_float(self.traj.duration)
         ts = np.linspace(0.0, tf, 65)

@@ -36,6 +36,7 @@ from ..model.task import Robot
 from . import equations as dyn
 from .balls import Ball, U, centred, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots, per_robot
+from .roots import IsolatedRoot, isolate
 from .series import taylor
 from .singular import SingularInstant
 from .trajectory import Trajectory
@@ -1013,60 +1014,16 @@ class Envelope:
         return around_poles(self.poles, self.limit_violations(limit))
 
     # -- near misses ------------------------------------------------------------------------
-    def closest_approach(self, rel: float = PEAK_REL) -> Approach | None:
-        """For a motion that never meets y = 0: min |y| exactly from the roots of y' and
-        the ends, and min |δ| over [0, t_f] certified by branch and bound. None when the
-        motion meets the line."""
+    def closest_approach(self) -> Approach | None:
+        """For a motion that never meets y = 0: min |y| and min |δ| over [0, t_f], both
+        exactly from the critical points (``min_abs_y``, ``min_abs_delta``). None when
+        the motion meets the line."""
         a = self.motion.analysis
         if a.instants or a.kinematic or a.on_singular_line:
             return None
-        dist, t_y = self._min_abs_y()
-        lo, hi = _boxes(self.duration, START_BOXES)
-        best, best_t = math.inf, 0.0  # the least certified |δ| at a time (an upper bound)
-        floor = math.inf  # the least lower bound of a box set aside
-        low = np.zeros(0)
-        for _ in range(MAX_ROUNDS):
-            low, up, ends = self._delta_bounds(lo, hi)
-            j = int(np.argmin(up))
-            if up[j] < best:
-                best, best_t = float(up[j]), float(ends[j])
-            keep = low < best * (1 - rel)
-            floor = min(floor, float(low[~keep].min(initial=math.inf)))
-            n = int(keep.sum())
-            if not n:
-                return Approach(dist, t_y, min(floor, best), best, best_t)
-            if n > MAX_LIVE:
-                break
-            lo, hi = _split(lo[keep], hi[keep], _fan(n))
-        return Approach(dist, t_y, min(floor, float(low.min(initial=best))), best, best_t)
-
-    def _delta_bounds(
-        self, lo: np.ndarray, hi: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Lower bounds of |δ| over the boxes, and upper bounds of |δ| at times in
-        [0, t_f] (the boxes' ends), with those times."""
-        n = len(lo)
-        pts = np.concatenate([lo, hi])
-        ends, where = np.unique(pts, return_inverse=True)
-        with quiet():
-            box = Ball.hull(lo, hi)
-            x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, box)
-            lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
-            delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
-            V, D = _full(delta.v, n, 0), _full(delta.d, n, 0)
-            v = [J.v for J in self.polys.jets(self.motion, Ball.exact(ends))]
-            lp = self.stacked.legs(*v)
-            P = _full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), len(ends), 0)
-            P = Ball._of(P.mid[where], P.rad[where])  # δ at the ends, each made once
-            width = 2.0 * box.rad
-            around = P[:n] + D * Ball(0.5 * width, 0.5 * width)
-            low = np.maximum(V.lower_abs(), around.lower_abs())
-            up = P.upper_abs()
-        up = np.where(pts <= self.t_last, up, np.inf)
-        return low, up, pts
-
-    def _min_abs_y(self) -> tuple[float, float]:
-        return min_abs_y(self.motion.traj, self.duration)
+        dist, t_y = min_abs_y(self.motion.traj, self.duration)
+        lo, hi, t_delta = min_abs_delta(self.motion.traj, self.duration)
+        return Approach(dist, t_y, lo, hi, t_delta)
 
 
 def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
@@ -1084,3 +1041,81 @@ def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
         ctx.prec = old
     v, t = min(cands, key=lambda c: float(c[0].mid()))
     return float(v.mid()), t
+
+
+def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float]:
+    """(lo, hi, t): min |δ| over [0, t_f] lies in [lo, hi] (rounded outward; hi - lo is
+    about 2^-100 of it) and is reached at about t, for a motion that never meets y = 0.
+
+    δ² = a1² y²/Q with Q = s1² s2² = (x² + y²)((x - a1)² + y²) > 0, so |δ| is least at
+    t = 0, t_f or a root of (δ²)' = a1² y R/Q², R = 2 y' Q - y Q', in (0, t_f) (where
+    y ≠ 0): the critical times of ``_delta_critical``, each enclosed by a rational ball,
+    and |δ| evaluated on each in arb (128 bits)."""
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        times = [arb(0), arb(duration)]
+        for f, square_free in _delta_critical(traj):
+            times += _roots_in(f, duration, square_free)
+        x, y, a1 = arb_poly(traj.x.coeffs()), arb_poly(traj.y.coeffs()), arb(traj.a1)
+        lo, hi, t_min = math.inf, math.inf, 0.0
+        for t in times:
+            xt, yt = x(t), y(t)
+            ut = xt - a1
+            d = abs(a1 * yt) / ((xt * xt + yt * yt) * (ut * ut + yt * yt)).sqrt()
+            if not d.is_finite():  # Q > 0 is proven at 128 bits in practice; else no bound
+                lo, up = 0.0, math.inf
+            else:
+                lo = min(lo, math.nextafter(float(d.lower()), -math.inf))
+                up = math.nextafter(float(d.upper()), math.inf)
+            if up < hi:
+                hi, t_min = up, float(t.mid())
+        return lo, hi, t_min
+    finally:
+        ctx.prec = old
+
+
+def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
+    """Polynomials in t whose roots in (0, t_f) hold the roots of R = 2 y' Q - y Q'
+    (``min_abs_delta``), each with whether it is square-free with no rational root.
+
+    With a path y = p(x), R(t) = x'(t) R~(x(t)) where R~ = 2 p' Q~ - p Q~' in x and Q~ =
+    (x² + p²)((x - a1)² + p²) (degree 4 deg p, not 4 deg y): x' itself, and per
+    irreducible factor f of R~, x(t) - r for a rational root r of f, or else the
+    square-free part of f(x(t)) (no rational root: x at it would be a rational root of
+    f). Without a path, R itself."""
+    if traj.path is None:
+        q = (traj.x**2 + traj.y**2) * ((traj.x - traj.a1) ** 2 + traj.y**2)
+        return [(2 * traj.y.derivative() * q - traj.y * q.derivative(), False)]
+    p, x = traj.path, traj.x
+    X = fmpq_poly([0, 1])
+    q = (X**2 + p**2) * ((X - traj.a1) ** 2 + p**2)
+    r = 2 * p.derivative() * q - p * q.derivative()
+    out: list[tuple[fmpq_poly, bool]] = [(x.derivative(), False)]
+    if r.is_zero():
+        return out  # δ constant along the path
+    for f, _ in r.factor()[1]:
+        if f.degree() == 1:
+            out.append((x - (-f[0] / f[1]), False))
+        elif f.degree() > 1:
+            h = f(x)
+            out.append((h // h.gcd(h.derivative()), True))
+    return out
+
+
+def _roots_in(f: fmpq_poly, duration: fmpq, square_free: bool) -> list[arb]:
+    """The real roots of f in (0, t_f) as arb balls (relative radius about 2^-128; a
+    rational root exactly, to the working precision): by the factors of f over Q, or,
+    when f is square-free with no rational root, by isolating f itself."""
+    if f.degree() < 1:
+        return []
+    parts = [f] if square_free else [g for g, _ in f.factor()[1] if g.degree() >= 1]
+    out = []
+    for g in parts:
+        if g.degree() == 1:
+            root = -g[0] / g[1]
+            if 0 < root < duration:
+                out.append(arb(root))
+            continue
+        out += [IsolatedRoot(g, lo, hi).ball(128) for lo, hi in isolate(g, duration)]
+    return out
