@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
+from flint import arb, arb_poly, ctx, fmpq, fmpq_poly, fmpq_series
 
 from ..model.numbers import to_float
 
@@ -251,6 +251,92 @@ class Series:
             if not _is_zero(a):
                 return i
         return len(self.c)
+
+
+class QSeries:
+    """``Series`` over Q by flint's ``fmpq_series`` (exact, in C: 20 times faster than
+    Python lists of ``fmpq``): the same operations and truncation (an operation keeps the
+    shorter operand's terms), for a rational t_s."""
+
+    __slots__ = ("n", "s")
+    s: fmpq_series
+
+    def __init__(self, c: Sequence[Any], n: int | None = None) -> None:
+        self.n = len(c) if n is None else n
+        old = ctx.cap
+        ctx.cap = max(self.n, 1)
+        try:
+            self.s = fmpq_series(list(c), prec=self.n)
+        finally:
+            ctx.cap = old
+
+    def __len__(self) -> int:
+        return self.n
+
+    @property
+    def c(self) -> list[fmpq]:
+        cs = self.s.coeffs()
+        return cs[: self.n] + [fmpq(0)] * (self.n - len(cs))
+
+    def _run(self, o: Any, op: Callable[[Any, Any], Any]) -> QSeries:
+        """op on the flint series, at the shorter operand's length (a scalar operand:
+        this one's)."""
+        n = self.n
+        if isinstance(o, (QSeries, Series)):
+            o = o if isinstance(o, QSeries) else QSeries(o.c)
+            n = min(n, o.n)
+            o = o.s
+        old = ctx.cap
+        ctx.cap = max(n, 1)
+        try:
+            out = object.__new__(QSeries)
+            out.s, out.n = op(self.s, o), n
+            return out
+        finally:
+            ctx.cap = old
+
+    def __add__(self, o: Any) -> QSeries:
+        return self._run(o, lambda a, b: a + b)
+
+    __radd__ = __add__
+
+    def __sub__(self, o: Any) -> QSeries:
+        return self._run(o, lambda a, b: a - b)
+
+    def __rsub__(self, o: Any) -> QSeries:
+        return self._run(o, lambda a, b: b - a)
+
+    def __neg__(self) -> QSeries:
+        return self._run(-1, lambda a, b: a * b)
+
+    def __mul__(self, o: Any) -> QSeries:
+        return self._run(o, lambda a, b: a * b)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o: Any) -> QSeries:
+        if not isinstance(o, (QSeries, Series)):
+            o = fmpq(o)
+            if o == 0:
+                raise ZeroDivisionError("division of a series by zero")
+            return self._run(1 / o, lambda a, b: a * b)
+        return self._run(o, lambda a, b: a / b)
+
+    def __rtruediv__(self, o: Any) -> QSeries:
+        return self._run(o, lambda a, b: b / a)
+
+    def sqrt_with(self, s0: Any) -> QSeries:
+        """The square root whose constant term is s0 (s0^2 = c_0, s0 nonzero):
+        s0 sqrt(self/s0^2), whose constant term is 1."""
+        s0 = fmpq(s0)
+        return self._run(1 / (s0 * s0), lambda a, b: (a * b).sqrt() * s0)
+
+    def valuation(self) -> int:
+        """Index of the first nonzero coefficient; len(self) when all vanish."""
+        for i, a in enumerate(self.c):
+            if a != 0:
+                return i
+        return self.n
 
 
 def _dot(a: list[Scalar], b: list[Scalar], k: int) -> Scalar:

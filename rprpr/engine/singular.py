@@ -34,7 +34,7 @@ from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
 from .roots import IsolatedRoot, isolate
-from .series import KElem, NumberField, Series, ball, is_zero, real, sign, taylor
+from .series import KElem, NumberField, QSeries, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
 
 
@@ -279,9 +279,10 @@ def expansion(
         e: list[Any] = (
             [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
         )
-        out.append(Series(e[:n]))
-        out.append(Series([(k + 1) * e[k + 1] for k in range(n)]))
-        out.append(Series([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
+        kind: Any = QSeries if exact is not None else Series
+        out.append(kind(e[:n]))
+        out.append(kind([(k + 1) * e[k + 1] for k in range(n)]))
+        out.append(kind([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
     return out[0], out[1], out[2], out[3], out[4], out[5]
 
 
@@ -436,7 +437,7 @@ def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     with an exact numerator, and that one division is made in ball arithmetic."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
-        T1, T2 = dyn.efforts(d, Series([N1 / D]), Series([N2 / D]))
+        T1, T2 = dyn.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
         return T1.c[0], T2.c[0]
     zero, one = D * 0, D * 0 + 1
     A = dyn.efforts(d, Series([zero]), Series([zero]))
