@@ -111,13 +111,7 @@ class Ball:
     @staticmethod
     def of_rational(q: fmpq | int) -> Ball:
         """The ball of the double nearest q: |q - RN(q)| <= u|RN(q)| + η/2."""
-        q = fmpq(q)
-        m = to_float(q)
-        if not np.isfinite(m):
-            return Ball(np.nan, np.inf)
-        if fmpq(*m.as_integer_ratio()) == q:
-            return Ball(m, 0.0)
-        return Ball(m, _up(U * abs(m) + ETA))
+        return _rational(q if type(q) is fmpq else fmpq(q))
 
     @staticmethod
     def of_arb(a: arb) -> Ball:
@@ -315,11 +309,13 @@ def poly_balls(p: fmpq_poly) -> list[Ball]:
 
 
 def _rational(q: fmpq) -> Ball:
-    """``Ball.of_rational`` for an fmpq, by the shortest way (made per coefficient)."""
+    """``Ball.of_rational`` for an fmpq: a double m = RN(q) (correctly rounded), exact when
+    m equals q, else of radius u|m| + η/2 rounded up."""
     m = to_float(q)
-    if not np.isfinite(m):
-        return Ball(np.nan, np.inf)
-    exact = fmpq(*m.as_integer_ratio()) == q
+    if m - m != 0.0:  # ±inf beyond the double range
+        return Ball._of(np.array(np.nan), np.array(np.inf))
+    n, d = m.as_integer_ratio()
+    exact = q.q == d and q.p == n
     return Ball._of(np.array(m), np.array(0.0 if exact else _up(U * abs(m) + ETA)))
 
 

@@ -215,27 +215,49 @@ class CertifiedMotion:
         self.traj = traj
         self.robot = robot
         self.analysis = analysis
-        self.params = per_robot(robot, _ball_params)
-        self.a1 = Ball.of_rational(traj.a1)
-        self.x3 = _poly3(traj.x)
-        self.center = self._center()
-        # y = p(x) through the path recentred on x's range; without a path, y(t)
-        # itself recentred on the middle of the span, y(t) = r(t - c_t)
-        self.t_center = _dyadic_middle(0.0, to_float(traj.duration))
-        if traj.path is not None:
-            self.recentred = traj.path(fmpq_poly([self.center, 1]))  # p(c + w), exact
-            self.q3 = _poly3(self.recentred)
-            self.y3 = None
-        else:
-            self.recentred = traj.y(fmpq_poly([self.t_center, 1]))  # r(w), exact
-            self.y3 = _poly3(self.recentred)
         self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
         self.kinematic = self._kinematic()
-        self.cuts = {1: self._cuts(1), 2: self._cuts(2)}
         self._limits: dict[int, tuple[Ball, Ball, Ball, Ball]] = {}
         self._zones: dict[int, Zone | None] = {}
 
-    # -- set-up ------------------------------------------------------------------------
+    # -- set-up (each part made when first read: a motion whose torques are unbounded
+    # needs few of them) ------------------------------------------------------------------
+    @cached_property
+    def params(self) -> dyn.Params:
+        return per_robot(self.robot, _ball_params)
+
+    @cached_property
+    def a1(self) -> Ball:
+        return Ball.of_rational(self.traj.a1)
+
+    @cached_property
+    def x3(self) -> tuple[list[Ball], list[Ball], list[Ball]]:
+        return _poly3(self.traj.x)
+
+    @cached_property
+    def center(self) -> fmpq:
+        return self._center()
+
+    @cached_property
+    def t_center(self) -> fmpq:
+        return _dyadic_middle(0.0, to_float(self.traj.duration))
+
+    @cached_property
+    def recentred(self) -> fmpq_poly:
+        """y = p(x) through the path recentred on x's range, p(c + w) exactly; without a
+        path, y(t) itself recentred on the middle of the span, y(t) = r(t - c_t)."""
+        if self.traj.path is not None:
+            return self.traj.path(fmpq_poly([self.center, 1]))
+        return self.traj.y(fmpq_poly([self.t_center, 1]))
+
+    @cached_property
+    def q3(self) -> tuple[list[Ball], list[Ball], list[Ball]] | None:
+        return _poly3(self.recentred) if self.traj.path is not None else None
+
+    @cached_property
+    def y3(self) -> tuple[list[Ball], list[Ball], list[Ball]] | None:
+        return _poly3(self.recentred) if self.traj.path is None else None
+
     @cached_property
     def locals(self) -> list[_Local]:
         """The Taylor polynomials about each exact root of y (made when first sampled)."""
@@ -279,6 +301,10 @@ class CertifiedMotion:
                 d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
             out.append((coeffs, d1, d2))
         return _Local(e, he, out[0], out[1])
+
+    @cached_property
+    def cuts(self) -> dict[int, list[_Cut]]:
+        return {1: self._cuts(1), 2: self._cuts(2)}
 
     def _cuts(self, leg: int) -> list[_Cut]:
         on_cut = (2,) if leg == 1 else (2, 3)
@@ -393,6 +419,7 @@ class CertifiedMotion:
         xd = horner(xdc, tb)
         xdd = horner(xddc, tb)
         if self.y3 is None:
+            assert self.q3 is not None
             w = x - self.center
             qc, q1c, q2c = self.q3
             q1 = horner(q1c, w)

@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -551,8 +552,6 @@ class Envelope:
     def __init__(self, motion: CertifiedMotion) -> None:
         self.motion = motion
         self.duration = motion.traj.duration
-        self.polys = _Polys(motion)
-        self.stacked = per_robot(motion.robot, _Stacked)
         self.bounded = [s for s in motion.analysis.instants if s.torque_bounded]
         self.poles = [s for s in motion.analysis.instants if not s.torque_bounded]
         self.throughs = [_Through(motion, k.leg, k.time) for k in motion.kinematic]
@@ -564,6 +563,15 @@ class Envelope:
         self._first: _Bounds | None = None  # the pass over the first partition
         self._peak: tuple[Peak, Peak] | None = None
         self._checks: dict[tuple[float, float], tuple[LimitCheck, LimitCheck]] = {}
+
+    @cached_property
+    def polys(self) -> _Polys:
+        """The motion's polynomials as balls (made for the first pass)."""
+        return _Polys(self.motion)
+
+    @cached_property
+    def stacked(self) -> _Stacked:
+        return per_robot(self.motion.robot, _Stacked)
 
     # -- one pass -------------------------------------------------------------------------
     def _pass(self, t: Ball) -> tuple[Ball, Ball]:
