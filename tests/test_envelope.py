@@ -101,6 +101,8 @@ _NEAR_MISSES = {
     "at an end": ("4/25*x^2 - 19/25*x + 96/25", "2 + 24/25*t^2 - 32/125*t^3", "2.5", "4"),
     # symmetric about x = 3: a rational critical point (a linear factor of R~)
     "rational": ("(x - 3)^2/4 + 1/2", "1 + 2*t", "2", "6"),
+    # x(t) turns back at t = 1 (x' = 0 inside): each x is reached twice
+    "turning": ("(x - 7/2)^2/10 + 3/10", "2 + 4*t - 2*t^2", "2", "6"),
 }
 
 
