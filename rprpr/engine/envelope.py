@@ -121,13 +121,6 @@ def _jet_hypot(u: Jet, v: Jet) -> Jet:
     return (u * u + v * v).sqrt()
 
 
-def _horner_jet(c: list[Ball], x: Jet) -> Jet:
-    acc = Jet._of(c[-1])
-    for ck in c[-2::-1]:
-        acc = acc * x + ck
-    return acc
-
-
 # -- enclosures over boxes ----------------------------------------------------------------
 
 
@@ -188,6 +181,12 @@ def _full(b: Ball, n: int, rows: int = 2) -> Ball:
     shape = (rows, n) if rows else (n,)
     mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
     return Ball._of(np.array(mid), np.array(rad))
+
+
+def _poor(b: Ball) -> np.ndarray:
+    """The columns of a stacked ball (rows: torques) whose enclosure is wider than its
+    value in some row (unbounded ones included)."""
+    return np.asarray(~(b.rad <= np.abs(b.mid)).all(axis=0))
 
 
 def _put(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
@@ -336,11 +335,21 @@ def _derive(c: list[Ball]) -> list[Ball]:
     return [c[j] * float(j) for j in range(1, len(c))] or [Ball.exact(0.0)]
 
 
-def _jets3(c: list[Ball], e: Jet) -> tuple[Jet, Jet, Jet]:
-    """f, f', f'' as jets in ε from the coefficients of f in ε (low to high)."""
-    d1 = _derive(c)
-    d2 = _derive(d1)
-    return _horner_jet(c, e), _horner_jet(d1, e), _horner_jet(d2, e)
+def _derivatives(c: list[Ball]) -> tuple[list[Ball], ...]:
+    """The coefficients of f and its first three derivatives from those of f (low to
+    high)."""
+    out = [c]
+    for _ in range(3):
+        out.append(_derive(out[-1]))
+    return tuple(out)
+
+
+def _jets3(ds: tuple[list[Ball], ...], eps: Ball) -> tuple[Jet, Jet, Jet]:
+    """f, f', f'' as jets in ε (value, derivative) over the balls ``eps``, from the
+    coefficients of f and its first three derivatives (``_derivatives``): Horner's rule
+    on each, every derivative made once."""
+    v = [horner(c, eps) for c in ds]
+    return Jet(v[0], v[1]), Jet(v[1], v[2]), Jet(v[2], v[3])
 
 
 class _Through:
@@ -369,14 +378,17 @@ class _Through:
         self.b = self.cy[self.k :] or [Ball.exact(0.0)]
         k = self.k
         self.phi = [Ball.exact(0.0)] * k + [Ball.exact(1.0)]  # ε^k
+        with quiet():
+            self.dx, self.dy = _derivatives(self.cx), _derivatives(self.cy)
+            self.da, self.db = _derivatives(self.a), _derivatives(self.b)
+            self.dphi = _derivatives(self.phi)
 
     def torques(self, st: _Stacked, eps: Ball, sigma: float) -> tuple[Jet, Jet]:
         """T (stacked) and δ as jets over balls of ε on one side (sign of φ: sigma)."""
-        E = Jet(eps, Ball.exact(np.ones_like(eps.mid)))
-        x = _jets3(self.cx, E)
-        y = _jets3(self.cy, E)
+        x = _jets3(self.dx, eps)
+        y = _jets3(self.dy, eps)
         reg = st.legs(x[0], x[1], x[2], y[0], y[1], y[2])
-        a, b, phi = _jets3(self.a, E), _jets3(self.b, E), _jets3(self.phi, E)
+        a, b, phi = _jets3(self.da, eps), _jets3(self.db, eps), _jets3(self.dphi, eps)
         f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], _hypot)
         r, r1, r2 = f.s, f.s_d, f.s_dd
         own = dyn.Leg(
@@ -581,24 +593,29 @@ class Envelope:
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
             V, D = _full(T.v, len(t.mid)), _full(T.d, len(t.mid))  # t-free parts too
             for th in self.throughs:
-                V, D = self._through(th, t, V, D)
+                V, D = self._through(th, t, V, D, _poor(V) | _poor(D))
         return V, D
 
     def _values(self, t: np.ndarray) -> Ball:
-        """T (stacked rows) at the float times ``t``: the values of ``_pass`` (the same
-        operations on the same operands), without the derivatives."""
-        if self.throughs:  # rare: the factored form near t_A works on jets
-            return self._pass(Ball(t, np.zeros_like(t)))[0]
+        """T (stacked rows) at the float times ``t``: the values of ``_pass`` without the
+        derivatives (the factored form near t_A, on jets, where the direct one is poor)."""
         with quiet():
             x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, Ball.exact(t)))
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return _full(T, len(t))
+            V = _full(T, len(t))
+            for th in self.throughs:  # rare
+                zero = Ball._of(np.zeros_like(V.mid), np.zeros_like(V.rad))
+                V, _ = self._through(th, Ball(t, np.zeros_like(t)), V, zero, _poor(V))
+        return V
 
-    def _through(self, th: _Through, t: Ball, V: Ball, D: Ball) -> tuple[Ball, Ball]:
+    def _through(
+        self, th: _Through, t: Ball, V: Ball, D: Ball, poor: np.ndarray
+    ) -> tuple[Ball, Ball]:
         """V (T) and D (T') made narrower near t_A by the factored form (``_Through``) on
         each side of t_A that the balls of time reach within [0, t_f] (the hull of both
-        sides where a ball holds t_A: T is then bounded by either side's values)."""
-        idx = np.nonzero(np.abs(t.mid - th.e.hi) <= self.tf / 4)[0]
+        sides where a ball holds t_A: T is then bounded by either side's values), for the
+        columns ``poor`` (where the direct form is poor: elsewhere it is kept)."""
+        idx = np.nonzero(poor & (np.abs(t.mid - th.e.hi) <= self.tf / 4))[0]
         if not len(idx):
             return V, D
         lo, hi = t.lower()[idx], t.upper()[idx]
