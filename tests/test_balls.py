@@ -39,16 +39,19 @@ def _inside(b: Ball, v: Fraction) -> bool:
 def test_arithmetic_contains_every_exact_result(
     a: float, ra: float, b: float, rb: float, op: str
 ) -> None:
-    A, B = Ball(a, ra), Ball(b, rb)
-    with quiet():
-        C = {"+": A + B, "-": A - B, "*": A * B, "/": A / B}[op]
-    for x in _members(a, ra):
-        for y in _members(b, rb):
-            if op == "/" and y == 0:
-                assert not math.isfinite(float(C.rad))
-                continue
-            exact = {"+": x + y, "-": x - y, "*": x * y, "/": x / y if y else 0}[op]
-            assert _inside(C, exact), (a, ra, b, rb, op)
+    for shape in ((), (1,)):  # scalars, and arrays (operations done in place)
+        A = Ball(np.full(shape, a), np.full(shape, ra))
+        B = Ball(np.full(shape, b), np.full(shape, rb))
+        with quiet():
+            C = {"+": A + B, "-": A - B, "*": A * B, "/": A / B}[op]
+        C = Ball(np.ravel(C.mid)[0], np.ravel(C.rad)[0])
+        for x in _members(a, ra):
+            for y in _members(b, rb):
+                if op == "/" and y == 0:
+                    assert not math.isfinite(float(C.rad))
+                    continue
+                exact = {"+": x + y, "-": x - y, "*": x * y, "/": x / y if y else 0}[op]
+                assert _inside(C, exact), (a, ra, b, rb, op, shape)
 
 
 @settings(derandomize=True, max_examples=300, deadline=None)

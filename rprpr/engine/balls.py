@@ -151,7 +151,7 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid + o.mid
-        return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
+        return _finish(c, _sum_radius(self, o, c))
 
     __radd__ = __add__
 
@@ -161,7 +161,7 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid - o.mid
-        return _finish(c, _up((self.rad + o.rad) + U * np.abs(c)))
+        return _finish(c, _sum_radius(self, o, c))
 
     def __rsub__(self, o: Any) -> Ball:
         return Ball.coerce(o) - self
@@ -175,7 +175,22 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid * o.mid
-        prop = (np.abs(self.mid) + self.rad) * o.rad + self.rad * np.abs(o.mid)
+        am, ar, bm, br = self.mid, self.rad, o.mid, o.rad
+        if am.shape == ar.shape == bm.shape == br.shape and am.ndim:  # in place: faster
+            t = np.abs(am)
+            t += ar
+            t *= br
+            u = np.abs(bm)
+            u *= ar
+            t += u
+            np.abs(c, out=u)
+            u *= U
+            u += ETA
+            t += u
+            t *= _GROW
+            t += _PAD
+            return Ball._of(c, t)  # the same operations, in the same order, as below
+        prop = (np.abs(am) + ar) * br + ar * np.abs(bm)
         return _finish(c, _up(prop + (U * np.abs(c) + ETA)))
 
     __rmul__ = __mul__
@@ -189,6 +204,24 @@ class Ball:
         b = np.abs(o.mid)
         ok = b > o.rad
         c = self.mid / o.mid
+        am, ar, br = self.mid, self.rad, o.rad
+        if am.shape == ar.shape == b.shape == br.shape and am.ndim:  # in place: faster
+            t = ar * b
+            u = np.abs(am)
+            u *= br
+            t += u
+            t += TINY
+            t /= b
+            t += TINY
+            np.subtract(b, br, out=u)
+            t /= u
+            np.abs(c, out=u)
+            u *= U
+            u += ETA
+            t += u
+            t *= _GROW
+            t += _PAD  # the same operations, in the same order, as below
+            return _unbounded_where(Ball._of(c, t), ~ok)
         num = (self.rad * b + np.abs(self.mid) * o.rad) + TINY
         prop = ((num / b) + TINY) / (b - o.rad)
         out = _finish(c, _up(prop + (U * np.abs(c) + ETA)))
@@ -277,6 +310,20 @@ def _finish(mid: Array, rad: Array) -> Ball:
     """The ball mid ± rad. A non-finite midpoint always makes the radius non-finite
     (rad includes u|mid|), so ``rad`` alone tells a bounded ball (``bounded``)."""
     return Ball._of(np.asarray(mid, dtype=float), np.asarray(rad, dtype=float))
+
+
+def _sum_radius(a: Ball, b: Ball, c: Array) -> Array:
+    """The radius of c = a ± b: _up((r_a + r_b) + u|c|), in place where the shapes agree
+    (the same operations in the same order)."""
+    if a.rad.shape == b.rad.shape == c.shape and c.ndim:
+        t = a.rad + b.rad
+        u = np.abs(c)
+        u *= U
+        t += u
+        t *= _GROW
+        t += _PAD
+        return t
+    return _up((a.rad + b.rad) + U * np.abs(c))
 
 
 def _unbounded_where(b: Ball, where: Array) -> Ball:
