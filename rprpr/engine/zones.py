@@ -336,8 +336,43 @@ def _on_ball(
 
 
 def _branch(sign: int) -> Callable[[Any, Any], Any]:
-    """√(u² + v²) on the principal branch times ``sign`` (complex balls)."""
-    return lambda u, v: (u * u + v * v).sqrt() * sign
+    """A root of u² + v² times ``sign`` (complex balls): with both signs, both roots of
+    every point of the ball (``_root``)."""
+    return lambda u, v: _root(u * u + v * v) * sign
+
+
+def _root(w: acb) -> acb:
+    """A ball holding one square root of each point of the complex ball w (the other is
+    its negative), by polar form: where w holds no 0 and lies clear of the negative reals,
+    arg is continuous on it and ranges between the args of its corners (a rectangle's
+    directions from a point outside it are spanned by its corners), so √z = ρ e^(iφ)
+    with ρ² between the least and the largest |z| and 2φ in that range; where it lies
+    on the negative reals, i √(-w). The principal √w of a ball of ball arithmetic
+    would reach 0 once the ball is wide, and a quotient by it would be unbounded."""
+    if w.contains(0) or not w.is_finite():
+        return w.sqrt()
+    re, im = w.real, w.imag
+    if im.contains(0) and not re > 0:  # on the cut: -w lies on the positive reals
+        return _root(-w) * acb(0, 1)
+    corners = [
+        arb.atan2(y, x)
+        for x in (arb(re.mid() - re.rad()), arb(re.mid() + re.rad()))
+        for y in (arb(im.mid() - im.rad()), arb(im.mid() + im.rad()))
+    ]
+    phi = corners[0]
+    for c in corners[1:]:
+        phi = phi.union(c)
+    phi = phi / 2
+    least = re.abs_lower() ** 2 + im.abs_lower() ** 2  # |z|² over the rectangle
+    most = re.abs_upper() ** 2 + im.abs_upper() ** 2
+    rho = least.sqrt().sqrt().union(most.sqrt().sqrt())  # √|z|
+    polar = acb(rho * phi.cos(), rho * phi.sin())
+    direct = w.sqrt()
+    return direct if _width(direct) < _width(polar) else polar
+
+
+def _width(z: acb) -> float:
+    return float(z.real.rad() + z.imag.rad()) if z.is_finite() else math.inf
 
 
 def _analytic_on_disc(
@@ -456,17 +491,18 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         if lead[2].contains(0):
             return None
         tf = to_float(motion.traj.duration)
-        best: tuple[float, int, list[arb]] | None = None
         widest = _widest_disc(motion, coeffs, 2 * tf)
         target = _needed(motion, e, widest) if widest else 0.0
-        for f in DISC_FRACTIONS if widest else ():
+        want = min(max(WANT_FACTOR * target, ZONE_FLOOR * widest), tf)
+        best = _small_disc(motion, coeffs, widest, want, lead, orders) if widest else None
+        for f in DISC_FRACTIONS if widest and best is None else ():
             rho = f * widest
-            for balls in (0, CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+            for balls in (CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
                 bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
-                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, target)
+                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, want)
                 if got is not None and (best is None or got[0] > best[0]):
                     best = got
-                if best is not None and best[0] >= min(target, tf):
+                if best is not None and best[0] >= want:
                     break
             if best is not None:  # the next disc is narrower: no wider zone
                 break
@@ -492,6 +528,8 @@ ZONE_FRACTIONS = (
 DISC_STEPS = 40  # discs 2 t_f 2^(-i/2), i < DISC_STEPS, tried for analyticity
 DISC_FINE = 8  # ... and between the widest two, at steps of 2^(-1/(2 DISC_FINE))
 DISC_FRACTIONS = (0.9, 0.75)  # fractions of the widest analytic disc tried, in turn
+WANT_FACTOR = 2.0  # a zone reaches this many times as far as the ball pass needs
+ZONE_FLOOR = 0.125  # ... and at least this fraction of the widest analytic disc
 DIRECT_REL = 1e-13  # the relative error of λ the ball pass should reach outside a zone
 
 
@@ -538,20 +576,45 @@ def _widest_disc(motion: CertifiedMotion, coeffs: list[list[arb]], start: float)
     return 0.0
 
 
+def _small_disc(
+    motion: CertifiedMotion, coeffs: list[list[arb]], widest: float, want: float,
+    lead: list[arb], orders: tuple[int, int, int],
+) -> tuple[float, int, list[arb]] | None:  # fmt: skip
+    """The zone r = ``want`` with M from one ball over a disc ρ = 2^j r (inside the widest
+    analytic one, j from SMALL_DISCS, the widest that gives M first): cheap, and a few
+    terms suffice while ρ/r is large; None when no such disc meets the slack with at most
+    k + ZONE_BASE terms."""
+    for j in SMALL_DISCS:
+        rho = want * 2.0**j
+        if rho > DISC_FRACTIONS[0] * widest:
+            continue
+        bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=0)
+        if bounds is None:
+            continue
+        got = _fewest(bounds, rho, want, lead, orders, max(orders) + ZONE_BASE)
+        return None if got is None else (want, got[0], got[1])
+    return None
+
+
+SMALL_DISCS = (4, 3, 2, 1)  # ρ/r = 2^j of ``_small_disc``, tried in turn
+
+
 def _choose(
     bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], tf: float,
-    target: float,
+    want: float,
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """(r, N, remainders): r = f ρ (f in ZONE_FRACTIONS, r <= t_f) whose Cauchy
-    remainders R ε^N, |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading
-    terms |c| r^k, with the fewest terms N that do: the widest r with N <= k + ZONE_BASE
-    terms; if that falls short of ``target``, the narrowest r reaching it with N <= k +
-    ZONE_TERMS, else the widest of those."""
+    """(r, N, remainders): the zone r = ``want`` (< ρ) whose Cauchy remainders R ε^N,
+    |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading terms |c| r^k with the
+    fewest terms N <= k + ZONE_TERMS; when there is none, the widest r = f ρ (f in
+    ZONE_FRACTIONS, r <= t_f) that meets the slack with N <= k + ZONE_BASE terms, else
+    with N <= k + ZONE_TERMS."""
     top = max(orders)
+    if want < ZONE_FRACTIONS[0] * rho:
+        got = _fewest(bounds, rho, want, lead, orders, top + ZONE_TERMS)
+        if got is not None:
+            return want, got[0], got[1]
     base = _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf, 0.0)
-    if base is not None and base[0] >= min(target, tf):
-        return base
-    return _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, target) or base
+    return base or _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, 0.0)
 
 
 def _widest_of(
