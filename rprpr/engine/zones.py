@@ -204,6 +204,12 @@ def taylor_lambda(
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
+def _coefs(s: Any, n: int) -> list[arb]:
+    """The first n coefficients of a series (zeros beyond its length)."""
+    c = s.coeffs()[:n]
+    return c + [arb(0)] * (n - len(c))
+
+
 def _coef(s: Any, k: int) -> arb:
     c = s.coeffs()
     return c[k] if k < len(c) else arb(0)
@@ -325,14 +331,21 @@ def _on_ball(
         if (u * u + y * y).contains(0):
             return None
     out = [arb(0), arb(0), arb(0)]
-    first = [dyn.leg(x, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
-    second = [dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    one = dyn.leg(x, xd, xdd, y, yd, ydd, _branch(1))
+    two = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(1))
+    first, second = (one, _other_root(one)), (two, _other_root(two))
     params = dyn.Params.of(motion.robot, arb)
     for l1, l2 in ((a, b) for a in first for b in second):  # every branch of s1, s2
         d = dyn.dynamics(l1, l2, params)
         got = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
         out = [o if o > g else g for o, g in zip(out, got, strict=True)]
     return (out[0], out[1], out[2]) if all(v.is_finite() for v in out) else None
+
+
+def _other_root(g: dyn.Leg) -> dyn.Leg:
+    """The leg with -s for s (exactly: s, cos, sin, s', s'' change sign, θ' and θ''
+    depend on s² and s s' only)."""
+    return dyn.Leg(-g.s, -g.cos, -g.sin, -g.s_d, g.th_d, -g.s_dd, g.th_dd)
 
 
 def _branch(sign: int) -> Callable[[Any, Any], Any]:
@@ -349,8 +362,9 @@ def _root(w: acb) -> acb:
     with ρ² between the least and the largest |z| and 2φ in that range; where it lies
     on the negative reals, i √(-w). The principal √w of a ball of ball arithmetic
     would reach 0 once the ball is wide, and a quotient by it would be unbounded."""
-    if w.contains(0) or not w.is_finite():
-        return w.sqrt()
+    direct = w.sqrt()
+    if w.contains(0) or not w.is_finite() or _width(direct) < ROOT_NARROW * _size(direct):
+        return direct  # a narrow ball: the principal root is as tight
     re, im = w.real, w.imag
     if im.contains(0) and not re > 0:  # on the cut: -w lies on the positive reals
         return _root(-w) * acb(0, 1)
@@ -367,12 +381,18 @@ def _root(w: acb) -> acb:
     most = re.abs_upper() ** 2 + im.abs_upper() ** 2
     rho = least.sqrt().sqrt().union(most.sqrt().sqrt())  # √|z|
     polar = acb(rho * phi.cos(), rho * phi.sin())
-    direct = w.sqrt()
     return direct if _width(direct) < _width(polar) else polar
+
+
+ROOT_NARROW = 0.01  # ``_root``: a ball this narrow beside its size takes √w directly
 
 
 def _width(z: acb) -> float:
     return float(z.real.rad() + z.imag.rad()) if z.is_finite() else math.inf
+
+
+def _size(z: acb) -> float:
+    return float(abs(z.real.mid()) + abs(z.imag.mid()))
 
 
 def _analytic_on_disc(
@@ -486,8 +506,8 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
     old_prec, old_cap = ctx.prec, ctx.cap
     ctx.prec = TAYLOR_PREC
     try:
-        point = _point_series(motion, coeffs, top + ZONE_START)
-        lead = [_coef(point[0], ks[0]), _coef(point[1], ks[1]), _coef(point[2], m)]
+        head = _point_series(motion, coeffs, top)  # the leading coefficients only
+        lead = [_coef(head[0], ks[0]), _coef(head[1], ks[1]), _coef(head[2], m)]
         if lead[2].contains(0):
             return None
         tf = to_float(motion.traj.duration)
@@ -510,8 +530,7 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
             point = _point_series(motion, coeffs, top + LAGRANGE_TERMS)
             return _lagrange_zone(motion, s, e, coeffs, point, lead, orders)
         r, n, rem = best
-        if n > top + ZONE_START:
-            point = _point_series(motion, coeffs, n)
+        point = _point_series(motion, coeffs, n)
         return _zone(e, r, n, rem, point, orders)
     except (ValueError, ZeroDivisionError):
         return None
@@ -519,7 +538,6 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
-ZONE_START = 16  # terms of the zone form beyond the leading ones, to start with
 ZONE_BASE = 48  # ... enough for a zone as wide as its disc allows, in most cases
 ZONE_FRACTIONS = (
     *(0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1),
@@ -662,7 +680,7 @@ def _zone(
 ) -> Zone:  # fmt: skip
     """The zone |ε| <= r with the first n Taylor coefficients and the remainders ``rem``."""
     parts = [
-        [Ball.of_arb(_coef(point[i], j)) for j in range(orders[i], n)]
+        [Ball.of_arb(c) for c in _coefs(point[i], n)[orders[i] :]]
         + [Ball(0.0, float(rem[i].upper()) * (1 + 4 * U))]
         for i in (0, 1, 2)
     ]
