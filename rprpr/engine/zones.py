@@ -33,7 +33,7 @@ from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, horner, quiet, stack, two_sum
+from .balls import ETA, Ball, U, horner, quiet, two_sum
 from .series import taylor
 from .singular import SingularInstant
 
@@ -288,12 +288,13 @@ class Zone:
         """λ1, λ2 on balls of ε: A_1, A_2 and B by one Horner pass, stacked (the shorter
         polynomials padded with exact zeros at the top)."""
         if self.stacked is None:
-            n = max(len(self.num[0]), len(self.num[1]), len(self.den))
-            self.stacked = []
-            for k in range(n):
-                parts = [p[k] if k < len(p) else Ball.exact(0.0) for p in (*self.num, self.den)]
-                b = stack(parts)
-                self.stacked.append(Ball._of(b.mid.reshape(3, 1), b.rad.reshape(3, 1)))
+            polys = (*self.num, self.den)
+            n = max(len(p) for p in polys)
+            mid, rad = np.zeros((n, 3, 1)), np.zeros((n, 3, 1))
+            for i, p in enumerate(polys):
+                mid[: len(p), i, 0] = [float(b.mid) for b in p]
+                rad[: len(p), i, 0] = [float(b.rad) for b in p]
+            self.stacked = [Ball._of(mid[k], rad[k]) for k in range(n)]
         v = horner(self.stacked, eps)
         out = []
         for i in (0, 1):
@@ -519,10 +520,12 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
             rho = f * widest
             for balls in (CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
                 bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
-                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, want)
+                got = None
+                if bounds is not None:
+                    got = _choose(bounds, rho, lead, orders, tf, (want, min(target, want)))
                 if got is not None and (best is None or got[0] > best[0]):
                     best = got
-                if best is not None and best[0] >= want:
+                if best is not None and best[0] >= min(target, tf):
                     break
             if best is not None:  # the next disc is narrower: no wider zone
                 break
@@ -619,20 +622,23 @@ SMALL_DISCS = (4, 3, 2, 1)  # ρ/r = 2^j of ``_small_disc``, tried in turn
 
 def _choose(
     bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], tf: float,
-    want: float,
+    wants: tuple[float, float],
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """(r, N, remainders): the zone r = ``want`` (< ρ) whose Cauchy remainders R ε^N,
-    |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading terms |c| r^k with the
-    fewest terms N <= k + ZONE_TERMS; when there is none, the widest r = f ρ (f in
-    ZONE_FRACTIONS, r <= t_f) that meets the slack with N <= k + ZONE_BASE terms, else
-    with N <= k + ZONE_TERMS."""
+    """(r, N, remainders) of a zone about t_s whose Cauchy remainders R ε^N, |R| <=
+    M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading terms |c| r^k with the
+    fewest terms N: r = ``wants`` [0] (the zone wanted) with N <= k + ZONE_BASE, else r =
+    ``wants`` [1] (the zone the ball pass needs) with N <= k + ZONE_TERMS; where that is
+    out of this disc's reach, the widest r = f ρ (f in ZONE_FRACTIONS, r <= t_f) with N <=
+    k + ZONE_TERMS (the ball pass is poor up to there), else with N <= k + ZONE_BASE."""
     top = max(orders)
-    if want < ZONE_FRACTIONS[0] * rho:
-        got = _fewest(bounds, rho, want, lead, orders, top + ZONE_TERMS)
-        if got is not None:
-            return want, got[0], got[1]
-    base = _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf, 0.0)
-    return base or _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, 0.0)
+    for r, most in ((wants[0], ZONE_BASE), (wants[1], ZONE_TERMS)):
+        if 0 < r < ZONE_FRACTIONS[0] * rho:
+            got = _fewest(bounds, rho, r, lead, orders, top + most)
+            if got is not None:
+                return r, got[0], got[1]
+    first, second = (ZONE_TERMS, ZONE_BASE) if wants[1] > 0 else (ZONE_BASE, ZONE_TERMS)
+    got = _widest_of(bounds, rho, lead, orders, top + first, tf, 0.0)
+    return got or _widest_of(bounds, rho, lead, orders, top + second, tf, 0.0)
 
 
 def _widest_of(
