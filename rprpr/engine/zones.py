@@ -487,16 +487,17 @@ def _disc_bound(
 
 def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
     """A zone |ε| <= r (r <= t_f) whose remainders stay below ZONE_SLACK of the leading
-    terms, as wide as the ball pass needs (``_needed``) or else the widest; None when
-    there is none.
+    terms, as wide as the ball pass needs (``_needed``: WANT_FACTOR times that, at least
+    ZONE_FLOOR of the widest analytic disc) with as few terms as will do, or else the
+    widest; None when there is none.
 
     The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded by Cauchy's
     estimate: μ is analytic on the disc |ε| <= ρ with |μ| <= M there (``_disc_bound``),
     so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i (r/ρ)^i = M/(ρ^N (1 - r/ρ)); the same for δ.
-    ρ: a fraction DISC_FRACTIONS of the widest disc proven analytic (``_widest_disc``); M
-    from one ball over the disc first (cheap, loose), from the circle when that falls
-    short; r a fraction ZONE_FRACTIONS of ρ, N the fewest terms (<= max(k, m) +
-    ZONE_TERMS) that meet the slack (``_choose``). Where no disc gives a zone, Taylor's
+    ρ: first 2^j r with M from one ball over the disc (``_small_disc``: cheap, and few
+    terms while r/ρ is small), then a fraction DISC_FRACTIONS of the widest disc proven
+    analytic (``_widest_disc``) with M from the circle (``_choose``); N the fewest terms
+    (<= max(k, m) + ZONE_TERMS) that meet the slack. Where no disc gives a zone, Taylor's
     theorem on t_s + [-r, r], r = t_f/2^j: R = μ^(N)(ξ)/N! for some ξ there, enclosed by
     series arithmetic on that ball (``_lagrange_zone``)."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
@@ -541,7 +542,7 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
-ZONE_BASE = 48  # ... enough for a zone as wide as its disc allows, in most cases
+ZONE_BASE = 48  # terms beyond the leading ones of a zone as wide as wanted, at most
 ZONE_FRACTIONS = (
     *(0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1),
     *(10.0 ** (-j / 2) for j in range(3, 19)),
@@ -633,31 +634,24 @@ def _choose(
     top = max(orders)
     for r, most in ((wants[0], ZONE_BASE), (wants[1], ZONE_TERMS)):
         if 0 < r < ZONE_FRACTIONS[0] * rho:
-            got = _fewest(bounds, rho, r, lead, orders, top + most)
-            if got is not None:
-                return r, got[0], got[1]
-    first, second = (ZONE_TERMS, ZONE_BASE) if wants[1] > 0 else (ZONE_BASE, ZONE_TERMS)
-    got = _widest_of(bounds, rho, lead, orders, top + first, tf, 0.0)
-    return got or _widest_of(bounds, rho, lead, orders, top + second, tf, 0.0)
+            terms = _fewest(bounds, rho, r, lead, orders, top + most)
+            if terms is not None:
+                return r, terms[0], terms[1]
+    base = None if wants[1] > 0 else _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf)
+    return base or _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf)
 
 
 def _widest_of(
     bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], n_max: int,
-    tf: float, target: float,
+    tf: float,
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """The narrowest zone of at most n_max terms reaching ``target``, else the widest."""
-    chosen = None
+    """The widest zone r = f ρ (f in ZONE_FRACTIONS, r <= t_f) of at most n_max terms."""
     for f in ZONE_FRACTIONS:
         r = min(f * rho, tf)
         n = _fewest(bounds, rho, r, lead, orders, n_max)
-        if n is None:
-            continue
-        if r < target and chosen is not None:
-            break
-        chosen = (r, n[0], n[1])
-        if r < target or target == 0.0:
-            break
-    return chosen
+        if n is not None:
+            return r, n[0], n[1]
+    return None
 
 
 def _fewest(
