@@ -516,10 +516,14 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         widest = _widest_disc(motion, coeffs, 2 * tf)
         target = _needed(motion, e, widest) if widest else 0.0
         want = min(max(WANT_FACTOR * target, ZONE_FLOOR * widest), tf)
-        best = _small_disc(motion, coeffs, widest, want, lead, orders) if widest else None
+        best = None
+        for r in dict.fromkeys((want, max(target, ZONE_FLOOR * widest)) if widest else ()):
+            best = best or _small_disc(motion, coeffs, widest, r, lead, orders)
         for f in DISC_FRACTIONS if widest and best is None else ():
             rho = f * widest
             for balls in (CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+                if balls == CIRCLE_BALLS and target >= ZONE_FRACTIONS[0] * rho:
+                    continue  # out of reach: the tighter M (fewer terms) at once
                 bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
                 got = None
                 if bounds is not None:
@@ -659,19 +663,31 @@ def _fewest(
     n_max: int,
 ) -> tuple[int, list[arb]] | None:  # fmt: skip
     """The fewest terms N <= n_max (in steps of 4) for which the zone r meets the slack,
-    with its remainders."""
+    with its remainders: the bound M q^N/(1 - q) r^-k (q = r/ρ < 1) falls with N, so by
+    bisection over the steps."""
     q = arb(r) / arb(rho)
-    n = max(orders) + 1
-    while n <= n_max:
+
+    def meets(n: int) -> list[arb] | None:
         rem = [M / (arb(rho) ** n * (1 - q)) for M in bounds]
-        ok = True
         for R, c, k in zip(rem, lead, orders, strict=True):
             scale = abs(c).lower() if not c.contains(0) else arb(1)
-            ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
-        if ok:
-            return n, rem
-        n += 4
-    return None
+            if not R * arb(r) ** (n - k) < ZONE_SLACK * scale:
+                return None
+        return rem
+
+    first = max(orders) + 1
+    lo, hi = 0, (n_max - first) // 4  # steps: N = first + 4 j
+    if hi < 0 or meets(first + 4 * hi) is None:
+        return None
+    while lo < hi:
+        j = (lo + hi) // 2
+        if meets(first + 4 * j) is None:
+            lo = j + 1
+        else:
+            hi = j
+    n = first + 4 * lo
+    rem = meets(n)
+    return None if rem is None else (n, rem)
 
 
 def _zone(
