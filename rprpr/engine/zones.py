@@ -33,7 +33,7 @@ from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, horner, quiet, stack, two_sum
+from .balls import ETA, Ball, U, horner, quiet, two_sum
 from .series import taylor
 from .singular import SingularInstant
 
@@ -204,6 +204,12 @@ def taylor_lambda(
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
+def _coefs(s: Any, n: int) -> list[arb]:
+    """The first n coefficients of a series (zeros beyond its length)."""
+    c = s.coeffs()[:n]
+    return c + [arb(0)] * (n - len(c))
+
+
 def _coef(s: Any, k: int) -> arb:
     c = s.coeffs()
     return c[k] if k < len(c) else arb(0)
@@ -282,12 +288,13 @@ class Zone:
         """λ1, λ2 on balls of ε: A_1, A_2 and B by one Horner pass, stacked (the shorter
         polynomials padded with exact zeros at the top)."""
         if self.stacked is None:
-            n = max(len(self.num[0]), len(self.num[1]), len(self.den))
-            self.stacked = []
-            for k in range(n):
-                parts = [p[k] if k < len(p) else Ball.exact(0.0) for p in (*self.num, self.den)]
-                b = stack(parts)
-                self.stacked.append(Ball._of(b.mid.reshape(3, 1), b.rad.reshape(3, 1)))
+            polys = (*self.num, self.den)
+            n = max(len(p) for p in polys)
+            mid, rad = np.zeros((n, 3, 1)), np.zeros((n, 3, 1))
+            for i, p in enumerate(polys):
+                mid[: len(p), i, 0] = [float(b.mid) for b in p]
+                rad[: len(p), i, 0] = [float(b.rad) for b in p]
+            self.stacked = [Ball._of(mid[k], rad[k]) for k in range(n)]
         v = horner(self.stacked, eps)
         out = []
         for i in (0, 1):
@@ -325,8 +332,9 @@ def _on_ball(
         if (u * u + y * y).contains(0):
             return None
     out = [arb(0), arb(0), arb(0)]
-    first = [dyn.leg(x, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
-    second = [dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(b)) for b in (1, -1)]
+    one = dyn.leg(x, xd, xdd, y, yd, ydd, _branch(1))
+    two = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(1))
+    first, second = (one, _other_root(one)), (two, _other_root(two))
     params = dyn.Params.of(motion.robot, arb)
     for l1, l2 in ((a, b) for a in first for b in second):  # every branch of s1, s2
         d = dyn.dynamics(l1, l2, params)
@@ -335,9 +343,57 @@ def _on_ball(
     return (out[0], out[1], out[2]) if all(v.is_finite() for v in out) else None
 
 
+def _other_root(g: dyn.Leg) -> dyn.Leg:
+    """The leg with -s for s (exactly: s, cos, sin, s', s'' change sign, θ' and θ''
+    depend on s² and s s' only)."""
+    return dyn.Leg(-g.s, -g.cos, -g.sin, -g.s_d, g.th_d, -g.s_dd, g.th_dd)
+
+
 def _branch(sign: int) -> Callable[[Any, Any], Any]:
-    """√(u² + v²) on the principal branch times ``sign`` (complex balls)."""
-    return lambda u, v: (u * u + v * v).sqrt() * sign
+    """A root of u² + v² times ``sign`` (complex balls): with both signs, both roots of
+    every point of the ball (``_root``)."""
+    return lambda u, v: _root(u * u + v * v) * sign
+
+
+def _root(w: acb) -> acb:
+    """A ball holding one square root of each point of the complex ball w (the other is
+    its negative), by polar form: where w holds no 0 and lies clear of the negative reals,
+    arg is continuous on it and ranges between the args of its corners (a rectangle's
+    directions from a point outside it are spanned by its corners), so √z = ρ e^(iφ)
+    with ρ² between the least and the largest |z| and 2φ in that range; where it lies
+    on the negative reals, i √(-w). The principal √w of a ball of ball arithmetic
+    would reach 0 once the ball is wide, and a quotient by it would be unbounded."""
+    direct = w.sqrt()
+    if w.contains(0) or not w.is_finite() or _width(direct) < ROOT_NARROW * _size(direct):
+        return direct  # a narrow ball: the principal root is as tight
+    re, im = w.real, w.imag
+    if im.contains(0) and not re > 0:  # on the cut: -w lies on the positive reals
+        return _root(-w) * acb(0, 1)
+    corners = [
+        arb.atan2(y, x)
+        for x in (arb(re.mid() - re.rad()), arb(re.mid() + re.rad()))
+        for y in (arb(im.mid() - im.rad()), arb(im.mid() + im.rad()))
+    ]
+    phi = corners[0]
+    for c in corners[1:]:
+        phi = phi.union(c)
+    phi = phi / 2
+    least = re.abs_lower() ** 2 + im.abs_lower() ** 2  # |z|² over the rectangle
+    most = re.abs_upper() ** 2 + im.abs_upper() ** 2
+    rho = least.sqrt().sqrt().union(most.sqrt().sqrt())  # √|z|
+    polar = acb(rho * phi.cos(), rho * phi.sin())
+    return direct if _width(direct) < _width(polar) else polar
+
+
+ROOT_NARROW = 0.01  # ``_root``: a ball this narrow beside its size takes √w directly
+
+
+def _width(z: acb) -> float:
+    return float(z.real.rad() + z.imag.rad()) if z.is_finite() else math.inf
+
+
+def _size(z: acb) -> float:
+    return float(abs(z.real.mid()) + abs(z.imag.mid()))
 
 
 def _analytic_on_disc(
@@ -431,16 +487,17 @@ def _disc_bound(
 
 def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb]]) -> Zone | None:
     """A zone |ε| <= r (r <= t_f) whose remainders stay below ZONE_SLACK of the leading
-    terms, as wide as the ball pass needs (``_needed``) or else the widest; None when
-    there is none.
+    terms, as wide as the ball pass needs (``_needed``: WANT_FACTOR times that, at least
+    ZONE_FLOOR of the widest analytic disc) with as few terms as will do, or else the
+    widest; None when there is none.
 
     The remainder R (tail Σ_{j>=N} μ_j ε^j = R ε^N for |ε| <= r) is bounded by Cauchy's
     estimate: μ is analytic on the disc |ε| <= ρ with |μ| <= M there (``_disc_bound``),
     so |μ_j| <= M/ρ^j and |R| <= M/ρ^N Σ_i (r/ρ)^i = M/(ρ^N (1 - r/ρ)); the same for δ.
-    ρ: a fraction DISC_FRACTIONS of the widest disc proven analytic (``_widest_disc``); M
-    from one ball over the disc first (cheap, loose), from the circle when that falls
-    short; r a fraction ZONE_FRACTIONS of ρ, N the fewest terms (<= max(k, m) +
-    ZONE_TERMS) that meet the slack (``_choose``). Where no disc gives a zone, Taylor's
+    ρ: first 2^j r with M from one ball over the disc (``_small_disc``: cheap, and few
+    terms while r/ρ is small), then a fraction DISC_FRACTIONS of the widest disc proven
+    analytic (``_widest_disc``) with M from the circle (``_choose``); N the fewest terms
+    (<= max(k, m) + ZONE_TERMS) that meet the slack. Where no disc gives a zone, Taylor's
     theorem on t_s + [-r, r], r = t_f/2^j: R = μ^(N)(ξ)/N! for some ξ there, enclosed by
     series arithmetic on that ball (``_lagrange_zone``)."""
     e = motion.instants[motion.analysis.instants.index(s)][1]
@@ -451,19 +508,26 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
     old_prec, old_cap = ctx.prec, ctx.cap
     ctx.prec = TAYLOR_PREC
     try:
-        point = _point_series(motion, coeffs, top + ZONE_START)
-        lead = [_coef(point[0], ks[0]), _coef(point[1], ks[1]), _coef(point[2], m)]
+        head = _point_series(motion, coeffs, top)  # the leading coefficients only
+        lead = [_coef(head[0], ks[0]), _coef(head[1], ks[1]), _coef(head[2], m)]
         if lead[2].contains(0):
             return None
         tf = to_float(motion.traj.duration)
-        best: tuple[float, int, list[arb]] | None = None
         widest = _widest_disc(motion, coeffs, 2 * tf)
         target = _needed(motion, e, widest) if widest else 0.0
-        for f in DISC_FRACTIONS if widest else ():
+        want = min(max(WANT_FACTOR * target, ZONE_FLOOR * widest), tf)
+        best = None
+        for r in dict.fromkeys((want, max(target, ZONE_FLOOR * widest)) if widest else ()):
+            best = best or _small_disc(motion, coeffs, widest, r, lead, orders)
+        for f in DISC_FRACTIONS if widest and best is None else ():
             rho = f * widest
-            for balls in (0, CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+            for balls in (CIRCLE_BALLS, 2 * CIRCLE_BALLS):  # tighter M, at a cost
+                if balls == CIRCLE_BALLS and target >= ZONE_FRACTIONS[0] * rho:
+                    continue  # out of reach: the tighter M (fewer terms) at once
                 bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=balls)
-                got = None if bounds is None else _choose(bounds, rho, lead, orders, tf, target)
+                got = None
+                if bounds is not None:
+                    got = _choose(bounds, rho, lead, orders, tf, (want, min(target, want)))
                 if got is not None and (best is None or got[0] > best[0]):
                     best = got
                 if best is not None and best[0] >= min(target, tf):
@@ -474,8 +538,7 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
             point = _point_series(motion, coeffs, top + LAGRANGE_TERMS)
             return _lagrange_zone(motion, s, e, coeffs, point, lead, orders)
         r, n, rem = best
-        if n > top + ZONE_START:
-            point = _point_series(motion, coeffs, n)
+        point = _point_series(motion, coeffs, n)
         return _zone(e, r, n, rem, point, orders)
     except (ValueError, ZeroDivisionError):
         return None
@@ -483,8 +546,7 @@ def make_zone(motion: CertifiedMotion, s: SingularInstant, coeffs: list[list[arb
         ctx.prec, ctx.cap = old_prec, old_cap
 
 
-ZONE_START = 16  # terms of the zone form beyond the leading ones, to start with
-ZONE_BASE = 48  # ... enough for a zone as wide as its disc allows, in most cases
+ZONE_BASE = 48  # terms beyond the leading ones of a zone as wide as wanted, at most
 ZONE_FRACTIONS = (
     *(0.9, 0.85, 0.8, 0.75, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1),
     *(10.0 ** (-j / 2) for j in range(3, 19)),
@@ -492,6 +554,8 @@ ZONE_FRACTIONS = (
 DISC_STEPS = 40  # discs 2 t_f 2^(-i/2), i < DISC_STEPS, tried for analyticity
 DISC_FINE = 8  # ... and between the widest two, at steps of 2^(-1/(2 DISC_FINE))
 DISC_FRACTIONS = (0.9, 0.75)  # fractions of the widest analytic disc tried, in turn
+WANT_FACTOR = 2.0  # a zone reaches this many times as far as the ball pass needs
+ZONE_FLOOR = 0.125  # ... and at least this fraction of the widest analytic disc
 DIRECT_REL = 1e-13  # the relative error of λ the ball pass should reach outside a zone
 
 
@@ -538,39 +602,60 @@ def _widest_disc(motion: CertifiedMotion, coeffs: list[list[arb]], start: float)
     return 0.0
 
 
+def _small_disc(
+    motion: CertifiedMotion, coeffs: list[list[arb]], widest: float, want: float,
+    lead: list[arb], orders: tuple[int, int, int],
+) -> tuple[float, int, list[arb]] | None:  # fmt: skip
+    """The zone r = ``want`` with M from one ball over a disc ρ = 2^j r (inside the widest
+    analytic one, j from SMALL_DISCS, the widest that gives M first): cheap, and a few
+    terms suffice while ρ/r is large; None when no such disc meets the slack with at most
+    k + ZONE_BASE terms."""
+    for j in SMALL_DISCS:
+        rho = want * 2.0**j
+        if rho > DISC_FRACTIONS[0] * widest:
+            continue
+        bounds = _disc_bound(motion, coeffs, rho, proven=True, balls=0)
+        if bounds is None:
+            continue
+        got = _fewest(bounds, rho, want, lead, orders, max(orders) + ZONE_BASE)
+        return None if got is None else (want, got[0], got[1])
+    return None
+
+
+SMALL_DISCS = (4, 3, 2, 1)  # ρ/r = 2^j of ``_small_disc``, tried in turn
+
+
 def _choose(
     bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], tf: float,
-    target: float,
+    wants: tuple[float, float],
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """(r, N, remainders): r = f ρ (f in ZONE_FRACTIONS, r <= t_f) whose Cauchy
-    remainders R ε^N, |R| <= M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading
-    terms |c| r^k, with the fewest terms N that do: the widest r with N <= k + ZONE_BASE
-    terms; if that falls short of ``target``, the narrowest r reaching it with N <= k +
-    ZONE_TERMS, else the widest of those."""
+    """(r, N, remainders) of a zone about t_s whose Cauchy remainders R ε^N, |R| <=
+    M/(ρ^N (1 - r/ρ)), stay below ZONE_SLACK of the leading terms |c| r^k with the
+    fewest terms N: r = ``wants`` [0] (the zone wanted) with N <= k + ZONE_BASE, else r =
+    ``wants`` [1] (the zone the ball pass needs) with N <= k + ZONE_TERMS; where that is
+    out of this disc's reach, the widest r = f ρ (f in ZONE_FRACTIONS, r <= t_f) with N <=
+    k + ZONE_TERMS (the ball pass is poor up to there), else with N <= k + ZONE_BASE."""
     top = max(orders)
-    base = _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf, 0.0)
-    if base is not None and base[0] >= min(target, tf):
-        return base
-    return _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf, target) or base
+    for r, most in ((wants[0], ZONE_BASE), (wants[1], ZONE_TERMS)):
+        if 0 < r < ZONE_FRACTIONS[0] * rho:
+            terms = _fewest(bounds, rho, r, lead, orders, top + most)
+            if terms is not None:
+                return r, terms[0], terms[1]
+    base = None if wants[1] > 0 else _widest_of(bounds, rho, lead, orders, top + ZONE_BASE, tf)
+    return base or _widest_of(bounds, rho, lead, orders, top + ZONE_TERMS, tf)
 
 
 def _widest_of(
     bounds: list[arb], rho: float, lead: list[arb], orders: tuple[int, int, int], n_max: int,
-    tf: float, target: float,
+    tf: float,
 ) -> tuple[float, int, list[arb]] | None:  # fmt: skip
-    """The narrowest zone of at most n_max terms reaching ``target``, else the widest."""
-    chosen = None
+    """The widest zone r = f ρ (f in ZONE_FRACTIONS, r <= t_f) of at most n_max terms."""
     for f in ZONE_FRACTIONS:
         r = min(f * rho, tf)
         n = _fewest(bounds, rho, r, lead, orders, n_max)
-        if n is None:
-            continue
-        if r < target and chosen is not None:
-            break
-        chosen = (r, n[0], n[1])
-        if r < target or target == 0.0:
-            break
-    return chosen
+        if n is not None:
+            return r, n[0], n[1]
+    return None
 
 
 def _fewest(
@@ -578,19 +663,31 @@ def _fewest(
     n_max: int,
 ) -> tuple[int, list[arb]] | None:  # fmt: skip
     """The fewest terms N <= n_max (in steps of 4) for which the zone r meets the slack,
-    with its remainders."""
+    with its remainders: the bound M q^N/(1 - q) r^-k (q = r/ρ < 1) falls with N, so by
+    bisection over the steps."""
     q = arb(r) / arb(rho)
-    n = max(orders) + 1
-    while n <= n_max:
+
+    def meets(n: int) -> list[arb] | None:
         rem = [M / (arb(rho) ** n * (1 - q)) for M in bounds]
-        ok = True
         for R, c, k in zip(rem, lead, orders, strict=True):
             scale = abs(c).lower() if not c.contains(0) else arb(1)
-            ok &= bool(R * arb(r) ** (n - k) < ZONE_SLACK * scale)
-        if ok:
-            return n, rem
-        n += 4
-    return None
+            if not R * arb(r) ** (n - k) < ZONE_SLACK * scale:
+                return None
+        return rem
+
+    first = max(orders) + 1
+    lo, hi = 0, (n_max - first) // 4  # steps: N = first + 4 j
+    if hi < 0 or meets(first + 4 * hi) is None:
+        return None
+    while lo < hi:
+        j = (lo + hi) // 2
+        if meets(first + 4 * j) is None:
+            lo = j + 1
+        else:
+            hi = j
+    n = first + 4 * lo
+    rem = meets(n)
+    return None if rem is None else (n, rem)
 
 
 def _zone(
@@ -599,7 +696,7 @@ def _zone(
 ) -> Zone:  # fmt: skip
     """The zone |ε| <= r with the first n Taylor coefficients and the remainders ``rem``."""
     parts = [
-        [Ball.of_arb(_coef(point[i], j)) for j in range(orders[i], n)]
+        [Ball.of_arb(c) for c in _coefs(point[i], n)[orders[i] :]]
         + [Ball(0.0, float(rem[i].upper()) * (1 + 4 * U))]
         for i in (0, 1, 2)
     ]
