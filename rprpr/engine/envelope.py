@@ -578,6 +578,35 @@ def _estimate(
     return np.where((est > lo) & (est < hi), est, 0.5 * lo + 0.5 * hi)
 
 
+def _closer(
+    p: np.ndarray, f: np.ndarray, below: np.ndarray, above: np.ndarray, *ends: np.ndarray
+) -> tuple[np.ndarray, ...]:
+    """The brackets [a, z] (a below the limit, z above, ``ends``: a, fa, z, fz, c, fc)
+    moved to the points p (rows: probes, columns: brackets; estimates f) certified
+    below or above strictly inside them, the nearest to the crossing; the third point
+    c: the next nearest such point, else the end that moved."""
+    a, fa, z, fz, c, fc = ends
+    cols = np.arange(p.shape[1])
+    toward = np.sign(z - a) * p  # larger: nearer z
+    out = []
+    for ok, sign in ((below, 1.0), (above, -1.0)):  # a: the largest, z: the smallest
+        score = np.where(ok, sign * toward, -np.inf)
+        best = np.argmax(score, axis=0)
+        score[best, cols] = -np.inf
+        nxt = np.argmax(score, axis=0)
+        out.append((ok.any(axis=0), best, score[nxt, cols] > -np.inf, nxt))
+    (has_a, ia, has_a2, ia2), (has_z, iz, has_z2, iz2) = out
+    c = np.where(has_a, a, np.where(has_z, z, c))
+    fc = np.where(has_a, fa, np.where(has_z, fz, fc))
+    c = np.where(has_z2, p[iz2, cols], c)
+    fc = np.where(has_z2, f[iz2, cols], fc)
+    c = np.where(has_a2, p[ia2, cols], c)
+    fc = np.where(has_a2, f[ia2, cols], fc)
+    a, fa = np.where(has_a, p[ia, cols], a), np.where(has_a, f[ia, cols], fa)
+    z, fz = np.where(has_z, p[iz, cols], z), np.where(has_z, f[iz, cols], fz)
+    return a, fa, z, fz, c, fc
+
+
 class Envelope:
     """Grid-free torque verdicts for one task (module docstring)."""
 
@@ -1003,7 +1032,7 @@ class Envelope:
         near = 0.45 * res
         reach = float(np.max(hi - lo)) / near
         spread = near * PROBE_SPREAD ** np.arange(max(1, math.ceil(math.log(reach, PROBE_SPREAD))))
-        offsets = np.concatenate([[0.0], -spread, spread])
+        offsets = np.concatenate([-spread[::-1], [0.0], spread])
         for _ in range(CROSSING_STEPS):
             j = np.nonzero(np.abs(z - a) > res)[0]
             if not len(j):
@@ -1018,14 +1047,10 @@ class Envelope:
             below = (Vi.upper_abs() <= lj).reshape(probe.shape)
             above = (Vi.lower_abs() > lj).reshape(probe.shape)
             f = (np.abs(Vi.mid) - lj).reshape(probe.shape)
-            for q in range(len(offsets)):  # move the bracket's ends to the certified points
-                p = probe[q]
-                inside = (p - a[j]) * (z[j] - p) > 0
-                to_a, to_z = inside & below[q], inside & above[q]
-                c[j] = np.where(to_a, a[j], np.where(to_z, z[j], c[j]))
-                fc[j] = np.where(to_a, fa[j], np.where(to_z, fz[j], fc[j]))
-                a[j], fa[j] = np.where(to_a, p, a[j]), np.where(to_a, f[q], fa[j])
-                z[j], fz[j] = np.where(to_z, p, z[j]), np.where(to_z, f[q], fz[j])
+            inside = (probe - a[j]) * (z[j] - probe) > 0
+            a[j], fa[j], z[j], fz[j], c[j], fc[j] = _closer(
+                probe, f, inside & below, inside & above, a[j], fa[j], z[j], fz[j], c[j], fc[j]
+            )
         x0, x1 = np.minimum(a, z), np.maximum(a, z)
         ok = x1 - x0 <= res
         left = np.where(up, -1, 1)  # the state of [lo, x0]
