@@ -1097,27 +1097,20 @@ class Envelope:
     def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
         """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
         the run's open boxes at its ends bracket the crossings."""
-        out = []
-        j = 0
-        n = len(L)
+        edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
+        starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
+        ones = np.nonzero(S == 1)[0]
         pole_times = [s.t for s in self.poles]
-        while j < n:
-            if S[j] == -1:
-                j += 1
-                continue
-            k = j
-            while k + 1 < n and S[k + 1] != -1:
-                k += 1
-            run = slice(j, k + 1)
+        out = []
+        for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
+            inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
             has_pole = any(L[j] <= t <= H[k] for t in pole_times)
-            if (S[run] == 1).any() or has_pole:
-                inner = np.nonzero(S[run] == 1)[0]
-                first = j + (int(inner[0]) if len(inner) else 0)
-                last = j + (int(inner[-1]) if len(inner) else k - j)
+            if len(inner) or has_pole:
+                first = int(inner[0]) if len(inner) else j
+                last = int(inner[-1]) if len(inner) else k
                 out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
                                   float(H[last] if len(inner) else L[k]), float(H[k]),
                                   has_pole))  # fmt: skip
-            j = k + 1
         return out
 
     def saturation_windows(
