@@ -83,6 +83,27 @@ def test_saturation_window_around_an_unbounded_instant() -> None:
     assert w1 is not None and w1.start_lo == pytest.approx(0.598678, abs=1e-6)
 
 
+@pytest.mark.parametrize("name", ["case1_crossing.rprpr.yaml", "zero_speed_crossing.rprpr.yaml"])
+@pytest.mark.parametrize("limit", [1e4, 1e6])
+def test_crossings_close_to_a_pole_are_bracketed_by_certified_points(
+    name: str, limit: float
+) -> None:
+    # poles of order 1 and 2; |T| reaches these limits within the first box about t_s,
+    # where the pieces grow away from the pole: each window's ends are certified points
+    # (the reference is below the limit at start_lo and end_hi, above at start_hi and
+    # end_lo), within the resolution of each other
+    task = _config(name)
+    env = Envelope(_motion(task))
+    for check, torque in zip(env.limit_violations((limit, limit)), ("T1", "T2"), strict=True):
+        (w,) = check.windows
+        assert check.passed is False and w.pole
+        assert w.start_hi - w.start_lo <= check.resolution
+        assert w.end_hi - w.end_lo <= check.resolution
+        for t, above in ((w.start_lo, False), (w.start_hi, True), (w.end_lo, True),
+                         (w.end_hi, False)):  # fmt: skip
+            assert (_abs_ref(task, t, torque) > limit) is above
+
+
 def test_closest_approach_of_a_near_miss() -> None:
     task = _task("(x - 3)^2 + 1/10000", "2 + t")
     env = Envelope(_motion(task))

@@ -53,6 +53,8 @@ CENTRED_DEGREE = 7  # a longer polynomial is enclosed over boxes by the centred 
 MAX_LIVE = 4096  # boxes kept alive, at most
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
+PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
+POLE_GROWTH = 0.25  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 MAX_BOX_MODELS = 400  # box Taylor models per task, at most (the work cap near an instant)
 NEAR_PER_PASS = 8  # boxes given a Taylor form per pass, at most (arb, one box at a time)
 
@@ -558,6 +560,67 @@ def around_poles(
     return out
 
 
+@dataclass
+class _Crossings:
+    """Crossings set aside by a round of the limit check (``Envelope._crossings``): the
+    boxes [lo, hi] (``mask`` of the round's boxes, rows: torques) on which |T_i| - L_i
+    is monotone and changes sign, rising (``up``) or falling; ``rows``: i; va, vb: |T_i|
+    at lo and hi (estimates, to choose the points of the regula falsi)."""
+
+    mask: np.ndarray
+    rows: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    up: np.ndarray
+    va: np.ndarray
+    vb: np.ndarray
+
+
+def _estimate(
+    a: np.ndarray, fa: np.ndarray, z: np.ndarray, fz: np.ndarray, c: np.ndarray,
+    fc: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+) -> np.ndarray:  # fmt: skip
+    """Where |T| - L (estimates f at a, z, c) vanishes in (lo, hi), to choose where to
+    probe: inverse quadratic interpolation through a, z and c, else the regula falsi on
+    [a, z], else the midpoint (only a choice of points: what is certified is decided by
+    the points' balls)."""
+    with quiet():
+        secant = a - fa * (z - a) / (fz - fa)
+        quad = (a * fz * fc / ((fa - fz) * (fa - fc)) + z * fa * fc / ((fz - fa) * (fz - fc))
+                + c * fa * fz / ((fc - fa) * (fc - fz)))  # fmt: skip
+    est = np.where((quad > lo) & (quad < hi), quad, secant)
+    return np.where((est > lo) & (est < hi), est, 0.5 * lo + 0.5 * hi)
+
+
+def _closer(
+    p: np.ndarray, f: np.ndarray, below: np.ndarray, above: np.ndarray, *ends: np.ndarray
+) -> tuple[np.ndarray, ...]:
+    """The brackets [a, z] (a below the limit, z above, ``ends``: a, fa, z, fz, c, fc)
+    moved to the points p (rows: probes, columns: brackets; estimates f) certified
+    below or above strictly inside them, the nearest to the crossing; the third point
+    c: the next nearest such point, else the end that moved."""
+    a, fa, z, fz, c, fc = ends
+    cols = np.arange(p.shape[1])
+    toward = np.sign(z - a) * p  # larger: nearer z
+    out = []
+    for ok, sign in ((below, 1.0), (above, -1.0)):  # a: the largest, z: the smallest
+        score = np.where(ok, sign * toward, -np.inf)
+        best = np.argmax(score, axis=0)
+        score[best, cols] = -np.inf
+        nxt = np.argmax(score, axis=0)
+        out.append((ok.any(axis=0), best, score[nxt, cols] > -np.inf, nxt))
+    (has_a, ia, has_a2, ia2), (has_z, iz, has_z2, iz2) = out
+    c = np.where(has_a, a, np.where(has_z, z, c))
+    fc = np.where(has_a, fa, np.where(has_z, fz, fc))
+    c = np.where(has_z2, p[iz2, cols], c)
+    fc = np.where(has_z2, f[iz2, cols], fc)
+    c = np.where(has_a2, p[ia2, cols], c)
+    fc = np.where(has_a2, f[ia2, cols], fc)
+    a, fa = np.where(has_a, p[ia, cols], a), np.where(has_a, f[ia, cols], fa)
+    z, fz = np.where(has_z, p[iz, cols], z), np.where(has_z, f[iz, cols], fz)
+    return a, fa, z, fz, c, fc
+
+
 class Envelope:
     """Grid-free torque verdicts for one task (module docstring)."""
 
@@ -856,9 +919,13 @@ class Envelope:
         return self._checks[key]
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
+        """Branch and bound on the states of boxes (below, above, open): the open boxes
+        are cut, the monotone ones holding a crossing set aside, and all crossings set
+        aside are bracketed together when no box is left open (``_bracket``: the point
+        passes that bracket them serve every round's crossings at once)."""
         res = CROSSING_REL * self.tf
         L = np.array(limit)
-        b = self._start()
+        b = self._limit_start(L, res)
         active = np.ones((2, len(b.lo)), dtype=bool)
         seen_above = np.zeros(2, dtype=bool)
         if self._peak is not None:  # a known peak decides a limit above it at once
@@ -870,36 +937,40 @@ class Envelope:
             for i in (0, 1):
                 if not active[i].any():
                     done[i].append((b.lo, b.hi, np.full(len(b.lo), -1)))
+        pending: list[_Crossings] = []
         for _ in range(MAX_ROUNDS):
             state = np.where(b.up <= L[:, None], -1, np.where(b.floor > L[:, None], 1, 0))
             seen_above |= (active & (b.low > L[:, None])).any(axis=1)
             wide = b.hi - b.lo > res
             open_ = active & (state == 0) & wide[None, :]
-            settled = self._crossing(b, L, open_, res, done)
-            open_ &= ~settled
+            found = self._crossings(b, L, open_)
+            open_ &= ~found.mask
+            pending.append(found)
             for i in (0, 1):
-                rec = active[i] & ~open_[i] & ~settled[i]
+                rec = active[i] & ~open_[i] & ~found.mask[i]
                 if rec.any():
                     done[i].append((b.lo[rec], b.hi[rec], state[i][rec]))
-            split = open_.any(axis=0)
+            lo, hi, act = b.lo, b.hi, open_
+            if not open_.any():  # bracket what was set aside; the unclosed come back
+                lo, hi, act = self._bracket(pending, L, res, done)
+                pending = []
+            split = act.any(axis=0)
             n = int(split.sum())
             if not n:
                 break
             k = _fan(n)
             if n * k > MAX_LIVE * 4:  # the work cap: the open boxes stay undecided
                 for i in (0, 1):
-                    rec = open_[i]
-                    done[i].append((b.lo[rec], b.hi[rec], np.zeros(int(rec.sum()), dtype=int)))
+                    rec = act[i]
+                    done[i].append((lo[rec], hi[rec], np.zeros(int(rec.sum()), dtype=int)))
                 break
-            pole = self._holds_pole(b.lo, b.hi) & split
-            plain = split & ~pole
-            lo, hi = _split(b.lo[plain], b.hi[plain], k)
-            active = np.repeat(open_[:, plain], k, axis=1)
-            for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
-                plo, phi = self._around_pole(float(b.lo[j]), float(b.hi[j]), res)
-                lo, hi = np.concatenate([lo, plo]), np.concatenate([hi, phi])
-                active = np.concatenate([active, np.repeat(open_[:, [j]], len(plo), axis=1)], 1)
+            lo, hi, src = self._refine(lo, hi, split, k, res)
+            active = act[:, src]
             b = self.bounds(lo, hi, float(L.min()))
+        if pending:  # stopped by a cap: the brackets not closed stay undecided
+            lo, hi, act = self._bracket(pending, L, res, done)
+            for i in (0, 1):
+                done[i].append((lo[act[i]], hi[act[i]], np.zeros(int(act[i].sum()), dtype=int)))
         out = []
         for i in (0, 1):
             parts = done[i]
@@ -914,75 +985,115 @@ class Envelope:
             out.append(LimitCheck(float(L[i]), passed, tuple(windows), res))
         return out[0], out[1]
 
-    def _crossing(
-        self, b: _Bounds, L: np.ndarray, open_: np.ndarray, res: float,
-        done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
-    ) -> np.ndarray:  # fmt: skip
+    def _limit_start(self, L: np.ndarray, res: float) -> _Bounds:
+        """The limit check's first pass: the first partition's (``_start``, shared with
+        the peak) when made or when there is no pole; else, as no other verdict passes
+        over a motion with a pole (its peak is infinite at once), that partition with
+        the boxes holding a pole cut about it already (``_around_pole``)."""
+        if self._first is not None or not self.poles:
+            return self._start()
+        lo, hi = _boxes(self.duration, START_BOXES)
+        lo, hi, _ = self._refine(lo, hi, np.ones(len(lo), dtype=bool), 1, res)
+        return self.bounds(lo, hi, float(L.min()))
+
+    def _refine(
+        self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The boxes ``which`` cut for the next pass, each into k (k = 1: kept), or,
+        holding a pole, into pieces about it (``_around_pole``); with the index of the
+        box each new box comes from. The others are dropped."""
+        pole = self._holds_pole(lo, hi) & which
+        plain = np.nonzero(which & ~pole)[0]
+        los, his = _split(lo[plain], hi[plain], k)
+        parts = [(los, his, np.repeat(plain, k))]
+        for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
+            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res)
+            parts.append((plo, phi, np.full(len(plo), j)))
+        return tuple(np.concatenate([p[q] for p in parts]) for q in range(3))  # type: ignore[return-value]
+
+    def _crossings(self, b: _Bounds, L: np.ndarray, open_: np.ndarray) -> _Crossings:
         """The open boxes on which |T_i| is monotone (``_Bounds.monotone``) with one end
-        certified <= L_i and the other > L_i hold exactly one crossing: it is bracketed
-        to ``res`` by certified values at points (regula falsi, Illinois variant, to choose
-        the points; each point's certified value decides on which side of the crossing it
-        lies). Such a box [lo, hi] is recorded in ``done`` as three: below the limit up to
-        a, open on [a, b] (b - a <= res), above from b (or the mirror image), by
-        monotonicity. Returns the boxes settled so (rows: torques)."""
-        settled = np.zeros_like(open_)
-        if b.ends is None or b.monotone is None:
-            return settled
-        ua, ub, la, lb, va, vb = b.ends
-        Lc = L[:, None]
-        rising = (ua <= Lc) & (lb > Lc)  # below at lo, above at hi
-        falling = (la > Lc) & (ub <= Lc)
-        cand = open_ & b.monotone & (rising | falling) & (b.hi <= self.t_last)[None, :]
-        rows, cols = np.nonzero(cand)
+        certified <= L_i and the other > L_i: each holds exactly one crossing."""
+        mask = np.zeros_like(open_)
+        if b.ends is not None and b.monotone is not None:
+            ua, ub, la, lb, _, _ = b.ends
+            Lc = L[:, None]
+            rising = (ua <= Lc) & (lb > Lc)  # below at lo, above at hi
+            falling = (la > Lc) & (ub <= Lc)
+            mask = open_ & b.monotone & (rising | falling) & (b.hi <= self.t_last)[None, :]
+        rows, cols = np.nonzero(mask)
         if not len(rows):
-            return settled
-        up = rising[rows, cols]  # |T| - L rises through 0
-        a, z = b.lo[cols].copy(), b.hi[cols].copy()  # below end (a), above end (z)
-        a, z = np.where(up, a, z), np.where(up, z, a)
-        lim = L[rows]
-        t1, t2 = a.copy(), z.copy()  # the last two points tried, |T| - L there (estimates)
-        f1 = np.where(up, va[rows, cols], vb[rows, cols]) - lim
-        f2 = np.where(up, vb[rows, cols], va[rows, cols]) - lim
+            return _Crossings(mask, rows, np.zeros(0), np.zeros(0), np.zeros(0, dtype=bool),
+                              np.zeros(0), np.zeros(0))  # fmt: skip
+        assert b.ends is not None
+        va, vb = b.ends[4][rows, cols], b.ends[5][rows, cols]
+        up = rising[rows, cols]
+        return _Crossings(mask, rows, b.lo[cols], b.hi[cols], up, va, vb)
+
+    def _bracket(
+        self, found: list[_Crossings], L: np.ndarray, res: float,
+        done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+        """Each crossing set aside (``_crossings``, of any round) bracketed to ``res`` by
+        certified values at points, all in the same point passes (regula falsi, Illinois
+        variant, to choose the points; each point's certified value decides on which
+        side of the crossing it lies). A box [lo, hi] is recorded in ``done`` as three:
+        below the limit up to a, open on [a, b], above from b (or the mirror image), by
+        monotonicity. Returns the [a, b] still wider than ``res`` (CROSSING_STEPS
+        passes did not close them) as boxes, each active for its torque (rows)."""
+        rows = np.concatenate([f.rows for f in found])
         k = len(rows)
-        L3 = np.tile(lim, 3)
+        if not k:
+            return np.zeros(0), np.zeros(0), np.zeros((2, 0), dtype=bool)
+        lo = np.concatenate([f.lo for f in found])
+        hi = np.concatenate([f.hi for f in found])
+        up = np.concatenate([f.up for f in found])  # |T| - L rises through 0
+        va = np.concatenate([f.va for f in found])
+        vb = np.concatenate([f.vb for f in found])
+        a, z = np.where(up, lo, hi), np.where(up, hi, lo)  # below end (a), above end (z)
+        lim = L[rows]
+        fa = np.where(up, va, vb) - lim  # |T| - L at a and z (estimates)
+        fz = np.where(up, vb, va) - lim
+        c, fc = np.full(k, np.nan), np.full(k, np.nan)  # a third point, beyond a or z
+        near = 0.45 * res
+        reach = float(np.max(hi - lo)) / near
+        spread = near * PROBE_SPREAD ** np.arange(max(1, math.ceil(math.log(reach, PROBE_SPREAD))))
+        offsets = np.concatenate([-spread[::-1], [0.0], spread])
         for _ in range(CROSSING_STEPS):
-            todo = np.abs(z - a) > res
-            if not todo.any():
+            j = np.nonzero(np.abs(z - a) > res)[0]
+            if not len(j):
                 break
-            lo_p, hi_p = np.minimum(a, z), np.maximum(a, z)
-            with quiet():
-                est = t2 - f2 * (t2 - t1) / (f2 - f1)  # a secant step, kept strictly inside
-            bad = ~((est > lo_p) & (est < hi_p))
-            est = np.where(bad, 0.5 * lo_p + 0.5 * hi_p, est)
-            near = 0.45 * res
-            probe = np.clip(np.concatenate([est, est - near, est + near]),
-                            np.tile(lo_p, 3), np.tile(hi_p, 3))  # fmt: skip
-            V = self._values(probe)
-            at = np.tile(rows, 3), np.arange(3 * k)
+            lo_p, hi_p = np.minimum(a[j], z[j]), np.maximum(a[j], z[j])
+            est = _estimate(a[j], fa[j], z[j], fz[j], c[j], fc[j], lo_p, hi_p)
+            probe = np.clip(est[None, :] + offsets[:, None], lo_p, hi_p)  # rows: offsets
+            V = self._values(probe.ravel())
+            at = np.tile(rows[j], len(offsets)), np.arange(probe.size)
             Vi = Ball._of(V.mid[at], V.rad[at])
-            below = Vi.upper_abs() <= L3
-            above = Vi.lower_abs() > L3
-            for q in (0, 1, 2):  # move the bracket's ends to the certified points
-                p = probe[q * k : (q + 1) * k]
-                inside = todo & ((p - a) * (z - p) > 0)
-                a = np.where(inside & below[q * k : (q + 1) * k], p, a)
-                z = np.where(inside & above[q * k : (q + 1) * k], p, z)
-            t1, f1 = t2, f2
-            t2, f2 = est, np.abs(Vi.mid[:k]) - lim
-        ok = np.abs(z - a) <= res
+            lj = np.tile(lim[j], len(offsets))
+            below = (Vi.upper_abs() <= lj).reshape(probe.shape)
+            above = (Vi.lower_abs() > lj).reshape(probe.shape)
+            f = (np.abs(Vi.mid) - lj).reshape(probe.shape)
+            inside = (probe - a[j]) * (z[j] - probe) > 0
+            a[j], fa[j], z[j], fz[j], c[j], fc[j] = _closer(
+                probe, f, inside & below, inside & above, a[j], fa[j], z[j], fz[j], c[j], fc[j]
+            )
+        x0, x1 = np.minimum(a, z), np.maximum(a, z)
+        ok = x1 - x0 <= res
+        left = np.where(up, -1, 1)  # the state of [lo, x0]
         for i in (0, 1):
-            sel = ok & (rows == i)
+            sel = rows == i
             if not sel.any():
                 continue
-            j = cols[sel]
-            x0, x1 = np.minimum(a[sel], z[sel]), np.maximum(a[sel], z[sel])
-            left = np.where(up[sel], -1, 1)  # the state of [lo, x0]
-            states = np.concatenate([left, np.zeros(len(j), dtype=int), -left])
-            done[i].append(
-                (np.concatenate([b.lo[j], x0, x1]), np.concatenate([x0, x1, b.hi[j]]), states)
-            )
-            settled[i, j] = True
-        return settled
+            mid = np.where(ok[sel], 0, 2)  # the unclosed [x0, x1] come back (dropped below)
+            states = np.concatenate([left[sel], mid, -left[sel]])
+            keep = states != 2
+            done[i].append((np.concatenate([lo[sel], x0[sel], x1[sel]])[keep],
+                            np.concatenate([x0[sel], x1[sel], hi[sel]])[keep],
+                            states[keep]))  # fmt: skip
+        back = ~ok
+        act = np.zeros((2, int(back.sum())), dtype=bool)
+        act[rows[back], np.arange(int(back.sum()))] = True
+        return x0[back], x1[back], act
 
     def _holds_pole(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The boxes [lo, hi] that may hold an instant with unbounded torques."""
@@ -993,14 +1104,18 @@ class Envelope:
         return out
 
     def _around_pole(self, lo: float, hi: float, res: float) -> tuple[np.ndarray, np.ndarray]:
-        """[lo, hi] (holding a pole) cut at t_p ± d 4^j (d = 0.45 res, t_p the nearest
-        float to the pole): a piece of width 2d about the pole (left undecided), and pieces
-        whose widths grow with their distance to it, on which |T| ~ C/|t - t_s|^k changes
-        by a bounded factor (a uniform cut would spend most pieces far from the pole)."""
-        c = min((e.hi for s, e in self.motion.instants if not s.torque_bounded),
-                key=lambda t: abs(t - 0.5 * (lo + hi)))  # fmt: skip
+        """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
+        nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
+        pole (left undecided), and pieces whose widths grow with their distance to it,
+        on which |T| ~ C/|t - t_s|^k changes by a factor of about e^POLE_GROWTH at most,
+        so that one pass decides most of them (a uniform cut would spend most pieces far
+        from the pole, and a coarser one leaves them open for another pass)."""
+        s, c = min(((s, e.hi) for s, e in self.motion.instants if not s.torque_bounded),
+                   key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
+        q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
         d = 0.45 * res
-        steps = d * 4.0 ** np.arange(0, 64)
+        n = math.ceil(math.log(max(hi - lo, d) / d) / math.log(q)) + 1
+        steps = d * q ** np.arange(n + 1)
         cuts = np.concatenate([c - steps, c + steps])
         ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
         return ends[:-1], ends[1:]
@@ -1008,27 +1123,20 @@ class Envelope:
     def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
         """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
         the run's open boxes at its ends bracket the crossings."""
-        out = []
-        j = 0
-        n = len(L)
+        edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
+        starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
+        ones = np.nonzero(S == 1)[0]
         pole_times = [s.t for s in self.poles]
-        while j < n:
-            if S[j] == -1:
-                j += 1
-                continue
-            k = j
-            while k + 1 < n and S[k + 1] != -1:
-                k += 1
-            run = slice(j, k + 1)
+        out = []
+        for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
+            inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
             has_pole = any(L[j] <= t <= H[k] for t in pole_times)
-            if (S[run] == 1).any() or has_pole:
-                inner = np.nonzero(S[run] == 1)[0]
-                first = j + (int(inner[0]) if len(inner) else 0)
-                last = j + (int(inner[-1]) if len(inner) else k - j)
+            if len(inner) or has_pole:
+                first = int(inner[0]) if len(inner) else j
+                last = int(inner[-1]) if len(inner) else k
                 out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
                                   float(H[last] if len(inner) else L[k]), float(H[k]),
                                   has_pole))  # fmt: skip
-            j = k + 1
         return out
 
     def saturation_windows(
