@@ -41,7 +41,7 @@ from .roots import IsolatedRoot, isolate
 from .series import taylor
 from .singular import SingularInstant
 from .trajectory import Trajectory
-from .zones import TAYLOR_PREC, Zone, taylor_at_instant, taylor_box, taylor_lambda
+from .zones import TAYLOR_PREC, ExactTime, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width ...
 PEAK_ABS = 1e-9  # ... or this absolute one [N m], whichever is larger (a peak of 0 N m)
@@ -542,6 +542,15 @@ def prune(
     return np.asarray(keep_i.any(axis=0)), better
 
 
+def _loose(c: LimitCheck) -> bool:
+    """Whether a limit check is undecided or a crossing of it is not bracketed to its
+    resolution."""
+    if c.passed is None:
+        return True
+    return any(w.start_hi - w.start_lo > c.resolution or w.end_hi - w.end_lo > c.resolution
+               for w in c.windows)  # fmt: skip
+
+
 def around_poles(
     instants: Iterable[SingularInstant], checks: tuple[LimitCheck, LimitCheck]
 ) -> list[tuple[SingularInstant, Window | None, Window | None]]:
@@ -633,7 +642,8 @@ class Envelope:
         self.tf = to_float(self.duration)
         self.t_last = _last_float(self.duration)
         self._coeffs: dict[int, list[list[arb]]] = {}  # Taylor coefficients about instants
-        self._zones: list[Zone | None] | None = None
+        self._zones: dict[int, Zone | None] = {}  # about the instants (``zone``)
+        self._pole_zones = False  # zones about poles too, not only where points are poor
         self.box_models = MAX_BOX_MODELS  # left to spend (``_near_instant``)
         self._first: _Bounds | None = None  # the pass over the first partition
         self._peak: tuple[Peak, Peak] | None = None
@@ -769,7 +779,10 @@ class Envelope:
         poor_b = ~(B.rad <= np.abs(B.mid)).all(axis=0)
         covered = np.zeros(len(lo), dtype=bool)
         box = Ball.hull(lo, hi)
-        for zone in self.zones():
+        for k, (s, e) in enumerate(self.motion.instants):
+            if not (s.torque_bounded or self._pole_zones or self._poor_beside(e, pts, poor_p)):
+                continue  # beside a pole the direct form is good: no zone needed (yet)
+            zone = self.zone(k)
             if zone is None:
                 continue
             r = zone.r * 0.999
@@ -810,13 +823,20 @@ class Envelope:
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
         return T
 
-    def zones(self) -> list[Zone | None]:
-        """The zone form about each singular instant (``make_zone``), made once."""
-        if self._zones is None:
-            self._zones = []
-            for k in range(len(self.motion.instants)):
-                self._zones.append(self.motion.zone(k))  # made once per motion
-        return self._zones
+    def zone(self, k: int) -> Zone | None:
+        """The zone form about the k-th singular instant (``make_zone``), made once."""
+        if k not in self._zones:
+            self._zones[k] = self.motion.zone(k)  # made once per motion
+        return self._zones[k]
+
+    def _poor_beside(self, e: ExactTime, pts: np.ndarray, poor_p: np.ndarray) -> bool:
+        """Whether T at a point other than t_s within t_f/4 of t_s has a poor direct
+        enclosure. Beside a pole |T| ~ C/|t - t_s|^k, and at points the direct form (λ's
+        pole part without cancellation, the cancelling bounded part of relative weight
+        ~ u/C) is usually good up to t_s itself: the zone about a pole is made only where
+        it is not (over a box the enclosure beside a pole is wide whatever the form)."""
+        ip = np.nonzero(poor_p & (np.abs(pts - e.hi) <= self.tf / 4))[0]
+        return bool(len(ip)) and bool((e.compare(pts[ip]) != 0).any())
 
     def _taylor(self, k: int) -> list[list[arb]]:
         if k not in self._coeffs:
@@ -915,7 +935,12 @@ class Envelope:
         (made once per limit)."""
         key = (float(limit[0]), float(limit[1]))
         if key not in self._checks:
-            self._checks[key] = self._limits(key)
+            got = self._limits(key)
+            if not self._pole_zones and self.poles and any(_loose(c) for c in got):
+                self._pole_zones = True  # beside a pole the direct form fell short: again,
+                self.box_models = MAX_BOX_MODELS  # with the zones about the poles
+                got = self._limits(key)
+            self._checks[key] = got
         return self._checks[key]
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
@@ -978,12 +1003,52 @@ class Envelope:
             Hs = np.concatenate([p[1] for p in parts])
             Ss = np.concatenate([p[2] for p in parts]).astype(int)
             order = np.argsort(Ls, kind="stable")
-            Ls, Hs, Ss = Ls[order], Hs[order], Ss[order]
+            Ls, Hs, Ss = self._sharpen(i, float(L[i]), res, Ls[order], Hs[order], Ss[order])
             windows = self._windows(Ls, Hs, Ss)
             above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
             passed: bool | None = False if above else (True if (Ss == -1).all() else None)
             out.append(LimitCheck(float(L[i]), passed, tuple(windows), res))
         return out[0], out[1]
+
+    def _sharpen(
+        self, i: int, limit: float, res: float, L: np.ndarray, H: np.ndarray, S: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The boxes of torque i (in order; S: -1 below, 1 above, 0 open) with each pair
+        of open boxes side by side, each within ``res`` (a crossing too close to their
+        common end p for the certified value there to tell), made three: where T and T'
+        exclude 0 over the pair (|T| monotone there) and the certified |T| at p ∓ 0.45 res
+        lies on either side of the limit, the crossing is in between (open, 0.9 res) and
+        the rest of the pair on the side of its end; else the pair stays open."""
+        before = np.concatenate([[0], S[:-2]])  # the states beside each pair
+        after = np.concatenate([S[2:], [0]])
+        pair = np.nonzero(
+            (S[:-1] == 0) & (S[1:] == 0) & (H[:-1] == L[1:]) & (H[1:] - L[:-1] > res)
+            & (before * after == -1)  # a crossing's bracket: above on one side, below on the other
+        )[0]  # fmt: skip
+        if not len(pair):
+            return L, H, S
+        x0, p, x2 = L[pair], H[pair], H[pair + 1]
+        q1 = np.maximum(p - 0.45 * res, x0)
+        q2 = np.minimum(p + 0.45 * res, x2)
+        V, D = self._pass(Ball.hull(x0, x2))
+        mono = (Ball._of(V.mid[i], V.rad[i]).lower_abs() > 0) & (
+            Ball._of(D.mid[i], D.rad[i]).lower_abs() > 0
+        )
+        P = self._values(np.concatenate([q1, q2]))
+        v = Ball._of(P.mid[i], P.rad[i])
+        side = np.where(v.upper_abs() <= limit, -1, np.where(v.lower_abs() > limit, 1, 0))
+        s1, s2 = side[: len(pair)], side[len(pair) :]
+        ok = mono & (s1 * s2 == -1)
+        if not ok.any():
+            return L, H, S
+        j = pair[ok]
+        keep = np.ones(len(L), dtype=bool)
+        keep[j] = keep[j + 1] = False
+        new_L = np.concatenate([L[keep], x0[ok], q1[ok], q2[ok]])
+        new_H = np.concatenate([H[keep], q1[ok], q2[ok], x2[ok]])
+        new_S = np.concatenate([S[keep], s1[ok], np.zeros(len(j), dtype=int), s2[ok]])
+        order = np.argsort(new_L, kind="stable")
+        return new_L[order], new_H[order], new_S[order]
 
     def _limit_start(self, L: np.ndarray, res: float) -> _Bounds:
         """The limit check's first pass: the first partition's (``_start``, shared with
