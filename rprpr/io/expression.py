@@ -36,8 +36,7 @@ _EXPONENT = re.compile(r"[0-9]+")
 
 def height(p: fmpq_poly) -> int:
     """Bits of the largest integer in ``p`` = (integer polynomial) / (common denominator)."""
-    num = max((abs(int(c)).bit_length() for c in p.numer().coeffs()), default=0)
-    return max(num, int(p.denom()).bit_length())
+    return max(p.numer().height_bits(), p.denom().bit_length())
 
 
 def _bits_of(n: int) -> int:
@@ -97,6 +96,9 @@ def _literal(text: str) -> fmpq:
     digits = whole.lstrip("0") + frac
     if len(digits) > MAX_DIGITS:
         raise ExpressionError(f"number {_shown(text)!r} has more than {MAX_DIGITS} digits")
+    if not exp:  # the common case: no exponent
+        num = int(digits) if digits else 0
+        return fmpq(num, 10 ** len(frac)) if frac else fmpq(num)
     exp_digits = exp.lstrip("+-").lstrip("0")
     if len(exp_digits) > 3 or int(exp_digits or "0") > MAX_EXP10:
         raise ExpressionError(f"number {_shown(text)!r} has an exponent beyond ±{MAX_EXP10}")

@@ -12,6 +12,7 @@ rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10)
 from __future__ import annotations
 
 import difflib
+import functools
 import itertools
 import os
 import re
@@ -41,6 +42,7 @@ MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _compos
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"
+_MERGE = _TAG + "merge"
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
 # Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
 # here first so the message names the line and column whichever YAML parser runs.
@@ -61,6 +63,7 @@ _LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
+_SPECIAL_ENDS = "nNfFyY"  # the last letters of nan, inf, infinity (any case)
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
 _SCALAR_TEXT = {_TAG + t for t in ("str", "int", "float")}  # what reads as text
 # An explicit tag only narrows: the value must be one of its tag as YAML 1.2 has it,
@@ -213,52 +216,147 @@ def _utf8(data: bytes) -> str:
 
 
 def _compose(text: str) -> tuple[yaml.Node | None, dict[tuple[int, int], str]]:
-    """The YAML node tree, after a streaming pass that bounds nesting and size, and
-    the explicit tags of scalars by where they start (``_bound_events``).
+    """The YAML node tree, and the explicit tags of scalars by where they start.
 
-    libyaml's composer recurses in C: a deeply nested flow list would crash the
-    process, so the depth is checked on the event stream before composing.
+    One pass of YAML's parser (``_events``) bounds nesting and size before any node is
+    made: libyaml's own composer recurses in C, and a deeply nested flow list would
+    crash the process. The tree is then composed from those events (``_Composer``),
+    as PyYAML composes it.
     """
     try:
-        explicit = _bound_events(text)
-        return yaml.compose(text, Loader=_Loader), explicit
+        events, explicit = _events(text)
+        return _Composer(events).single_node(), explicit
     except yaml.MarkedYAMLError as e:
         raise _syntax_error(e, text) from None
     except yaml.YAMLError as e:
         raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
 
 
-def _bound_events(text: str) -> dict[tuple[int, int], str]:
+def _events(text: str) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
     """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep.
 
-    Returns the tag of every scalar with an explicit tag (``!!float ""``, ``! 6``) by
-    ``_span``: the node tree does not tell such a scalar from a plain one YAML resolved
-    to the same tag, nor keep the non-specific tag ``!``.
+    Returns the events, and the tag of every scalar with an explicit tag (``!!float
+    ""``, ``! 6``) by ``_span``: the node tree does not tell such a scalar from a plain
+    one YAML resolved to the same tag, nor keep the non-specific tag ``!``.
     """
     depth = nodes = 0
     explicit: dict[tuple[int, int], str] = {}
-    for ev in yaml.parse(text, Loader=_Loader):
-        if isinstance(ev, yaml.ScalarEvent) and ev.tag is not None:
-            explicit[_span(ev)] = ev.tag
-        if isinstance(ev, yaml.NodeEvent):
-            nodes += 1
-            if nodes > MAX_NODES:
-                raise TaskFileError(
-                    f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
-                    line=ev.start_mark.line + 1,
-                    column=ev.start_mark.column + 1,
+    events = []
+    parser = _Loader(text)
+    try:
+        while parser.check_event():
+            ev = parser.get_event()
+            events.append(ev)
+            kind = type(ev)
+            if kind in _NODE_EVENTS:
+                nodes += 1
+                if nodes > MAX_NODES:
+                    raise TaskFileError(
+                        f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
+                        line=ev.start_mark.line + 1,
+                        column=ev.start_mark.column + 1,
+                    )
+                if kind is yaml.ScalarEvent:
+                    if ev.tag is not None:
+                        explicit[_span(ev)] = ev.tag
+                elif kind is not yaml.AliasEvent:
+                    depth += 1
+                    if depth > MAX_DEPTH:
+                        raise TaskFileError(
+                            f"nested deeper than {MAX_DEPTH} levels",
+                            line=ev.start_mark.line + 1,
+                            column=ev.start_mark.column + 1,
+                        )
+            elif kind in _END_EVENTS:
+                depth -= 1
+    finally:
+        parser.dispose()
+    return events, explicit
+
+
+_NODE_EVENTS = {yaml.ScalarEvent, yaml.AliasEvent, yaml.SequenceStartEvent, yaml.MappingStartEvent}
+_END_EVENTS = {yaml.SequenceEndEvent, yaml.MappingEndEvent}
+
+
+class _Composer:
+    """The node tree of one YAML stream's events, as PyYAML's composer (libyaml's or
+    the pure-Python one, whichever ``_Loader`` is) makes it: the same nodes, tags,
+    styles and marks, an alias the very node of its anchor, and the same errors (an
+    undefined alias, a duplicate anchor, a second document)."""
+
+    def __init__(self, events: list[yaml.Event]) -> None:
+        self.events = events
+        self.at = 0
+        self.anchors: dict[str, yaml.Node] = {}
+        self.resolve = _RESOLVER.resolve
+        self.c = not issubclass(_Loader, yaml.composer.Composer)  # libyaml's messages
+
+    def single_node(self) -> yaml.Node | None:
+        events = self.events
+        self.at = 1  # the stream start
+        document = None
+        if type(events[self.at]) is not yaml.StreamEndEvent:
+            self.at += 1  # the document start
+            document = self.node()
+            self.at += 1  # the document end
+        ev = events[self.at]
+        if type(ev) is not yaml.StreamEndEvent:
+            assert document is not None
+            raise yaml.composer.ComposerError(
+                "expected a single document in the stream",
+                document.start_mark,
+                "but found another document",
+                ev.start_mark,
+            )
+        return document
+
+    def node(self) -> yaml.Node:
+        ev = self.events[self.at]
+        self.at += 1
+        kind = type(ev)
+        anchor = ev.anchor
+        if kind is yaml.AliasEvent:
+            if anchor not in self.anchors:
+                shown = "" if self.c else f" {anchor!r}"
+                raise yaml.composer.ComposerError(
+                    None, None, f"found undefined alias{shown}", ev.start_mark
                 )
-        if isinstance(ev, yaml.CollectionStartEvent):
-            depth += 1
-            if depth > MAX_DEPTH:
-                raise TaskFileError(
-                    f"nested deeper than {MAX_DEPTH} levels",
-                    line=ev.start_mark.line + 1,
-                    column=ev.start_mark.column + 1,
-                )
-        elif isinstance(ev, yaml.CollectionEndEvent):
-            depth -= 1
-    return explicit
+            return self.anchors[anchor]
+        if anchor is not None and anchor in self.anchors:
+            shown = "" if self.c else f" {anchor!r}"
+            raise yaml.composer.ComposerError(
+                f"found duplicate anchor{shown}; first occurrence",
+                self.anchors[anchor].start_mark,
+                "second occurrence",
+                ev.start_mark,
+            )
+        tag = ev.tag
+        node: yaml.Node
+        if kind is yaml.ScalarEvent:
+            if tag is None or tag == "!":
+                tag = self.resolve(yaml.ScalarNode, ev.value, ev.implicit)
+            node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, style=ev.style)
+            if anchor is not None:
+                self.anchors[anchor] = node
+            return node
+        is_map = kind is yaml.MappingStartEvent
+        node_kind = yaml.MappingNode if is_map else yaml.SequenceNode
+        if tag is None or tag == "!":
+            tag = self.resolve(node_kind, None, ev.implicit)
+        node = node_kind(tag, [], ev.start_mark, None, flow_style=ev.flow_style)
+        if anchor is not None:
+            self.anchors[anchor] = node
+        value = node.value
+        end = yaml.MappingEndEvent if is_map else yaml.SequenceEndEvent
+        while type(self.events[self.at]) is not end:
+            if is_map:
+                key = self.node()
+                value.append((key, self.node()))
+            else:
+                value.append(self.node())
+        node.end_mark = self.events[self.at].end_mark
+        self.at += 1
+        return node
 
 
 def _span(item: yaml.Node | yaml.Event) -> tuple[int, int]:
@@ -291,7 +389,9 @@ def _parse(data: bytes | str, file: str, directory: str) -> Task:
     root, explicit = _compose(text)
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    walk = _Walk(explicit, directory)
+    # a value can hold a control character only by an escape (decoded) or as written
+    escapes = "\\" in text or _ESCAPED_CONTROL.search(text) is not None
+    walk = _Walk(explicit, directory, escapes=escapes)
     walk.read(root, TASK, "", 0)
     if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
         errors = sorted(walk.errors, key=lambda e: (isinstance(e, _Missing), e.line, e.column))
@@ -761,9 +861,14 @@ class _Walk:
     """
 
     def __init__(
-        self, explicit: dict[tuple[int, int], str] | None = None, directory: str = os.curdir
+        self,
+        explicit: dict[tuple[int, int], str] | None = None,
+        directory: str = os.curdir,
+        *,
+        escapes: bool = True,
     ) -> None:
         self.explicit = explicit or {}  # the explicit tags of scalars, by _span
+        self.escapes = escapes  # False: no value can hold a control character
         self.directory = directory  # where a waypoint CSV's name is relative to
         self.csv_file = ""  # the waypoint CSV read, as a path (relative to the working dir)
         self.csv_name = ""  # ... and as the task file names it
@@ -820,10 +925,8 @@ class _Walk:
 
     def omitted(self, spec: Spec, key: str) -> None:
         """A key not given: its default, and those of its keys if it is a mapping."""
-        if spec.default is not None:
-            self.values[key] = _default(spec)
-        for k, child in spec.children.items():
-            self.omitted(child, f"{key}.{k}")
+        for below, value in _defaults(spec):
+            self.values[key + below] = value
 
     def visit(self, node: yaml.Node, key: str, depth: int) -> None:
         self.visited += 1
@@ -836,19 +939,20 @@ class _Walk:
             )
         if depth > MAX_DEPTH:
             raise self.stop(f"nested deeper than {MAX_DEPTH} levels", node, key)
-        if node.tag == _TAG + "merge":
+        tag = node.tag
+        if tag == _MERGE:
             raise self.error(
                 "merge keys (<<) are not supported: write the keys out (an alias of a whole"
                 " value, such as 3: *link, is fine)",
                 node,
                 key,
             )
-        if isinstance(node, yaml.ScalarNode):
-            if self.explicit.get(_span(node)) == "!":
+        if type(node) is yaml.ScalarNode:
+            if self.explicit and self.explicit.get(_span(node)) == "!":
                 # YAML 1.2: the non-specific tag makes a scalar text (PyYAML resolves
                 # it as if untagged: ! "6" would be the integer 6)
-                node.tag = _TAG + "str"
-            bad = _ESCAPED_CONTROL.search(str(node.value))
+                node.tag = tag = _TAG + "str"
+            bad = _ESCAPED_CONTROL.search(str(node.value)) if self.escapes else None
             if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
                 code = ord(bad.group(0))
                 what = "lone surrogate" if 0xD800 <= code <= 0xDFFF else "control character"
@@ -857,7 +961,7 @@ class _Walk:
                     node,
                     key,
                 )
-        if node.tag not in _PLAIN_TAGS:
+        if tag not in _PLAIN_TAGS:
             what = ""
             if node.tag == _TAG + "timestamp":
                 what = f" ({_short(str(node.value))!r} reads as a date)"
@@ -870,11 +974,15 @@ class _Walk:
 
     def is_explicit(self, node: yaml.Node) -> bool:
         """Whether ``node`` is a scalar with a tag written in the file."""
-        return isinstance(node, yaml.ScalarNode) and _span(node) in self.explicit
+        explicit = self.explicit
+        return bool(explicit) and type(node) is yaml.ScalarNode and _span(node) in explicit
 
     def fit(self, node: yaml.Node, spec: Spec | None, key: str) -> None:
         """Reject a node whose explicit tag does not fit its value (``spec`` None: a key)."""
-        found = _misfit(node, self.is_explicit(node))
+        explicit = self.is_explicit(node)
+        if not explicit and type(node) is yaml.ScalarNode:
+            return  # an untagged scalar always fits (``_misfit``)
+        found = _misfit(node, explicit)
         if found is None:
             return
         expected = "a plain key" if spec is None else _expected(spec, key)
@@ -969,23 +1077,25 @@ class _Walk:
 
     # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
-        expected = _expected(spec, key)
         if not isinstance(node, yaml.ScalarNode):
-            raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
         tag = self.number_tag(node, text)
         if tag not in ("int", "float"):
             hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
-            raise self.error(f"expected {expected}, found {_kind_of(node)}{hint}", node, key)
-        if _NAN.fullmatch(text):
+            raise self.error(
+                f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+            )
+        special = text[-1:] in _SPECIAL_ENDS  # nan, inf and infinity end so; numbers do not
+        if special and _NAN.fullmatch(text):
             raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
-        if _INF.fullmatch(text):
+        if special and _INF.fullmatch(text):
             raise self.error(
                 f"expected a finite number ({spec.description}), found infinity ({text})", node, key
             )
         value = self._number_value(node, text.replace("_", ""), tag, key)
         if spec.minimum is not None:
-            lo = parse_decimal(repr(spec.minimum))
+            lo = _minimum(spec.minimum)
             if not (value > lo if spec.exclusive else value >= lo):
                 raise self.error(
                     f"expected a number {'>' if spec.exclusive else '>='} {_q(lo)}"
@@ -1015,7 +1125,7 @@ class _Walk:
 
     def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
         try:
-            if _RADIX_INT.fullmatch(text) and tag == "int":
+            if tag == "int" and _RADIX_INT.fullmatch(text):
                 if len(text) > 40:
                     raise ExpressionError(f"number {_short(text)!r} has more than 40 digits")
                 return fmpq(int(text, 0))
@@ -1254,6 +1364,31 @@ def _default(spec: Spec) -> Any:
     if spec.kind == "number":
         return parse_decimal(str(spec.default))
     return spec.default
+
+
+_DEFAULTS: dict[int, tuple[Spec, tuple[tuple[str, Any], ...]]] = {}
+
+
+def _defaults(spec: Spec) -> tuple[tuple[str, Any], ...]:
+    """The values an omitted ``spec`` gives: (the dotted key below it, '' for itself,
+    the default), for it and its keys if it is a mapping, depth first. Worked out once
+    per Spec (the values are immutable)."""
+    known = _DEFAULTS.get(id(spec))
+    if known is not None and known[0] is spec:
+        return known[1]
+    out: list[tuple[str, Any]] = []
+    if spec.default is not None:
+        out.append(("", _default(spec)))
+    for k, child in spec.children.items():
+        out.extend((f".{k}{below}", value) for below, value in _defaults(child))
+    _DEFAULTS[id(spec)] = (spec, tuple(out))
+    return tuple(out)
+
+
+@functools.cache
+def _minimum(bound: float) -> fmpq:
+    """A ``Spec.minimum``, exactly (from its text)."""
+    return parse_decimal(repr(bound))
 
 
 def _expected(spec: Spec, key: str) -> str:
