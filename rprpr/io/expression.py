@@ -50,14 +50,14 @@ def parse_decimal(text: str) -> fmpq:
     expression, for ``parse_polynomial``).
     """
     s = text.strip()
-    sign = 1
+    negative = False
     if s.startswith(("+", "-")):  # not s[:1] in "+-": "" is in every string
-        sign = -1 if s[0] == "-" else 1
+        negative = s[0] == "-"
         s = s[1:].strip()
-    m = _NUMBER.fullmatch(s)
-    if not m:
+    if not _NUMBER.fullmatch(s):
         raise ExpressionError(f"expected a number, found {_shown(text.strip())!r}")
-    return sign * _literal(m.group(0))
+    value = _literal(s)
+    return -value if negative else value
 
 
 def parse_fraction(text: str) -> fmpq:
@@ -91,14 +91,13 @@ def _literal(text: str) -> fmpq:
     exponent, are stripped first, whatever their count), so Python's limit on converting
     long digit strings is never reached.
     """
-    mantissa, _, exp = text.lower().partition("e")
+    mantissa, _, exp = text.lower().partition("e") if "e" in text or "E" in text else (text, "", "")
     whole, _, frac = mantissa.partition(".")
     digits = whole.lstrip("0") + frac
     if len(digits) > MAX_DIGITS:
         raise ExpressionError(f"number {_shown(text)!r} has more than {MAX_DIGITS} digits")
     if not exp:  # the common case: no exponent
-        num = int(digits) if digits else 0
-        return fmpq(num, 10 ** len(frac)) if frac else fmpq(num)
+        return fmpq(int(digits or "0"), 10 ** len(frac))
     exp_digits = exp.lstrip("+-").lstrip("0")
     if len(exp_digits) > 3 or int(exp_digits or "0") > MAX_EXP10:
         raise ExpressionError(f"number {_shown(text)!r} has an exponent beyond ±{MAX_EXP10}")

@@ -43,6 +43,8 @@ MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _compos
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"
 _MERGE = _TAG + "merge"
+_STR, _MAP, _SEQ = (_TAG + t for t in ("str", "map", "seq"))
+_NOT_KEYS = (_TAG + "null", _TAG + "bool")  # scalars that are not plain keys
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
 # Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
 # here first so the message names the line and column whichever YAML parser runs.
@@ -280,26 +282,27 @@ _END_EVENTS = {yaml.SequenceEndEvent, yaml.MappingEndEvent}
 
 class _Composer:
     """The node tree of one YAML stream's events, as PyYAML's composer (libyaml's or
-    the pure-Python one, whichever ``_Loader`` is) makes it: the same nodes, tags,
-    styles and marks, an alias the very node of its anchor, and the same errors (an
-    undefined alias, a duplicate anchor, a second document)."""
+    the pure-Python one, whichever ``_Loader`` is) makes it with the safe loader's
+    resolver: the same nodes, tags, styles and marks, an alias the very node of its
+    anchor, and the same errors (an undefined alias, a duplicate anchor, a second
+    document)."""
 
     def __init__(self, events: list[yaml.Event]) -> None:
-        self.events = events
-        self.at = 0
+        self.events = iter(events)
         self.anchors: dict[str, yaml.Node] = {}
-        self.resolve = _RESOLVER.resolve
         self.c = not issubclass(_Loader, yaml.composer.Composer)  # libyaml's messages
+        self.implicit = _RESOLVER.yaml_implicit_resolvers  # first character -> resolvers
+        self.wildcard = self.implicit.get(None, [])
 
     def single_node(self) -> yaml.Node | None:
         events = self.events
-        self.at = 1  # the stream start
+        next(events)  # the stream start
+        ev = next(events)
         document = None
-        if type(events[self.at]) is not yaml.StreamEndEvent:
-            self.at += 1  # the document start
-            document = self.node()
-            self.at += 1  # the document end
-        ev = events[self.at]
+        if type(ev) is not yaml.StreamEndEvent:  # a document start
+            document = self.node(next(events))
+            next(events)  # the document end
+            ev = next(events)
         if type(ev) is not yaml.StreamEndEvent:
             assert document is not None
             raise yaml.composer.ComposerError(
@@ -310,53 +313,70 @@ class _Composer:
             )
         return document
 
-    def node(self) -> yaml.Node:
-        ev = self.events[self.at]
-        self.at += 1
+    def node(self, ev: Any) -> yaml.Node:
         kind = type(ev)
         anchor = ev.anchor
-        if kind is yaml.AliasEvent:
-            if anchor not in self.anchors:
+        if anchor is not None:
+            if kind is yaml.AliasEvent:
+                if anchor not in self.anchors:
+                    shown = "" if self.c else f" {anchor!r}"
+                    raise yaml.composer.ComposerError(
+                        None, None, f"found undefined alias{shown}", ev.start_mark
+                    )
+                return self.anchors[anchor]
+            if anchor in self.anchors:
                 shown = "" if self.c else f" {anchor!r}"
                 raise yaml.composer.ComposerError(
-                    None, None, f"found undefined alias{shown}", ev.start_mark
+                    f"found duplicate anchor{shown}; first occurrence",
+                    self.anchors[anchor].start_mark,
+                    "second occurrence",
+                    ev.start_mark,
                 )
-            return self.anchors[anchor]
-        if anchor is not None and anchor in self.anchors:
-            shown = "" if self.c else f" {anchor!r}"
-            raise yaml.composer.ComposerError(
-                f"found duplicate anchor{shown}; first occurrence",
-                self.anchors[anchor].start_mark,
-                "second occurrence",
-                ev.start_mark,
-            )
         tag = ev.tag
         node: yaml.Node
         if kind is yaml.ScalarEvent:
             if tag is None or tag == "!":
-                tag = self.resolve(yaml.ScalarNode, ev.value, ev.implicit)
+                tag = self.scalar_tag(ev.value, ev.implicit)
             node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, style=ev.style)
             if anchor is not None:
                 self.anchors[anchor] = node
             return node
-        is_map = kind is yaml.MappingStartEvent
-        node_kind = yaml.MappingNode if is_map else yaml.SequenceNode
-        if tag is None or tag == "!":
-            tag = self.resolve(node_kind, None, ev.implicit)
-        node = node_kind(tag, [], ev.start_mark, None, flow_style=ev.flow_style)
+        # a collection: the resolver's default tags (the safe loader has no path resolvers)
+        if kind is yaml.MappingStartEvent:
+            node = yaml.MappingNode(
+                _MAP if tag is None or tag == "!" else tag,
+                [],
+                ev.start_mark,
+                None,
+                flow_style=ev.flow_style,
+            )
+        else:
+            node = yaml.SequenceNode(
+                _SEQ if tag is None or tag == "!" else tag,
+                [],
+                ev.start_mark,
+                None,
+                flow_style=ev.flow_style,
+            )
         if anchor is not None:
             self.anchors[anchor] = node
-        value = node.value
-        end = yaml.MappingEndEvent if is_map else yaml.SequenceEndEvent
-        while type(self.events[self.at]) is not end:
-            if is_map:
-                key = self.node()
-                value.append((key, self.node()))
-            else:
-                value.append(self.node())
-        node.end_mark = self.events[self.at].end_mark
-        self.at += 1
-        return node
+        items, events = node.value, self.events
+        pairs = kind is yaml.MappingStartEvent
+        for ev in events:
+            if type(ev) in _END_EVENTS:
+                node.end_mark = ev.end_mark
+                return node
+            item = self.node(ev)
+            items.append((item, self.node(next(events))) if pairs else item)
+        raise AssertionError("a collection without its end event")  # the parser pairs them
+
+    def scalar_tag(self, value: str, implicit: tuple[bool, bool]) -> str:
+        """The tag PyYAML's resolver gives a scalar without one (``Resolver.resolve``)."""
+        if implicit[0]:
+            for tag, regexp in self.implicit.get(value[:1], []) + self.wildcard:
+                if regexp.match(value):
+                    return str(tag)
+        return _STR
 
 
 def _span(item: yaml.Node | yaml.Event) -> tuple[int, int]:
@@ -420,18 +440,25 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
             torque_limit=v.get("checks.torque_limit"),
             strict=v["checks.strict"],
             unbounded_torque=v["checks.unbounded_torque"],
-            rules={
-                k.rsplit(".", 1)[1]: level
-                for level in ("warn", "ignore")  # both: ignore wins
-                for k in v
-                if k.startswith(f"checks.{level}.")
-            },
+            rules=_levels(w),
         ),
         law=law,
         lines=dict(w.lines),
         source=file,
         pieces=tuple(pieces),
     )
+
+
+def _levels(w: _Walk) -> dict[str, str]:
+    """Rule id -> "warn" or "ignore", from checks.warn and checks.ignore (both: ignore)."""
+    if "checks.warn" not in w.nodes and "checks.ignore" not in w.nodes:
+        return {}  # neither given: no key below them has a value
+    return {
+        k.rsplit(".", 1)[1]: level
+        for level in ("warn", "ignore")  # both: ignore wins
+        for k in w.values
+        if k.startswith(f"checks.{level}.")
+    }
 
 
 def _robot(v: dict[str, Any]) -> Robot:
@@ -457,10 +484,9 @@ def _motion(w: _Walk) -> tuple[str, fmpq_poly | None, list[Piece]]:
     p = v["path.y"]
     if v.get("timing.law") == TRAPEZOIDAL:
         line = w.lines.get("timing.law", 0)
-        return TRAPEZOIDAL, None, [Piece(s, e, x, p(x), p, line) for s, e, x in _x_pieces(v)]
+        return TRAPEZOIDAL, None, [Piece(s, e, x, p(x), p, line) for s, e, x in _timing(w)]
     if "timing.law" in v:
-        law: str = v["timing.law"]
-        return law, timing_law(law, v["path.from"][0], v["path.to"][0], v["timing.duration"]), []
+        return v["timing.law"], _timing(w)[0][2], []
     if isinstance(v["timing.x"], list):
         return "pieces", None, [Piece(s, e, x, p(x), p, ln) for s, e, x, ln in _timed(v)]
     return "explicit", v["timing.x"], []
@@ -481,6 +507,14 @@ def _x_pieces(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly]]:
     if isinstance(v["timing.x"], list):
         return [(s, e, x) for s, e, x, _ in _timed(v)]
     return [(fmpq(0), t_f, v["timing.x"])]
+
+
+def _timing(w: _Walk) -> list[tuple[fmpq, fmpq, fmpq_poly]]:
+    """``_x_pieces`` of the walk's values, worked out once (the caps check needs them
+    before the ``Task`` does)."""
+    if w.x_pieces is None:
+        w.x_pieces = _x_pieces(w.values)
+    return w.x_pieces
 
 
 def _timed(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly, int]]:
@@ -704,7 +738,7 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
     if not ("timing.x" in v or all(k in v for k in ("timing.law", "path.from", "path.to"))):
         return  # x(t) could not be read: its own error is reported
     try:
-        pieces = _x_pieces(v)
+        pieces = _timing(w)
     except (KeyError, ValueError):
         return  # no cruise_speed, or a bad one: reported as such
     for _, _, x in pieces:
@@ -878,6 +912,7 @@ class _Walk:
         self.lines: dict[str, int] = {}
         self.errors: list[TaskFileError] = []  # every independent error, in reading order
         self.misspelt: set[str] = set()  # keys an unknown key was likely meant as
+        self.x_pieces: list[tuple[fmpq, fmpq, fmpq_poly]] | None = None  # see _timing
 
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
         line, column = _where(node) if node is not None else (0, 0)
@@ -907,7 +942,8 @@ class _Walk:
             return
         except _Recorded:
             return
-        self.check(key)
+        if key in _RULES:
+            self.check(key)
 
     def check(self, key: str) -> None:
         """The cross-field rule filed under ``key``, when every value it needs was read."""
@@ -1010,7 +1046,7 @@ class _Walk:
         out: dict[str, yaml.Node] = {}
         bad: set[str] = set()  # keys given but unusable (duplicated): not "missing"
         for knode, vnode in node.value:
-            if knode.tag == _TAG + "merge":  # its keys are unknown: none is "missing"
+            if knode.tag == _MERGE:  # its keys are unknown: none is "missing"
                 bad.update(spec.children)
             try:
                 k, full = self.known_key(knode, spec, key, depth)
@@ -1059,7 +1095,7 @@ class _Walk:
         """A key of the mapping at ``key``, and its dotted path; unknown keys are errors."""
         self.visit(knode, key, depth + 1)
         self.fit(knode, None, key)
-        if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
+        if not isinstance(knode, yaml.ScalarNode) or knode.tag in _NOT_KEYS:
             raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
         k = str(knode.value)
         shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
