@@ -45,6 +45,10 @@ _TAG = "tag:yaml.org,2002:"
 _MERGE = _TAG + "merge"
 _STR, _MAP, _SEQ = (_TAG + t for t in ("str", "map", "seq"))
 _NOT_KEYS = (_TAG + "null", _TAG + "bool")  # scalars that are not plain keys
+_NUMBER_TAGS = (_TAG + "int", _TAG + "float")
+# A number as most task files write one (0, 12, -0.03): read directly, as the general
+# path (``_Walk.number_tag``, ``_number_value``, ``parse_decimal``) would read it.
+_SIMPLE_DECIMAL = re.compile(r"-?(0|[1-9][0-9]{0,14})(\.[0-9]{1,15})?")
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
 # Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
 # here first so the message names the line and column whichever YAML parser runs.
@@ -1116,6 +1120,12 @@ class _Walk:
         if not isinstance(node, yaml.ScalarNode):
             raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
+        if (
+            node.tag in _NUMBER_TAGS
+            and _SIMPLE_DECIMAL.fullmatch(text)
+            and not self.is_explicit(node)
+        ):
+            return self.bounded(_simple_decimal(text), node, spec, key, text)
         tag = self.number_tag(node, text)
         if tag not in ("int", "float"):
             hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
@@ -1130,6 +1140,10 @@ class _Walk:
                 f"expected a finite number ({spec.description}), found infinity ({text})", node, key
             )
         value = self._number_value(node, text.replace("_", ""), tag, key)
+        return self.bounded(value, node, spec, key, text)
+
+    def bounded(self, value: fmpq, node: yaml.Node, spec: Spec, key: str, text: str) -> fmpq:
+        """``value``, read from ``text``, checked against ``spec``'s bound."""
         if spec.minimum is not None:
             lo = _minimum(spec.minimum)
             if not (value > lo if spec.exclusive else value >= lo):
@@ -1216,7 +1230,7 @@ class _Walk:
     def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
         """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
         self.visit(node, key, depth)
-        spec = Spec("number", what)
+        spec = _number_spec(what)
         if (
             isinstance(node, yaml.ScalarNode)
             and node.tag == _TAG + "str"
@@ -1231,7 +1245,7 @@ class _Walk:
 
     def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
-        bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
+        bound = _number_spec(what, spec.minimum, spec.exclusive)
         self.fit(node, bound, key)
         return self.number(node, bound, key, depth)
 
@@ -1274,7 +1288,7 @@ class _Walk:
             except ExpressionError as e:
                 raise self.error(e.message, node, key) from None
         else:
-            value = self.number(node, Spec("number", "t [s], a decimal or a fraction"), key, depth)
+            value = self.number(node, _number_spec("t [s], a decimal or a fraction"), key, depth)
         if value < 0:
             raise self.error(f"expected a time >= 0 [s], found {_q(value)}", node, key)
         return value
@@ -1419,6 +1433,18 @@ def _defaults(spec: Spec) -> tuple[tuple[str, Any], ...]:
         out.extend((f".{k}{below}", value) for below, value in _defaults(child))
     _DEFAULTS[id(spec)] = (spec, tuple(out))
     return tuple(out)
+
+
+@functools.cache
+def _number_spec(what: str, minimum: float | None = None, exclusive: bool = False) -> Spec:
+    """A number's Spec, made once: ``what`` it is, and its bound."""
+    return Spec("number", what, minimum=minimum, exclusive=exclusive)
+
+
+def _simple_decimal(text: str) -> fmpq:
+    """The value of ``text`` matching ``_SIMPLE_DECIMAL``, exactly (as ``parse_decimal``)."""
+    whole, _, frac = text.partition(".")
+    return fmpq(int(whole + frac), 10 ** len(frac))
 
 
 @functools.cache
