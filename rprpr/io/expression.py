@@ -113,6 +113,7 @@ class _Parser:
         self.var = variable
         self.pos = 0
         self.depth = 0
+        self.peeked = (-1, "")  # (position after the blanks, the token there): _peek's
 
     # -- lexing --------------------------------------------------------------
     def _skip(self) -> None:
@@ -120,10 +121,14 @@ class _Parser:
             self.pos += 1
 
     def _peek(self) -> str:
+        at, token = self.peeked
+        if self.pos == at:  # peeked here already (the text does not change)
+            return token
         self._skip()
-        if self.text.startswith("**", self.pos):
-            return "**"
-        return self.text[self.pos : self.pos + 1]
+        pos = self.pos
+        token = "**" if self.text.startswith("**", pos) else self.text[pos : pos + 1]
+        self.peeked = (self.pos, token)
+        return token
 
     def _error(self, message: str, at: int | None = None) -> ExpressionError:
         return ExpressionError(message, self.pos if at is None else at)
@@ -159,8 +164,7 @@ class _Parser:
 
     def expr(self) -> fmpq_poly:
         p = self.term()
-        while self._peek() in ("+", "-"):
-            op = self._peek()
+        while (op := self._peek()) in ("+", "-"):
             self.pos += 1
             at = self.pos - 1
             q = self.term()
@@ -169,8 +173,7 @@ class _Parser:
 
     def term(self) -> fmpq_poly:
         p = self.unary()
-        while self._peek() in ("*", "/") and self._peek() != "**":
-            op = self._peek()
+        while (op := self._peek()) in ("*", "/"):  # not "**", a power
             at = self.pos
             self.pos += 1
             q = self.unary()
