@@ -421,19 +421,19 @@ def _parse(data: bytes | str, file: str, directory: str) -> Task:
         errors = sorted(walk.errors, key=lambda e: (isinstance(e, _Missing), e.line, e.column))
         errors[0].errors = tuple(errors)
         raise errors[0]
-    return _task(walk, Path(file).stem, file)
+    return _task(walk, file)
 
 
 # -- the Task, from the values read ------------------------------------------------------
 
 
-def _task(w: _Walk, stem: str, file: str) -> Task:
-    """The ``Task`` of a walk over the whole file (defaults applied); ``stem`` names it
-    when the file does not."""
+def _task(w: _Walk, file: str) -> Task:
+    """The ``Task`` of a walk over the whole file (defaults applied); the file's stem
+    names it when the file does not."""
     v = w.values
     law, x_of_t, pieces = _motion(w)
     return Task(
-        name=v.get("name", stem),
+        name=v["name"] if "name" in v else Path(file).stem,
         robot=_robot(v),
         path=v.get("path.y"),
         x_of_t=x_of_t,
@@ -934,7 +934,8 @@ class _Walk:
         goes on with the next key; only a ``_Stop`` ends it."""
         try:
             self.visit(node, key, depth)
-            self.fit(node, spec, key)
+            if self.explicit or type(node) is not yaml.ScalarNode:
+                self.fit(node, spec, key)  # (an untagged scalar fits)
             if spec.kind == "mapping":
                 self.mapping(node, spec, key, depth)
             else:
@@ -1098,7 +1099,8 @@ class _Walk:
     def known_key(self, knode: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[str, str]:
         """A key of the mapping at ``key``, and its dotted path; unknown keys are errors."""
         self.visit(knode, key, depth + 1)
-        self.fit(knode, None, key)
+        if self.explicit or type(knode) is not yaml.ScalarNode:
+            self.fit(knode, None, key)  # (an untagged scalar fits)
         if not isinstance(knode, yaml.ScalarNode) or knode.tag in _NOT_KEYS:
             raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
         k = str(knode.value)
