@@ -420,6 +420,14 @@ def test_control_character(tmp_path: Path) -> None:
     assert "control character U+0007" in e["message"]
 
 
+def test_characters_rejected_before_parsing_are_those_yaml_rejects() -> None:
+    """The loader's own scan rejects exactly the characters YAML's reader does (PyYAML's
+    NON_PRINTABLE), every code point checked: it only finds them first, with a line."""
+    every = "".join(map(chr, range(0x110000)))
+    rejected = [m.start() for m in loader._NON_PRINTABLE.finditer(every)]
+    assert rejected == [m.start() for m in yaml.reader.Reader.NON_PRINTABLE.finditer(every)]
+
+
 def test_larger_than_one_mib(tmp_path: Path) -> None:
     path = tmp_path / "huge.yaml"
     path.write_text(GOOD + "#" * MAX_BYTES)

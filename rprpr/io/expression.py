@@ -36,8 +36,7 @@ _EXPONENT = re.compile(r"[0-9]+")
 
 def height(p: fmpq_poly) -> int:
     """Bits of the largest integer in ``p`` = (integer polynomial) / (common denominator)."""
-    num = max((abs(int(c)).bit_length() for c in p.numer().coeffs()), default=0)
-    return max(num, int(p.denom()).bit_length())
+    return max(p.numer().height_bits(), p.denom().bit_length())
 
 
 def _bits_of(n: int) -> int:
@@ -51,14 +50,14 @@ def parse_decimal(text: str) -> fmpq:
     expression, for ``parse_polynomial``).
     """
     s = text.strip()
-    sign = 1
+    negative = False
     if s.startswith(("+", "-")):  # not s[:1] in "+-": "" is in every string
-        sign = -1 if s[0] == "-" else 1
+        negative = s[0] == "-"
         s = s[1:].strip()
-    m = _NUMBER.fullmatch(s)
-    if not m:
+    if not _NUMBER.fullmatch(s):
         raise ExpressionError(f"expected a number, found {_shown(text.strip())!r}")
-    return sign * _literal(m.group(0))
+    value = _literal(s)
+    return -value if negative else value
 
 
 def parse_fraction(text: str) -> fmpq:
@@ -92,11 +91,13 @@ def _literal(text: str) -> fmpq:
     exponent, are stripped first, whatever their count), so Python's limit on converting
     long digit strings is never reached.
     """
-    mantissa, _, exp = text.lower().partition("e")
+    mantissa, _, exp = text.lower().partition("e") if "e" in text or "E" in text else (text, "", "")
     whole, _, frac = mantissa.partition(".")
     digits = whole.lstrip("0") + frac
     if len(digits) > MAX_DIGITS:
         raise ExpressionError(f"number {_shown(text)!r} has more than {MAX_DIGITS} digits")
+    if not exp:  # the common case: no exponent
+        return fmpq(int(digits or "0"), 10 ** len(frac))
     exp_digits = exp.lstrip("+-").lstrip("0")
     if len(exp_digits) > 3 or int(exp_digits or "0") > MAX_EXP10:
         raise ExpressionError(f"number {_shown(text)!r} has an exponent beyond ±{MAX_EXP10}")
@@ -112,6 +113,7 @@ class _Parser:
         self.var = variable
         self.pos = 0
         self.depth = 0
+        self.peeked = (-1, "")  # (position after the blanks, the token there): _peek's
 
     # -- lexing --------------------------------------------------------------
     def _skip(self) -> None:
@@ -119,10 +121,14 @@ class _Parser:
             self.pos += 1
 
     def _peek(self) -> str:
+        at, token = self.peeked
+        if self.pos == at:  # peeked here already (the text does not change)
+            return token
         self._skip()
-        if self.text.startswith("**", self.pos):
-            return "**"
-        return self.text[self.pos : self.pos + 1]
+        pos = self.pos
+        token = "**" if self.text.startswith("**", pos) else self.text[pos : pos + 1]
+        self.peeked = (self.pos, token)
+        return token
 
     def _error(self, message: str, at: int | None = None) -> ExpressionError:
         return ExpressionError(message, self.pos if at is None else at)
@@ -158,8 +164,7 @@ class _Parser:
 
     def expr(self) -> fmpq_poly:
         p = self.term()
-        while self._peek() in ("+", "-"):
-            op = self._peek()
+        while (op := self._peek()) in ("+", "-"):
             self.pos += 1
             at = self.pos - 1
             q = self.term()
@@ -168,8 +173,7 @@ class _Parser:
 
     def term(self) -> fmpq_poly:
         p = self.unary()
-        while self._peek() in ("*", "/") and self._peek() != "**":
-            op = self._peek()
+        while (op := self._peek()) in ("*", "/"):  # not "**", a power
             at = self.pos
             self.pos += 1
             q = self.unary()

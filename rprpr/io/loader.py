@@ -11,7 +11,7 @@ rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10)
 
 from __future__ import annotations
 
-import difflib
+import functools
 import itertools
 import os
 import re
@@ -41,13 +41,21 @@ MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _compos
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _TAG = "tag:yaml.org,2002:"
+_MERGE = _TAG + "merge"
+_STR, _MAP, _SEQ = (_TAG + t for t in ("str", "map", "seq"))
+_NOT_KEYS = (_TAG + "null", _TAG + "bool")  # scalars that are not plain keys
+_NUMBER_TAGS = (_TAG + "int", _TAG + "float")
+# A number as most task files write one (0, 12, -0.03): read directly, as the general
+# path (``_Walk.number_tag``, ``_number_value``, ``parse_decimal``) would read it.
+_SIMPLE_DECIMAL = re.compile(r"-?(0|[1-9][0-9]{0,14})(\.[0-9]{1,15})?")
 _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
-# Characters YAML does not allow in a stream (yaml.reader.Reader.NON_PRINTABLE); found
-# here first so the message names the line and column whichever YAML parser runs.
-# in values after YAML's escapes are decoded: C0 but tab and line feed, DEL, C1, and the
-# noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML)
-# (and lone surrogates, which only the pure-Python YAML parser lets through)
+# Control characters in values after YAML's escapes are decoded: C0 but tab and line
+# feed, DEL, C1, and the noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML),
+# and lone surrogates, which only the pure-Python YAML parser lets through.
 _ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+# Characters YAML does not allow in a stream, found here first so that the message names
+# the line and column whichever YAML parser runs: the very pattern of PyYAML's reader
+# (yaml.reader.Reader.NON_PRINTABLE), so that re compiles it once (20 ms) for both.
 _NON_PRINTABLE = re.compile(
     "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
 )
@@ -61,6 +69,7 @@ _LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
+_SPECIAL_ENDS = "nNfFyY"  # the last letters of nan, inf, infinity (any case)
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
 _SCALAR_TEXT = {_TAG + t for t in ("str", "int", "float")}  # what reads as text
 # An explicit tag only narrows: the value must be one of its tag as YAML 1.2 has it,
@@ -213,52 +222,165 @@ def _utf8(data: bytes) -> str:
 
 
 def _compose(text: str) -> tuple[yaml.Node | None, dict[tuple[int, int], str]]:
-    """The YAML node tree, after a streaming pass that bounds nesting and size, and
-    the explicit tags of scalars by where they start (``_bound_events``).
+    """The YAML node tree, and the explicit tags of scalars by where they start.
 
-    libyaml's composer recurses in C: a deeply nested flow list would crash the
-    process, so the depth is checked on the event stream before composing.
+    One pass of YAML's parser (``_events``) bounds nesting and size before any node is
+    made: libyaml's own composer recurses in C, and a deeply nested flow list would
+    crash the process. The tree is then composed from those events (``_Composer``),
+    as PyYAML composes it.
     """
     try:
-        explicit = _bound_events(text)
-        return yaml.compose(text, Loader=_Loader), explicit
+        events, explicit = _events(text)
+        return _Composer(events).single_node(), explicit
     except yaml.MarkedYAMLError as e:
         raise _syntax_error(e, text) from None
     except yaml.YAMLError as e:
         raise TaskFileError(f"YAML error: {' '.join(str(e).split())}") from None
 
 
-def _bound_events(text: str) -> dict[tuple[int, int], str]:
+def _events(text: str) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
     """Parse ``text`` as a stream of events: at most MAX_NODES nodes, MAX_DEPTH deep.
 
-    Returns the tag of every scalar with an explicit tag (``!!float ""``, ``! 6``) by
-    ``_span``: the node tree does not tell such a scalar from a plain one YAML resolved
-    to the same tag, nor keep the non-specific tag ``!``.
+    Returns the events, and the tag of every scalar with an explicit tag (``!!float
+    ""``, ``! 6``) by ``_span``: the node tree does not tell such a scalar from a plain
+    one YAML resolved to the same tag, nor keep the non-specific tag ``!``.
     """
     depth = nodes = 0
     explicit: dict[tuple[int, int], str] = {}
-    for ev in yaml.parse(text, Loader=_Loader):
-        if isinstance(ev, yaml.ScalarEvent) and ev.tag is not None:
-            explicit[_span(ev)] = ev.tag
-        if isinstance(ev, yaml.NodeEvent):
-            nodes += 1
-            if nodes > MAX_NODES:
-                raise TaskFileError(
-                    f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
-                    line=ev.start_mark.line + 1,
-                    column=ev.start_mark.column + 1,
+    events = []
+    parser = _Loader(text)
+    try:
+        while parser.check_event():
+            ev = parser.get_event()
+            events.append(ev)
+            kind = type(ev)
+            if kind in _NODE_EVENTS:
+                nodes += 1
+                if nodes > MAX_NODES:
+                    raise TaskFileError(
+                        f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
+                        line=ev.start_mark.line + 1,
+                        column=ev.start_mark.column + 1,
+                    )
+                if kind is yaml.ScalarEvent:
+                    if ev.tag is not None:
+                        explicit[_span(ev)] = ev.tag
+                elif kind is not yaml.AliasEvent:
+                    depth += 1
+                    if depth > MAX_DEPTH:
+                        raise TaskFileError(
+                            f"nested deeper than {MAX_DEPTH} levels",
+                            line=ev.start_mark.line + 1,
+                            column=ev.start_mark.column + 1,
+                        )
+            elif kind in _END_EVENTS:
+                depth -= 1
+    finally:
+        parser.dispose()
+    return events, explicit
+
+
+_NODE_EVENTS = {yaml.ScalarEvent, yaml.AliasEvent, yaml.SequenceStartEvent, yaml.MappingStartEvent}
+_END_EVENTS = {yaml.SequenceEndEvent, yaml.MappingEndEvent}
+
+
+class _Composer:
+    """The node tree of one YAML stream's events, as PyYAML's composer (libyaml's or
+    the pure-Python one, whichever ``_Loader`` is) makes it with the safe loader's
+    resolver: the same nodes, tags, styles and marks, an alias the very node of its
+    anchor, and the same errors (an undefined alias, a duplicate anchor, a second
+    document)."""
+
+    def __init__(self, events: list[yaml.Event]) -> None:
+        self.events = iter(events)
+        self.anchors: dict[str, yaml.Node] = {}
+        self.c = not issubclass(_Loader, yaml.composer.Composer)  # libyaml's messages
+        self.implicit = _RESOLVER.yaml_implicit_resolvers  # first character -> resolvers
+        self.wildcard = self.implicit.get(None, [])
+
+    def single_node(self) -> yaml.Node | None:
+        events = self.events
+        next(events)  # the stream start
+        ev = next(events)
+        document = None
+        if type(ev) is not yaml.StreamEndEvent:  # a document start
+            document = self.node(next(events))
+            next(events)  # the document end
+            ev = next(events)
+        if type(ev) is not yaml.StreamEndEvent:
+            assert document is not None
+            raise yaml.composer.ComposerError(
+                "expected a single document in the stream",
+                document.start_mark,
+                "but found another document",
+                ev.start_mark,
+            )
+        return document
+
+    def node(self, ev: Any) -> yaml.Node:
+        kind = type(ev)
+        anchor = ev.anchor
+        if anchor is not None:
+            if kind is yaml.AliasEvent:
+                if anchor not in self.anchors:
+                    shown = "" if self.c else f" {anchor!r}"
+                    raise yaml.composer.ComposerError(
+                        None, None, f"found undefined alias{shown}", ev.start_mark
+                    )
+                return self.anchors[anchor]
+            if anchor in self.anchors:
+                shown = "" if self.c else f" {anchor!r}"
+                raise yaml.composer.ComposerError(
+                    f"found duplicate anchor{shown}; first occurrence",
+                    self.anchors[anchor].start_mark,
+                    "second occurrence",
+                    ev.start_mark,
                 )
-        if isinstance(ev, yaml.CollectionStartEvent):
-            depth += 1
-            if depth > MAX_DEPTH:
-                raise TaskFileError(
-                    f"nested deeper than {MAX_DEPTH} levels",
-                    line=ev.start_mark.line + 1,
-                    column=ev.start_mark.column + 1,
-                )
-        elif isinstance(ev, yaml.CollectionEndEvent):
-            depth -= 1
-    return explicit
+        tag = ev.tag
+        node: yaml.Node
+        if kind is yaml.ScalarEvent:
+            if tag is None or tag == "!":
+                tag = self.scalar_tag(ev.value, ev.implicit)
+            node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, style=ev.style)
+            if anchor is not None:
+                self.anchors[anchor] = node
+            return node
+        # a collection: the resolver's default tags (the safe loader has no path resolvers)
+        if kind is yaml.MappingStartEvent:
+            node = yaml.MappingNode(
+                _MAP if tag is None or tag == "!" else tag,
+                [],
+                ev.start_mark,
+                None,
+                flow_style=ev.flow_style,
+            )
+        else:
+            node = yaml.SequenceNode(
+                _SEQ if tag is None or tag == "!" else tag,
+                [],
+                ev.start_mark,
+                None,
+                flow_style=ev.flow_style,
+            )
+        if anchor is not None:
+            self.anchors[anchor] = node
+        items, events = node.value, self.events
+        pairs = kind is yaml.MappingStartEvent
+        for ev in events:
+            if type(ev) in _END_EVENTS:
+                node.end_mark = ev.end_mark
+                return node
+            item = self.node(ev)
+            items.append((item, self.node(next(events))) if pairs else item)
+        raise AssertionError("a collection without its end event")  # the parser pairs them
+
+    def scalar_tag(self, value: str, implicit: tuple[bool, bool]) -> str:
+        """The tag PyYAML's resolver gives a scalar without one (``Resolver.resolve``)."""
+        if implicit[0]:
+            for tag, regexp in self.implicit.get(value[:1], []) + self.wildcard:
+                if regexp.match(value):
+                    return str(tag)
+        return _STR
 
 
 def _span(item: yaml.Node | yaml.Event) -> tuple[int, int]:
@@ -291,25 +413,27 @@ def _parse(data: bytes | str, file: str, directory: str) -> Task:
     root, explicit = _compose(text)
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
-    walk = _Walk(explicit, directory)
+    # a value can hold a control character only by an escape (decoded) or as written
+    escapes = "\\" in text or _ESCAPED_CONTROL.search(text) is not None
+    walk = _Walk(explicit, directory, escapes=escapes)
     walk.read(root, TASK, "", 0)
     if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
         errors = sorted(walk.errors, key=lambda e: (isinstance(e, _Missing), e.line, e.column))
         errors[0].errors = tuple(errors)
         raise errors[0]
-    return _task(walk, Path(file).stem, file)
+    return _task(walk, file)
 
 
 # -- the Task, from the values read ------------------------------------------------------
 
 
-def _task(w: _Walk, stem: str, file: str) -> Task:
-    """The ``Task`` of a walk over the whole file (defaults applied); ``stem`` names it
-    when the file does not."""
+def _task(w: _Walk, file: str) -> Task:
+    """The ``Task`` of a walk over the whole file (defaults applied); the file's stem
+    names it when the file does not."""
     v = w.values
     law, x_of_t, pieces = _motion(w)
     return Task(
-        name=v.get("name", stem),
+        name=v["name"] if "name" in v else Path(file).stem,
         robot=_robot(v),
         path=v.get("path.y"),
         x_of_t=x_of_t,
@@ -320,18 +444,25 @@ def _task(w: _Walk, stem: str, file: str) -> Task:
             torque_limit=v.get("checks.torque_limit"),
             strict=v["checks.strict"],
             unbounded_torque=v["checks.unbounded_torque"],
-            rules={
-                k.rsplit(".", 1)[1]: level
-                for level in ("warn", "ignore")  # both: ignore wins
-                for k in v
-                if k.startswith(f"checks.{level}.")
-            },
+            rules=_levels(w),
         ),
         law=law,
         lines=dict(w.lines),
         source=file,
         pieces=tuple(pieces),
     )
+
+
+def _levels(w: _Walk) -> dict[str, str]:
+    """Rule id -> "warn" or "ignore", from checks.warn and checks.ignore (both: ignore)."""
+    if "checks.warn" not in w.nodes and "checks.ignore" not in w.nodes:
+        return {}  # neither given: no key below them has a value
+    return {
+        k.rsplit(".", 1)[1]: level
+        for level in ("warn", "ignore")  # both: ignore wins
+        for k in w.values
+        if k.startswith(f"checks.{level}.")
+    }
 
 
 def _robot(v: dict[str, Any]) -> Robot:
@@ -357,10 +488,9 @@ def _motion(w: _Walk) -> tuple[str, fmpq_poly | None, list[Piece]]:
     p = v["path.y"]
     if v.get("timing.law") == TRAPEZOIDAL:
         line = w.lines.get("timing.law", 0)
-        return TRAPEZOIDAL, None, [Piece(s, e, x, p(x), p, line) for s, e, x in _x_pieces(v)]
+        return TRAPEZOIDAL, None, [Piece(s, e, x, p(x), p, line) for s, e, x in _timing(w)]
     if "timing.law" in v:
-        law: str = v["timing.law"]
-        return law, timing_law(law, v["path.from"][0], v["path.to"][0], v["timing.duration"]), []
+        return v["timing.law"], _timing(w)[0][2], []
     if isinstance(v["timing.x"], list):
         return "pieces", None, [Piece(s, e, x, p(x), p, ln) for s, e, x, ln in _timed(v)]
     return "explicit", v["timing.x"], []
@@ -381,6 +511,14 @@ def _x_pieces(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly]]:
     if isinstance(v["timing.x"], list):
         return [(s, e, x) for s, e, x, _ in _timed(v)]
     return [(fmpq(0), t_f, v["timing.x"])]
+
+
+def _timing(w: _Walk) -> list[tuple[fmpq, fmpq, fmpq_poly]]:
+    """``_x_pieces`` of the walk's values, worked out once (the caps check needs them
+    before the ``Task`` does)."""
+    if w.x_pieces is None:
+        w.x_pieces = _x_pieces(w.values)
+    return w.x_pieces
 
 
 def _timed(v: dict[str, Any]) -> list[tuple[fmpq, fmpq, fmpq_poly, int]]:
@@ -604,7 +742,7 @@ def _composition_within_caps(w: _Walk, key: str) -> None:
     if not ("timing.x" in v or all(k in v for k in ("timing.law", "path.from", "path.to"))):
         return  # x(t) could not be read: its own error is reported
     try:
-        pieces = _x_pieces(v)
+        pieces = _timing(w)
     except (KeyError, ValueError):
         return  # no cruise_speed, or a bad one: reported as such
     for _, _, x in pieces:
@@ -761,9 +899,14 @@ class _Walk:
     """
 
     def __init__(
-        self, explicit: dict[tuple[int, int], str] | None = None, directory: str = os.curdir
+        self,
+        explicit: dict[tuple[int, int], str] | None = None,
+        directory: str = os.curdir,
+        *,
+        escapes: bool = True,
     ) -> None:
         self.explicit = explicit or {}  # the explicit tags of scalars, by _span
+        self.escapes = escapes  # False: no value can hold a control character
         self.directory = directory  # where a waypoint CSV's name is relative to
         self.csv_file = ""  # the waypoint CSV read, as a path (relative to the working dir)
         self.csv_name = ""  # ... and as the task file names it
@@ -773,6 +916,7 @@ class _Walk:
         self.lines: dict[str, int] = {}
         self.errors: list[TaskFileError] = []  # every independent error, in reading order
         self.misspelt: set[str] = set()  # keys an unknown key was likely meant as
+        self.x_pieces: list[tuple[fmpq, fmpq, fmpq_poly]] | None = None  # see _timing
 
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
         line, column = _where(node) if node is not None else (0, 0)
@@ -790,7 +934,8 @@ class _Walk:
         goes on with the next key; only a ``_Stop`` ends it."""
         try:
             self.visit(node, key, depth)
-            self.fit(node, spec, key)
+            if self.explicit or type(node) is not yaml.ScalarNode:
+                self.fit(node, spec, key)  # (an untagged scalar fits)
             if spec.kind == "mapping":
                 self.mapping(node, spec, key, depth)
             else:
@@ -802,7 +947,8 @@ class _Walk:
             return
         except _Recorded:
             return
-        self.check(key)
+        if key in _RULES:
+            self.check(key)
 
     def check(self, key: str) -> None:
         """The cross-field rule filed under ``key``, when every value it needs was read."""
@@ -820,10 +966,8 @@ class _Walk:
 
     def omitted(self, spec: Spec, key: str) -> None:
         """A key not given: its default, and those of its keys if it is a mapping."""
-        if spec.default is not None:
-            self.values[key] = _default(spec)
-        for k, child in spec.children.items():
-            self.omitted(child, f"{key}.{k}")
+        for below, value in _defaults(spec):
+            self.values[key + below] = value
 
     def visit(self, node: yaml.Node, key: str, depth: int) -> None:
         self.visited += 1
@@ -836,19 +980,20 @@ class _Walk:
             )
         if depth > MAX_DEPTH:
             raise self.stop(f"nested deeper than {MAX_DEPTH} levels", node, key)
-        if node.tag == _TAG + "merge":
+        tag = node.tag
+        if tag == _MERGE:
             raise self.error(
                 "merge keys (<<) are not supported: write the keys out (an alias of a whole"
                 " value, such as 3: *link, is fine)",
                 node,
                 key,
             )
-        if isinstance(node, yaml.ScalarNode):
-            if self.explicit.get(_span(node)) == "!":
+        if type(node) is yaml.ScalarNode:
+            if self.explicit and self.explicit.get(_span(node)) == "!":
                 # YAML 1.2: the non-specific tag makes a scalar text (PyYAML resolves
                 # it as if untagged: ! "6" would be the integer 6)
-                node.tag = _TAG + "str"
-            bad = _ESCAPED_CONTROL.search(str(node.value))
+                node.tag = tag = _TAG + "str"
+            bad = _ESCAPED_CONTROL.search(str(node.value)) if self.escapes else None
             if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
                 code = ord(bad.group(0))
                 what = "lone surrogate" if 0xD800 <= code <= 0xDFFF else "control character"
@@ -857,7 +1002,7 @@ class _Walk:
                     node,
                     key,
                 )
-        if node.tag not in _PLAIN_TAGS:
+        if tag not in _PLAIN_TAGS:
             what = ""
             if node.tag == _TAG + "timestamp":
                 what = f" ({_short(str(node.value))!r} reads as a date)"
@@ -870,11 +1015,15 @@ class _Walk:
 
     def is_explicit(self, node: yaml.Node) -> bool:
         """Whether ``node`` is a scalar with a tag written in the file."""
-        return isinstance(node, yaml.ScalarNode) and _span(node) in self.explicit
+        explicit = self.explicit
+        return bool(explicit) and type(node) is yaml.ScalarNode and _span(node) in explicit
 
     def fit(self, node: yaml.Node, spec: Spec | None, key: str) -> None:
         """Reject a node whose explicit tag does not fit its value (``spec`` None: a key)."""
-        found = _misfit(node, self.is_explicit(node))
+        explicit = self.is_explicit(node)
+        if not explicit and type(node) is yaml.ScalarNode:
+            return  # an untagged scalar always fits (``_misfit``)
+        found = _misfit(node, explicit)
         if found is None:
             return
         expected = "a plain key" if spec is None else _expected(spec, key)
@@ -902,7 +1051,7 @@ class _Walk:
         out: dict[str, yaml.Node] = {}
         bad: set[str] = set()  # keys given but unusable (duplicated): not "missing"
         for knode, vnode in node.value:
-            if knode.tag == _TAG + "merge":  # its keys are unknown: none is "missing"
+            if knode.tag == _MERGE:  # its keys are unknown: none is "missing"
                 bad.update(spec.children)
             try:
                 k, full = self.known_key(knode, spec, key, depth)
@@ -950,8 +1099,9 @@ class _Walk:
     def known_key(self, knode: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[str, str]:
         """A key of the mapping at ``key``, and its dotted path; unknown keys are errors."""
         self.visit(knode, key, depth + 1)
-        self.fit(knode, None, key)
-        if not isinstance(knode, yaml.ScalarNode) or knode.tag in (_TAG + "null", _TAG + "bool"):
+        if self.explicit or type(knode) is not yaml.ScalarNode:
+            self.fit(knode, None, key)  # (an untagged scalar fits)
+        if not isinstance(knode, yaml.ScalarNode) or knode.tag in _NOT_KEYS:
             raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
         k = str(knode.value)
         shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
@@ -969,23 +1119,35 @@ class _Walk:
 
     # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
-        expected = _expected(spec, key)
         if not isinstance(node, yaml.ScalarNode):
-            raise self.error(f"expected {expected}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
+        if (
+            node.tag in _NUMBER_TAGS
+            and _SIMPLE_DECIMAL.fullmatch(text)
+            and not self.is_explicit(node)
+        ):
+            return self.bounded(_simple_decimal(text), node, spec, key, text)
         tag = self.number_tag(node, text)
         if tag not in ("int", "float"):
             hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
-            raise self.error(f"expected {expected}, found {_kind_of(node)}{hint}", node, key)
-        if _NAN.fullmatch(text):
+            raise self.error(
+                f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+            )
+        special = text[-1:] in _SPECIAL_ENDS  # nan, inf and infinity end so; numbers do not
+        if special and _NAN.fullmatch(text):
             raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
-        if _INF.fullmatch(text):
+        if special and _INF.fullmatch(text):
             raise self.error(
                 f"expected a finite number ({spec.description}), found infinity ({text})", node, key
             )
         value = self._number_value(node, text.replace("_", ""), tag, key)
+        return self.bounded(value, node, spec, key, text)
+
+    def bounded(self, value: fmpq, node: yaml.Node, spec: Spec, key: str, text: str) -> fmpq:
+        """``value``, read from ``text``, checked against ``spec``'s bound."""
         if spec.minimum is not None:
-            lo = parse_decimal(repr(spec.minimum))
+            lo = _minimum(spec.minimum)
             if not (value > lo if spec.exclusive else value >= lo):
                 raise self.error(
                     f"expected a number {'>' if spec.exclusive else '>='} {_q(lo)}"
@@ -1015,7 +1177,7 @@ class _Walk:
 
     def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
         try:
-            if _RADIX_INT.fullmatch(text) and tag == "int":
+            if tag == "int" and _RADIX_INT.fullmatch(text):
                 if len(text) > 40:
                     raise ExpressionError(f"number {_short(text)!r} has more than 40 digits")
                 return fmpq(int(text, 0))
@@ -1070,7 +1232,7 @@ class _Walk:
     def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
         """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
         self.visit(node, key, depth)
-        spec = Spec("number", what)
+        spec = _number_spec(what)
         if (
             isinstance(node, yaml.ScalarNode)
             and node.tag == _TAG + "str"
@@ -1085,7 +1247,7 @@ class _Walk:
 
     def item(self, node: yaml.Node, spec: Spec, what: str, key: str, depth: int) -> fmpq:
         self.visit(node, key, depth)
-        bound = Spec("number", what, minimum=spec.minimum, exclusive=spec.exclusive)
+        bound = _number_spec(what, spec.minimum, spec.exclusive)
         self.fit(node, bound, key)
         return self.number(node, bound, key, depth)
 
@@ -1128,7 +1290,7 @@ class _Walk:
             except ExpressionError as e:
                 raise self.error(e.message, node, key) from None
         else:
-            value = self.number(node, Spec("number", "t [s], a decimal or a fraction"), key, depth)
+            value = self.number(node, _number_spec("t [s], a decimal or a fraction"), key, depth)
         if value < 0:
             raise self.error(f"expected a time >= 0 [s], found {_q(value)}", node, key)
         return value
@@ -1221,7 +1383,7 @@ class _Walk:
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
         if v not in spec.choices or node.tag != _TAG + "str":
-            near = difflib.get_close_matches(v.lower(), spec.choices, n=1, cutoff=0.6)
+            near = _near(v.lower(), list(spec.choices))
             hint = f"; did you mean {near[0]!r}?" if near else ""
             raise self.error(
                 f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
@@ -1246,6 +1408,8 @@ _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
 
 def _near(key: str, allowed: list[str]) -> list[str]:
     """The key of ``allowed`` that ``key`` is likely a misspelling of ([] when none)."""
+    import difflib  # only for a file with an error: not on the import path
+
     return difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
 
 
@@ -1254,6 +1418,43 @@ def _default(spec: Spec) -> Any:
     if spec.kind == "number":
         return parse_decimal(str(spec.default))
     return spec.default
+
+
+_DEFAULTS: dict[int, tuple[Spec, tuple[tuple[str, Any], ...]]] = {}
+
+
+def _defaults(spec: Spec) -> tuple[tuple[str, Any], ...]:
+    """The values an omitted ``spec`` gives: (the dotted key below it, '' for itself,
+    the default), for it and its keys if it is a mapping, depth first. Worked out once
+    per Spec (the values are immutable)."""
+    known = _DEFAULTS.get(id(spec))
+    if known is not None and known[0] is spec:
+        return known[1]
+    out: list[tuple[str, Any]] = []
+    if spec.default is not None:
+        out.append(("", _default(spec)))
+    for k, child in spec.children.items():
+        out.extend((f".{k}{below}", value) for below, value in _defaults(child))
+    _DEFAULTS[id(spec)] = (spec, tuple(out))
+    return tuple(out)
+
+
+@functools.cache
+def _number_spec(what: str, minimum: float | None = None, exclusive: bool = False) -> Spec:
+    """A number's Spec, made once: ``what`` it is, and its bound."""
+    return Spec("number", what, minimum=minimum, exclusive=exclusive)
+
+
+def _simple_decimal(text: str) -> fmpq:
+    """The value of ``text`` matching ``_SIMPLE_DECIMAL``, exactly (as ``parse_decimal``)."""
+    whole, _, frac = text.partition(".")
+    return fmpq(int(whole + frac), 10 ** len(frac))
+
+
+@functools.cache
+def _minimum(bound: float) -> fmpq:
+    """A ``Spec.minimum``, exactly (from its text)."""
+    return parse_decimal(repr(bound))
 
 
 def _expected(spec: Spec, key: str) -> str:

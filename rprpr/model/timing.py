@@ -14,14 +14,22 @@ LAWS = ("quintic", "cubic")
 
 def timing_law(law: str, x0: fmpq, x1: fmpq, duration: fmpq) -> fmpq_poly:
     """x_E(t) of a rest-to-rest ``law`` from x0 to x1 in ``duration`` seconds (exact)."""
-    tau = fmpq_poly([0, 1 / duration])
-    if law == "quintic":
-        shape = 10 * tau**3 - 15 * tau**4 + 6 * tau**5  # eq. (49) for x0=2, x1=4, t_f=5
-    elif law == "cubic":
-        shape = 3 * tau**2 - 2 * tau**3
-    else:
+    if law not in _SHAPES:
         raise ValueError(f"unknown timing law {law!r}; expected one of {', '.join(LAWS)}")
-    return x0 + (x1 - x0) * shape
+    # x0 + (x1 - x0) sum_k c_k (t / t_f)^k, coefficient by coefficient
+    scale = x1 - x0
+    coeffs = [x0]
+    for c in _SHAPES[law][1:]:
+        scale /= duration
+        coeffs.append(c * scale)
+    return fmpq_poly(coeffs)
+
+
+# the shape in tau = t / t_f, coefficients of tau^0, tau^1, ...
+_SHAPES = {
+    "quintic": (0, 0, 0, 10, -15, 6),  # 10 tau^3 - 15 tau^4 + 6 tau^5: eq. (49)
+    "cubic": (0, 0, 3, -2),  # 3 tau^2 - 2 tau^3
+}
 
 
 def trapezoidal(x0: fmpq, x1: fmpq, duration: fmpq, cruise: fmpq) -> list[tuple[fmpq, fmpq_poly]]:
