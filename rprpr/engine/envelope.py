@@ -473,7 +473,14 @@ def _boxes(duration: fmpq, n: int) -> tuple[np.ndarray, np.ndarray]:
     """A partition of [0, t_f] into n boxes with float ends (the last one reaches just
     past t_f when t_f is no float)."""
     tf = to_float(duration)
-    ends = np.array([to_float(duration * fmpq(i, n)) for i in range(n + 1)])
+    step = tf / n
+    if n & (n - 1) == 0 and math.isfinite(tf) and step * n == tf and step >= 2.0**-1000 \
+            and fmpq(*tf.as_integer_ratio()) == duration:  # fmt: skip
+        # t_f a float, n a power of 2: t_f/n is exact and i (t_f/n) the double nearest
+        # t_f i/n (one correctly rounded product), as the exact line below gives
+        ends = np.arange(n + 1) * step
+    else:
+        ends = np.array([to_float(duration * fmpq(i, n)) for i in range(n + 1)])
     if fmpq(*tf.as_integer_ratio()) < duration:
         ends[-1] = np.nextafter(tf, np.inf)
     return ends[:-1], ends[1:]
