@@ -127,6 +127,22 @@ _NEAR_MISSES = {
 }
 
 
+@pytest.mark.parametrize("gap", ["1/10^12", "1/10^30", "1/10^45"])
+def test_a_closest_approach_far_below_the_path_scale_stays_exact(gap: str) -> None:
+    """E passes AB at 10^-12 ... 10^-45 m: the polynomial's terms cancel there by far more
+    than 128 bits; the distance is exact and the bracket of min |δ| non-negative and
+    tight (the reference at 60 digits: 6 y/(s1 s2), y = gap at t = 1)."""
+    task = _task(f"(x - 3)^2 + {gap}", "2 + t")
+    a = Envelope(_motion(task)).closest_approach()
+    assert a is not None and a.t_y == 1.0 and a.t_delta == 1.0
+    k = int(gap.split("^")[1])
+    assert a.distance == 1 / 10**k  # the double nearest 10^-k
+    with mpmath.workdps(120):
+        g = mpmath.mpf(1) / mpmath.mpf(10) ** k
+        true = float(6 * g / (mpmath.sqrt(9 + g * g) * mpmath.sqrt(9 + g * g)))
+    assert 0 < a.delta_lo <= true <= a.delta_hi <= a.delta_lo * (1 + 1e-15)
+
+
 @pytest.mark.parametrize("name", sorted(_NEAR_MISSES))
 def test_closest_approach_is_the_least_delta_against_the_reference(name: str) -> None:
     """min |δ| from the critical points: never above |δ| at any of 401 times of the

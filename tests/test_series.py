@@ -6,6 +6,7 @@ from __future__ import annotations
 import random
 from math import comb
 
+import pytest
 from flint import fmpq
 
 from rprpr.engine.series import QSeries, Series
@@ -51,3 +52,15 @@ def test_the_same_exact_values_as_the_python_series() -> None:
         assert (q / Aq).c == (q / A).c
         square = Aq * Aq
         assert square.sqrt_with(a[0]).c == Aq.c
+
+
+def test_mixed_operands_and_division_by_a_series_without_constant_term() -> None:
+    q = QSeries([fmpq(1), fmpq(2), fmpq(3)])
+    p = Series([fmpq(2), fmpq(1)])
+    assert isinstance(p * q, QSeries) and (p * q).c == [2, 5]  # Series on the left
+    assert (p - q).c == [1, -1] and (p / q).c == [2, -3]
+    for bad in (QSeries([fmpq(0), fmpq(1)]), Series([fmpq(0), fmpq(1)])):
+        with pytest.raises(ZeroDivisionError):
+            q / bad
+    with pytest.raises(ZeroDivisionError):
+        1 / QSeries([fmpq(0), fmpq(1)])

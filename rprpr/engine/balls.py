@@ -297,7 +297,14 @@ class Ball:
         if mid.shape != rad.shape:
             shape = np.broadcast_shapes(mid.shape, rad.shape)
             mid, rad = full(mid, shape), full(rad, shape)
-        return Ball._of(np.asarray(mid[index], dtype=float), np.asarray(rad[index], dtype=float))
+        out = []
+        for a in (mid, rad):
+            v = np.asarray(a[index], dtype=float)
+            if v.base is not None:  # a view: read-only, as the ball it came from may change
+                v = v.view()
+                v.flags.writeable = False
+            out.append(v)
+        return Ball._of(out[0], out[1])
 
     def __repr__(self) -> str:
         return f"Ball({self.mid!r}, {self.rad!r})"

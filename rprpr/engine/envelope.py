@@ -23,9 +23,9 @@ partition of [0, t_f]), so no answer depends on a sampling grid.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -1232,52 +1232,95 @@ class Envelope:
 
 
 def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
-    """min |y(t)| over [0, t_f] and where: at the ends or at a real root of y'."""
+    """min |y(t)| over [0, t_f] (the double nearest it) and where: at the ends or at a
+    real root of y', exactly at a rational time, else in arb to 2^-64 relative."""
     cands: list[tuple[arb, float]] = []
-    old = ctx.prec
-    ctx.prec = 128
-    try:
-        for t in (fmpq(0), duration):
-            cands.append((abs(arb(traj.y(t))), to_float(t)))
-        for e in _roots(traj.yd, duration):
-            tb = arb(e.exact) if e.exact is not None else e.at(128)
-            cands.append((abs(arb_poly(traj.y.coeffs())(tb)), e.hi))
-    finally:
-        ctx.prec = old
+    y = traj.y
+    for t in (fmpq(0), duration):
+        cands.append((_exactly(abs(y(t))), to_float(t)))
+    for e in _roots(traj.yd, duration):
+        if e.exact is not None:
+            cands.append((_exactly(abs(y(e.exact))), e.hi))
+        else:
+            cands.append((_accurate(partial(_abs_at, y, e.at)), e.hi))
     v, t = min(cands, key=lambda c: float(c[0].mid()))
     return float(v.mid()), t
 
 
-def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float]:
-    """(lo, hi, t): min |δ| over [0, t_f] lies in [lo, hi] (rounded outward; hi - lo is
-    about 2^-100 of it) and is reached at about t, for a motion that never meets y = 0.
-
-    δ² = a1² y²/Q with Q = s1² s2² = (x² + y²)((x - a1)² + y²) > 0, so |δ| is least at
-    t = 0, t_f or a root of (δ²)' = a1² y R/Q², R = 2 y' Q - y Q', in (0, t_f) (where
-    y ≠ 0): the critical times of ``_delta_critical``, each enclosed by a rational ball,
-    and |δ| evaluated on each in arb (128 bits)."""
+def _exactly(q: fmpq) -> arb:
+    """The arb ball of an exact rational at 128 bits (its double: the nearest one)."""
     old = ctx.prec
     ctx.prec = 128
     try:
-        times = [arb(0), arb(duration)]
-        for f, square_free in _delta_critical(traj):
-            times += _roots_in(f, duration, square_free)
-        x, y, a1 = arb_poly(traj.x.coeffs()), arb_poly(traj.y.coeffs()), arb(traj.a1)
-        lo, hi, t_min = math.inf, math.inf, 0.0
-        for t in times:
-            xt, yt = x(t), y(t)
-            ut = xt - a1
-            d = abs(a1 * yt) / ((xt * xt + yt * yt) * (ut * ut + yt * yt)).sqrt()
-            if not d.is_finite():  # Q > 0 is proven at 128 bits in practice; else no bound
-                lo, up = 0.0, math.inf
-            else:
-                lo = min(lo, math.nextafter(float(d.lower()), -math.inf))
-                up = math.nextafter(float(d.upper()), math.inf)
-            if up < hi:
-                hi, t_min = up, float(t.mid())
-        return lo, hi, t_min
+        return arb(q)
     finally:
         ctx.prec = old
+
+
+def _poly_at(p: fmpq_poly, t: arb) -> arb:
+    return arb_poly(p.coeffs())(t)
+
+
+def _abs_at(p: fmpq_poly, at: Callable[[int], arb], prec: int) -> arb:
+    """|p| over the ball ``at(prec)`` of an exact time."""
+    return abs(_poly_at(p, at(prec)))
+
+
+def _accurate(f: Callable[[int], arb]) -> arb:
+    """f(prec) at 128, 256, ... 4096 bits until its relative radius is 2^-64 or less (an
+    expanded polynomial cancels where its value is small); the last ball else."""
+    old = ctx.prec
+    prec = 128
+    try:
+        while True:
+            ctx.prec = prec + 32
+            v = f(prec)
+            if prec >= 4096 or (v.is_finite() and v.rad() <= abs(v.mid()) * arb(2) ** -64):
+                return v
+            prec *= 2
+    finally:
+        ctx.prec = old
+
+
+def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float]:
+    """(lo, hi, t): min |δ| over [0, t_f] lies in [lo, hi] (rounded outward; hi - lo is
+    about 2^-64 of it, or 0 at a rational time) and is reached at about t, for a motion
+    that never meets y = 0.
+
+    δ² = a1² y²/Q with Q = s1² s2² = (x² + y²)((x - a1)² + y²) > 0, so |δ| is least at
+    t = 0, t_f or a root of (δ²)' = a1² y R/Q², R = 2 y' Q - y Q', in (0, t_f) (where
+    y ≠ 0): the critical times of ``_delta_critical``; |δ| at each, exactly (δ² in Q) at
+    a rational one, else in arb at a precision raised until it is accurate."""
+    times: list[fmpq | Callable[[int], arb]] = [fmpq(0), duration]
+    for f, square_free in _delta_critical(traj):
+        times += _roots_in(f, duration, square_free)
+    lo, hi, t_min = math.inf, math.inf, 0.0
+    for t in times:
+        if isinstance(t, fmpq):
+            x, y = traj.x(t), traj.y(t)
+            q = (x * x + y * y) * ((x - traj.a1) ** 2 + y * y)
+            d = _exactly(traj.a1**2 * y * y / q).sqrt() if q != 0 else arb("nan")
+            where = to_float(t)
+        else:
+            d = _accurate(partial(_delta_at, traj, t))
+            where = float(t(128).mid())
+        if not d.is_finite():  # Q > 0 should be proven; else no bound from here
+            lo, up = 0.0, math.inf
+        else:
+            lo = min(lo, max(0.0, math.nextafter(float(d.lower()), -math.inf)))
+            up = math.nextafter(float(d.upper()), math.inf)
+        if up < hi:
+            hi, t_min = up, where
+    return lo, hi, t_min
+
+
+def _delta_at(traj: Trajectory, at: Callable[[int], arb], prec: int) -> arb:
+    """|δ| = a1 |y|/(s1 s2) over the ball ``at(prec)`` of an exact time (eq. 29)."""
+    t = at(prec)
+    a1 = arb(traj.a1)
+    x, y = _poly_at(traj.x, t), _poly_at(traj.y, t)
+    u = x - a1
+    return abs(a1 * y) / ((x * x + y * y) * (u * u + y * y)).sqrt()
 
 
 def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
@@ -1308,19 +1351,19 @@ def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
     return out
 
 
-def _roots_in(f: fmpq_poly, duration: fmpq, square_free: bool) -> list[arb]:
-    """The real roots of f in (0, t_f) as arb balls (relative radius about 2^-128; a
-    rational root exactly, to the working precision): by the factors of f over Q, or,
+def _roots_in(f: fmpq_poly, duration: fmpq, square_free: bool) -> list[fmpq | Callable[[int], arb]]:
+    """The real roots of f in (0, t_f): a rational root exactly, an irrational one as its
+    ball at a given precision (``IsolatedRoot.ball``); by the factors of f over Q, or,
     when f is square-free with no rational root, by isolating f itself."""
     if f.degree() < 1:
         return []
     parts = [f] if square_free else [g for g, _ in f.factor()[1] if g.degree() >= 1]
-    out = []
+    out: list[fmpq | Callable[[int], arb]] = []
     for g in parts:
         if g.degree() == 1:
             root = -g[0] / g[1]
             if 0 < root < duration:
-                out.append(arb(root))
+                out.append(root)
             continue
-        out += [IsolatedRoot(g, lo, hi).ball(128) for lo, hi in isolate(g, duration)]
+        out += [IsolatedRoot(g, lo, hi).ball for lo, hi in isolate(g, duration)]
     return out

@@ -173,6 +173,8 @@ class Series:
         return Series([o] + [self.c[0] * 0] * (len(self.c) - 1))
 
     def __add__(self, o: Any) -> Series:
+        if isinstance(o, QSeries):  # its own reflected operation
+            return NotImplemented
         o = self._co(o)
         n = min(len(self), len(o))
         return Series([self.c[i] + o.c[i] for i in range(n)])
@@ -180,6 +182,8 @@ class Series:
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> Series:
+        if isinstance(o, QSeries):  # its own reflected operation
+            return NotImplemented
         o = self._co(o)
         n = min(len(self), len(o))
         return Series([self.c[i] - o.c[i] for i in range(n)])
@@ -191,6 +195,8 @@ class Series:
         return Series([-a for a in self.c])
 
     def __mul__(self, o: Any) -> Series:
+        if isinstance(o, QSeries):  # its own reflected operation
+            return NotImplemented
         if not isinstance(o, Series):
             return Series([a * o for a in self.c])
         n = min(len(self), len(o))
@@ -223,6 +229,8 @@ class Series:
         return Series(b)
 
     def __truediv__(self, o: Any) -> Series:
+        if isinstance(o, QSeries):  # its own reflected operation
+            return NotImplemented
         if isinstance(o, Series):
             return self * o.inverse()
         return Series([a / o for a in self.c])
@@ -320,9 +328,13 @@ class QSeries:
             if o == 0:
                 raise ZeroDivisionError("division of a series by zero")
             return self._run(1 / o, lambda a, b: a * b)
+        if o.c[0] == 0:  # flint would cancel powers of ε: Series raises here too
+            raise ZeroDivisionError("division by a series without a constant term")
         return self._run(o, lambda a, b: a / b)
 
     def __rtruediv__(self, o: Any) -> QSeries:
+        if self.c[0] == 0:
+            raise ZeroDivisionError("division by a series without a constant term")
         return self._run(o, lambda a, b: b / a)
 
     def sqrt_with(self, s0: Any) -> QSeries:
