@@ -329,7 +329,7 @@ def test_junit_structure_counts_and_cases(bad_file: str) -> None:
     assert out2 is not None  # the certified peaks and their times (tests/test_outputs.py)
     assert out2.splitlines()[-1] == (
         "verdict: pass, 1 singular instant; peak |T1| 66.1221 N m at t = 2.743 s,"
-        " |T2| 60.5504 N m at t = 0.2023 s"
+        " |T2| 60.5504 N m at t = 0.2024 s"
     )
 
     # the unreadable task file: an error naming the rule, line and key
