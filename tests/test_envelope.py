@@ -284,3 +284,15 @@ def test_the_first_partition_has_the_nearest_doubles_to_its_exact_ends() -> None
         nearest = [int(q.p) / int(q.q) for q in exact]
         assert list(lo) == nearest[:-1] and list(hi[:-1]) == nearest[1:-1]
         assert hi[-1] >= nearest[-1] and fmpq(*float(hi[-1]).as_integer_ratio()) >= d
+
+
+def test_the_first_partition_is_cut_finer_where_the_reference_peaks() -> None:
+    """The double-precision guess of where |T1| and |T2| peak (``_ladders``) lies within
+    5e-5 s of the maxima of the 60-digit reference (path 2: t = 2.74335 s and 0.20245 s
+    on a 5e-5 s grid), and the partition's finest boxes (h/64) sit about it."""
+    h = 5 / 512
+    cuts = np.sort(_envelope("paper_path2.rprpr.yaml")._ladders(h))
+    for t_ref in (2.74335, 0.20245):
+        assert np.abs(cuts - t_ref).min() <= 5e-5
+        near = cuts[np.abs(cuts - t_ref) <= 2 * h]
+        assert len(near) >= 32 and np.diff(near).max() <= h / 64 * (1 + 1e-9)
