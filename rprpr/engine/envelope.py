@@ -38,7 +38,7 @@ from . import equations as dyn
 from .balls import Ball, U, centred, horner, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots, per_robot
 from .roots import IsolatedRoot, isolate
-from .series import taylor
+from .series import accurate, ball, taylor
 from .singular import SingularInstant
 from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, ExactTime, Zone, taylor_at_instant, taylor_box, taylor_lambda
@@ -1308,28 +1308,18 @@ class Envelope:
 
 def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
     """min |y(t)| over [0, t_f] (the double nearest it) and where: at the ends or at a
-    real root of y', exactly at a rational time, else in arb to 2^-64 relative."""
+    real root of y', exactly at a rational time, else in arb to 64 bits (``accurate``)."""
     cands: list[tuple[arb, float]] = []
     y = traj.y
     for t in (fmpq(0), duration):
-        cands.append((_exactly(abs(y(t))), to_float(t)))
+        cands.append((ball(abs(y(t))), to_float(t)))
     for e in _roots(traj.yd, duration):
         if e.exact is not None:
-            cands.append((_exactly(abs(y(e.exact))), e.hi))
+            cands.append((ball(abs(y(e.exact))), e.hi))
         else:
-            cands.append((_accurate(partial(_abs_at, y, e.at)), e.hi))
+            cands.append((accurate(partial(_abs_at, y, e.at), 64), e.hi))
     v, t = min(cands, key=lambda c: float(c[0].mid()))
     return float(v.mid()), t
-
-
-def _exactly(q: fmpq) -> arb:
-    """The arb ball of an exact rational at 128 bits (its double: the nearest one)."""
-    old = ctx.prec
-    ctx.prec = 128
-    try:
-        return arb(q)
-    finally:
-        ctx.prec = old
 
 
 def _poly_at(p: fmpq_poly, t: arb) -> arb:
@@ -1339,22 +1329,6 @@ def _poly_at(p: fmpq_poly, t: arb) -> arb:
 def _abs_at(p: fmpq_poly, at: Callable[[int], arb], prec: int) -> arb:
     """|p| over the ball ``at(prec)`` of an exact time."""
     return abs(_poly_at(p, at(prec)))
-
-
-def _accurate(f: Callable[[int], arb]) -> arb:
-    """f(prec) at 128, 256, ... 4096 bits until its relative radius is 2^-64 or less (an
-    expanded polynomial cancels where its value is small); the last ball else."""
-    old = ctx.prec
-    prec = 128
-    try:
-        while True:
-            ctx.prec = prec + 32
-            v = f(prec)
-            if prec >= 4096 or (v.is_finite() and v.rad() <= abs(v.mid()) * arb(2) ** -64):
-                return v
-            prec *= 2
-    finally:
-        ctx.prec = old
 
 
 def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float]:
@@ -1374,10 +1348,10 @@ def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float
         if isinstance(t, fmpq):
             x, y = traj.x(t), traj.y(t)
             q = (x * x + y * y) * ((x - traj.a1) ** 2 + y * y)
-            d = _exactly(traj.a1**2 * y * y / q).sqrt() if q != 0 else arb("nan")
+            d = ball(traj.a1**2 * y * y / q).sqrt() if q != 0 else arb("nan")
             where = to_float(t)
         else:
-            d = _accurate(partial(_delta_at, traj, t))
+            d = accurate(partial(_delta_at, traj, t), 64)
             where = float(t(128).mid())
         if not d.is_finite():  # Q > 0 should be proven; else no bound from here
             lo, up = 0.0, math.inf

@@ -85,6 +85,24 @@ class KElem:
         return self.field.to_float(self.p)
 
 
+def accurate(value: Callable[[int], arb], bits: int = 56) -> arb:
+    """value(prec), a ball computed at the working precision prec, with ``bits`` bits of
+    relative accuracy or more: prec = bits + 8, doubled up to 4096 bits (then whatever
+    that gives). Cancellation (an expanded polynomial where its value is small, an
+    algebraic number's polynomial) is what the doubling pays for."""
+    old = ctx.prec
+    prec = bits + 8
+    try:
+        while True:
+            ctx.prec = prec
+            v = value(prec)
+            if v.rel_accuracy_bits() >= bits or prec > 4096:
+                return v
+            prec *= 2
+    finally:
+        ctx.prec = old
+
+
 class NumberField:
     """K = Q[t]/(f) with a certified isolating ball ``root`` for one real root t_s of f."""
 
@@ -133,12 +151,7 @@ class NumberField:
                 return arb(p[0])
             finally:
                 ctx.prec = old
-        prec = bits + 8
-        while True:
-            v = self.evaluate(p, prec)
-            if v.rel_accuracy_bits() >= bits or prec > 4096:
-                return v
-            prec *= 2
+        return accurate(lambda prec: self.evaluate(p, prec), bits)
 
     def to_float(self, p: fmpq_poly) -> float:
         """p(t_s) as a double (±inf beyond the double range)."""

@@ -257,10 +257,11 @@ def _events(text: str) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
             if kind in _NODE_EVENTS:
                 nodes += 1
                 if nodes > MAX_NODES:
+                    line, column = _where(ev)
                     raise TaskFileError(
                         f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
-                        line=ev.start_mark.line + 1,
-                        column=ev.start_mark.column + 1,
+                        line=line,
+                        column=column,
                     )
                 if kind is yaml.ScalarEvent:
                     if ev.tag is not None:
@@ -268,10 +269,9 @@ def _events(text: str) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
                 elif kind is not yaml.AliasEvent:
                     depth += 1
                     if depth > MAX_DEPTH:
+                        line, column = _where(ev)
                         raise TaskFileError(
-                            f"nested deeper than {MAX_DEPTH} levels",
-                            line=ev.start_mark.line + 1,
-                            column=ev.start_mark.column + 1,
+                            f"nested deeper than {MAX_DEPTH} levels", line=line, column=column
                         )
             elif kind in _END_EVENTS:
                 depth -= 1
@@ -1547,7 +1547,7 @@ def _resolve(text: str) -> str:
     return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
 
 
-def _where(node: yaml.Node) -> tuple[int, int]:
+def _where(node: yaml.Node | yaml.Event) -> tuple[int, int]:
     """1-based (line, column) where ``node`` starts."""
     return node.start_mark.line + 1, node.start_mark.column + 1
 
