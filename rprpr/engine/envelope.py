@@ -377,18 +377,14 @@ class _Through:
         traj = motion.traj
         base = fmpq(0) if leg == 1 else traj.a1
         u = traj.x - base
-        self.k = _vanishing_order(u, e)
-        self.cx = _taylor_balls(traj.x, e)
-        self.cy = _taylor_balls(traj.y, e)
-        cu = _taylor_balls(u, e)
-        self.a = cu[self.k :] or [Ball.exact(0.0)]
-        self.b = self.cy[self.k :] or [Ball.exact(0.0)]
-        k = self.k
-        self.phi = [Ball.exact(0.0)] * k + [Ball.exact(1.0)]  # ε^k
-        with quiet():
-            self.dx, self.dy = _derivatives(self.cx), _derivatives(self.cy)
-            self.da, self.db = _derivatives(self.a), _derivatives(self.b)
-            self.dphi = _derivatives(self.phi)
+        k = self.k = _vanishing_order(u, e)
+        cy = _taylor_balls(traj.y, e)
+        a = _taylor_balls(u, e)[k:] or [Ball.exact(0.0)]
+        b = cy[k:] or [Ball.exact(0.0)]
+        phi = [Ball.exact(0.0)] * k + [Ball.exact(1.0)]  # ε^k
+        with quiet():  # the coefficients of each and its first three derivatives
+            self.dx, self.dy = _derivatives(_taylor_balls(traj.x, e)), _derivatives(cy)
+            self.da, self.db, self.dphi = _derivatives(a), _derivatives(b), _derivatives(phi)
 
     def torques(self, st: _Stacked, eps: Ball, sigma: float) -> tuple[Jet, Jet]:
         """T (stacked) and δ as jets over balls of ε on one side (sign of φ: sigma)."""
@@ -971,7 +967,7 @@ class Envelope:
         (the path lies on y = 0, or E passes A or B)."""
         if self.motion.analysis.on_singular_line:
             return None
-        if any(bool(th.b[0].contains_zero()) for th in self.throughs):
+        if any(bool(th.db[0][0].contains_zero()) for th in self.throughs):
             return None  # E meets A or B along AB: δ -> 0 there as well
         if self.poles:
             t = self.poles[0].t
