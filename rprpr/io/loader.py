@@ -244,11 +244,34 @@ def _events(text: str) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
     Returns the events, and the tag of every scalar with an explicit tag (``!!float
     ""``, ``! 6``) by ``_span``: the node tree does not tell such a scalar from a plain
     one YAML resolved to the same tag, nor keep the non-specific tag ``!``.
+
+    Some libyaml builds scan ahead and stop a deep flow collection with a nesting limit of
+    their own (1,000 levels, before any event reaches the check here). Such a file is
+    parsed again by the pure-Python parser, which has no limit of its own: the check here
+    then stops it where it passes MAX_DEPTH, with the same message and location whatever
+    libyaml the machine has.
     """
+    try:
+        return _events_of(_Loader, text)
+    except yaml.MarkedYAMLError as e:
+        if _Loader is yaml.SafeLoader or not _libyaml_depth_limit(e):
+            raise
+    return _events_of(yaml.SafeLoader, text)
+
+
+def _libyaml_depth_limit(e: yaml.MarkedYAMLError) -> bool:
+    """Whether ``e`` is libyaml's own nesting limit ("exceeded maximum nesting depth")."""
+    return "nesting depth" in f"{e.context} {e.problem}"
+
+
+def _events_of(
+    loader: type[yaml.SafeLoader] | type[yaml.CSafeLoader], text: str
+) -> tuple[list[yaml.Event], dict[tuple[int, int], str]]:
+    """``_events`` with the parser of ``loader``."""
     depth = nodes = 0
     explicit: dict[tuple[int, int], str] = {}
     events = []
-    parser = _Loader(text)
+    parser = loader(text)
     try:
         while parser.check_event():
             ev = parser.get_event()
