@@ -1,4 +1,4 @@
-"""What the plot tests share (tests/test_plot.py, test_sheet_layout.py, test_animate.py):
+"""What the plot tests share (tests/render/test_sheet.py, test_sheet_layout.py, test_animation.py):
 each task audited once and each sheet rendered once per test process, and a figure laid
 out for measuring without painting a pixel. The shared figures are only read by the tests
 that share them, never changed (``drawn`` sets the resolution text is measured at, which

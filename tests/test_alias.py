@@ -8,7 +8,7 @@ from pathlib import Path
 
 from .conftest import CONFIGS
 
-BAD = Path(__file__).parent / "bad_tasks" / "missing_a1.yaml"
+BAD = Path(__file__).parent / "corpora" / "bad_tasks" / "missing_a1.yaml"
 
 
 def test_the_old_import_name_offers_the_same_api() -> None:

@@ -23,7 +23,7 @@ from .._version import __version__
 from ..report.exit import OUT_OF_SPACE, Interrupted, error_status, returned_status
 
 # each command in the module of its name, with the line ``rprpr --help`` lists it with (so
-# that the list imports none of them; tests/test_cli_conventions.py keeps the lines true)
+# that the list imports none of them; tests/cli/test_main.py keeps the lines true)
 COMMANDS = {
     "check": "Audit every Type II singular instant of each TASK",
     "export": "Write the sampled motion of TASK",

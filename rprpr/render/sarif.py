@@ -11,7 +11,7 @@ not a finding of the task: it is a ``toolExecutionNotification`` of the invocati
 no time, so the same tasks always give the same bytes.
 
 The document is valid against the OASIS schema (``sarif-schema-2.1.0.json``, errata 01;
-``tests/test_sarif_gitlab.py`` checks it).
+``tests/render/test_sarif_gitlab.py`` checks it).
 """
 
 from __future__ import annotations

@@ -91,8 +91,8 @@ CASES = (
         "bad_tasks",
         (
             "configs/paper_path2.rprpr.yaml",
-            "tests/bad_tasks/a1_negative.yaml",
-            "tests/bad_tasks/syntax_unclosed_flow.yaml",
+            "tests/corpora/bad_tasks/a1_negative.yaml",
+            "tests/corpora/bad_tasks/syntax_unclosed_flow.yaml",
         ),
     ),
     Case("close_instants", ("close_instants.yaml",), {"close_instants.yaml": CLOSE_INSTANTS}),

@@ -1,0 +1,65 @@
+"""Every independent error of a bad task file in one run, each with its line and column;
+one error only where it makes the rest meaningless (YAML syntax, encoding)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rprpr.io.loader import parse_task
+from rprpr.model.errors import TaskFileError
+
+from tests.conftest import run_cli
+from tests.golden import MANY_ERRORS
+
+WANT = [
+    (3, 7, "robot.a1", "expected a number > 0 (|AB| [m]), found -6"),
+    (6, 15, "robot.links.3.mass", "expected a number >= 0 (m3 [kg]), found -1.0"),
+    (14, 13, "timing.duration", "expected a number (t_f [s]), found the text 'five'"),
+    (15, 3, "timing.lwa", "unknown key 'lwa'; did you mean 'law'?"),
+]
+
+
+def _errors(text: str) -> list[tuple[int, int, str, str]]:
+    with pytest.raises(TaskFileError) as e:
+        parse_task(text, "t.yaml")
+    assert e.value.errors[0] is e.value
+    return [(x.line, x.column, x.key, x.message) for x in e.value.errors]
+
+
+def test_four_mistakes_are_four_errors_in_file_order() -> None:
+    assert _errors(MANY_ERRORS) == WANT
+
+
+def test_a_misspelt_key_is_not_also_missing() -> None:
+    messages = [m for *_, m in _errors(MANY_ERRORS.replace("timing:", "timming:"))]
+    assert messages[-1] == "unknown key 'timming'; did you mean 'timing'?"
+    assert not any("missing" in m for m in messages)
+
+
+def test_a_yaml_syntax_error_stops_the_reading() -> None:
+    text = MANY_ERRORS.replace("  to: 4\n", "  to: [4, 1\n")
+    ((_, _, key, message),) = _errors(text)
+    assert message.startswith("YAML syntax error") and key == ""
+
+
+def test_every_format_carries_every_error(
+    tmp_path: object, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # type: ignore[arg-type]
+    with open("many.yaml", "w", encoding="utf-8") as fh:
+        fh.write(MANY_ERRORS)
+    code, out, err = run_cli("check", "many.yaml")
+    assert code == 2 and out == ""
+    assert err.splitlines() == [f"many.yaml:{ln}:{c}: {k}: {m} [RPR001]" for ln, c, k, m in WANT]
+    code, out, _ = run_cli("check", "--format", "json", "many.yaml")
+    (entry,) = json.loads(out)["input_errors"]
+    assert [(e["line"], e["column"], e["key"], e["message"]) for e in entry["errors"]] == WANT
+    code, out, _ = run_cli("check", "--format", "github", "many.yaml")
+    assert [line.split("::")[1] for line in out.splitlines()] == [
+        f"error file=many.yaml,line={ln},col={c},title=RPR001 invalid-task" for ln, c, _, _ in WANT
+    ]
+    code, out, _ = run_cli("check", "--format", "junit", "many.yaml")
+    assert out.count("<error ") == 1 and "(and 3 more errors)" in out
+    assert all(f"many.yaml:{ln}:{c}: {k}: " in out for ln, c, k, _ in WANT)

@@ -1,0 +1,78 @@
+"""The text report at any width: no line wider than COLUMNS, nothing cut (no ellipsis),
+every cell of the wide table present in the narrow layout, findings clickable."""
+
+from __future__ import annotations
+
+import os
+import re
+from unittest import mock
+
+import pytest
+
+from tests.conftest import CONFIGS, run_cli
+
+TASKS = [str(p.relative_to(CONFIGS.parent)) for p in sorted(CONFIGS.glob("*.yaml"))]
+
+
+def _text(columns: int) -> str:
+    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}):
+        _, out, _ = run_cli("check", "--samples", "101", *TASKS)
+    return out
+
+
+def _table_cells(wide: str) -> list[str]:
+    """Every cell of the rows of the wide table(s)."""
+    cells = []
+    for line in wide.splitlines():
+        if line.startswith("│"):
+            cells += [c.strip() for c in line.strip("│").split("│") if c.strip()]
+    return cells
+
+
+@pytest.mark.parametrize("columns", [60, 80, 120])
+def test_no_line_exceeds_the_width_and_nothing_is_cut(columns: int) -> None:
+    out = _text(columns)
+    assert all(len(line) <= columns for line in out.splitlines()), columns
+    assert "…" not in out
+
+
+@pytest.mark.parametrize("columns", [60, 80, 120])
+def test_every_cell_of_the_wide_table_is_in_the_narrow_report(columns: int) -> None:
+    wide = _text(400)
+    cells = _table_cells(wide)
+    assert len(cells) >= 6 * 11  # a row of 11 cells per shipped config at least
+    narrow = " ".join(_text(columns).split())
+    for cell in cells:
+        assert " ".join(cell.split()) in narrow, (columns, cell)
+
+
+def test_wide_terminal_gets_the_table_and_narrow_the_stacked_rows() -> None:
+    assert "┃ t [s] ┃" in _text(160)
+    narrow = _text(80)
+    assert "┃" not in narrow and "  T(t_s) [N m]  unbounded" in narrow
+
+
+def test_findings_are_file_line_col_rule_severity() -> None:
+    out = _text(400)
+    finding = re.compile(r"^configs/\w+\.rprpr\.yaml:\d+:1: RPR\d{3} \[(error|warning)\] [a-z-]+: ")
+    lines = [ln for ln in out.splitlines() if re.match(r"^configs/\w+\.rprpr\.yaml:\d", ln)]
+    assert lines and all(finding.match(ln) for ln in lines)
+    assert "configs/paper_path1.rprpr.yaml:19:1: RPR101 [error] slope-principle: t = 2.5 s" in out
+
+
+def _layout(columns: int, layout: str) -> str:
+    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}):
+        _, out, _ = run_cli("check", "--layout", layout, *TASKS)
+    return out
+
+
+def test_the_table_on_request_at_80_columns_is_the_wide_table_whole() -> None:
+    forced = _layout(80, "table")
+    # the same table rows as on a wide terminal, none of them squeezed or cut
+    assert _table_cells(forced) == _table_cells(_text(400))
+    assert "…" not in forced
+
+
+def test_the_rows_on_request_on_a_wide_terminal() -> None:
+    rows = _layout(400, "rows")
+    assert "┃" not in rows and "  T(t_s) [N m]  unbounded" in rows

@@ -1,0 +1,166 @@
+"""The exit policy (``report.exit``) and the options every command shares (``cli.options``):
+one home each, and every command follows them."""
+
+from __future__ import annotations
+
+import inspect
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+import pytest
+
+from rprpr.cli.main import main_group
+from rprpr.cli.options import CheckOptions
+from rprpr.model.defaults import DEFAULT_SAMPLES
+from rprpr.report.exit import (
+    ExitCode,
+    InputError,
+    InternalError,
+    error_status,
+    returned_status,
+    run_status,
+)
+from rprpr.report.run import Run
+
+from tests.conftest import PATH2_FILE, run_cli
+
+RPRPR = [sys.executable, "-m", "rprpr"]
+
+
+def _run_of(*kinds: str) -> Run:
+    """A run with one outcome per kind: "pass", "fail", "input" or "internal"."""
+    run = Run()
+    for k in kinds:
+        if k in ("pass", "fail"):
+            run.add("report", {"verdict": k})
+        else:
+            run.add(k, {"text": k})
+    return run
+
+
+@pytest.mark.parametrize(
+    ("kinds", "exit_zero", "status"),
+    [
+        ((), False, 0),
+        (("pass", "pass"), False, 0),
+        (("pass", "fail"), False, 1),
+        (("pass", "fail"), True, 0),  # --exit-zero forgives a failed audit ...
+        (("fail", "input"), True, 2),  # ... but never hides an error
+        (("fail", "input"), False, 2),
+        (("input", "internal", "fail"), False, 3),  # the highest wins
+        (("internal",), True, 3),
+    ],
+)
+def test_run_status_is_the_highest_that_applies(
+    kinds: tuple[str, ...], exit_zero: bool, status: int
+) -> None:
+    assert run_status(_run_of(*kinds), exit_zero=exit_zero) == status
+
+
+@pytest.mark.parametrize(
+    ("error", "status"),
+    [
+        (click.UsageError("bad option"), 2),
+        (click.BadParameter("bad value"), 2),
+        (InputError("bad task file"), 2),
+        (click.ClickException("cannot write"), 2),  # never click's own 1
+        (click.exceptions.Abort(), 2),
+        (InternalError("a bug in a named task"), 3),
+        (RuntimeError("a bug anywhere"), 3),
+        (OSError("unexpected"), 3),
+        (BrokenPipeError(), 0),  # the reader went away: nothing failed
+        (KeyboardInterrupt(), 130),
+        (click.exceptions.Exit(0), 0),
+    ],
+)
+def test_error_status(error: BaseException, status: int) -> None:
+    assert error_status(error) == status
+
+
+def test_returned_status() -> None:
+    assert returned_status(None) is ExitCode.PASSED
+    assert returned_status(0) is ExitCode.PASSED  # --help, --version
+    assert returned_status(ExitCode.FAILED) is ExitCode.FAILED
+
+
+@pytest.mark.parametrize(("command", "what"), [("schema", "schema"), ("export", "samples")])
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_full_disk_on_standard_output_is_one_line_and_exit_2(command: str, what: str) -> None:
+    args = [command] if command == "schema" else [command, PATH2_FILE, "--samples", "5"]
+    with open("/dev/full", "w", encoding="utf-8") as full:
+        done = subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        f"rprpr: cannot write the {what} to standard output: No space left on device"
+    ]
+
+
+def test_export_into_a_closed_pipe_exits_0() -> None:
+    cmd = [*RPRPR, "export", PATH2_FILE, "--samples", "5"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout is not None
+    proc.stdout.close()
+    _, err = proc.communicate()
+    assert proc.returncode == 0 and err == b""
+
+
+def test_a_bug_outside_any_task_is_one_line_and_exit_3(monkeypatch: pytest.MonkeyPatch) -> None:
+    import rprpr.io.schema
+
+    def broken() -> Any:
+        raise RuntimeError("simulated bug")
+
+    monkeypatch.setattr(rprpr.io.schema, "json_schema", broken)
+    code, _, err = run_cli("schema")
+    assert code == 3
+    assert err.splitlines() == [
+        "rprpr: internal error (RuntimeError: simulated bug); please report it"
+    ]
+
+
+# -- the options: one home for each default -------------------------------------------------
+def _params(command: str) -> dict[str, click.Parameter]:
+    cmd = main_group.get_command(click.Context(main_group), command)
+    assert cmd is not None
+    return {p.name: p for p in cmd.params if p.name}
+
+
+@pytest.mark.parametrize("command", ["plot", "export"])
+def test_every_samples_option_defaults_to_the_one_default(command: str) -> None:
+    assert _params(command)["samples"].default == DEFAULT_SAMPLES == 1001
+
+
+def test_check_samples_default_to_the_one_default_through_the_settings() -> None:
+    from rprpr.cli.config import KEYS
+
+    assert _params("check")["samples"].default is None  # not given: the configuration's
+    assert KEYS["samples"][1] == DEFAULT_SAMPLES
+
+
+def test_the_audit_defaults_to_the_same_sample_count() -> None:
+    from rprpr.engine.audit import audit
+
+    assert inspect.signature(audit).parameters["samples"].default == DEFAULT_SAMPLES
+
+
+def test_check_options_default_to_the_command_lines_defaults() -> None:
+    cmd = main_group.get_command(click.Context(main_group), "check")
+    assert cmd is not None
+    from rprpr.cli.check import resolve
+
+    given = cmd.make_context("check", ["--isolated", "task.yaml"]).params
+    del given["tasks"]
+    settings, options = resolve(given)
+    assert options == CheckOptions()
+    assert settings.file is None
+    assert set(settings.sources.values()) == {"default"}
+
+
+def test_check_options_are_one_frozen_value() -> None:
+    options = CheckOptions(samples=11, strict=True)
+    with pytest.raises(AttributeError):
+        options.samples = 12  # type: ignore[misc]
+    assert options == CheckOptions(strict=True, samples=11)
