@@ -21,7 +21,6 @@ import pytest
 from rprpr.cli.check import PROGRESS_MIN_TASKS, want_progress
 from rprpr.cli.output import color_enabled, make_console
 from rprpr.cli.tasks import collect_tasks
-
 from tests.conftest import (
     BAD_A1,
     CONFIGS,

@@ -16,7 +16,6 @@ import pytest
 from rprpr.cli.config import find_config, load_settings
 from rprpr.model.rules import Finding, SelectorError, levels, with_levels
 from rprpr.report.exit import InputError
-
 from tests.conftest import CONFIGS, run_cli
 
 P1 = CONFIGS / "paper_path1.rprpr.yaml"  # fails RPR101 (horizontal) and RPR201

@@ -16,7 +16,6 @@ from rprpr._version import __version__
 from rprpr.cli.main import COMMANDS, main_group
 from rprpr.cli.rule import explain
 from rprpr.model.rules import RULES
-
 from tests.conftest import PATH2_FILE, ROOT, run_cli
 
 

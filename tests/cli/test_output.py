@@ -30,7 +30,6 @@ from rprpr.render import export as E
 from rprpr.render.json import render as json_report
 from rprpr.report.records import task_report
 from rprpr.report.run import Run
-
 from tests.conftest import CONFIGS, PATH2_FILE, run_cli, task_text
 
 RPRPR = [sys.executable, "-m", "rprpr"]

@@ -126,7 +126,6 @@ def test_a_crowded_sheet_keeps_markers_and_drops_per_instant_labels(tmp_path: Pa
     from rprpr.io.expression import poly_text
     from rprpr.io.loader import parse_task
     from rprpr.render import sheet as P
-
     from tests.conftest import task_text
 
     t16 = fmpq_poly([int(c) for c in fmpz_poly.chebyshev_t(16).coeffs()])(fmpq_poly([-3, 1]))

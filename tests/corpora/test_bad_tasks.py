@@ -22,7 +22,6 @@ import yaml
 from rprpr.io import loader
 from rprpr.io.loader import MAX_BYTES, load_task, parse_task
 from rprpr.model.errors import TaskFileError
-
 from tests.conftest import run_cli
 
 HERE = Path(__file__).resolve().parent

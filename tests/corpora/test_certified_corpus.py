@@ -30,7 +30,6 @@ from rprpr.engine.singular import analyse
 from rprpr.engine.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
-
 from tests.conftest import CONFIGS, task_text
 from tests.reference import limit, limit_of, reference, theta_branch
 

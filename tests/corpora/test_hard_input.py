@@ -25,7 +25,6 @@ from flint import arb, ctx, fmpq, fmpq_poly
 
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
-
 from tests.conftest import run_cli
 
 LINKS = """\

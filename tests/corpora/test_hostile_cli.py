@@ -26,7 +26,6 @@ from typing import Any
 import pytest
 
 from rprpr.render.escape import ascii_fallback, printable
-
 from tests.conftest import PATH1_FILE, PATH2_FILE, run_cli
 
 RPRPR = [sys.executable, "-m", "rprpr"]

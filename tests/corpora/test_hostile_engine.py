@@ -37,7 +37,6 @@ from rprpr.engine.singular import ISOLATING
 from rprpr.io.loader import parse_task
 from rprpr.report.exit import ExitCode, run_status
 from rprpr.report.records import task_report
-
 from tests.conftest import CONFIGS
 
 LINKS = "".join(

@@ -14,7 +14,6 @@ from flint import fmpq
 from rprpr.engine.audit import audit
 from rprpr.engine.sampling import grid
 from rprpr.io.loader import load_task, parse_task
-
 from tests.conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
 from tests.reference import reference
 

@@ -14,10 +14,9 @@ from rprpr.engine.sampling import grid
 from rprpr.engine.zones import make_zone, taylor_at_instant
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
-
 from tests.conftest import task_text
+from tests.engine.test_certified import _config, _motion, _task
 from tests.reference import reference
-from .test_certified import _config, _motion, _task
 
 
 @cache

@@ -20,7 +20,6 @@ from rprpr import audit
 from rprpr.engine.audit import AuditResult
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
-
 from tests.conftest import CONFIGS, PATH2_FILE, run_cli, task_text
 from tests.reference import reference
 

@@ -22,7 +22,6 @@ from rprpr.engine.singular import SingularAnalysis, analyse
 from rprpr.engine.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
-
 from tests.conftest import CONFIGS, PATH1_YAML, PATH2_YAML, QUINTIC, run_cli, task_text
 from tests.reference import energy, limit, reference
 

@@ -21,7 +21,6 @@ from rprpr.model.errors import TaskFileError
 from rprpr.model.motion import Motion, exact, with_motion
 from rprpr.model.task import Piece, Task
 from rprpr.model.waypoints import Waypoint, interpolate, segment
-
 from tests.conftest import CONFIGS, LINKS_ALIKE, PATH2_FILE, run_cli
 
 T = fmpq_poly([0, 1])  # t

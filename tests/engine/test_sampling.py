@@ -10,7 +10,6 @@ from rprpr.engine.audit import audit
 from rprpr.engine.sampling import Samples
 from rprpr.engine.singular import KinematicSingularity, SingularInstant
 from rprpr.io.loader import load_task
-
 from tests.conftest import CONFIGS
 
 

@@ -9,7 +9,6 @@ import pytest
 
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
-
 from tests.conftest import run_cli
 from tests.golden import MANY_ERRORS
 

@@ -11,9 +11,8 @@ from flint import fmpq
 from rprpr.io.loader import parse_task
 from rprpr.io.schema import json_schema
 from rprpr.model.errors import TaskFileError
-
 from tests.conftest import task_text
-from .test_schema import _jsonish
+from tests.io.test_schema import _jsonish
 
 # the path: y = x^2/3 - 1 starts at x = 1, y = -2/3 (no decimal equals it)
 PATH = "x^2/3 - 1"

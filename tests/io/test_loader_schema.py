@@ -25,7 +25,6 @@ from rprpr.io.schema import TASK, Spec
 from rprpr.model.errors import TaskFileError
 from rprpr.model.rules import RULES
 from rprpr.model.task import Checks, Robot, Task
-
 from tests.corpora.test_bad_tasks import GOOD  # the paper's path 2, without gravity or checks
 
 FULL: dict[str, Any] = yaml.safe_load(GOOD)

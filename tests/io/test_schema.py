@@ -22,7 +22,6 @@ import yaml
 from rprpr.io.loader import parse_task
 from rprpr.io.schema import json_schema
 from rprpr.model.errors import TaskFileError
-
 from tests.conftest import run_cli
 from tests.corpora.test_bad_tasks import GOOD  # the paper's path 2: the corpus's starting point
 

@@ -12,7 +12,6 @@ from hypothesis import strategies as st
 
 from rprpr.engine.audit import audit
 from rprpr.model.task import Checks, Link, Robot, Task
-
 from tests.engine.test_audit import at_times, mechanical_energy
 
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

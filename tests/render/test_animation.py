@@ -12,7 +12,6 @@ from PIL import Image, ImageSequence
 from rprpr.cli.main import main
 from rprpr.render import animation as A
 from rprpr.render import sheet as P
-
 from tests.sheets import PATH1, PATH2, ZERO, motions, sheet
 
 MAX_BYTES = 3 * 1024 * 1024

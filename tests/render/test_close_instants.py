@@ -26,7 +26,6 @@ from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
 from rprpr.report.records import task_report
 from rprpr.report.run import REPORT, Run
-
 from tests.conftest import CLOSE_INSTANTS, task_text
 
 PATH = "close.yaml"

@@ -16,7 +16,6 @@ import pytest
 from rprpr import __version__
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
-
 from tests.conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 
 # the column list, written out independently of samples.COLUMNS, and the reason

@@ -27,7 +27,6 @@ from rprpr.render.github import render as github
 from rprpr.render.junit import render as junit
 from rprpr.render.junit import xml_text
 from rprpr.report.run import Run
-
 from tests.conftest import BAD_A1, FAST, ROOT, run_cli
 
 P1 = "configs/paper_path1.rprpr.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)

@@ -11,7 +11,6 @@ import jsonschema
 import pytest
 
 from rprpr.model.rules import RULES
-
 from tests.conftest import BAD_A1, CONFIGS, FAST, run_cli
 
 SCHEMA = json.loads((Path(__file__).parent / "sarif" / "sarif-schema-2.1.0.json").read_text())

@@ -21,7 +21,6 @@ from rprpr.cli.main import main
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
-
 from tests.conftest import task_text
 from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, motions, sheet
 

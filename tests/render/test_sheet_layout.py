@@ -32,7 +32,6 @@ from rprpr.io.loader import load_task
 from rprpr.model.task import Piece, Task
 from rprpr.model.timing import trapezoidal
 from rprpr.render import sheet as P
-
 from tests.conftest import task_text
 from tests.reference import reference
 from tests.sheets import CONFIG_FILES, DPI, PATH1, PATH2, PIECEWISE, SETS, drawn, motions, sheet

@@ -24,7 +24,6 @@ from rprpr.report.exit import (
     run_status,
 )
 from rprpr.report.run import Run
-
 from tests.conftest import PATH2_FILE, run_cli
 
 RPRPR = [sys.executable, "-m", "rprpr"]

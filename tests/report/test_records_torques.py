@@ -28,7 +28,6 @@ from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
 from rprpr.report.records import task_report
 from rprpr.report.run import REPORT, Run
-
 from tests.conftest import CONFIGS, run_cli, task_text
 from tests.reference import reference
 
