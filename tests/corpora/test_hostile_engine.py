@@ -45,7 +45,7 @@ LINKS = "".join(
 )
 PATH2 = "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2"  # the paper's path 2, through (3, 0) at t = 2.5 s
 QUINTIC = "  duration: 5\n  law: quintic\n"
-SECONDS = 10.0  # each audit below takes well under a second; "hung" was minutes
+SECONDS = 10.0  # CPU seconds: each audit below takes well under one; "hung" was minutes
 
 
 def text(
@@ -62,10 +62,11 @@ def text(
 
 
 def audited(source: str) -> tuple[AuditResult, dict, float]:  # type: ignore[type-arg]
-    """The audit (default samples), its report as strict JSON data, and its time."""
-    start = time.perf_counter()
+    """The audit (default samples), its report as strict JSON data, and its CPU time (not
+    wall time: a busy machine must not turn a fast audit into a failure)."""
+    start = time.process_time()
     r = audit(parse_task(source))
-    seconds = time.perf_counter() - start
+    seconds = time.process_time() - start
     report = json.loads(json.dumps(task_report(r, "hostile.yaml"), allow_nan=False))
     return r, report, seconds
 
@@ -184,9 +185,11 @@ def test_sixty_irrational_instants_of_one_degree_60_factor() -> None:
 
 def _deaf_audit(task, *, samples, strict, on_stage):  # type: ignore[no-untyped-def]
     """An audit that enters root isolation and stays in one long C call (``sum`` over a
-    range runs in C and runs no signal handler): only SIGKILL stops it."""
+    range runs in C and runs no signal handler): only SIGKILL stops it. It would end after
+    about a minute and return no result, which the run would report as an error, not as
+    the budget: so the test fails, rather than hangs, if the budget does not stop it."""
     on_stage(ISOLATING)
-    sum(range(10**15))
+    sum(range(10**12))
 
 
 @pytest.mark.skipif(
@@ -204,14 +207,12 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
         return _deaf_audit(task, **kw) if task.name == "slow" else real(task, **kw)
 
     monkeypatch.setattr(auditing, "audit", audit_or_hang)
-    start = time.monotonic()
     files = [
         str(slow),
         str(CONFIGS / "paper_path1.rprpr.yaml"),
         str(CONFIGS / "paper_path2.rprpr.yaml"),
     ]
     run = run_checks(files, CheckOptions(samples=101, budget=0.5))
-    assert time.monotonic() - start < 5
     assert [kind for kind, _, _ in run.entries()] == ["budget", "report", "report"]
     (error,) = run.budget_errors
     assert error["task"] == str(slow) and error["stage"] == ISOLATING
