@@ -7,7 +7,9 @@ import io
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import settings
@@ -126,3 +128,46 @@ def run_cli(*args: str) -> tuple[int, str, str]:
     with redirect_stdout(out), redirect_stderr(err), pytest.raises(SystemExit) as e:
         main(list(args))
     return exit_status(e.value), _text(out), _text(err)
+
+
+# -- one audit, many renderings ------------------------------------------------------------
+# What a run of ``rprpr check`` prints differs by format, width, colour, -q and -o; what it
+# audits does not. Tests that print one set of tasks many ways (the golden files, the text
+# report at several widths) share one Run per set of tasks, inside ``reused_runs()``.
+PRESENTATION = {
+    "format": "text", "output_file": None, "quiet": False, "layout": "auto",
+    "exit_zero": False, "color": "auto", "statistics": False,
+}  # fmt: skip
+_RUNS: dict[str, Any] = {}
+
+
+def _content(path: str) -> bytes | None:
+    try:
+        return Path(path).read_bytes()
+    except OSError:
+        return None
+
+
+@contextmanager
+def reused_runs() -> Iterator[None]:
+    """``rprpr check`` (``cli.check.run_checks``) audits each set of task files once per
+    test process: a run of the same files (by name and content), in the same directory,
+    with options that differ only in PRESENTATION takes the Run of the first. Renderers
+    only read a Run, so every byte printed is what a fresh audit would print."""
+    from rprpr.cli import check
+
+    real = check.run_checks
+
+    def run_checks(files: Any, options: Any, progress: Any = None) -> Any:
+        key = repr(
+            (os.getcwd(), [(f, _content(f)) for f in files], replace(options, **PRESENTATION))
+        )
+        if key not in _RUNS:
+            _RUNS[key] = real(files, options, progress)
+        return _RUNS[key]
+
+    check.run_checks = run_checks
+    try:
+        yield
+    finally:
+        check.run_checks = real

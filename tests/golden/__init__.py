@@ -21,7 +21,7 @@ from contextlib import chdir, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..conftest import CLOSE_INSTANTS, CONFIGS, ROOT, plain_terminal, run_cli
+from ..conftest import CLOSE_INSTANTS, CONFIGS, ROOT, plain_terminal, reused_runs, run_cli
 
 GOLDEN = Path(__file__).resolve().parent
 REGENERATE = ".venv/bin/python -m tests.golden"
@@ -124,10 +124,11 @@ def _command(case: Case, variant: Variant) -> str:
 
 
 def render(case: Case) -> dict[str, str]:
-    """The golden files of ``case``: file name -> text, as rprpr prints them today."""
+    """The golden files of ``case``: file name -> text, as rprpr prints them today (the
+    tasks audited once, printed in every variant)."""
     files: dict[str, str] = {}
     runs: list[str] = []
-    with _working_directory(case):
+    with _working_directory(case), reused_runs():
         for variant in VARIANTS:
             with plain_terminal(**variant.env):
                 code, out, err = run_cli("check", *variant.args, *case.tasks)

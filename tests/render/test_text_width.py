@@ -9,13 +9,13 @@ from unittest import mock
 
 import pytest
 
-from tests.conftest import CONFIGS, run_cli
+from tests.conftest import CONFIGS, reused_runs, run_cli
 
 TASKS = [str(p.relative_to(CONFIGS.parent)) for p in sorted(CONFIGS.glob("*.yaml"))]
 
 
 def _text(columns: int) -> str:
-    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}):
+    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}), reused_runs():
         _, out, _ = run_cli("check", "--samples", "101", *TASKS)
     return out
 
@@ -61,7 +61,7 @@ def test_findings_are_file_line_col_rule_severity() -> None:
 
 
 def _layout(columns: int, layout: str) -> str:
-    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}):
+    with mock.patch.dict(os.environ, {"COLUMNS": str(columns)}), reused_runs():
         _, out, _ = run_cli("check", "--layout", layout, *TASKS)
     return out
 
