@@ -266,6 +266,17 @@ class _Column:
         return self.moving
 
 
+def _inches(inches: float, dpi: int) -> float:
+    """``inches``, raised by a few units in the last place at most so that ``inches * dpi``
+    is not below the whole number of pixels it stands for (5.6 in at 90 dpi is
+    503.99999999999994 in doubles): matplotlib releases that truncate the canvas's size
+    and those that round it then draw frames of one size."""
+    pixels = round(inches * dpi)
+    while inches * dpi < pixels:
+        inches = math.nextafter(inches, math.inf)
+    return inches
+
+
 def write_gif(
     motions: Sequence[P.Motion],
     path: str,
@@ -285,9 +296,8 @@ def write_gif(
     if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
         dpi = max(40, int(dpi / math.sqrt(nrows)))
     with matplotlib.rc_context({**P.RC, "font.size": 8}):
-        fig = Figure(
-            figsize=(COLUMN_SIZE[0] * ncols, COLUMN_SIZE[1] * nrows), dpi=dpi, layout="constrained"
-        )
+        size = (_inches(COLUMN_SIZE[0] * ncols, dpi), _inches(COLUMN_SIZE[1] * nrows, dpi))
+        fig = Figure(figsize=size, dpi=dpi, layout="constrained")
         canvas = FigureCanvasAgg(fig)
         subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
         t = clock(motions, frames)
