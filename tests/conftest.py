@@ -20,9 +20,11 @@ CONFIGS = ROOT / "configs"
 # -- hypothesis: random locally, derandomized in CI ---------------------------------------
 # CI (which sets CI=true) draws the same examples on every run and keeps no example database,
 # so a red build is never luck; developers keep hypothesis's random search and its database.
+# Neither has a deadline: an example's wall time says how busy the machine is, not whether
+# rprpr is right (a bound on work is asserted in CPU seconds where it matters).
 # Choose one by hand with --hypothesis-profile=ci (or dev).
-settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
-settings.register_profile("dev")
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True, deadline=None)
+settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 # -- task files ------------------------------------------------------------------------------
@@ -99,9 +101,12 @@ def plain_terminal(**variables: str) -> Iterator[None]:
         os.environ.update(saved)
 
 
-def _stream() -> io.TextIOWrapper:
-    """A text stream like a pipe's: UTF-8, with a binary buffer, not a terminal."""
-    return io.TextIOWrapper(io.BytesIO(), encoding="utf-8", newline="", write_through=True)
+def _stream(encoding: str = "utf-8", errors: str = "strict") -> io.TextIOWrapper:
+    """A text stream like a pipe's: UTF-8 (or ``encoding``), with a binary buffer, not a
+    terminal."""
+    return io.TextIOWrapper(
+        io.BytesIO(), encoding=encoding, errors=errors, newline="", write_through=True
+    )
 
 
 def _text(stream: io.TextIOWrapper) -> str:
@@ -128,6 +133,28 @@ def run_cli(*args: str) -> tuple[int, str, str]:
     with redirect_stdout(out), redirect_stderr(err), pytest.raises(SystemExit) as e:
         main(list(args))
     return exit_status(e.value), _text(out), _text(err)
+
+
+def run_cli_encoded(encoding: str, *args: str) -> tuple[int, bytes, bytes]:
+    """``rprpr ARGS`` in this process with standard streams in ``encoding``, as Python
+    makes them for PYTHONIOENCODING=ENCODING (output strict, error backslashreplace):
+    (exit status, stdout bytes, stderr bytes)."""
+    from rprpr.cli.main import main
+
+    out, err = _stream(encoding), _stream(encoding, "backslashreplace")
+    with redirect_stdout(out), redirect_stderr(err), pytest.raises(SystemExit) as e:
+        main(list(args))
+    return (
+        exit_status(e.value),
+        _bytes(out),
+        _bytes(err),
+    )
+
+
+def _bytes(stream: io.TextIOWrapper) -> bytes:
+    buffer = stream.buffer
+    assert isinstance(buffer, io.BytesIO)
+    return buffer.getvalue()
 
 
 # -- one audit, many renderings ------------------------------------------------------------

@@ -93,6 +93,7 @@ def _run_hook(
     )  # fmt: skip
 
 
+@pytest.mark.slow  # the hook's command line, run as pre-commit runs it
 def test_pre_commit_hook_never_audits_other_yaml_files(
     hook: dict[str, Any], tmp_path: Path
 ) -> None:
@@ -104,6 +105,7 @@ def test_pre_commit_hook_never_audits_other_yaml_files(
     assert (p.returncode, p.stdout, p.stderr) == (0, "", "")
 
 
+@pytest.mark.slow  # the hook's command line, run as pre-commit runs it
 def test_pre_commit_hook_follows_the_configured_include(
     hook: dict[str, Any], tmp_path: Path
 ) -> None:
@@ -116,6 +118,7 @@ def test_pre_commit_hook_follows_the_configured_include(
     assert "plans/p1.yaml" in p.stdout and "compose" not in p.stdout + p.stderr
 
 
+@pytest.mark.slow  # the hook's command line, run as pre-commit runs it
 def test_pre_commit_hook_entry_checks_the_files_it_is_given(
     hook: dict[str, Any], tmp_path: Path
 ) -> None:
@@ -186,6 +189,7 @@ def _run_check_step(
     )  # fmt: skip
 
 
+@pytest.mark.slow  # the Action's script, run by bash as Actions runs it
 def test_action_by_default_checks_the_task_files_of_the_repository_only(
     action: dict[str, Any], tmp_path: Path
 ) -> None:
@@ -198,6 +202,7 @@ def test_action_by_default_checks_the_task_files_of_the_repository_only(
     assert "docker-compose" not in p.stdout + p.stderr
 
 
+@pytest.mark.slow  # the Action's script, run by bash as Actions runs it
 def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]) -> None:
     # newline- and space-separated
     paths = "configs/paper_path2.rprpr.yaml\n  configs/case1_crossing.rprpr.yaml"
@@ -214,6 +219,7 @@ def test_action_check_step_annotates_and_fails_like_rprpr(action: dict[str, Any]
     assert p.stdout.startswith("::error file=configs/case1_crossing.rprpr.yaml,line=")
 
 
+@pytest.mark.slow  # the Action's script, run by bash as Actions runs it
 def test_action_check_step_rejects_a_bad_strict_and_never_globs(action: dict[str, Any]) -> None:
     p = _run_check_step(action, paths="configs", strict="maybe", args="")
     assert p.returncode == 2
@@ -286,16 +292,23 @@ def _tool(argv: list[str]) -> str:
 
 def _ci_linters() -> dict[str, list[str]]:
     lines = CI_RUN.read_text(encoding="utf-8").splitlines()
-    runs = [shlex.split(ln) for ln in lines if ln.startswith(".venv/bin/")]
+    runs = [
+        shlex.split(ln)
+        for ln in lines
+        if ln.startswith(".venv/bin/") and not ln.startswith(".venv/bin/python")
+    ]
     return {_tool(argv): argv for argv in runs}
 
 
 def test_ci_runs_the_readmes_test_command_verbatim_then_every_linter(doc: str) -> None:
     command = _readme_test_command(doc)
     assert ".[dev]" in command  # the linters come with the test set-up
-    assert command.endswith(".venv/bin/python -m pytest -n auto")
+    assert command.endswith('.venv/bin/python -m pytest -n auto -m "not slow"')
     lines = CI_RUN.read_text(encoding="utf-8").splitlines()
     assert command in lines
+    # then the slow tests the README's command leaves out, and the lowest versions
+    assert lines[lines.index(command) + 1] == ".venv/bin/python -m pytest -n auto -m slow"
+    assert any("-c .ci/lowest.txt" in ln for ln in lines)
     linters = _ci_linters()
     assert set(linters) == LINTERS
     assert "--check" in linters["ruff format"]  # CI never rewrites a file

@@ -29,6 +29,7 @@ from tests.conftest import (
     PATH2_YAML,
     QUINTIC,
     ROOT,
+    reused_runs,
     run_cli,
     task_text,
 )
@@ -340,8 +341,10 @@ def varied(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.mark.parametrize("fmt", ["json", "junit", "github", "text"])
 def test_parallel_output_is_byte_for_byte_the_serial_output(varied: Path, fmt: str) -> None:
-    serial = run_cli("check", "--format", fmt, *FAST, "-j", "1", str(varied))
-    parallel = run_cli("check", "--format", fmt, *FAST, "-j", "2", str(varied))
+    # one serial and one parallel run of the tasks, each printed in every format
+    with reused_runs():
+        serial = run_cli("check", "--format", fmt, *FAST, "-j", "1", str(varied))
+        parallel = run_cli("check", "--format", fmt, *FAST, "-j", "2", str(varied))
     assert serial[0] == parallel[0] == 2
     assert serial[2] == parallel[2]
     if fmt == "junit":  # the measured times differ; everything else must not
@@ -470,6 +473,7 @@ def _env(**extra: str) -> dict[str, str]:
     return env
 
 
+@pytest.mark.slow  # real processes on pseudo-terminals
 def test_progress_bar_goes_to_a_terminal_stderr_never_to_stdout(varied: Path) -> None:
     args = ["check", "--format", "json", *FAST, str(varied)]
     code, out, err = _run_with_ptys(args, stdout_tty=False, stderr_tty=True, env=_env())
@@ -486,6 +490,7 @@ def test_progress_bar_goes_to_a_terminal_stderr_never_to_stdout(varied: Path) ->
     assert err3 == b""
 
 
+@pytest.mark.slow  # real processes on pseudo-terminals
 def test_colour_on_a_terminal_stdout_and_no_colour_with_no_color() -> None:
     args = ["check", *FAST, str(CONFIGS / "paper_path1.rprpr.yaml")]
     code, out, _ = _run_with_ptys(args, stdout_tty=True, stderr_tty=False, env=_env())

@@ -61,19 +61,18 @@ def half_written(path):
     ready()
     time.sleep(120)
 
-import rprpr.engine.audit
-import rprpr.render.export
-import rprpr.render.sheet
-
-import rprpr.report.run
-
+# each mode imports only the module it patches: a check never loads matplotlib
 if mode in ("deaf", "slow"):
+    import rprpr.engine.audit
     rprpr.engine.audit.audit = {"deaf": deaf_audit, "slow": slow_audit}[mode]
 elif mode == "stubborn":  # rprpr itself, not a worker, stuck as it takes in a report
+    import rprpr.report.run
     rprpr.report.run.Run.add = stubborn
 elif mode == "sheet":
+    import rprpr.render.sheet
     rprpr.render.sheet.save = lambda fig, path, *a, **k: half_written(path)
 elif mode == "samples":
+    import rprpr.render.export
     rprpr.render.export.write = lambda result, out, *a, **k: half_written(out.name)
 
 from rprpr.cli.main import main

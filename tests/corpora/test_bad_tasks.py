@@ -13,6 +13,7 @@ import os
 import subprocess
 import sys
 import time
+from contextlib import chdir
 from fractions import Fraction
 from pathlib import Path
 
@@ -688,36 +689,55 @@ timing:
 SHARED_SMOKE = ROOT.parent / "shared" / "smoke"
 
 
-def _one_line_exit_2(paths: list[Path], cwd: Path) -> None:
-    """``rprpr check PATHS`` as a process in ``cwd``: exit 2, one stderr line per file
-    naming it, no traceback, and nothing written into ``cwd``."""
-    proc = subprocess.run(
-        [sys.executable, "-m", "rprpr", "check", *map(str, paths)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=60,
-        check=False,
-    )
-    assert proc.returncode == 2, proc
-    assert "Traceback" not in proc.stdout + proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == len(paths), proc.stderr
-    assert all(ln.startswith(f"{p}:") for ln, p in zip(lines, paths, strict=True)), proc.stderr
+def _one_line_exit_2(paths: list[Path], cwd: Path, *, process: bool = True) -> None:
+    """``rprpr check PATHS`` in ``cwd`` (as a process, or in this one): exit 2, one
+    stderr line per file naming it, no traceback, and nothing written into ``cwd``."""
+    if process:
+        proc = subprocess.run(
+            [sys.executable, "-m", "rprpr", "check", *map(str, paths)],
+            capture_output=True,
+            text=True,
+            cwd=cwd,
+            timeout=60,
+            check=False,
+        )
+        code, out, err = proc.returncode, proc.stdout, proc.stderr
+    else:
+        with chdir(cwd):
+            code, out, err = run_cli("check", *map(str, paths))
+    assert code == 2, (code, out, err)
+    assert "Traceback" not in out + err
+    lines = err.strip().splitlines()
+    assert len(lines) == len(paths), err
+    assert all(ln.startswith(f"{p}:") for ln, p in zip(lines, paths, strict=True)), err
     assert list(cwd.iterdir()) == []
 
 
-@pytest.mark.parametrize("name", [*SMOKE_TASKS, "poly_call_import.yaml", "tag_python_object.yaml"])
-def test_process_exits_2_with_one_line(name: str, tmp_path: Path) -> None:
-    if name in SMOKE_TASKS:
-        path = tmp_path / "smoke" / name
-        path.parent.mkdir()
-        path.write_text(SMOKE_TASKS[name], encoding="utf-8")
-    else:
-        path = BAD / name
+PROCESS_CASES = [*SMOKE_TASKS, "poly_call_import.yaml", "tag_python_object.yaml"]
+
+
+def _process_case(name: str, folder: Path) -> Path:
+    if name not in SMOKE_TASKS:
+        return BAD / name
+    path = folder / "smoke" / name
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(SMOKE_TASKS[name], encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("name", PROCESS_CASES)
+def test_each_exits_2_with_one_line(name: str, tmp_path: Path) -> None:
     cwd = tmp_path / "cwd"
     cwd.mkdir()
-    _one_line_exit_2([path], cwd)
+    _one_line_exit_2([_process_case(name, tmp_path)], cwd, process=False)
+
+
+def test_process_exits_2_with_one_line_per_file(tmp_path: Path) -> None:
+    """The same files in one real process (the command line's path from start-up to exit
+    status): one line each, in order."""
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    _one_line_exit_2([_process_case(name, tmp_path) for name in PROCESS_CASES], cwd)
 
 
 def test_shared_smoke_corpus_beside_the_clone_exits_2_with_one_line_each(tmp_path: Path) -> None:

@@ -26,7 +26,7 @@ from typing import Any
 import pytest
 
 from rprpr.render.escape import ascii_fallback, printable
-from tests.conftest import PATH1_FILE, PATH2_FILE, run_cli
+from tests.conftest import PATH1_FILE, PATH2_FILE, run_cli, run_cli_encoded
 
 RPRPR = [sys.executable, "-m", "rprpr"]
 ESC = "\x1b"
@@ -166,9 +166,29 @@ ASCII = {"PYTHONIOENCODING": "ascii"}
 C_LOCALE = {"LC_ALL": "C", "LANG": "C", "PYTHONUTF8": "0", "PYTHONCOERCECLOCALE": "0"}
 
 
+class Done:
+    """What a run left: its exit status and its standard output and error as bytes."""
+
+    def __init__(self, returncode: int, stdout: bytes, stderr: bytes) -> None:
+        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
+
+
+def rprpr_encoded(env: dict[str, str], *args: str) -> Done:
+    """``rprpr ARGS`` with ``env``'s standard streams: in this process for an encoding
+    given by PYTHONIOENCODING (the streams Python would make for it), in a real process
+    for a locale (Python's start-up decides those, tested as such)."""
+    if set(env) == {"PYTHONIOENCODING"}:
+        return Done(*run_cli_encoded(env["PYTHONIOENCODING"], *args))
+    done = rprpr_in(env, *args)
+    return Done(done.returncode, done.stdout, done.stderr)
+
+
 @pytest.mark.parametrize("env", [CP1252, ASCII, C_LOCALE], ids=["cp1252", "ascii", "C"])
-def test_the_text_report_on_a_non_utf8_stream_uses_ascii_fallbacks(env: dict[str, str]) -> None:
-    done = rprpr_in({**env, "COLUMNS": "200"}, "check", PATH1_FILE)
+def test_the_text_report_on_a_non_utf8_stream_uses_ascii_fallbacks(
+    env: dict[str, str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("COLUMNS", "200")
+    done = rprpr_encoded(env, "check", PATH1_FILE)
     assert done.returncode == 1, done.stderr
     out = done.stdout.decode("latin-1")
     assert "case sigma psi" in out and "verdict: FAIL" in out
@@ -176,15 +196,16 @@ def test_the_text_report_on_a_non_utf8_stream_uses_ascii_fallbacks(env: dict[str
     assert done.stderr == b""
 
 
-def test_cp1252_keeps_the_characters_cp1252_has() -> None:
-    done = rprpr_in({**CP1252, "COLUMNS": "200"}, "check", PATH1_FILE)
+def test_cp1252_keeps_the_characters_cp1252_has(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("COLUMNS", "200")
+    done = rprpr_encoded(CP1252, "check", PATH1_FILE)
     assert " \x97 " in done.stdout.decode("latin-1")  # the em dash, in cp1252's own byte
 
 
 @pytest.mark.parametrize("env", [CP1252, ASCII], ids=["cp1252", "ascii"])
 @pytest.mark.parametrize("fmt", ["json", "junit", "github"])
 def test_machine_formats_on_a_non_utf8_stream(env: dict[str, str], fmt: str) -> None:
-    done = rprpr_in(env, "check", "--format", fmt, PATH1_FILE, "missing\u03b4.yaml")
+    done = rprpr_encoded(env, "check", "--format", fmt, PATH1_FILE, "missing\u03b4.yaml")
     assert done.returncode == 2, done.stderr
     assert done.stderr == b"missingdelta.yaml: no such file [RPR001]\n"
     if fmt == "json":
@@ -212,7 +233,7 @@ def test_help_on_a_non_utf8_stream(env: dict[str, str], command: str) -> None:
 def test_export_json_on_a_non_utf8_stream_is_the_same_document(tmp_path: Path) -> None:
     task = with_name(tmp_path, "δ-path ψ", PATH2_FILE)
     utf8 = rprpr_in({}, "export", task, "--format", "json", "--samples", "3")
-    ascii_ = rprpr_in(ASCII, "export", task, "--format", "json", "--samples", "3")
+    ascii_ = rprpr_encoded(ASCII, "export", task, "--format", "json", "--samples", "3")
     assert utf8.returncode == ascii_.returncode == 0
     assert utf8.stdout == ascii_.stdout and json.loads(utf8.stdout)["task"] == "δ-path ψ"
 
