@@ -82,6 +82,10 @@ main(argv)
 PREVIOUS = "the previous output, kept\n"
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Rprpr:
     """One rprpr process under the driver, in a session of its own (so that a signal to
     its process group reaches rprpr and its workers only, as Ctrl-C at a terminal does)."""
@@ -93,6 +97,9 @@ class Rprpr:
             stderr=subprocess.PIPE,
             cwd=cwd,
             start_new_session=True,
+            # SIGINT as a terminal's job has it, whatever the test runner inherited (a
+            # background job of a script starts with SIGINT ignored, and rprpr keeps it so)
+            preexec_fn=_default_sigint,
         )
         self.ready: list[int] = []
 
