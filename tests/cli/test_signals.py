@@ -80,6 +80,9 @@ main(argv)
 """
 
 PREVIOUS = "the previous output, kept\n"
+# The slow steps outlast the default work budget (10 s of wall time): only the signal may
+# end them, however long a busy machine takes to deliver it.
+NO_BUDGET = ("--budget", "0")
 
 
 def _default_sigint() -> None:
@@ -179,8 +182,8 @@ def test_check_j2_stopped_mid_batch_leaves_no_worker_no_temporary_and_the_old_re
     tasks = batch(tmp_path)
     report = tmp_path / "report.json"
     report.write_text(PREVIOUS)
-    r = Rprpr("deaf", "check", "-j", "2", "--format", "json", "-o", str(report), str(tasks),
-              cwd=tmp_path)  # fmt: skip
+    r = Rprpr("deaf", "check", *NO_BUDGET, "-j", "2", "--format", "json", "-o", str(report),
+              str(tasks), cwd=tmp_path)  # fmt: skip
     workers = r.wait_ready(2)  # both workers deep in a task that ignores every signal
     status, err = r.stop(signum, group=group)
     assert status == -signum  # died of the signal: a shell shows 128 + N
@@ -194,7 +197,7 @@ def test_workers_die_with_a_parent_killed_by_sigkill(tmp_path: Path) -> None:
     """SIGKILL cannot be handled: the kernel takes the workers along (PR_SET_PDEATHSIG)."""
     if not sys.platform.startswith("linux"):
         pytest.skip("PR_SET_PDEATHSIG is Linux's")
-    r = Rprpr("deaf", "check", "-j", "2", str(batch(tmp_path)), cwd=tmp_path)
+    r = Rprpr("deaf", "check", *NO_BUDGET, "-j", "2", str(batch(tmp_path)), cwd=tmp_path)
     workers = r.wait_ready(2)
     status, _ = r.stop(signal.SIGKILL)
     assert status == -signal.SIGKILL
@@ -207,8 +210,8 @@ def test_check_j1_stopped_while_auditing_keeps_the_previous_report(
 ) -> None:
     report = tmp_path / "report.xml"
     report.write_text(PREVIOUS)
-    r = Rprpr("slow", "check", "--format", "junit", "-o", str(report), str(batch(tmp_path, 2)),
-              cwd=tmp_path)  # fmt: skip
+    r = Rprpr("slow", "check", *NO_BUDGET, "--format", "junit", "-o", str(report),
+              str(batch(tmp_path, 2)), cwd=tmp_path)  # fmt: skip
     r.wait_ready()
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".report.xml.")] != []
     status, err = r.stop(signum)
@@ -265,7 +268,15 @@ def test_an_ignored_sigint_stays_ignored(tmp_path: Path) -> None:
     """A job started with SIGINT ignored (``nohup``, ``cmd &`` in a script) keeps it so:
     rprpr does not make itself interruptible where its caller chose otherwise."""
     r = subprocess.Popen(
-        [sys.executable, "-c", DRIVER, "slow", "check", str(CONFIGS / "paper_path2.rprpr.yaml")],
+        [
+            sys.executable,
+            "-c",
+            DRIVER,
+            "slow",
+            "check",
+            *NO_BUDGET,
+            str(CONFIGS / "paper_path2.rprpr.yaml"),
+        ],
         stderr=subprocess.PIPE,
         stdout=subprocess.DEVNULL,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
