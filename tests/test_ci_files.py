@@ -172,6 +172,20 @@ def test_action_has_the_required_keys_and_inputs(action: dict[str, Any]) -> None
     assert "${{" not in check["run"] and "${{" not in install["run"]
 
 
+def test_the_action_and_the_hook_install_the_light_form(
+    action: dict[str, Any], hook: dict[str, Any]
+) -> None:
+    """Neither the Action nor the pre-commit hook installs matplotlib: the package's
+    dependencies leave it out, and neither asks for the extra rprpr[plot]."""
+    install = action["runs"]["steps"][1]["run"]
+    assert "[plot]" not in install and "matplotlib" not in install
+    assert not any(
+        "matplotlib" in d or "plot" in d for d in hook.get("additional_dependencies", [])
+    )
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert not any(d.lower().startswith(("matplotlib", "pillow")) for d in project["dependencies"])
+
+
 def _run_check_step(
     action: dict[str, Any], cwd: Path = ROOT, **inputs: str
 ) -> subprocess.CompletedProcess[str]:

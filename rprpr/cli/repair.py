@@ -18,7 +18,7 @@ from flint import fmpq
 from ..model.actuation import SCHEMES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode
-from .options import output_file_option
+from .options import output_file_option, require_plotting
 from .output import refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_named
 
@@ -68,6 +68,8 @@ def repair(
     from ..io.loader import parse_task
     from ..io.writer import task_text
 
+    if plot_file is not None:  # before any work: the sheet needs the extra rprpr[plot]
+        require_plotting("repair --plot")
     old = load(task)
     out = output_file or str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
     refuse_overwriting_inputs([out, plot_file], [task])
