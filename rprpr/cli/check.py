@@ -53,7 +53,8 @@ REPORTING = "the report"
     "fmt",
     type=click.Choice(CHECK_FORMATS),
     default=None,
-    help="Report format: text (rich), json, junit (JUnit XML), github (GitHub Actions "
+    help="Report format: text (rich), concise (the findings alone, one line each: "
+    "FILE:LINE:COL: RPRnnn [severity] message), json, junit (JUnit XML), github (GitHub Actions "
     "annotations), sarif (SARIF 2.1.0, for code scanning) or gitlab (GitLab Code "
     "Quality).  [default: text]",
 )
@@ -324,6 +325,10 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
     elif options.format == "text":
         _write_text(run, options, out)
         return
+    elif options.format == "concise":
+        from ..render.concise import render as concise
+
+        text = concise(run, quiet=options.quiet)
     elif options.format == "json":
         from ..render.json import render as json_report
 
