@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..model.actuation import ACTUATIONS, REVOLUTE
+from ..model.defaults import SCHEMA_URL
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
@@ -297,7 +298,7 @@ def json_schema() -> dict[str, Any]:
     """
     doc = _json(TASK)
     doc["$schema"] = "https://json-schema.org/draft/2020-12/schema"
-    doc["$id"] = "https://rprpr.dev/schema/task.json"
+    doc["$id"] = SCHEMA_URL
     doc["title"] = "rprpr task file"
     timing = doc["properties"]["timing"]
     # cruise_speed with law trapezoidal, and only with it

@@ -14,6 +14,7 @@ import yaml
 from flint import fmpq, fmpq_poly
 
 from ..model.actuation import REVOLUTE
+from ..model.defaults import SCHEMA_MODELINE
 from ..model.task import Task
 
 
@@ -126,8 +127,8 @@ class _D(str):
         return super().__new__(cls, decimal(q))
 
 
-class _Dumper(yaml.SafeDumper):  # type: ignore[misc]
-    pass
+class Dumper(yaml.SafeDumper):  # type: ignore[misc]
+    """YAML's safe dumper, writing exact numbers plain (3, 0.05) or as fractions (1/20)."""
 
 
 def _represent_q(dumper: yaml.SafeDumper, value: str) -> yaml.Node:
@@ -135,15 +136,16 @@ def _represent_q(dumper: yaml.SafeDumper, value: str) -> yaml.Node:
     return dumper.represent_scalar(tag, str(value))
 
 
-_Dumper.add_representer(_Q, _represent_q)
-_Dumper.add_representer(_D, _represent_q)
+Dumper.add_representer(_Q, _represent_q)
+Dumper.add_representer(_D, _represent_q)
 
 
-def task_text(task: Task, comment: str = "") -> str:
-    """``task`` as task-file text, with ``comment`` (lines) at its top."""
-    head = "# yaml-language-server: $schema=../rprpr/io/task.schema.json\n"
+def task_text(task: Task, comment: str = "", modeline: str = SCHEMA_MODELINE) -> str:
+    """``task`` as task-file text: the schema ``modeline`` (by default ``rprpr init``'s),
+    then ``comment`` (lines) at its top."""
+    head = f"{modeline}\n"
     head += "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
     body = yaml.dump(
-        task_mapping(task), Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=10_000
+        task_mapping(task), Dumper=Dumper, sort_keys=False, allow_unicode=True, width=10_000
     )
     return head + body
