@@ -17,7 +17,7 @@ import click
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
-from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show
+from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show, with_rules
 from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_option
 from .output import (
     Lossy,
@@ -125,6 +125,25 @@ REPORTING = "the report"
     is_flag=True,
     help="Print the resolved settings, and where each comes from, then exit.",
 )
+@click.option(
+    "--select",
+    multiple=True,
+    metavar="RULES",
+    help="Run only these rules (comma-separated ids, names or the start of ids: RPR2, "
+    "unbounded-torque); replaces the configuration's select and ignore.",
+)
+@click.option(
+    "--extend-select",
+    multiple=True,
+    metavar="RULES",
+    help="Rules to run besides those selected (comma-separated).",
+)
+@click.option(
+    "--ignore",
+    multiple=True,
+    metavar="RULES",
+    help="Rules to silence (comma-separated), besides the configuration's ignore.",
+)
 @click.option("--statistics", is_flag=True, help="Print the count of findings per rule.")
 @click.option(
     "--force-exclude",
@@ -183,7 +202,12 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         "jobs": params["jobs"],
         "budget": params["budget"],
     }
-    settings = load_settings(params["config"], params["isolated"], given)
+    settings = with_rules(
+        load_settings(params["config"], params["isolated"], given),
+        select=_selectors(params["select"]),
+        extend_select=_selectors(params["extend_select"]),
+        ignore=_selectors(params["ignore"]),
+    )
     output_file = params["output_file"]
     options = CheckOptions(
         format=settings["format"],
@@ -202,6 +226,11 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         stdin_filename=params["stdin_filename"] or STDIN,
     )
     return settings, options
+
+
+def _selectors(given: Sequence[str]) -> tuple[str, ...]:
+    """The rule selectors of a repeatable, comma-separated option (``--select A,B``)."""
+    return tuple(p.strip() for value in given for p in value.split(",") if p.strip())
 
 
 def _read_stdin() -> bytes:

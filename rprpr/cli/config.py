@@ -242,6 +242,47 @@ def load_settings(
     return settings
 
 
+def with_rules(
+    settings: Settings,
+    select: Sequence[str] = (),
+    extend_select: Sequence[str] = (),
+    ignore: Sequence[str] = (),
+) -> Settings:
+    """``settings`` under the command line's rule selectors, as ruff's ``--select``,
+    ``--extend-select`` and ``--ignore``: ``select`` (when given) replaces the
+    configuration's ``select`` and, starting afresh, its ``ignore``; ``extend_select``
+    adds to ``select``; ``ignore`` adds to ``ignore``. The selectors then resolve as the
+    configuration's (``rules.levels``: ids, names, the start of ids; the most specific
+    wins). A selector that names no rule is an ``InputError`` naming the option."""
+    for option, given in (("--select", select), ("--extend-select", extend_select),
+                          ("--ignore", ignore)):  # fmt: skip
+        for selector in given:
+            try:
+                levels(select=[selector])
+            except SelectorError as e:
+                raise InputError(f"{option}: {e}") from None
+    if not (select or extend_select or ignore):
+        return settings
+    values, sources = dict(settings.values), dict(settings.sources)
+
+    def extended(key: str, base: tuple[str, ...], more: Sequence[str], fresh: bool) -> None:
+        values[key] = (*base, *more)
+        if fresh or (sources[key] == DEFAULT and not base):
+            sources[key] = COMMAND_LINE
+        elif more:
+            sources[key] = f"{sources[key]} + {COMMAND_LINE}"
+
+    fresh = bool(select)
+    extended("select", tuple(select) if fresh else settings["select"], extend_select, fresh)
+    extended("ignore", () if fresh else settings["ignore"], ignore, fresh)
+    out = replace(settings, values=values, sources=sources)
+    try:
+        out.rule_levels  # noqa: B018  (validates the rule selectors together)
+    except SelectorError as e:
+        raise InputError(f"the command line: {e}") from None
+    return out
+
+
 def _root(file: str | None, cwd: str | None) -> str:
     """The project root: the configuration's folder, else the working directory (as
     given, when it was deleted under the run)."""

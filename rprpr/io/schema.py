@@ -68,14 +68,15 @@ def _num(
 
 
 def _reasons(description: str) -> Spec:
-    """``checks.ignore`` / ``checks.warn``: rule id -> the reason, as text (required)."""
+    """``checks.ignore`` / ``checks.warn``: rule id or name -> the reason, as text
+    (required)."""
+    rules = [r for r in RULES.values() if r.id != INVALID_TASK]
     return Spec(
         "mapping",
         description,
         children={
-            r.id: Spec("string", f"Why {r.id} ({r.name}) is accepted here.")
-            for r in RULES.values()
-            if r.id != INVALID_TASK
+            **{r.id: Spec("string", f"Why {r.id} ({r.name}) is accepted here.") for r in rules},
+            **{r.name: Spec("string", f"Why {r.name} ({r.id}) is accepted here.") for r in rules},
         },
     )
 
