@@ -330,3 +330,12 @@ def test_pre_commit_runs_the_linters_ci_runs_from_the_venv() -> None:
     assert [a for a in entries["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
     assert [a for a in ci["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
     assert hooks["mypy"]["pass_filenames"] is False
+
+
+def test_the_license_file_is_the_mit_license_pyproject_names() -> None:
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert project["license"] == {"text": "MIT"}
+    text = (ROOT / "LICENSE").read_text(encoding="utf-8")
+    assert text.startswith("MIT License\n\nCopyright (c) ")
+    assert "the rprpr authors" in text.splitlines()[2]
+    assert 'THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND' in text

@@ -11,34 +11,13 @@ from __future__ import annotations
 from typing import Any
 
 import yaml
-from flint import fmpq, fmpq_poly
+from flint import fmpq
 
 from ..model.actuation import REVOLUTE
 from ..model.defaults import SCHEMA_MODELINE
+from ..model.numbers import polynomial
+from ..model.numbers import rational_text as number
 from ..model.task import Task
-
-
-def number(q: fmpq) -> str:
-    """An exact rational as the loader reads it: 3, -1/20."""
-    return str(q.p) if q.q == 1 else f"{q.p}/{q.q}"
-
-
-def polynomial(p: fmpq_poly, var: str) -> str:
-    """p in ``var`` as an expression the loader reads exactly: 3/2*t^2 - t + 1."""
-    terms: list[str] = []
-    for k in range(p.degree(), -1, -1):
-        c = p[k]
-        if c == 0:
-            continue
-        sign = "-" if c < 0 else "+"
-        a = abs(c)
-        power = "" if k == 0 else (var if k == 1 else f"{var}^{k}")
-        body = number(a) if not power else (power if a == 1 else f"{number(a)}*{power}")
-        terms.append(f"{sign} {body}")
-    if not terms:
-        return "0"
-    text = " ".join(terms)
-    return text[2:] if text.startswith("+ ") else "-" + text[2:]
 
 
 def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
