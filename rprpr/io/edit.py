@@ -16,7 +16,8 @@ round-trip YAML library is needed: a repair changes the motion (``path``, ``timi
 * another form (the repaired motion as ``motion.pieces``): the entries ``path``,
   ``timing`` and ``motion`` give way to the new ``motion`` entry, in the place of the
   first of them;
-* ``name`` when asked to (``rename``).
+* ``name`` when asked to (``rename``) and the file gives one (a task without a name is
+  named after its file's stem, which a new file changes anyway).
 
 A replaced value's comment on its own line goes with it (it spoke of the old value); a
 removed entry's lines go whole. Line endings (LF or CRLF) are the file's. ``edit``
@@ -84,8 +85,8 @@ def _edits(text: str, root: yaml.Node, old: Task, new: Task, rename: bool) -> li
     top = _entries(root)
     mapping = writer.task_mapping(new)
     edits: list[Edit] = []
-    if rename and new.name != old.name:
-        edits.append(_replace_value(text, top["name"][1], writer.task_mapping(new)["name"]))
+    if rename and new.name != old.name and "name" in top:  # (else: the new file's stem)
+        edits.append(_replace_value(text, top["name"][1], mapping["name"]))
     if same_motion(old, new):
         return edits
     if (

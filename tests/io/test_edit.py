@@ -145,3 +145,11 @@ def test_modeline() -> None:
     )
     assert modeline("#yaml-language-server: $schema=../s.json\r\n") == "../s.json"
     assert modeline("name: a\n# yaml-language-server: $schema=x\n") is None
+
+
+def test_a_task_without_a_name_is_edited_all_the_same() -> None:
+    text = ZERO_SPEED.replace("name: test\n", "# unnamed: the file's stem names it\n")
+    old, new = _repaired(text)
+    edited = edit(text, old, new, rename=True)
+    assert edited is not None and "name:" not in edited
+    assert edited.startswith("# unnamed: the file's stem names it\nrobot:\n")
