@@ -36,7 +36,7 @@ from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, InputError
 from .options import output_file_option, require_plotting
 from .output import refuse_overwriting_inputs, say, write_atomic, writing
-from .tasks import STDIN, load, read_task, task_named
+from .tasks import STDIN, load, read_task, stdin_bytes, task_named
 
 if TYPE_CHECKING:
     from ..engine.repair import Repair
@@ -171,9 +171,7 @@ def _exclusive(
 def _read(task: str) -> tuple[Task, str]:
     """The task in ``task`` (``-``: standard input) and the text of its file."""
     if task == STDIN:
-        from .tasks import _stdin_bytes
-
-        raw = _stdin_bytes()
+        raw = stdin_bytes()
         try:
             old = read_task(STDIN, raw)
         except TaskFileError as e:

@@ -164,3 +164,13 @@ def test_unified_diff_marks_a_missing_last_line_break() -> None:
         "\\ No newline at end of file\n"
     )
     assert unified_diff("a\n", "a\n", "f") == ""
+
+
+def test_a_task_on_standard_input_is_diffed_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    import io
+
+    data = TRAPEZOIDAL.read_bytes()
+    monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(data), encoding="utf-8"))
+    code, out, _ = run_cli("repair", "--diff", "-")
+    assert code == 1
+    assert out.splitlines()[:2] == ["--- -", "+++ -"] and "-  law: trapezoidal" in out
