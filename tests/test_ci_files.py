@@ -175,6 +175,20 @@ def test_action_has_the_required_keys_and_inputs(action: dict[str, Any]) -> None
     assert "${{" not in check["run"] and "${{" not in install["run"]
 
 
+def test_the_action_and_the_hook_install_the_light_form(
+    action: dict[str, Any], hook: dict[str, Any]
+) -> None:
+    """Neither the Action nor the pre-commit hook installs matplotlib: the package's
+    dependencies leave it out, and neither asks for the extra rprpr[plot]."""
+    install = action["runs"]["steps"][1]["run"]
+    assert "[plot]" not in install and "matplotlib" not in install
+    assert not any(
+        "matplotlib" in d or "plot" in d for d in hook.get("additional_dependencies", [])
+    )
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert not any(d.lower().startswith(("matplotlib", "pillow")) for d in project["dependencies"])
+
+
 def _run_check_step(
     action: dict[str, Any], cwd: Path = ROOT, **inputs: str
 ) -> subprocess.CompletedProcess[str]:
@@ -329,3 +343,12 @@ def test_pre_commit_runs_the_linters_ci_runs_from_the_venv() -> None:
     assert [a for a in entries["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
     assert [a for a in ci["mypy"] if not a.startswith("-")][1:] == ["rprpr", "rprpr_cli"]
     assert hooks["mypy"]["pass_filenames"] is False
+
+
+def test_the_license_file_is_the_mit_license_pyproject_names() -> None:
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert project["license"] == {"text": "MIT"}
+    text = (ROOT / "LICENSE").read_text(encoding="utf-8")
+    assert text.startswith("MIT License\n\nCopyright (c) ")
+    assert "the rprpr authors" in text.splitlines()[2]
+    assert 'THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND' in text

@@ -17,7 +17,7 @@ import click
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
-from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show
+from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show, with_rules
 from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_option
 from .output import (
     Lossy,
@@ -53,7 +53,8 @@ REPORTING = "the report"
     "fmt",
     type=click.Choice(CHECK_FORMATS),
     default=None,
-    help="Report format: text (rich), json, junit (JUnit XML), github (GitHub Actions "
+    help="Report format: text (rich), concise (the findings alone, one line each: "
+    "FILE:LINE:COL: RPRnnn [severity] message), json, junit (JUnit XML), github (GitHub Actions "
     "annotations), sarif (SARIF 2.1.0, for code scanning) or gitlab (GitLab Code "
     "Quality).  [default: text]",
 )
@@ -124,6 +125,25 @@ REPORTING = "the report"
     is_flag=True,
     help="Print the resolved settings, and where each comes from, then exit.",
 )
+@click.option(
+    "--select",
+    multiple=True,
+    metavar="RULES",
+    help="Run only these rules (comma-separated ids, names or the start of ids: RPR2, "
+    "unbounded-torque); replaces the configuration's select and ignore.",
+)
+@click.option(
+    "--extend-select",
+    multiple=True,
+    metavar="RULES",
+    help="Rules to run besides those selected (comma-separated).",
+)
+@click.option(
+    "--ignore",
+    multiple=True,
+    metavar="RULES",
+    help="Rules to silence (comma-separated), besides the configuration's ignore.",
+)
 @click.option("--statistics", is_flag=True, help="Print the count of findings per rule.")
 @click.option(
     "--force-exclude",
@@ -182,7 +202,12 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         "jobs": params["jobs"],
         "budget": params["budget"],
     }
-    settings = load_settings(params["config"], params["isolated"], given)
+    settings = with_rules(
+        load_settings(params["config"], params["isolated"], given),
+        select=_selectors(params["select"]),
+        extend_select=_selectors(params["extend_select"]),
+        ignore=_selectors(params["ignore"]),
+    )
     output_file = params["output_file"]
     options = CheckOptions(
         format=settings["format"],
@@ -201,6 +226,11 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         stdin_filename=params["stdin_filename"] or STDIN,
     )
     return settings, options
+
+
+def _selectors(given: Sequence[str]) -> tuple[str, ...]:
+    """The rule selectors of a repeatable, comma-separated option (``--select A,B``)."""
+    return tuple(p.strip() for value in given for p in value.split(",") if p.strip())
 
 
 def _read_stdin() -> bytes:
@@ -324,6 +354,10 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
     elif options.format == "text":
         _write_text(run, options, out)
         return
+    elif options.format == "concise":
+        from ..render.concise import render as concise
+
+        text = concise(run, quiet=options.quiet)
     elif options.format == "json":
         from ..render.json import render as json_report
 

@@ -37,7 +37,7 @@ CONFIG_FILES = (".rprpr.toml", "rprpr.toml", "pyproject.toml")  # looked for in 
 TASK_GLOBS = ("*.rprpr.yaml", "*.rprpr.yml")  # what a task file is called, by default
 # never searched (as ruff): besides these, every hidden file and directory (.git, .venv ...)
 ALWAYS_EXCLUDED = ("build", "dist", "node_modules", "site-packages", "venv", "__pypackages__")
-FORMATS = ("text", "json", "junit", "github", "sarif", "gitlab")
+FORMATS = ("text", "concise", "json", "junit", "github", "sarif", "gitlab")
 DEFAULT_BUDGET = 10.0  # seconds of work per task
 DEFAULT = "default"
 COMMAND_LINE = "command line"
@@ -240,6 +240,47 @@ def load_settings(
     except SelectorError as e:
         raise InputError(f"{file or 'the command line'}: {e}") from None
     return settings
+
+
+def with_rules(
+    settings: Settings,
+    select: Sequence[str] = (),
+    extend_select: Sequence[str] = (),
+    ignore: Sequence[str] = (),
+) -> Settings:
+    """``settings`` under the command line's rule selectors, as ruff's ``--select``,
+    ``--extend-select`` and ``--ignore``: ``select`` (when given) replaces the
+    configuration's ``select`` and, starting afresh, its ``ignore``; ``extend_select``
+    adds to ``select``; ``ignore`` adds to ``ignore``. The selectors then resolve as the
+    configuration's (``rules.levels``: ids, names, the start of ids; the most specific
+    wins). A selector that names no rule is an ``InputError`` naming the option."""
+    for option, given in (("--select", select), ("--extend-select", extend_select),
+                          ("--ignore", ignore)):  # fmt: skip
+        for selector in given:
+            try:
+                levels(select=[selector])
+            except SelectorError as e:
+                raise InputError(f"{option}: {e}") from None
+    if not (select or extend_select or ignore):
+        return settings
+    values, sources = dict(settings.values), dict(settings.sources)
+
+    def extended(key: str, base: tuple[str, ...], more: Sequence[str], fresh: bool) -> None:
+        values[key] = (*base, *more)
+        if fresh or (sources[key] == DEFAULT and not base):
+            sources[key] = COMMAND_LINE
+        elif more:
+            sources[key] = f"{sources[key]} + {COMMAND_LINE}"
+
+    fresh = bool(select)
+    extended("select", tuple(select) if fresh else settings["select"], extend_select, fresh)
+    extended("ignore", () if fresh else settings["ignore"], ignore, fresh)
+    out = replace(settings, values=values, sources=sources)
+    try:
+        out.rule_levels  # noqa: B018  (validates the rule selectors together)
+    except SelectorError as e:
+        raise InputError(f"the command line: {e}") from None
+    return out
 
 
 def _root(file: str | None, cwd: str | None) -> str:

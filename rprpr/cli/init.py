@@ -12,15 +12,15 @@ import os
 
 import click
 
+from ..model.defaults import SCHEMA_MODELINE
 from ..report.exit import ExitCode, InputError
 from .config import TASK_GLOBS, FileSelection
 from .output import say
 
 DEFAULT_NAME = "task.rprpr.yaml"
-SCHEMA_URL = "https://rprpr.dev/schema/task.json"  # the schema's $id (``rprpr schema``)
 
 TEMPLATE = f"""\
-# yaml-language-server: $schema={SCHEMA_URL}
+{SCHEMA_MODELINE}
 # (offline: `rprpr schema > task.schema.json`, then point the line above at that file)
 #
 # An rprpr task: a robot, the end point's path y = p(x) and its timing x(t). This one is

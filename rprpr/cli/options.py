@@ -14,12 +14,27 @@ from typing import Any, TypeVar
 import click
 
 from ..model.defaults import DEFAULT_SAMPLES
+from ..report.exit import InputError
 from .config import DEFAULT_BUDGET, FORMATS, TaskDefaults
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 CHECK_FORMATS = FORMATS
 COLORS = ("auto", "always", "never")
+PLOT_EXTRA = "pip install 'rprpr[plot]'"  # matplotlib and Pillow: the sheet and the GIF
+
+
+def require_plotting(what: str) -> None:
+    """Go on only where matplotlib can be imported (the extra ``rprpr[plot]``): else an
+    ``InputError`` (one line, exit 2) saying that ``what`` ("plot") needs it and
+    how to install it. The light install (``pip install rprpr``) checks, exports and
+    repairs without it."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise InputError(
+            f"{what} draws with matplotlib, which is not installed: {PLOT_EXTRA}"
+        ) from None
 
 
 @dataclass(frozen=True)

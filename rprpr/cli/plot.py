@@ -1,7 +1,8 @@
 """``rprpr plot``: draw the audit sheet of one or more tasks (``render.sheet``) and, on
 request, an animated GIF of the robot (``render.animation``).
 
-matplotlib is imported only when a sheet is drawn, never by the other commands. Exits 0
+matplotlib is imported only when a sheet is drawn, never by the other commands; it is the
+extra ``rprpr[plot]``, and without it ``plot`` says how to install it (exit 2). Exits 0
 once written, whatever the audit's verdict (``rprpr check`` is the gate).
 """
 
@@ -14,7 +15,13 @@ from typing import TYPE_CHECKING
 import click
 
 from ..report.exit import ExitCode
-from .options import output_file_option, samples_option, suffix_choice, tasks_argument
+from .options import (
+    output_file_option,
+    require_plotting,
+    samples_option,
+    suffix_choice,
+    tasks_argument,
+)
 from .output import refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_named, tasks_or_usage_error
 
@@ -79,6 +86,7 @@ def plot(
     """Draw the audit sheet of TASK (files or directories; several tasks overlay on the same
     axes): the workspace, x_E(t) and y_E(t), δ(t), the joints and the torques, as in the
     paper's Figs. 2-5. Exits 0 once written, whatever the verdict."""
+    require_plotting("plot")
     if output_file is not None:
         suffix_choice(output_file, SHEET_FORMATS, "the sheet", "-o")
     if animate_file is not None:

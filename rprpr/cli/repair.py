@@ -1,14 +1,29 @@
 """``rprpr repair``: turn a failing motion into the nearest one that passes, exactly
 (``engine.repair``), write it as a task file and say what changed.
 
-The output is written only after it has been read back (``io.loader``) and checked in
-strict mode; a task that would fail is never written. Exits 0 when the repaired task is
-written (or nothing needed repair), 1 when no repair exists within the constraints (the
-reason on standard error, nothing written), 2 for bad input.
+What is written is the task file itself with only the keys the repair changed rewritten
+(``io.edit``): its comments, key order, formatting and number spelling elsewhere are
+kept, byte for byte. To a new file (``-o``, by default ``<stem>.repaired.rprpr.yaml``
+beside TASK) the task is renamed "(repaired)", a comment names its origin, and the first
+line is ``rprpr init``'s schema modeline (or the task's own, when it still points at the
+same schema from there); ``--in-place`` writes over TASK (atomically, its permissions
+kept) and changes nothing but the motion; ``--diff`` prints the unified diff that
+``--in-place`` would make and writes nothing (exit 1 when a change is needed, 0 when
+none, as ``ruff --diff``). A file whose form cannot be edited key by key (anchors, a
+robot or checks the repair changed) is written whole, and the command says so.
+
+The output is written only after it has been read back (``io.loader``), found to be the
+repaired motion exactly, and checked in strict mode; a task that would fail is never
+written. Exits 0 when the repaired task is written (or nothing needed repair), 1 when no
+repair exists within the constraints (the reason on standard error, nothing written) or
+``--diff`` shows a change, 2 for bad input.
 """
 
 from __future__ import annotations
 
+import difflib
+import os
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,19 +31,36 @@ import click
 from flint import fmpq
 
 from ..model.actuation import SCHEMES
+from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
-from ..report.exit import ExitCode
-from .options import output_file_option
-from .output import refuse_overwriting_inputs, say, write_atomic
-from .tasks import load, task_named
+from ..report.exit import ExitCode, InputError
+from .options import output_file_option, require_plotting
+from .output import refuse_overwriting_inputs, say, write_atomic, writing
+from .tasks import STDIN, load, read_task, stdin_bytes, task_named
 
 if TYPE_CHECKING:
     from ..engine.repair import Repair
+    from ..model.task import Task
 
 
 @click.command()
 @click.argument("task", type=click.Path(readable=False))
 @output_file_option("The repaired task file. Default: <stem>.repaired.rprpr.yaml beside TASK.")
+@click.option(
+    "--in-place",
+    "-i",
+    "in_place",
+    is_flag=True,
+    help="Write the repaired motion over TASK (atomically, its permissions kept): only the "
+    "keys that change are rewritten.",
+)
+@click.option(
+    "--diff",
+    "show_diff",
+    is_flag=True,
+    help="Print the unified diff --in-place would make, write nothing; exit 1 when a change "
+    "is needed, 0 when none.",
+)
 @click.option(
     "--keep",
     type=click.Choice(["path", "timing"]),
@@ -55,6 +87,8 @@ if TYPE_CHECKING:
 def repair(
     task: str,
     output_file: str | None,
+    in_place: bool,
+    show_diff: bool,
     keep: str | None,
     window: str | None,
     slope: str | None,
@@ -62,15 +96,20 @@ def repair(
 ) -> ExitCode:
     """Write the nearest passing motion of a failing TASK: local, exact changes of the
     timing law and/or the path around each failing singular instant (zero slope, zero
-    speed, inconsistency of eq. 34, a touch), checked strictly before it is written."""
+    speed, inconsistency of eq. 34, a touch), checked strictly before it is written. Only
+    the keys that change are rewritten: comments and formatting elsewhere are kept."""
     from ..engine.repair import NoRepair
     from ..engine.repair import repair as repaired
-    from ..io.loader import parse_task
-    from ..io.writer import task_text
 
-    old = load(task)
-    out = output_file or str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
-    refuse_overwriting_inputs([out, plot_file], [task])
+    _exclusive(task, output_file, in_place, show_diff, plot_file)
+    if plot_file is not None:  # before any work: the sheet needs the extra rprpr[plot]
+        require_plotting("repair --plot")
+    old, data = _read(task)
+    out = task if in_place or show_diff else output_file or _default_output(task)
+    if not (in_place or show_diff):
+        refuse_overwriting_inputs([out, plot_file], [task])
+    else:
+        refuse_overwriting_inputs([plot_file], [task])
     with task_named(task):
         try:
             r = repaired(
@@ -81,28 +120,27 @@ def repair(
             say(f"rprpr: {task}: no repair: {why}; nothing written")
             return ExitCode.FAILED
     if not r.changed:
-        click.echo(f"{task}: passes the strict check: nothing to repair, nothing written")
+        line = f"{task}: passes the strict check: nothing to repair, nothing written"
+        if show_diff:
+            say(f"rprpr: {line}")
+        else:
+            click.echo(line)
         return ExitCode.PASSED
-    comment = f"{old.name}, repaired by rprpr repair from {Path(task).name}"
-    text = task_text(r.task, comment)
-    from ..engine.audit import audit
-
-    try:
-        back = parse_task(text, out)
-    except TaskFileError as e:  # exact, but beyond a task file's number limits
-        say(
-            f"rprpr: {task}: the repaired motion is exact but its coefficients exceed what a"
-            f" task file holds ({e.message}); use the Python API (rprpr.repair) for the"
-            " task itself; nothing written"
-        )
+    with task_named(task):
+        text = _repaired_text(r, task, data, out, new_file=not (in_place or show_diff))
+    if text is None:
         return ExitCode.FAILED
-    check = audit(back, strict=True)
-    if not check.passed:  # never write a failing task
-        say(f"rprpr: {task}: the repaired task read back fails the strict check; nothing written")
-        return ExitCode.INTERNAL
+    if show_diff:
+        for line in summary(r):
+            say(line)
+        with writing("the diff", None, ExitCode.FAILED):
+            sys.stdout.write(unified_diff(data, text, task))
+            sys.stdout.flush()
+        return ExitCode.FAILED
 
     def write(tmp: str) -> None:
-        Path(tmp).write_text(text, encoding="utf-8")
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
 
     write_atomic(out, write, "the task")
     for line in summary(r):
@@ -113,6 +151,121 @@ def repair(
         _plot(r, task, out, plot_file)
         say(f"rprpr: wrote {plot_file}")
     return ExitCode.PASSED
+
+
+def _exclusive(
+    task: str, output_file: str | None, in_place: bool, show_diff: bool, plot_file: str | None
+) -> None:
+    """Usage errors for options that cannot go together."""
+    if in_place and show_diff:
+        raise click.UsageError("--in-place and --diff cannot go together (--diff writes nothing)")
+    if output_file is not None and (in_place or show_diff):
+        option = "--in-place" if in_place else "--diff"
+        raise click.UsageError(f"-o and {option} cannot go together ({option} is about TASK)")
+    if show_diff and plot_file is not None:
+        raise click.UsageError("--diff writes nothing: draw with --plot without --diff")
+    if in_place and task == STDIN:
+        raise click.UsageError("--in-place needs a task file, not standard input")
+
+
+def _read(task: str) -> tuple[Task, str]:
+    """The task in ``task`` (``-``: standard input) and the text of its file."""
+    if task == STDIN:
+        raw = stdin_bytes()
+        try:
+            old = read_task(STDIN, raw)
+        except TaskFileError as e:
+            raise InputError(str(e)) from None
+    else:
+        old = load(task)
+        try:
+            raw = Path(task).read_bytes()
+        except OSError as e:  # gone since it was read: the environment
+            raise InputError(f"{task}: cannot read it again: {e.strerror or e}") from None
+    return old, raw.decode("utf-8")  # the loader read it as UTF-8 already
+
+
+def _default_output(task: str) -> str:
+    return str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
+
+
+def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool) -> str | None:
+    """The text to write: ``data`` with the changed keys edited (``io.edit``), else the
+    task written whole; read back, found to be the repaired motion and checked strictly
+    first. None (the reason said) when it cannot be written."""
+    from ..engine.audit import audit
+    from ..io.edit import edit, same_motion
+    from ..io.loader import parse_task
+    from ..io.writer import task_text
+
+    comment = f"{r.before.task.name}, repaired by rprpr repair from {Path(task).name}"
+    folder = os.path.dirname(os.path.abspath(task)) if task != STDIN else os.getcwd()
+    edited = edit(data, r.before.task, r.task, rename=new_file)
+    if edited is not None and new_file:
+        edited = _head(edited, comment, task, out)
+    whole = task_text(r.task if new_file else _named(r.task, r.before.task), comment)
+    for candidate, is_whole in ((edited, False), (whole, True)):
+        if candidate is None:
+            continue
+        try:
+            back = parse_task(candidate, out, directory=folder)
+        except TaskFileError as e:  # exact, but beyond a task file's number limits
+            say(
+                f"rprpr: {task}: the repaired motion is exact but its coefficients exceed what"
+                f" a task file holds ({e.message}); use the Python API (rprpr.repair) for the"
+                " task itself; nothing written"
+            )
+            return None
+        if not same_motion(back, r.task):
+            continue  # an edit that reads back otherwise: the task written whole instead
+        if not audit(back, strict=True).passed:  # never write a failing task
+            say(
+                f"rprpr: {task}: the repaired task read back fails the strict check;"
+                " nothing written"
+            )
+            return None
+        if is_whole:
+            say(
+                f"rprpr: {task}: its form cannot be edited key by key; the repaired task is"
+                " written whole (its comments are not kept)"
+            )
+        return candidate
+    say(f"rprpr: {task}: the repaired task does not read back as written; nothing written")
+    return None
+
+
+def _named(new: Task, old: Task) -> Task:
+    from dataclasses import replace
+
+    return replace(new, name=old.name)
+
+
+def _head(text: str, comment: str, task: str, out: str) -> str:
+    """A new file's first lines: the schema modeline (the task's own when it points at the
+    same schema from ``out``: a URL, or a path from the same folder; else ``rprpr
+    init``'s), then ``comment``; the rest of ``text`` as it is."""
+    from ..io.edit import modeline
+
+    newline = "\r\n" if "\r\n" in text else "\n"
+    target = modeline(text)
+    if target is not None:
+        text = text.split("\n", 1)[1] if "\n" in text else ""
+    same_folder = task != STDIN and (
+        os.path.dirname(os.path.abspath(task)) == os.path.dirname(os.path.abspath(out))
+    )
+    keep = target is not None and ("://" in target or same_folder)
+    first = f"# yaml-language-server: $schema={target}" if keep else SCHEMA_MODELINE
+    return f"{first}{newline}# {comment}{newline}{text}"
+
+
+def unified_diff(old: str, new: str, name: str) -> str:
+    """The unified diff from ``old`` to ``new`` (``--- name`` / ``+++ name``, as ruff's);
+    a last line without a line break is marked as diff marks it."""
+    lines = difflib.unified_diff(
+        old.splitlines(keepends=True), new.splitlines(keepends=True), name, name
+    )
+    return "".join(ln if ln.endswith("\n") else ln + "\n\\ No newline at end of file\n"
+                   for ln in lines)  # fmt: skip
 
 
 def summary(r: Repair) -> list[str]:

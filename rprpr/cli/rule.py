@@ -10,6 +10,7 @@ from collections.abc import Iterator
 import click
 
 from ..model.rules import INVALID_TASK, RULES, Rule
+from ..model.rules import rule_id as id_of
 from ..report.exit import ExitCode
 
 
@@ -29,10 +30,10 @@ def rule(rule_id: str | None) -> ExitCode:
 
 def find(rule_id: str) -> Rule:
     """The rule named by its id (any case) or its name; a usage error naming the closest."""
+    found = id_of(rule_id)
+    if found is not None:
+        return RULES[found]
     wanted = rule_id.strip()
-    for r in RULES.values():
-        if wanted.upper() == r.id or wanted.lower() == r.name:
-            return r
     known = [*RULES, *(r.name for r in RULES.values())]
     near = difflib.get_close_matches(wanted, known, n=1, cutoff=0.6)
     hint = f" (did you mean {near[0]}?)" if near else ""

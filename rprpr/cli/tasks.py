@@ -137,11 +137,11 @@ def read_task(path: str, stdin: bytes | None = None, name: str = STDIN) -> Task:
     from ..io.loader import load_task, parse_task
 
     if path == STDIN:
-        return parse_task(stdin if stdin is not None else _stdin_bytes(), name)
+        return parse_task(stdin if stdin is not None else stdin_bytes(), name)
     return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
 
 
-def _stdin_bytes() -> bytes:
+def stdin_bytes() -> bytes:
     import sys
 
     try:

@@ -13,7 +13,7 @@ command line's business.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
 
@@ -163,7 +163,7 @@ def audit(
         torque_limit=checked,
         saturation=saturation,
         closest_approach=approach,
-        findings=with_levels(found, task.checks.rules),
+        findings=[replace(f, strict=strict) for f in with_levels(found, task.checks.rules)],
         grid_size=samples,
         trajectory=parts[0].traj,
         analysis=analysis,

@@ -26,8 +26,9 @@ from flint import fmpq, fmpq_poly
 from ..model.errors import ExpressionError, TaskFileError
 from ..model.motion import position_jump
 from ..model.numbers import rational as _q
+from ..model.rules import rule_id
 from ..model.task import Checks, Link, Piece, Robot, Task
-from ..model.timing import timing_law, trapezoidal
+from ..model.timing import LAWS, timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
@@ -66,7 +67,7 @@ _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
 _RESOLVER = yaml.resolver.Resolver()
 _LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
-_PLAIN_KEY = re.compile(r"[A-Za-z0-9_]{1,40}")
+_PLAIN_KEY = re.compile(r"[A-Za-z0-9_-]{1,40}")  # shown unquoted (rule names have -)
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
 _SPECIAL_ENDS = "nNfFyY"  # the last letters of nan, inf, infinity (any case)
@@ -477,15 +478,17 @@ def _task(w: _Walk, file: str) -> Task:
 
 
 def _levels(w: _Walk) -> dict[str, str]:
-    """Rule id -> "warn" or "ignore", from checks.warn and checks.ignore (both: ignore)."""
+    """Rule id -> "warn" or "ignore", from checks.warn and checks.ignore (both: ignore),
+    whose keys are rule ids or names."""
     if "checks.warn" not in w.nodes and "checks.ignore" not in w.nodes:
         return {}  # neither given: no key below them has a value
-    return {
-        k.rsplit(".", 1)[1]: level
-        for level in ("warn", "ignore")  # both: ignore wins
-        for k in w.values
-        if k.startswith(f"checks.{level}.")
-    }
+    out = {}
+    for level in ("warn", "ignore"):  # both: ignore wins
+        for k in w.values:
+            if k.startswith(f"checks.{level}."):
+                name = k[len(f"checks.{level}.") :]
+                out[rule_id(name) or name] = level
+    return out
 
 
 def _robot(v: dict[str, Any]) -> Robot:
@@ -612,7 +615,8 @@ def _law_or_x(w: _Walk, key: str) -> None:
         )
     if not law and not x:
         raise w.error(
-            "missing timing law: give law (quintic or cubic) or x (a polynomial in t)",
+            f"missing timing law: give law ({', '.join(LAWS)}, or {TRAPEZOIDAL} with"
+            " cruise_speed) or x (a polynomial in t, or pieces {until, x})",
             w.nodes["timing"],
             "timing",
         )
@@ -1506,6 +1510,8 @@ def _expected(spec: Spec, key: str) -> str:
     if spec.kind == "waypoints":
         assert spec.item is not None
         return f"a list of waypoints {_keys(spec.item)} or a CSV file's name"
+    if spec.kind == "string" and key.startswith(("checks.ignore.", "checks.warn.")):
+        return "text: why this task may break the rule (a reason is required)"
     if spec.kind == "string":
         return "text (a name for reports)"
     if spec.kind == "bool":

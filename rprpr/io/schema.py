@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..model.actuation import ACTUATIONS, REVOLUTE
+from ..model.defaults import SCHEMA_URL
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
@@ -67,14 +68,15 @@ def _num(
 
 
 def _reasons(description: str) -> Spec:
-    """``checks.ignore`` / ``checks.warn``: rule id -> the reason, as text (required)."""
+    """``checks.ignore`` / ``checks.warn``: rule id or name -> the reason, as text
+    (required)."""
+    rules = [r for r in RULES.values() if r.id != INVALID_TASK]
     return Spec(
         "mapping",
         description,
         children={
-            r.id: Spec("string", f"Why {r.id} ({r.name}) is accepted here.")
-            for r in RULES.values()
-            if r.id != INVALID_TASK
+            **{r.id: Spec("string", f"Why {r.id} ({r.name}) is accepted here.") for r in rules},
+            **{r.name: Spec("string", f"Why {r.name} ({r.id}) is accepted here.") for r in rules},
         },
     )
 
@@ -297,7 +299,7 @@ def json_schema() -> dict[str, Any]:
     """
     doc = _json(TASK)
     doc["$schema"] = "https://json-schema.org/draft/2020-12/schema"
-    doc["$id"] = "https://rprpr.dev/schema/task.json"
+    doc["$id"] = SCHEMA_URL
     doc["title"] = "rprpr task file"
     timing = doc["properties"]["timing"]
     # cruise_speed with law trapezoidal, and only with it

@@ -11,33 +11,13 @@ from __future__ import annotations
 from typing import Any
 
 import yaml
-from flint import fmpq, fmpq_poly
+from flint import fmpq
 
 from ..model.actuation import REVOLUTE
+from ..model.defaults import SCHEMA_MODELINE
+from ..model.numbers import polynomial
+from ..model.numbers import rational_text as number
 from ..model.task import Task
-
-
-def number(q: fmpq) -> str:
-    """An exact rational as the loader reads it: 3, -1/20."""
-    return str(q.p) if q.q == 1 else f"{q.p}/{q.q}"
-
-
-def polynomial(p: fmpq_poly, var: str) -> str:
-    """p in ``var`` as an expression the loader reads exactly: 3/2*t^2 - t + 1."""
-    terms: list[str] = []
-    for k in range(p.degree(), -1, -1):
-        c = p[k]
-        if c == 0:
-            continue
-        sign = "-" if c < 0 else "+"
-        a = abs(c)
-        power = "" if k == 0 else (var if k == 1 else f"{var}^{k}")
-        body = number(a) if not power else (power if a == 1 else f"{number(a)}*{power}")
-        terms.append(f"{sign} {body}")
-    if not terms:
-        return "0"
-    text = " ".join(terms)
-    return text[2:] if text.startswith("+ ") else "-" + text[2:]
 
 
 def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
@@ -126,8 +106,8 @@ class _D(str):
         return super().__new__(cls, decimal(q))
 
 
-class _Dumper(yaml.SafeDumper):  # type: ignore[misc]
-    pass
+class Dumper(yaml.SafeDumper):  # type: ignore[misc]
+    """YAML's safe dumper, writing exact numbers plain (3, 0.05) or as fractions (1/20)."""
 
 
 def _represent_q(dumper: yaml.SafeDumper, value: str) -> yaml.Node:
@@ -135,15 +115,16 @@ def _represent_q(dumper: yaml.SafeDumper, value: str) -> yaml.Node:
     return dumper.represent_scalar(tag, str(value))
 
 
-_Dumper.add_representer(_Q, _represent_q)
-_Dumper.add_representer(_D, _represent_q)
+Dumper.add_representer(_Q, _represent_q)
+Dumper.add_representer(_D, _represent_q)
 
 
-def task_text(task: Task, comment: str = "") -> str:
-    """``task`` as task-file text, with ``comment`` (lines) at its top."""
-    head = "# yaml-language-server: $schema=../rprpr/io/task.schema.json\n"
+def task_text(task: Task, comment: str = "", modeline: str = SCHEMA_MODELINE) -> str:
+    """``task`` as task-file text: the schema ``modeline`` (by default ``rprpr init``'s),
+    then ``comment`` (lines) at its top."""
+    head = f"{modeline}\n"
     head += "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
     body = yaml.dump(
-        task_mapping(task), Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=10_000
+        task_mapping(task), Dumper=Dumper, sort_keys=False, allow_unicode=True, width=10_000
     )
     return head + body

@@ -4,3 +4,7 @@ options read them without importing numpy or flint)."""
 from __future__ import annotations
 
 DEFAULT_SAMPLES = 1001  # grid points t = 0 .. t_f of an audit, an export and a plot
+# the task schema's $id (``rprpr schema``), and the modeline that points an editor at it:
+# the first line of what ``rprpr init`` and ``rprpr repair`` write
+SCHEMA_URL = "https://rprpr.dev/schema/task.json"
+SCHEMA_MODELINE = f"# yaml-language-server: $schema={SCHEMA_URL}"

@@ -24,7 +24,7 @@ import math
 import sys
 from collections.abc import Iterable, Sequence
 
-from flint import arb, ctx, fmpq
+from flint import arb, ctx, fmpq, fmpq_poly
 
 DIGITS = 6  # significant digits of a number in a message
 CELL = 4  # ... in a table cell or a summary figure, where width matters more
@@ -194,3 +194,29 @@ def exact_apart(value: fmpq | arb, margin: fmpq | arb) -> tuple[str, str]:
         if a != b:
             return a, b
     return exact_number(value), exact_number(margin)
+
+
+def polynomial(p: fmpq_poly, var: str) -> str:
+    """An exact polynomial in ``var`` as the task file writes it (and the loader reads it
+    back exactly): 3/2*t^2 - t + 1."""
+    terms: list[str] = []
+    for k in range(p.degree(), -1, -1):
+        c = p[k]
+        if c == 0:
+            continue
+        sign = "-" if c < 0 else "+"
+        a = abs(c)
+        power = "" if k == 0 else (var if k == 1 else f"{var}^{k}")
+        body = (
+            rational_text(a) if not power else (power if a == 1 else f"{rational_text(a)}*{power}")
+        )
+        terms.append(f"{sign} {body}")
+    if not terms:
+        return "0"
+    text = " ".join(terms)
+    return text[2:] if text.startswith("+ ") else "-" + text[2:]
+
+
+def rational_text(q: fmpq) -> str:
+    """An exact rational as a task file writes it: 3, -1/20."""
+    return str(q.p) if q.q == 1 else f"{q.p}/{q.q}"

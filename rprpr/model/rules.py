@@ -17,7 +17,7 @@ rule, ``with_levels`` applies them to findings.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 INVALID_TASK = "RPR001"  # a task file that cannot be read: never audited, never silenced
 LEVELS = ("error", "warn", "ignore")
@@ -149,6 +149,8 @@ class Finding:
     downgraded: bool = False  # accepted by the user: fails only in strict mode
     promoted: bool = False  # made an error by the user: fails in every mode
     line: int | None = None  # the task file's line it points at, when not its key's (a knot)
+    # the mode of the audit that made it (``audit`` sets it): what ``severity`` reads
+    strict: bool = field(default=False, compare=False, repr=False)
 
     @property
     def key(self) -> str:
@@ -162,6 +164,12 @@ class Finding:
 
     def fails(self, strict: bool) -> bool:
         return strict or not self.strict_only
+
+    @property
+    def severity(self) -> str:
+        """ "error" when the finding fails its task in the mode of the audit that made it
+        (``strict``), else "warning": the ``[severity]`` of every report."""
+        return "error" if self.fails(self.strict) else "warning"
 
 
 def with_levels(findings: Iterable[Finding], levels: Mapping[str, str]) -> list[Finding]:
@@ -183,14 +191,28 @@ class SelectorError(ValueError):
     """A rule selector that names no rule, or a rule given two levels at once."""
 
 
+def rule_id(name_or_id: str) -> str | None:
+    """The id of the rule named by its id (any case: ``rpr201``) or its name
+    (``unbounded-torque``); None when no rule is so named."""
+    wanted = name_or_id.strip()
+    for r in RULES.values():
+        if wanted.upper() == r.id or wanted.lower() == r.name:
+            return r.id
+    return None
+
+
 def selected(selector: str) -> list[str]:
-    """The audit rules a selector names: ``ALL``, a rule id (``RPR201``) or the start of
-    ids (``RPR2``: RPR201 and RPR202); RPR001 is never among them. A selector that names
-    no rule is a ``SelectorError`` (with the closest id, when one is close)."""
+    """The audit rules a selector names: ``ALL``, a rule id (``RPR201``) or its name
+    (``unbounded-torque``), or the start of ids (``RPR2``: RPR201 and RPR202); RPR001 is
+    never among them. A selector that names no rule is a ``SelectorError`` (with the
+    closest id or name, when one is close)."""
     audit_rules = [r for r in RULES if r != INVALID_TASK]
     if selector == ALL:
         return audit_rules
-    if selector == INVALID_TASK:
+    named = rule_id(selector) if not selector.startswith("RPR") else None
+    if named is not None and named != INVALID_TASK:
+        return [named]
+    if selector == INVALID_TASK or named == INVALID_TASK:
         raise SelectorError(
             f"{INVALID_TASK} ({RULES[INVALID_TASK].name}) cannot be selected, ignored or"
             " demoted: a task file that cannot be read is never audited"
@@ -199,7 +221,9 @@ def selected(selector: str) -> list[str]:
     if not found or not selector.startswith("RPR"):
         import difflib
 
+        names = [RULES[r].name for r in audit_rules]
         near = difflib.get_close_matches(selector.upper(), audit_rules, n=1, cutoff=0.6)
+        near = near or difflib.get_close_matches(selector.lower(), names, n=1, cutoff=0.6)
         hint = f" (did you mean {near[0]}?)" if near else ""
         raise SelectorError(f"unknown rule {selector!r}{hint}; `rprpr rule` lists the rules")
     return found
@@ -220,7 +244,9 @@ def levels(
     for kind, selectors in (("select", select), ("ignore", ignore), ("warn", warn),
                             ("error", error)):  # fmt: skip
         for sel in selectors:
-            weight = 0 if sel == ALL else len(sel)
+            # as specific as its characters of an id; a name is as specific as its rule's id
+            named = rule_id(sel) if not sel.startswith("RPR") else None
+            weight = 0 if sel == ALL else len(named or sel)
             for r in selected(sel):
                 best = spec.setdefault(r, {})
                 best[kind] = max(best.get(kind, -1), weight)

@@ -17,6 +17,7 @@ from functools import cached_property
 from flint import fmpq, fmpq_poly
 
 from .actuation import REVOLUTE
+from .numbers import polynomial, rational_text
 
 
 @dataclass(frozen=True)
@@ -84,6 +85,13 @@ class Piece:
     file: str = ""
     local: tuple[fmpq_poly, fmpq_poly] | None = field(default=None, compare=False, repr=False)
 
+    def __repr__(self) -> str:
+        """``<Piece 0 <= t <= 5/2: x(t) = ..., y(t) = ...>`` (polynomials in t, exact)."""
+        return (
+            f"<Piece {rational_text(self.start)} <= t <= {rational_text(self.end)}:"
+            f" x(t) = {polynomial(self.x, 't')}, y(t) = {polynomial(self.y, 't')}>"
+        )
+
 
 @dataclass(frozen=True)
 class Task:
@@ -111,6 +119,22 @@ class Task:
     lines: dict[str, int] = field(default_factory=dict)
     source: str = ""
     pieces: tuple[Piece, ...] = ()
+
+    def __repr__(self) -> str:
+        """One line: ``<Task 'name': y(x) = ..., x(t) = ..., 0 <= t <= 5 s (quintic),
+        from FILE>``; a piecewise motion by its number of pieces (``motion`` holds them)."""
+        parts = []
+        if self.path is not None:
+            parts.append(f"y(x) = {polynomial(self.path, 'x')}")
+        if self.x_of_t is not None and not self.pieces:
+            parts.append(f"x(t) = {polynomial(self.x_of_t, 't')}")
+        elif self.pieces:
+            n = len(self.pieces)
+            what = "x(t)" if self.path is not None else "(x(t), y(t))"
+            parts.append(f"{what} in {n} piece{'s' if n != 1 else ''}")
+        parts.append(f"0 <= t <= {rational_text(self.duration)} s ({self.law})")
+        source = f", from {self.source}" if self.source else ""
+        return f"<Task {self.name!r}: {', '.join(parts)}{source}>"
 
     @cached_property
     def motion(self) -> tuple[Piece, ...]:

@@ -11,9 +11,10 @@ round-trip ``repr``, so reading the file back gives the very same floats.
 ``reason`` is an integer code per row (``engine.certified.REASONS``): 0 = every value of
 the row is certified; otherwise the cause of the row's NaN: 1 a singular instant with
 unbounded torques (λ2, T1, T2), 2 and 3 the end point at A or at B, 4 the path on the
-singular line, 5 a value not certified at the highest precision tried. Every value that
-is not finite is ``nan`` in CSV and ``null`` in JSON (the JSON is strict: no NaN or
-Infinity tokens); -0.0 is written as 0.0.
+singular line, 5 a value not certified at the highest precision tried, 6 a value beyond
+the double range (|value| > 1.8e308, certified so). Every value that is not finite is
+``nan`` in CSV and ``null`` in JSON (the JSON is strict: no NaN or Infinity tokens); -0.0
+is written as 0.0.
 
 Both formats name the task and the rprpr version: CSV in one leading ``#`` comment line
 (read with ``pandas.read_csv(f, comment="#")`` or ``numpy.genfromtxt(f, delimiter=",",

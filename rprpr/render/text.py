@@ -4,8 +4,10 @@ For each task, as a linter writes it (ruff's concise style): one line per findin
 ``FILE:LINE:COL: RPRnnn [severity] name: message`` (editors and terminals jump to it),
 then the task (file and name), its singular instants (the table when it fits the width,
 else stacked ``key  value`` rows per instant, so that nothing is cut at any width: 80
-columns, 60) and its verdict line with the certified torque peak. Lines wrap at the width; only a
-token longer than the width is folded.
+columns, 60) and its verdict line with the certified torque peak. A finding's line is
+never wrapped, on a terminal or not (a terminal folds it for the eye, but the text keeps
+it one line: grep, editors and problem matchers see its ``FILE:LINE`` with all of it);
+the other lines wrap at the width, and only a token longer than the width is folded.
 
 Every text that came from outside (a file name, a task's name, a value quoted in a
 message) is printed through ``escape.printable``: no control character reaches the
@@ -161,8 +163,8 @@ def finding_line(rep: dict[str, Any], f: dict[str, Any]) -> Text:
 
 
 def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
-    for f in rep["findings"]:
-        console.print(finding_line(rep, f))
+    for f in rep["findings"]:  # one line each, never wrapped (grep, editors, matchers)
+        console.print(finding_line(rep, f), soft_wrap=True)
     console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
     times = instant_times(rep)
     for line in _details(rep, times):

@@ -171,7 +171,7 @@ def test_warn_unbounded_and_the_task_key_still_work(repo: Path) -> None:
         ('warn = ["RPR202"]\nerror = ["RPR202"]\n', "RPR202 is both in warn and in error"),
         ("jobs = -1\n", "jobs: expected an integer from 0 to 256"),
         ("torque_limit = [300]\n", "torque_limit: expected [|T1| limit, |T2| limit]"),
-        ('format = "xml"\n', "format: expected one of text, json, junit, github, sarif, gitlab"),
+        ('format = "xml"\n', "format: expected one of text, concise, json, junit, github"),
         ("strict = 1\n", "strict: expected true or false, found 1"),
         ("jobs = \n", "invalid TOML"),
     ],
@@ -214,3 +214,79 @@ def test_settings_paths_are_relative_to_the_root_not_the_working_directory(repo:
     assert [os.path.abspath(os.path.join(repo / "sub", p)) for p in settings["paths"]] == [
         str(repo / "tasks")
     ]
+
+
+# -- rules on the command line, and rule names wherever ids go -------------------------------
+def test_the_command_line_selects_and_ignores_with_the_configurations_semantics(
+    repo: Path,
+) -> None:
+    p1 = "tasks/p1.rprpr.yaml"  # RPR101 and RPR201, both errors
+    assert _rules(_check(repo, "--ignore", "RPR201", p1)[1]) == [[("RPR101", "error")]]
+    assert _rules(_check(repo, "--select", "RPR2", p1)[1]) == [[("RPR201", "error")]]
+    # the most specific selector wins, as in the configuration: RPR201 over RPR2
+    code, doc, _ = _check(repo, "--select", "RPR1", "--extend-select", "RPR201", p1)
+    assert code == 1 and _rules(doc) == [[("RPR101", "error"), ("RPR201", "error")]]
+    code, doc, _ = _check(repo, "--ignore", "RPR2", "--extend-select", "RPR201", p1)
+    assert _rules(doc) == [[("RPR101", "error"), ("RPR201", "error")]]
+    # comma-separated, repeated, and by name
+    code, doc, _ = _check(repo, "--ignore", "slope-principle,RPR104", "--ignore", "RPR201", p1)
+    assert (code, _rules(doc)) == (0, [[]])
+
+
+def test_command_line_ignore_adds_to_the_configuration_and_select_starts_afresh(
+    repo: Path,
+) -> None:
+    (repo / "rprpr.toml").write_text('ignore = ["RPR101"]\n', encoding="utf-8")
+    p1 = "tasks/p1.rprpr.yaml"
+    assert _rules(_check(repo, p1)[1]) == [[("RPR201", "error")]]
+    assert _rules(_check(repo, "--ignore", "RPR201", p1)[1]) == [[]]
+    # --select replaces the configuration's select and its ignore, as ruff's does
+    assert _rules(_check(repo, "--select", "ALL", p1)[1]) == [
+        [("RPR101", "error"), ("RPR201", "error")]
+    ]
+    with chdir(repo):
+        code, out, _ = run_cli("check", "--ignore", "RPR202", "--show-settings")
+    assert code == 0
+    assert f'ignore       = ["RPR101", "RPR202"]  # {repo / "rprpr.toml"} + command line' in out
+
+
+def test_an_unknown_rule_on_the_command_line_is_one_line_naming_the_option(repo: Path) -> None:
+    with chdir(repo):
+        code, out, err = run_cli("check", "--extend-select", "unbounded-torq", "tasks")
+    assert (code, out) == (2, "")
+    assert err == (
+        "rprpr: --extend-select: unknown rule 'unbounded-torq' (did you mean unbounded-torque?);"
+        " `rprpr rule` lists the rules\n"
+    )
+    with chdir(repo):
+        code, _, err = run_cli("check", "--select", "RPR001", "tasks")
+    assert code == 2 and err.startswith("rprpr: --select: RPR001 (invalid-task) cannot be")
+
+
+def test_rule_names_are_selectors_in_the_configuration() -> None:
+    assert levels(select=["ALL"], ignore=["unbounded-torque"]) == {"RPR201": "ignore"}
+    assert levels(select=["ALL"], warn=["RPR2"], error=["torque-limit"])["RPR202"] == "error"
+    assert levels(select=["ALL"], ignore=["rpr201"]) == {"RPR201": "ignore"}
+    with pytest.raises(SelectorError, match="did you mean slope-principle"):
+        levels(ignore=["slope-principl"])
+    with pytest.raises(SelectorError, match="cannot be selected"):
+        levels(ignore=["invalid-task"])
+
+
+def test_a_task_ignores_or_warns_a_rule_by_its_name(write_task) -> None:  # type: ignore[no-untyped-def]
+    p = write_task(
+        P1.read_text(encoding="utf-8")
+        + "checks:\n  ignore:\n    slope-principle: a test rig\n"
+        + "  warn:\n    unbounded-torque: accepted here\n"
+    )
+    code, out, err = run_cli("check", "--isolated", "--format", "json", str(p))
+    assert (code, err) == (0, "")
+    assert _rules(json.loads(out)) == [[("RPR201", "warning")]]
+
+
+def test_a_missing_reason_says_a_reason_is_required(write_task) -> None:  # type: ignore[no-untyped-def]
+    p = write_task(P2.read_text(encoding="utf-8") + "  ignore:\n    unbounded-torque:\n")
+    code, _, err = run_cli("check", "--isolated", str(p))
+    assert code == 2 and len(err.splitlines()) == 1
+    assert "expected text: why this task may break the rule (a reason is required)" in err
+    assert "a name for reports" not in err

@@ -521,3 +521,23 @@ def test_audit_scales_with_time_down_to_tiny_durations(write_task):  # type: ign
         assert s.torque_at_singularity[0] * k == pytest.approx(722.25, rel=1e-12)
         assert np.allclose(r.samples.T1 * k, ref.samples.T1, rtol=1e-9)
         assert np.allclose(r.samples.T2 * k, ref.samples.T2, rtol=1e-9)
+
+
+def test_a_finding_has_the_severity_of_the_audit_that_made_it() -> None:
+    from rprpr.io.loader import load_task
+    from tests.conftest import CONFIGS
+
+    task = load_task(CONFIGS / "piecewise_timing.rprpr.yaml")  # two RPR204 torque jumps
+    assert [f.severity for f in audit(task, samples=101).findings] == ["warning", "warning"]
+    assert [f.severity for f in audit(task, samples=101, strict=True).findings] == ["error"] * 2
+    failing = audit(load_task(CONFIGS / "paper_path1.rprpr.yaml"), samples=101)
+    assert [(f.rule, f.severity) for f in failing.findings] == [
+        ("RPR101", "error"),
+        ("RPR201", "error"),
+    ]
+    import rprpr
+
+    public = rprpr.audit(task, samples=101)  # the Python API: the reports' severity
+    assert [f["severity"] for f in public.to_dict()["findings"]] == [
+        f.severity for f in public.findings
+    ]

@@ -3,7 +3,8 @@
 Each case is one ``rprpr check`` command line (a shipped config, the configs/ directory at
 once, a run with bad task files, two close singular instants). Each is run once per
 variant: the text report at 80 and at 160 columns (no colour: standard output is not a
-terminal), JSON, JUnit (its measured ``time=`` attributes zeroed) and GitHub annotations.
+terminal), the concise findings, JSON, JUnit (its measured ``time=`` attributes zeroed),
+GitHub annotations, SARIF and GitLab Code Quality.
 ``tests/golden/CASE/VARIANT.EXT`` holds the standard output, ``tests/golden/CASE/runs.txt``
 the command lines, exit statuses and standard error.
 
@@ -49,6 +50,7 @@ VARIANTS = (
     Variant("json", ("--format", "json"), suffix="json"),
     Variant("junit", ("--format", "junit"), suffix="xml"),
     Variant("github", ("--format", "github")),
+    Variant("concise", ("--output-format", "concise")),
     Variant("sarif", ("--format", "sarif"), suffix="json"),
     Variant("gitlab", ("--format", "gitlab"), suffix="json"),
 )

@@ -62,3 +62,16 @@ def test_every_format_carries_every_error(
     code, out, _ = run_cli("check", "--format", "junit", "many.yaml")
     assert out.count("<error ") == 1 and "(and 3 more errors)" in out
     assert all(f"many.yaml:{ln}:{c}: {k}: " in out for ln, c, k, _ in WANT)
+
+
+def test_a_missing_timing_law_names_every_law_and_x() -> None:
+    from rprpr.model.timing import LAWS
+    from tests.conftest import PATH2_YAML, task_text
+
+    with pytest.raises(TaskFileError) as info:
+        parse_task(task_text(PATH2_YAML, "timing:\n  duration: 5\n"), "t.yaml")
+    assert info.value.message == (
+        "missing timing law: give law (quintic, cubic, or trapezoidal with cruise_speed)"
+        " or x (a polynomial in t, or pieces {until, x})"
+    )
+    assert all(law in info.value.message for law in LAWS)

@@ -34,8 +34,11 @@ FULL["checks"] = {
     "min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True,
     "unbounded_torque": "warn",
     # every rule a task can silence or demote, each with its reason (ignore wins over warn)
-    "ignore": {r: f"why {r} is silenced" for r in RULES if r != "RPR001"},
-    "warn": {r: f"why {r} is a warning" for r in RULES if r != "RPR001"},
+    # (by id and by name: either names the rule)
+    "ignore": {k: f"why {k} is silenced" for r in RULES if r != "RPR001"
+               for k in (r, RULES[r].name)},
+    "warn": {k: f"why {k} is a warning" for r in RULES if r != "RPR001"
+             for k in (r, RULES[r].name)},
 }  # fmt: skip
 FULL_X = copy.deepcopy(FULL)  # timing by x(t) instead of a law (x(0) = 2, x(5) = 4)
 FULL_X["timing"] = {"duration": 5, "x": "2 + 2*t/5"}

@@ -302,3 +302,19 @@ def test_rows_through_a_and_b_say_why_their_values_are_nan(write_task) -> None: 
         assert (col["x"][j], col["y"][j]) == ((0.0, 0.0) if leg == "1" else (6.0, 0.0))
     rest = np.delete(v, [1, 7], axis=0)
     assert np.all(np.isfinite(rest))
+
+
+def test_every_reason_code_is_documented_in_the_readme_and_the_module() -> None:
+    import re
+
+    import rprpr.render.export as export_module
+    from rprpr.engine.certified import REASONS
+    from tests.conftest import ROOT
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    said = readme.split("the row's `reason` says why:", 1)[1].split("The value at t", 1)[0]
+    documented = [int(c) for c in re.findall(r"(?:^|[:,]\s+)(\d) ", " ".join(said.split()))]
+    assert documented == sorted(REASONS)  # 0 .. 6, each once, in order
+    doc = " ".join((export_module.__doc__ or "").split())
+    assert all(f"{code} " in doc for code in REASONS if code)
+    assert "6 a value beyond the double range" in doc

@@ -573,3 +573,20 @@ def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:
     (one,) = panel_axes(sheet([PATH1]))["joints"][:1]
     assert by_gid(one, "theta1-0").get_color() == P.LEG1
     assert by_gid(one, "theta2-0").get_color() == P.LEG2
+
+
+def test_the_python_api_as_readme_documents_it(tmp_path: Path) -> None:
+    """``motion(audit(task))`` and ``motion(task)`` alike; ``render`` takes the panels as
+    a list or as one comma-separated string (never letter by letter)."""
+    task = load_task(PATH2)
+    by_result, by_task = P.motion(audit(task, samples=101)), P.motion(task)
+    assert by_result.name == by_task.name == task.name
+    assert by_task.result.verdict == "pass"
+    listed = P.render([by_result], ["path", "delta"])
+    comma = P.render([by_result], "path, delta")
+    assert len(comma.axes) == len(listed.axes) < len(P.render([by_result]).axes)
+    with pytest.raises(ValueError, match="unknown panels \\['paths'\\]"):
+        P.render([by_result], "paths,delta")
+    out = tmp_path / "s.svg"
+    P.save(comma, str(out), "svg")
+    assert out.read_text(encoding="utf-8").startswith("<?xml")

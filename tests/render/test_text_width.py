@@ -1,5 +1,6 @@
-"""The text report at any width: no line wider than COLUMNS, nothing cut (no ellipsis),
-every cell of the wide table present in the narrow layout, findings clickable."""
+"""The text report at any width: no line but a finding's wider than COLUMNS, nothing cut
+(no ellipsis), every cell of the wide table present in the narrow layout, findings
+clickable and one line each, never wrapped (not even on a terminal)."""
 
 from __future__ import annotations
 
@@ -29,11 +30,42 @@ def _table_cells(wide: str) -> list[str]:
     return cells
 
 
+FINDING = re.compile(r"^configs/\w+\.rprpr\.yaml:\d+:1: RPR\d{3} \[(error|warning)\] [a-z-]+: ")
+
+
 @pytest.mark.parametrize("columns", [60, 80, 120])
-def test_no_line_exceeds_the_width_and_nothing_is_cut(columns: int) -> None:
+def test_no_line_but_a_finding_exceeds_the_width_and_nothing_is_cut(columns: int) -> None:
     out = _text(columns)
-    assert all(len(line) <= columns for line in out.splitlines()), columns
+    lines = out.splitlines()
+    assert all(len(line) <= columns for line in lines if not FINDING.match(line)), columns
     assert "…" not in out
+
+
+def _findings(out: str) -> list[str]:
+    return [ln for ln in out.splitlines() if FINDING.match(ln)]
+
+
+@pytest.mark.parametrize("columns", [40, 60, 80, 160])
+def test_each_finding_is_one_whole_line_at_any_width(columns: int) -> None:
+    wide = _findings(_text(10_000))
+    assert len(wide) >= 4 and any(len(f) > 160 for f in wide)  # long ones among them
+    assert _findings(_text(columns)) == wide
+
+
+def test_on_a_terminal_too_a_finding_is_one_line() -> None:
+    from rich.console import Console
+
+    from rprpr.render.text import render
+    from tests.render.test_formats import make_run
+
+    run = make_run("configs/paper_path1.rprpr.yaml")
+    console = Console(width=60, force_terminal=True, no_color=True, record=True)
+    render(run, console, console)
+    lines = console.export_text().splitlines()
+    found = [ln for ln in lines if FINDING.match(ln)]
+    assert [ln.split(":")[1] for ln in found] == ["19", "13"]
+    assert all(" boundedness conditions hold" in ln for ln in found[1:])
+    assert not any(ln.startswith("consistent") for ln in lines)
 
 
 @pytest.mark.parametrize("columns", [60, 80, 120])
@@ -54,9 +86,8 @@ def test_wide_terminal_gets_the_table_and_narrow_the_stacked_rows() -> None:
 
 def test_findings_are_file_line_col_rule_severity() -> None:
     out = _text(400)
-    finding = re.compile(r"^configs/\w+\.rprpr\.yaml:\d+:1: RPR\d{3} \[(error|warning)\] [a-z-]+: ")
     lines = [ln for ln in out.splitlines() if re.match(r"^configs/\w+\.rprpr\.yaml:\d", ln)]
-    assert lines and all(finding.match(ln) for ln in lines)
+    assert lines and all(FINDING.match(ln) for ln in lines)
     assert "configs/paper_path1.rprpr.yaml:19:1: RPR101 [error] slope-principle: t = 2.5 s" in out
 
 

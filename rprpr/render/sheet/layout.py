@@ -24,7 +24,7 @@ PANELS = tuple(BY_NAME)  # the default order
 
 def render(
     motions: Sequence[Motion],
-    panels: Sequence[str] | None = None,
+    panels: Sequence[str] | str | None = None,
     *,
     figure: Figure | None = None,
     pole_inset: bool = False,
@@ -32,7 +32,10 @@ def render(
     """The audit sheet of ``motions`` with ``panels`` in order (all by default), on a new
     headless ``Figure`` or on ``figure`` (e.g. one of pyplot's, for --show); with
     ``pole_inset``, log|T| against log|t - t_s| beside the torques near an unbounded
-    instant."""
+    instant. ``panels`` is a list of names or one comma-separated string
+    (``"path,delta"``, as ``--panels``)."""
+    if isinstance(panels, str):  # never its letters, one by one
+        panels = [p.strip() for p in panels.split(",") if p.strip()]
     panels = list(BY_NAME) if panels is None else list(panels)
     unknown = [p for p in panels if p not in BY_NAME]
     if unknown or not panels:

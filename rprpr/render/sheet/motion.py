@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...engine.audit import AuditResult
+from ...engine.audit import AuditResult, audit
 from ...engine.sampling import Samples, grid
 from ...model.task import Task
 
@@ -33,10 +33,13 @@ class Motion:
         return float(self.s.t[-1])
 
 
-def motion(result: AuditResult, source: str = "") -> Motion:
-    """The audited task ``result``, ready to draw: its samples with its singular instants
-    added to the grid and, about an unbounded one, the times t_s ± 10^-k t_f (k = 3..8),
-    so that the curves visibly diverge however fine or coarse the grid."""
+def motion(result: AuditResult | Task, source: str = "") -> Motion:
+    """The audited task ``result`` (``audit(task)``; a ``Task`` is audited here first),
+    ready to draw: its samples with its singular instants added to the grid and, about an
+    unbounded one, the times t_s ± 10^-k t_f (k = 3..8), so that the curves visibly
+    diverge however fine or coarse the grid. ``source`` names it in the legend."""
+    if isinstance(result, Task):
+        result = audit(result)
     t = grid(result.task.duration, result.grid_size)
     tf = float(t[-1])
     tol = 1e-12 * max(1.0, tf)

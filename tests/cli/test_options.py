@@ -1,0 +1,115 @@
+"""The light install (``pip install rprpr``, without the extra ``rprpr[plot]``): every
+command but the sheet works without matplotlib, and the sheet says how to get it.
+
+matplotlib's absence is simulated in a subprocess: ``sys.modules['matplotlib'] = None``
+(and Pillow's, ``PIL``) makes every import of them fail as on a machine without them.
+The same run, in a virtual environment really without matplotlib, is stated in README
+("Install").
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rprpr.cli.options import PLOT_EXTRA
+from tests.conftest import PATH1_FILE, PATH2_FILE, ROOT
+
+WITHOUT_MATPLOTLIB = (
+    "import sys\n"
+    "sys.modules['matplotlib'] = None\n"
+    "sys.modules['PIL'] = None\n"
+    "from rprpr.cli.main import main\n"
+    "main(sys.argv[1:])\n"
+)
+
+
+def light(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
+    """``rprpr ARGS`` in a Python where matplotlib and Pillow cannot be imported."""
+    return subprocess.run(
+        [sys.executable, "-c", WITHOUT_MATPLOTLIB, *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+    )
+
+
+def test_the_shim_really_hides_matplotlib() -> None:
+    probe = "import sys\nsys.modules['matplotlib'] = None\nimport matplotlib.pyplot\n"
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert done.returncode == 1
+    assert "ModuleNotFoundError" in done.stderr
+
+
+def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(
+    tmp_path: Path,
+) -> None:
+    done = light("check", "--samples", "101", PATH2_FILE, PATH1_FILE)
+    assert done.returncode == 1, done.stderr  # path 1 fails: the audit ran
+    assert "RPR101" in done.stdout and "PASS" in done.stdout and "FAIL" in done.stdout
+    assert done.stderr == ""
+
+    csv = tmp_path / "m.csv"
+    done = light("export", "--samples", "11", "-o", str(csv), PATH2_FILE)
+    assert done.returncode == 0, done.stderr
+    rows = [r for r in csv.read_text().splitlines() if not r.startswith("#")]
+    assert len(rows) == 12  # the column names and 11 samples
+
+    out = tmp_path / "fixed.rprpr.yaml"
+    done = light("repair", PATH1_FILE, "-o", str(out))
+    assert done.returncode == 0, done.stderr
+    assert "checked" in done.stdout and out.is_file()
+
+    new = tmp_path / "new.rprpr.yaml"
+    done = light("init", str(new))
+    assert done.returncode == 0, done.stderr
+    assert new.is_file()
+
+    done = light("rule", "RPR101")
+    assert (done.returncode, done.stdout.splitlines()[0]) == (0, "RPR101 slope-principle")
+
+    done = light("schema")
+    assert done.returncode == 0 and '"$schema"' in done.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "what"),
+    [
+        (["plot", PATH2_FILE, "-o", "{tmp}/sheet.png"], "plot"),
+        (["plot", PATH2_FILE, "--show"], "plot"),
+        (["repair", PATH1_FILE, "-o", "{tmp}/r.rprpr.yaml", "--plot", "{tmp}/r.png"],
+         "repair --plot"),
+    ],
+)  # fmt: skip
+def test_the_sheet_without_matplotlib_says_how_to_install_it(
+    tmp_path: Path, args: list[str], what: str
+) -> None:
+    done = light(*(a.format(tmp=tmp_path) for a in args))
+    assert done.returncode == 2
+    assert done.stdout == ""
+    assert done.stderr == (
+        f"rprpr: {what} draws with matplotlib, which is not installed: {PLOT_EXTRA}\n"
+    )
+    assert list(tmp_path.iterdir()) == []  # nothing written, not even the repaired task
+
+
+def test_plot_help_needs_no_matplotlib() -> None:
+    done = light("plot", "--help")
+    assert done.returncode == 0 and "Usage: rprpr plot" in done.stdout
+
+
+def test_the_extra_is_named_in_the_package_metadata() -> None:
+    import tomllib
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    needs = " ".join(project["dependencies"]).lower()
+    assert "matplotlib" not in needs and "pillow" not in needs
+    extras = project["optional-dependencies"]
+    assert any(d.startswith("matplotlib") for d in extras["plot"])
+    assert any(d.startswith("pillow") for d in extras["plot"])
+    assert "rprpr[plot]" in extras["test"]  # the suite draws sheets
+    assert PLOT_EXTRA == "pip install 'rprpr[plot]'"
