@@ -155,7 +155,7 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
     if not files:  # every file named was left out (--force-exclude): nothing to do
         return ExitCode.PASSED
     if STDIN in files:
-        options = replace(options, stdin=_read_stdin())
+        options = _read_stdin(options)
     refuse_overwriting_inputs([options.output_file], files)
     with report_stream(options.output_file, "the report") as out:
         show_bar = want_progress(len(files), sys.stderr, options.quiet)
@@ -203,12 +203,15 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
     return settings, options
 
 
-def _read_stdin() -> bytes:
-    """Standard input, whole (read here: the workers have none)."""
+def _read_stdin(options: CheckOptions) -> CheckOptions:
+    """``options`` with standard input read (here: the workers have none), through the
+    capped reader: a stream past the cap is stopped there and is that task's error."""
+    from ..io.loader import read_stdin
+
     try:
-        return sys.stdin.buffer.read() if sys.stdin is not None else b""
-    except (OSError, ValueError, AttributeError):
-        return b""
+        return replace(options, stdin=read_stdin(options.stdin_filename))
+    except TaskFileError as e:
+        return replace(options, stdin=b"", stdin_error=e.message)
 
 
 def check_one(
@@ -228,6 +231,8 @@ def check_one(
     else:
         name = path
     try:
+        if name == STDIN and options.stdin_error:
+            raise TaskFileError(options.stdin_error, file=path)
         task = read_task(name, options.stdin, path)
         # the configuration's defaults and levels; --warn-unbounded over the task's own
         task = configure(task, options.defaults, options.warn_unbounded)

@@ -132,22 +132,14 @@ def tasks_or_usage_error(paths: Sequence[str], selection: FileSelection | None =
 
 
 def read_task(path: str, stdin: bytes | None = None, name: str = STDIN) -> Task:
-    """The task in the file ``path`` (``-``: ``stdin``, the bytes of standard input, named
-    ``name`` in errors); raises ``TaskFileError``."""
-    from ..io.loader import load_task, parse_task
+    """The task in the file ``path`` (``-``: ``stdin``, the bytes of standard input, or
+    standard input itself when None, read through the capped reader; named ``name`` in
+    errors); raises ``TaskFileError``."""
+    from ..io.loader import load_task, parse_task, read_stdin
 
     if path == STDIN:
-        return parse_task(stdin if stdin is not None else _stdin_bytes(), name)
+        return parse_task(stdin if stdin is not None else read_stdin(name), name)
     return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
-
-
-def _stdin_bytes() -> bytes:
-    import sys
-
-    try:
-        return sys.stdin.buffer.read() if sys.stdin is not None else b""
-    except (OSError, ValueError, AttributeError):
-        return b""
 
 
 def load(path: str) -> Task:
