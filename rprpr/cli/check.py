@@ -30,7 +30,7 @@ from .output import (
     utf8,
     writing,
 )
-from .tasks import STDIN, read_task, tasks_or_usage_error
+from .tasks import STDIN, read_task, run_inputs, tasks_or_usage_error
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
@@ -156,7 +156,9 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
         return ExitCode.PASSED
     if STDIN in files:
         options = _read_stdin(options)
-    refuse_overwriting_inputs([options.output_file], files)
+    if options.output_file:  # every file the run reads, known before any is loaded
+        inputs = run_inputs(files, options.stdin, settings.file)
+        refuse_overwriting_inputs([options.output_file], inputs)
     with report_stream(options.output_file, "the report") as out:
         show_bar = want_progress(len(files), sys.stderr, options.quiet)
         progress = (

@@ -108,22 +108,43 @@ def identity(path: str) -> tuple[int, int] | None:
     return st.st_dev, st.st_ino
 
 
-def refuse_overwriting_inputs(outputs: Iterable[str | None], inputs: Iterable[str]) -> None:
-    """A usage error when an output file would overwrite an input of the run: the same
-    file by identity (``identity``), whatever the names (a link, ``./``, ``..``)."""
-    known: dict[tuple[int, int], str] = {}
-    for path in inputs:
+TASK_FILE = "a task file"
+
+
+def refuse_overwriting_inputs(
+    outputs: Iterable[str | None], inputs: Iterable[str] | Mapping[str, str]
+) -> None:
+    """A usage error when an output file would overwrite an input of the run, or another
+    output: the same file by identity (``identity``), whatever the names (a link, ``./``,
+    ``..``). ``inputs``: the files the run reads, each a task file, or a mapping of each
+    to what it is ("the waypoint CSV of t.yaml", "the configuration")."""
+    what = dict(inputs) if isinstance(inputs, Mapping) else dict.fromkeys(inputs, TASK_FILE)
+    known: dict[object, str] = {}
+    for path in what:
         key = identity(path)
         if key is not None:
             known.setdefault(key, path)
     for out in outputs:
-        key = identity(out) if out else None
-        if key is not None and key in known:
-            task = known[key]
-            also = "" if task == out else f" ({task})"
+        if not out:
+            continue
+        keys = [k for k in (identity(out), _spelling(out)) if k is not None]
+        source = next((known[k] for k in keys if k in known), None)
+        if source is not None:
+            also = "" if source == out else f" ({source})"
             raise click.UsageError(
-                f"the output file {out} is also a task file{also}: it would be overwritten"
+                f"the output file {out} is also {what[source]}{also}: it would be overwritten"
             )
+        for k in keys:
+            known[k] = out
+        what[out] = "another output of this run"
+
+
+def _spelling(path: str) -> str:
+    """A file's name made absolute and normal (for a file that may not exist yet)."""
+    try:
+        return os.path.normcase(os.path.realpath(path))
+    except (OSError, ValueError):
+        return os.path.normcase(os.path.normpath(path))
 
 
 class AtomicFile:

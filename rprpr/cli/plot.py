@@ -16,9 +16,10 @@ import click
 from ..report.exit import ExitCode
 from .options import output_file_option, samples_option, suffix_choice, tasks_argument
 from .output import refuse_overwriting_inputs, say, write_atomic
-from .tasks import load, task_named, tasks_or_usage_error
+from .tasks import load, task_inputs, task_named, tasks_or_usage_error
 
 if TYPE_CHECKING:
+    from ..model.task import Task
     from ..render.sheet import Motion
 
 SHEET_FORMATS = (".png", ".svg", ".pdf")
@@ -90,8 +91,12 @@ def plot(
             f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
         )
     default = f"{Path(files[0]).stem.removesuffix('.rprpr')}.png"  # in the working directory
-    refuse_overwriting_inputs([output_file or default, animate_file], files)
-    motions = _motions(files, samples)
+    loaded = [(load(f), f) for f in files]  # every bad file reported before any audit
+    inputs: dict[str, str] = {}
+    for task, f in loaded:
+        inputs.update(task_inputs(f, task))
+    refuse_overwriting_inputs([output_file or default, animate_file], inputs)
+    motions = _motions(loaded, samples)
     if show:
         written = _show(motions, panels, output_file, default, dpi, pole_inset)
     else:
@@ -132,11 +137,9 @@ def panels_of(spec: str | None, known: Sequence[str]) -> list[str]:
     return names
 
 
-def _motions(files: Sequence[str], samples: int) -> list[Motion]:
-    """Each task loaded (every bad file reported before any audit), audited on
-    ``samples`` points and made ready to draw."""
-    loaded = [(load(f), f) for f in files]
-
+def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
+    """Each loaded task (with its file) audited on ``samples`` points and made ready to
+    draw."""
     from ..engine.audit import audit
     from ..render import sheet as P
 

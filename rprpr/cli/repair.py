@@ -20,7 +20,7 @@ from ..model.errors import TaskFileError
 from ..report.exit import ExitCode
 from .options import output_file_option
 from .output import refuse_overwriting_inputs, say, write_atomic
-from .tasks import load, task_named
+from .tasks import load, task_inputs, task_named
 
 if TYPE_CHECKING:
     from ..engine.repair import Repair
@@ -70,7 +70,7 @@ def repair(
 
     old = load(task)
     out = output_file or str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
-    refuse_overwriting_inputs([out, plot_file], [task])
+    refuse_overwriting_inputs([out, plot_file], task_inputs(task, old))
     with task_named(task):
         try:
             r = repaired(

@@ -142,6 +142,39 @@ def read_task(path: str, stdin: bytes | None = None, name: str = STDIN) -> Task:
     return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
 
 
+def run_inputs(
+    files: Sequence[str], stdin: bytes | None = None, config: str | None = None
+) -> dict[str, str]:
+    """Every file a run reads, each with what it is (for ``output.refuse_overwriting_inputs``):
+    the task files, the waypoint CSV each names (``loader.waypoint_file``: found before
+    any task is loaded; ``stdin``: the bytes of the task ``-``) and the configuration."""
+    from ..io.loader import waypoint_file
+    from .output import TASK_FILE
+
+    inputs = {config: "the configuration"} if config else {}
+    for f in files:
+        if f == STDIN:
+            csv = waypoint_file(f, stdin) if stdin is not None else None
+        else:
+            inputs.setdefault(f, TASK_FILE)
+            csv = waypoint_file(f)
+        if csv is not None:
+            inputs.setdefault(csv, f"the waypoint CSV of {f}")
+    return inputs
+
+
+def task_inputs(path: str, task: Task) -> dict[str, str]:
+    """The files the loaded ``task`` (from ``path``) was read from, each with what it is:
+    the task file and its waypoint CSV."""
+    from .output import TASK_FILE
+
+    inputs = {} if path == STDIN else {path: TASK_FILE}
+    for piece in task.pieces:
+        if piece.file:
+            inputs.setdefault(piece.file, f"the waypoint CSV of {path}")
+    return inputs
+
+
 def load(path: str) -> Task:
     """The task in the file ``path`` (``-``: standard input); a bad task file is an
     ``InputError`` (its message names the file, line, column and key)."""

@@ -119,6 +119,38 @@ def read_stdin(name: str = "-") -> bytes:
         raise TaskFileError(e.message, file=name) from None
 
 
+def waypoint_file(path: str, data: bytes | None = None) -> str | None:
+    """The waypoint CSV the task file ``path`` names (``motion.waypoints: plan.csv``), as
+    a path from the working directory, or None. ``data``: the task's bytes (standard
+    input: its CSV is named from the working directory). Found by composing the YAML
+    alone, within the loader's caps and nothing validated: what the output guard of a run
+    needs before any task is loaded; a file that cannot be read or composed names none
+    (loading it says why)."""
+    try:
+        if data is None:
+            data = read_file(path, MAX_BYTES, "a task file (YAML)")
+            directory = os.path.dirname(path) or os.curdir
+        else:
+            directory = os.curdir
+        root, _ = _compose(_decode(data))
+    except (ReadProblem, TaskFileError, yaml.YAMLError, RecursionError):
+        return None
+    node = _child(_child(root, "motion"), "waypoints")
+    if not isinstance(node, yaml.ScalarNode) or not re.fullmatch(CSV_PATTERN, str(node.value)):
+        return None
+    return os.path.normpath(os.path.join(directory, str(node.value)))
+
+
+def _child(node: yaml.Node | None, key: str) -> yaml.Node | None:
+    """The value of ``key`` in the mapping ``node`` (None: not a mapping, or no such key)."""
+    if not isinstance(node, yaml.MappingNode):
+        return None
+    for k, v in node.value:
+        if isinstance(k, yaml.ScalarNode) and k.value == key:
+            return v
+    return None
+
+
 def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.curdir) -> Task:
     """Validate a task given as bytes or text; ``file`` names it in errors, and a
     waypoint CSV it names (``motion.waypoints: planned.csv``) is read relative to
