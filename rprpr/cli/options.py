@@ -20,6 +20,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 CHECK_FORMATS = FORMATS
 COLORS = ("auto", "always", "never")
+SHEET_FORMATS = (".png", ".svg", ".pdf")  # the sheet of plot and repair --plot
 
 
 @dataclass(frozen=True)

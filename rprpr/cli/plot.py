@@ -14,7 +14,13 @@ from typing import TYPE_CHECKING
 import click
 
 from ..report.exit import ExitCode
-from .options import output_file_option, samples_option, suffix_choice, tasks_argument
+from .options import (
+    SHEET_FORMATS,
+    output_file_option,
+    samples_option,
+    suffix_choice,
+    tasks_argument,
+)
 from .output import refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_inputs, task_named, tasks_or_usage_error
 
@@ -22,7 +28,6 @@ if TYPE_CHECKING:
     from ..model.task import Task
     from ..render.sheet import Motion
 
-SHEET_FORMATS = (".png", ".svg", ".pdf")
 MAX_TASKS = 8  # overlaid on one sheet: beyond this the legend stops being readable
 PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, without matplotlib
 

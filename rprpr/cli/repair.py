@@ -17,8 +17,9 @@ from flint import fmpq
 
 from ..model.actuation import SCHEMES
 from ..model.errors import TaskFileError
+from ..model.names import file_name
 from ..report.exit import ExitCode
-from .options import output_file_option
+from .options import SHEET_FORMATS, output_file_option, suffix_choice
 from .output import refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_inputs, task_named
 
@@ -68,22 +69,23 @@ def repair(
     from ..io.loader import parse_task
     from ..io.writer import task_text
 
+    # every usage error before any work or write
+    if plot_file is not None:
+        suffix_choice(plot_file, SHEET_FORMATS, "the sheet", "--plot")
+    window_q, slope_q = _rational(window, "--window"), _rational(slope, "--slope")
     old = load(task)
     out = output_file or str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
     refuse_overwriting_inputs([out, plot_file], task_inputs(task, old))
     with task_named(task):
         try:
-            r = repaired(
-                old, keep=keep, window=_rational(window, "--window"),
-                slope=_rational(slope, "--slope"),
-            )  # fmt: skip
+            r = repaired(old, keep=keep, window=window_q, slope=slope_q)
         except NoRepair as why:
             say(f"rprpr: {task}: no repair: {why}; nothing written")
             return ExitCode.FAILED
     if not r.changed:
         click.echo(f"{task}: passes the strict check: nothing to repair, nothing written")
         return ExitCode.PASSED
-    comment = f"{old.name}, repaired by rprpr repair from {Path(task).name}"
+    comment = f"{old.name}, repaired by rprpr repair from {file_name(Path(task).name)}"
     text = task_text(r.task, comment)
     from ..engine.audit import audit
 

@@ -40,6 +40,7 @@ from ..engine.audit import AuditResult
 from ..engine.certified import POLE, REASONS, TOL
 from ..engine.sampling import COLUMNS
 from ..model.actuation import PRISMATIC, REVOLUTE
+from ..model.names import file_name
 from ..model.numbers import number, round_trip
 from ..report.records import actuation_fields, singularity_record
 from .escape import printable
@@ -155,7 +156,7 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
     return {
         "rprpr": __version__,
         "task": result.task.name,
-        "file": source,
+        "file": file_name(source),
         "samples": len(t),
         "duration": _json_number(float(t[-1])),
         **actuation_fields(result.task.robot.actuation),
