@@ -22,6 +22,7 @@ from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_opti
 from .output import (
     Lossy,
     color_enabled,
+    echo,
     is_tty,
     make_console,
     refuse_overwriting_inputs,
@@ -148,7 +149,7 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
     settings, options = resolve(params)
     if params["show_settings"]:
         for line in show(settings):
-            click.echo(line)
+            echo(line)
         return ExitCode.PASSED
     selection = settings.selection(force=params["force_exclude"])
     files = tasks_or_usage_error(tasks or settings["paths"], selection)

@@ -58,16 +58,81 @@ def writing(what: str, output_file: str | None, reached: ExitCode) -> Iterator[N
         ) from None
 
 
+def echo(text: str) -> None:
+    """A line of a command's own output on standard output, its control characters
+    escaped (a newline too) and made ``inert`` for a CI runner (``render.escape``)."""
+    from ..render.escape import inert, printable
+
+    click.echo(inert(printable(text)))
+
+
 def say(text: str, keep: str = "") -> None:
     """A line for people on standard error, its control characters escaped (a newline
-    too, but those in ``keep``: the help's own); written through the stream's ASCII
+    too, but those in ``keep``: the help's own) and made ``inert`` for a CI runner
+    (``render.escape``: no line can start a workflow command); written through the stream's ASCII
     fallbacks (``standard_streams``). A standard error that cannot be written (closed, a
     full disk) loses the line but changes nothing else."""
-    from ..render.escape import printable
+    from ..render.escape import inert, printable
 
     with contextlib.suppress(OSError, ValueError, AttributeError):  # None: closed at start
-        sys.stderr.write(printable(text, keep) + "\n")
+        sys.stderr.write(inert(printable(text, keep)) + "\n")
         sys.stderr.flush()
+
+
+class Inert(io.TextIOBase):
+    """A text stream (a rich Console's file) whose lines a CI runner cannot take for its
+    commands: each line goes through ``render.escape.inert`` once it is whole, however
+    the console cut its writes (a wrapped line, a table row). What a flush finds of a
+    line not yet ended is written too, but for a tail that could still become a
+    command (blanks and a ``:`` at the start of a line, a ``#`` run), held for the rest."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.pending = ""  # the line not yet written whole
+        self.started = False  # part of the pending line was written already (at a flush)
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return str(getattr(self.stream, "encoding", None) or "utf-8")
+
+    def write(self, s: str) -> int:
+        text = self.pending + s
+        cut = text.rfind("\n") + 1
+        if cut:
+            self._emit(text[:cut])
+            self.started = False
+        self.pending = text[cut:]
+        return len(s)
+
+    def flush(self) -> None:
+        from ..render.escape import inert
+
+        text = self.pending
+        keep = len(text) - len(text.rstrip("#"))  # a "#" run may become "##["
+        head = text[: len(text) - keep]
+        if not self.started and not head.strip(" \t:"):  # a line's start: may become "::"
+            head = ""
+        if head:
+            self._emit(head if self.started else inert(head))
+            self.started = True
+            self.pending = text[len(head) :]
+        self.stream.flush()
+
+    def _emit(self, text: str) -> None:
+        from ..render.escape import inert
+
+        if self.started:  # the line's start was written already: only the "##[" rule
+            first, nl, rest = text.partition("\n")
+            text = inert("x" + first)[1:] + nl + inert(rest)
+        else:
+            text = inert(text)
+        self.stream.write(text)
+
+    def isatty(self) -> bool:
+        return is_tty(self.stream)
+
+    def fileno(self) -> int:
+        return int(self.stream.fileno())
 
 
 class Lossy(io.TextIOBase):
@@ -366,7 +431,12 @@ def make_console(stream: Any, colored: bool, environ: Mapping[str, str] = os.env
     from rich.console import Console
 
     tty = is_tty(stream)
-    kw: dict[str, Any] = {"file": stream, "highlight": False, "markup": False, "emoji": False}
+    kw: dict[str, Any] = {
+        "file": Inert(stream),  # no line of any console can start a CI runner's command
+        "highlight": False,
+        "markup": False,
+        "emoji": False,
+    }
     if colored:
         kw.update(force_terminal=True, no_color=False, color_system="auto")
     else:

@@ -20,7 +20,7 @@ from ..model.errors import TaskFileError
 from ..model.names import file_name
 from ..report.exit import ExitCode
 from .options import SHEET_FORMATS, output_file_option, suffix_choice
-from .output import refuse_overwriting_inputs, say, write_atomic
+from .output import echo, refuse_overwriting_inputs, say, write_atomic
 from .tasks import load, task_inputs, task_named
 
 if TYPE_CHECKING:
@@ -83,7 +83,7 @@ def repair(
             say(f"rprpr: {task}: no repair: {why}; nothing written")
             return ExitCode.FAILED
     if not r.changed:
-        click.echo(f"{task}: passes the strict check: nothing to repair, nothing written")
+        echo(f"{task}: passes the strict check: nothing to repair, nothing written")
         return ExitCode.PASSED
     comment = f"{old.name}, repaired by rprpr repair from {file_name(Path(task).name)}"
     text = task_text(r.task, comment)
@@ -108,8 +108,8 @@ def repair(
 
     write_atomic(out, write, "the task")
     for line in summary(r):
-        click.echo(line)
-    click.echo(f"checked {out} (strict): pass")
+        echo(line)
+    echo(f"checked {out} (strict): pass")
     say(f"rprpr: wrote {out}")
     if plot_file is not None:
         _plot(r, task, out, plot_file)

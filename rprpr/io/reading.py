@@ -57,17 +57,13 @@ def read_file(path: str, cap: int, what: str, *, inside: str | None = None) -> b
             raise ReadProblem(f"not a regular file (a device, pipe or socket), expected {what}")
         if st.st_size > cap:
             raise ReadProblem(too_large(cap, st.st_size))
-        flags = os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0)
+        extra = getattr(os, "O_NONBLOCK", 0)  # never wait on a FIFO put there since
         if inside is not None:  # the path resolved: a link put there since is not followed
-            flags |= getattr(os, "O_NOFOLLOW", 0)
-        fd = os.open(path, flags)
-        try:
-            if not stat.S_ISREG(os.fstat(fd).st_mode):  # swapped since the stat
+            extra |= getattr(os, "O_NOFOLLOW", 0)
+        with open(path, "rb", opener=lambda p, flags: os.open(p, flags | extra)) as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):  # swapped since the stat
                 raise ReadProblem(f"not a regular file, expected {what}")
-            with os.fdopen(fd, "rb", closefd=False) as fh:
-                return read_stream(fh, cap, size_known=True)
-        finally:
-            os.close(fd)
+            return read_stream(fh, cap, size_known=True)
     except FileNotFoundError:
         raise ReadProblem("no such file") from None
     except OSError as e:
