@@ -96,9 +96,31 @@ def _tasks_in(folder: str, select: FileSelection) -> list[str]:
         dirs[:] = [d for d in dirs if not select.excluded(os.path.join(top, d))]
         for f in files:
             full = os.path.join(top, f)
-            if select.included(full) and not select.excluded(full):
+            if select.included(full) and not select.excluded(full) and _stays_in(full, folder):
                 found.append((_parts(full, folder), full))
     return [full for _, full in sorted(found)]
+
+
+def _stays_in(path: str, folder: str) -> bool:
+    """Whether the file ``path`` found in ``folder`` resolves (after a symbolic link)
+    inside it. A link out of it is not read: a searched repository cannot make rprpr
+    quote a file of the machine (``/etc/passwd``, a key) in its reports; it is named
+    on standard error, and checked only when named on the command line."""
+    if not os.path.islink(path):
+        return True
+    try:
+        real, base = os.path.realpath(path), os.path.realpath(folder)
+        inside = os.path.commonpath([real, base]) == base
+    except (OSError, ValueError):
+        inside = False
+    if not inside:
+        from .output import say
+
+        say(
+            f"rprpr: {path}: a symbolic link out of {folder}: not read (name it on the"
+            " command line to check it)"
+        )
+    return inside
 
 
 def _parts(path: str, folder: str) -> tuple[str, ...]:
