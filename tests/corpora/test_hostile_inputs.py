@@ -133,7 +133,7 @@ BEYOND = "has an exponent beyond ±30"
 BAD_CONFIGS = {
     "huge exponent": ("min_slope = 1e999999999\n", f"1: min_slope: number '1e999999999' {BEYOND}"),
     "tiny budget": ("budget = 1e-999999999\n", f"1: budget: number '1e-999999999' {BEYOND}"),
-    "tiny margin": ("jobs = 1\nmin_speed = 1e-99999\n", f"2: min_speed: number '1e-99999' {BEYOND}"),
+    "tiny margin": ("jobs = 1\nmin_speed = 1e-9999\n", f"2: min_speed: number '1e-9999' {BEYOND}"),
     "5,000 digits": (
         "jobs = 1\n\nsamples = 1" + "0" * 5000 + "\n",
         "3: invalid TOML: an integer with more than 4300 digits",
