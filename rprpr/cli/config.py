@@ -217,7 +217,8 @@ def _read(file: str) -> str:
     except ReadProblem as e:
         if e.message == "no such file":
             raise InputError(f"{file}: no such configuration file") from None
-        raise InputError(f"{file}: cannot read the configuration: {e.message}") from None
+        why = e.message.removeprefix("cannot read the file: ")
+        raise InputError(f"{file}: cannot read the configuration: {why}") from None
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as e:
