@@ -35,8 +35,9 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
     fmt = _format(output_file, fmt)
+    refuse_overwriting_inputs([output_file], [task])  # before any work
     loaded = load(task)
-    refuse_overwriting_inputs([output_file], task_inputs(task, loaded))
+    refuse_overwriting_inputs([output_file], task_inputs(task, loaded))  # and its CSV
 
     from ..engine.audit import audit
     from ..render import export as E

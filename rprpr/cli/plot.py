@@ -96,6 +96,7 @@ def plot(
             f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
         )
     default = f"{Path(files[0]).stem.removesuffix('.rprpr')}.png"  # in the working directory
+    refuse_overwriting_inputs([output_file or default, animate_file], files)  # before any work
     loaded = [(load(f), f) for f in files]  # every bad file reported before any audit
     inputs: dict[str, str] = {}
     for task, f in loaded:

@@ -73,8 +73,9 @@ def repair(
     if plot_file is not None:
         suffix_choice(plot_file, SHEET_FORMATS, "the sheet", "--plot")
     window_q, slope_q = _rational(window, "--window"), _rational(slope, "--slope")
-    old = load(task)
     out = output_file or str(Path(task).with_name(_stem(task) + ".repaired.rprpr.yaml"))
+    refuse_overwriting_inputs([out, plot_file], [task])  # before any work
+    old = load(task)
     refuse_overwriting_inputs([out, plot_file], task_inputs(task, old))
     with task_named(task):
         try:
