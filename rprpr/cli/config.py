@@ -12,6 +12,11 @@ task-file defaults (``torque_limit``, ``min_slope``, ``min_speed``, ``strict``) 
 task's own ``checks:``; the rule levels (``select``, ``ignore``, ``warn``, ``error``) to
 a task's ``checks.ignore`` / ``checks.warn`` (``configure``).
 
+The file is read through the capped reader (``io.reading``: 1 MiB, a FIFO or a device
+refused), its numbers by the task file's rules (``io.expression.parse_decimal``: 40
+digits, an exponent within ±30); every way it can be wrong is one ``InputError`` naming
+the file, the line and the key (exit 2).
+
 Plain Python (tomllib, fractions): reading the configuration imports neither numpy nor the
 engine.
 """
