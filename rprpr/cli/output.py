@@ -105,15 +105,13 @@ class Inert(io.TextIOBase):
         return len(s)
 
     def flush(self) -> None:
-        from ..render.escape import inert
-
         text = self.pending
         keep = len(text) - len(text.rstrip("#"))  # a "#" run may become "##["
         head = text[: len(text) - keep]
         if not self.started and not head.strip(" \t:"):  # a line's start: may become "::"
             head = ""
         if head:
-            self._emit(head if self.started else inert(head))
+            self._emit(head)
             self.started = True
             self.pending = text[len(head) :]
         self.stream.flush()
