@@ -9,7 +9,12 @@ token longer than the width is folded.
 
 Every text that came from outside (a file name, a task's name, a value quoted in a
 message) is printed through ``escape.printable``: no control character reaches the
-terminal, and no line can be forged."""
+terminal, and no line can be forged (the console's stream makes every line ``inert``
+for a CI runner too: ``cli.output.Inert``).
+
+The report is drawn as runs of (text, style) handed to the console as Segments, not
+through rich's Table and Text wrapping (milliseconds a row): its cost is proportional to
+its characters however many instants a task has, and its bytes are the same."""
 
 from __future__ import annotations
 
@@ -173,13 +178,6 @@ def _padded(runs: Runs, width: int, justify: str, pad_style: str) -> Runs:
     return [(" " * left, pad_style), *runs, (" " * (room - left), pad_style)]
 
 
-def singularity_table(rep: dict[str, Any]) -> list[Runs]:
-    """The singular instants of ``rep`` as one table, a row per instant: every cell on
-    one line, each column as wide as its widest cell (rich's Table with the HEAVY_HEAD
-    box, drawn directly)."""
-    return _table(rep, _instant_cells(rep))
-
-
 def _instant_cells(rep: dict[str, Any]) -> list[list[tuple[str, str]]]:
     times = instant_times(rep)
     return [_cells(s, times[s["t"]]) for s in rep["singularities"]]
@@ -191,7 +189,10 @@ def _table_widths(rep: dict[str, Any], rows: list[list[tuple[str, str]]]) -> lis
     return [max(_cells_of(text) for text, _ in col) for col in zip(titles, *rows, strict=True)]
 
 
-def _table(rep: dict[str, Any], rows: list[list[tuple[str, str]]]) -> list[Runs]:
+def singularity_table(rep: dict[str, Any], rows: list[list[tuple[str, str]]]) -> list[Runs]:
+    """The singular instants of ``rep`` (their cells ``rows``) as one table, a row per
+    instant: every cell on one line, each column as wide as its widest cell (rich's
+    Table with the HEAVY_HEAD box, drawn directly)."""
     titles = columns(rep)
     widths = _table_widths(rep, rows)
     justify = [just for _, just in titles]
@@ -221,14 +222,10 @@ def _row(
     return out
 
 
-def stacked(rep: dict[str, Any], width: int = 1 << 16) -> list[Runs]:
-    """The singular instants of ``rep`` as ``key  value`` rows, one block per instant:
-    every cell of the table, in any ``width`` (a value too long for it is folded onto
-    the next lines, under its key, as rich's grid folds it)."""
-    return _stacked(rep, _instant_cells(rep), width)
-
-
-def _stacked(rep: dict[str, Any], rows: list[list[tuple[str, str]]], width: int) -> list[Runs]:
+def stacked(rep: dict[str, Any], rows: list[list[tuple[str, str]]], width: int) -> list[Runs]:
+    """The singular instants of ``rep`` (their cells ``rows``) as ``key  value`` rows, one
+    block per instant: every cell of the table, in any ``width`` (a value too long for
+    it is folded onto the next lines, under its key, as rich's grid folds it)."""
     titles = [title for title, _ in columns(rep)[1:]]
     blocks: list[tuple[str, Runs]] = []
     for i, row in enumerate(rows):
@@ -305,7 +302,7 @@ def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
         # the table when asked for (at its natural width, however narrow the terminal)
         # or when it fits; else the stacked rows
         fits = layout == "table" or (layout == "auto" and natural <= width)
-        for line in _table(rep, rows) if fits else _stacked(rep, rows, width):
+        for line in singularity_table(rep, rows) if fits else stacked(rep, rows, width):
             out.line(line)
     for part in _wrapped(_verdict(rep), width):
         out.line(part)
