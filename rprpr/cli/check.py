@@ -22,6 +22,7 @@ from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_opti
 from .output import (
     Lossy,
     color_enabled,
+    echo,
     is_tty,
     make_console,
     refuse_overwriting_inputs,
@@ -30,7 +31,7 @@ from .output import (
     utf8,
     writing,
 )
-from .tasks import STDIN, read_task, tasks_or_usage_error
+from .tasks import STDIN, read_task, run_inputs, tasks_or_usage_error
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
     from ..report.run import Run
@@ -168,15 +169,17 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
     settings, options = resolve(params)
     if params["show_settings"]:
         for line in show(settings):
-            click.echo(line)
+            echo(line)
         return ExitCode.PASSED
     selection = settings.selection(force=params["force_exclude"])
     files = tasks_or_usage_error(tasks or settings["paths"], selection)
     if not files:  # every file named was left out (--force-exclude): nothing to do
         return ExitCode.PASSED
     if STDIN in files:
-        options = replace(options, stdin=_read_stdin())
-    refuse_overwriting_inputs([options.output_file], files)
+        options = _read_stdin(options)
+    if options.output_file:  # every file the run reads, known before any is loaded
+        inputs = run_inputs(files, options.stdin, settings.file)
+        refuse_overwriting_inputs([options.output_file], inputs)
     with report_stream(options.output_file, "the report") as out:
         show_bar = want_progress(len(files), sys.stderr, options.quiet)
         progress = (
@@ -233,12 +236,15 @@ def _selectors(given: Sequence[str]) -> tuple[str, ...]:
     return tuple(p.strip() for value in given for p in value.split(",") if p.strip())
 
 
-def _read_stdin() -> bytes:
-    """Standard input, whole (read here: the workers have none)."""
+def _read_stdin(options: CheckOptions) -> CheckOptions:
+    """``options`` with standard input read (here: the workers have none), through the
+    capped reader: a stream past the cap is stopped there and is that task's error."""
+    from ..io.loader import read_stdin
+
     try:
-        return sys.stdin.buffer.read() if sys.stdin is not None else b""
-    except (OSError, ValueError, AttributeError):
-        return b""
+        return replace(options, stdin=read_stdin(options.stdin_filename))
+    except TaskFileError as e:
+        return replace(options, stdin=b"", stdin_error=e.message)
 
 
 def check_one(
@@ -258,6 +264,8 @@ def check_one(
     else:
         name = path
     try:
+        if name == STDIN and options.stdin_error:
+            raise TaskFileError(options.stdin_error, file=path)
         task = read_task(name, options.stdin, path)
         # the configuration's defaults and levels; --warn-unbounded over the task's own
         task = configure(task, options.defaults, options.warn_unbounded)

@@ -12,6 +12,11 @@ task-file defaults (``torque_limit``, ``min_slope``, ``min_speed``, ``strict``) 
 task's own ``checks:``; the rule levels (``select``, ``ignore``, ``warn``, ``error``) to
 a task's ``checks.ignore`` / ``checks.warn`` (``configure``).
 
+The file is read through the capped reader (``io.reading``: 1 MiB, a FIFO or a device
+refused), its numbers by the task file's rules (``io.expression.parse_decimal``: 40
+digits, an exponent within ±30); every way it can be wrong is one ``InputError`` naming
+the file, the line and the key (exit 2).
+
 Plain Python (tomllib, fractions): reading the configuration imports neither numpy nor the
 engine.
 """
@@ -153,9 +158,14 @@ def _matches(rel: str, name: str, globs: Sequence[str]) -> bool:
 
 
 # -- finding and reading the file ----------------------------------------------------------
+MAX_CONFIG_BYTES = 1 << 20  # 1 MiB, as a task file: a configuration is a few lines
+
+
 def find_config(start: str | None = None) -> str | None:
     """The configuration that applies in ``start`` (the working directory): the first
-    ``CONFIG_FILES`` from there upward (a ``pyproject.toml`` only with ``[tool.rprpr]``)."""
+    ``CONFIG_FILES`` from there upward (a ``pyproject.toml`` only with ``[tool.rprpr]``).
+    A folder on the way that cannot be searched (no permission) is an ``InputError``:
+    a configuration there can neither be read nor ruled out."""
     try:
         here = Path(start or os.getcwd()).resolve()
     except OSError:
@@ -163,45 +173,129 @@ def find_config(start: str | None = None) -> str | None:
     for folder in (here, *here.parents):
         for name in CONFIG_FILES:
             candidate = folder / name
-            if not candidate.is_file():
+            if not _is_file(candidate):
                 continue
             if name != "pyproject.toml" or _has_table(candidate):
                 return str(candidate)
     return None
 
 
-def _has_table(pyproject: Path) -> bool:
-    import tomllib
+def _is_file(path: Path) -> bool:
+    """Whether ``path`` is a regular file (after links); an ``InputError`` when that
+    cannot be told (a folder on the way without search permission)."""
+    import errno
+    import stat
 
     try:
-        doc = tomllib.loads(pyproject.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except OSError as e:
+        if e.errno in (errno.EACCES, errno.EPERM):
+            raise InputError(
+                f"{path.parent}: cannot look for a configuration file there"
+                f" ({e.strerror or e}); give --config FILE or --isolated"
+            ) from None
+        return False  # none there (ENOENT, ENOTDIR, ELOOP, a name too long ...)
+    except ValueError:
+        return False
+
+
+def _has_table(pyproject: Path) -> bool:
+    try:
+        doc = _parsed(str(pyproject), _read(str(pyproject)))
+    except InputError:
         return False  # a broken pyproject.toml that may not be rprpr's: not this one
     return isinstance(doc.get("tool"), dict) and "rprpr" in doc["tool"]
 
 
-def _table(file: str) -> dict[str, Any]:
-    """The rprpr keys of ``file``: ``[tool.rprpr]`` of a pyproject.toml, else the top level."""
-    import tomllib
-    from decimal import Decimal
+class _Float(str):
+    """A TOML float as its literal text (``parse_float``): read by the task file's number
+    rules (``_number``), never by ``float`` or ``Decimal`` first."""
+
+
+def _read(file: str) -> str:
+    """The text of the configuration ``file``, through the capped reader (1 MiB; a FIFO
+    or a device is refused, never waited on)."""
+    from ..io.reading import ReadProblem, read_file
 
     try:
-        text = Path(file).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{file}: no such configuration file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise InputError(f"{file}: cannot read the configuration: {e}") from None
+        data = read_file(file, MAX_CONFIG_BYTES, "a configuration file (TOML)")
+    except ReadProblem as e:
+        if e.message == "no such file":
+            raise InputError(f"{file}: no such configuration file") from None
+        why = e.message.removeprefix("cannot read the file: ")
+        raise InputError(f"{file}: cannot read the configuration: {why}") from None
     try:
-        doc = tomllib.loads(text, parse_float=Decimal)
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise InputError(
+            f"{file}:{line}: cannot read the configuration: not UTF-8 text (byte"
+            f" 0x{data[e.start]:02x} at offset {e.start})"
+        ) from None
+
+
+def _parsed(file: str, text: str) -> dict[str, Any]:
+    """The TOML document ``text`` of ``file``; every way it can fail is one located
+    ``InputError``: a syntax error, an integer beyond Python's 4,300 digits, nesting
+    deeper than the parser's recursion."""
+    import tomllib
+
+    try:
+        return tomllib.loads(text, parse_float=_Float)
     except tomllib.TOMLDecodeError as e:
         raise InputError(f"{file}: invalid TOML: {e}") from None
+    except ValueError:  # int(): more than sys.get_int_max_str_digits() digits
+        import sys
+
+        limit = sys.get_int_max_str_digits()
+        where = _line_matching(text, "[0-9][0-9_]{" + str(limit) + ",}")
+        raise InputError(
+            f"{file}{where}: invalid TOML: an integer with more than {limit} digits"
+        ) from None
+    except RecursionError:
+        where = _line_matching(text, r"[\[{][ \t]*[\[{][ \t]*[\[{]")
+        raise InputError(
+            f"{file}{where}: invalid TOML: arrays or tables nested too deeply"
+        ) from None
+
+
+def _line_matching(text: str, pattern: str) -> str:
+    """``:LINE`` of the first match of ``pattern`` in ``text`` ('' when none)."""
+    import re
+
+    found = re.search(pattern, text)
+    return f":{text.count(chr(10), 0, found.start()) + 1}" if found else ""
+
+
+def _table(file: str) -> tuple[dict[str, Any], str]:
+    """The rprpr keys of ``file`` (``[tool.rprpr]`` of a pyproject.toml, else the top
+    level) and its text."""
+    text = _read(file)
+    doc = _parsed(file, text)
     if Path(file).name == "pyproject.toml":
         tool = doc.get("tool", {})
         table = tool.get("rprpr", {}) if isinstance(tool, dict) else {}
         if not isinstance(table, dict):
-            raise InputError(f"{file}: [tool.rprpr] must be a table")
-        return table
-    return doc
+            raise InputError(f"{file}{_line_of(text, 'rprpr', None)}: [tool.rprpr] must be a table")
+        return table, text
+    return doc, text
+
+
+def _line_of(text: str, key: str, table: str | None) -> str:
+    """``:LINE`` of ``key = ...`` in ``text`` (below the header ``[table]`` when given):
+    where a value of the configuration is written ('' when it cannot be told, as for a
+    dotted key)."""
+    import re
+
+    start = 0
+    if table is not None:
+        header = re.search(r"(?m)^[ \t]*\[[ \t]*" + re.escape(table) + r"[ \t]*\]", text)
+        if header is None:
+            return ""
+        start = header.end()
+    quoted = re.escape(key)
+    found = re.compile(rf"(?m)^[ \t]*({quoted}|\"{quoted}\"|'{quoted}')[ \t]*=").search(text, start)
+    return f":{text.count(chr(10), 0, found.start()) + 1}" if found else ""
 
 
 def load_settings(
@@ -219,11 +313,14 @@ def load_settings(
     sources = dict.fromkeys(KEYS, DEFAULT)
     root = _root(file, cwd)
     if file is not None:
-        where = "[tool.rprpr]" if Path(file).name == "pyproject.toml" else "the configuration"
-        for key, raw in _table(file).items():
+        pyproject = Path(file).name == "pyproject.toml"
+        where = "[tool.rprpr]" if pyproject else "the configuration"
+        table, text = _table(file)
+        for key, raw in table.items():
+            line = _line_of(text, key, "tool.rprpr" if pyproject else None)
             if key not in KEYS:
-                raise InputError(f"{file}: unknown key {key!r} in {where}{_near(key, KEYS)}")
-            values[key] = _checked(key, raw, f"{file}: {key}")
+                raise InputError(f"{file}{line}: unknown key {key!r} in {where}{_near(key, KEYS)}")
+            values[key] = _checked(key, raw, f"{file}{line}: {key}")
             sources[key] = file
     for key, raw in (overrides or {}).items():
         if raw is not None:
@@ -303,7 +400,7 @@ def _checked(key: str, raw: Any, where: str) -> Any:
     """The value of ``key`` as the settings hold it; an ``InputError`` naming ``where``."""
     kind = KEYS[key][0]
     if kind in ("paths", "globs", "rules"):
-        if not isinstance(raw, list) or not all(isinstance(x, str) and x for x in raw):
+        if not isinstance(raw, list) or not all(_text(x) and x for x in raw):
             raise InputError(f"{where}: expected a list of strings, found {_toml(raw)}")
         if kind == "rules":
             for selector in raw:
@@ -339,15 +436,27 @@ def _checked(key: str, raw: Any, where: str) -> Any:
     return float(number)
 
 
+def _text(value: Any) -> bool:
+    """Whether ``value`` is a TOML string (not a float's text, ``_Float``)."""
+    return isinstance(value, str) and not isinstance(value, _Float)
+
+
 def _number(raw: Any, where: str, *, positive: bool) -> Fraction:
-    """An exact number of the configuration (a TOML integer or decimal): > 0 when
-    ``positive``, else >= 0."""
-    from decimal import Decimal
+    """An exact number of the configuration (a TOML integer or float, taken by its text
+    under the task file's number rules: ``io.expression.parse_decimal``, at most 40
+    digits and an exponent within ±30): > 0 when ``positive``, else >= 0."""
     from fractions import Fraction
 
-    if isinstance(raw, bool) or not isinstance(raw, int | Decimal) or not Decimal(raw).is_finite():
+    from ..io.expression import parse_decimal
+    from ..model.errors import ExpressionError
+
+    if isinstance(raw, bool) or not isinstance(raw, int | _Float):
         raise InputError(f"{where}: expected a number, found {_toml(raw)}")
-    value = Fraction(raw)
+    try:  # an int here has at most 4,300 digits (tomllib's limit): str() is cheap
+        q = parse_decimal(raw.replace("_", "") if isinstance(raw, _Float) else str(raw))
+    except ExpressionError as e:
+        raise InputError(f"{where}: {e.message}") from None
+    value = Fraction(int(q.p), int(q.q))
     if value < 0 or (positive and value == 0):
         raise InputError(f"{where}: expected a number {'>' if positive else '>='} 0")
     return value
@@ -360,6 +469,8 @@ def _toml(value: Any) -> str:
 
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, _Float):
+        return str.__str__(value)
     if isinstance(value, str):
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(value, list | tuple):

@@ -13,7 +13,7 @@ import click
 from ..report.exit import ExitCode
 from .options import output_file_option, samples_option, suffix_choice
 from .output import refuse_overwriting_inputs, say, write_atomic, writing
-from .tasks import load, task_named
+from .tasks import load, task_inputs, task_named
 
 EXPORT_FORMATS = ("csv", "json")
 IMPLIED = {".csv": "csv", ".json": "json"}  # the format an output file's extension names
@@ -35,8 +35,9 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
     fmt = _format(output_file, fmt)
-    refuse_overwriting_inputs([output_file], [task])
+    refuse_overwriting_inputs([output_file], [task])  # before any work
     loaded = load(task)
+    refuse_overwriting_inputs([output_file], task_inputs(task, loaded))  # and its CSV
 
     from ..engine.audit import audit
     from ..render import export as E

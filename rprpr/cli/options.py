@@ -21,6 +21,9 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 CHECK_FORMATS = FORMATS
 COLORS = ("auto", "always", "never")
+SHEET_FORMATS = (".png", ".svg", ".pdf")  # the sheet of plot and repair --plot
+
+
 PLOT_EXTRA = "pip install 'rprpr[plot]'"  # matplotlib and Pillow: the sheet and the GIF
 
 
@@ -48,7 +51,7 @@ class CheckOptions:
     take before it is stopped (None: no limit). ``defaults``: what the repository's
     configuration sets in every task (``config.configure``); ``statistics``: counts per
     rule instead of the report; ``stdin``: the bytes of the task file ``-``, named
-    ``stdin_filename`` in the report.
+    ``stdin_filename`` in the report (``stdin_error``: why it could not be read).
     """
 
     format: str = "text"
@@ -65,6 +68,7 @@ class CheckOptions:
     defaults: TaskDefaults = field(default_factory=TaskDefaults)
     statistics: bool = False
     stdin: bytes | None = None
+    stdin_error: str = ""  # why standard input could not be read (over the cap)
     stdin_filename: str = "-"
 
 

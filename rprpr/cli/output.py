@@ -58,16 +58,79 @@ def writing(what: str, output_file: str | None, reached: ExitCode) -> Iterator[N
         ) from None
 
 
+def echo(text: str) -> None:
+    """A line of a command's own output on standard output, its control characters
+    escaped (a newline too) and made ``inert`` for a CI runner (``render.escape``)."""
+    from ..render.escape import inert, printable
+
+    click.echo(inert(printable(text)))
+
+
 def say(text: str, keep: str = "") -> None:
     """A line for people on standard error, its control characters escaped (a newline
-    too, but those in ``keep``: the help's own); written through the stream's ASCII
+    too, but those in ``keep``: the help's own) and made ``inert`` for a CI runner
+    (``render.escape``: no line can start a workflow command); written through the stream's ASCII
     fallbacks (``standard_streams``). A standard error that cannot be written (closed, a
     full disk) loses the line but changes nothing else."""
-    from ..render.escape import printable
+    from ..render.escape import inert, printable
 
     with contextlib.suppress(OSError, ValueError, AttributeError):  # None: closed at start
-        sys.stderr.write(printable(text, keep) + "\n")
+        sys.stderr.write(inert(printable(text, keep)) + "\n")
         sys.stderr.flush()
+
+
+class Inert(io.TextIOBase):
+    """A text stream (a rich Console's file) whose lines a CI runner cannot take for its
+    commands: each line goes through ``render.escape.inert`` once it is whole, however
+    the console cut its writes (a wrapped line, a table row). What a flush finds of a
+    line not yet ended is written too, but for a tail that could still become a
+    command (blanks and a ``:`` at the start of a line, a ``#`` run), held for the rest."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.pending = ""  # the line not yet written whole
+        self.started = False  # part of the pending line was written already (at a flush)
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return str(getattr(self.stream, "encoding", None) or "utf-8")
+
+    def write(self, s: str) -> int:
+        text = self.pending + s
+        cut = text.rfind("\n") + 1
+        if cut:
+            self._emit(text[:cut])
+            self.started = False
+        self.pending = text[cut:]
+        return len(s)
+
+    def flush(self) -> None:
+        text = self.pending
+        keep = len(text) - len(text.rstrip("#"))  # a "#" run may become "##["
+        head = text[: len(text) - keep]
+        if not self.started and not head.strip(" \t:"):  # a line's start: may become "::"
+            head = ""
+        if head:
+            self._emit(head)
+            self.started = True
+            self.pending = text[len(head) :]
+        self.stream.flush()
+
+    def _emit(self, text: str) -> None:
+        from ..render.escape import inert
+
+        if self.started:  # the line's start was written already: only the "##[" rule
+            first, nl, rest = text.partition("\n")
+            text = inert("x" + first)[1:] + nl + inert(rest)
+        else:
+            text = inert(text)
+        self.stream.write(text)
+
+    def isatty(self) -> bool:
+        return is_tty(self.stream)
+
+    def fileno(self) -> int:
+        return int(self.stream.fileno())
 
 
 class Lossy(io.TextIOBase):
@@ -108,22 +171,43 @@ def identity(path: str) -> tuple[int, int] | None:
     return st.st_dev, st.st_ino
 
 
-def refuse_overwriting_inputs(outputs: Iterable[str | None], inputs: Iterable[str]) -> None:
-    """A usage error when an output file would overwrite an input of the run: the same
-    file by identity (``identity``), whatever the names (a link, ``./``, ``..``)."""
-    known: dict[tuple[int, int], str] = {}
-    for path in inputs:
+TASK_FILE = "a task file"
+
+
+def refuse_overwriting_inputs(
+    outputs: Iterable[str | None], inputs: Iterable[str] | Mapping[str, str]
+) -> None:
+    """A usage error when an output file would overwrite an input of the run, or another
+    output: the same file by identity (``identity``), whatever the names (a link, ``./``,
+    ``..``). ``inputs``: the files the run reads, each a task file, or a mapping of each
+    to what it is ("the waypoint CSV of t.yaml", "the configuration")."""
+    what = dict(inputs) if isinstance(inputs, Mapping) else dict.fromkeys(inputs, TASK_FILE)
+    known: dict[object, str] = {}
+    for path in what:
         key = identity(path)
         if key is not None:
             known.setdefault(key, path)
     for out in outputs:
-        key = identity(out) if out else None
-        if key is not None and key in known:
-            task = known[key]
-            also = "" if task == out else f" ({task})"
+        if not out:
+            continue
+        keys = [k for k in (identity(out), _spelling(out)) if k is not None]
+        source = next((known[k] for k in keys if k in known), None)
+        if source is not None:
+            also = "" if source == out else f" ({source})"
             raise click.UsageError(
-                f"the output file {out} is also a task file{also}: it would be overwritten"
+                f"the output file {out} is also {what[source]}{also}: it would be overwritten"
             )
+        for k in keys:
+            known[k] = out
+        what[out] = "another output of this run"
+
+
+def _spelling(path: str) -> str:
+    """A file's name made absolute and normal (for a file that may not exist yet)."""
+    try:
+        return os.path.normcase(os.path.realpath(path))
+    except (OSError, ValueError):
+        return os.path.normcase(os.path.normpath(path))
 
 
 class AtomicFile:
@@ -345,7 +429,12 @@ def make_console(stream: Any, colored: bool, environ: Mapping[str, str] = os.env
     from rich.console import Console
 
     tty = is_tty(stream)
-    kw: dict[str, Any] = {"file": stream, "highlight": False, "markup": False, "emoji": False}
+    kw: dict[str, Any] = {
+        "file": Inert(stream),  # no line of any console can start a CI runner's command
+        "highlight": False,
+        "markup": False,
+        "emoji": False,
+    }
     if colored:
         kw.update(force_terminal=True, no_color=False, color_system="auto")
     else:

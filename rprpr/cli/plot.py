@@ -16,6 +16,7 @@ import click
 
 from ..report.exit import ExitCode
 from .options import (
+    SHEET_FORMATS,
     output_file_option,
     require_plotting,
     samples_option,
@@ -23,12 +24,12 @@ from .options import (
     tasks_argument,
 )
 from .output import refuse_overwriting_inputs, say, write_atomic
-from .tasks import load, task_named, tasks_or_usage_error
+from .tasks import load, task_inputs, task_named, tasks_or_usage_error
 
 if TYPE_CHECKING:
+    from ..model.task import Task
     from ..render.sheet import Motion
 
-SHEET_FORMATS = (".png", ".svg", ".pdf")
 MAX_TASKS = 8  # overlaid on one sheet: beyond this the legend stops being readable
 PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, without matplotlib
 
@@ -98,8 +99,13 @@ def plot(
             f"{len(files)} tasks given; at most {MAX_TASKS} overlay on one sheet"
         )
     default = f"{Path(files[0]).stem.removesuffix('.rprpr')}.png"  # in the working directory
-    refuse_overwriting_inputs([output_file or default, animate_file], files)
-    motions = _motions(files, samples)
+    refuse_overwriting_inputs([output_file or default, animate_file], files)  # before any work
+    loaded = [(load(f), f) for f in files]  # every bad file reported before any audit
+    inputs: dict[str, str] = {}
+    for task, f in loaded:
+        inputs.update(task_inputs(f, task))
+    refuse_overwriting_inputs([output_file or default, animate_file], inputs)
+    motions = _motions(loaded, samples)
     if show:
         written = _show(motions, panels, output_file, default, dpi, pole_inset)
     else:
@@ -140,11 +146,9 @@ def panels_of(spec: str | None, known: Sequence[str]) -> list[str]:
     return names
 
 
-def _motions(files: Sequence[str], samples: int) -> list[Motion]:
-    """Each task loaded (every bad file reported before any audit), audited on
-    ``samples`` points and made ready to draw."""
-    loaded = [(load(f), f) for f in files]
-
+def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
+    """Each loaded task (with its file) audited on ``samples`` points and made ready to
+    draw."""
     from ..engine.audit import audit
     from ..render import sheet as P
 

@@ -33,10 +33,11 @@ from flint import fmpq
 from ..model.actuation import SCHEMES
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
+from ..model.names import file_name
 from ..report.exit import ExitCode, InputError
-from .options import output_file_option, require_plotting
-from .output import refuse_overwriting_inputs, say, write_atomic, writing
-from .tasks import STDIN, load, read_task, stdin_bytes, task_named
+from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
+from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
+from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named
 
 if TYPE_CHECKING:
     from ..engine.repair import Repair
@@ -101,21 +102,21 @@ def repair(
     from ..engine.repair import NoRepair
     from ..engine.repair import repair as repaired
 
+    # every usage error before any work or write
     _exclusive(task, output_file, in_place, show_diff, plot_file)
-    if plot_file is not None:  # before any work: the sheet needs the extra rprpr[plot]
+    if plot_file is not None:  # the sheet needs the extra rprpr[plot], in a known format
         require_plotting("repair --plot")
-    old, data = _read(task)
+        suffix_choice(plot_file, SHEET_FORMATS, "the sheet", "--plot")
+    window_q, slope_q = _rational(window, "--window"), _rational(slope, "--slope")
     out = task if in_place or show_diff else output_file or _default_output(task)
-    if not (in_place or show_diff):
-        refuse_overwriting_inputs([out, plot_file], [task])
-    else:
-        refuse_overwriting_inputs([plot_file], [task])
+    outputs = [plot_file] if in_place or show_diff else [out, plot_file]
+    if task != STDIN:
+        refuse_overwriting_inputs(outputs, [task])  # before any work
+    old, data = _read(task)
+    refuse_overwriting_inputs(outputs, task_inputs(task, old))
     with task_named(task):
         try:
-            r = repaired(
-                old, keep=keep, window=_rational(window, "--window"),
-                slope=_rational(slope, "--slope"),
-            )  # fmt: skip
+            r = repaired(old, keep=keep, window=window_q, slope=slope_q)
         except NoRepair as why:
             say(f"rprpr: {task}: no repair: {why}; nothing written")
             return ExitCode.FAILED
@@ -124,7 +125,7 @@ def repair(
         if show_diff:
             say(f"rprpr: {line}")
         else:
-            click.echo(line)
+            echo(line)
         return ExitCode.PASSED
     with task_named(task):
         text = _repaired_text(r, task, data, out, new_file=not (in_place or show_diff))
@@ -144,8 +145,8 @@ def repair(
 
     write_atomic(out, write, "the task")
     for line in summary(r):
-        click.echo(line)
-    click.echo(f"checked {out} (strict): pass")
+        echo(line)
+    echo(f"checked {out} (strict): pass")
     say(f"rprpr: wrote {out}")
     if plot_file is not None:
         _plot(r, task, out, plot_file)
@@ -171,8 +172,8 @@ def _exclusive(
 def _read(task: str) -> tuple[Task, str]:
     """The task in ``task`` (``-``: standard input) and the text of its file."""
     if task == STDIN:
-        raw = stdin_bytes()
         try:
+            raw = stdin_bytes()
             old = read_task(STDIN, raw)
         except TaskFileError as e:
             raise InputError(str(e)) from None
@@ -198,7 +199,7 @@ def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool)
     from ..io.loader import parse_task
     from ..io.writer import task_text
 
-    comment = f"{r.before.task.name}, repaired by rprpr repair from {Path(task).name}"
+    comment = f"{r.before.task.name}, repaired by rprpr repair from {file_name(Path(task).name)}"
     folder = os.path.dirname(os.path.abspath(task)) if task != STDIN else os.getcwd()
     edited = edit(data, r.before.task, r.task, rename=new_file)
     if edited is not None and new_file:

@@ -96,9 +96,31 @@ def _tasks_in(folder: str, select: FileSelection) -> list[str]:
         dirs[:] = [d for d in dirs if not select.excluded(os.path.join(top, d))]
         for f in files:
             full = os.path.join(top, f)
-            if select.included(full) and not select.excluded(full):
+            if select.included(full) and not select.excluded(full) and _stays_in(full, folder):
                 found.append((_parts(full, folder), full))
     return [full for _, full in sorted(found)]
+
+
+def _stays_in(path: str, folder: str) -> bool:
+    """Whether the file ``path`` found in ``folder`` resolves (after a symbolic link)
+    inside it. A link out of it is not read: a searched repository cannot make rprpr
+    quote a file of the machine (``/etc/passwd``, a key) in its reports; it is named
+    on standard error, and checked only when named on the command line."""
+    if not os.path.islink(path):
+        return True
+    try:
+        real, base = os.path.realpath(path), os.path.realpath(folder)
+        inside = os.path.commonpath([real, base]) == base
+    except (OSError, ValueError):
+        inside = False
+    if not inside:
+        from .output import say
+
+        say(
+            f"rprpr: {path}: a symbolic link out of {folder}: not read (name it on the"
+            " command line to check it)"
+        )
+    return inside
 
 
 def _parts(path: str, folder: str) -> tuple[str, ...]:
@@ -132,22 +154,55 @@ def tasks_or_usage_error(paths: Sequence[str], selection: FileSelection | None =
 
 
 def read_task(path: str, stdin: bytes | None = None, name: str = STDIN) -> Task:
-    """The task in the file ``path`` (``-``: ``stdin``, the bytes of standard input, named
-    ``name`` in errors); raises ``TaskFileError``."""
-    from ..io.loader import load_task, parse_task
+    """The task in the file ``path`` (``-``: ``stdin``, the bytes of standard input, or
+    standard input itself when None, read through the capped reader; named ``name`` in
+    errors); raises ``TaskFileError``."""
+    from ..io.loader import load_task, parse_task, read_stdin
 
     if path == STDIN:
-        return parse_task(stdin if stdin is not None else stdin_bytes(), name)
+        return parse_task(stdin if stdin is not None else read_stdin(name), name)
     return load_task(path) if not os.path.isdir(path) else unreadable_folder(path)
 
 
-def stdin_bytes() -> bytes:
-    import sys
+def run_inputs(
+    files: Sequence[str], stdin: bytes | None = None, config: str | None = None
+) -> dict[str, str]:
+    """Every file a run reads, each with what it is (for ``output.refuse_overwriting_inputs``):
+    the task files, the waypoint CSV each names (``loader.waypoint_file``: found before
+    any task is loaded; ``stdin``: the bytes of the task ``-``) and the configuration."""
+    from ..io.loader import waypoint_file
+    from .output import TASK_FILE
 
-    try:
-        return sys.stdin.buffer.read() if sys.stdin is not None else b""
-    except (OSError, ValueError, AttributeError):
-        return b""
+    inputs = {config: "the configuration"} if config else {}
+    for f in files:
+        if f == STDIN:
+            csv = waypoint_file(f, stdin) if stdin is not None else None
+        else:
+            inputs.setdefault(f, TASK_FILE)
+            csv = waypoint_file(f)
+        if csv is not None:
+            inputs.setdefault(csv, f"the waypoint CSV of {f}")
+    return inputs
+
+
+def task_inputs(path: str, task: Task) -> dict[str, str]:
+    """The files the loaded ``task`` (from ``path``) was read from, each with what it is:
+    the task file and its waypoint CSV."""
+    from .output import TASK_FILE
+
+    inputs = {} if path == STDIN else {path: TASK_FILE}
+    for piece in task.pieces:
+        if piece.file:
+            inputs.setdefault(piece.file, f"the waypoint CSV of {path}")
+    return inputs
+
+
+def stdin_bytes(name: str = STDIN) -> bytes:
+    """Standard input, whole, through the capped reader (``io.loader.read_stdin``): a
+    stream past the cap is a ``TaskFileError`` naming ``name``."""
+    from ..io.loader import read_stdin
+
+    return read_stdin(name)
 
 
 def load(path: str) -> Task:

@@ -15,7 +15,6 @@ import functools
 import itertools
 import os
 import re
-import stat
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -32,6 +31,7 @@ from ..model.timing import LAWS, timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
+from .reading import ReadProblem, read_file, read_stream, too_large
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
@@ -103,27 +103,53 @@ def load_task(path: str | os.PathLike[str]) -> Task:
     CSV it names is read relative to the task file's directory."""
     name = os.fspath(path)
     try:
-        st = os.stat(name)
-        if stat.S_ISDIR(st.st_mode):
-            raise TaskFileError("is a directory, expected a task file (YAML)", file=name)
-        if not stat.S_ISREG(st.st_mode):
-            raise TaskFileError(
-                "not a regular file (a device, pipe or socket), expected a task file (YAML)",
-                file=name,
-            )
-        if st.st_size > MAX_BYTES:
-            raise TaskFileError(_too_large(st.st_size), file=name)
-        with open(name, "rb") as fh:
-            data = fh.read(MAX_BYTES + 1)  # the file may have grown since stat
-    except TaskFileError:
-        raise
-    except FileNotFoundError:
-        raise TaskFileError("no such file", file=name) from None
-    except OSError as e:
-        raise TaskFileError(f"cannot read the file: {e.strerror or e}", file=name) from None
-    except ValueError as e:  # e.g. a NUL byte in the name
-        raise TaskFileError(f"not a usable file name: {e}", file=name) from None
+        data = read_file(name, MAX_BYTES, "a task file (YAML)")
+    except ReadProblem as e:
+        raise TaskFileError(e.message, file=name) from None
     return parse_task(data, name, directory=os.path.dirname(name) or os.curdir)
+
+
+def read_stdin(name: str = "-") -> bytes:
+    """Standard input, at most ``MAX_BYTES`` (``reading.read_stream``: an endless or
+    stalled pipe is stopped at the cap); a ``TaskFileError`` naming ``name`` beyond it."""
+    import sys
+
+    try:
+        return read_stream(getattr(sys.stdin, "buffer", None), MAX_BYTES)
+    except ReadProblem as e:
+        raise TaskFileError(e.message, file=name) from None
+
+
+def waypoint_file(path: str, data: bytes | None = None) -> str | None:
+    """The waypoint CSV the task file ``path`` names (``motion.waypoints: plan.csv``), as
+    a path from the working directory, or None. ``data``: the task's bytes (standard
+    input: its CSV is named from the working directory). Found by composing the YAML
+    alone, within the loader's caps and nothing validated: what the output guard of a run
+    needs before any task is loaded; a file that cannot be read or composed names none
+    (loading it says why)."""
+    try:
+        if data is None:
+            data = read_file(path, MAX_BYTES, "a task file (YAML)")
+            directory = os.path.dirname(path) or os.curdir
+        else:
+            directory = os.curdir
+        root, _ = _compose(_decode(data))
+    except (ReadProblem, TaskFileError, yaml.YAMLError, RecursionError):
+        return None
+    node = _child(_child(root, "motion"), "waypoints")
+    if not isinstance(node, yaml.ScalarNode) or not re.fullmatch(CSV_PATTERN, str(node.value)):
+        return None
+    return os.path.normpath(os.path.join(directory, str(node.value)))
+
+
+def _child(node: yaml.Node | None, key: str) -> yaml.Node | None:
+    """The value of ``key`` in the mapping ``node`` (None: not a mapping, or no such key)."""
+    if not isinstance(node, yaml.MappingNode):
+        return None
+    for k, v in node.value:
+        if isinstance(k, yaml.ScalarNode) and k.value == key:
+            return v
+    return None
 
 
 def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.curdir) -> Task:
@@ -159,7 +185,7 @@ def _one_line(text: str) -> str:
 
 
 def _too_large(size: int) -> str:
-    return f"file too large: {size} bytes, the cap is {MAX_BYTES} bytes (1 MiB)"
+    return too_large(MAX_BYTES, size)
 
 
 def _line_col(text: str, index: int) -> tuple[int, int]:
@@ -1386,7 +1412,7 @@ class _Walk:
             )
         path = os.path.normpath(os.path.join(self.directory, name))
         try:
-            points, problems = parse_waypoints(read_bytes(path))
+            points, problems = parse_waypoints(read_bytes(path, inside=self.directory))
         except CsvProblem as e:
             where = f"{name}:{e.row}" if e.row else name
             raise self.error(f"{where}: {e.message}", node, key) from None

@@ -10,15 +10,14 @@ the row 1-based in the file as an editor counts lines; the caller names the file
 
 from __future__ import annotations
 
-import os
 import re
-import stat
 
 from flint import fmpq
 
 from ..model.errors import ExpressionError
 from ..model.waypoints import Waypoint
 from .expression import MAX_EXP10, parse_fraction
+from .reading import ReadProblem, read_file
 from .schema import WAYPOINT_COLUMNS
 
 MAX_CSV_BYTES = 16 << 20  # 16 MiB: 100,000 rows of seven 20-digit numbers
@@ -41,31 +40,13 @@ class CsvProblem(Exception):
         self.row = row
 
 
-def read_bytes(path: str) -> bytes:
-    """The bytes of the CSV file at ``path``; raises ``CsvProblem`` saying why not."""
+def read_bytes(path: str, inside: str | None = None) -> bytes:
+    """The bytes of the CSV file at ``path`` (``inside``: a folder it must resolve into,
+    after symbolic links); raises ``CsvProblem`` saying why not."""
     try:
-        st = os.stat(path)
-        if stat.S_ISDIR(st.st_mode):
-            raise CsvProblem("is a directory, expected a CSV file")
-        if not stat.S_ISREG(st.st_mode):
-            raise CsvProblem("not a regular file (a device, pipe or socket), expected a CSV file")
-        if st.st_size > MAX_CSV_BYTES:
-            raise CsvProblem(_too_large(st.st_size))
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_CSV_BYTES + 1)  # it may have grown since stat
-    except FileNotFoundError:
-        raise CsvProblem("no such file") from None
-    except OSError as e:
-        raise CsvProblem(f"cannot read the file: {e.strerror or e}") from None
-    except ValueError as e:  # a NUL byte in the name
-        raise CsvProblem(f"not a usable file name: {e}") from None
-    if len(data) > MAX_CSV_BYTES:
-        raise CsvProblem(_too_large(len(data)))
-    return data
-
-
-def _too_large(size: int) -> str:
-    return f"file too large: {size} bytes, the cap is {MAX_CSV_BYTES} bytes (16 MiB)"
+        return read_file(path, MAX_CSV_BYTES, "a CSV file", inside=inside)
+    except ReadProblem as e:
+        raise CsvProblem(e.message) from None
 
 
 def parse_waypoints(data: bytes) -> tuple[list[Waypoint], list[tuple[int, str]]]:

@@ -10,6 +10,15 @@ them as a visible escape; every human-facing output (the text report, the one-li
 errors, the annotations' messages, JUnit's text, the CSV comment) goes through it. The
 machine-readable JSON keeps the true strings (JSON escapes what it must).
 
+``inert`` keeps a CI runner from acting on a report: a line that begins with ``::``
+(after blanks) is a GitHub Actions workflow command (``::warning::``, an annotation
+forged; ``::stop-commands::``, the job's own commands silenced), and ``##[`` anywhere in
+a line is the older form of them (``##vso[`` for Azure Pipelines, ``##teamcity[`` for
+TeamCity). Every report goes through it whole, written in its own language: the text
+formats show the escape (``\\x3a:warning::``), JSON and XML write the same character
+as ``\\u003a`` or ``&#58;`` (the data is unchanged, only the line no longer reads as a
+command).
+
 ``ascii_fallback`` is the other half: on a standard output that cannot encode rprpr's
 few non-ASCII characters (``PYTHONIOENCODING=cp1252``, a C locale without UTF-8 mode)
 δ, σ, θ, λ, μ, →, — ... are written as delta, sigma, theta, lambda, mu, ->, -- ...
@@ -20,6 +29,7 @@ from __future__ import annotations
 
 import re
 import unicodedata
+from collections.abc import Callable
 
 # C0 and C1 controls and DEL; the bidirectional marks, embeddings, overrides and
 # isolates; the line and paragraph separators; lone surrogates (a file name's bytes that
@@ -47,6 +57,35 @@ def printable(text: str, keep: str = "") -> str:
     a file name that is not UTF-8: ``\\xNN``). ``keep`` names the characters to leave as
     they are (``"\\n"`` in a multi-line text of rprpr's own)."""
     return _UNPRINTABLE.sub(lambda m: m[0] if m[0] in keep else _escaped(m[0]), text)
+
+
+# a line's first characters that a runner reads as a command: ``::`` after blanks (the
+# runner trims Unicode white space; ANSI styles are kept out of the trim, so they are
+# skipped too), and ``##[``, ``##vso[``, ``##teamcity[`` anywhere
+_COMMAND_START = re.compile(r"^((?:[^\S\n]|\x1b\[[0-9;]*m)*):(?=:)", re.MULTILINE)
+_COMMAND_ANYWHERE = re.compile(r"#(?=#(?:\[|vso\[|teamcity\[))", re.IGNORECASE)
+
+
+def inert(text: str, escape: Callable[[str], str] = _escaped) -> str:
+    """``text`` (any number of lines) with nothing a CI runner acts on: the first ``:``
+    of a line's leading ``::`` and the first ``#`` of ``##[`` (``##vso[``,
+    ``##teamcity[``) written by ``escape`` (by default as ``printable`` does: ``\\x3a``,
+    ``\\x23``). Unchanged when there is no such line."""
+    if "::" not in text and "##" not in text:
+        return text
+    text = _COMMAND_START.sub(lambda m: m[1] + escape(":"), text)
+    return _COMMAND_ANYWHERE.sub(lambda m: escape("#"), text)
+
+
+def inert_json(text: str) -> str:
+    """A JSON document's text made ``inert``: ``\\u003a``, ``\\u0023`` (``#`` and ``:``
+    stand only in strings, where the escape means the same character)."""
+    return inert(text, lambda ch: f"\\u{ord(ch):04x}")
+
+
+def inert_xml(text: str) -> str:
+    """An XML document's text made ``inert``: ``&#58;``, ``&#35;`` (the same characters)."""
+    return inert(text, lambda ch: f"&#{ord(ch)};")
 
 
 # the non-ASCII characters rprpr's own texts use, beside the Greek letters

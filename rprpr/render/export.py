@@ -41,9 +41,10 @@ from ..engine.audit import AuditResult
 from ..engine.certified import POLE, REASONS, TOL
 from ..engine.sampling import COLUMNS
 from ..model.actuation import PRISMATIC, REVOLUTE
+from ..model.names import file_name
 from ..model.numbers import number, round_trip
 from ..report.records import actuation_fields, singularity_record
-from .escape import printable
+from .escape import inert, inert_json, printable
 
 FORMATS = {".csv": "csv", ".json": "json"}
 
@@ -120,7 +121,7 @@ def comment(result: AuditResult, source: str) -> str:
     t = result.samples.t
     name = json.dumps(_one_line(result.task.name), ensure_ascii=False)
     where = f" ({_one_line(source)})" if source else ""
-    return (
+    return inert(
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
         f"{CERTIFIED}, or nan; reason codes: "
@@ -156,7 +157,7 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
     return {
         "rprpr": __version__,
         "task": result.task.name,
-        "file": source,
+        "file": file_name(source),
         "samples": len(t),
         "duration": _json_number(float(t[-1])),
         **actuation_fields(result.task.robot.actuation),
@@ -178,7 +179,7 @@ def write_json(result: AuditResult, out: TextIO, source: str = "") -> None:
     (a list of rows, each a list in the order of ``columns``; null where a value is
     undefined or not certified, the row's ``reason`` code last).
     One row per line, so that the file stays readable and diffs well."""
-    head = json.dumps(document_head(result, source), indent=2, allow_nan=False)
+    head = inert_json(json.dumps(document_head(result, source), indent=2, allow_nan=False))
     out.write(head[:-2] + ',\n  "rows": [\n')  # head ends in "\n}"
     first = True
     for line in _json_rows(result):

@@ -17,6 +17,7 @@ from typing import Any
 
 from ..model.rules import RULES
 from ..report.run import BUDGET, INPUT, INTERNAL, REPORT, Run
+from .escape import inert_json
 from .github import annotation_path
 
 SEVERITY = {"error": "major", "warning": "minor"}
@@ -64,4 +65,4 @@ def document(run: Run, root: str | None = None) -> list[dict[str, Any]]:
 
 def render(run: Run, root: str | None = None) -> str:
     """The report of ``run`` as text: indented by 2, ending with a newline."""
-    return json.dumps(document(run, root), indent=2) + "\n"
+    return inert_json(json.dumps(document(run, root), indent=2)) + "\n"

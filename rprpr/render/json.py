@@ -12,6 +12,7 @@ from typing import Any
 
 from .._version import __version__
 from ..report.run import Run
+from .escape import inert_json
 
 
 def document(run: Run, quiet: bool = False) -> dict[str, Any]:
@@ -42,4 +43,5 @@ def finite(value: Any) -> Any:
 
 def render(run: Run, quiet: bool = False) -> str:
     """The document of ``run`` as text: indented by 2, ending with a newline."""
-    return json.dumps(finite(document(run, quiet=quiet)), indent=2, allow_nan=False) + "\n"
+    text = json.dumps(finite(document(run, quiet=quiet)), indent=2, allow_nan=False)
+    return inert_json(text) + "\n"

@@ -40,7 +40,7 @@ from ..model.rules import RULES
 from ..report.records import instant_times, scheme
 from ..report.run import BUDGET, INPUT, INTERNAL, Run
 from . import phrases
-from .escape import printable
+from .escape import inert_xml, printable
 
 SUITE_NAME = "rprpr check"
 
@@ -148,4 +148,5 @@ def render(run: Run) -> str:
     root.attrib.update(counts, time=_seconds(total))
     suite.attrib.update(counts, skipped="0", time=_seconds(total))
     ET.indent(root, space="  ")
-    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+    text = ET.tostring(root, encoding="unicode")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + inert_xml(text) + "\n"

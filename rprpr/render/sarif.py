@@ -25,6 +25,7 @@ from urllib.parse import quote
 from .._version import __version__
 from ..model.rules import RULES, Rule
 from ..report.run import BUDGET, INPUT, INTERNAL, REPORT, Run
+from .escape import inert_json
 from .github import annotation_path
 
 SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
@@ -131,4 +132,4 @@ def document(run: Run, root: str | None = None) -> dict[str, Any]:
 
 def render(run: Run, root: str | None = None) -> str:
     """The SARIF log of ``run`` as text: indented by 2, ending with a newline."""
-    return json.dumps(document(run, root), indent=2) + "\n"
+    return inert_json(json.dumps(document(run, root), indent=2)) + "\n"

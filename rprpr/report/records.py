@@ -16,6 +16,7 @@ from ..engine.knots import Knot
 from ..engine.singular import SingularInstant
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
+from ..model.names import file_name
 from ..model.numbers import labels, number
 from ..model.rules import RULES
 
@@ -193,7 +194,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
             }
         )
     return {
-        "task": task_path,
+        "task": file_name(task_path),
         "name": task.name,
         **actuation_fields(task.robot.actuation),
         "verdict": result.verdict,
@@ -279,25 +280,28 @@ def input_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
 
 
 def _one_error(e: TaskFileError, task_path: str) -> dict[str, Any]:
+    name = file_name(task_path)
     return {
-        "task": task_path,
+        "task": name,
         "line": e.line or None,
         "column": e.column or None,
         "key": e.key or None,
-        "message": e.message,
+        "message": file_name(e.message),
         "rule": INVALID_TASK,
-        "text": f"{e.naming(task_path)} [{INVALID_TASK}]",
+        "text": file_name(f"{e.naming(name)} [{INVALID_TASK}]"),
     }
 
 
 def internal_error(e: BaseException, task_path: str) -> dict[str, Any]:
     """A bug met while auditing one task, as data (``internal_errors[]``)."""
     return {
-        "task": task_path,
-        "message": f"{type(e).__name__}: {e}",
-        "text": f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
-        " the rprpr maintainers with this task file",
-        "traceback": "".join(traceback.format_exception(e)),
+        "task": file_name(task_path),
+        "message": file_name(f"{type(e).__name__}: {e}"),
+        "text": file_name(
+            f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
+            " the rprpr maintainers with this task file"
+        ),
+        "traceback": file_name("".join(traceback.format_exception(e))),
     }
 
 
@@ -306,11 +310,11 @@ def budget_error(task_path: str, budget: float, stage: str) -> dict[str, Any]:
     (``budget_errors[]``): it was stopped there, and the run went on."""
     message = f"the exact analysis exceeded its budget of {number(budget)} s at {stage}"
     return {
-        "task": task_path,
+        "task": file_name(task_path),
         "budget": budget,
         "stage": stage,
         "message": message,
-        "text": f"{task_path}: {message} (check --budget SECONDS allows more)",
+        "text": file_name(f"{task_path}: {message} (check --budget SECONDS allows more)"),
     }
 
 

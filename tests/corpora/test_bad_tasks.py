@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from rprpr.io import loader
+from rprpr.io import loader, reading
 from rprpr.io.loader import MAX_BYTES, load_task, parse_task
 from rprpr.model.errors import TaskFileError
 from tests.conftest import run_cli
@@ -366,7 +366,7 @@ def test_unreadable_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Non
     def denied(*args: object, **kwargs: object) -> None:
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(loader, "open", denied, raising=False)  # root could read a chmod 000 file
+    monkeypatch.setattr(reading, "open", denied, raising=False)  # root could read a chmod 000 file
     e = input_error(path)
     assert e["message"] == "cannot read the file: Permission denied"
 

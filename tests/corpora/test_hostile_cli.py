@@ -277,7 +277,7 @@ def _unreadable(path: str, monkeypatch: pytest.MonkeyPatch) -> None:
         return
     import builtins
 
-    import rprpr.io.loader
+    import rprpr.io.reading
 
     real_access, real_open = os.access, builtins.open
     real_scandir, real_listdir = os.scandir, os.listdir
@@ -305,7 +305,7 @@ def _unreadable(path: str, monkeypatch: pytest.MonkeyPatch) -> None:
             raise denied(p)
         return real_listdir(p)
 
-    monkeypatch.setattr(rprpr.io.loader, "open", fake_open, raising=False)
+    monkeypatch.setattr(rprpr.io.reading, "open", fake_open, raising=False)
     monkeypatch.setattr(os, "scandir", fake_scandir)
     monkeypatch.setattr(os, "listdir", fake_listdir)
 

@@ -8,6 +8,7 @@ import numpy as np
 
 from ...engine.audit import AuditResult, audit
 from ...engine.sampling import Samples, grid
+from ...model.names import file_name
 from ...model.task import Task
 
 
@@ -37,9 +38,11 @@ def motion(result: AuditResult | Task, source: str = "") -> Motion:
     """The audited task ``result`` (``audit(task)``; a ``Task`` is audited here first),
     ready to draw: its samples with its singular instants added to the grid and, about an
     unbounded one, the times t_s ± 10^-k t_f (k = 3..8), so that the curves visibly
-    diverge however fine or coarse the grid. ``source`` names it in the legend."""
+    diverge however fine or coarse the grid. ``source`` (the task file) is held as
+    ``model.names.file_name`` writes it: any name can be drawn."""
     if isinstance(result, Task):
         result = audit(result)
+    source = file_name(source)
     t = grid(result.task.duration, result.grid_size)
     tf = float(t[-1])
     tol = 1e-12 * max(1.0, tf)
