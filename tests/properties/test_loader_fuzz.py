@@ -342,13 +342,17 @@ def _prec(node: object) -> int:
     return 5
 
 
+_SPACES = st.sampled_from(["", " ", "  ", "\t"])  # built once: not at every draw
+_ONE_IN_TEN = st.integers(0, 9)
+
+
 def render(node: object, var: str, draw: st.DrawFn) -> str:
     """``node`` as text: parentheses where the grammar needs them, sometimes where it does not."""
-    sp = lambda: draw(st.sampled_from(["", " ", "  ", "\t"]))  # noqa: E731
+    sp = lambda: draw(_SPACES)  # noqa: E731
 
     def sub(child: object, need: int) -> str:
         s = render(child, var, draw)
-        if _prec(child) < need or draw(st.integers(0, 9)) == 0:
+        if _prec(child) < need or draw(_ONE_IN_TEN) == 0:
             s = f"({sp()}{s}{sp()})"
         return s
 
