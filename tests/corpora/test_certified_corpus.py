@@ -31,6 +31,7 @@ from rprpr.engine.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
 from tests.conftest import CONFIGS, task_text
+from tests.corpora import certified_reference as store
 from tests.reference import limit, limit_of, reference, theta_branch
 
 SIZES = (11, 1001, 2001)
@@ -147,29 +148,35 @@ def _motion(name: str) -> CertifiedMotion:
 
 
 def _expected(name: str, t: float) -> dict[str, Any]:
-    """The reference's values at t (None: undefined) and the reason code expected."""
+    """The reference's values at t (None: undefined) and the reason code expected: as
+    stored (tests/corpora/certified_reference.py), else computed now."""
     key = (name, t)
     if key not in _REFS:
-        task = _task(name)
-        ref = reference(task, t)
-        reason = OK
-        if ref["s1"] == 0:
-            reason = AT_A
-        elif ref["s2"] == 0:
-            reason = AT_B
-        elif task.path.is_zero():
-            reason = ON_LINE
-            ref |= {"lambda1": None, "lambda2": None, "T1": None, "T2": None}
-        elif ref["y"] == 0:  # at a root of y: λ and T are two-sided limits
-            lim = limit(task, Fraction(t))
-            if lim is None:
-                reason = POLE
-                lim = {"lambda1": limit_of(task, Fraction(t), "lambda1")}
-                lim |= {"lambda2": None, "T1": None, "T2": None}
-            ref = {**ref, **lim}
-        ref["theta1"], ref["theta2"] = theta_branch(task, t)
-        _REFS[key] = {**ref, "reason": reason}
+        _REFS[key] = store.lookup(repr(CORPUS[name]), t) or computed(name, t)
     return _REFS[key]
+
+
+def computed(name: str, t: float) -> dict[str, Any]:
+    """``_expected`` from tests/reference.py itself."""
+    task = _task(name)
+    ref = reference(task, t)
+    reason = OK
+    if ref["s1"] == 0:
+        reason = AT_A
+    elif ref["s2"] == 0:
+        reason = AT_B
+    elif task.path.is_zero():
+        reason = ON_LINE
+        ref |= {"lambda1": None, "lambda2": None, "T1": None, "T2": None}
+    elif ref["y"] == 0:  # at a root of y: λ and T are two-sided limits
+        lim = limit(task, Fraction(t))
+        if lim is None:
+            reason = POLE
+            lim = {"lambda1": limit_of(task, Fraction(t), "lambda1")}
+            lim |= {"lambda2": None, "T1": None, "T2": None}
+        ref = {**ref, **lim}
+    ref["theta1"], ref["theta2"] = theta_branch(task, t)
+    return {**ref, "reason": reason}
 
 
 # -- the times ----------------------------------------------------------------------------
@@ -207,6 +214,14 @@ def _times(name: str) -> list[float]:
 
 
 def _mixed(value: float, ref: Any) -> float:
+    """|value - ref| / (1 + |ref|), in mpmath; a float estimate instead when it is at most
+    TOL/2 (it is within 1e-15 of the mpmath value then: every comparison with TOL
+    decides alike, and the failure messages print the mpmath value)."""
+    r = float(ref)
+    if math.isfinite(r):
+        estimate = abs(value - r) / (1 + abs(r))
+        if estimate <= TOL / 2:
+            return estimate
     return float(abs(mpmath.mpf(value) - ref) / (1 + abs(ref)))
 
 
@@ -292,6 +307,40 @@ def test_the_value_at_t_is_the_same_on_every_grid_containing_t(
         got = [c.value[f][k] for c, k in zip(samples, (j, times * j, 0), strict=True)]
         np.testing.assert_array_equal(got, [got[0]] * 3, err_msg=f)
     assert len({int(c.reason[k]) for c, k in zip(samples, (j, times * j, 0), strict=True)}) == 1
+
+
+# -- the stored reference (certified_reference.py) cannot rot ------------------------------
+
+
+def test_the_store_holds_every_time_the_corpus_samples_and_nothing_else() -> None:
+    """Every (motion, time) the tests above read is stored, under the motion's current
+    definition; regenerate with ``python -m tests.corpora.certified_reference``."""
+    want = {repr(CORPUS[name]): {repr(t) for t in _times(name)} for name in CORPUS}
+    have = {motion: set(times) for motion, times in store.stored().items()}
+    assert have == want
+
+
+def _recomputed_time(name: str) -> float:
+    """One of the motion's stored times, alternately (by name) the nearest to its first
+    instant (where the reference takes limits, and θ its branch) and the middle one."""
+    times = _times(name)
+    if sorted(CORPUS).index(name) % 2:
+        return times[len(times) // 2]
+    return min(times, key=lambda t: abs(t - float(CORPUS[name].instants[0])))
+
+
+@pytest.mark.parametrize("name", sorted(CORPUS))
+def test_the_stored_reference_is_the_reference_recomputed(name: str) -> None:
+    """The stored values are tests/reference.py's, to the digits stored."""
+    t = _recomputed_time(name)
+    entry, fresh = store.lookup(repr(CORPUS[name]), t), computed(name, t)
+    assert entry is not None and entry.keys() == fresh.keys(), t
+    assert entry["reason"] == fresh["reason"], t
+    for f, v in fresh.items():
+        if f == "reason" or v is None:
+            assert entry[f] == v, (t, f)
+        else:
+            assert abs(entry[f] - v) <= mpmath.mpf(2) ** (1 - store.BITS) * abs(v), (t, f)
 
 
 # -- what the corpus claims of its motions, from the reference alone ----------------------

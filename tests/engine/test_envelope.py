@@ -16,6 +16,7 @@ from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
 from tests.conftest import task_text
 from tests.engine.test_certified import _config, _motion, _task
+from tests.reference import delta as reference_delta
 from tests.reference import reference
 
 
@@ -152,7 +153,7 @@ def test_closest_approach_is_the_least_delta_against_the_reference(name: str) ->
     a = Envelope(_motion(task)).closest_approach()
     assert a is not None and a.delta_lo <= a.delta_hi <= a.delta_lo * (1 + 1e-12)
     tf = float(task.duration)
-    grid_min = min(abs(float(reference(task, t)["delta"])) for t in np.linspace(0, tf, 401))
+    grid_min = min(abs(float(reference_delta(task, t))) for t in np.linspace(0, tf, 401))
     assert a.delta_hi <= grid_min * (1 + 1e-12)
     ref = abs(float(reference(task, a.t_delta)["delta"]))
     assert a.delta_lo * (1 - 1e-12) <= ref <= a.delta_hi * (1 + 1e-9)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import io
 import json
 import xml.etree.ElementTree as ET
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,7 @@ from numpy.polynomial.chebyshev import cheb2poly
 from rich.console import Console
 
 from rprpr.engine import envelope
-from rprpr.engine.audit import audit
+from rprpr.engine.audit import AuditResult, audit
 from rprpr.io.loader import load_task, parse_task
 from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
@@ -43,6 +44,12 @@ CHEBYSHEV_16 = task_text(
     LINE,
 )
 NEAR_MISS = task_text("(x - 3)^2/10 + 0.0001", LINE)  # 0.1 mm above AB at t = 1 s
+
+
+@cache
+def audited(path: Path) -> AuditResult:
+    """The audit of a shipped task file, once per test process (the tests only read it)."""
+    return audit(load_task(path))
 
 
 def report_of(task_text_: str, name: str = "t.yaml", **kw: Any) -> dict[str, Any]:
@@ -71,8 +78,9 @@ def ref_abs(task: Any, t: float, name: str) -> float:
 
 # -- the peak ---------------------------------------------------------------------------------
 def test_path2_peak_is_the_reference_torque_at_its_time_and_within_its_bound() -> None:
-    task = load_task(PATH2)
-    rep = task_report(audit(task), str(PATH2))
+    result = audited(PATH2)
+    task = result.task
+    rep = task_report(result, str(PATH2))
     assert rep["torque_peak_certified"] is True
     for i, name in enumerate(("T1", "T2")):
         value, t = rep["torque_peak"][i], rep["torque_peak_t"][i]
@@ -86,7 +94,7 @@ def test_path2_peak_is_the_reference_torque_at_its_time_and_within_its_bound() -
 
 
 def test_path2_verdict_line_and_junit_name_the_peak_with_its_time() -> None:
-    rep = task_report(audit(load_task(PATH2)), str(PATH2))
+    rep = task_report(audited(PATH2), str(PATH2))
     # |T2| peaks at t = 0.20245 s (the 60-digit reference on a 5e-5 s grid about it)
     verdict = "peak |T1| 66.1221 N m at t = 2.743 s, |T2| 60.5504 N m at t = 0.2024 s"
     assert text_lines(rep)[-1] == f"  verdict: PASS — 1 singular instant, 0 high-order; {verdict}"
@@ -137,7 +145,7 @@ def test_a_chebyshev_peak_is_certified_by_the_centred_form() -> None:
 
 
 def test_unbounded_torques_leave_the_peak_null() -> None:
-    rep = task_report(audit(load_task(CASE1)), str(CASE1))
+    rep = task_report(audited(CASE1), str(CASE1))
     assert [rep[k] for k in ("torque_peak", "torque_peak_t", "torque_peak_bound")] == [None] * 3
     assert rep["torque_peak_certified"] is None and rep["verdict"] == "fail"
     assert text_lines(rep)[-1] == (
@@ -204,9 +212,9 @@ def test_saturation_windows_are_where_the_reference_crosses_the_limit() -> None:
 
 
 def test_saturation_is_null_when_bounded_or_without_a_limit() -> None:
-    (s,) = task_report(audit(load_task(CASE1)), "c1.yaml")["singularities"]
+    (s,) = task_report(audited(CASE1), "c1.yaml")["singularities"]
     assert s["saturation"] is None and not s["torque_bounded"]  # no limit given
-    (s,) = task_report(audit(load_task(PATH2)), "p2.yaml")["singularities"]
+    (s,) = task_report(audited(PATH2), "p2.yaml")["singularities"]
     assert s["saturation"] is None and s["torque_bounded"]  # bounded
 
 
@@ -234,7 +242,7 @@ def test_a_near_miss_reports_its_closest_approach_against_the_reference() -> Non
 
 
 def test_a_motion_that_meets_ab_has_no_closest_approach() -> None:
-    assert task_report(audit(load_task(PATH2)), "p2.yaml")["closest_approach"] is None
+    assert task_report(audited(PATH2), "p2.yaml")["closest_approach"] is None
 
 
 def test_the_json_document_holds_the_new_fields_in_order() -> None:
