@@ -143,7 +143,7 @@ def _motions(files: Sequence[str], samples: int) -> list[Motion]:
     motions = []
     for task, src in loaded:
         with task_named(src):
-            motions.append(P.motion(audit(task, samples=samples), src))
+            motions.append(P.motion(audit(task, samples=samples, peak=True), src))
     return motions
 
 

@@ -962,16 +962,29 @@ class Envelope:
         return np.array(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta))
 
     # -- the peak -------------------------------------------------------------------------
+    @property
+    def peak_undefined(self) -> bool:
+        """Whether max |T| is undefined: the path lies on y = 0, or E meets A or B along
+        AB (δ -> 0 there as well). Decided without a pass."""
+        if self.motion.analysis.on_singular_line:
+            return True
+        return any(bool(th.db[0][0].contains_zero()) for th in self.throughs)
+
+    def pole_peak(self) -> tuple[Peak, Peak] | None:
+        """(inf, inf) at the first instant with unbounded torques, without a pass; None
+        when the torques are bounded."""
+        if not self.poles:
+            return None
+        t = self.poles[0].t
+        return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
+
     def torque_peak(self, rel: float = PEAK_REL) -> tuple[Peak, Peak] | None:
         """max |T1| and max |T2| over [0, t_f] (suprema, ``Peak``); None where undefined
         (the path lies on y = 0, or E passes A or B)."""
-        if self.motion.analysis.on_singular_line:
+        if self.peak_undefined:
             return None
-        if any(bool(th.db[0][0].contains_zero()) for th in self.throughs):
-            return None  # E meets A or B along AB: δ -> 0 there as well
         if self.poles:
-            t = self.poles[0].t
-            return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
+            return self.pole_peak()
         if rel != PEAK_REL:
             return self._maximise(rel)
         if self._peak is None:

@@ -235,32 +235,49 @@ def batches(parts: list[Part], batch: Batch | None) -> list[tuple[Batch, list[in
     return [(batch.take(ids), ids)] if len(ids) > 1 else []
 
 
-Verdicts = tuple[tuple[Peak, Peak] | None, tuple[LimitCheck, LimitCheck] | None, Approach | None]
+Verdicts = tuple[
+    tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None, Approach | None
+]
 
 
 def envelopes(
-    parts: list[Part], limit: tuple[float, float] | None, batch: Batch | None = None
+    parts: list[Part],
+    limit: tuple[float, float] | None,
+    batch: Batch | None = None,
+    peak: bool = True,
 ) -> Verdicts:
-    """The torque peak, the limit check (``limit`` given) and the closest approach of the
-    whole motion: the plain pieces enclosed together (``batch``, of all the pieces),
-    each other piece by its own envelope."""
+    """The torque peak, whether it was computed, the limit check (``limit`` given) and
+    the closest approach of the whole motion: the plain pieces enclosed together
+    (``batch``, of all the pieces), each other piece by its own envelope.
+
+    ``peak`` False: the certified peak is computed only where it costs no pass (None
+    where undefined, infinite at a pole; ``known_peak``), else it is not computed (None,
+    and False for ``computed``); the limit check then decides without it."""
     groups = batches(parts, batch)
     grouped = {j for _, ids in groups for j in ids}
     alone = [j for j in range(len(parts)) if j not in grouped]
-    got = {j: parts[j].envelope.torque_peak() for j in alone}
-    together = [(b, ids, b.torque_peak()) for b, ids in groups]
-    extra = [tuple((parts[ids[j]].start, pk) for pk, j in both) for _, ids, both in together]
-    peak = peaks([parts[j].origin for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+    checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
+    if peak:
+        got = {j: parts[j].envelope.torque_peak() for j in alone}
+        together = [(b, ids, b.torque_peak()) for b, ids in groups]
+        extra = [tuple((parts[ids[j]].start, pk) for pk, j in both) for _, ids, both in together]
+        top = peaks([parts[j].origin for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+        computed = True
+        if limit is not None:
+            for _, ids, both in together:
+                if all(pk.certified and pk.upper <= lim
+                       for (pk, _), lim in zip(both, limit, strict=True)):  # fmt: skip
+                    for j in ids:  # the peak of all of them decides the limit at once
+                        checks[j] = _kept(parts[j], limit)
+    else:
+        top, computed = known_peak(parts, alone)
+        if limit is not None:
+            for b, ids in groups:
+                if b.below(limit):  # proven below both limits over every piece at once
+                    for j in ids:
+                        checks[j] = _kept(parts[j], limit)
     checked = None
     if limit is not None:
-        checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
-        for _, ids, both in together:
-            if all(
-                pk.certified and pk.upper <= lim for (pk, _), lim in zip(both, limit, strict=True)
-            ):
-                for j in ids:  # the peak of all of them decides the limit at once
-                    res = CROSSING_REL * to_float(parts[j].duration)
-                    checks[j] = tuple(LimitCheck(lim, True, (), res) for lim in limit)  # type: ignore[assignment]
         for j, p in enumerate(parts):
             if j not in checks:
                 checks[j] = p.envelope.limit_violations(limit)
@@ -272,7 +289,31 @@ def envelopes(
     for b, ids in groups if all(a is not None for a in near.values()) else ():
         a, jy, jd = b.closest_approach()
         pairs.append((parts[ids[jy]].start, parts[ids[jd]].start, a))
-    return peak, checked, approach(pairs)
+    return top, computed, checked, approach(pairs)
+
+
+def _kept(p: Part, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
+    """The limit check of a piece proven below both limits everywhere."""
+    res = CROSSING_REL * to_float(p.duration)
+    return LimitCheck(limit[0], True, (), res), LimitCheck(limit[1], True, (), res)
+
+
+def known_peak(parts: list[Part], alone: list[int]) -> tuple[tuple[Peak, Peak] | None, bool]:
+    """The peak where it needs no pass, and whether it is known: None (known) where it is
+    undefined on a piece (the path on y = 0, E through A or B along AB), infinite at the
+    first pole (known), else not computed (None, False). The pieces of a batch are plain:
+    neither undefined nor unbounded."""
+    if any(parts[j].envelope.peak_undefined for j in alone):
+        return None, True
+    poles = [
+        shift(parts[j].origin, parts[j].envelope.poles[0].t)
+        for j in alone
+        if parts[j].envelope.poles
+    ]
+    if poles:
+        t = min(poles)
+        return (Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)), True
+    return None, False
 
 
 def peaks(
