@@ -1143,12 +1143,15 @@ class Envelope:
 
     def _limit_start(self, L: np.ndarray, res: float) -> _Bounds:
         """The limit check's first pass: the first partition's (``_start``, shared with
-        the peak) when made or when there is no pole; else, as no other verdict passes
-        over a motion with a pole (its peak is infinite at once), that partition with
-        the boxes holding a pole cut about it already (``_around_pole``)."""
-        if self._first is not None or not self.poles:
-            return self._start()
+        the peak) when the peak made it; else the uniform partition (a limit needs no
+        guess of where |T| peaks, and no Taylor form where the direct bound is below it:
+        a limit far above the torques is decided in this one pass), with the boxes
+        holding a pole cut about it already (``_around_pole``)."""
+        if self._first is not None:
+            return self._first
         lo, hi = _boxes(self.duration, START_BOXES)
+        if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
+            return self.bounds(lo, hi, float(L.min()))
         lo, hi, _ = self._refine(lo, hi, np.ones(len(lo), dtype=bool), 1, res)
         return self.bounds(lo, hi, float(L.min()))
 
