@@ -275,6 +275,8 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     run = Run()
     if not files:
         return run
+    if min(options.jobs, len(files)) > 1:  # the ball machinery once, not in every worker
+        from ..engine import envelope  # noqa: F401  (one task loads it only if it needs it)
     work = functools.partial(_check_in_worker, options)
     stages = (LOADING, *auditing.STAGES, REPORTING)
     with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:

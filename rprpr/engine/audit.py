@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from flint import fmpq
@@ -26,10 +27,7 @@ from ..model.rules import Finding, with_levels
 from ..model.task import Task
 from . import knots as K
 from . import pieces as P
-from .certified import CertifiedMotion
-from .envelope import Approach, LimitCheck, Peak, Window, around_poles
 from .findings import findings
-from .sampling import Samples, grid
 from .singular import (
     EXPANDING,
     FACTORING,
@@ -40,6 +38,11 @@ from .singular import (
     SingularInstant,
 )
 from .trajectory import Trajectory
+from .verdicts import Approach, LimitCheck, Peak, Window, around_poles
+
+if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
+    from .certified import CertifiedMotion
+    from .sampling import Samples
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -77,15 +80,21 @@ class AuditResult:
     grid_size: int = field(repr=False)
     trajectory: Trajectory = field(repr=False)
     analysis: SingularAnalysis = field(repr=False, compare=False)
-    motion: CertifiedMotion = field(repr=False, compare=False)  # the first piece's
     parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
     knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
 
+    @property
+    def motion(self) -> CertifiedMotion:
+        """The first piece's certified motion (made when first read)."""
+        return self.parts[0].motion
+
     @cached_property
     def samples(self) -> Samples:
         """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
+        from .sampling import grid
+
         return self.resample(grid(self.task.duration, self.grid_size))
 
     def resample(self, t: np.ndarray) -> Samples:
@@ -176,7 +185,6 @@ def audit(
         grid_size=samples,
         trajectory=parts[0].traj,
         analysis=analysis,
-        motion=parts[0].motion,
         parts=tuple(parts),
         knots=tuple(k.t for k in knots),
         knot_jumps=tuple(knots),

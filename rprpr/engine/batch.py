@@ -33,9 +33,7 @@ from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
     PEAK_REL,
-    Approach,
     Jet,
-    Peak,
     _Bounds,
     _boxes,
     _fan,
@@ -47,6 +45,7 @@ from .envelope import (
     prune,
 )
 from .trajectory import Trajectory
+from .verdicts import Approach, Peak
 
 START_PER_PIECE = 2  # the initial partition: boxes per piece (short pieces, smooth torques)
 LEVELS = 4  # a polynomial and its first three derivatives: what the jets read

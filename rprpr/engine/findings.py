@@ -19,9 +19,9 @@ from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
-from .envelope import LimitCheck, Peak, Window
 from .knots import Knot
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
+from .verdicts import LimitCheck, Peak, Window
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 

@@ -11,9 +11,9 @@ import traceback
 from typing import Any
 
 from ..engine.audit import AuditResult, Saturation
-from ..engine.envelope import Approach, LimitCheck, Peak, Window
 from ..engine.knots import Knot
 from ..engine.singular import SingularInstant
+from ..engine.verdicts import Approach, LimitCheck, Peak, Window
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.numbers import labels, number

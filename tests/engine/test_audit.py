@@ -12,8 +12,8 @@ import pytest
 from flint import fmpq
 
 from rprpr.engine.audit import AuditResult, audit
-from rprpr.engine.envelope import LimitCheck
 from rprpr.engine.sampling import grid
+from rprpr.engine.verdicts import LimitCheck
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.rules import Finding
 from rprpr.model.task import Task
