@@ -48,7 +48,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_many import _dec, _irrational, _task, _zero_speed  # noqa: E402
+from bench_many import _dec, _irrational, _task, _zero_speed
 
 ROOT = Path(__file__).resolve().parent.parent
 PATH2 = ROOT / "configs" / "paper_path2.rprpr.yaml"
@@ -99,9 +99,10 @@ def _alike(text: str) -> str:
 def _paper(rng: random.Random) -> str:
     which = rng.choice([1, 2])
     y = "x^3 - 9*x^2 + 27*x - 27" if which == 1 else "0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2"
-    p: Callable[[float], float] = (
-        (lambda x: (x - 3) ** 3) if which == 1 else (lambda x: 0.8 * x**3 - 7.2 * x**2 + 21.8 * x - 22.2)
-    )  # fmt: skip
+
+    def p(x: float) -> float:
+        return (x - 3) ** 3 if which == 1 else 0.8 * x**3 - 7.2 * x**2 + 21.8 * x - 22.2
+
     return _alike(_task(rng, f"paper path {which}", 6, y, p, 2, 4, law="quintic"))
 
 
@@ -217,9 +218,16 @@ def median_cpu(argv: list[str], repeat: int) -> tuple[float, bytes]:
     return statistics.median(c for c, _ in runs), runs[0][1]
 
 
+def rprpr_of(python: str) -> list[str]:
+    """The ``rprpr`` command of an install: its console script beside ``python`` (0.1.0's
+    package is ``rprpr_cli``: no ``python -m rprpr``)."""
+    script = Path(python).parent / "rprpr"
+    return [str(script)] if script.exists() else [python, "-m", "rprpr"]
+
+
 def has_peak(python: str) -> bool:
     done = subprocess.run(
-        [python, "-m", "rprpr", "check", "--help"], capture_output=True, text=True, check=False
+        [*rprpr_of(python), "check", "--help"], capture_output=True, text=True, check=False
     )
     return "--peak" in done.stdout
 
@@ -229,7 +237,7 @@ def single_over_floor(python: str, repeat: int) -> tuple[float, float]:
     interleaved."""
     check, floor = [], []
     for _ in range(repeat):
-        check.append(cpu_of([python, "-m", "rprpr", "check", str(PATH2)])[0])
+        check.append(cpu_of([*rprpr_of(python), "check", str(PATH2)])[0])
         floor.append(cpu_of([python, "-c", FLOOR])[0])
     return statistics.median(check), statistics.median(floor)
 
@@ -270,7 +278,7 @@ def main() -> int:
     print(f"load average before: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     rows: dict[str, dict[str, str]] = {}
     for name, python in pythons:
-        check = [python, "-m", "rprpr", "check", "-j", "1", "--format", "json", "-q"]
+        check = [*rprpr_of(python), "check", "-j", "1", "--format", "json", "-q"]
         got: dict[str, str] = {}
         cpu, out1 = median_cpu([*check, str(plain)], args.repeat)
         got["default"] = f"{args.n / cpu:.1f}"
@@ -286,7 +294,8 @@ def main() -> int:
             f"+{1000 * (one - floor):.0f} ms ({1000 * one:.0f} against {1000 * floor:.0f})"
         )
         if name == "this tree":
-            _, out2 = cpu_of([*check[:4], "-j", "2", *check[6:], str(plain)])
+            _, out2 = cpu_of([*rprpr_of(python), "check", "-j", "2", "--format", "json", "-q",
+                              str(plain)])  # fmt: skip
             got["-j 2 byte-identical to -j 1"] = "yes" if out1 == out2 else "NO"
         rows[name] = got
         print(f"measured {name} ({python})", flush=True)
