@@ -104,6 +104,8 @@ def knot(k: Knot, e: Scheme = SCHEMES[REVOLUTE]) -> list[Finding]:
     """RPR203 where the velocity jumps at the knot ``k``, RPR204 where only the
     acceleration does (with the jumps of T1, T2 when both sides' torques are defined;
     F1, F2 [N] under the prismatic scheme ``e``)."""
+    if k.velocity_jump is None and k.acceleration_jump is None:
+        return []  # a smooth knot (the words below are made only for a finding)
     row = f", row {k.line} of {k.file}" if k.file and k.line else ""
     pieces = f"knot between pieces {k.before + 1} and {k.before + 2}{row}"
     at = f"t = {exact_text(k.t_exact)} s ({pieces})"
