@@ -7,6 +7,7 @@ Python API::
     result.verdict, result.singularities[0].order
     result.singularities[0].t_exact  # Fraction(5, 2), or None where irrational
     result.to_dict()  # the entry of ``rprpr check --format json``'s reports[]
+    audit(result.task, peak=True).torque_peak  # the certified max |T1|, |T2|: when asked
 
     # a planner's spline (scipy's PPoly layout), on the robot and checks of a task file
     from rprpr import Motion, with_motion

@@ -35,7 +35,7 @@ class AuditResult(_engine.AuditResult):
 
 
 def audit(task: Task, **options: Any) -> AuditResult:
-    """``engine.audit.audit(task, **options)`` (``samples``, ``strict``, ``on_stage``),
+    """``engine.audit.audit(task, **options)`` (``samples``, ``strict``, ``on_stage``, ``peak``),
     as an ``AuditResult`` of this module."""
     result = _engine.audit(task, **options)
     return AuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})

@@ -256,3 +256,34 @@ def test_version_and_help_load_no_engine_numpy_flint_or_yaml(argv: list[str]) ->
     )
     assert done.stderr.strip().splitlines()[-1] == "EXIT=0 HEAVY=[] DEEP=[]", done.stderr
     assert ("rprpr, version" in done.stdout) == (argv == ["--version"])
+
+
+# -- start-up: check loads only what the task in hand needs ---------------------------------
+BALLS = ("balls", "certified", "envelope", "zones", "batch", "sampling", "repair")
+
+
+@pytest.mark.parametrize(
+    ("config", "loaded"),
+    [
+        ("case1_crossing", []),  # unbounded torques, no limit: no pass, no ball machinery
+        ("paper_path2", ["balls", "certified", "envelope", "zones"]),  # its limit needs passes
+    ],
+)
+def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
+    config: str, loaded: list[str]
+) -> None:
+    # check_one is what a worker runs per task (the parent imports the audit before forking;
+    # these modules a task loads on demand)
+    probe_in = (
+        "import sys\n"
+        "from rprpr.cli.check import check_one\n"
+        "from rprpr.cli.options import CheckOptions\n"
+        f"kind, _, _ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
+        f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
+        " and m.startswith('rprpr.engine'))\n"
+        "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe_in], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
+    assert done.stderr.strip().splitlines()[-1] == f"KIND=report LOADED={loaded}", done.stderr

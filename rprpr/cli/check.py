@@ -67,6 +67,13 @@ REPORTING = "the report"
     help="Fail on every finding: also on torque limits (RPR202) and on accepted unbounded torques.",
 )
 @click.option(
+    "--peak",
+    is_flag=True,
+    default=None,
+    help="Compute the certified torque peak (max |T1|, max |T2| over [0, t_f]) of every "
+    "task for the report; no verdict needs it (else: each task's checks.peak).",
+)
+@click.option(
     "--warn-unbounded",
     is_flag=True,
     help="Accept unbounded torques at singular instants (RPR201): a warning instead of a "
@@ -201,6 +208,7 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
     given = {
         "format": params["fmt"],
         "strict": params["strict"] or None,
+        "peak": params["peak"] or None,
         "samples": params["samples"],
         "jobs": params["jobs"],
         "budget": params["budget"],
@@ -216,6 +224,7 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         format=settings["format"],
         output_file=None if output_file == "-" else output_file,  # "-": standard output
         strict=params["strict"] or None,  # the command line's: over every task's own
+        peak=params["peak"] or None,
         warn_unbounded=params["warn_unbounded"],
         samples=settings["samples"],
         jobs=settings["jobs"] or _cpus(),
@@ -274,7 +283,10 @@ def check_one(
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start
     try:
-        result = audit(task, samples=options.samples, strict=options.strict, on_stage=on_stage)
+        result = audit(
+            task, samples=options.samples, strict=options.strict, on_stage=on_stage,
+            peak=options.peak,
+        )  # fmt: skip
         if on_stage is not None:
             on_stage(REPORTING)
         report = task_report(result, path)
@@ -301,6 +313,8 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     run = Run()
     if not files:
         return run
+    if min(options.jobs, len(files)) > 1:  # the ball machinery once, not in every worker
+        from ..engine import envelope  # noqa: F401  (one task loads it only if it needs it)
     work = functools.partial(_check_in_worker, options)
     stages = (LOADING, *auditing.STAGES, REPORTING)
     with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:

@@ -8,7 +8,7 @@ the project's root and its file the configuration; ``--config FILE`` names one i
 
 Every value has one source: the built-in default, the configuration file, or the command
 line (which wins); ``Settings.sources`` records which, ``--show-settings`` prints it. The
-task-file defaults (``torque_limit``, ``min_slope``, ``min_speed``, ``strict``) yield to a
+task-file defaults (``torque_limit``, ``min_slope``, ``min_speed``, ``strict``, ``peak``) yield to a
 task's own ``checks:``; the rule levels (``select``, ``ignore``, ``warn``, ``error``) to
 a task's ``checks.ignore`` / ``checks.warn`` (``configure``).
 
@@ -57,6 +57,7 @@ KEYS: dict[str, tuple[str, Any]] = {
     "warn": ("rules", ()),
     "error": ("rules", ()),
     "strict": ("bool", None),
+    "peak": ("bool", None),
     "torque_limit": ("limits", None),
     "min_slope": ("margin", None),
     "min_speed": ("margin", None),
@@ -93,6 +94,7 @@ class Settings:
             torque_limit=self["torque_limit"],
             strict=self["strict"],
             rules=self.rule_levels,
+            peak=self["peak"],
         )
 
     def selection(self, force: bool = False) -> FileSelection:
@@ -109,6 +111,7 @@ class TaskDefaults:
     torque_limit: tuple[Fraction, Fraction] | None = None
     strict: bool | None = None
     rules: dict[str, str] = field(default_factory=dict)
+    peak: bool | None = None  # compute the certified torque peak (checks.peak)
 
 
 @dataclass(frozen=True)
@@ -527,6 +530,8 @@ def configure(task: Task, d: TaskDefaults, warn_unbounded: bool = False) -> Task
         changes["torque_limit"] = (exact(d.torque_limit[0]), exact(d.torque_limit[1]))
     if d.strict is not None and "checks.strict" not in given:
         changes["strict"] = d.strict
+    if d.peak is not None and "checks.peak" not in given:
+        changes["peak"] = d.peak
     rules = dict(d.rules)
     if "checks.unbounded_torque" in given:  # the task's own choice for RPR201
         rules["RPR201"] = "warn" if checks.unbounded_torque == "warn" else "error"

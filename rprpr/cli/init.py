@@ -56,6 +56,7 @@ checks:
   # min_slope: 0.1           # |dy/dx| at a singular point must exceed this
   # min_speed: 0.1           # end-point speed [m/s] at a singular instant, likewise
   # strict: true             # fail on every finding
+  # peak: true               # the certified torque peak in the report (= --peak)
   # ignore:                  # silence a rule for this task, saying why:
   #   RPR202: the drives are rated for the peak
 """

@@ -45,18 +45,21 @@ class CheckOptions:
     """How ``rprpr check`` audits and reports; the defaults are the command line's.
 
     ``output_file`` None is standard output; ``strict`` None leaves each task's own
-    ``checks.strict``; ``warn_unbounded`` accepts unbounded torques (RPR201 a warning)
-    in every task, False leaves each task's ``checks.unbounded_torque``; ``jobs`` is
-    the number of worker processes; ``budget`` the wall-clock seconds each task may
-    take before it is stopped (None: no limit). ``defaults``: what the repository's
-    configuration sets in every task (``config.configure``); ``statistics``: counts per
-    rule instead of the report; ``stdin``: the bytes of the task file ``-``, named
-    ``stdin_filename`` in the report (``stdin_error``: why it could not be read).
+    ``checks.strict``; ``peak`` True computes the certified torque peak of every task,
+    None leaves each task's own ``checks.peak``; ``warn_unbounded`` accepts unbounded
+    torques (RPR201 a warning) in every task, False leaves each task's
+    ``checks.unbounded_torque``; ``jobs`` is the number of worker processes; ``budget``
+    the wall-clock seconds each task may take before it is stopped (None: no limit).
+    ``defaults``: what the repository's configuration sets in every task
+    (``config.configure``); ``statistics``: counts per rule instead of the report;
+    ``stdin``: the bytes of the task file ``-``, named ``stdin_filename`` in the report
+    (``stdin_error``: why it could not be read).
     """
 
     format: str = "text"
     output_file: str | None = None
     strict: bool | None = None
+    peak: bool | None = None
     warn_unbounded: bool = False
     samples: int = DEFAULT_SAMPLES
     jobs: int = 1

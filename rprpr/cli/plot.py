@@ -155,7 +155,7 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     motions = []
     for task, src in loaded:
         with task_named(src):
-            motions.append(P.motion(audit(task, samples=samples), src))
+            motions.append(P.motion(audit(task, samples=samples, peak=True), src))
     return motions
 
 

@@ -339,6 +339,9 @@ def _plot(r: Repair, old: str, new: str, out: str) -> None:
     from ..engine.audit import audit
     from ..render import sheet as P
 
-    motions = [P.motion(audit(r.before.task), old), P.motion(audit(r.task), new)]
+    motions = [
+        P.motion(audit(r.before.task, peak=True), old),
+        P.motion(audit(r.task, peak=True), new),
+    ]
     fig = P.render(motions, list(P.PANELS))
     write_atomic(out, lambda tmp: P.save(fig, tmp, P.format_of(out), motions=motions), "the sheet")

@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from flint import fmpq
@@ -26,10 +27,7 @@ from ..model.rules import Finding, with_levels
 from ..model.task import Task
 from . import knots as K
 from . import pieces as P
-from .certified import CertifiedMotion
-from .envelope import Approach, LimitCheck, Peak, Window, around_poles
 from .findings import findings
-from .sampling import Samples, grid
 from .singular import (
     EXPANDING,
     FACTORING,
@@ -40,6 +38,11 @@ from .singular import (
     SingularInstant,
 )
 from .trajectory import Trajectory
+from .verdicts import Approach, LimitCheck, Peak, Window, around_poles
+
+if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
+    from .certified import CertifiedMotion
+    from .sampling import Samples
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -54,7 +57,8 @@ class AuditResult:
 
     ``torque_peak`` = (max |T1|, max |T2|) over [0, t_f], certified (``envelope.Peak``:
     the value, where it is reached, a proven upper bound); inf where a singular instant
-    has unbounded torques; None when the path lies on y = 0. ``torque_limit``: the
+    has unbounded torques; None when the path lies on y = 0, or when it was not asked
+    for (``audit``'s ``peak``: then ``peak_computed`` is False). ``torque_limit``: the
     certified check of ``checks.torque_limit`` for every t (None without a limit);
     ``saturation``: for each unbounded instant, the windows around it in which |T1|, |T2|
     exceed their limits (empty without a limit); ``closest_approach``: for a motion that
@@ -76,14 +80,21 @@ class AuditResult:
     grid_size: int = field(repr=False)
     trajectory: Trajectory = field(repr=False)
     analysis: SingularAnalysis = field(repr=False, compare=False)
-    motion: CertifiedMotion = field(repr=False, compare=False)  # the first piece's
     parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
     knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
+    peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
+
+    @property
+    def motion(self) -> CertifiedMotion:
+        """The first piece's certified motion (made when first read)."""
+        return self.parts[0].motion
 
     @cached_property
     def samples(self) -> Samples:
         """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
+        from .sampling import grid
+
         return self.resample(grid(self.task.duration, self.grid_size))
 
     def resample(self, t: np.ndarray) -> Samples:
@@ -129,37 +140,44 @@ def audit(
     samples: int = DEFAULT_SAMPLES,
     strict: bool | None = None,
     on_stage: OnStage | None = None,
+    peak: bool | None = None,
 ) -> AuditResult:
     """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
     (nothing the audit decides depends on it); ``strict`` overrides
     ``task.checks.strict``. ``on_stage``, when given, is told the name of each stage
     (``STAGES``) as it begins (a caller that stops a long audit can say where it was).
+    ``peak`` asks for the certified torque peak (None: ``task.checks.peak``); no verdict
+    needs it, so without it the peak is computed only where it costs nothing (infinite at
+    a pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
+    False and ``torque_peak`` None.
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides."""
     if samples < 2:
         raise ValueError("at least 2 samples are needed")
     strict = task.checks.strict if strict is None else strict
+    asked = task.checks.peak if peak is None else peak
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
     limit = task.checks.torque_limit
     pair = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
-    peak, checked, approach = P.envelopes(parts, pair, batch)
+    top, computed, checked, approach = P.envelopes(parts, pair, batch, asked)
     analysis = _joined(task, parts)
     saturation = _saturation(analysis, checked) if checked is not None else []
     knots = K.knots(task.motion, task.robot)
     on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
     whole = len(on_line) == len(parts) and not task.pieces
     tell(FINDINGS)
-    found = findings(task, analysis, peak, checked, knots, [] if whole else on_line)
+    found = findings(task, analysis, top, checked, knots, [] if whole else on_line)
     return AuditResult(
         task=task,
         strict=strict,
         singularities=analysis.instants,
         kinematic_singularities=analysis.kinematic,
         on_singular_line=analysis.on_singular_line,
-        torque_peak=peak,
+        torque_peak=top,
+        peak_computed=computed,
         torque_limit=checked,
         saturation=saturation,
         closest_approach=approach,
@@ -167,7 +185,6 @@ def audit(
         grid_size=samples,
         trajectory=parts[0].traj,
         analysis=analysis,
-        motion=parts[0].motion,
         parts=tuple(parts),
         knots=tuple(k.t for k in knots),
         knot_jumps=tuple(knots),

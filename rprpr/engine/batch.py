@@ -33,9 +33,7 @@ from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
     PEAK_REL,
-    Approach,
     Jet,
-    Peak,
     _Bounds,
     _boxes,
     _fan,
@@ -47,6 +45,7 @@ from .envelope import (
     prune,
 )
 from .trajectory import Trajectory
+from .verdicts import Approach, Peak
 
 START_PER_PIECE = 2  # the initial partition: boxes per piece (short pieces, smooth torques)
 LEVELS = 4  # a polynomial and its first three derivatives: what the jets read
@@ -319,6 +318,32 @@ class Batch:
             peak = Peak(float(best[i]), float(best_t[i]), float(up), certified)
             out.append((peak, int(best_j[i])))
         return out[0], out[1]
+
+    # -- the limit ---------------------------------------------------------------------------
+    def below(self, limit: tuple[float, float]) -> bool:
+        """Whether |T_i| <= limit_i is proven over every box of every piece, without the
+        peak: the first partition's pass, then only the boxes whose upper bound is above
+        a limit cut further (a limit far above the torques is decided by one pass).
+        False when a certified value exceeds a limit or the work cap stops the cutting:
+        then the pieces are checked one by one (``Envelope.limit_violations``)."""
+        lo, hi, idx = self._start
+        L = np.array([float(limit[0]), float(limit[1])])[:, None]
+        cap = MAX_LIVE * len(self)
+        b = self.bounds(lo, hi, idx)
+        for _ in range(MAX_ROUNDS):
+            if bool((b.low > L).any()):
+                return False
+            keep = np.asarray((b.up > L).any(axis=0))
+            n = int(keep.sum())
+            if not n:
+                return True
+            if n > cap:
+                return False
+            k = _fan(n)
+            lo, hi = _split(b.lo[keep], b.hi[keep], k)
+            idx = np.repeat(idx[keep], k)
+            b = self.bounds(lo, hi, idx)
+        return False
 
     # -- near misses ------------------------------------------------------------------------
     def closest_approach(self, rel: float = PEAK_REL) -> tuple[Approach, int, int]:

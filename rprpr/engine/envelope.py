@@ -23,7 +23,7 @@ partition of [0, t_f]), so no answer depends on a sampling grid.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property, partial
 from typing import Any
@@ -41,6 +41,7 @@ from .roots import IsolatedRoot, isolate
 from .series import accurate, ball, taylor
 from .singular import SingularInstant
 from .trajectory import Trajectory
+from .verdicts import CROSSING_REL, Approach, LimitCheck, Peak, Window, around_poles
 from .zones import TAYLOR_PREC, ExactTime, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
 PEAK_REL = 1e-6  # torque_peak: certified to this relative width ...
@@ -51,7 +52,6 @@ MAX_FAN = 512  # a live box is cut into at most this many
 MAX_ROUNDS = 60  # refining passes, at most
 CENTRED_DEGREE = 7  # a longer polynomial is enclosed over boxes by the centred form
 MAX_LIVE = 4096  # boxes kept alive, at most
-CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
 POLE_GROWTH = 0.25  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
@@ -208,62 +208,6 @@ def _put(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
 
 
 # -- results ----------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Peak:
-    """sup |T_i| over the times of [0, t_f] where T_i is defined [N m]: ``value`` is a
-    certified lower bound of it, attained at ``t`` or, when ``t`` is an instant at which
-    E is at A or B (T undefined there), the one-sided limit of |T_i| as t is approached;
-    ``upper`` a certified upper bound; when ``certified``, upper - value <= PEAK_REL value
-    + PEAK_ABS.
-    ``value`` = ``upper`` = inf when T_i is unbounded (``t``: the first instant with a
-    pole)."""
-
-    value: float
-    t: float
-    upper: float
-    certified: bool
-
-
-@dataclass(frozen=True)
-class Window:
-    """An interval in which |T_i| > limit: it starts in [start_lo, start_hi] and ends in
-    [end_lo, end_hi] (crossings bracketed; ``pole``: contains an unbounded instant)."""
-
-    start_lo: float
-    start_hi: float
-    end_lo: float
-    end_hi: float
-    pole: bool = False
-
-
-@dataclass(frozen=True)
-class LimitCheck:
-    """|T_i(t)| <= limit for every t in [0, t_f]: ``passed`` True or False, certified, or
-    None when undecided at the resolution (then max |T_i| is within ``resolution`` in
-    time of touching the limit); ``windows``: where the limit is exceeded, in order."""
-
-    limit: float
-    passed: bool | None
-    windows: tuple[Window, ...]
-    resolution: float
-
-    @property
-    def first(self) -> Window | None:
-        return self.windows[0] if self.windows else None
-
-
-@dataclass(frozen=True)
-class Approach:
-    """Closest approach of a motion that never meets y = 0: min |y| (the distance of E to
-    the line AB) [m] at ``t_y``; min |δ| within [delta_lo, delta_hi] at ``t_delta``."""
-
-    distance: float
-    t_y: float
-    delta_lo: float
-    delta_hi: float
-    t_delta: float
 
 
 # -- the two legs stacked ------------------------------------------------------------------
@@ -557,24 +501,6 @@ def _loose(c: LimitCheck) -> bool:
         return True
     return any(w.start_hi - w.start_lo > c.resolution or w.end_hi - w.end_lo > c.resolution
                for w in c.windows)  # fmt: skip
-
-
-def around_poles(
-    instants: Iterable[SingularInstant], checks: tuple[LimitCheck, LimitCheck]
-) -> list[tuple[SingularInstant, Window | None, Window | None]]:
-    """For each unbounded instant of ``instants``, the windows of the limit checks in
-    which |T1|, |T2| exceed their limits around it (None where a limit is not exceeded
-    there)."""
-    out = []
-    for s in instants:
-        if s.torque_bounded:
-            continue
-        pair = []
-        for c in checks:
-            w = [w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi]
-            pair.append(w[0] if w else None)
-        out.append((s, pair[0], pair[1]))
-    return out
 
 
 @dataclass
@@ -962,16 +888,29 @@ class Envelope:
         return np.array(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta))
 
     # -- the peak -------------------------------------------------------------------------
+    @property
+    def peak_undefined(self) -> bool:
+        """Whether max |T| is undefined: the path lies on y = 0, or E meets A or B along
+        AB (δ -> 0 there as well). Decided without a pass."""
+        if self.motion.analysis.on_singular_line:
+            return True
+        return any(bool(th.db[0][0].contains_zero()) for th in self.throughs)
+
+    def pole_peak(self) -> tuple[Peak, Peak] | None:
+        """(inf, inf) at the first instant with unbounded torques, without a pass; None
+        when the torques are bounded."""
+        if not self.poles:
+            return None
+        t = self.poles[0].t
+        return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
+
     def torque_peak(self, rel: float = PEAK_REL) -> tuple[Peak, Peak] | None:
         """max |T1| and max |T2| over [0, t_f] (suprema, ``Peak``); None where undefined
         (the path lies on y = 0, or E passes A or B)."""
-        if self.motion.analysis.on_singular_line:
+        if self.peak_undefined:
             return None
-        if any(bool(th.db[0][0].contains_zero()) for th in self.throughs):
-            return None  # E meets A or B along AB: δ -> 0 there as well
         if self.poles:
-            t = self.poles[0].t
-            return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
+            return self.pole_peak()
         if rel != PEAK_REL:
             return self._maximise(rel)
         if self._peak is None:
@@ -1130,12 +1069,15 @@ class Envelope:
 
     def _limit_start(self, L: np.ndarray, res: float) -> _Bounds:
         """The limit check's first pass: the first partition's (``_start``, shared with
-        the peak) when made or when there is no pole; else, as no other verdict passes
-        over a motion with a pole (its peak is infinite at once), that partition with
-        the boxes holding a pole cut about it already (``_around_pole``)."""
-        if self._first is not None or not self.poles:
-            return self._start()
+        the peak) when the peak made it; else the uniform partition (a limit needs no
+        guess of where |T| peaks, and no Taylor form where the direct bound is below it:
+        a limit far above the torques is decided in this one pass), with the boxes
+        holding a pole cut about it already (``_around_pole``)."""
+        if self._first is not None:
+            return self._first
         lo, hi = _boxes(self.duration, START_BOXES)
+        if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
+            return self.bounds(lo, hi, float(L.min()))
         lo, hi, _ = self._refine(lo, hi, np.ones(len(lo), dtype=bool), 1, res)
         return self.bounds(lo, hi, float(L.min()))
 

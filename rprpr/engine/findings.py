@@ -19,9 +19,9 @@ from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
-from .envelope import LimitCheck, Peak, Window
 from .knots import Knot
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
+from .verdicts import LimitCheck, Peak, Window
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 
@@ -104,6 +104,8 @@ def knot(k: Knot, e: Scheme = SCHEMES[REVOLUTE]) -> list[Finding]:
     """RPR203 where the velocity jumps at the knot ``k``, RPR204 where only the
     acceleration does (with the jumps of T1, T2 when both sides' torques are defined;
     F1, F2 [N] under the prismatic scheme ``e``)."""
+    if k.velocity_jump is None and k.acceleration_jump is None:
+        return []  # a smooth knot (the words below are made only for a finding)
     row = f", row {k.line} of {k.file}" if k.file and k.line else ""
     pieces = f"knot between pieces {k.before + 1} and {k.before + 2}{row}"
     at = f"t = {exact_text(k.t_exact)} s ({pieces})"

@@ -48,11 +48,21 @@ class Knot:
         return None if a is None or b is None else (b[0] - a[0], b[1] - a[1])
 
 
-def _jump(p: Any, q: Any, t: fmpq) -> tuple[float, float] | None:
-    """(p_after - p_before)(t) for the pairs p = (x, y) and q = (x, y), as doubles; None
-    when both vanish exactly."""
-    dx, dy = q[0](t) - p[0](t), q[1](t) - p[1](t)
+def _jump(p: Any, up: fmpq, q: Any, uq: fmpq) -> tuple[float, float] | None:
+    """q(uq) - p(up) for the pairs p = (x, y) (before the knot, at its argument up) and
+    q = (x, y) (after, at uq), as doubles; None when both vanish exactly."""
+    dx, dy = q[0](uq) - p[0](up), q[1](uq) - p[1](up)
     return None if dx == 0 and dy == 0 else (to_float(dx), to_float(dy))
+
+
+def _local(piece: Piece, t: fmpq) -> tuple[tuple[Any, Any], fmpq]:
+    """The piece's (x, y) and the argument that gives their values at the absolute time
+    t: its local form (a planner's segment, in u = t - start: the same values exactly,
+    from far shorter rationals) at t - start where it has one, else x, y at t. Time
+    derivatives are the same in u and in t."""
+    if piece.local is not None:
+        return piece.local, t - piece.start
+    return (piece.x, piece.y), t
 
 
 def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | None:
@@ -91,11 +101,13 @@ def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
     out = []
     for i, (p, q) in enumerate(itertools.pairwise(pieces)):
         t = p.end
-        dp = (p.x.derivative(), p.y.derivative())
-        dq = (q.x.derivative(), q.y.derivative())
-        v = _jump(dp, dq, t)
-        a = _jump((dp[0].derivative(), dp[1].derivative()),
-                  (dq[0].derivative(), dq[1].derivative()), t)  # fmt: skip
+        (px, py), up = _local(p, t)
+        (qx, qy), uq = _local(q, t)
+        dp = (px.derivative(), py.derivative())
+        dq = (qx.derivative(), qy.derivative())
+        v = _jump(dp, up, dq, uq)
+        a = _jump((dp[0].derivative(), dp[1].derivative()), up,
+                  (dq[0].derivative(), dq[1].derivative()), uq)  # fmt: skip
         sides: tuple[Any, Any] = (None, None)
         if v is None and a is not None:
             sides = (torques_at(p, t, robot), torques_at(q, t, robot))

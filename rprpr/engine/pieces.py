@@ -15,16 +15,13 @@ import math
 from dataclasses import replace
 from fractions import Fraction
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from ..model.task import Checks, Piece, Robot, Task
-from .batch import Batch, plain
-from .certified import FIELDS, CertifiedMotion
-from .envelope import CROSSING_REL, Approach, Envelope, LimitCheck, Peak, Window
-from .sampling import Samples
 from .singular import (
     KinematicSingularity,
     OnStage,
@@ -34,6 +31,13 @@ from .singular import (
     analyse,
 )
 from .trajectory import Trajectory, origin_of, piece_trajectory
+from .verdicts import CROSSING_REL, Approach, LimitCheck, Peak, Window
+
+if TYPE_CHECKING:  # the ball machinery is imported when a piece needs a pass (below)
+    from .batch import Batch
+    from .certified import CertifiedMotion
+    from .envelope import Envelope
+    from .sampling import Samples
 
 
 class Part:
@@ -60,10 +64,14 @@ class Part:
 
     @cached_property
     def motion(self) -> CertifiedMotion:
+        from .certified import CertifiedMotion
+
         return CertifiedMotion(self.traj, self.robot, self.analysis)
 
     @cached_property
     def envelope(self) -> Envelope:
+        from .envelope import Envelope
+
         return Envelope(self.motion)
 
     @property
@@ -74,6 +82,8 @@ class Part:
     @property
     def plain(self) -> bool:
         """Whether the batch can enclose the piece (``batch.plain``)."""
+        from .batch import plain
+
         return self.apart or plain(self.motion)
 
 
@@ -92,6 +102,8 @@ def parts(task: Task, tell: OnStage) -> tuple[list[Part], Batch | None]:
     motion = list(task.motion)
     batch = None
     if len(motion) > 1 and len({p.path is None for p in motion}) == 1:
+        from .batch import Batch
+
         batch = Batch(motion, task.robot)
     apart = batch.apart() if batch is not None else np.zeros(len(motion), dtype=bool)
     out = []
@@ -235,44 +247,101 @@ def batches(parts: list[Part], batch: Batch | None) -> list[tuple[Batch, list[in
     return [(batch.take(ids), ids)] if len(ids) > 1 else []
 
 
-Verdicts = tuple[tuple[Peak, Peak] | None, tuple[LimitCheck, LimitCheck] | None, Approach | None]
+Verdicts = tuple[
+    tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None, Approach | None
+]
 
 
 def envelopes(
-    parts: list[Part], limit: tuple[float, float] | None, batch: Batch | None = None
+    parts: list[Part],
+    limit: tuple[float, float] | None,
+    batch: Batch | None = None,
+    peak: bool = True,
 ) -> Verdicts:
-    """The torque peak, the limit check (``limit`` given) and the closest approach of the
-    whole motion: the plain pieces enclosed together (``batch``, of all the pieces),
-    each other piece by its own envelope."""
+    """The torque peak, whether it was computed, the limit check (``limit`` given) and
+    the closest approach of the whole motion: the plain pieces enclosed together
+    (``batch``, of all the pieces), each other piece by its own envelope.
+
+    ``peak`` False: the certified peak is computed only where it costs no pass (None
+    where undefined, infinite at a pole; ``known_peak``), else it is not computed (None,
+    and False for ``computed``); the limit check then decides without it."""
     groups = batches(parts, batch)
     grouped = {j for _, ids in groups for j in ids}
     alone = [j for j in range(len(parts)) if j not in grouped]
-    got = {j: parts[j].envelope.torque_peak() for j in alone}
-    together = [(b, ids, b.torque_peak()) for b, ids in groups]
-    extra = [tuple((parts[ids[j]].start, pk) for pk, j in both) for _, ids, both in together]
-    peak = peaks([parts[j].origin for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+    checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
+    if peak:
+        got = {j: parts[j].envelope.torque_peak() for j in alone}
+        together = [(b, ids, b.torque_peak()) for b, ids in groups]
+        extra = [tuple((parts[ids[j]].start, pk) for pk, j in both) for _, ids, both in together]
+        top = peaks([parts[j].origin for j in alone], [got[j] for j in alone], extra)  # type: ignore[arg-type]
+        computed = True
+        if limit is not None:
+            for _, ids, both in together:
+                if all(pk.certified and pk.upper <= lim
+                       for (pk, _), lim in zip(both, limit, strict=True)):  # fmt: skip
+                    for j in ids:  # the peak of all of them decides the limit at once
+                        checks[j] = _kept(parts[j], limit)
+    else:
+        top, computed = known_peak(parts, alone)
+        if limit is not None:
+            for b, ids in groups:
+                if b.below(limit):  # proven below both limits over every piece at once
+                    for j in ids:
+                        checks[j] = _kept(parts[j], limit)
     checked = None
     if limit is not None:
-        checks: dict[int, tuple[LimitCheck, LimitCheck]] = {}
-        for _, ids, both in together:
-            if all(
-                pk.certified and pk.upper <= lim for (pk, _), lim in zip(both, limit, strict=True)
-            ):
-                for j in ids:  # the peak of all of them decides the limit at once
-                    res = CROSSING_REL * to_float(parts[j].duration)
-                    checks[j] = tuple(LimitCheck(lim, True, (), res) for lim in limit)  # type: ignore[assignment]
         for j, p in enumerate(parts):
             if j not in checks:
                 checks[j] = p.envelope.limit_violations(limit)
         checked = limits(parts, [checks[j] for j in range(len(parts))])
-    near = {j: parts[j].envelope.closest_approach() for j in alone}
+    near = {j: None if _meets(parts[j]) else parts[j].envelope.closest_approach() for j in alone}
     pairs: list[tuple[fmpq, fmpq, Approach | None]] = [
         (parts[j].origin, parts[j].origin, near[j]) for j in alone
     ]
     for b, ids in groups if all(a is not None for a in near.values()) else ():
         a, jy, jd = b.closest_approach()
         pairs.append((parts[ids[jy]].start, parts[ids[jd]].start, a))
-    return peak, checked, approach(pairs)
+    return top, computed, checked, approach(pairs)
+
+
+def _kept(p: Part, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
+    """The limit check of a piece proven below both limits everywhere."""
+    res = CROSSING_REL * to_float(p.duration)
+    return LimitCheck(limit[0], True, (), res), LimitCheck(limit[1], True, (), res)
+
+
+def _undefined(p: Part) -> bool:
+    """``Envelope.peak_undefined`` of the piece, its envelope made only where E is at A
+    or B (the one case that needs it)."""
+    if p.analysis.on_singular_line:
+        return True
+    return bool(p.analysis.kinematic) and p.envelope.peak_undefined
+
+
+def _poles(p: Part) -> list[SingularInstant]:
+    """The piece's instants with unbounded torques (``Envelope.poles``)."""
+    return [s for s in p.analysis.instants if not s.torque_bounded]
+
+
+def _meets(p: Part) -> bool:
+    """Whether the piece meets y = 0 or E reaches A or B: then it has no closest
+    approach (``Envelope.closest_approach`` is None) and needs no envelope for it."""
+    a = p.analysis
+    return bool(a.instants or a.kinematic or a.on_singular_line)
+
+
+def known_peak(parts: list[Part], alone: list[int]) -> tuple[tuple[Peak, Peak] | None, bool]:
+    """The peak where it needs no pass, and whether it is known: None (known) where it is
+    undefined on a piece (the path on y = 0, E through A or B along AB), infinite at the
+    first pole (known), else not computed (None, False). The pieces of a batch are plain:
+    neither undefined nor unbounded."""
+    if any(_undefined(parts[j]) for j in alone):
+        return None, True
+    poles = [shift(parts[j].origin, _poles(parts[j])[0].t) for j in alone if _poles(parts[j])]
+    if poles:
+        t = min(poles)
+        return (Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)), True
+    return None, False
 
 
 def peaks(
@@ -383,6 +452,9 @@ def theta_offsets(parts: list[Part]) -> None:
 
 def sample(parts: list[Part], t: np.ndarray) -> Samples:
     """Certified samples at the absolute times ``t``, each from its own piece."""
+    from .certified import FIELDS
+    from .sampling import Samples
+
     t = np.asarray(t, dtype=float)
     if len(parts) == 1:
         c = parts[0].motion.sample(t)

@@ -167,7 +167,7 @@ def repair(
     ``NoRepair``."""
     if keep not in (None, *KEEPS):
         raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
-    before = audit(task, strict=True)
+    before = audit(task, strict=True, peak=True)
     if before.passed:
         return Repair(task, before, before)
     jumps = [f.t for f in before.findings if f.rule in JUMP_RULES and f.fails(True)]
@@ -200,7 +200,7 @@ def repair(
         if new is None:
             last = "the changed timing law is not monotone in x"
             continue
-        after = audit(new, strict=True)
+        after = audit(new, strict=True, peak=True)
         if after.passed:
             return _account(task, new, before, after, plans)
         last = "; ".join(f.message for f in after.findings if f.fails(True))[:400]

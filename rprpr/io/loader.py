@@ -495,6 +495,7 @@ def _task(w: _Walk, file: str) -> Task:
             strict=v["checks.strict"],
             unbounded_torque=v["checks.unbounded_torque"],
             rules=_levels(w),
+            peak=v["checks.peak"],
         ),
         law=law,
         lines=dict(w.lines),

@@ -273,6 +273,12 @@ TASK = Spec(
                     "Also fail on torque limits and on accepted unbounded torques.",
                     default=False,
                 ),
+                "peak": Spec(
+                    "bool",
+                    "Compute the certified torque peak (max |T1|, max |T2| over [0, t_f]) for"
+                    " the report (= --peak); no verdict needs it.",
+                    default=False,
+                ),
                 "unbounded_torque": Spec(
                     "enum",
                     "A singular instant with unbounded torques (RPR201): fail the task, or "

@@ -51,7 +51,8 @@ class Checks:
     strict mode); ``rules``: the level chosen for a rule (rule id -> "error", "warn" or
     "ignore", ``rules.with_levels``), from the task's ``checks.ignore`` and
     ``checks.warn`` (each with the reason the file gives) and the repository's
-    configuration."""
+    configuration; ``peak``: the report asks for the certified torque peak.
+    """
 
     min_slope: fmpq
     min_speed: fmpq
@@ -59,6 +60,7 @@ class Checks:
     strict: bool
     unbounded_torque: str
     rules: dict[str, str]
+    peak: bool
 
 
 @dataclass(frozen=True)

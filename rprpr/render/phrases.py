@@ -5,7 +5,8 @@ engine, and every number in it goes through ``model.numbers``:
 
 * ``peak``: ``peak |T1| 66.1221 N m at t = 2.743 s, |T2| 60.5504 N m at t = 0.2024 s``
   (the certified maxima over [0, t_f]; ``≥ ... not certified`` where only a lower bound
-  is proven; ``torques unbounded at t = ...`` where a singular instant has a pole);
+  is proven; ``torques unbounded at t = ...`` where a singular instant has a pole;
+  ``peak not computed (--peak)`` where it was not asked for);
 * ``approach``: ``closest approach to AB: 100 µm at t = 1 s, min |δ| = 6.667e-05 at
   t = 1 s`` for a motion that never meets the singular line.
 """
@@ -26,6 +27,8 @@ def peak(rep: dict[str, Any]) -> str:
     poles = [f"{times[s['t']]} s" for s in rep["singularities"] if not s["torque_bounded"]]
     if poles:
         return f"{e.noun} unbounded at t = {', '.join(poles)}"
+    if rep.get("torque_peak_computed") is False:
+        return "peak not computed (--peak)"
     values = rep["torque_peak"]
     if values is None:
         return ""

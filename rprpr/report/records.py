@@ -11,9 +11,9 @@ import traceback
 from typing import Any
 
 from ..engine.audit import AuditResult, Saturation
-from ..engine.envelope import Approach, LimitCheck, Peak, Window
 from ..engine.knots import Knot
 from ..engine.singular import SingularInstant
+from ..engine.verdicts import Approach, LimitCheck, Peak, Window
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.names import file_name
@@ -148,15 +148,21 @@ def approach_record(a: Approach | None) -> dict[str, Any] | None:
     }
 
 
-def peak_fields(peak: tuple[Peak, Peak] | None) -> dict[str, Any]:
+PEAK_FIELDS = ("torque_peak", "torque_peak_t", "torque_peak_bound", "torque_peak_certified")
+
+
+def peak_fields(peak: tuple[Peak, Peak] | None, computed: bool = True) -> dict[str, Any]:
     """``torque_peak`` [max |T1|, max |T2|] over [0, t_f] [N m] (a certified lower bound
     of each, within 1e-6 relative of the true maximum when ``torque_peak_certified``),
     ``torque_peak_t`` where each is reached [s], ``torque_peak_bound`` the proven upper
-    bounds [N m]; all null when the torques are unbounded or undefined."""
+    bounds [N m]; all null when the torques are unbounded or undefined. When the peak
+    was not asked for (not ``computed``: finite torques, no ``--peak``), all null and
+    ``torque_peak_computed``: false (the field is there only then: a report with the
+    peak reads as it always did)."""
+    if not computed:
+        return {**dict.fromkeys(PEAK_FIELDS), "torque_peak_computed": False}
     if peak is None or not all(math.isfinite(p.value) for p in peak):
-        return dict.fromkeys(
-            ("torque_peak", "torque_peak_t", "torque_peak_bound", "torque_peak_certified")
-        )
+        return dict.fromkeys(PEAK_FIELDS)
     return {
         "torque_peak": [p.value for p in peak],
         "torque_peak_t": [p.t for p in peak],
@@ -205,7 +211,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         ],
         "on_singular_line": result.on_singular_line,
         "knots": [_knot_record(k) for k in result.knot_jumps],
-        **peak_fields(result.torque_peak),
+        **peak_fields(result.torque_peak, result.peak_computed),
         "torque_limit": (
             [limit_record(c) for c in result.torque_limit] if result.torque_limit else None
         ),

@@ -152,6 +152,29 @@ def test_a_configured_torque_limit_applies_where_a_task_has_none(repo: Path) -> 
     assert doc["reports"][0]["torque_limit"][0]["limit"] == 300
 
 
+def test_the_peak_is_computed_when_the_command_line_the_task_or_the_configuration_asks(
+    repo: Path,
+) -> None:
+    # path 2's |T1| peaks at 66.1221 N m (tests/report: against the reference)
+    def peak(*args: str) -> object:
+        code, doc, _ = _check(repo, *args, "tasks/p2.rprpr.yaml")
+        assert code == 0
+        (rep,) = doc["reports"]
+        return rep["torque_peak"] and round(rep["torque_peak"][0], 4)
+
+    assert peak() is None  # not asked: "torque_peak_computed": false
+    assert peak("--peak") == 66.1221
+    (repo / "rprpr.toml").write_text("peak = true\n", encoding="utf-8")
+    assert peak() == 66.1221
+    task = repo / "tasks" / "p2.rprpr.yaml"
+    task.write_text(task.read_text(encoding="utf-8") + "  peak: false\n", encoding="utf-8")
+    assert peak() is None  # the task's own key wins over the configuration
+    assert peak("--peak") == 66.1221  # the command line over both
+    with chdir(repo):
+        _, out, _ = run_cli("check", "--show-settings")
+    assert "peak         = true  # " + str(repo / "rprpr.toml") in out.splitlines()
+
+
 def test_warn_unbounded_and_the_task_key_still_work(repo: Path) -> None:
     code, doc, _ = _check(
         repo, "--isolated", "--warn-unbounded", str(CONFIGS / "case1_crossing.rprpr.yaml")

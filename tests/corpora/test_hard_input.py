@@ -267,7 +267,7 @@ def audited(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[Path, o
         path = root / f"{name}.yaml"
         path.write_text(case.text, encoding="utf-8")
         start = time.process_time()
-        result = audit(load_task(path))
+        result = audit(load_task(path), peak=True)
         out[name] = (path, result, time.process_time() - start)
     return out
 

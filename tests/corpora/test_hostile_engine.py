@@ -183,7 +183,7 @@ def test_sixty_irrational_instants_of_one_degree_60_factor() -> None:
 # -- the work budget ---------------------------------------------------------------------------
 
 
-def _deaf_audit(task, *, samples, strict, on_stage):  # type: ignore[no-untyped-def]
+def _deaf_audit(task, *, samples, strict, on_stage, peak=None):  # type: ignore[no-untyped-def]
     """An audit that enters root isolation and stays in one long C call (``sum`` over a
     range runs in C and runs no signal handler): only SIGKILL stops it. It would end after
     about a minute and return no result, which the run would report as an error, not as
@@ -267,7 +267,7 @@ def test_budget_exceeded_is_reported_in_every_format_with_exit_4(
     # never ends: the budget stops it there, whatever the exact analysis before it cost
     monkeypatch.setattr(enveloping.Envelope, "torque_peak", _deaf_envelope)
     path1, path2 = str(CONFIGS / "paper_path1.rprpr.yaml"), str(CONFIGS / "paper_path2.rprpr.yaml")
-    common = ["check", "--budget", "0.5", path1]
+    common = ["check", "--peak", "--budget", "0.5", path1]
     message = "the exact analysis exceeded its budget of 0.5 s at the torque envelope"
     outputs = {}
     for fmt in ("json", "junit", "github", "text"):

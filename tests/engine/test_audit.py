@@ -11,9 +11,12 @@ import numpy as np
 import pytest
 from flint import fmpq
 
-from rprpr.engine.audit import audit
+from rprpr.engine.audit import AuditResult, audit
 from rprpr.engine.sampling import grid
+from rprpr.engine.verdicts import LimitCheck
 from rprpr.io.loader import load_task, parse_task
+from rprpr.model.rules import Finding
+from rprpr.model.task import Task
 from tests.conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
 from tests.reference import reference
 
@@ -365,7 +368,7 @@ def test_margins_are_named_in_the_reason(write_task):  # type: ignore[no-untyped
 
 def test_torque_limit_gates_only_in_strict_mode(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [50, 100]\n"
-    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))))
+    r = audit(load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra))), peak=True)
     assert r.torque_peak[0].value > 50 and r.verdict == "pass"
     assert [f.rule for f in r.findings] == ["RPR202"]
     assert audit(r.task, strict=True).verdict == "fail"
@@ -461,7 +464,7 @@ def test_instants_closer_than_double_precision_do_not_crash(write_task):  # type
 def test_torque_peak_is_the_maximum_over_the_interval_whatever_the_grid(write_task):  # type: ignore[no-untyped-def]
     extra = "checks:\n  torque_limit: [63.2, 1000]\n  strict: true\n"
     task = load_task(write_task(task_text(PATH2_YAML, QUINTIC, extra=extra)))
-    peaks = {n: audit(task, samples=n).torque_peak for n in (2, 11, 1001)}
+    peaks = {n: audit(task, samples=n, peak=True).torque_peak for n in (2, 11, 1001)}
     assert peaks[2] == peaks[11] == peaks[1001]
     p1 = peaks[2][0]
     # the value is |T1| at the time it names (independent reference), and no reference
@@ -541,3 +544,116 @@ def test_a_finding_has_the_severity_of_the_audit_that_made_it() -> None:
     assert [f["severity"] for f in public.to_dict()["findings"]] == [
         f.severity for f in public.findings
     ]
+
+
+# -- the certified peak: computed when asked, deciding nothing ---------------------------------
+
+PEAK_LIMITS = ((300, 300), (66, 61), (20, 20))  # far above, about, far below the torques
+C0_KNOT = """\
+name: a corner at t = 1 (the velocity jumps)
+robot:
+  a1: 6
+  links:
+    2: {mass: 2.0, inertia: 0.10, r: 0.5}
+    3: {mass: 1.0, inertia: 0.05, r: 0.5}
+    4: {mass: 2.0, inertia: 0.10, r: 0.5}
+    5: {mass: 1.0, inertia: 0.05, r: 0.5}
+motion:
+  pieces:
+    - {until: 1, x: 2 + t, y: 1 + t}
+    - {until: 2, x: 3 + (t - 1), y: 2 - (t - 1)/2}
+"""
+
+
+def _with_limit(task: Task, limit: tuple[int, int]) -> Task:
+    checks = dataclasses.replace(task.checks, torque_limit=(fmpq(limit[0]), fmpq(limit[1])))
+    return dataclasses.replace(task, checks=checks)
+
+
+@pytest.fixture(scope="module")
+def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
+    """Every shipped config and every task of the hard corpus, each as given and under
+    limits far above, about and far below its torques, audited with and without the
+    certified peak."""
+    from tests.corpora.test_hard_input import HARD
+
+    tasks = []
+    for p in sorted(CONFIGS.glob("*.yaml")):
+        task = load_task(p)
+        tasks.append((p.name, task))
+        tasks += [(f"{p.name} {lim}", _with_limit(task, lim)) for lim in PEAK_LIMITS]
+    corner = parse_task(C0_KNOT, "corner.yaml")
+    tasks += [("corner", corner), ("corner (20, 20)", _with_limit(corner, (20, 20)))]
+    for name, hard in HARD.items():
+        task = parse_task(hard.text, f"{name}.yaml")
+        tasks += [(name, task), (f"{name} (50, 50)", _with_limit(task, (50, 50)))]
+    return [(name, audit(t, samples=11), audit(t, samples=11, peak=True)) for name, t in tasks]
+
+
+def _decided(f: Finding) -> tuple[object, ...]:
+    """What a finding decides (its message may name the peak when it is known)."""
+    return (f.rule, f.t, f.downgraded, f.promoted, f.line, f.fails(False), f.fails(True))
+
+
+@pytest.mark.parametrize(
+    "rule", ["RPR101", "RPR102", "RPR103", "RPR104", "RPR201", "RPR202", "RPR203", "RPR204"]
+)
+def test_every_rule_decides_the_same_with_and_without_the_peak(
+    rule: str, with_and_without_peak: list[tuple[str, AuditResult, AuditResult]]
+) -> None:
+    fired = 0
+    for name, plain, peaked in with_and_without_peak:
+        got = [_decided(f) for f in plain.findings if f.rule == rule]
+        want = [_decided(f) for f in peaked.findings if f.rule == rule]
+        assert got == want, name
+        assert plain.verdict == peaked.verdict, name
+        fired += len(got)
+    assert fired, f"the corpus never breaks {rule}: the comparison would prove nothing"
+
+
+def test_without_the_peak_every_certified_verdict_is_the_same(
+    with_and_without_peak: list[tuple[str, AuditResult, AuditResult]],
+) -> None:
+    asked = 0
+    for name, plain, peaked in with_and_without_peak:
+        _same_checks(plain.torque_limit, peaked.torque_limit, name)
+        assert [s.t for s, _, _ in plain.saturation] == [s.t for s, _, _ in peaked.saturation]
+        for (_, *got), (_, *want) in zip(plain.saturation, peaked.saturation, strict=True):
+            assert [w is None for w in got] == [w is None for w in want], name
+        assert plain.closest_approach == peaked.closest_approach, name
+        assert peaked.peak_computed
+        finite = peaked.torque_peak is not None and all(
+            math.isfinite(p.value) for p in peaked.torque_peak
+        )
+        if finite:  # bounded torques: the peak costs passes, computed only when asked
+            assert not plain.peak_computed and plain.torque_peak is None, name
+            asked += 1
+        else:  # unbounded or undefined: known without a pass, reported either way
+            assert plain.peak_computed and plain.torque_peak == peaked.torque_peak, name
+        if rule_message := [f.message for f in plain.findings if f.rule == "RPR202"]:
+            assert all("reaches" not in m for m in rule_message if "unbounded" not in m), name
+    assert asked > 10
+
+
+def _same_checks(
+    got: tuple[LimitCheck, LimitCheck] | None, want: tuple[LimitCheck, LimitCheck] | None, name: str
+) -> None:
+    """The same certified limit verdicts: passed, the windows (pole or not) and their
+    crossing brackets, each overlapping the other's (both hold the true crossing; the
+    first partition differs without the peak, so the brackets' ends may)."""
+    assert (got is None) == (want is None), name
+    for g, w in zip(got or (), want or (), strict=True):
+        assert (g.limit, g.passed, len(g.windows)) == (w.limit, w.passed, len(w.windows)), name
+        for a, b in zip(g.windows, w.windows, strict=True):
+            assert a.pole == b.pole, name
+            assert max(a.start_lo, b.start_lo) <= min(a.start_hi, b.start_hi), name
+            assert max(a.end_lo, b.end_lo) <= min(a.end_hi, b.end_hi), name
+
+
+def test_checks_peak_asks_for_the_peak() -> None:
+    task = load_task(CONFIGS / "paper_path2.rprpr.yaml")
+    asked = dataclasses.replace(task, checks=dataclasses.replace(task.checks, peak=True))
+    r = audit(asked, samples=11)
+    assert r.peak_computed and r.torque_peak is not None
+    assert r.torque_peak[0].value == pytest.approx(66.1221116, rel=1e-7)
+    assert not audit(asked, samples=11, peak=False).peak_computed  # the caller's choice wins

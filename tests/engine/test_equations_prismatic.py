@@ -233,7 +233,7 @@ def test_a_prismatic_pole_leaves_lambda2_bounded() -> None:
 
 
 def test_check_names_forces_in_newtons() -> None:
-    status, out, _ = run_cli("check", str(CONFIG))
+    status, out, _ = run_cli("check", "--peak", str(CONFIG))
     assert status == 0
     assert "actuation: prismatic" in out and "F(t_s) [N]" in out and "|F1|" in out
     assert "N m" not in out

@@ -32,6 +32,7 @@ FULL["robot"]["gravity"] = 1.62  # the Moon: not the default
 FULL["robot"]["actuation"] = "prismatic"  # not the default
 FULL["checks"] = {
     "min_slope": 0.5, "min_speed": 0.25, "torque_limit": [300, 200], "strict": True,
+    "peak": True,
     "unbounded_torque": "warn",
     # every rule a task can silence or demote, each with its reason (ignore wins over warn)
     # (by id and by name: either names the rule)
@@ -120,13 +121,14 @@ def test_the_full_task_reads_every_value_given() -> None:
     assert task.robot.gravity == fmpq(162, 100)
     ignored = {r: "ignore" for r in RULES if r != "RPR001"}
     assert task.checks == Checks(
-        fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True, "warn", ignored
+        fmpq(1, 2), fmpq(1, 4), (fmpq(300), fmpq(200)), True, "warn", ignored, True
     )
 
 
 def test_the_defaulted_keys_are_gravity_and_the_checks_margins() -> None:
     assert DEFAULTED == [
         "robot.gravity", "robot.actuation", "checks.min_slope", "checks.min_speed", "checks.strict",
+        "checks.peak",
         "checks.unbounded_torque",
     ]  # fmt: skip
 

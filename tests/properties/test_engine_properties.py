@@ -17,7 +17,7 @@ from tests.engine.test_audit import at_times, mechanical_energy
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 GRAVITY = fmpq(981, 100)
-NO_MARGINS = Checks(fmpq(0), fmpq(0), None, False, "fail", {})
+NO_MARGINS = Checks(fmpq(0), fmpq(0), None, False, "fail", {}, False)
 
 small = st.integers(-6, 6)
 frac = st.builds(lambda p, q: fmpq(p, q), small, st.integers(1, 4))

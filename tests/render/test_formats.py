@@ -284,7 +284,7 @@ def validate_junit(xml: str) -> ET.Element:
 
 
 def test_junit_structure_counts_and_cases(bad_file: str) -> None:
-    code, out, _ = run_cli("check", "--format", "junit", *FAST, P1, P2, ZERO, bad_file)
+    code, out, _ = run_cli("check", "--peak", "--format", "junit", *FAST, P1, P2, ZERO, bad_file)
     assert code == 2
     root = validate_junit(out)
     [suite] = root.findall("testsuite")  # one testsuite per run

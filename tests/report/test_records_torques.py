@@ -27,7 +27,7 @@ from rprpr.engine.audit import AuditResult, audit
 from rprpr.io.loader import load_task, parse_task
 from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text
-from rprpr.report.records import task_report
+from rprpr.report.records import PEAK_FIELDS, task_report
 from rprpr.report.run import REPORT, Run
 from tests.conftest import CONFIGS, run_cli, task_text
 from tests.reference import reference
@@ -48,12 +48,13 @@ NEAR_MISS = task_text("(x - 3)^2/10 + 0.0001", LINE)  # 0.1 mm above AB at t = 1
 
 @cache
 def audited(path: Path) -> AuditResult:
-    """The audit of a shipped task file, once per test process (the tests only read it)."""
-    return audit(load_task(path))
+    """The audit of a shipped task file with its certified peak, once per test process
+    (the tests only read it)."""
+    return audit(load_task(path), peak=True)
 
 
 def report_of(task_text_: str, name: str = "t.yaml", **kw: Any) -> dict[str, Any]:
-    return task_report(audit(parse_task(task_text_, name), **kw), name)
+    return task_report(audit(parse_task(task_text_, name), **{"peak": True, **kw}), name)
 
 
 def text_lines(rep: dict[str, Any]) -> list[str]:
@@ -104,7 +105,7 @@ def test_path2_verdict_line_and_junit_name_the_peak_with_its_time() -> None:
 def test_the_issue_order_13_peak_is_904_not_840() -> None:
     """y = (x - 3)^13, x = 2 + t: the sampled peak was 840 N m; the true max |T1| is 904."""
     task = parse_task(task_text("(x - 3)^13", LINE))
-    rep = task_report(audit(task), "t.yaml")
+    rep = task_report(audit(task, peak=True), "t.yaml")
     assert rep["torque_peak_certified"] is True
     assert rep["torque_peak"][0] == pytest.approx(903.7366, rel=1e-6)
     t = rep["torque_peak_t"][0]
@@ -121,7 +122,7 @@ def test_an_uncertified_peak_reports_a_lower_bound_and_says_so(
     monkeypatch.setattr(envelope, "MAX_ROUNDS", 1)
     monkeypatch.setattr(envelope.Envelope, "_ladders", lambda self, h: np.zeros(0))
     task = parse_task(CHEBYSHEV_16)
-    rep = task_report(audit(task), "t.yaml")
+    rep = task_report(audit(task, peak=True), "t.yaml")
     assert rep["torque_peak_certified"] is False
     for i, name in enumerate(("T1", "T2")):
         value, t = rep["torque_peak"][i], rep["torque_peak_t"][i]
@@ -136,7 +137,7 @@ def test_a_chebyshev_peak_is_certified_by_the_centred_form() -> None:
     """The same path with the full work budget: the centred enclosure certifies the peak
     (bound within 1e-6 of the value; the reference |T| at the ends lies between)."""
     task = parse_task(CHEBYSHEV_16)
-    rep = task_report(audit(task), "t.yaml")
+    rep = task_report(audit(task, peak=True), "t.yaml")
     assert rep["torque_peak_certified"] is True
     for i, name in enumerate(("T1", "T2")):
         value, bound = rep["torque_peak"][i], rep["torque_peak_bound"][i]
@@ -157,7 +158,7 @@ def test_unbounded_torques_leave_the_peak_null() -> None:
 def test_a_limit_below_the_peak_is_exceeded_between_the_reference_crossings() -> None:
     source = PATH2.read_text(encoding="utf-8").replace("[300, 300]", "[66, 61]")
     task = parse_task(source, "p2.yaml")
-    rep = task_report(audit(task), "p2.yaml")
+    rep = task_report(audit(task, peak=True), "p2.yaml")
     t1, t2 = rep["torque_limit"]
     assert (t1["limit"], t1["passed"], t1["pole"]) == (66.0, False, [False])
     assert (t2["limit"], t2["passed"], t2["exceeded"]) == (61.0, True, [])
@@ -171,6 +172,34 @@ def test_a_limit_below_the_peak_is_exceeded_between_the_reference_crossings() ->
         assert below <= 66 + 1e-9 and above >= 66 - 1e-9
     assert ref_abs(task, (start + end) / 2, "T1") > 66
     assert start < rep["torque_peak_t"][0] < end
+    # without the peak: the same limit record and findings (the message names no peak)
+    plain = task_report(audit(task), "p2.yaml")
+    p1, q1 = plain["torque_limit"][0], rep["torque_limit"][0]
+    assert [p1[k] for k in ("limit", "passed", "pole")] == [
+        q1[k] for k in ("limit", "passed", "pole")
+    ]
+    assert plain["torque_limit"][1] == rep["torque_limit"][1]
+    for (lo, hi), (lo2, hi2) in zip(p1["crossings"][0], q1["crossings"][0], strict=True):
+        assert max(lo, lo2) <= min(hi, hi2)  # both brackets hold the crossing
+        assert hi - lo <= 2 * p1["resolution"]
+    assert [(f["rule"], f["severity"]) for f in plain["findings"]] == [
+        (f["rule"], f["severity"]) for f in rep["findings"]
+    ]
+    assert plain["findings"][0]["message"].startswith("|T1| exceeds the limit 66 N m: above it")
+    assert rep["findings"][0]["message"].startswith("|T1| reaches 66.1221 N m at t = ")
+
+
+def test_a_report_without_the_peak_says_it_was_not_computed() -> None:
+    rep = task_report(audit(load_task(PATH2)), str(PATH2))
+    assert [rep[k] for k in PEAK_FIELDS] == [None] * 4
+    assert rep["torque_peak_computed"] is False
+    assert text_lines(rep)[-1].endswith("; peak not computed (--peak)")
+    asked = task_report(audit(load_task(PATH2), peak=True), str(PATH2))
+    assert "torque_peak_computed" not in asked  # a report with the peak reads as before
+    assert asked["torque_peak"] == pytest.approx([66.1221116, 60.5503573], rel=1e-8)
+    # unbounded torques: known without a pass, reported as before either way
+    unbounded = task_report(audit(load_task(CASE1)), str(CASE1))
+    assert "torque_peak_computed" not in unbounded
 
 
 @pytest.mark.parametrize("samples", ["11", "101", "1001"])
@@ -221,7 +250,7 @@ def test_saturation_is_null_when_bounded_or_without_a_limit() -> None:
 # -- near misses ------------------------------------------------------------------------------
 def test_a_near_miss_reports_its_closest_approach_against_the_reference() -> None:
     task = parse_task(NEAR_MISS)
-    rep = task_report(audit(task), "t.yaml")
+    rep = task_report(audit(task, peak=True), "t.yaml")
     assert rep["singularities"] == [] and rep["verdict"] == "pass"
     a = rep["closest_approach"]
     assert (a["distance"], a["t"]) == (1e-4, 1.0)  # y(1) = 1e-4, the least |y|
@@ -246,7 +275,7 @@ def test_a_motion_that_meets_ab_has_no_closest_approach() -> None:
 
 
 def test_the_json_document_holds_the_new_fields_in_order() -> None:
-    _, out, _ = run_cli("check", "--format", "json", str(PATH2))
+    _, out, _ = run_cli("check", "--peak", "--format", "json", str(PATH2))
     (rep,) = json.loads(out)["reports"]
     keys = list(rep)
     start = keys.index("torque_peak")
