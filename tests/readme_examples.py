@@ -11,6 +11,8 @@ passing shipped tasks):
   runs in this process, anything else in ``bash`` with the virtual environment's ``bin``
   first on PATH. ``SKIP`` lists the few commands that are not run, each with why;
 * ```` ```python ````: executed as a module of its own;
+* ```` ```toml ````: a configuration file, named by its first line's comment, in a folder of
+  its own: ``rprpr check --show-settings`` must take every key from it;
 * ```` ```yaml ````: a task example (top-level keys among a task's) is read with
   ``parse_task``; a fragment is first put in place of the same keys of ``rprpr init``'s
   task (``motion`` replaces ``path`` and ``timing``). A block whose first line is
@@ -31,6 +33,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import tomllib
 import traceback
 from collections.abc import Iterator
 from contextlib import chdir
@@ -218,6 +221,23 @@ def run_yaml(block: Block, here: Path) -> list[str]:
     return []
 
 
+def run_toml(block: Block, here: Path) -> list[str]:
+    """A configuration example, as its first line names it, in a folder of its own:
+    ``rprpr check --show-settings`` takes every key from it."""
+    name = block.body.split("\n", 1)[0].removeprefix("# ").strip()
+    folder = here / f"toml-{block.line}"
+    folder.mkdir()
+    (folder / name).write_text(block.body, encoding="utf-8")
+    doc = tomllib.loads(block.body)
+    keys = doc["tool"]["rprpr"] if name == "pyproject.toml" else doc
+    with chdir(folder):
+        status, printed = run("rprpr check --show-settings")
+    if status != 0:
+        return [f"rprpr check --show-settings exited {status}:\n{printed}"]
+    taken = re.findall(rf"^(\w+) += .*  # {re.escape(str(folder / name))}$", printed, re.M)
+    return [] if taken == list(keys) else [f"{name}: keys {list(keys)}, taken {taken}"]
+
+
 def run_block(block: Block, here: Path) -> Outcome:
     got = Outcome()
     try:
@@ -244,6 +264,8 @@ def run_block(block: Block, here: Path) -> Outcome:
             exec(code, {"__name__": "__readme__"})
         elif block.lang == "yaml":
             got.problems += run_yaml(block, here)
+        elif block.lang == "toml":
+            got.problems += run_toml(block, here)
     except Exception:
         got.problems.append(traceback.format_exc())
     return got

@@ -23,8 +23,8 @@ from .readme_examples import (
 
 TEXT = README.read_text(encoding="utf-8")
 BLOCKS = blocks(TEXT)
-RUN = {"console", "sh", "python", "yaml"}
-SHOWN = {"json", "text", "xml", "toml", ""}  # reports, messages, file layouts: shown only
+RUN = {"console", "sh", "python", "yaml", "toml"}
+SHOWN = {"json", "text", "xml", ""}  # reports, messages, file layouts: shown only
 
 
 @pytest.fixture(scope="module")
@@ -111,3 +111,15 @@ def test_every_relative_link_reaches_a_file_and_its_heading(doc: Path) -> None:
 def test_readme_links_every_docs_page() -> None:
     linked = {Path(t.partition("#")[0]).name for t in links(README)}
     assert {p.name for p in DOCS[1:]} <= linked
+
+
+def test_the_task_file_example_is_the_shipped_example_2() -> None:
+    from rprpr import load_task, parse_task
+
+    section = TEXT.split("\n## The task file\n", 1)[1]
+    match = re.search(r"```yaml\n(.*?)```", section, flags=re.S)
+    assert match is not None
+    mine = parse_task(match[1], file="example.rprpr.yaml")
+    shipped = load_task(ROOT / "configs" / "paper_path2.rprpr.yaml")
+    for name in ("name", "robot", "path", "x_of_t", "duration", "checks", "law"):
+        assert getattr(mine, name) == getattr(shipped, name), name
