@@ -4,7 +4,7 @@ command but the sheet works without matplotlib, and the sheet says how to get it
 matplotlib's absence is simulated in a subprocess: ``sys.modules['matplotlib'] = None``
 (and Pillow's, ``PIL``) makes every import of them fail as on a machine without them.
 The same run, in a virtual environment really without matplotlib, is stated in README
-("Install").
+("Quick start").
 """
 
 from __future__ import annotations

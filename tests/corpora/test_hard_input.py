@@ -4,7 +4,7 @@ Each task below is valid and awkward: singular instants at t = 0 and t = t_f, se
 few microseconds (or 2.5e-12 s) apart, very high multiplicity (up to 60), irrational
 instants, a path on the singular line, paths through A or B, robots at 0.01 m and
 1000 m, a duration of 10^6 s, masses of 1e-9 and 1e9 kg. For each we pin the exact,
-documented result (README, "Hard but valid input") through the API and the command line:
+documented result (docs/theory.md, "Hard but valid input") through the API and the command line:
 instants (exact where rational), order, kind, case, principles, boundedness, verdict,
 exit status 0/1, strict JSON (no NaN/Infinity), and bounded time.
 
