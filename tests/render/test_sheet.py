@@ -22,7 +22,7 @@ from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 from tests.conftest import task_text
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, motions, sheet
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, drawn, motions, sheet
 
 NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
@@ -405,7 +405,7 @@ def test_unusual_motions_render_without_warnings(
     task = write_task(task_text(y, timing))
     m = P.motion(audit(load_task(task), samples=SAMPLES), str(task))
     fig = P.render([m])
-    fig.draw_without_rendering()  # warnings are errors here (pytest's filterwarnings)
+    drawn(fig)  # a draw, unpainted: warnings are errors here (pytest's filterwarnings)
     if expect is not None:
         assert expect in figure_texts(fig), expect
 
