@@ -10,7 +10,7 @@ import functools
 from collections.abc import Sequence
 from typing import Any
 
-from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
 from matplotlib.figure import Figure
 
 from rprpr.engine.audit import audit
@@ -53,10 +53,22 @@ def sheet(paths: Sequence[str]) -> Figure:
     return _sheet(tuple(paths))
 
 
+@functools.cache
+def _renderer(dpi: int) -> RendererAgg:
+    return RendererAgg(1, 1, dpi)  # type: ignore[no-untyped-call]
+
+
 def drawn(fig: Figure, dpi: int = DPI) -> Any:
     """Lay ``fig`` out at ``dpi`` on an Agg canvas as a draw would (ticks, text, legends
-    placed) without painting; returns the renderer to measure it with."""
+    placed) without painting; returns the renderer to measure it with.
+
+    As ``Figure.draw_without_rendering``, with one Agg renderer per ``dpi`` for every
+    figure: a renderer caches the size of each text (and each mathtext parse) it has
+    measured, and the sheets share most of theirs. What a draw places depends on the
+    renderer's resolution only, never on its canvas size (not painted: it stays 1 x 1)."""
     fig.set_dpi(dpi)
-    canvas = FigureCanvasAgg(fig)
-    fig.draw_without_rendering()
-    return canvas.get_renderer()
+    FigureCanvasAgg(fig)
+    renderer = _renderer(dpi)
+    with renderer._draw_disabled():
+        fig.draw(renderer)
+    return renderer

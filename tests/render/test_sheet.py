@@ -22,7 +22,7 @@ from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 from tests.conftest import task_text
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, motions, sheet
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, drawn, motions, sheet
 
 NAME1 = "Example 1 of the paper, path 1"
 NAME2 = "Example 2 of the paper, path 2"
@@ -188,16 +188,17 @@ def saved(tmp_path_factory: pytest.TempPathFactory) -> tuple[list[P.Motion], Pat
 
 
 def test_png_has_the_sheets_size_and_names_the_tasks(tmp_path: Path) -> None:
-    """The paper's overlay as PNG at 40 dpi (Agg lays out every config's sheet in
-    tests/render/test_sheet_layout.py; a raster of the six would add only time)."""
+    """The paper's overlay as PNG at 20 dpi (Agg lays out every config's sheet in
+    tests/render/test_sheet_layout.py; a raster of the six, or a finer one, would add only
+    time: no pixel is read here)."""
     ms = motions([PATH1, PATH2])
     fig = sheet([PATH1, PATH2])
-    P.save(fig, str(tmp_path / "sheet.png"), "png", dpi=40, motions=ms)
+    P.save(fig, str(tmp_path / "sheet.png"), "png", dpi=20, motions=ms)
     with Image.open(tmp_path / "sheet.png") as im:
         im.verify()
     with Image.open(tmp_path / "sheet.png") as im:
         w, h = fig.get_size_inches()
-        assert im.size == (int(w * 40), int(h * 40))  # whole pixels, as Agg cuts them
+        assert im.size == (int(w * 20), int(h * 20))  # whole pixels, as Agg cuts them
         assert all(m.name in im.text["Title"] for m in ms)
         assert im.text["Software"].startswith("rprpr ")
 
@@ -405,7 +406,7 @@ def test_unusual_motions_render_without_warnings(
     task = write_task(task_text(y, timing))
     m = P.motion(audit(load_task(task), samples=SAMPLES), str(task))
     fig = P.render([m])
-    fig.draw_without_rendering()  # warnings are errors here (pytest's filterwarnings)
+    drawn(fig)  # a draw, unpainted: warnings are errors here (pytest's filterwarnings)
     if expect is not None:
         assert expect in figure_texts(fig), expect
 
