@@ -48,7 +48,9 @@ class CheckOptions:
     take before it is stopped (None: no limit). ``defaults``: what the repository's
     configuration sets in every task (``config.configure``); ``statistics``: counts per
     rule instead of the report; ``stdin``: the bytes of the task file ``-``, named
-    ``stdin_filename`` in the report.
+    ``stdin_filename`` in the report; ``sheets``: the HTML report draws each task's
+    audit sheet (``check`` clears it for any other format and where matplotlib is not
+    installed).
     """
 
     format: str = "text"
@@ -66,6 +68,7 @@ class CheckOptions:
     statistics: bool = False
     stdin: bytes | None = None
     stdin_filename: str = "-"
+    sheets: bool = True  # --format html: each task's audit sheet (matplotlib)
 
 
 def tasks_argument(name: str = "tasks") -> Callable[[F], F]:

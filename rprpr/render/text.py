@@ -167,7 +167,7 @@ def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
         console.print(finding_line(rep, f), soft_wrap=True)
     console.print(Text.assemble((printable(rep["task"]), "bold"), " — ", printable(rep["name"])))
     times = instant_times(rep)
-    for line in _details(rep, times):
+    for line in phrases.details(rep, times):
         console.print(Text(f"  {line}"))
     if rep["singularities"]:
         table = singularity_table(rep)
@@ -197,25 +197,3 @@ def _verdict(rep: dict[str, Any]) -> Text:
         f" — {n} singular instant{'s' if n != 1 else ''}, {high} high-order",
         f"; {peak}" if peak else "", " (strict)" if rep["strict"] else "",
     )  # fmt: skip
-
-
-def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
-    """The task's lines in words: the path on y = 0, E through A or B, values beyond the
-    double range and the closest approach (the torque peak is in the verdict line)."""
-    out = []
-    e = scheme(rep)
-    if e.name != REVOLUTE:
-        out.append(f"actuation: {e.name} (efforts: forces F1, F2 [{e.unit}] in the legs)")
-    if rep["on_singular_line"]:
-        out.append("the path lies on the singular line y = 0")
-    elif not rep["singularities"]:
-        out.append("no Type II singular instant in [0, t_f]")
-    for k in rep["kinematic_singularities"]:
-        joint = "A" if k["leg"] == 1 else "B"
-        out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
-    for b in rep["beyond_double_range"]:
-        out.append(f"{b['quantity']} = {b['value']}: beyond the double range")
-    near = phrases.approach(rep)
-    if near:
-        out.append(near)
-    return out
