@@ -141,8 +141,8 @@ th,td{border:1px solid var(--line);padding:.2rem .5rem;text-align:left}
 th{background:var(--bg2)}
 td.num{text-align:right}
 td.pass{color:var(--pass)}td.fail{color:var(--fail);font-weight:700}
-figure.sheet{margin:.5rem 0}
-figure.sheet svg{display:block;width:100%;height:auto;max-width:792pt}
+figure.sheet{margin:.5rem 0;overflow-x:auto;-webkit-overflow-scrolling:touch}
+figure.sheet svg{display:block;width:100%;min-width:600px;height:auto;max-width:792pt}
 details summary{cursor:pointer;font-weight:600;margin:.6rem 0 .2rem}
 footer{margin:1.5rem 0 .5rem;color:var(--muted);font-size:.85rem}
 @media (max-width:600px){body{padding:.6rem;font-size:14px}section.task{padding:.6rem}}
@@ -156,7 +156,8 @@ section.task+section.task{break-before:page}
 pre{white-space:pre-wrap;overflow-wrap:anywhere}
 table{white-space:normal;font-size:8.5pt}
 tr,figure.sheet,ol.findings li{break-inside:avoid}
-figure.sheet svg{max-height:24cm}
+figure.sheet{overflow:visible}
+figure.sheet svg{min-width:0;max-height:24cm}
 .badge{print-color-adjust:exact;-webkit-print-color-adjust:exact}
 }
 """
@@ -215,7 +216,7 @@ def render(run: Run, *, quiet: bool = False) -> str:
     body.append("</main>")
     body.append(
         f"<footer>Written by rprpr {escape(__version__)} (rprpr check --format html). "
-        "Verdicts are exact: no sampling decides them.</footer>"
+        "The sheets are drawn from the same audits as the verdicts.</footer>"
     )
     title = f"rprpr check: {summary}"
     return (
@@ -433,24 +434,32 @@ _PROLOG = re.compile(r"\A\s*<\?xml[^>]*\?>\s*(<!DOCTYPE[^>]*>\s*)?")
 _METADATA = re.compile(r"<metadata>.*?</metadata>\s*", re.S)
 _ID = re.compile(r'\bid="([^"]+)"')
 _SIZE = re.compile(r'\s(width|height)="[^"]*"')
-_UNSAFE = re.compile(r"<script|<foreignObject|\bon[a-z]+\s*=|href=\"(?!#)", re.I)
+_TAG = re.compile(r"<[^>]*>")  # text and attribute values hold no < or > (matplotlib escapes)
+_UNSAFE = re.compile(r"^</?\s*(script|foreignObject)|\son[a-z]+\s*=|href\s*=\s*\"(?!#)", re.I)
 
 
 def inline_svg(svg: str, prefix: str) -> str:
     """matplotlib's SVG file ``svg`` fit to sit in the page: no XML prolog or doctype,
     no metadata block, no fixed size (CSS scales it to the width), and every id (and
     each reference to one: ``href="#id"``, ``url(#id)``) prefixed with ``prefix``, so
-    that two sheets on one page never share an id. An SVG that would script or fetch
+    that two sheets on one page never share an id (an id the SVG gives twice keeps its
+    first, the others numbered: ``-2``). An SVG that would script or fetch
     anything is replaced by a line saying so (matplotlib never writes one)."""
     body = _METADATA.sub("", _PROLOG.sub("", svg, count=1), count=1)
-    if _UNSAFE.search(body):
+    if any(_UNSAFE.search(tag) for tag in _TAG.findall(body)):
         return '<p class="note">The audit sheet was left out: it held active content.</p>'
     ids = set(_ID.findall(body))
     if ids:
         names = "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True))
-        body = re.sub(rf'\bid="({names})"', lambda m: f'id="{prefix}{m[1]}"', body)
         body = re.sub(rf'href="#({names})"', lambda m: f'href="#{prefix}{m[1]}"', body)
         body = re.sub(rf"url\(#({names})\)", lambda m: f"url(#{prefix}{m[1]})", body)
+        seen: dict[str, int] = {}
+
+        def unique(m: re.Match[str]) -> str:  # an id given twice (two axes of one panel)
+            n = seen[m[1]] = seen.get(m[1], 0) + 1  # keeps its first: references find it
+            return f'id="{prefix}{m[1]}{"" if n == 1 else f"-{n}"}"'
+
+        body = _ID.sub(unique, body)
     head_end = body.index(">") + 1 if body.startswith("<svg") else 0
     head = _SIZE.sub("", body[:head_end])
     if head:
