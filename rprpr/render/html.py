@@ -136,7 +136,7 @@ pre.quote{margin:.3rem 0 0}
 user-select:none}
 .hit{background:var(--hit)}
 .scroll{overflow-x:auto;-webkit-overflow-scrolling:touch;margin:.3rem 0}
-table{border-collapse:collapse;font-variant-numeric:tabular-nums;white-space:nowrap}
+table{border-collapse:collapse;font-variant-numeric:tabular-nums;white-space:nowrap;font-size:.9em}
 th,td{border:1px solid var(--line);padding:.2rem .5rem;text-align:left}
 th{background:var(--bg2)}
 td.num{text-align:right}
