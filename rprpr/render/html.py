@@ -443,9 +443,11 @@ def inline_svg(svg: str, prefix: str) -> str:
     no metadata block, no fixed size (CSS scales it to the width), and every id (and
     each reference to one: ``href="#id"``, ``url(#id)``) prefixed with ``prefix``, so
     that two sheets on one page never share an id (an id the SVG gives twice keeps its
-    first, the others numbered: ``-2``). An SVG that would script or fetch
+    first, the others numbered: ``-2``); the characters ``escape.printable`` escapes
+    (a bidirectional override in a task's name) made visible. An SVG that would script or fetch
     anything is replaced by a line saying so (matplotlib never writes one)."""
     body = _METADATA.sub("", _PROLOG.sub("", svg, count=1), count=1)
+    body = printable(body, keep="\n\r\t")  # a bidi override of a task's name, made visible
     if any(_UNSAFE.search(tag) for tag in _TAG.findall(body)):
         return '<p class="note">The audit sheet was left out: it held active content.</p>'
     ids = set(_ID.findall(body))

@@ -374,3 +374,43 @@ def test_a_real_browser_shows_the_page_and_fetches_nothing(tmp_path: Path) -> No
             assert value is None or value.startswith("#"), (name, value)
     for profile in ("profile-1", "profile-2"):  # and the page asked for nothing
         assert [u for u in page_requests(tmp_path / profile) if not u.startswith("file:")] == []
+
+
+def test_inline_svg_makes_bidi_overrides_and_stray_bytes_visible() -> None:
+    out = inline_svg(SVG.replace("<title>t</title>", "<title>a\u202eb\udcff</title>"), "s1-")
+    assert "<title>a\\u202eb\\xff</title>" in out
+    out.encode("utf-8")
+
+
+def test_hostile_file_and_task_names_through_the_command(tmp_path: Path) -> None:
+    text = (ROOT / P1).read_text(encoding="utf-8")
+    text = text.replace(
+        "name: Example 1 of the paper, path 1", 'name: "<script>x</script> \\u202e & co"'
+    )
+    folder = os.fsdecode(os.fsencode(tmp_path) + b"/d\xff")
+    os.mkdir(folder)
+    with open(folder + os.fsdecode(b"/e\xfe<b>.rprpr.yaml"), "w", encoding="utf-8") as fh:
+        fh.write(text)
+    out = tmp_path / "report.html"
+    code, _, err = run_cli(
+        "check", "--format", "html", "--no-sheets", "-o", str(out), str(tmp_path)
+    )
+    assert code == 1, err
+    html = out.read_bytes().decode("utf-8")  # UTF-8 throughout: the stray bytes escaped
+    assert "<script" not in html and "\u202e" not in html and "<b>" not in html
+    assert "&lt;script&gt;x&lt;/script&gt; \\u202e &amp; co" in html
+    assert "/d\\xff/e\\xfe&lt;b&gt;.rprpr.yaml:19" in html  # the finding's place
+
+
+def test_a_task_on_standard_input_is_listed(monkeypatch: pytest.MonkeyPatch) -> None:
+    import io
+
+    data = (ROOT / P2).read_bytes()
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(data)))
+    code, out, _ = run_cli(
+        "check", "--format", "html", "--no-sheets", "--stdin-filename", "p2.rprpr.yaml", "-"
+    )
+    assert code == 0
+    page = Page(out)
+    assert "p2.rprpr.yaml" in page.text and "Task file (27 lines)" in page.text
+    assert "task-1-L27" in page.ids()
