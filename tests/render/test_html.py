@@ -237,6 +237,9 @@ def test_sheets_are_inline_svg_drawn_from_the_audit_with_ids_apart() -> None:
     ids = page.ids()
     assert len(ids) == len(set(ids))  # two sheets, no id shared
     assert all(i.startswith(("task-", "s1-", "s2-")) for i in ids)
+    for n in (1, 2):  # every panel of each sheet
+        for panel in ("path", "x", "delta", "joints", "torques"):
+            assert f"s{n}-panel-{panel}" in ids
     for ref in re.findall(r'href="#([^"]+)"|url\(#([^)]+)\)', html):
         assert (ref[0] or ref[1]) in ids  # every reference resolves within the page
     titles = re.findall(r"<title>([^<]*)</title>", html)
