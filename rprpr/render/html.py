@@ -206,6 +206,8 @@ def render(run: Run, *, quiet: bool = False) -> str:
                 f"{' —' + name if name else ''}</li>"
             )
         body.append("</ol></nav>")
+    elif quiet and run.order:
+        body.append('<p class="muted">Every task passed (-q lists failures and errors only).</p>')
     body.append("<main>")
     for i, kind, item in shown:
         attachment = run.attachments.get(i, Attachment())

@@ -417,3 +417,9 @@ def test_a_task_on_standard_input_is_listed(monkeypatch: pytest.MonkeyPatch) -> 
     page = Page(out)
     assert "p2.rprpr.yaml" in page.text and "Task file (27 lines)" in page.text
     assert "task-1-L27" in page.ids()
+
+
+def test_quiet_when_every_task_passed_says_so() -> None:
+    text = Page(page_of(P2, quiet=True)).text
+    assert "1 task: 1 passed, 0 failed, 0 errors" in text
+    assert "Every task passed" in text and "Example 2 of the paper" not in text
