@@ -8,15 +8,17 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from dataclasses import replace
 from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
 
-from rprpr.cli.check import _source_lines, check_one
+from rprpr.cli.check import _OutOfTime, _source_lines, _time_limit, check_one
 from rprpr.cli.options import CheckOptions
 from rprpr.render.html import inline_svg, render
 from rprpr.report.run import INPUT, REPORT, Attachment, Run
@@ -423,3 +425,14 @@ def test_quiet_when_every_task_passed_says_so() -> None:
     text = Page(page_of(P2, quiet=True)).text
     assert "1 task: 1 passed, 0 failed, 0 errors" in text
     assert "Every task passed" in text and "Example 2 of the paper" not in text
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="no interval timers here")
+def test_the_sheets_time_limit_interrupts_and_restores() -> None:
+    before = signal.getsignal(signal.SIGALRM)
+    with pytest.raises(_OutOfTime), _time_limit(0.01):
+        time.sleep(30)  # interrupted by the limit, long before
+    assert signal.getsignal(signal.SIGALRM) == before
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)  # nothing left armed
+    with _time_limit(None):  # no budget: no limit
+        pass
