@@ -424,7 +424,8 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
         return run
     work = functools.partial(_check_in_worker, options)
     if options.format == "html" and options.sheets:  # drawn in the workers: imported once
-        from ..render import sheet  # noqa: F401
+        with contextlib.suppress(Exception):  # a broken matplotlib: each task's note says so
+            from ..render import sheet  # noqa: F401
     stages = (LOADING, *auditing.STAGES, REPORTING, SHEET)
     with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:
         results = pool.run(files, options.budget)

@@ -436,3 +436,18 @@ def test_the_sheets_time_limit_interrupts_and_restores() -> None:
     assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)  # nothing left armed
     with _time_limit(None):  # no budget: no limit
         pass
+
+
+def test_a_sheet_that_fails_to_draw_is_a_note_and_the_report_stands(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    sheet = pytest.importorskip("rprpr.render.sheet")
+
+    def broken(*args: object, **kwargs: object) -> str:
+        raise RuntimeError("no")
+
+    monkeypatch.setattr(sheet, "svg", broken)
+    kind, item, _, attachment = check_one(P1, replace(HTML, sheets=True))
+    assert kind == REPORT and item["verdict"] == "fail"
+    assert attachment is not None and attachment.sheet is None and attachment.source
+    assert attachment.note == "The audit sheet could not be drawn (RuntimeError)."
