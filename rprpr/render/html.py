@@ -26,7 +26,8 @@ from typing import Any
 
 from .._version import __version__
 from ..model.numbers import CELL, number
-from ..report.records import instant_times, scheme
+from ..model.rules import RULES
+from ..report.records import INVALID_TASK, instant_times, scheme
 from ..report.run import BUDGET, INPUT, REPORT, Attachment, Run
 from . import phrases
 from .escape import printable
@@ -132,6 +133,7 @@ ol.findings li{border-top:1px solid var(--line);padding:.4rem 0;overflow-wrap:an
 pre{background:var(--bg2);border:1px solid var(--line);border-radius:.3rem;padding:.4rem .6rem;
 margin:.3rem 0;overflow-x:auto;white-space:pre;tab-size:4}
 pre.quote{margin:.3rem 0 0}
+.fix{margin:.3rem 0 0;color:var(--muted);font-size:.92em}
 .ln{display:inline-block;min-width:3ch;text-align:right;color:var(--muted);margin-right:1ch;
 user-select:none}
 .hit{background:var(--hit)}
@@ -252,6 +254,15 @@ def _quote(source: tuple[str, ...] | None, line: int | None) -> str:
     return f'<pre class="quote"><span class="ln">{line}</span>{_line(source[line - 1])}</pre>'
 
 
+def _fix(rule: str) -> str:
+    """How to fix a finding of ``rule`` (``rprpr rule``'s words), `code` set as code."""
+    known = RULES.get(rule)
+    if known is None:
+        return ""
+    words = re.sub(r"`([^`]+)`", r"<code>\1</code>", escape(known.fix))
+    return f'<p class="fix"><strong>Fix:</strong> {words}</p>'
+
+
 def _line(text: str) -> str:
     """One line of a task file, escaped, at most ``QUOTE_WIDTH`` characters."""
     cut = text if len(text) <= QUOTE_WIDTH else text[:QUOTE_WIDTH] + "…"
@@ -297,7 +308,7 @@ def _task(n: int, rep: dict[str, Any], attachment: Attachment) -> str:
                 f'<li class="{escape(f["severity"])}">{place} '
                 f'<span class="sev-{escape(f["severity"])}">{escape(f["rule"])}</span> '
                 f"[{escape(f['severity'])}] {escape(f['name'])}: {_text(f['message'])}"
-                f"{_quote(source, f['line'])}</li>"
+                f"{_quote(source, f['line'])}{_fix(f['rule'])}</li>"
             )
         out.append("</ol>")
     out.append("<h3>Singular instants</h3>")
@@ -427,6 +438,8 @@ def _error(n: int, kind: str, item: dict[str, Any], attachment: Attachment) -> s
         else:
             out.append(f'<li class="error">{_text(e["text"])}</li>')
     out.append("</ol>")
+    if kind == INPUT:
+        out.append(_fix(INVALID_TASK))
     out.append("</section>")
     return "\n".join(out)
 

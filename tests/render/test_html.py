@@ -76,6 +76,7 @@ def test_the_page_holds_summary_verdicts_findings_and_instants() -> None:
     assert "Example 1 of the paper, path 1" in text and "Example 2 of the paper, path 2" in text
     assert text.count("FAIL") >= 2 and "PASS" in text  # the badges (contents and headings)
     assert "RPR101" in text and "RPR201" in text and "slope-principle" in text
+    assert "Fix: Reshape path.y so that it crosses y = 0 with a nonzero slope" in text
     assert len(page.tags("th")) == 11 * 2  # the text report's columns, for each task's instants
     assert "2.5" in text and "3 crossing" in text
 
