@@ -186,8 +186,10 @@ def reused_runs() -> Iterator[None]:
     real = check.run_checks
 
     def run_checks(files: Any, options: Any, progress: Any = None) -> Any:
+        # the HTML report's run carries more (each task's lines, its sheet): its own key
+        html = options.format == "html"
         key = repr(
-            (os.getcwd(), [(f, _content(f)) for f in files], replace(options, **PRESENTATION))
+            (html, os.getcwd(), [(f, _content(f)) for f in files], replace(options, **PRESENTATION))
         )
         if key not in _RUNS:
             _RUNS[key] = real(files, options, progress)

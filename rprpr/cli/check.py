@@ -4,9 +4,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import importlib.util
 import os
+import re
+import signal
+import stat
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import replace
@@ -18,7 +24,7 @@ from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..report.exit import ExitCode, run_status
 from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show, with_rules
-from .options import CHECK_FORMATS, CheckOptions, color_option, output_file_option
+from .options import CHECK_FORMATS, PLOT_EXTRA, CheckOptions, color_option, output_file_option
 from .output import (
     Lossy,
     color_enabled,
@@ -34,16 +40,20 @@ from .output import (
 from .tasks import STDIN, read_task, run_inputs, tasks_or_usage_error
 
 if TYPE_CHECKING:  # the report (and with it numpy and flint) is imported only to check
-    from ..report.run import Run
+    from ..engine.audit import AuditResult
+    from ..report.run import Attachment, Run
     from . import workers
 
 PROGRESS_MIN_TASKS = 8  # a progress bar only for runs longer than a handful of tasks
 
-Outcome = tuple[str, dict[str, Any], float]  # (kind, item, seconds) of one task
+# (kind, item, seconds, attachment) of one task; the attachment: --format html only
+Outcome = tuple[str, dict[str, Any], float, "Attachment | None"]
 
 # the stages of a task around those of the audit (``engine.audit.STAGES``)
 LOADING = "the loading of the task file"
 REPORTING = "the report"
+SHEET = "the audit sheet"  # --format html: drawn after the report, within what is left
+SHEET_MARGIN = 0.5  # seconds of the budget kept back for sending the outcome home
 
 
 @click.command()
@@ -57,7 +67,8 @@ REPORTING = "the report"
     help="Report format: text (rich), concise (the findings alone, one line each: "
     "FILE:LINE:COL: RPRnnn [severity] message), json, junit (JUnit XML), github (GitHub Actions "
     "annotations), sarif (SARIF 2.1.0, for code scanning) or gitlab (GitLab Code "
-    "Quality).  [default: text]",
+    "Quality) or html (one self-contained page: verdicts, findings with their lines, the "
+    "instants and each task's audit sheet).  [default: text]",
 )
 @output_file_option("Write the report to this file instead of standard output.")
 @click.option(
@@ -160,6 +171,13 @@ REPORTING = "the report"
     "pre-commit and editors): a file that is not a task file is skipped.",
 )
 @click.option(
+    "--sheets/--no-sheets",
+    default=True,
+    show_default=True,
+    help="HTML report: each task's audit sheet as inline SVG (needs matplotlib: "
+    "pip install 'rprpr[plot]'; without it the report says so and has none).",
+)
+@click.option(
     "--stdin-filename",
     metavar="NAME",
     help="The name of the task file read from standard input (TASK -) in the report.",
@@ -187,6 +205,7 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
     if options.output_file:  # every file the run reads, known before any is loaded
         inputs = run_inputs(files, options.stdin, settings.file)
         refuse_overwriting_inputs([options.output_file], inputs)
+    options, note = _sheets(options)
     with report_stream(options.output_file, "the report") as out:
         show_bar = want_progress(len(files), sys.stderr, options.quiet)
         progress = (
@@ -195,6 +214,8 @@ def check(tasks: tuple[str, ...], **params: Any) -> ExitCode:
             else None
         )
         run = run_checks(files, options, progress)
+        if note:
+            run.notes.append(note)
         status = run_status(run, exit_zero=options.exit_zero)
         with writing("the report", options.output_file, status):
             write_report(run, options, out)
@@ -236,8 +257,20 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         defaults=settings.task_defaults(),
         statistics=params["statistics"],
         stdin_filename=params["stdin_filename"] or STDIN,
+        sheets=params["sheets"],
     )
     return settings, options
+
+
+def _sheets(options: CheckOptions) -> tuple[CheckOptions, str | None]:
+    """The options with ``sheets`` only where they are drawn (an HTML report, matplotlib
+    installed), and the report's one-line note when they were asked for and cannot be."""
+    if options.format != "html" or options.statistics or not options.sheets:
+        return replace(options, sheets=False), None
+    if importlib.util.find_spec("matplotlib") is None:  # the light install: found, not imported
+        note = f"The audit sheets are left out: they need matplotlib ({PLOT_EXTRA})."
+        return replace(options, sheets=False), note
+    return options, None
 
 
 def _selectors(given: Sequence[str]) -> tuple[str, ...]:
@@ -259,9 +292,11 @@ def _read_stdin(options: CheckOptions) -> CheckOptions:
 def check_one(
     path: str, options: CheckOptions, on_stage: Callable[[str], None] | None = None
 ) -> Outcome:
-    """Load and audit one task file, in this process: (kind, item, seconds), kind "report"
-    (item: the report), "input" (a bad task file) or "internal" (a bug; the item names
-    the file). ``on_stage`` is told each stage as it begins (LOADING is where it starts)."""
+    """Load and audit one task file, in this process: (kind, item, seconds, attachment),
+    kind "report" (item: the report), "input" (a bad task file) or "internal" (a bug; the
+    item names the file). ``on_stage`` is told each stage as it begins (LOADING is where
+    it starts). The attachment is None but for ``--format html``: the task file's lines
+    and, with ``options.sheets``, the audit sheet (``_attach``)."""
     from ..engine.audit import audit
     from ..report.records import input_error, internal_error, task_report
     from ..report.run import INPUT, INTERNAL, REPORT
@@ -272,6 +307,7 @@ def check_one(
         name = STDIN
     else:
         name = path
+    html = options.format == "html"
     try:
         if name == STDIN and options.stdin_error:
             raise TaskFileError(options.stdin_error, file=path)
@@ -279,9 +315,10 @@ def check_one(
         # the configuration's defaults and levels; --warn-unbounded over the task's own
         task = configure(task, options.defaults, options.warn_unbounded)
     except TaskFileError as e:
-        return INPUT, input_error(e, path), time.perf_counter() - start
+        attached = _attach(name, options, None, path, start) if html else None
+        return INPUT, input_error(e, path), time.perf_counter() - start, attached
     except Exception as e:  # a bug while reading: still name the file
-        return INTERNAL, internal_error(e, path), time.perf_counter() - start
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start, None
     try:
         result = audit(
             task, samples=options.samples, strict=options.strict, on_stage=on_stage,
@@ -291,8 +328,100 @@ def check_one(
             on_stage(REPORTING)
         report = task_report(result, path)
     except Exception as e:
-        return INTERNAL, internal_error(e, path), time.perf_counter() - start
-    return REPORT, report, time.perf_counter() - start
+        return INTERNAL, internal_error(e, path), time.perf_counter() - start, None
+    if html and on_stage is not None and options.sheets:
+        on_stage(SHEET)
+    attached = _attach(name, options, result, path, start) if html else None
+    return REPORT, report, time.perf_counter() - start, attached
+
+
+def _attach(
+    name: str, options: CheckOptions, result: AuditResult | None, path: str, start: float
+) -> Attachment:
+    """What the HTML report shows of a task beyond its records: the task file's own
+    lines (read again: standard input's bytes are at hand), and with ``options.sheets``
+    the sheet of ``result`` as SVG, drawn within what is left of the task's budget (a
+    report format never turns a verdict into a budget error: out of time, or failing to
+    draw, the task has a one-line note instead of its sheet)."""
+    from ..report.run import Attachment
+
+    source = _source_lines(options.stdin if name == STDIN else None, name)
+    if result is None or not options.sheets:
+        return Attachment(source)
+    left = None if options.budget is None else options.budget - (time.perf_counter() - start)
+    if left is not None and left <= SHEET_MARGIN:
+        return Attachment(source, note=_NO_TIME)
+    try:
+        with _time_limit(None if left is None else left - SHEET_MARGIN):
+            from ..render import sheet
+            from ..render.escape import printable
+
+            drawn = sheet.svg([sheet.motion(result, printable(path))])
+    except _OutOfTime:
+        return Attachment(source, note=_NO_TIME)
+    except Exception as e:  # a bug in drawing: the report stands, the sheet says why not
+        return Attachment(source, note=f"The audit sheet could not be drawn ({type(e).__name__}).")
+    return Attachment(source, sheet=drawn)
+
+
+_NO_TIME = "The audit sheet was left out: the task's work budget ran out (check --budget)."
+
+
+class _OutOfTime(Exception):
+    """The sheet's time ran out (``_time_limit``)."""
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise ``_OutOfTime`` in the block after ``seconds`` (a real-time alarm; nothing
+    where none can be set: no limit, not the main thread, not POSIX)."""
+    if (
+        seconds is None
+        or not hasattr(signal, "setitimer")
+        or threading.current_thread() is not threading.main_thread()
+    ):
+        yield
+        return
+
+    def ring(signum: int, frame: object) -> None:
+        raise _OutOfTime
+
+    previous = signal.signal(signal.SIGALRM, ring)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+# where YAML (PyYAML's marks) starts a new line: the line numbers of the findings
+_LINE_BREAK = re.compile("\r\n|[\n\r\x85\u2028\u2029]")
+
+
+def _source_lines(stdin: bytes | None, path: str) -> tuple[str, ...] | None:
+    """The lines of the task file ``path`` (or of ``stdin``, the task read from standard
+    input) as the loader numbered them, bytes that are not UTF-8 kept as surrogates
+    (escaped when shown); None for what is not a regular file, cannot be read, or is
+    larger than a task file may be (the loader's cap)."""
+    from ..io.loader import MAX_BYTES
+
+    data = stdin
+    if data is None:
+        try:
+            if not stat.S_ISREG(os.stat(path).st_mode):  # never wait on a FIFO twice
+                return None
+            with open(path, "rb") as fh:
+                data = fh.read(MAX_BYTES + 1)
+        except OSError:
+            return None
+    if len(data) > MAX_BYTES:
+        return None
+    text = data.decode("utf-8", "surrogateescape").removeprefix("\ufeff")
+    lines = _LINE_BREAK.split(text)
+    if lines and lines[-1] == "":  # the break that ends the last line starts none
+        lines.pop()
+    return tuple(lines)
 
 
 def _check_in_worker(options: CheckOptions, path: str, on_stage: Callable[[str], None]) -> Outcome:
@@ -316,7 +445,10 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     if min(options.jobs, len(files)) > 1:  # the ball machinery once, not in every worker
         from ..engine import envelope  # noqa: F401  (one task loads it only if it needs it)
     work = functools.partial(_check_in_worker, options)
-    stages = (LOADING, *auditing.STAGES, REPORTING)
+    if options.format == "html" and options.sheets:  # drawn in the workers: imported once
+        with contextlib.suppress(Exception):  # a broken matplotlib: each task's note says so
+            from ..render import sheet  # noqa: F401
+    stages = (LOADING, *auditing.STAGES, REPORTING, SHEET)
     with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:
         results = pool.run(files, options.budget)
         _collect(run, _outcomes(results, options), len(files), progress)
@@ -337,12 +469,13 @@ def _outcomes(
             yield result.value
         elif isinstance(result, workers.OverBudget):
             assert options.budget is not None
-            yield BUDGET, budget_error(path, options.budget, result.stage), result.seconds
+            error = budget_error(path, options.budget, result.stage)
+            yield BUDGET, error, result.seconds, None
         else:
             died = RuntimeError(
                 f"the worker process auditing it died (exit code {result.exitcode})"
             )
-            yield INTERNAL, internal_error(died, path), result.seconds
+            yield INTERNAL, internal_error(died, path), result.seconds, None
 
 
 def _collect(run: Run, results: Iterable[Outcome], total: int, progress: Any) -> None:
@@ -398,6 +531,12 @@ def write_report(run: Run, options: CheckOptions, out: TextIO) -> None:
         from ..render.gitlab import render as gitlab
 
         text = gitlab(run)
+    elif options.format == "html":
+        from ..render.html import render as html
+
+        text = html(run, quiet=options.quiet)
+        if not utf8(out):  # the page says UTF-8: keep it true on any stream
+            text = text.encode("ascii", "xmlcharrefreplace").decode("ascii")
     else:
         from ..render.github import render as github
 

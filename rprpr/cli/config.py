@@ -42,7 +42,7 @@ CONFIG_FILES = (".rprpr.toml", "rprpr.toml", "pyproject.toml")  # looked for in 
 TASK_GLOBS = ("*.rprpr.yaml", "*.rprpr.yml")  # what a task file is called, by default
 # never searched (as ruff): besides these, every hidden file and directory (.git, .venv ...)
 ALWAYS_EXCLUDED = ("build", "dist", "node_modules", "site-packages", "venv", "__pypackages__")
-FORMATS = ("text", "concise", "json", "junit", "github", "sarif", "gitlab")
+FORMATS = ("text", "concise", "json", "junit", "github", "sarif", "gitlab", "html")
 DEFAULT_BUDGET = 10.0  # seconds of work per task
 DEFAULT = "default"
 COMMAND_LINE = "command line"

@@ -53,7 +53,9 @@ class CheckOptions:
     ``defaults``: what the repository's configuration sets in every task
     (``config.configure``); ``statistics``: counts per rule instead of the report;
     ``stdin``: the bytes of the task file ``-``, named ``stdin_filename`` in the report
-    (``stdin_error``: why it could not be read).
+    (``stdin_error``: why it could not be read); ``sheets``: the HTML report draws each
+    task's audit sheet (``check`` clears it for any other format and where matplotlib is
+    not installed).
     """
 
     format: str = "text"
@@ -73,6 +75,7 @@ class CheckOptions:
     stdin: bytes | None = None
     stdin_error: str = ""  # why standard input could not be read (over the cap)
     stdin_filename: str = "-"
+    sheets: bool = True  # --format html: each task's audit sheet (matplotlib)
 
 
 def tasks_argument(name: str = "tasks") -> Callable[[F], F]:

@@ -1,4 +1,4 @@
-"""The torque verdicts of a task report in words, shared by the text report and JUnit.
+"""A task report in words, shared by the text report, JUnit and the HTML report.
 
 Each phrase is made from the report's records (``report.records``), never from the
 engine, and every number in it goes through ``model.numbers``:
@@ -8,13 +8,16 @@ engine, and every number in it goes through ``model.numbers``:
   is proven; ``torques unbounded at t = ...`` where a singular instant has a pole;
   ``peak not computed (--peak)`` where it was not asked for);
 * ``approach``: ``closest approach to AB: 100 µm at t = 1 s, min |δ| = 6.667e-05 at
-  t = 1 s`` for a motion that never meets the singular line.
+  t = 1 s`` for a motion that never meets the singular line;
+* ``details``: the task's other lines (scheme, the path on y = 0, E through A or B,
+  values beyond the double range, the closest approach).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from ..model.actuation import REVOLUTE
 from ..model.numbers import CELL, number, with_unit
 from ..report.records import instant_times, scheme
 
@@ -56,3 +59,26 @@ def approach(rep: dict[str, Any]) -> str:
         f"closest approach to AB: {distance} at t = {number(a['t'], CELL)}"
         f" s, min |δ| = {delta} at t = {number(a['t_delta'], CELL)} s"
     )
+
+
+def details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
+    """The task's lines in words (text and HTML reports): the actuation scheme when not
+    revolute, the path on y = 0, E through A or B, values beyond the double range and
+    the closest approach (the torque peak is in the verdict line)."""
+    out = []
+    e = scheme(rep)
+    if e.name != REVOLUTE:
+        out.append(f"actuation: {e.name} (efforts: forces F1, F2 [{e.unit}] in the legs)")
+    if rep["on_singular_line"]:
+        out.append("the path lies on the singular line y = 0")
+    elif not rep["singularities"]:
+        out.append("no Type II singular instant in [0, t_f]")
+    for k in rep["kinematic_singularities"]:
+        joint = "A" if k["leg"] == 1 else "B"
+        out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
+    for b in rep["beyond_double_range"]:
+        out.append(f"{b['quantity']} = {b['value']}: beyond the double range")
+    near = approach(rep)
+    if near:
+        out.append(near)
+    return out

@@ -296,7 +296,7 @@ def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
     for f in rep["findings"]:
         out.line(finding_line(rep, f))
     lines = [[(printable(rep["task"]), "bold"), (" — ", ""), (printable(rep["name"]), "")]]
-    lines += [[(f"  {line}", "")] for line in _details(rep, instant_times(rep))]
+    lines += [[(f"  {line}", "")] for line in phrases.details(rep, instant_times(rep))]
     for line in lines:
         for part in _wrapped(line, width):
             out.line(part)
@@ -325,25 +325,3 @@ def _verdict(rep: dict[str, Any]) -> Runs:
         + (" (strict)" if rep["strict"] else "")
     )
     return [("  verdict: ", ""), verdict, (rest, "")]
-
-
-def _details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
-    """The task's lines in words: the path on y = 0, E through A or B, values beyond the
-    double range and the closest approach (the torque peak is in the verdict line)."""
-    out = []
-    e = scheme(rep)
-    if e.name != REVOLUTE:
-        out.append(f"actuation: {e.name} (efforts: forces F1, F2 [{e.unit}] in the legs)")
-    if rep["on_singular_line"]:
-        out.append("the path lies on the singular line y = 0")
-    elif not rep["singularities"]:
-        out.append("no Type II singular instant in [0, t_f]")
-    for k in rep["kinematic_singularities"]:
-        joint = "A" if k["leg"] == 1 else "B"
-        out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
-    for b in rep["beyond_double_range"]:
-        out.append(f"{b['quantity']} = {b['value']}: beyond the double range")
-    near = phrases.approach(rep)
-    if near:
-        out.append(near)
-    return out

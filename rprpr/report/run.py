@@ -12,6 +12,21 @@ from typing import Any
 REPORT, INPUT, INTERNAL, BUDGET = "report", "input", "internal", "budget"
 
 
+@dataclass(frozen=True)
+class Attachment:
+    """What the HTML report shows of a task beyond its records, asked for by that format
+    alone (the others never pay for it): ``source`` the task file's own lines (None when
+    it could not be read again, or is larger than a task file may be), split where YAML
+    splits lines so that a finding's line number is its index + 1; ``sheet`` the task's
+    audit sheet as SVG text (drawn in the worker from the audit it just made: records
+    carry no figures); ``note`` why there is no sheet, in one line (None when there is
+    one, or none was asked for)."""
+
+    source: tuple[str, ...] | None = None
+    sheet: str | None = None
+    note: str | None = None
+
+
 @dataclass
 class Run:
     """The outcome of one ``rprpr check`` run, in task order: a report per audited task,
@@ -20,7 +35,9 @@ class Run:
 
     ``order[i]`` = (kind, index into that kind's list) of the i-th task; ``times[i]`` its
     load-and-audit time in seconds (JUnit reports it; the JSON document leaves it out so
-    that the same tasks always give the same bytes).
+    that the same tasks always give the same bytes); ``attachments[i]`` its
+    ``Attachment`` (``--format html`` only); ``notes``: what a report says of itself in
+    one line each (the HTML report without sheets on the light install).
     """
 
     reports: list[dict[str, Any]] = field(default_factory=list)
@@ -29,10 +46,21 @@ class Run:
     budget_errors: list[dict[str, Any]] = field(default_factory=list)
     order: list[tuple[str, int]] = field(default_factory=list)
     times: list[float] = field(default_factory=list)
+    attachments: dict[int, Attachment] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
-    def add(self, kind: str, item: dict[str, Any], seconds: float = 0.0) -> None:
-        """Append the next task's outcome; ``kind`` is REPORT, INPUT, INTERNAL or BUDGET."""
+    def add(
+        self,
+        kind: str,
+        item: dict[str, Any],
+        seconds: float = 0.0,
+        attachment: Attachment | None = None,
+    ) -> None:
+        """Append the next task's outcome; ``kind`` is REPORT, INPUT, INTERNAL or BUDGET;
+        ``attachment``: what the HTML report shows of it beyond its records."""
         target = self._lists()[kind]
+        if attachment is not None:
+            self.attachments[len(self.order)] = attachment
         self.order.append((kind, len(target)))
         target.append(item)
         self.times.append(seconds)

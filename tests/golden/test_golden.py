@@ -54,6 +54,6 @@ def test_golden_cases_cover_every_shipped_config_and_format() -> None:
     # the formats `rprpr check --format` offers, as its usage error lists them
     _, _, err = run_cli("check", "--format", "?", "configs")
     offered = set(re.findall(r"'(\w+)'", err.split("is not one of", 1)[1]))
-    assert offered == {"text", "json", "junit", "github", "sarif", "gitlab", "concise"}
+    assert offered == {"text", "concise", "json", "junit", "github", "sarif", "gitlab", "html"}
     formats = {v.args[1] if v.args else "text" for v in VARIANTS}
     assert formats == offered

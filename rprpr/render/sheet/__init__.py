@@ -28,7 +28,7 @@ figure and the file).
 from __future__ import annotations
 
 from .labels import MAX_LABELS
-from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save
+from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save, svg
 from .markers import marker_style
 from .motion import Motion, finite, motion
 from .page import Sheet
@@ -73,5 +73,6 @@ __all__ = [
     "save",
     "short",
     "summary",
+    "svg",
     "title",
 ]

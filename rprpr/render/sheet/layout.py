@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import io
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -90,6 +91,15 @@ def save(
     meta = metadata(motions, fmt) if motions else None
     with matplotlib.rc_context(RC), warnings.catch_warnings():
         fig.savefig(target, format=fmt, dpi=dpi, metadata=meta)
+
+
+def svg(motions: Sequence[Motion], panels: Sequence[str] | str | None = None) -> str:
+    """The sheet of ``motions`` as SVG text, for the HTML report: the same text for the
+    same audit (no date; ids from ``RC``'s fixed salt), its words as text (searchable)."""
+    fig = render(motions, panels)
+    out = io.BytesIO()
+    save(fig, out, "svg", motions=motions)
+    return out.getvalue().decode("utf-8")
 
 
 def can_show() -> bool:
