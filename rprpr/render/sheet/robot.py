@@ -59,9 +59,9 @@ def workspace(ax: Axes, motions: Sequence[Motion]) -> tuple[View, float]:
     return v, 0.028 * (x1 - x0)
 
 
-def singular_line(ax: Axes) -> None:
-    """The singular line y = 0 (δ = 0)."""
-    ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=SINGULAR_LINE_Z, gid="singular-line")
+def singular_line(ax: Axes, gid: str = "singular-line") -> Line2D:
+    """The singular line y = 0 (δ = 0), above the legs (``SINGULAR_LINE_Z``)."""
+    return ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=SINGULAR_LINE_Z, gid=gid)
 
 
 def singular_line_handle() -> Line2D:

@@ -19,7 +19,7 @@ from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from ..axes import handles, look
 from ..labels import case_label_x
-from ..markers import badge, edge, mark_handle, marker_handles, marker_style, shifted, spread
+from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
 from ..robot import (
@@ -161,26 +161,33 @@ def _paths(sheet: Sheet, ax: Axes, col: Indexed) -> None:
 
 
 def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
-    """Each singular point's mark (ringed when of high order; side by side where tasks'
-    points coincide) with its key number on the side of the line the paths leave
-    freer; each inverse-kinematic singular point's cross."""
+    """Each singular point's mark at exactly (x_s, 0) (ringed when of high order; nested
+    where tasks' points coincide, ``markers.nest``) with its key number on the side of
+    the line the paths leave freer; each inverse-kinematic singular point's cross."""
     span = float(np.diff(ax.dataLim.intervalx)[0]) if ax.dataLim.width > 0 else 1.0
-    pts = [((i, k), s.x, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
-    dxs = spread(pts, (0.01 * span, 1.0))
+    pts = [
+        ((i, k), s.x, 0.0, _RING_SIZE if s.high_order else marker_style(s, "ok")["markersize"])
+        for i, m in col
+        for k, s in enumerate(m.result.singularities)
+    ]
+    placed = nest(pts, (0.01 * span, 1.0))
     paths = np.concatenate([np.column_stack([m.s.x, m.s.y]) for _, m in col])
     for i, m in col:
         for k, s in enumerate(m.result.singularities):
             st = m.result.status_of(s)
-            tr = shifted(ax, dxs[i, k])
-            if s.high_order:
-                _ring(ax, s, f"path-ring-{i}-{k}", tr)
+            p = placed[i, k]
             style = marker_style(s, st, edge(sheet, i))
-            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **style)
-            dy = 22.0 if s.high_order else 13.0
-            side = _freer_side(paths, s.x + dxs[i, k] / ppu, dy / ppu)
+            if s.high_order:  # the ring is the mark's outline: it nests, the star inside
+                _ring(ax, s, f"path-ring-{i}-{k}", p.size, p.zorder)
+                style["zorder"] = p.zorder + 0.01
+            else:
+                style.update(markersize=p.size, zorder=p.zorder)
+            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **style)
+            dy = p.reach + 7
+            side = _freer_side(paths, s.x + p.dx / ppu, dy / ppu)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
-                badge(ax, key, (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
+                badge(ax, key, (s.x, 0.0), p.dx, side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
             cross = {**_CROSS, "mec": edge(sheet, i) or _CROSS["mec"]}
             ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **cross)
@@ -228,19 +235,21 @@ def _approaches(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
 _CROSS: dict[str, Any] = {"mfc": STATUS_COLOUR["fail"], "mec": "black"}  # E at A or B
 
 
-def _ring(ax: Axes, s: SingularInstant, gid: str, transform: Any) -> None:
+_RING_SIZE = 30.0  # points: the ring around a high-order singular point
+
+
+def _ring(ax: Axes, s: SingularInstant, gid: str, size: float, zorder: float) -> None:
     """A red ring around a high-order singular point: it must stand out."""
     ax.plot(
         [s.x],
         [0],
         "o",
-        transform=transform,
-        ms=30,
+        ms=size,
         mfc="none",
         mec=STATUS_COLOUR["fail"],
         mew=2,
         alpha=0.8,
-        zorder=5.5,
+        zorder=zorder,
         gid=gid,
     )
 

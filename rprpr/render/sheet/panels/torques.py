@@ -27,7 +27,7 @@ from ....engine.singular import SingularInstant
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
-from ..markers import arrow_mark, badge, mark_handle, spread
+from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
 from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
@@ -177,8 +177,8 @@ def _window_times(m: Motion, w: Window) -> np.ndarray:
 def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
     """At each singular instant its key at the axis's top; the torques' finite limits,
     or the line at t_s and where the curves leave the axis."""
-    pts = [((i, k), s.t, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
-    dxs = spread(pts, (0.01 * sheet.duration, 1.0))
+    pts = [((i, k), s.t, 0.0, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
+    placed = nest(pts, (0.01 * sheet.duration, 1.0))
     for i, m in col:
         colours = [look(sheet, i, c, j, pair=True)["color"] for j, (c, _) in enumerate(TORQUES)]
         for k, s in enumerate(m.result.singularities):
@@ -189,7 +189,7 @@ def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> Non
                 _exit_marks(ax, m, s, f"{i}-{k}", lo, hi, colours)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
-                badge(ax, key, (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
+                badge(ax, key, (s.t, hi), placed[i, k].dx + 8, -10, f"torques-key-{i}-{k}")
 
 
 def _extra_handles(sheet: Sheet) -> list[Any]:
