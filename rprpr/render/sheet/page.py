@@ -192,7 +192,8 @@ class Sheet:
     def lane(
         self, ax: Axes, handles: Sequence[Any], notes: Sequence[str] = (), *, inset: bool = False
     ) -> Axes | None:
-        """The lane beside ``ax`` (the last column's): the legend of ``handles``, then the
+        """The lane beside ``ax`` (the last column's): the legend of ``handles`` (a tuple of
+        artists is one entry, drawn one over the other, labelled as its last), then the
         ``notes`` (each starting with its key number, wrapped to the lane), then, with
         ``inset``, a small axes returned. The panel grows when the lane is longer."""
         top = self.top_of(ax)
@@ -201,6 +202,7 @@ class Sheet:
         if handles:
             leg = self.fig.legend(
                 handles=list(handles),
+                labels=[(h[-1] if isinstance(h, tuple) else h).get_label() for h in handles],
                 loc="upper left",
                 bbox_to_anchor=(0, 1),
                 frameon=False,

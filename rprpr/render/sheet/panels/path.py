@@ -18,11 +18,15 @@ from ....engine.singular import SingularInstant
 from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from ..axes import handles, look
-from ..labels import case_label_x
+from ..labels import case_label_place
 from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
 from ..robot import (
+    CYLINDER,
+    CYLINDER_ALPHA,
+    ROD,
+    SINGULAR_LEGS,
     View,
     base_joints,
     draw_robot,
@@ -58,52 +62,71 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
     motions = [m for _, m in col]
     v, size = workspace(ax, sheet.motions)
+    x0, x1, y0, y1 = v
+    ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     singular_line(ax)
     if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
-        _case_labels(ax, motions, v)
+        _case_labels(ax, motions, v, ppu, size)
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
-    x0, x1, y0, y1 = v
-    ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     _singular_points(sheet, ax, col, ppu)
     _approaches(sheet, ax, col, ppu)
 
 
-def _case_labels(ax: Axes, motions: Sequence[Motion], v: View) -> None:
-    """Each case's name on its stretch of the singular line, where it hides least."""
+def _case_labels(ax: Axes, motions: Sequence[Motion], v: View, ppu: float, size: float) -> None:
+    """Each case's name on its stretch of the singular line, above or below it, where no
+    path, leg or base joint runs through it (``labels.case_label_place``)."""
     x0, x1, _, _ = v
     a1 = float(motions[0].task.robot.a1)
     span = x1 - x0
-    avoid = _near_the_line(motions, v)
+    avoid = _near_the_line(motions, size, 34 / ppu)
     edge = 0.07 * span  # half a label's width, about
     stretches = ((x0 + edge, -0.02 * span), (0.2 * a1, 0.8 * a1), (a1 + 0.02 * span, x1 - edge))
     for (lo, hi), text in zip(stretches, CASES, strict=True):
         if hi <= lo:
             continue
+        longest = max(len(line) for line in text.split("\n"))
+        box = ((0.62 * longest * LABEL_SIZE + 4) / ppu, (2.5 * LABEL_SIZE + 4) / ppu)
+        x, side = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu)
         ax.annotate(
             text,
-            (case_label_x(lo, hi, avoid), 0),
-            xytext=(0, 3),
+            (x, 0),
+            xytext=(0, side * (CASE_GAP + 2)),
             textcoords="offset points",
             ha="center",
-            va="bottom",
+            va="bottom" if side > 0 else "top",
             fontsize=LABEL_SIZE,
             color=LINE,
             gid=f"case-label-{text[5]}",
         )
 
 
-def _near_the_line(motions: Sequence[Motion], v: View) -> np.ndarray:
-    """The points a case label avoids: the paths near y = 0, and the singular points."""
-    _, _, y0, y1 = v
-    pts = np.concatenate(
-        [np.column_stack([m.s.x, m.s.y])[:: max(1, len(m.s.t) // 200)] for m in motions]
-    )
-    pts = pts[np.all(np.isfinite(pts), axis=1)]
-    pts = pts[np.abs(pts[:, 1]) < 0.25 * (y1 - y0)]
-    sing = np.array([(s.x, 0.0) for m in motions for s in m.result.singularities]).reshape(-1, 2)
-    return np.concatenate([pts, sing])
+CASE_GAP = 4.5  # points between the singular line and a case's label: half a sleeve's width
+
+
+def _near_the_line(motions: Sequence[Motion], size: float, reach: float) -> np.ndarray:
+    """The points a case label avoids: the paths, the legs of every robot drawn (at the
+    start, the end and each singular instant), the base joints and, ``reach`` [m] around
+    each singular point, its mark, ring and key number."""
+    pts = [np.column_stack([m.s.x, m.s.y])[:: max(1, len(m.s.t) // 200)] for m in motions]
+    along = np.linspace(0, 1, 40)[:, None]
+    for m in motions:
+        a1 = float(m.task.robot.a1)
+        poses = [0, len(m.s.t) - 1, *(at(m, s.t) for s in m.result.singularities)]
+        for j in poses:
+            E = np.array([m.s.x[j], m.s.y[j]])
+            for P in (np.array([0.0, 0.0]), np.array([a1, 0.0])):
+                pts.append(P + along * (E - P))
+        for b in (0.0, a1):  # the ground symbol and its letter under each base joint
+            pts.append(np.column_stack([np.full(5, b), -np.linspace(0, 3, 5) * size]))
+    g = np.linspace(-reach, reach, 9)
+    disc = np.array([(a, b) for a in g for b in g if a * a + b * b <= reach * reach])
+    for m in motions:
+        for s in m.result.singularities:
+            pts.append(disc + np.array([s.x, 0.0]))
+    out = np.concatenate(pts)
+    return out[np.all(np.isfinite(out), axis=1)]
 
 
 def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
@@ -276,8 +299,14 @@ def notes(sheet: Sheet) -> list[str]:
     return out + sheet.crowded()
 
 
+def _sleeve(colour: str) -> Line2D:
+    """A leg's sleeve (the cylinder its rod slides in) as a legend handle, as drawn."""
+    return Line2D([], [], color=colour, alpha=CYLINDER_ALPHA, **CYLINDER)
+
+
 def _legend(sheet: Sheet) -> list[Any]:
-    """The workspace's legend: the paths, the singular line, the legs, the marks."""
+    """The workspace's legend: the paths, the singular line, the legs (each a pair: its
+    sleeve and its rod, drawn one over the other), the marks."""
     motions = sheet.motions
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
@@ -286,10 +315,17 @@ def _legend(sheet: Sheet) -> list[Any]:
         singular_line_handle(),
         *marker_handles(motions),
     ]
+    n = len(extra) - 1 - len(marker_handles(motions))  # before the singular line
     if not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
-        extra[3:3] = [
-            Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
-            Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
+        extra[n:n] = [
+            (
+                _sleeve(LEG1),
+                Line2D([], [], color=LEG1, label="leg 1 (A–E): sleeve, rod; θ1, s1", **ROD),
+            ),
+            (
+                _sleeve(LEG2),
+                Line2D([], [], color=LEG2, label="leg 2 (B–E): sleeve, rod; θ2, s2", **ROD),
+            ),
             Line2D(
                 [],
                 [],
@@ -298,6 +334,19 @@ def _legend(sheet: Sheet) -> list[Any]:
                 ls=(0, (3, 1.5)),
                 label="legs at a singular instant",
             ),
+        ]
+    else:
+        extra[n:n] = [
+            (
+                _sleeve("#777777"),
+                Line2D(
+                    [],
+                    [],
+                    color="#777777",
+                    label="legs at t_s: sleeve, rod, task's colour",
+                    **{**ROD, "ls": SINGULAR_LEGS},
+                ),
+            )
         ]
     if any(m.result.kinematic_singularities for m in motions):
         extra.append(

@@ -197,15 +197,33 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
     divergence's ▲, where drawn."""
     out: list[Any] = []
     ms = sheet.motions
-    if any(m.task.checks.torque_limit is not None for m in ms):
-        out.append(Line2D([], [], color="#444444", lw=1.0, ls=LIMIT_DASH, label="torque limit ±L"))
-    if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
-        out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
+    limited = [m for m in ms if m.task.checks.torque_limit is not None]
+    if limited:
+        out.append(
+            Line2D([], [], color="#444444", lw=1.0, ls=LIMIT_DASH, label=limit_label(limited))
+        )
+    over = [
+        m for m in ms if m.result.torque_limit and any(c.windows for c in m.result.torque_limit)
+    ]
+    if over:
+        letters = "|".join(dict.fromkeys(SCHEMES[m.task.robot.actuation].letter for m in over))
+        label = f"|{letters}| > L (certified)"
+        out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label=label))
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
         out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
         out.append(mark_handle("leaves the axis: diverges", "^", "#777777", "black", 7))
     return out
+
+
+def limit_label(motions: Sequence[Motion]) -> str:
+    """The limit lines' legend entry, in the words of the tasks' actuation schemes: a
+    torque limit [N m] (revolute), a force limit [N] (prismatic), or both."""
+    kinds = [SCHEMES[k] for k in dict.fromkeys(m.task.robot.actuation for m in motions)]
+    if len(kinds) == 1:
+        e = kinds[0]
+        return f"{'torque' if e.letter == 'T' else 'force'} limit ±L [{e.unit}]"
+    return "limit ±L: torque [N m] (revolute), force [N] (prismatic)"
 
 
 def notes(sheet: Sheet, scale: float) -> list[str]:
@@ -285,7 +303,8 @@ def pole_plot(ax: Axes, m: Motion, s: SingularInstant) -> None:
         xs = np.array([x0, x0 + 3.0])
         ax.plot(xs, y0 - p * (xs - x0), color="black", lw=1.0, ls=":", gid="inset-slope")
     ax.set_xlabel("log10 |t − t_s| [s]", fontsize=7, labelpad=1)
-    ax.set_ylabel("log10 |T| [N m]", fontsize=7, labelpad=1)
+    e = SCHEMES[m.task.robot.actuation]
+    ax.set_ylabel(f"log10 |{e.letter}| [{e.unit}]", fontsize=7, labelpad=1)
     ax.tick_params(labelsize=6.5)
     ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=7)
     ax.grid(True, alpha=0.3)
