@@ -54,7 +54,7 @@ def test_a_prismatic_sheet_names_its_actuated_joints_and_a_force_limit() -> None
     revolute = sheet([str(CONFIGS / "case1_crossing.rprpr.yaml")])
     assert any("Actuated joints θ1, θ2" in h for h in headings(revolute))
     mixed = P.render(motions([PATH2, PRISMATIC]), ["torques"])
-    assert "limit ±L: torque [N m] (revolute), force [N] (prismatic)" in legend_texts(mixed)
+    assert "limit ±L (T in N m, F in N)" in legend_texts(mixed)
 
 
 @pytest.mark.parametrize("paths", [[PATH1], [PATH1, PATH2]], ids=["single", "overlay"])
@@ -120,3 +120,77 @@ def test_no_leg_runs_through_a_case_label(path: str) -> None:
     the end and each singular instant), sleeves included."""
     fig = P.render(motions([path]), ["path"])
     _clear_of_lines(fig, "case-label", "robot-")
+
+
+def test_small_multiples_never_share_a_y_axis_across_units() -> None:
+    """Torques [N m] and forces [N] in one row of small multiples: the prismatic
+    column's y-limits are its own (its 8 N trace fills its axis, not a sliver of
+    ±1,500 N m) and labelled in N; the revolute columns share theirs, in N m."""
+    from tests.sheets import CONFIG_FILES
+
+    ms = motions(CONFIG_FILES)
+    fig = sheet(CONFIG_FILES)
+    drawn(fig)
+    row = [ax for ax in fig.get_axes() if ax.get_gid() == "panel-torques"]
+    kinds = [m.task.robot.actuation for m in ms]
+    assert "prismatic" in kinds and "revolute" in kinds
+    (p,) = [c for c, k in enumerate(kinds) if k == "prismatic"]
+    revolute = [c for c, k in enumerate(kinds) if k == "revolute"]
+    assert len({row[c].get_ylim() for c in revolute}) == 1
+    lo, hi = row[p].get_ylim()
+    assert row[p].get_ylim() != row[revolute[0]].get_ylim()
+    forces = np.concatenate([ms[p].s.T1, ms[p].s.T2])
+    forces = forces[np.isfinite(forces)]
+    # the forces span at least a third of their own axis
+    assert (forces.max() - forces.min()) > (hi - lo) / 3
+    assert row[p].get_ylabel() == "$F$ [N]" and row[0].get_ylabel() == "$T$ [N m]"
+    # the column after the prismatic one writes its unit again
+    if p + 1 < len(row):
+        assert row[p + 1].get_ylabel() == "$T$ [N m]"
+        assert any(t.get_visible() and t.get_text() for t in row[p + 1].get_yticklabels())
+
+
+def test_small_multiples_of_very_different_durations_keep_their_own_time_axes() -> None:
+    """A 0.5 s task beside 5 s ones: each column's time axes span its own [0, t_f]
+    (rows of one column still share it); tasks of like durations share one."""
+    from tests.sheets import CONFIG_FILES
+
+    ms = motions(CONFIG_FILES)
+    durations = [m.duration for m in ms]
+    assert min(durations) < 0.5 * max(durations)
+    fig = sheet(CONFIG_FILES)
+    for gid in ("panel-delta", "panel-torques", "panel-x", "panel-joints"):
+        axes = [ax for ax in fig.get_axes() if ax.get_gid() == gid]
+        rows = len(axes) // len(ms)
+        for c, m in enumerate(ms):  # rows are added row by row, a column each
+            for r in range(rows):
+                assert axes[r * len(ms) + c].get_xlim() == (0.0, m.duration), (gid, c)
+    alike = [m for m in ms if m.duration >= 0.5 * max(durations)]  # 4 s and 5 s
+    assert len(alike) >= 4 and len({m.duration for m in alike}) > 1
+    shared = P.render(alike, ["delta"])
+    assert {ax.get_xlim() for ax in shared.get_axes() if ax.get_gid() == "panel-delta"} == {
+        (0.0, max(durations))
+    }
+
+
+@pytest.mark.parametrize("name", ["trapezoidal", "piecewise_timing"])
+def test_torque_jumps_at_knots_are_marked_at_the_knot_times(name: str) -> None:
+    """RPR204 (the acceleration jumps at a knot): at each such knot time a bar per
+    torque from its value just before the knot to just after, the audit's certified
+    values; the lane says by how much."""
+    (m,) = motions([str(CONFIGS / f"{name}.rprpr.yaml")])
+    rpr204 = [f.t for f in m.result.findings if f.rule == "RPR204"]
+    assert len(rpr204) == 2
+    fig = P.render([m], ["torques"])
+    drawn(fig)
+    for n, t in enumerate(rpr204):
+        (k,) = [k for k in m.result.knot_jumps if k.t == t]
+        before, after = k.torques
+        assert before is not None and after is not None
+        for j, q in enumerate(("T1", "T2")):
+            (bar,) = gids(fig, f"torques-jump-0-{n}-{q}")
+            assert bar.get_xydata().tolist() == [[t, before[j]], [t, after[j]]]
+            assert bar.get_transform() == bar.axes.transData
+    assert "T jump at a knot (RPR204)" in legend_texts(fig)
+    lane = "\n".join(t.get_text() for t in fig.texts).replace("\n    ", " ")
+    assert lane.count("RPR204") == 2 and "jump by -13.61, -17.45 N m" in lane

@@ -10,7 +10,13 @@ is given its height, so nothing is clipped or overlaps; the figure's height is k
 set only when the last panel is placed.
 
 Up to ``OVERLAID`` tasks share one column of axes; more get a column each (small
-multiples) sharing the x- and y-limits of each row.
+multiples) sharing the x- and y-limits of each row, except where that would mislead: a
+row of efforts shares its y-limits only among columns in one unit (torques in N m,
+forces in N: ``Sheet.rows``' groups, each with its own labelled y axis), and when the
+shortest task lasts less than ``SHARED_TIME`` of the longest each column has its own time
+axis over its own [0, t_f] (a 0.5 s task is not drawn on a 5 s axis). Times stay in
+seconds rather than normalised by t_f: the keys, the check and the task file give t_s in
+seconds, and the reader compares them with the axis.
 """
 
 from __future__ import annotations
@@ -38,6 +44,8 @@ LANE = 2.85  # in, the lane right of the axes: legends and keys
 LANE_GAP = 0.25  # in, between the axes and the lane
 COLUMN = 2.45  # in, the width of one small multiple
 COLUMN_GAP = 0.3  # in, between small multiples
+UNIT_GAP = 0.85  # in, between small multiples when a row's columns differ in unit: y labels
+SHARED_TIME = 0.5  # small multiples share one t axis when every t_f is at least this share
 ROW_GAP = 0.22  # in, between the rows of one panel (sharing their t axis)
 X_DECOR = 0.5  # in, tick labels and label under a panel's last row
 TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
@@ -63,6 +71,7 @@ class Sheet:
     axes: list[tuple[Axes, tuple[float, float, float, float]]] = field(default_factory=list)
     texts: list[tuple[Text, float, float]] = field(default_factory=list)
     time: list[Axes] = field(default_factory=list)  # every time axis (the first leads)
+    lead: dict[int, Axes] = field(default_factory=dict)  # each column's first time axis
     keys: dict[tuple[int, Any], int] = field(default_factory=dict)
     knot_said: bool = False  # the knots' legend entry is on the sheet (once)
 
@@ -72,7 +81,11 @@ class Sheet:
         self.columns = [[im] for im in indexed] if many else [indexed]
         n = len(self.columns)
         self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
-        self.width = LEFT + n * self.column_width + (n - 1) * COLUMN_GAP + LANE_GAP + LANE
+        durations = [m.duration for m in self.motions]
+        self.own_time = many and min(durations) < SHARED_TIME * max(durations)
+        units = {m.task.robot.actuation for m in self.motions}
+        self.column_gap = UNIT_GAP if many and len(units) > 1 else COLUMN_GAP
+        self.width = LEFT + n * self.column_width + (n - 1) * self.column_gap + LANE_GAP + LANE
         self.width += MARGIN
         self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
         self.fig.set_dpi(DPI)
@@ -108,7 +121,7 @@ class Sheet:
 
     def left(self, c: int) -> float:
         """The left edge of column c's axes [in]."""
-        return LEFT + c * (self.column_width + COLUMN_GAP)
+        return LEFT + c * (self.column_width + self.column_gap)
 
     @property
     def lane_left(self) -> float:
@@ -150,11 +163,22 @@ class Sheet:
 
     # -- axes ------------------------------------------------------------------------------
 
-    def rows(self, gid: str, heights: Sequence[float], *, time: bool = True) -> list[list[Axes]]:
+    def rows(
+        self,
+        gid: str,
+        heights: Sequence[float],
+        *,
+        time: bool = True,
+        groups: Sequence[Any] | None = None,
+    ) -> list[list[Axes]]:
         """Rows of axes of these ``heights`` [in], one axes per column; time rows share
-        the sheet's t axis (labelled under the last row only) and each row its y-limits
-        across the columns (other rows set equal limits themselves: a workspace at equal
-        scales cannot share). Advances the next free height past them."""
+        the sheet's t axis (labelled under the last row only; per column when the tasks'
+        durations differ widely, ``own_time``) and each row its y-limits across the
+        columns, or across the columns of one of ``groups`` (a key per column: columns in
+        different units), a column whose unit differs from its left neighbour's
+        labelling its y axis (other rows set
+        equal limits themselves: a workspace at equal scales cannot share). Advances the
+        next free height past them."""
         out = []
         for r, h in enumerate(heights):
             row: list[Axes] = []
@@ -162,23 +186,30 @@ class Sheet:
                 ax = self.fig.add_axes((0, 0, 1, 1))
                 ax.set_gid(f"panel-{gid}")
                 self.axes.append((ax, (self.left(c), self.y, self.column_width, h)))
-                if row and time:
-                    ax.sharey(row[0])
-                    ax.tick_params(labelleft=False)
+                key = groups[c] if groups is not None else None
+                first = next(j for j in range(c + 1) if groups is None or groups[j] == key)
+                if c != first and time:
+                    ax.sharey(row[first])
+                    if groups is None or groups[c - 1] == key:  # else its unit is written
+                        ax.tick_params(labelleft=False)
                 if time:
-                    self._time(ax, last=r == len(heights) - 1)
+                    self._time(ax, c, last=r == len(heights) - 1)
                 row.append(ax)
             out.append(row)
             self.y += h + (ROW_GAP if r < len(heights) - 1 else 0)
         self.y += X_DECOR
         return out
 
-    def _time(self, ax: Axes, last: bool) -> None:
-        """Share the sheet's t axis over [0, the longest t_f]."""
-        if self.time:
-            ax.sharex(self.time[0])
+    def _time(self, ax: Axes, c: int, last: bool) -> None:
+        """Share the sheet's t axis over [0, the longest t_f], or with ``own_time`` the
+        column's over [0, its t_f]."""
+        lead = self.lead.get(c if self.own_time else 0)
+        if lead is not None:
+            ax.sharex(lead)
         else:
-            ax.set_xlim(0, self.duration)
+            tf = max(m.duration for _, m in self.columns[c]) if self.own_time else self.duration
+            ax.set_xlim(0, tf)
+            self.lead[c if self.own_time else 0] = ax
         self.time.append(ax)
         if last:
             ax.set_xlabel("t [s]")

@@ -63,17 +63,25 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    heading, ylabel, names = efforts(sheet.motions)
+    heading, _, names = efforts(sheet.motions)
     sheet.heading(heading)
-    (row,) = sheet.rows("torques", (ROW,))
-    rng = torque_range(sheet.motions)
-    lo, hi = rng if rng is not None else (-1.0, 1.0)
-    scale = max(abs(lo), abs(hi))
-    for _, L in _limits(sheet.motions):
-        if LIMIT_NEAR * scale >= L:
-            lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
-    row[0].set_ylim(lo, hi)
-    for ax, col in zip(row, sheet.columns, strict=True):
+    # small multiples share y only among columns in one unit: N m and N never on one axis
+    groups = [frozenset(m.task.robot.actuation for _, m in col) for col in sheet.columns]
+    (row,) = sheet.rows("torques", (ROW,), groups=groups)
+    scales: dict[int, float] = {}
+    ranges = {}
+    for g in dict.fromkeys(groups):
+        ms = [m for col, k in zip(sheet.columns, groups, strict=True) if k == g for _, m in col]
+        ranges[g] = _axis(ms)
+        row[groups.index(g)].set_ylim(*ranges[g][:2])
+        for n, k in enumerate(groups):  # each run of columns in one unit says its unit
+            if k == g and (n == 0 or groups[n - 1] != g):
+                row[n].set_ylabel(efforts(ms)[1])
+        for col, k in zip(sheet.columns, groups, strict=True):
+            if k == g:
+                scales.update((i, ranges[g][2]) for i, _ in col)
+    for ax, col, g in zip(row, sheet.columns, groups, strict=True):
+        lo, hi, scale, bounded = ranges[g]
         instant_lines(ax, col, "torques")
         for i, m in col:
             for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
@@ -82,16 +90,28 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
         _limit_lines(sheet, ax, col, scale, lo, hi)
         _saturation(sheet, ax, col, lo, hi)
         _instants(sheet, ax, col, lo, hi)
-        if rng is None:
+        _jumps(ax, col, sheet)
+        if not bounded:
             ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
-    row[0].set_ylabel(ylabel)
     legend = [*handles(sheet, [(names[0], LEG1), (names[1], LEG2)])]
     legend += [*_extra_handles(sheet), *knot_handles(sheet)]
     pole = _first_pole(sheet.motions) if pole_inset else None
-    inset = sheet.lane(row[-1], legend, notes(sheet, scale), inset=pole is not None)
+    inset = sheet.lane(row[-1], legend, notes(sheet, scales), inset=pole is not None)
     if inset is not None and pole is not None:
         pole_plot(inset, *pole)
     return row
+
+
+def _axis(motions: Sequence[Motion]) -> tuple[float, float, float, bool]:
+    """The y-limits of the efforts of ``motions`` (their bounded part, and the limits
+    near it), the largest |effort| shown, and whether any sample is bounded."""
+    rng = torque_range(motions)
+    lo, hi = rng if rng is not None else (-1.0, 1.0)
+    scale = max(abs(lo), abs(hi))
+    for _, L in _limits(motions):
+        if LIMIT_NEAR * scale >= L:
+            lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
+    return lo, hi, scale, rng is not None
 
 
 def _limits(motions: Sequence[Motion]) -> list[tuple[int, float]]:
@@ -192,6 +212,38 @@ def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> Non
                 badge(ax, key, (s.t, hi), placed[i, k].dx + 8, -10, f"torques-key-{i}-{k}")
 
 
+JUMP: dict[str, Any] = {"lw": 2.4, "marker": "_", "ms": 9, "mew": 2.0, "zorder": 5.5}
+
+
+def jumps(m: Motion) -> list[tuple[float, tuple[float, float], tuple[float, float]]]:
+    """(t_k, (T1, T2) before, (T1, T2) after) at each knot where the audit finds RPR204
+    (the acceleration, and so the torques, jump) with the torques defined on both sides."""
+    at = {f.t for f in m.result.findings if f.rule == "RPR204"}
+    out = []
+    for k in m.result.knot_jumps:
+        before, after = k.torques
+        if k.t in at and before is not None and after is not None:
+            out.append((k.t, before, after))
+    return out
+
+
+def _jumps(ax: Axes, col: Indexed, sheet: Sheet) -> None:
+    """Each RPR204 torque jump at a knot: a bar from each torque's value just before the
+    knot to its value just after, at t_k, in the torque's colour (gid
+    ``torques-jump-<task>-<n>-T1``)."""
+    for i, m in col:
+        colours = [look(sheet, i, c, j, pair=True)["color"] for j, (c, _) in enumerate(TORQUES)]
+        for n, (t, before, after) in enumerate(jumps(m)):
+            for j, (_, q) in enumerate(TORQUES):
+                ax.plot(
+                    [t, t],
+                    [before[j], after[j]],
+                    color=colours[j],
+                    gid=f"torques-jump-{i}-{n}-{q}",
+                    **JUMP,
+                )
+
+
 def _extra_handles(sheet: Sheet) -> list[Any]:
     """The legend entries of the limits, the saturation, a finite limit's ring, and a
     divergence's ▲, where drawn."""
@@ -213,6 +265,10 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
         out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
         out.append(mark_handle("leaves the axis: diverges", "^", "#777777", "black", 7))
+    if any(jumps(m) for m in ms):
+        letters = "|".join(dict.fromkeys(SCHEMES[m.task.robot.actuation].letter for m in ms))
+        label = f"{letters} jump at a knot (RPR204)"
+        out.append(Line2D([], [], color="#555555", label=label, **{**JUMP, "zorder": 1}))
     return out
 
 
@@ -223,14 +279,16 @@ def limit_label(motions: Sequence[Motion]) -> str:
     if len(kinds) == 1:
         e = kinds[0]
         return f"{'torque' if e.letter == 'T' else 'force'} limit ±L [{e.unit}]"
-    return "limit ±L: torque [N m] (revolute), force [N] (prismatic)"
+    return "limit ±L (T in N m, F in N)"
 
 
-def notes(sheet: Sheet, scale: float) -> list[str]:
+def notes(sheet: Sheet, scales: dict[int, float]) -> list[str]:
     """The keys of the instants (finite limits, or where T diverges and how long |T|
-    stays above its limit) and each task's limit."""
+    stays above its limit) and each task's limit (beyond its axis when above
+    ``LIMIT_NEAR`` times the largest |T| task i's axis shows, ``scales[i]``)."""
     out = []
     for i, m in enumerate(sheet.motions):
+        scale = scales[i]
         who = sheet.who(m)
         e = SCHEMES[m.task.robot.actuation]  # T [N m] or F [N]
         T, u = e.letter, e.unit
@@ -240,6 +298,12 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
                 out.append(f"{key}  {who}{T} → ({t1}, {t2}) {u} at t = {t} s (ring)")
             else:
                 out.append(f"{key}  {who}{T} → ∞ at t = {t} s: pole of order {s.pole_order}")
+        for tk, before, after in jumps(m):
+            d1, d2 = (number(b - a, 4) for a, b in zip(before, after, strict=True))
+            out.append(
+                f"-  {who}{T}1, {T}2 jump by {d1}, {d2} {u} at the knot t = {number(tk, 4)} s"
+                " (RPR204: the acceleration jumps there)"
+            )
         L = m.task.checks.torque_limit
         if L is not None:
             lim = f" {u}, ".join(dict.fromkeys(number(float(v)) for v in L)) + f" {u}"
