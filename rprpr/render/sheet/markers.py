@@ -13,7 +13,7 @@ from matplotlib.lines import Line2D
 from ...engine.singular import SingularInstant
 from .motion import Motion
 from .page import Sheet
-from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, task_colour
+from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, pt, task_colour
 
 
 def marker_style(s: SingularInstant, status: str, edge: str | None = None) -> dict[str, Any]:
@@ -142,7 +142,7 @@ def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: 
         textcoords="offset points",
         ha="center",
         va="center",
-        fontsize=6.5,
+        fontsize=pt(6.5),
         fontweight="bold",
         bbox={"boxstyle": "circle,pad=0.18", "fc": "white", "ec": "#333333", "lw": 0.6},
         zorder=9,

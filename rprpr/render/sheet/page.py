@@ -35,7 +35,7 @@ from ..._version import __version__
 from ...engine.singular import SingularInstant
 from .labels import MAX_LABELS
 from .motion import Motion
-from .style import LABEL_SIZE, OVERLAID, WIDTH, task_colour
+from .style import FONT_SCALE, LABEL_SIZE, OVERLAID, WIDTH, pt, task_colour
 from .words import heading_lines, instant_times, short
 
 MARGIN = 0.15  # in, at the figure's edges
@@ -74,19 +74,37 @@ class Sheet:
     lead: dict[int, Axes] = field(default_factory=dict)  # each column's first time axis
     keys: dict[tuple[int, Any], int] = field(default_factory=dict)
     knot_said: bool = False  # the knots' legend entry is on the sheet (once)
+    # a figure for a paper: its size [in] given, the lane under the axes, no title
+    size: tuple[float, float] | None = None
+    row_scale: float = 1.0  # every row's height times this (to fit ``size``)
+    rows_total: float = 0.0  # in, the rows' heights so far
+    smallest_row: float = float("inf")  # in, the lowest row so far
 
     def __post_init__(self) -> None:
         indexed = list(enumerate(self.motions))
         many = len(indexed) > OVERLAID
         self.columns = [[im] for im in indexed] if many else [indexed]
         n = len(self.columns)
+        scale = FONT_SCALE.get()
+        self.left_edge = LEFT * max(1.0, scale)
+        self.decor = X_DECOR * max(1.0, scale)
         self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
+        if self.size is not None:
+            if many:
+                raise ValueError(
+                    f"a figure of a given size holds one column of axes: at most {OVERLAID} tasks"
+                )
+            self.column_width = self.size[0] - self.left_edge - MARGIN - 0.1
+            if self.column_width < 1.0:
+                raise ValueError(f"{self.size[0]:g} in is too narrow: at least 2.3 in")
         durations = [m.duration for m in self.motions]
         self.own_time = many and min(durations) < SHARED_TIME * max(durations)
         units = {m.task.robot.actuation for m in self.motions}
         self.column_gap = UNIT_GAP if many and len(units) > 1 else COLUMN_GAP
-        self.width = LEFT + n * self.column_width + (n - 1) * self.column_gap + LANE_GAP + LANE
-        self.width += MARGIN
+        self.width = self.left_edge + n * self.column_width + (n - 1) * self.column_gap
+        self.width += LANE_GAP + LANE + MARGIN
+        if self.size is not None:
+            self.width = self.size[0]
         self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
         self.fig.set_dpi(DPI)
         self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
@@ -121,11 +139,18 @@ class Sheet:
 
     def left(self, c: int) -> float:
         """The left edge of column c's axes [in]."""
-        return LEFT + c * (self.column_width + self.column_gap)
+        return self.left_edge + c * (self.column_width + self.column_gap)
 
     @property
     def lane_left(self) -> float:
+        if self.size is not None:
+            return self.left_edge
         return self.left(len(self.columns) - 1) + self.column_width + LANE_GAP
+
+    @property
+    def lane_width(self) -> float:
+        """The lane's width [in]: beside the axes, or under them in a sized figure."""
+        return LANE if self.size is None else self.width - self.left_edge - MARGIN
 
     # -- text ------------------------------------------------------------------------------
 
@@ -139,7 +164,7 @@ class Sheet:
         the figure; returns its height [in] (the next free height does not move)."""
         chars = max(20, int((self.width - x - MARGIN) * 72 / (0.58 * size)))
         wrapped = "\n".join(textwrap.fill(p, chars) for p in text.split("\n"))
-        t = self.fig.text(0, 0, wrapped, fontsize=size, va="top", ha="left", **kw)
+        t = self.fig.text(0, 0, wrapped, fontsize=pt(size), va="top", ha="left", **kw)
         self.texts.append((t, x, self.y))
         return self.inches(t)[1] + LEADING
 
@@ -149,7 +174,10 @@ class Sheet:
 
     def title(self) -> None:
         """The sheet's title: per task, its name and verdict (in the task's colour when
-        tasks share axes or columns), and its file in small print."""
+        tasks share axes or columns), and its file in small print; none on a figure of
+        a given size (a paper's figure has its caption)."""
+        if self.size is not None:
+            return
         self.y += self.line(f"rprpr {__version__} audit sheet", MARGIN, size=8, color="#555555")
         self.y += 0.04
         several = len(self.motions) > 1
@@ -182,6 +210,9 @@ class Sheet:
         out = []
         for r, h in enumerate(heights):
             row: list[Axes] = []
+            h *= self.row_scale
+            self.rows_total += h
+            self.smallest_row = min(self.smallest_row, h)
             for c in range(len(self.columns)):
                 ax = self.fig.add_axes((0, 0, 1, 1))
                 ax.set_gid(f"panel-{gid}")
@@ -197,7 +228,7 @@ class Sheet:
                 row.append(ax)
             out.append(row)
             self.y += h + (ROW_GAP if r < len(heights) - 1 else 0)
-        self.y += X_DECOR
+        self.y += self.decor
         return out
 
     def _time(self, ax: Axes, c: int, last: bool) -> None:
@@ -227,33 +258,36 @@ class Sheet:
         artists is one entry, drawn one over the other, labelled as its last), then the
         ``notes`` (each starting with its key number, wrapped to the lane), then, with
         ``inset``, a small axes returned. The panel grows when the lane is longer."""
-        top = self.top_of(ax)
+        top = self.top_of(ax) if self.size is None else self.y
         x = self.lane_left
         used = 0.0
         if handles:
             leg = self.fig.legend(
+                ncol=1 if self.size is None else max(1, int(self.lane_width / 2.4)),
                 handles=list(handles),
                 labels=[(h[-1] if isinstance(h, tuple) else h).get_label() for h in handles],
                 loc="upper left",
                 bbox_to_anchor=(0, 1),
                 frameon=False,
-                fontsize=LABEL_SIZE,
+                fontsize=pt(LABEL_SIZE),
                 borderaxespad=0,
                 handlelength=2.6,
             )
             self.texts.append((leg, x, top))  # type: ignore[arg-type]
             used += self.inches(leg)[1] + 0.08
         if notes:
-            chars = int((LANE - 0.05) * 72 / (0.56 * LABEL_SIZE))
+            chars = int((self.lane_width - 0.05) * 72 / (0.56 * pt(LABEL_SIZE)))
             text = "\n".join(textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n)
-            t = self.fig.text(0, 0, text, fontsize=LABEL_SIZE, va="top", ha="left")
+            t = self.fig.text(0, 0, text, fontsize=pt(LABEL_SIZE), va="top", ha="left")
             self.texts.append((t, x, top + used))
             used += self.inches(t)[1] + 0.1
         small = None
         if inset:
             small = self.fig.add_axes((0, 0, 1, 1))
             small.set_gid("inset")
-            self.axes.append((small, (x + 0.5, top + used + 0.25, LANE - 0.7, 1.45)))
+            self.axes.append(
+                (small, (x + 0.5, top + used + 0.25, min(LANE, self.lane_width) - 0.7, 1.45))
+            )
             used += 0.25 + 1.45 + 0.45
         self.y = max(self.y, top + used + 0.05)
         return small
@@ -270,7 +304,7 @@ class Sheet:
 
     def finish(self) -> None:
         """Give the figure its height and every axes and text its place."""
-        h = self.y + MARGIN
+        h = self.y + MARGIN if self.size is None else self.size[1]
         w = self.width
         self.fig.set_size_inches(w, h)
         for ax, (x0, top, bw, bh) in self.axes:
@@ -285,7 +319,7 @@ class Sheet:
 def column_heads(sheet: Sheet) -> None:
     """Small multiples: each column's task, abbreviated, in its colour, numbered as in
     the title."""
-    chars = int(sheet.column_width * 72 / (0.6 * 8.5))
+    chars = int(sheet.column_width * 72 / (0.6 * pt(8.5)))
     height = 0.0
     for c, col in enumerate(sheet.columns):
         i, m = col[0]
@@ -293,7 +327,7 @@ def column_heads(sheet: Sheet) -> None:
             0,
             0,
             short(m.name, chars),
-            fontsize=8.5,
+            fontsize=pt(8.5),
             fontweight="bold",
             color=task_colour(i),
             va="top",

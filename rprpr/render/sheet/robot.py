@@ -20,7 +20,7 @@ from matplotlib.patches import Polygon
 
 from ...engine.sampling import Samples
 from .motion import Motion
-from .style import LEG1, LEG2, LINE, LINE_DASH, POINT
+from .style import LEG1, LEG2, LINE, LINE_DASH, POINT, pt
 
 View = tuple[float, float, float, float]  # x0, x1, y0, y1 [m]
 
@@ -98,7 +98,7 @@ def ground(ax: Axes, x: float, size: float, label: str) -> None:
         textcoords="offset points",
         ha="center",
         va="top",
-        fontsize=10,
+        fontsize=pt(10),
         fontweight="bold",
     )
 

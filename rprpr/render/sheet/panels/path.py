@@ -35,7 +35,17 @@ from ..robot import (
     view,
     workspace,
 )
-from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, task_colour
+from ..style import (
+    LABEL_SIZE,
+    LEG1,
+    LEG2,
+    LINE,
+    POINT,
+    STATUS_COLOUR,
+    STATUS_WORD,
+    pt,
+    task_colour,
+)
 from ..words import near_miss_path, order_text, verdict_text
 
 CASES = (  # the singular line's stretches (Table 1): left of A, between A and B, right of B
@@ -75,20 +85,21 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
 
 
 def _case_labels(ax: Axes, motions: Sequence[Motion], v: View, ppu: float, size: float) -> None:
-    """Each case's name on its stretch of the singular line, above or below it, where no
-    path, leg or base joint runs through it (``labels.case_label_place``)."""
+    """Each case's name on its stretch of the singular line, within it, above or below the
+    line, where no path, leg or base joint runs through it (``labels.case_label_place``);
+    none on a stretch too short to hold it."""
     x0, x1, _, _ = v
     a1 = float(motions[0].task.robot.a1)
-    span = x1 - x0
     avoid = _near_the_line(motions, size, 34 / ppu)
-    edge = 0.07 * span  # half a label's width, about
-    stretches = ((x0 + edge, -0.02 * span), (0.2 * a1, 0.8 * a1), (a1 + 0.02 * span, x1 - edge))
-    for (lo, hi), text in zip(stretches, CASES, strict=True):
-        if hi <= lo:
-            continue
+    fs = pt(LABEL_SIZE)
+    for (lo, hi), text in zip(((x0, 0.0), (0.0, a1), (a1, x1)), CASES, strict=True):
         longest = max(len(line) for line in text.split("\n"))
-        box = ((0.62 * longest * LABEL_SIZE + 4) / ppu, (2.5 * LABEL_SIZE + 4) / ppu)
-        x, side = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu)
+        box = ((0.62 * longest * fs + 4) / ppu, (2.5 * fs + 4) / ppu)
+        lo, hi = lo + box[0] / 2 + 2 / ppu, hi - box[0] / 2 - 2 / ppu  # within its stretch
+        if hi < lo:
+            continue  # the stretch is narrower than its name (a small figure): left unnamed
+        half = CYLINDER["lw"] / 2 / ppu  # a sleeve's half width
+        x, side = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu, half)
         ax.annotate(
             text,
             (x, 0),
@@ -96,7 +107,7 @@ def _case_labels(ax: Axes, motions: Sequence[Motion], v: View, ppu: float, size:
             textcoords="offset points",
             ha="center",
             va="bottom" if side > 0 else "top",
-            fontsize=LABEL_SIZE,
+            fontsize=fs,
             color=LINE,
             gid=f"case-label-{text[5]}",
         )

@@ -30,7 +30,7 @@ from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
-from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
+from ..style import LEG1, LEG2, STATUS_COLOUR, pt, task_colour
 
 ROW = 2.2  # in
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
@@ -366,11 +366,11 @@ def pole_plot(ax: Axes, m: Motion, s: SingularInstant) -> None:
         x0, y0 = anchor
         xs = np.array([x0, x0 + 3.0])
         ax.plot(xs, y0 - p * (xs - x0), color="black", lw=1.0, ls=":", gid="inset-slope")
-    ax.set_xlabel("log10 |t − t_s| [s]", fontsize=7, labelpad=1)
+    ax.set_xlabel("log10 |t − t_s| [s]", fontsize=pt(7), labelpad=1)
     e = SCHEMES[m.task.robot.actuation]
-    ax.set_ylabel(f"log10 |{e.letter}| [{e.unit}]", fontsize=7, labelpad=1)
-    ax.tick_params(labelsize=6.5)
-    ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=7)
+    ax.set_ylabel(f"log10 |{e.letter}| [{e.unit}]", fontsize=pt(7), labelpad=1)
+    ax.tick_params(labelsize=pt(6.5))
+    ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=pt(7))
     ax.grid(True, alpha=0.3)
 
 
