@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -68,7 +69,7 @@ def render(
         need = fixed + MIN_ROW / first.smallest_row * first.rows_total
         raise ValueError(
             f"{h:g} in is too short for {', '.join(panels)} at {w:g} in wide:"
-            f" at least {need:.1f} in"
+            f" at least {math.ceil(need * 10) / 10:g} in"
         )
     return _draw(motions, panels, figure, pole_inset, size, font_scale, scale)[0]
 

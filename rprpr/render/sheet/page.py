@@ -144,13 +144,13 @@ class Sheet:
     @property
     def lane_left(self) -> float:
         if self.size is not None:
-            return self.left_edge
+            return MARGIN
         return self.left(len(self.columns) - 1) + self.column_width + LANE_GAP
 
     @property
     def lane_width(self) -> float:
         """The lane's width [in]: beside the axes, or under them in a sized figure."""
-        return LANE if self.size is None else self.width - self.left_edge - MARGIN
+        return LANE if self.size is None else self.width - 2 * MARGIN
 
     # -- text ------------------------------------------------------------------------------
 
@@ -262,17 +262,24 @@ class Sheet:
         x = self.lane_left
         used = 0.0
         if handles:
-            leg = self.fig.legend(
-                ncol=1 if self.size is None else max(1, int(self.lane_width / 2.4)),
-                handles=list(handles),
-                labels=[(h[-1] if isinstance(h, tuple) else h).get_label() for h in handles],
-                loc="upper left",
-                bbox_to_anchor=(0, 1),
-                frameon=False,
-                fontsize=pt(LABEL_SIZE),
-                borderaxespad=0,
-                handlelength=2.6,
-            )
+            ncol = 1 if self.size is None else 3  # a sized figure: as many as fit its width
+            while True:
+                leg = self.fig.legend(
+                    ncol=ncol,
+                    handles=list(handles),
+                    labels=[(h[-1] if isinstance(h, tuple) else h).get_label() for h in handles],
+                    loc="upper left",
+                    bbox_to_anchor=(0, 1),
+                    frameon=False,
+                    fontsize=pt(LABEL_SIZE),
+                    borderaxespad=0,
+                    handlelength=2.6,
+                    columnspacing=1.2,
+                )
+                if ncol == 1 or self.inches(leg)[0] <= self.lane_width:
+                    break
+                leg.remove()
+                ncol -= 1
             self.texts.append((leg, x, top))  # type: ignore[arg-type]
             used += self.inches(leg)[1] + 0.08
         if notes:

@@ -62,7 +62,7 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     (row,) = sheet.rows("path", (h,), time=False)
     for ax, col in zip(row, sheet.columns, strict=True):
         ax.set_xlabel("x [m]")
-        _workspace(sheet, ax, col, h)
+        _workspace(sheet, ax, col, h * sheet.row_scale)
     row[0].set_ylabel("y [m]")
     sheet.lane(row[-1], _legend(sheet), notes(sheet))
     return row
@@ -74,9 +74,11 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     v, size = workspace(ax, sheet.motions)
     x0, x1, y0, y1 = v
     ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
+    # the view as drawn: at equal scales the wider of the axes and the data gets room
+    grow = max(0.0, sheet.column_width * 72 / ppu - (x1 - x0)) / 2
     singular_line(ax)
     if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
-        _case_labels(ax, motions, v, ppu, size)
+        _case_labels(ax, motions, (x0 - grow, x1 + grow, y0, y1), ppu, size)
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
