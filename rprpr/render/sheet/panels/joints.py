@@ -24,8 +24,10 @@ def heading(motions: Sequence[Motion]) -> str:
     if kinds <= {REVOLUTE}:
         return "Actuated joints θ1, θ2 (paper Fig. 5) and leg lengths s1, s2"
     if REVOLUTE not in kinds:
-        return "Joint angles θ1, θ2 (passive) and actuated joints s1, s2 (prismatic actuation)"
-    return "Joint angles θ1, θ2 and leg lengths s1, s2 (actuated: θ revolute, s prismatic)"
+        return "Joint angles θ1, θ2 (paper Fig. 5), passive, and actuated joints s1, s2 (prismatic)"
+    return (
+        "Joint angles θ1, θ2 (paper Fig. 5), leg lengths s1, s2 (actuated: θ revolute, s prismatic)"
+    )
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
