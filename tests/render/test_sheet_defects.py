@@ -194,3 +194,25 @@ def test_torque_jumps_at_knots_are_marked_at_the_knot_times(name: str) -> None:
     assert "T jump at a knot (RPR204)" in legend_texts(fig)
     lane = "\n".join(t.get_text() for t in fig.texts).replace("\n    ", " ")
     assert lane.count("RPR204") == 2 and "jump by -13.61, -17.45 N m" in lane
+
+
+def test_an_overlay_of_two_schemes_puts_the_forces_on_their_own_y_axis() -> None:
+    """Path 2 (torques, N m) overlaid with the prismatic task (forces, N): the forces
+    take a second y axis on the right, labelled in N and scaled to them; nothing
+    overlaps."""
+    from tests.render.test_sheet_layout import check_texts
+
+    ms = motions([PATH2, PRISMATIC])
+    fig = P.render(ms, ["torques"])
+    (main,) = [ax for ax in fig.get_axes() if ax.get_gid() == "panel-torques"]
+    (twin,) = [ax for ax in fig.get_axes() if ax.get_gid() == "panel-torques-twin"]
+    assert main.get_ylabel() == "$T$ [N m]" and twin.get_ylabel() == "$F$ [N]"
+    assert {a.get_gid() for a in main.get_lines()} >= {"T1-0", "T2-0"}
+    assert {a.get_gid() for a in twin.get_lines()} >= {"T1-1", "T2-1"}
+    assert not {"T1-1", "T2-1"} & {a.get_gid() for a in main.get_lines()}
+    forces = np.concatenate([ms[1].s.T1, ms[1].s.T2])
+    lo, hi = twin.get_ylim()
+    assert lo <= forces.min() and forces.max() <= hi
+    assert forces.max() - forces.min() > (hi - lo) / 3
+    assert twin.get_xlim() == main.get_xlim()
+    check_texts(fig)

@@ -88,21 +88,25 @@ class Sheet:
         scale = FONT_SCALE.get()
         self.left_edge = LEFT * max(1.0, scale)
         self.decor = X_DECOR * max(1.0, scale)
-        self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
+        units = {m.task.robot.actuation for m in self.motions}
+        # overlaid in two units: the second's y axis on the right, its labels before the lane
+        twin = not many and len(units) > 1
+        self.lane_gap = UNIT_GAP if twin else LANE_GAP
+        self.column_width = COLUMN if many else WIDTH - LEFT - self.lane_gap - LANE - MARGIN
         if self.size is not None:
             if many:
                 raise ValueError(
                     f"a figure of a given size holds one column of axes: at most {OVERLAID} tasks"
                 )
-            self.column_width = self.size[0] - self.left_edge - MARGIN - 0.1
+            right = self.lane_gap * max(1.0, scale) if twin else 0.1
+            self.column_width = self.size[0] - self.left_edge - MARGIN - right
             if self.column_width < 1.0:
                 raise ValueError(f"{self.size[0]:g} in is too narrow: at least 2.3 in")
         durations = [m.duration for m in self.motions]
         self.own_time = many and min(durations) < SHARED_TIME * max(durations)
-        units = {m.task.robot.actuation for m in self.motions}
         self.column_gap = UNIT_GAP if many and len(units) > 1 else COLUMN_GAP
         self.width = self.left_edge + n * self.column_width + (n - 1) * self.column_gap
-        self.width += LANE_GAP + LANE + MARGIN
+        self.width += self.lane_gap + LANE + MARGIN
         if self.size is not None:
             self.width = self.size[0]
         self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
@@ -145,7 +149,7 @@ class Sheet:
     def lane_left(self) -> float:
         if self.size is not None:
             return MARGIN
-        return self.left(len(self.columns) - 1) + self.column_width + LANE_GAP
+        return self.left(len(self.columns) - 1) + self.column_width + self.lane_gap
 
     @property
     def lane_width(self) -> float:

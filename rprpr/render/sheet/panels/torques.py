@@ -65,34 +65,32 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     heading, _, names = efforts(sheet.motions)
     sheet.heading(heading)
-    # small multiples share y only among columns in one unit: N m and N never on one axis
-    groups = [frozenset(m.task.robot.actuation for _, m in col) for col in sheet.columns]
+    # N m and N never on one y axis: small multiples share y only among columns in one
+    # unit; overlaid, a second scheme's efforts take a second y axis, on the right
+    parts = [_by_scheme(col) for col in sheet.columns]
+    groups = [p[0][0] for p in parts]
     (row,) = sheet.rows("torques", (ROW,), groups=groups)
-    scales: dict[int, float] = {}
-    ranges = {}
-    for g in dict.fromkeys(groups):
-        ms = [m for col, k in zip(sheet.columns, groups, strict=True) if k == g for _, m in col]
-        ranges[g] = _axis(ms)
-        row[groups.index(g)].set_ylim(*ranges[g][:2])
-        for n, k in enumerate(groups):  # each run of columns in one unit says its unit
-            if k == g and (n == 0 or groups[n - 1] != g):
-                row[n].set_ylabel(efforts(ms)[1])
-        for col, k in zip(sheet.columns, groups, strict=True):
-            if k == g:
-                scales.update((i, ranges[g][2]) for i, _ in col)
-    for ax, col, g in zip(row, sheet.columns, groups, strict=True):
-        lo, hi, scale, bounded = ranges[g]
+    ranges = {
+        k: _axis([m for p in parts for kk, sub in p if kk == k for _, m in sub])
+        for k in dict.fromkeys(k for p in parts for k, _ in p)
+    }
+    scales = {i: ranges[k][2] for p in parts for k, sub in p for i, _ in sub}
+    for n, (ax, col, p) in enumerate(zip(row, sheet.columns, parts, strict=True)):
         instant_lines(ax, col, "torques")
-        for i, m in col:
-            for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
-                kw = look(sheet, i, c, j, pair=True)
-                ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
-        _limit_lines(sheet, ax, col, scale, lo, hi)
-        _saturation(sheet, ax, col, lo, hi)
-        _instants(sheet, ax, col, lo, hi)
-        _jumps(ax, col, sheet)
-        if not bounded:
-            ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
+        for j, (k, sub) in enumerate(p):
+            on = ax
+            if j:
+                on = ax.twinx()
+                on.set_gid("panel-torques-twin")
+                on.grid(False)
+            lo, hi, scale, bounded = ranges[k]
+            if j or n == groups.index(k):
+                on.set_ylim(lo, hi)
+            if j or n == 0 or groups[n - 1] != k:  # each run of columns in one unit says it
+                on.set_ylabel(efforts([m for _, m in sub])[1])
+            _efforts(sheet, on, sub, lo, hi, scale)
+            if not bounded:
+                on.text(0.5, 0.5, "no bounded torque sample", transform=on.transAxes, ha="center")
     legend = [*handles(sheet, [(names[0], LEG1), (names[1], LEG2)])]
     legend += [*_extra_handles(sheet), *knot_handles(sheet)]
     pole = _first_pole(sheet.motions) if pole_inset else None
@@ -100,6 +98,27 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     if inset is not None and pole is not None:
         pole_plot(inset, *pole)
     return row
+
+
+def _by_scheme(col: Indexed) -> list[tuple[str, Indexed]]:
+    """A column's tasks by actuation scheme, in the order the schemes first appear."""
+    out: dict[str, Indexed] = {}
+    for i, m in col:
+        out.setdefault(m.task.robot.actuation, []).append((i, m))
+    return list(out.items())
+
+
+def _efforts(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float, scale: float) -> None:
+    """The efforts of the tasks ``col`` (one scheme) on ``ax`` over [lo, hi]: the curves,
+    the limits, the saturation, the instants and the knots' jumps."""
+    for i, m in col:
+        for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
+            kw = look(sheet, i, c, j, pair=True)
+            ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
+    _limit_lines(sheet, ax, col, scale, lo, hi)
+    _saturation(sheet, ax, col, lo, hi)
+    _instants(sheet, ax, col, lo, hi)
+    _jumps(ax, col, sheet)
 
 
 def _axis(motions: Sequence[Motion]) -> tuple[float, float, float, bool]:
