@@ -114,7 +114,9 @@ def _clear_of_lines(fig: Figure, label_prefix: str, line_prefix: str) -> None:
             assert not np.any(inside), (t.get_text(), line.get_gid())
 
 
-@pytest.mark.parametrize("path", [PRISMATIC, PATH1, str(CONFIGS / "case2_crossing.rprpr.yaml")])
+@pytest.mark.parametrize(
+    "path", [PRISMATIC, PATH1, *(str(CONFIGS / f"case{n}_crossing.rprpr.yaml") for n in (1, 2))]
+)
 def test_no_leg_runs_through_a_case_label(path: str) -> None:
     """The case labels on the singular line sit clear of every leg drawn (at the start,
     the end and each singular instant), sleeves included."""

@@ -96,16 +96,16 @@ def _case_labels(ax: Axes, motions: Sequence[Motion], v: View, ppu: float, size:
     fs = pt(LABEL_SIZE)
     for (lo, hi), text in zip(((x0, 0.0), (0.0, a1), (a1, x1)), CASES, strict=True):
         longest = max(len(line) for line in text.split("\n"))
-        box = ((0.62 * longest * fs + 4) / ppu, (2.5 * fs + 4) / ppu)
-        lo, hi = lo + box[0] / 2 + 2 / ppu, hi - box[0] / 2 - 2 / ppu  # within its stretch
+        box = ((0.55 * longest * fs + 4) / ppu, (2.5 * fs + 4) / ppu)
+        lo, hi = lo + box[0] / 2, hi - box[0] / 2  # within its stretch
         if hi < lo:
             continue  # the stretch is narrower than its name (a small figure): left unnamed
         half = CYLINDER["lw"] / 2 / ppu  # a sleeve's half width
-        x, side = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu, half)
+        x, side, lift = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu, half)
         ax.annotate(
             text,
             (x, 0),
-            xytext=(0, side * (CASE_GAP + 2)),
+            xytext=(0, side * (CASE_GAP + 2 + lift * ppu)),
             textcoords="offset points",
             ha="center",
             va="bottom" if side > 0 else "top",
