@@ -9,8 +9,9 @@ once written, whatever the audit's verdict (``rprpr check`` is the gate).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -74,6 +75,22 @@ PANEL_NAMES = ("path", "x", "delta", "joints", "torques")  # = sheet.PANELS, wit
     show_default=True,
     help="Resolution of a .png sheet.",
 )
+@click.option(
+    "--size",
+    "--figsize",
+    "size_spec",
+    metavar="W,H",
+    help="A figure of exactly W x H inches for a paper (e.g. 3.5,2.4): the panels without "
+    "the sheet's title, legends and keys under the axes. Best with one panel (--panels).",
+)
+@click.option(
+    "--font-scale",
+    type=click.FloatRange(0.25, 4),
+    default=1.0,
+    show_default=True,
+    metavar="F",
+    help="Multiply every text size by F (e.g. 1.4 for a figure printed small).",
+)
 def plot(
     tasks: tuple[str, ...],
     output_file: str | None,
@@ -83,6 +100,8 @@ def plot(
     show: bool,
     samples: int,
     dpi: int,
+    size_spec: str | None,
+    font_scale: float,
 ) -> ExitCode:
     """Draw the audit sheet of TASK (files or directories; several tasks overlay on the same
     axes): the workspace, x_E(t) and y_E(t), δ(t), the joints and the torques, as in the
@@ -93,6 +112,7 @@ def plot(
     if animate_file is not None:
         suffix_choice(animate_file, (".gif",), "the animation", "--animate")
     panels = panels_of(panels_spec, PANEL_NAMES)
+    size = size_of(size_spec)
     files = tasks_or_usage_error(tasks)
     if len(files) > MAX_TASKS:
         raise click.UsageError(
@@ -100,17 +120,22 @@ def plot(
         )
     default = f"{Path(files[0]).stem.removesuffix('.rprpr')}.png"  # in the working directory
     refuse_overwriting_inputs([output_file or default, animate_file], files)  # before any work
+    if size is not None and len(files) > 3:
+        raise click.BadParameter(
+            "a figure of a given size holds at most 3 tasks (overlaid)", param_hint="--size"
+        )
     loaded = [(load(f), f) for f in files]  # every bad file reported before any audit
     inputs: dict[str, str] = {}
     for task, f in loaded:
         inputs.update(task_inputs(f, task))
     refuse_overwriting_inputs([output_file or default, animate_file], inputs)
     motions = _motions(loaded, samples)
+    look = Look(pole_inset, size, font_scale)
     if show:
-        written = _show(motions, panels, output_file, default, dpi, pole_inset)
+        written = _show(motions, panels, output_file, default, dpi, look)
     else:
         out = output_file or default
-        _write_sheet(motions, panels, out, dpi, pole_inset)
+        _write_sheet(motions, panels, out, dpi, look)
         written = [out]
     if animate_file is not None:
         from ..render import animation as A
@@ -123,6 +148,33 @@ def plot(
     for w in written:
         say(f"rprpr: wrote {w}")
     return ExitCode.PASSED
+
+
+@dataclass(frozen=True)
+class Look:
+    """How the sheet is drawn: the pole inset, a paper figure's size [in], the text scale."""
+
+    pole_inset: bool = False
+    size: tuple[float, float] | None = None
+    font_scale: float = 1.0
+
+
+def size_of(spec: str | None) -> tuple[float, float] | None:
+    """``--size W,H`` in inches (a usage error unless two positive numbers up to 50)."""
+    if spec is None:
+        return None
+    parts = spec.replace("x", ",").split(",")
+    try:
+        w, h = (float(p) for p in parts)
+    except ValueError:
+        raise click.BadParameter(
+            f"expected W,H in inches such as 3.5,2.4, found {spec!r}", param_hint="--size"
+        ) from None
+    if not (0 < w <= 50 and 0 < h <= 50):
+        raise click.BadParameter(
+            f"each side must be in (0, 50] inches, found {spec!r}", param_hint="--size"
+        )
+    return w, h
 
 
 def panels_of(spec: str | None, known: Sequence[str]) -> list[str]:
@@ -160,15 +212,34 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
 
 
 def _write_sheet(
-    motions: list[Motion], panels: list[str], out: str, dpi: int, pole_inset: bool = False
+    motions: list[Motion], panels: list[str], out: str, dpi: int, look: Look = Look()
 ) -> None:
     """Draw the sheet headless and write it to ``out`` (format from its extension)."""
     from ..render import sheet as P
 
-    fig = P.render(motions, panels, pole_inset=pole_inset)
+    fig = _render(motions, panels, look)
     write_atomic(
         out, lambda tmp: P.save(fig, tmp, P.format_of(out), dpi=dpi, motions=motions), "the sheet"
     )
+
+
+def _render(motions: list[Motion], panels: list[str], look: Look, figure: Any = None) -> Any:
+    """The sheet's figure (a usage error when the asked size cannot hold it)."""
+    from ..render import sheet as P
+
+    try:
+        return P.render(
+            motions,
+            panels,
+            figure=figure,
+            pole_inset=look.pole_inset,
+            size=look.size,
+            font_scale=look.font_scale,
+        )
+    except ValueError as e:
+        if look.size is None:
+            raise
+        raise click.BadParameter(str(e), param_hint="--size") from None
 
 
 def _show(
@@ -177,7 +248,7 @@ def _show(
     output_file: str | None,
     default: str,
     dpi: int,
-    pole_inset: bool = False,
+    look: Look = Look(),
 ) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""
@@ -186,11 +257,11 @@ def _show(
     if not P.can_show():
         out = output_file or default
         say(f"rprpr: no display for --show; writing {out} instead")
-        _write_sheet(motions, panels, out, dpi, pole_inset)
+        _write_sheet(motions, panels, out, dpi, look)
         return [out]
     import matplotlib.pyplot as plt
 
-    fig = P.render(motions, panels, figure=plt.figure(), pole_inset=pole_inset)
+    fig = _render(motions, panels, look, figure=plt.figure())
     written = []
     if output_file is not None:
         write_atomic(

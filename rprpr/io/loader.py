@@ -449,11 +449,77 @@ def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
         problem += f" *{name} (no anchor &{name} before it)"
     if mark and text[mark.index : mark.index + 1] == "\t":
         problem += " (a tab: YAML indents with spaces only)"
+    elif mark and any(p in problem for p in _BLOCK_PROBLEMS):
+        hint = _indentation(text, e.problem_mark.line if e.problem_mark else mark.line)
+        if hint is not None:
+            line, found, message = hint
+            return TaskFileError(
+                f"YAML syntax error: {message} (YAML says: {problem})",
+                line=line + 1,
+                column=found + 1,
+            )
     return TaskFileError(
         f"YAML syntax error: {problem}",
         line=mark.line + 1 if mark else 0,
         column=mark.column + 1 if mark else 0,
     )
+
+
+# libyaml's and PyYAML's complaints about a block whose indentation went wrong
+_BLOCK_PROBLEMS = (
+    "did not find expected key",
+    "mapping values are not allowed",
+    "did not find expected '-' indicator",
+    "expected <block end>",
+)
+
+
+def _indentation(text: str, at: int) -> tuple[int, int, str] | None:
+    """Where a block's indentation goes wrong at or just before line ``at`` (0-based):
+    (line, its indentation, "wrong indentation: ...") when that line is indented to
+    none of the levels of the blocks open above it (each key's column, and a list
+    item's dash and its content), naming the nearest; None when every line fits."""
+    lines = text.splitlines()
+    for line in (at, at - 1):
+        if not 0 <= line < len(lines) or not _content(lines[line]):
+            continue
+        found = _indent(lines[line])
+        levels: dict[int, int] = {}  # indentation -> the line (0-based) that opens it
+        deepest = None
+        for j in range(line - 1, -1, -1):
+            if not _content(lines[j]):
+                continue
+            ind = _indent(lines[j])
+            if deepest is not None and ind >= deepest:
+                continue  # inside a block already closed above this line
+            deepest = ind
+            levels.setdefault(ind, j)
+            dash = re.match(r" *(- +)", lines[j])
+            if dash:  # a list item's content is indented past its dash
+                levels.setdefault(ind + len(dash.group(1)), j)
+            if ind == 0:
+                break
+        if not levels or found in levels:
+            continue
+        gap = min(abs(v - found) for v in levels)
+        near = sorted((v for v in levels if abs(v - found) == gap), reverse=True)
+        expected = " or ".join(f"{v} (as line {levels[v] + 1})" for v in near)
+        return (
+            line,
+            found,
+            f"wrong indentation: expected {expected} but found {found}"
+            + (" space" if found == 1 else " spaces"),
+        )
+    return None
+
+
+def _indent(line: str) -> int:
+    return len(line) - len(line.lstrip(" "))
+
+
+def _content(line: str) -> bool:
+    """Whether a line holds YAML content (not blank, not only a comment)."""
+    return bool(line.strip()) and not line.lstrip().startswith("#")
 
 
 def _parse(data: bytes | str, file: str, directory: str) -> Task:

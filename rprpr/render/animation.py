@@ -131,7 +131,8 @@ def _time_format(tf: float, frames: int) -> str:
 class _Column:
     """One task's workspace and δ strip, and the artists each frame moves."""
 
-    def __init__(self, sf: Any, m: P.Motion, t: np.ndarray, tf: float) -> None:
+    def __init__(self, sf: Any, m: P.Motion, t: np.ndarray, tf: float, i: int = 0) -> None:
+        self.i = i
         self.m = m
         self.clock_t = t
         self.t, self.at = frame_times(m, t)
@@ -155,11 +156,13 @@ class _Column:
         ax.set_xlabel("x [m]", labelpad=1)
         ax.set_ylabel("y [m]", labelpad=1)
         ax.tick_params(labelsize=7)
-        robot.singular_line(ax)
+        # the line and the marks move with the robot: redrawn over its legs every frame
+        self.over = [robot.singular_line(ax, f"gif-singular-line-{self.i}")]
         robot.base_joints(ax, [m], size)
         ax.plot(m.s.x, m.s.y, color="#AAAAAA", lw=1.0, ls="--", zorder=2)
-        for s in m.result.singularities:
-            ax.plot([s.x], [0], **{**P.marker_style(s, m.result.status_of(s)), "alpha": 0.9})
+        for k, s in enumerate(m.result.singularities):
+            style = {**P.marker_style(s, m.result.status_of(s)), "alpha": 0.9}
+            self.over += ax.plot([s.x], [0], gid=f"gif-path-singular-{self.i}-{k}", **style)
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
         self.robot = robot.MovingRobot(ax, m)
         self.clock = ax.text(
@@ -219,9 +222,10 @@ class _Column:
         ax.axhspan(-P.NEAR_DELTA, P.NEAR_DELTA, color="#999999", alpha=0.15, lw=0)
         ax.axhline(0, color="#444444", lw=0.7)
         knot_lines(ax, m, "gif-delta-knot")
-        for s in m.result.singularities:
+        for k, s in enumerate(m.result.singularities):
             small = {"markersize": 11 if s.high_order else 6}  # the strip is narrow
-            ax.plot([s.t], [0], **{**P.marker_style(s, m.result.status_of(s)), **small})
+            style = {**P.marker_style(s, m.result.status_of(s)), **small}
+            ax.plot([s.t], [0], gid=f"gif-delta-singular-{self.i}-{k}", **style)
         ax.set_xlim(0, tf)
         ax.set_ylabel("δ", fontsize=8)
         ax.tick_params(labelsize=7)
@@ -231,6 +235,7 @@ class _Column:
             self.tint,
             self.trace,
             *self.robot.artists,
+            *self.over,
             self.clock,
             self.cue,
             self.cursor,
@@ -277,6 +282,54 @@ def _inches(inches: float, dpi: int) -> float:
     return inches
 
 
+class Animation:
+    """The GIF's figure: the static parts drawn once on an Agg canvas, and each frame
+    drawn over them (``draw``): only the moving artists, in their z-order, so that the
+    singular line and the marks stay above the legs as on the sheet."""
+
+    def __init__(self, motions: Sequence[P.Motion], frames: int = FRAMES, dpi: int = DPI) -> None:
+        self.frames = frames = int(min(max(frames, 2), MAX_FRAMES))
+        ncols = min(len(motions), MAX_COLUMNS)
+        nrows = math.ceil(len(motions) / ncols)
+        if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
+            dpi = max(40, int(dpi / math.sqrt(nrows)))
+        self.dpi = dpi
+        with matplotlib.rc_context({**P.RC, "font.size": 8}):
+            size = (_inches(COLUMN_SIZE[0] * ncols, dpi), _inches(COLUMN_SIZE[1] * nrows, dpi))
+            fig = Figure(figsize=size, dpi=dpi, layout="constrained")
+            self.fig = fig
+            self.canvas = FigureCanvasAgg(fig)
+            subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
+            self.t = t = clock(motions, frames)
+            tf = max(m.duration for m in motions)
+            self.columns = [
+                _Column(sf, m, t, tf, i)
+                for i, (sf, m) in enumerate(zip(subs, motions, strict=False))
+            ]
+            for sf in subs[len(motions) :]:
+                sf.set_visible(False)
+            for c in self.columns:
+                for a in c.moving:
+                    a.set_animated(True)
+            self.canvas.draw()  # type: ignore[no-untyped-call]  # lays out (once), draws what stays
+            fig.set_layout_engine("none")
+            self.background = self.canvas.copy_from_bbox(fig.bbox)  # type: ignore[no-untyped-call]
+        self.hold = [any(c.at[k] is not None for c in self.columns) for k in range(frames)]
+
+    def draw(self, k: int) -> None:
+        """Frame k on the canvas: the static parts, then what moves, lowest z-order first."""
+        with matplotlib.rc_context({**P.RC, "font.size": 8}):
+            self.canvas.restore_region(self.background)  # type: ignore[no-untyped-call]
+            for c in self.columns:
+                for a in sorted(c.update(k), key=lambda a: a.get_zorder()):
+                    self.fig.draw_artist(a)
+
+    def rgba(self, k: int) -> np.ndarray:
+        """Frame k as pixels (rows from the top, RGBA)."""
+        self.draw(k)
+        return np.asarray(self.canvas.buffer_rgba()).copy()  # type: ignore[no-untyped-call]
+
+
 def write_gif(
     motions: Sequence[P.Motion],
     path: str,
@@ -290,35 +343,11 @@ def write_gif(
 
     The static parts are drawn once on an Agg canvas; each frame restores them and draws
     only the moving artists (blitting), which keeps a 100-frame GIF to a second or two."""
-    frames = int(min(max(frames, 2), MAX_FRAMES))
-    ncols = min(len(motions), MAX_COLUMNS)
-    nrows = math.ceil(len(motions) / ncols)
-    if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
-        dpi = max(40, int(dpi / math.sqrt(nrows)))
-    with matplotlib.rc_context({**P.RC, "font.size": 8}):
-        size = (_inches(COLUMN_SIZE[0] * ncols, dpi), _inches(COLUMN_SIZE[1] * nrows, dpi))
-        fig = Figure(figsize=size, dpi=dpi, layout="constrained")
-        canvas = FigureCanvasAgg(fig)
-        subs = fig.subfigures(nrows, ncols, squeeze=False).ravel()
-        t = clock(motions, frames)
-        tf = max(m.duration for m in motions)
-        columns = [_Column(sf, m, t, tf) for sf, m in zip(subs, motions, strict=False)]
-        for sf in subs[len(motions) :]:
-            sf.set_visible(False)
-        moving = [a for c in columns for a in c.moving]
-        for a in moving:
-            a.set_animated(True)
-        canvas.draw()  # type: ignore[no-untyped-call]  # lays out (once), draws what stays
-        fig.set_layout_engine("none")
-        background = canvas.copy_from_bbox(fig.bbox)  # type: ignore[no-untyped-call]
-        hold = [any(c.at[k] is not None for c in columns) for k in range(frames)]
-        durations = [int(1000 * HOLD) if h else int(1000 / fps) for h in hold]
-        writer = GifWriter(durations, fps=fps)
-        with writer.saving(fig, path, dpi):
-            for k in range(frames):
-                canvas.restore_region(background)  # type: ignore[no-untyped-call]
-                for c in columns:
-                    for a in c.update(k):
-                        fig.draw_artist(a)
-                writer.grab_frame()
-    return frames
+    a = Animation(motions, frames, dpi)
+    durations = [int(1000 * HOLD) if h else int(1000 / fps) for h in a.hold]
+    writer = GifWriter(durations, fps=fps)
+    with writer.saving(a.fig, path, a.dpi):
+        for k in range(a.frames):
+            a.draw(k)
+            writer.grab_frame()
+    return a.frames

@@ -55,7 +55,12 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     # -- YAML itself: YAML's own line and column -----------------------------------------
     "syntax_unclosed_flow": ("", 4, 1, ("YAML syntax error", "did not find expected node content")),
     "syntax_tab_indent": ("", 4, 1, ("YAML syntax error", "a tab: YAML indents with spaces")),
-    "syntax_bad_indent": ("", 5, 11, ("YAML syntax error", "mapping values are not allowed")),
+    "syntax_bad_indent": (
+        "",
+        5,
+        4,
+        ("YAML syntax error: wrong indentation: expected 2 (as line 4)", "mapping values"),
+    ),
     "multi_document": ("", 18, 1, ("YAML syntax error", "single document")),
     "alias_undefined": ("", 4, 7, ("undefined alias *nowhere",)),
     "top_level_list": (

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import io
+import math
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -14,13 +15,16 @@ from matplotlib.figure import Figure
 
 from ..._version import __version__
 from .motion import Motion
-from .page import DPI, Sheet, column_heads
+from .page import DPI, MARGIN, Sheet, column_heads
 from .panels import BY_NAME
-from .style import RC
+from .style import FONT_SCALE, RC, rc
 from .words import description
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
 PANELS = tuple(BY_NAME)  # the default order
+
+
+MIN_ROW = 0.6  # in: the least height a row of axes is given to fit a figure's size
 
 
 def render(
@@ -29,12 +33,20 @@ def render(
     *,
     figure: Figure | None = None,
     pole_inset: bool = False,
+    size: tuple[float, float] | None = None,
+    font_scale: float = 1.0,
 ) -> Figure:
     """The audit sheet of ``motions`` with ``panels`` in order (all by default), on a new
     headless ``Figure`` or on ``figure`` (e.g. one of pyplot's, for --show); with
     ``pole_inset``, log|T| against log|t - t_s| beside the torques near an unbounded
     instant. ``panels`` is a list of names or one comma-separated string
-    (``"path,delta"``, as ``--panels``)."""
+    (``"path,delta"``, as ``--panels``).
+
+    For a paper's figure: ``size`` (width, height) [in] makes the figure exactly that
+    size, the panels without the sheet's title, their legends and keys under the axes,
+    the rows of axes taking the height left (ValueError when it leaves a row less than
+    ``MIN_ROW``, or for more than one column of axes); ``font_scale`` multiplies every
+    text size (the marks and lines keep theirs)."""
     if isinstance(panels, str):  # never its letters, one by one
         panels = [p.strip() for p in panels.split(",") if p.strip()]
     panels = list(BY_NAME) if panels is None else list(panels)
@@ -43,19 +55,52 @@ def render(
         raise ValueError(f"unknown panels {unknown}; choose from {', '.join(BY_NAME)}")
     if not motions:
         raise ValueError("nothing to plot")
-    with matplotlib.rc_context(RC):
-        fig = figure if figure is not None else Figure()
-        fig.set_layout_engine("none")
-        sheet = Sheet(fig, motions)
-        sheet.title()
-        if len(sheet.columns) > 1:
-            column_heads(sheet)
-        for n, name in enumerate(panels):
-            if n:
-                sheet.gap()
-            BY_NAME[name].draw(sheet, pole_inset)
-        sheet.finish()
-    return fig
+    if not 0.25 <= font_scale <= 4:
+        raise ValueError(f"font scale {font_scale:g} is outside [0.25, 4]")
+    if size is None:
+        return _draw(motions, panels, figure, pole_inset, None, font_scale, 1.0)[0]
+    w, h = size
+    if not (0 < w <= 50 and 0 < h <= 50):
+        raise ValueError(f"size {w:g} x {h:g} in: each side must be in (0, 50] inches")
+    # first on a scratch figure at the default row heights, to learn what the rows can take
+    _, first = _draw(motions, panels, Figure(), pole_inset, size, font_scale, 1.0)
+    fixed = first.y + MARGIN - first.rows_total
+    scale = (h - fixed) / first.rows_total
+    if scale * first.smallest_row < MIN_ROW:
+        need = fixed + MIN_ROW / first.smallest_row * first.rows_total
+        raise ValueError(
+            f"{h:g} in is too short for {', '.join(panels)} at {w:g} in wide:"
+            f" at least {math.ceil(need * 10) / 10:g} in"
+        )
+    return _draw(motions, panels, figure, pole_inset, size, font_scale, scale)[0]
+
+
+def _draw(
+    motions: Sequence[Motion],
+    panels: Sequence[str],
+    figure: Figure | None,
+    pole_inset: bool,
+    size: tuple[float, float] | None,
+    font_scale: float,
+    row_scale: float,
+) -> tuple[Figure, Sheet]:
+    token = FONT_SCALE.set(font_scale)
+    try:
+        with matplotlib.rc_context(rc(font_scale)):
+            fig = figure if figure is not None else Figure()
+            fig.set_layout_engine("none")
+            sheet = Sheet(fig, motions, size=size, row_scale=row_scale)
+            sheet.title()
+            if len(sheet.columns) > 1:
+                column_heads(sheet)
+            for n, name in enumerate(panels):
+                if n:
+                    sheet.gap()
+                BY_NAME[name].draw(sheet, pole_inset)
+            sheet.finish()
+    finally:
+        FONT_SCALE.reset(token)
+    return fig, sheet
 
 
 def format_of(path: str) -> str:

@@ -4,16 +4,16 @@ high order, a diamond when of first order, filled with the colour of its status.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
-from matplotlib.transforms import ScaledTranslation
 
 from ...engine.singular import SingularInstant
 from .motion import Motion
 from .page import Sheet
-from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, task_colour
+from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, pt, task_colour
 
 
 def marker_style(s: SingularInstant, status: str, edge: str | None = None) -> dict[str, Any]:
@@ -56,16 +56,31 @@ def mark_handle(label: str, marker: str, face: str, edge: str, ms: float = 6, **
     return Line2D([], [], marker=marker, ms=ms, mfc=face, mec=edge, ls="none", label=label, **kw)
 
 
-SPREAD = 15.0  # points between the centres of marks that would sit on one another
+SPREAD = 15.0  # points between the key numbers of marks that sit at one point
+RING = 3.5  # points of an outer coinciding mark seen around the next one inside it
 
 
-def spread(
-    points: Sequence[tuple[Any, float, float]], tol: tuple[float, float]
-) -> dict[Any, float]:
-    """Horizontal offsets [points] of marks at (x, y) (each with a key) so that marks
-    closer than ``tol`` in x and y sit side by side, centred on where they belong."""
-    out: dict[Any, float] = {key: 0.0 for key, _, _ in points}
-    groups: list[list[tuple[Any, float, float]]] = []
+@dataclass(frozen=True)
+class Placed:
+    """How one mark of a group of coinciding marks is drawn: at its own data coordinates
+    always, nested with the others (concentric): its ``size`` [points], its ``zorder``
+    (the inner above the outer), its key number ``dx`` points aside, and ``reach``, half
+    the outermost mark's size [points]: the key numbers stand beyond it."""
+
+    size: float
+    zorder: float
+    dx: float
+    reach: float
+
+
+def nest(
+    points: Sequence[tuple[Any, float, float, float]], tol: tuple[float, float]
+) -> dict[Any, Placed]:
+    """Marks at (x, y) (each with a key and its own size [points]) closer than ``tol`` in
+    x and y to the first of a group are one group: never moved, they nest, the largest
+    outermost and each next one inside it, at least ``RING`` points smaller all round,
+    so that every mark's outline shows; their key numbers stand side by side."""
+    groups: list[list[tuple[Any, float, float, float]]] = []
     for p in points:
         g = next(
             (g for g in groups if abs(g[0][1] - p[1]) <= tol[0] and abs(g[0][2] - p[2]) <= tol[1]),
@@ -75,9 +90,19 @@ def spread(
             groups.append([p])
         else:
             g.append(p)
+    out: dict[Any, Placed] = {}
     for g in groups:
-        for j, (key, _, _) in enumerate(g):
-            out[key] = (j - (len(g) - 1) / 2) * SPREAD
+        order = sorted(range(len(g)), key=lambda j: -g[j][3])  # stable: task order on ties
+        sizes = [g[j][3] for j in order]
+        for j in range(len(sizes) - 2, -1, -1):  # from the innermost outwards
+            sizes[j] = max(sizes[j], sizes[j + 1] + 2 * RING)
+        for depth, j in enumerate(order):
+            out[g[j][0]] = Placed(
+                size=sizes[depth],
+                zorder=6 + 0.05 * depth,
+                dx=(j - (len(g) - 1) / 2) * SPREAD,
+                reach=sizes[0] / 2,
+            )
     return out
 
 
@@ -107,11 +132,6 @@ def arrow_mark(
     )
 
 
-def shifted(ax: Axes, dx: float) -> Any:
-    """The data transform of ``ax`` moved ``dx`` points to the right."""
-    return ax.transData + ScaledTranslation(dx / 72, 0, ax.figure.dpi_scale_trans)
-
-
 def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: str) -> None:
     """The key number ``n`` in a small circle, ``dx``, ``dy`` points from ``xy``: what it
     marks is said in the lane under the legend."""
@@ -122,7 +142,7 @@ def badge(ax: Axes, n: int, xy: tuple[float, float], dx: float, dy: float, gid: 
         textcoords="offset points",
         ha="center",
         va="center",
-        fontsize=6.5,
+        fontsize=pt(6.5),
         fontweight="bold",
         bbox={"boxstyle": "circle,pad=0.18", "fc": "white", "ec": "#333333", "lw": 0.6},
         zorder=9,
@@ -138,28 +158,26 @@ def mark(
     column: Sequence[tuple[int, Motion]],
     value: Callable[[Motion, SingularInstant], float],
 ) -> None:
-    """A mark at each singular instant at (t_s, value), side by side where several
-    coincide, with its key number above; gid panel-singular-task-k."""
+    """A mark at each singular instant at exactly (t_s, value), nested where several
+    coincide (``nest``), with its key number above; gid panel-singular-task-k."""
     keys = sheet.keys
     tf = max(m.duration for _, m in column)
     ax.autoscale_view()
     y0, y1 = ax.get_ylim()
     pts = [
-        ((i, k), s.t, value(m, s)) for i, m in column for k, s in enumerate(m.result.singularities)
+        ((i, k), s.t, value(m, s), marker_style(s, "ok")["markersize"])
+        for i, m in column
+        for k, s in enumerate(m.result.singularities)
     ]
     ys = [abs(p[2]) for p in pts]
-    dxs = spread(pts, (0.01 * tf, 0.02 * max(ys, default=1.0) + 1e-9))
+    placed = nest(pts, (0.01 * tf, 0.02 * max(ys, default=1.0) + 1e-9))
     for i, m in column:
         for k, s in enumerate(m.result.singularities):
-            dx = dxs[i, k]
+            p = placed[i, k]
             y = value(m, s)
-            ax.plot(
-                [s.t],
-                [y],
-                gid=f"{panel}-singular-{i}-{k}",
-                transform=shifted(ax, dx),
-                **marker_style(s, m.result.status_of(s), edge(sheet, i)),
-            )
+            style = marker_style(s, m.result.status_of(s), edge(sheet, i))
+            style.update(markersize=p.size, zorder=p.zorder)
+            ax.plot([s.t], [y], gid=f"{panel}-singular-{i}-{k}", **style)
             if (i, k) in keys:  # above the mark, below it in the axes' upper half
-                dy = (15 if s.high_order else 12) * (1 if y < (y0 + y1) / 2 else -1)
-                badge(ax, keys[i, k], (s.t, y), dx, dy, f"{panel}-key-{i}-{k}")
+                dy = (p.reach + 6) * (1 if y < (y0 + y1) / 2 else -1)
+                badge(ax, keys[i, k], (s.t, y), p.dx, dy, f"{panel}-key-{i}-{k}")

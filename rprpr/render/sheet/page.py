@@ -10,7 +10,13 @@ is given its height, so nothing is clipped or overlaps; the figure's height is k
 set only when the last panel is placed.
 
 Up to ``OVERLAID`` tasks share one column of axes; more get a column each (small
-multiples) sharing the x- and y-limits of each row.
+multiples) sharing the x- and y-limits of each row, except where that would mislead: a
+row of efforts shares its y-limits only among columns in one unit (torques in N m,
+forces in N: ``Sheet.rows``' groups, each with its own labelled y axis), and when the
+shortest task lasts less than ``SHARED_TIME`` of the longest each column has its own time
+axis over its own [0, t_f] (a 0.5 s task is not drawn on a 5 s axis). Times stay in
+seconds rather than normalised by t_f: the keys, the check and the task file give t_s in
+seconds, and the reader compares them with the axis.
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ from ..._version import __version__
 from ...engine.singular import SingularInstant
 from .labels import MAX_LABELS
 from .motion import Motion
-from .style import LABEL_SIZE, OVERLAID, WIDTH, task_colour
+from .style import FONT_SCALE, LABEL_SIZE, OVERLAID, WIDTH, pt, task_colour
 from .words import heading_lines, instant_times, short
 
 MARGIN = 0.15  # in, at the figure's edges
@@ -38,6 +44,8 @@ LANE = 2.85  # in, the lane right of the axes: legends and keys
 LANE_GAP = 0.25  # in, between the axes and the lane
 COLUMN = 2.45  # in, the width of one small multiple
 COLUMN_GAP = 0.3  # in, between small multiples
+UNIT_GAP = 0.85  # in, between small multiples when a row's columns differ in unit: y labels
+SHARED_TIME = 0.5  # small multiples share one t axis when every t_f is at least this share
 ROW_GAP = 0.22  # in, between the rows of one panel (sharing their t axis)
 X_DECOR = 0.5  # in, tick labels and label under a panel's last row
 TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
@@ -63,17 +71,44 @@ class Sheet:
     axes: list[tuple[Axes, tuple[float, float, float, float]]] = field(default_factory=list)
     texts: list[tuple[Text, float, float]] = field(default_factory=list)
     time: list[Axes] = field(default_factory=list)  # every time axis (the first leads)
+    lead: dict[int, Axes] = field(default_factory=dict)  # each column's first time axis
     keys: dict[tuple[int, Any], int] = field(default_factory=dict)
     knot_said: bool = False  # the knots' legend entry is on the sheet (once)
+    # a figure for a paper: its size [in] given, the lane under the axes, no title
+    size: tuple[float, float] | None = None
+    row_scale: float = 1.0  # every row's height times this (to fit ``size``)
+    rows_total: float = 0.0  # in, the rows' heights so far
+    smallest_row: float = float("inf")  # in, the lowest row so far
 
     def __post_init__(self) -> None:
         indexed = list(enumerate(self.motions))
         many = len(indexed) > OVERLAID
         self.columns = [[im] for im in indexed] if many else [indexed]
         n = len(self.columns)
-        self.column_width = COLUMN if many else WIDTH - LEFT - LANE_GAP - LANE - MARGIN
-        self.width = LEFT + n * self.column_width + (n - 1) * COLUMN_GAP + LANE_GAP + LANE
-        self.width += MARGIN
+        scale = FONT_SCALE.get()
+        self.left_edge = LEFT * max(1.0, scale)
+        self.decor = X_DECOR * max(1.0, scale)
+        units = {m.task.robot.actuation for m in self.motions}
+        # overlaid in two units: the second's y axis on the right, its labels before the lane
+        twin = not many and len(units) > 1
+        self.lane_gap = UNIT_GAP if twin else LANE_GAP
+        self.column_width = COLUMN if many else WIDTH - LEFT - self.lane_gap - LANE - MARGIN
+        if self.size is not None:
+            if many:
+                raise ValueError(
+                    f"a figure of a given size holds one column of axes: at most {OVERLAID} tasks"
+                )
+            right = self.lane_gap * max(1.0, scale) if twin else 0.1
+            self.column_width = self.size[0] - self.left_edge - MARGIN - right
+            if self.column_width < 1.0:
+                raise ValueError(f"{self.size[0]:g} in is too narrow: at least 2.3 in")
+        durations = [m.duration for m in self.motions]
+        self.own_time = many and min(durations) < SHARED_TIME * max(durations)
+        self.column_gap = UNIT_GAP if many and len(units) > 1 else COLUMN_GAP
+        self.width = self.left_edge + n * self.column_width + (n - 1) * self.column_gap
+        self.width += self.lane_gap + LANE + MARGIN
+        if self.size is not None:
+            self.width = self.size[0]
         self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
         self.fig.set_dpi(DPI)
         self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
@@ -108,11 +143,18 @@ class Sheet:
 
     def left(self, c: int) -> float:
         """The left edge of column c's axes [in]."""
-        return LEFT + c * (self.column_width + COLUMN_GAP)
+        return self.left_edge + c * (self.column_width + self.column_gap)
 
     @property
     def lane_left(self) -> float:
-        return self.left(len(self.columns) - 1) + self.column_width + LANE_GAP
+        if self.size is not None:
+            return MARGIN
+        return self.left(len(self.columns) - 1) + self.column_width + self.lane_gap
+
+    @property
+    def lane_width(self) -> float:
+        """The lane's width [in]: beside the axes, or under them in a sized figure."""
+        return LANE if self.size is None else self.width - 2 * MARGIN
 
     # -- text ------------------------------------------------------------------------------
 
@@ -126,7 +168,7 @@ class Sheet:
         the figure; returns its height [in] (the next free height does not move)."""
         chars = max(20, int((self.width - x - MARGIN) * 72 / (0.58 * size)))
         wrapped = "\n".join(textwrap.fill(p, chars) for p in text.split("\n"))
-        t = self.fig.text(0, 0, wrapped, fontsize=size, va="top", ha="left", **kw)
+        t = self.fig.text(0, 0, wrapped, fontsize=pt(size), va="top", ha="left", **kw)
         self.texts.append((t, x, self.y))
         return self.inches(t)[1] + LEADING
 
@@ -136,7 +178,10 @@ class Sheet:
 
     def title(self) -> None:
         """The sheet's title: per task, its name and verdict (in the task's colour when
-        tasks share axes or columns), and its file in small print."""
+        tasks share axes or columns), and its file in small print; none on a figure of
+        a given size (a paper's figure has its caption)."""
+        if self.size is not None:
+            return
         self.y += self.line(f"rprpr {__version__} audit sheet", MARGIN, size=8, color="#555555")
         self.y += 0.04
         several = len(self.motions) > 1
@@ -150,35 +195,56 @@ class Sheet:
 
     # -- axes ------------------------------------------------------------------------------
 
-    def rows(self, gid: str, heights: Sequence[float], *, time: bool = True) -> list[list[Axes]]:
+    def rows(
+        self,
+        gid: str,
+        heights: Sequence[float],
+        *,
+        time: bool = True,
+        groups: Sequence[Any] | None = None,
+    ) -> list[list[Axes]]:
         """Rows of axes of these ``heights`` [in], one axes per column; time rows share
-        the sheet's t axis (labelled under the last row only) and each row its y-limits
-        across the columns (other rows set equal limits themselves: a workspace at equal
-        scales cannot share). Advances the next free height past them."""
+        the sheet's t axis (labelled under the last row only; per column when the tasks'
+        durations differ widely, ``own_time``) and each row its y-limits across the
+        columns, or across the columns of one of ``groups`` (a key per column: columns in
+        different units), a column whose unit differs from its left neighbour's
+        labelling its y axis (other rows set
+        equal limits themselves: a workspace at equal scales cannot share). Advances the
+        next free height past them."""
         out = []
         for r, h in enumerate(heights):
             row: list[Axes] = []
+            h *= self.row_scale
+            self.rows_total += h
+            self.smallest_row = min(self.smallest_row, h)
             for c in range(len(self.columns)):
                 ax = self.fig.add_axes((0, 0, 1, 1))
                 ax.set_gid(f"panel-{gid}")
                 self.axes.append((ax, (self.left(c), self.y, self.column_width, h)))
-                if row and time:
-                    ax.sharey(row[0])
-                    ax.tick_params(labelleft=False)
+                key = groups[c] if groups is not None else None
+                first = next(j for j in range(c + 1) if groups is None or groups[j] == key)
+                if c != first and time:
+                    ax.sharey(row[first])
+                    if groups is None or groups[c - 1] == key:  # else its unit is written
+                        ax.tick_params(labelleft=False)
                 if time:
-                    self._time(ax, last=r == len(heights) - 1)
+                    self._time(ax, c, last=r == len(heights) - 1)
                 row.append(ax)
             out.append(row)
             self.y += h + (ROW_GAP if r < len(heights) - 1 else 0)
-        self.y += X_DECOR
+        self.y += self.decor
         return out
 
-    def _time(self, ax: Axes, last: bool) -> None:
-        """Share the sheet's t axis over [0, the longest t_f]."""
-        if self.time:
-            ax.sharex(self.time[0])
+    def _time(self, ax: Axes, c: int, last: bool) -> None:
+        """Share the sheet's t axis over [0, the longest t_f], or with ``own_time`` the
+        column's over [0, its t_f]."""
+        lead = self.lead.get(c if self.own_time else 0)
+        if lead is not None:
+            ax.sharex(lead)
         else:
-            ax.set_xlim(0, self.duration)
+            tf = max(m.duration for _, m in self.columns[c]) if self.own_time else self.duration
+            ax.set_xlim(0, tf)
+            self.lead[c if self.own_time else 0] = ax
         self.time.append(ax)
         if last:
             ax.set_xlabel("t [s]")
@@ -192,35 +258,47 @@ class Sheet:
     def lane(
         self, ax: Axes, handles: Sequence[Any], notes: Sequence[str] = (), *, inset: bool = False
     ) -> Axes | None:
-        """The lane beside ``ax`` (the last column's): the legend of ``handles``, then the
+        """The lane beside ``ax`` (the last column's): the legend of ``handles`` (a tuple of
+        artists is one entry, drawn one over the other, labelled as its last), then the
         ``notes`` (each starting with its key number, wrapped to the lane), then, with
         ``inset``, a small axes returned. The panel grows when the lane is longer."""
-        top = self.top_of(ax)
+        top = self.top_of(ax) if self.size is None else self.y
         x = self.lane_left
         used = 0.0
         if handles:
-            leg = self.fig.legend(
-                handles=list(handles),
-                loc="upper left",
-                bbox_to_anchor=(0, 1),
-                frameon=False,
-                fontsize=LABEL_SIZE,
-                borderaxespad=0,
-                handlelength=2.6,
-            )
+            ncol = 1 if self.size is None else 3  # a sized figure: as many as fit its width
+            while True:
+                leg = self.fig.legend(
+                    ncol=ncol,
+                    handles=list(handles),
+                    labels=[(h[-1] if isinstance(h, tuple) else h).get_label() for h in handles],
+                    loc="upper left",
+                    bbox_to_anchor=(0, 1),
+                    frameon=False,
+                    fontsize=pt(LABEL_SIZE),
+                    borderaxespad=0,
+                    handlelength=2.6,
+                    columnspacing=1.2,
+                )
+                if ncol == 1 or self.inches(leg)[0] <= self.lane_width:
+                    break
+                leg.remove()
+                ncol -= 1
             self.texts.append((leg, x, top))  # type: ignore[arg-type]
             used += self.inches(leg)[1] + 0.08
         if notes:
-            chars = int((LANE - 0.05) * 72 / (0.56 * LABEL_SIZE))
+            chars = int((self.lane_width - 0.05) * 72 / (0.56 * pt(LABEL_SIZE)))
             text = "\n".join(textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n)
-            t = self.fig.text(0, 0, text, fontsize=LABEL_SIZE, va="top", ha="left")
+            t = self.fig.text(0, 0, text, fontsize=pt(LABEL_SIZE), va="top", ha="left")
             self.texts.append((t, x, top + used))
             used += self.inches(t)[1] + 0.1
         small = None
         if inset:
             small = self.fig.add_axes((0, 0, 1, 1))
             small.set_gid("inset")
-            self.axes.append((small, (x + 0.5, top + used + 0.25, LANE - 0.7, 1.45)))
+            self.axes.append(
+                (small, (x + 0.5, top + used + 0.25, min(LANE, self.lane_width) - 0.7, 1.45))
+            )
             used += 0.25 + 1.45 + 0.45
         self.y = max(self.y, top + used + 0.05)
         return small
@@ -237,7 +315,7 @@ class Sheet:
 
     def finish(self) -> None:
         """Give the figure its height and every axes and text its place."""
-        h = self.y + MARGIN
+        h = self.y + MARGIN if self.size is None else self.size[1]
         w = self.width
         self.fig.set_size_inches(w, h)
         for ax, (x0, top, bw, bh) in self.axes:
@@ -252,7 +330,7 @@ class Sheet:
 def column_heads(sheet: Sheet) -> None:
     """Small multiples: each column's task, abbreviated, in its colour, numbered as in
     the title."""
-    chars = int(sheet.column_width * 72 / (0.6 * 8.5))
+    chars = int(sheet.column_width * 72 / (0.6 * pt(8.5)))
     height = 0.0
     for c, col in enumerate(sheet.columns):
         i, m = col[0]
@@ -260,7 +338,7 @@ def column_heads(sheet: Sheet) -> None:
             0,
             0,
             short(m.name, chars),
-            fontsize=8.5,
+            fontsize=pt(8.5),
             fontweight="bold",
             color=task_colour(i),
             va="top",

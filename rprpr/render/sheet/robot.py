@@ -20,7 +20,7 @@ from matplotlib.patches import Polygon
 
 from ...engine.sampling import Samples
 from .motion import Motion
-from .style import LEG1, LEG2, LINE, LINE_DASH, POINT
+from .style import LEG1, LEG2, LINE, LINE_DASH, POINT, pt
 
 View = tuple[float, float, float, float]  # x0, x1, y0, y1 [m]
 
@@ -59,9 +59,9 @@ def workspace(ax: Axes, motions: Sequence[Motion]) -> tuple[View, float]:
     return v, 0.028 * (x1 - x0)
 
 
-def singular_line(ax: Axes) -> None:
-    """The singular line y = 0 (δ = 0)."""
-    ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=SINGULAR_LINE_Z, gid="singular-line")
+def singular_line(ax: Axes, gid: str = "singular-line") -> Line2D:
+    """The singular line y = 0 (δ = 0), above the legs (``SINGULAR_LINE_Z``)."""
+    return ax.axhline(0, color=LINE, lw=1.1, ls=LINE_DASH, zorder=SINGULAR_LINE_Z, gid=gid)
 
 
 def singular_line_handle() -> Line2D:
@@ -98,7 +98,7 @@ def ground(ax: Axes, x: float, size: float, label: str) -> None:
         textcoords="offset points",
         ha="center",
         va="top",
-        fontsize=10,
+        fontsize=pt(10),
         fontweight="bold",
     )
 

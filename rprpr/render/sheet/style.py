@@ -14,6 +14,7 @@ carries the task's colour: a singular mark's edge, a ▲ ▼ or a ring its fill 
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from typing import Any
 
 LEG1 = "#0072B2"  # leg 1, A-E: θ1, s1, T1
@@ -62,6 +63,22 @@ RC: Any = {  # matplotlib's rcParams for the sheet (Any: its stubs want literal 
     "svg.hashsalt": "rprpr",  # reproducible ids
     "pdf.fonttype": 42,  # TrueType, not Type 3: what journals ask for
 }
+
+
+# the scale of every text size while a sheet is drawn (``render``'s ``font_scale``)
+FONT_SCALE: ContextVar[float] = ContextVar("rprpr_sheet_font_scale", default=1.0)
+_SIZES: tuple[str, ...] = ("font.size", "axes.titlesize", "axes.labelsize", "legend.fontsize")
+_SIZES += ("xtick.labelsize", "ytick.labelsize")
+
+
+def pt(size: float) -> float:
+    """A text size [points] as drawn: ``size`` times the sheet's font scale."""
+    return size * FONT_SCALE.get()
+
+
+def rc(scale: float = 1.0) -> Any:
+    """``RC`` with every text size times ``scale``."""
+    return {**RC, **{k: RC[k] * scale for k in _SIZES}}
 
 
 def style(i: int) -> Any:

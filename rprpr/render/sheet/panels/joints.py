@@ -1,21 +1,37 @@
-"""The ``joints`` panel: the actuated joints θ1, θ2 in degrees, continuous (the paper's
-Fig. 5), over the leg lengths s1, s2."""
+"""The ``joints`` panel: the joint angles θ1, θ2 in degrees, continuous (the paper's
+Fig. 5), over the leg lengths s1, s2; the heading says which are actuated."""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 from matplotlib.axes import Axes
 
+from ....model.actuation import REVOLUTE
 from ..axes import degree_ticks, handles, instant_lines, knot_handles, look
-from ..motion import finite
+from ..motion import Motion, finite
 from ..page import Sheet
 from ..style import LEG1, LEG2
 
 ROW = 1.45  # in, each of θ and s
 
 
+def heading(motions: Sequence[Motion]) -> str:
+    """The panel's heading: which joints the motors drive, by the tasks' actuation (the
+    paper's revolute motors drive θ1, θ2; linear actuators drive s1, s2)."""
+    kinds = {m.task.robot.actuation for m in motions}
+    if kinds <= {REVOLUTE}:
+        return "Actuated joints θ1, θ2 (paper Fig. 5) and leg lengths s1, s2"
+    if REVOLUTE not in kinds:
+        return "Joint angles θ1, θ2 (paper Fig. 5), passive, and actuated joints s1, s2 (prismatic)"
+    return (
+        "Joint angles θ1, θ2 (paper Fig. 5), leg lengths s1, s2 (actuated: θ revolute, s prismatic)"
+    )
+
+
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading("Actuated joints θ1, θ2 (paper Fig. 5) and leg lengths s1, s2")
+    sheet.heading(heading(sheet.motions))
     row_t, row_s = sheet.rows("joints", (ROW, ROW))
     degrees = []
     for ax_t, ax_s, col in zip(row_t, row_s, sheet.columns, strict=True):

@@ -18,11 +18,15 @@ from ....engine.singular import SingularInstant
 from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from ..axes import handles, look
-from ..labels import case_label_x
-from ..markers import badge, edge, mark_handle, marker_handles, marker_style, shifted, spread
+from ..labels import case_label_place
+from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
 from ..robot import (
+    CYLINDER,
+    CYLINDER_ALPHA,
+    ROD,
+    SINGULAR_LEGS,
     View,
     base_joints,
     draw_robot,
@@ -31,7 +35,17 @@ from ..robot import (
     view,
     workspace,
 )
-from ..style import LABEL_SIZE, LEG1, LEG2, LINE, POINT, STATUS_COLOUR, STATUS_WORD, task_colour
+from ..style import (
+    LABEL_SIZE,
+    LEG1,
+    LEG2,
+    LINE,
+    POINT,
+    STATUS_COLOUR,
+    STATUS_WORD,
+    pt,
+    task_colour,
+)
 from ..words import near_miss_path, order_text, verdict_text
 
 CASES = (  # the singular line's stretches (Table 1): left of A, between A and B, right of B
@@ -48,7 +62,7 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     (row,) = sheet.rows("path", (h,), time=False)
     for ax, col in zip(row, sheet.columns, strict=True):
         ax.set_xlabel("x [m]")
-        _workspace(sheet, ax, col, h)
+        _workspace(sheet, ax, col, h * sheet.row_scale)
     row[0].set_ylabel("y [m]")
     sheet.lane(row[-1], _legend(sheet), notes(sheet))
     return row
@@ -58,52 +72,74 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
     motions = [m for _, m in col]
     v, size = workspace(ax, sheet.motions)
+    x0, x1, y0, y1 = v
+    ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
+    # the view as drawn: at equal scales the wider of the axes and the data gets room
+    grow = max(0.0, sheet.column_width * 72 / ppu - (x1 - x0)) / 2
     singular_line(ax)
     if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
-        _case_labels(ax, motions, v)
+        _case_labels(ax, motions, (x0 - grow, x1 + grow, y0, y1), ppu, size)
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
-    x0, x1, y0, y1 = v
-    ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     _singular_points(sheet, ax, col, ppu)
     _approaches(sheet, ax, col, ppu)
 
 
-def _case_labels(ax: Axes, motions: Sequence[Motion], v: View) -> None:
-    """Each case's name on its stretch of the singular line, where it hides least."""
+def _case_labels(ax: Axes, motions: Sequence[Motion], v: View, ppu: float, size: float) -> None:
+    """Each case's name on its stretch of the singular line, within it, above or below the
+    line, where no path, leg or base joint runs through it (``labels.case_label_place``);
+    none on a stretch too short to hold it."""
     x0, x1, _, _ = v
     a1 = float(motions[0].task.robot.a1)
-    span = x1 - x0
-    avoid = _near_the_line(motions, v)
-    edge = 0.07 * span  # half a label's width, about
-    stretches = ((x0 + edge, -0.02 * span), (0.2 * a1, 0.8 * a1), (a1 + 0.02 * span, x1 - edge))
-    for (lo, hi), text in zip(stretches, CASES, strict=True):
-        if hi <= lo:
-            continue
+    avoid = _near_the_line(motions, size, 34 / ppu)
+    fs = pt(LABEL_SIZE)
+    for (lo, hi), text in zip(((x0, 0.0), (0.0, a1), (a1, x1)), CASES, strict=True):
+        longest = max(len(line) for line in text.split("\n"))
+        box = ((0.55 * longest * fs + 4) / ppu, (2.5 * fs + 4) / ppu)
+        lo, hi = lo + box[0] / 2, hi - box[0] / 2  # within its stretch
+        if hi < lo:
+            continue  # the stretch is narrower than its name (a small figure): left unnamed
+        half = CYLINDER["lw"] / 2 / ppu  # a sleeve's half width
+        x, side, lift = case_label_place(lo, hi, avoid, box, CASE_GAP / ppu, half)
         ax.annotate(
             text,
-            (case_label_x(lo, hi, avoid), 0),
-            xytext=(0, 3),
+            (x, 0),
+            xytext=(0, side * (CASE_GAP + 2 + lift * ppu)),
             textcoords="offset points",
             ha="center",
-            va="bottom",
-            fontsize=LABEL_SIZE,
+            va="bottom" if side > 0 else "top",
+            fontsize=fs,
             color=LINE,
             gid=f"case-label-{text[5]}",
         )
 
 
-def _near_the_line(motions: Sequence[Motion], v: View) -> np.ndarray:
-    """The points a case label avoids: the paths near y = 0, and the singular points."""
-    _, _, y0, y1 = v
-    pts = np.concatenate(
-        [np.column_stack([m.s.x, m.s.y])[:: max(1, len(m.s.t) // 200)] for m in motions]
-    )
-    pts = pts[np.all(np.isfinite(pts), axis=1)]
-    pts = pts[np.abs(pts[:, 1]) < 0.25 * (y1 - y0)]
-    sing = np.array([(s.x, 0.0) for m in motions for s in m.result.singularities]).reshape(-1, 2)
-    return np.concatenate([pts, sing])
+CASE_GAP = 4.5  # points between the singular line and a case's label: half a sleeve's width
+
+
+def _near_the_line(motions: Sequence[Motion], size: float, reach: float) -> np.ndarray:
+    """The points a case label avoids: the paths, the legs of every robot drawn (at the
+    start, the end and each singular instant), the base joints and, ``reach`` [m] around
+    each singular point, its mark, ring and key number."""
+    pts = [np.column_stack([m.s.x, m.s.y])[:: max(1, len(m.s.t) // 200)] for m in motions]
+    along = np.linspace(0, 1, 40)[:, None]
+    for m in motions:
+        a1 = float(m.task.robot.a1)
+        poses = [0, len(m.s.t) - 1, *(at(m, s.t) for s in m.result.singularities)]
+        for j in poses:
+            E = np.array([m.s.x[j], m.s.y[j]])
+            for P in (np.array([0.0, 0.0]), np.array([a1, 0.0])):
+                pts.append(P + along * (E - P))
+        for b in (0.0, a1):  # the ground symbol and its letter under each base joint
+            pts.append(np.column_stack([np.full(5, b), -np.linspace(0, 3, 5) * size]))
+    g = np.linspace(-reach, reach, 9)
+    disc = np.array([(a, b) for a in g for b in g if a * a + b * b <= reach * reach])
+    for m in motions:
+        for s in m.result.singularities:
+            pts.append(disc + np.array([s.x, 0.0]))
+    out = np.concatenate(pts)
+    return out[np.all(np.isfinite(out), axis=1)]
 
 
 def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
@@ -161,26 +197,33 @@ def _paths(sheet: Sheet, ax: Axes, col: Indexed) -> None:
 
 
 def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
-    """Each singular point's mark (ringed when of high order; side by side where tasks'
-    points coincide) with its key number on the side of the line the paths leave
-    freer; each inverse-kinematic singular point's cross."""
+    """Each singular point's mark at exactly (x_s, 0) (ringed when of high order; nested
+    where tasks' points coincide, ``markers.nest``) with its key number on the side of
+    the line the paths leave freer; each inverse-kinematic singular point's cross."""
     span = float(np.diff(ax.dataLim.intervalx)[0]) if ax.dataLim.width > 0 else 1.0
-    pts = [((i, k), s.x, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
-    dxs = spread(pts, (0.01 * span, 1.0))
+    pts = [
+        ((i, k), s.x, 0.0, _RING_SIZE if s.high_order else marker_style(s, "ok")["markersize"])
+        for i, m in col
+        for k, s in enumerate(m.result.singularities)
+    ]
+    placed = nest(pts, (0.01 * span, 1.0))
     paths = np.concatenate([np.column_stack([m.s.x, m.s.y]) for _, m in col])
     for i, m in col:
         for k, s in enumerate(m.result.singularities):
             st = m.result.status_of(s)
-            tr = shifted(ax, dxs[i, k])
-            if s.high_order:
-                _ring(ax, s, f"path-ring-{i}-{k}", tr)
+            p = placed[i, k]
             style = marker_style(s, st, edge(sheet, i))
-            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", transform=tr, **style)
-            dy = 22.0 if s.high_order else 13.0
-            side = _freer_side(paths, s.x + dxs[i, k] / ppu, dy / ppu)
+            if s.high_order:  # the ring is the mark's outline: it nests, the star inside
+                _ring(ax, s, f"path-ring-{i}-{k}", p.size, p.zorder)
+                style["zorder"] = p.zorder + 0.01
+            else:
+                style.update(markersize=p.size, zorder=p.zorder)
+            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **style)
+            dy = p.reach + 7
+            side = _freer_side(paths, s.x + p.dx / ppu, dy / ppu)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
-                badge(ax, key, (s.x, 0.0), dxs[i, k], side * dy, f"path-key-{i}-{k}")
+                badge(ax, key, (s.x, 0.0), p.dx, side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
             cross = {**_CROSS, "mec": edge(sheet, i) or _CROSS["mec"]}
             ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **cross)
@@ -228,19 +271,21 @@ def _approaches(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
 _CROSS: dict[str, Any] = {"mfc": STATUS_COLOUR["fail"], "mec": "black"}  # E at A or B
 
 
-def _ring(ax: Axes, s: SingularInstant, gid: str, transform: Any) -> None:
+_RING_SIZE = 30.0  # points: the ring around a high-order singular point
+
+
+def _ring(ax: Axes, s: SingularInstant, gid: str, size: float, zorder: float) -> None:
     """A red ring around a high-order singular point: it must stand out."""
     ax.plot(
         [s.x],
         [0],
         "o",
-        transform=transform,
-        ms=30,
+        ms=size,
         mfc="none",
         mec=STATUS_COLOUR["fail"],
         mew=2,
         alpha=0.8,
-        zorder=5.5,
+        zorder=zorder,
         gid=gid,
     )
 
@@ -267,8 +312,14 @@ def notes(sheet: Sheet) -> list[str]:
     return out + sheet.crowded()
 
 
+def _sleeve(colour: str) -> Line2D:
+    """A leg's sleeve (the cylinder its rod slides in) as a legend handle, as drawn."""
+    return Line2D([], [], color=colour, alpha=CYLINDER_ALPHA, **CYLINDER)
+
+
 def _legend(sheet: Sheet) -> list[Any]:
-    """The workspace's legend: the paths, the singular line, the legs, the marks."""
+    """The workspace's legend: the paths, the singular line, the legs (each a pair: its
+    sleeve and its rod, drawn one over the other), the marks."""
     motions = sheet.motions
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
@@ -277,10 +328,17 @@ def _legend(sheet: Sheet) -> list[Any]:
         singular_line_handle(),
         *marker_handles(motions),
     ]
+    n = len(extra) - 1 - len(marker_handles(motions))  # before the singular line
     if not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
-        extra[3:3] = [
-            Line2D([], [], color=LEG1, lw=2.2, label="leg 1 (A–E): θ1, s1"),
-            Line2D([], [], color=LEG2, lw=2.2, label="leg 2 (B–E): θ2, s2"),
+        extra[n:n] = [
+            (
+                _sleeve(LEG1),
+                Line2D([], [], color=LEG1, label="leg 1 (A–E): sleeve, rod; θ1, s1", **ROD),
+            ),
+            (
+                _sleeve(LEG2),
+                Line2D([], [], color=LEG2, label="leg 2 (B–E): sleeve, rod; θ2, s2", **ROD),
+            ),
             Line2D(
                 [],
                 [],
@@ -289,6 +347,19 @@ def _legend(sheet: Sheet) -> list[Any]:
                 ls=(0, (3, 1.5)),
                 label="legs at a singular instant",
             ),
+        ]
+    else:
+        extra[n:n] = [
+            (
+                _sleeve("#777777"),
+                Line2D(
+                    [],
+                    [],
+                    color="#777777",
+                    label="legs at t_s: sleeve, rod, task's colour",
+                    **{**ROD, "ls": SINGULAR_LEGS},
+                ),
+            )
         ]
     if any(m.result.kinematic_singularities for m in motions):
         extra.append(

@@ -27,10 +27,10 @@ from ....engine.verdicts import Window
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
-from ..markers import arrow_mark, badge, mark_handle, spread
+from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
-from ..style import LEG1, LEG2, STATUS_COLOUR, task_colour
+from ..style import LEG1, LEG2, STATUS_COLOUR, pt, task_colour
 
 ROW = 2.2  # in
 CLIP_WINDOW = 0.1  # fraction of t_f about an unbounded instant left out when scaling T
@@ -63,35 +63,74 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    heading, ylabel, names = efforts(sheet.motions)
+    heading, _, names = efforts(sheet.motions)
     sheet.heading(heading)
-    (row,) = sheet.rows("torques", (ROW,))
-    rng = torque_range(sheet.motions)
-    lo, hi = rng if rng is not None else (-1.0, 1.0)
-    scale = max(abs(lo), abs(hi))
-    for _, L in _limits(sheet.motions):
-        if LIMIT_NEAR * scale >= L:
-            lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
-    row[0].set_ylim(lo, hi)
-    for ax, col in zip(row, sheet.columns, strict=True):
+    # N m and N never on one y axis: small multiples share y only among columns in one
+    # unit; overlaid, a second scheme's efforts take a second y axis, on the right
+    parts = [_by_scheme(col) for col in sheet.columns]
+    groups = [p[0][0] for p in parts]
+    (row,) = sheet.rows("torques", (ROW,), groups=groups)
+    ranges = {
+        k: _axis([m for p in parts for kk, sub in p if kk == k for _, m in sub])
+        for k in dict.fromkeys(k for p in parts for k, _ in p)
+    }
+    scales = {i: ranges[k][2] for p in parts for k, sub in p for i, _ in sub}
+    for n, (ax, col, p) in enumerate(zip(row, sheet.columns, parts, strict=True)):
         instant_lines(ax, col, "torques")
-        for i, m in col:
-            for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
-                kw = look(sheet, i, c, j, pair=True)
-                ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
-        _limit_lines(sheet, ax, col, scale, lo, hi)
-        _saturation(sheet, ax, col, lo, hi)
-        _instants(sheet, ax, col, lo, hi)
-        if rng is None:
-            ax.text(0.5, 0.5, "no bounded torque sample", transform=ax.transAxes, ha="center")
-    row[0].set_ylabel(ylabel)
+        for j, (k, sub) in enumerate(p):
+            on = ax
+            if j:
+                on = ax.twinx()
+                on.set_gid("panel-torques-twin")
+                on.grid(False)
+            lo, hi, scale, bounded = ranges[k]
+            if j or n == groups.index(k):
+                on.set_ylim(lo, hi)
+            if j or n == 0 or groups[n - 1] != k:  # each run of columns in one unit says it
+                on.set_ylabel(efforts([m for _, m in sub])[1])
+            _efforts(sheet, on, sub, lo, hi, scale)
+            if not bounded:
+                on.text(0.5, 0.5, "no bounded torque sample", transform=on.transAxes, ha="center")
     legend = [*handles(sheet, [(names[0], LEG1), (names[1], LEG2)])]
     legend += [*_extra_handles(sheet), *knot_handles(sheet)]
     pole = _first_pole(sheet.motions) if pole_inset else None
-    inset = sheet.lane(row[-1], legend, notes(sheet, scale), inset=pole is not None)
+    inset = sheet.lane(row[-1], legend, notes(sheet, scales), inset=pole is not None)
     if inset is not None and pole is not None:
         pole_plot(inset, *pole)
     return row
+
+
+def _by_scheme(col: Indexed) -> list[tuple[str, Indexed]]:
+    """A column's tasks by actuation scheme, in the order the schemes first appear."""
+    out: dict[str, Indexed] = {}
+    for i, m in col:
+        out.setdefault(m.task.robot.actuation, []).append((i, m))
+    return list(out.items())
+
+
+def _efforts(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float, scale: float) -> None:
+    """The efforts of the tasks ``col`` (one scheme) on ``ax`` over [lo, hi]: the curves,
+    the limits, the saturation, the instants and the knots' jumps."""
+    for i, m in col:
+        for j, (v, (c, q)) in enumerate(zip((m.s.T1, m.s.T2), TORQUES, strict=True)):
+            kw = look(sheet, i, c, j, pair=True)
+            ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
+    _limit_lines(sheet, ax, col, scale, lo, hi)
+    _saturation(sheet, ax, col, lo, hi)
+    _instants(sheet, ax, col, lo, hi)
+    _jumps(ax, col, sheet)
+
+
+def _axis(motions: Sequence[Motion]) -> tuple[float, float, float, bool]:
+    """The y-limits of the efforts of ``motions`` (their bounded part, and the limits
+    near it), the largest |effort| shown, and whether any sample is bounded."""
+    rng = torque_range(motions)
+    lo, hi = rng if rng is not None else (-1.0, 1.0)
+    scale = max(abs(lo), abs(hi))
+    for _, L in _limits(motions):
+        if LIMIT_NEAR * scale >= L:
+            lo, hi = min(lo, -1.07 * L), max(hi, 1.07 * L)
+    return lo, hi, scale, rng is not None
 
 
 def _limits(motions: Sequence[Motion]) -> list[tuple[int, float]]:
@@ -177,8 +216,8 @@ def _window_times(m: Motion, w: Window) -> np.ndarray:
 def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
     """At each singular instant its key at the axis's top; the torques' finite limits,
     or the line at t_s and where the curves leave the axis."""
-    pts = [((i, k), s.t, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
-    dxs = spread(pts, (0.01 * sheet.duration, 1.0))
+    pts = [((i, k), s.t, 0.0, 0.0) for i, m in col for k, s in enumerate(m.result.singularities)]
+    placed = nest(pts, (0.01 * sheet.duration, 1.0))
     for i, m in col:
         colours = [look(sheet, i, c, j, pair=True)["color"] for j, (c, _) in enumerate(TORQUES)]
         for k, s in enumerate(m.result.singularities):
@@ -189,7 +228,39 @@ def _instants(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> Non
                 _exit_marks(ax, m, s, f"{i}-{k}", lo, hi, colours)
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
-                badge(ax, key, (s.t, hi), dxs[i, k] + 8, -10, f"torques-key-{i}-{k}")
+                badge(ax, key, (s.t, hi), placed[i, k].dx + 8, -10, f"torques-key-{i}-{k}")
+
+
+JUMP: dict[str, Any] = {"lw": 2.4, "marker": "_", "ms": 9, "mew": 2.0, "zorder": 5.5}
+
+
+def jumps(m: Motion) -> list[tuple[float, tuple[float, float], tuple[float, float]]]:
+    """(t_k, (T1, T2) before, (T1, T2) after) at each knot where the audit finds RPR204
+    (the acceleration, and so the torques, jump) with the torques defined on both sides."""
+    at = {f.t for f in m.result.findings if f.rule == "RPR204"}
+    out = []
+    for k in m.result.knot_jumps:
+        before, after = k.torques
+        if k.t in at and before is not None and after is not None:
+            out.append((k.t, before, after))
+    return out
+
+
+def _jumps(ax: Axes, col: Indexed, sheet: Sheet) -> None:
+    """Each RPR204 torque jump at a knot: a bar from each torque's value just before the
+    knot to its value just after, at t_k, in the torque's colour (gid
+    ``torques-jump-<task>-<n>-T1``)."""
+    for i, m in col:
+        colours = [look(sheet, i, c, j, pair=True)["color"] for j, (c, _) in enumerate(TORQUES)]
+        for n, (t, before, after) in enumerate(jumps(m)):
+            for j, (_, q) in enumerate(TORQUES):
+                ax.plot(
+                    [t, t],
+                    [before[j], after[j]],
+                    color=colours[j],
+                    gid=f"torques-jump-{i}-{n}-{q}",
+                    **JUMP,
+                )
 
 
 def _extra_handles(sheet: Sheet) -> list[Any]:
@@ -197,22 +268,46 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
     divergence's ▲, where drawn."""
     out: list[Any] = []
     ms = sheet.motions
-    if any(m.task.checks.torque_limit is not None for m in ms):
-        out.append(Line2D([], [], color="#444444", lw=1.0, ls=LIMIT_DASH, label="torque limit ±L"))
-    if any(m.result.torque_limit and any(c.windows for c in m.result.torque_limit) for m in ms):
-        out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label="|T| > L (certified)"))
+    limited = [m for m in ms if m.task.checks.torque_limit is not None]
+    if limited:
+        out.append(
+            Line2D([], [], color="#444444", lw=1.0, ls=LIMIT_DASH, label=limit_label(limited))
+        )
+    over = [
+        m for m in ms if m.result.torque_limit and any(c.windows for c in m.result.torque_limit)
+    ]
+    if over:
+        letters = "|".join(dict.fromkeys(SCHEMES[m.task.robot.actuation].letter for m in over))
+        label = f"|{letters}| > L (certified)"
+        out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label=label))
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
         out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
         out.append(mark_handle("leaves the axis: diverges", "^", "#777777", "black", 7))
+    if any(jumps(m) for m in ms):
+        letters = "|".join(dict.fromkeys(SCHEMES[m.task.robot.actuation].letter for m in ms))
+        label = f"{letters} jump at a knot (RPR204)"
+        out.append(Line2D([], [], color="#555555", label=label, **{**JUMP, "zorder": 1}))
     return out
 
 
-def notes(sheet: Sheet, scale: float) -> list[str]:
+def limit_label(motions: Sequence[Motion]) -> str:
+    """The limit lines' legend entry, in the words of the tasks' actuation schemes: a
+    torque limit [N m] (revolute), a force limit [N] (prismatic), or both."""
+    kinds = [SCHEMES[k] for k in dict.fromkeys(m.task.robot.actuation for m in motions)]
+    if len(kinds) == 1:
+        e = kinds[0]
+        return f"{'torque' if e.letter == 'T' else 'force'} limit ±L [{e.unit}]"
+    return "limit ±L (T in N m, F in N)"
+
+
+def notes(sheet: Sheet, scales: dict[int, float]) -> list[str]:
     """The keys of the instants (finite limits, or where T diverges and how long |T|
-    stays above its limit) and each task's limit."""
+    stays above its limit) and each task's limit (beyond its axis when above
+    ``LIMIT_NEAR`` times the largest |T| task i's axis shows, ``scales[i]``)."""
     out = []
     for i, m in enumerate(sheet.motions):
+        scale = scales[i]
         who = sheet.who(m)
         e = SCHEMES[m.task.robot.actuation]  # T [N m] or F [N]
         T, u = e.letter, e.unit
@@ -222,6 +317,12 @@ def notes(sheet: Sheet, scale: float) -> list[str]:
                 out.append(f"{key}  {who}{T} → ({t1}, {t2}) {u} at t = {t} s (ring)")
             else:
                 out.append(f"{key}  {who}{T} → ∞ at t = {t} s: pole of order {s.pole_order}")
+        for tk, before, after in jumps(m):
+            d1, d2 = (number(b - a, 4) for a, b in zip(before, after, strict=True))
+            out.append(
+                f"-  {who}{T}1, {T}2 jump by {d1}, {d2} {u} at the knot t = {number(tk, 4)} s"
+                " (RPR204: the acceleration jumps there)"
+            )
         L = m.task.checks.torque_limit
         if L is not None:
             lim = f" {u}, ".join(dict.fromkeys(number(float(v)) for v in L)) + f" {u}"
@@ -284,10 +385,11 @@ def pole_plot(ax: Axes, m: Motion, s: SingularInstant) -> None:
         x0, y0 = anchor
         xs = np.array([x0, x0 + 3.0])
         ax.plot(xs, y0 - p * (xs - x0), color="black", lw=1.0, ls=":", gid="inset-slope")
-    ax.set_xlabel("log10 |t − t_s| [s]", fontsize=7, labelpad=1)
-    ax.set_ylabel("log10 |T| [N m]", fontsize=7, labelpad=1)
-    ax.tick_params(labelsize=6.5)
-    ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=7)
+    ax.set_xlabel("log10 |t − t_s| [s]", fontsize=pt(7), labelpad=1)
+    e = SCHEMES[m.task.robot.actuation]
+    ax.set_ylabel(f"log10 |{e.letter}| [{e.unit}]", fontsize=pt(7), labelpad=1)
+    ax.tick_params(labelsize=pt(6.5))
+    ax.set_title(f"near t_s = {number(s.t, 4)} s: slope −{p} (dotted)", fontsize=pt(7))
     ax.grid(True, alpha=0.3)
 
 
