@@ -278,7 +278,7 @@ def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
         "import sys\n"
         "from rprpr.cli.check import check_one\n"
         "from rprpr.cli.options import CheckOptions\n"
-        f"kind, _, _ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
+        f"kind, *_ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
         f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
         " and m.startswith('rprpr.engine'))\n"
         "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
