@@ -123,3 +123,12 @@ def test_the_task_file_example_is_the_shipped_example_2() -> None:
     shipped = load_task(ROOT / "configs" / "paper_path2.rprpr.yaml")
     for name in ("name", "robot", "path", "x_of_t", "duration", "checks", "law"):
         assert getattr(mine, name) == getattr(shipped, name), name
+
+
+def test_every_picture_the_gallery_lists_is_there() -> None:
+    """docs/gallery/README.md names each sheet by its file: every one is in the
+    repository (a clone has only what git tracks), and no picture is left unlisted."""
+    gallery = ROOT / "docs" / "gallery"
+    listed = set(re.findall(r"`([\w-]+\.png)`", (gallery / "README.md").read_text("utf-8")))
+    assert len(listed) >= 10
+    assert listed == {p.name for p in gallery.glob("*.png")}
