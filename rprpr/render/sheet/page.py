@@ -315,6 +315,7 @@ class Sheet:
                     frameon=False,
                     fontsize=pt(LABEL_SIZE),
                     borderaxespad=0,
+                    borderpad=0.4 if self.size is None else 0.1,  # sized: no invisible band
                     handlelength=2.6,
                     columnspacing=1.2,
                 )
