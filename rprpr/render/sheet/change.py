@@ -162,7 +162,7 @@ def insets(fig: Figure, before: Motion, after: Motion, d: Differences, change: C
             (half, half),
             [(m, m.s.x, m.s.y) for m in (before, after)],
             None,
-            (0.26, 0.44),
+            (0.24, 0.38),
         )
 
 
@@ -180,13 +180,16 @@ def _inset(
     w, h = size
     u, v = _drawn_points(ax)
     spot = ax.transAxes.inverted().transform(ax.transData.transform(centre))
-    # its tick labels stand left of and under it: inside the panel, clear of its ticks
-    lefts, bottoms = np.linspace(0.1, 0.97 - w, 5), np.linspace(0.16, 0.95 - h, 4)
+    # its tick labels stand left of and under it (0.4 in, 0.25 in): inside the panel
+    box = ax.get_window_extent()  # in pixels, at the figure's dpi
+    dpi = float(ax.figure.dpi)
+    mx, my = 0.4 * dpi / box.width, 0.25 * dpi / box.height
+    lefts, bottoms = np.linspace(mx, 0.98 - w, 9), np.linspace(my, 0.96 - h, 7)
     places = [(a, b) for b in bottoms for a in lefts]
 
     def covered(place: tuple[float, float]) -> float:  # what the inset would hide
         a, b = place
-        inside = (u >= a - 0.09) & (u <= a + w + 0.02) & (v >= b - 0.16) & (v <= b + h + 0.04)
+        inside = (u >= a - mx) & (u <= a + w + 0.02) & (v >= b - my) & (v <= b + h + 0.04)
         near = a - 0.05 <= spot[0] <= a + w + 0.05 and b - 0.08 <= spot[1] <= b + h + 0.08
         return float(np.count_nonzero(inside)) + (1e9 if near else 0.0)
 
@@ -220,7 +223,9 @@ def _drawn_points(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
         xy = xy[np.all(np.isfinite(xy), axis=1)]
         if len(xy) == 0:
             continue
-        if len(xy) > 1:
+        if len(xy) <= 2 or line.get_marker() not in (None, "None", "", " "):
+            xy = np.repeat(xy, 200, axis=0)  # a mark, a straight line: weigh as a curve
+        elif len(xy) > 1:
             steps = np.linspace(0.0, 1.0, 20, endpoint=False)
             seg = xy[:-1, None, :] + (xy[1:, None, :] - xy[:-1, None, :]) * steps[None, :, None]
             xy = np.concatenate([seg.reshape(-1, 2), xy[-1:]])
@@ -228,12 +233,11 @@ def _drawn_points(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
         us.append(a[:, 0])
         vs.append(a[:, 1])
     for text in ax.texts:
-        box = text.get_window_extent()
-        a = to_axes.transform(
-            [[box.x0, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x1, box.y0]]
-        )
-        us.append(np.repeat(a[:, 0], 50))
-        vs.append(np.repeat(a[:, 1], 50))
+        box = text.get_window_extent()  # a grid over it, weighing as a long line
+        gx, gy = np.meshgrid(np.linspace(box.x0, box.x1, 6), np.linspace(box.y0, box.y1, 4))
+        a = to_axes.transform(np.column_stack([gx.ravel(), gy.ravel()]))
+        us.append(np.repeat(a[:, 0], 1000))
+        vs.append(np.repeat(a[:, 1], 1000))
     if not us:
         return np.zeros(0), np.zeros(0)
     return np.concatenate(us), np.concatenate(vs)
