@@ -124,6 +124,8 @@ def panel(sheet: Sheet, d: Differences, change: Change) -> Axes:
         )
         at = f"t = {number(where, 4)} s" if name == "x" else f"x = {number(where, 4)} m"
         notes.append(f"max |Δ{name}| {number(1e3 * size, 4)} mm at {at} (the repair's account)")
+    if not entries:  # a change the account does not measure (neither x(t) nor y moved)
+        notes.append("x(t) and the path unchanged (the repair's account)")
     ax.set_ylabel("Δ [mm]")
     sheet.lane(ax, entries, notes)
     return ax
