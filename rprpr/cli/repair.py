@@ -335,13 +335,18 @@ def _rational(text: str | None, option: str) -> fmpq | None:
 
 
 def _plot(r: Repair, old: str, new: str, out: str) -> None:
-    """The sheet of the old and the new motion overlaid (as ``rprpr plot OLD NEW``)."""
+    """The sheet of the old and the new motion overlaid (as ``rprpr plot OLD NEW``), in
+    the legends "before" and "after", with the change itself: its own panel (new - old in
+    mm, the account's largest change marked) and insets zoomed at that change."""
+    from dataclasses import replace
+
     from ..engine.audit import audit
     from ..render import sheet as P
 
     motions = [
-        P.motion(audit(r.before.task, peak=True), old),
-        P.motion(audit(r.task, peak=True), new),
+        replace(P.motion(audit(r.before.task, peak=True), old), label="before"),
+        replace(P.motion(audit(r.task, peak=True), new), label="after"),
     ]
-    fig = P.render(motions, list(P.PANELS))
+    change = P.Change(timing=r.timing_change, path=r.path_deviation)
+    fig = P.render(motions, list(P.PANELS), change=change)
     write_atomic(out, lambda tmp: P.save(fig, tmp, P.format_of(out), motions=motions), "the sheet")

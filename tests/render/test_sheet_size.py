@@ -12,9 +12,11 @@ from pathlib import Path
 import pytest
 from matplotlib.figure import Figure
 
+from rprpr.engine.audit import audit
+from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 from tests.conftest import run_cli
-from tests.render.test_sheet_layout import check_texts
+from tests.render.test_sheet_layout import check_texts, extent, texts
 from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions
 
 
@@ -88,3 +90,31 @@ def test_a_size_that_cannot_be_is_one_usage_line(
 def test_a_sized_figure_holds_one_column_of_axes() -> None:
     with pytest.raises(ValueError, match="at most 3 tasks"):
         P.render(motions(CONFIG_FILES), ["delta"], size=(7.0, 4.0))
+
+
+@pytest.mark.parametrize(("panel", "scale"), [("torques", 1.2), ("delta", 1.0), ("delta", 1.2)])
+def test_a_single_panel_paper_figure_gives_its_axes_the_height_text_leaves(
+    panel: str, scale: float
+) -> None:
+    """3.5 x 3.2 in, one panel (issue 26): the axes take at least 45 % of the height, the
+    heading is one line (a shorter form or a smaller size, never broken inside a formula),
+    no text overlaps, and the lane ends at the figure's foot (no empty band)."""
+    m = P.motion(audit(load_task(PATH2), samples=101, peak=True), PATH2)
+    fig = P.render([m], [panel], size=(3.5, 3.2), font_scale=scale)
+    check_texts(fig)
+    renderer = drawn(fig)
+    (ax,) = [a for a in fig.get_axes() if a.get_gid() == f"panel-{panel}"]
+    assert ax.get_position().height >= 0.45, ax.get_position().height
+    heading = next(t for t in fig.texts if t.get_fontweight() == "bold")
+    assert "\n" not in heading.get_text(), heading.get_text()
+    if panel == "delta":
+        assert "sin(θ1 − θ2)" in heading.get_text()
+    boxes = [extent(t, renderer) for t in texts(fig)]
+    dpi = fig.dpi
+    foot = min(b.y0 for b in boxes) / dpi  # in, from the figure's bottom edge
+    assert foot <= 0.12, foot
+    top = fig.bbox.y1 - max(b.y1 for b in boxes)
+    assert top / dpi <= 0.12
+    # the axes' tick labels and label stand clear of the legend under them
+    legend = fig.legends[0].get_window_extent(renderer)
+    assert ax.get_tightbbox(renderer).y0 >= legend.y1 - 1

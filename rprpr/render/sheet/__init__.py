@@ -27,6 +27,7 @@ figure and the file).
 
 from __future__ import annotations
 
+from .change import Change
 from .labels import MAX_LABELS
 from .layout import FORMATS, PANELS, can_show, format_of, metadata, render, save, svg
 from .markers import marker_style
@@ -60,6 +61,7 @@ __all__ = [
     "STATUS_COLOUR",
     "STATUS_WORD",
     "TASK_COLOURS",
+    "Change",
     "Motion",
     "Sheet",
     "can_show",

@@ -41,14 +41,16 @@ def handles(sheet: Sheet, quantities: Sequence[tuple[str, str]]) -> list[Any]:
     col = sheet.columns[0]
     if len(quantities) == 1:
         return [
-            Line2D([], [], label=short(m.name, 34), **look(sheet, i, quantities[0][1]))
+            Line2D([], [], label=m.label or short(m.name, 34), **look(sheet, i, quantities[0][1]))
             for i, m in col
         ]
     out: list[Any] = [
         Line2D([], [], color="#555555", ls=QUANTITY_STYLES[j], label=q)
         for j, (q, _) in enumerate(quantities)
     ]
-    out += [Line2D([], [], color=task_colour(i), label=short(m.name, 34)) for i, m in col]
+    out += [
+        Line2D([], [], color=task_colour(i), label=m.label or short(m.name, 34)) for i, m in col
+    ]
     return out
 
 

@@ -14,8 +14,9 @@ import matplotlib
 from matplotlib.figure import Figure
 
 from ..._version import __version__
+from .change import Change, differences, insets, panel
 from .motion import Motion
-from .page import DPI, MARGIN, Sheet, column_heads
+from .page import DPI, PAPER_MARGIN, Sheet, column_heads
 from .panels import BY_NAME
 from .style import FONT_SCALE, RC, rc
 from .words import description
@@ -35,6 +36,7 @@ def render(
     pole_inset: bool = False,
     size: tuple[float, float] | None = None,
     font_scale: float = 1.0,
+    change: Change | None = None,
 ) -> Figure:
     """The audit sheet of ``motions`` with ``panels`` in order (all by default), on a new
     headless ``Figure`` or on ``figure`` (e.g. one of pyplot's, for --show); with
@@ -46,7 +48,11 @@ def render(
     size, the panels without the sheet's title, their legends and keys under the axes,
     the rows of axes taking the height left (ValueError when it leaves a row less than
     ``MIN_ROW``, or for more than one column of axes); ``font_scale`` multiplies every
-    text size (the marks and lines keep theirs)."""
+    text size (the marks and lines keep theirs).
+
+    For a repair (``rprpr repair --plot``): ``motions`` the old and the new task and
+    ``change`` the repair's account (``change.Change``): a last panel of the difference
+    new - old [mm] and zoomed insets at the largest change (``change``)."""
     if isinstance(panels, str):  # never its letters, one by one
         panels = [p.strip() for p in panels.split(",") if p.strip()]
     panels = list(BY_NAME) if panels is None else list(panels)
@@ -58,13 +64,13 @@ def render(
     if not 0.25 <= font_scale <= 4:
         raise ValueError(f"font scale {font_scale:g} is outside [0.25, 4]")
     if size is None:
-        return _draw(motions, panels, figure, pole_inset, None, font_scale, 1.0)[0]
+        return _draw(motions, panels, figure, pole_inset, None, font_scale, 1.0, change)[0]
     w, h = size
     if not (0 < w <= 50 and 0 < h <= 50):
         raise ValueError(f"size {w:g} x {h:g} in: each side must be in (0, 50] inches")
     # first on a scratch figure at the default row heights, to learn what the rows can take
-    _, first = _draw(motions, panels, Figure(), pole_inset, size, font_scale, 1.0)
-    fixed = first.y + MARGIN - first.rows_total
+    _, first = _draw(motions, panels, Figure(), pole_inset, size, font_scale, 1.0, change)
+    fixed = first.y + PAPER_MARGIN - first.rows_total
     scale = (h - fixed) / first.rows_total
     if scale * first.smallest_row < MIN_ROW:
         need = fixed + MIN_ROW / first.smallest_row * first.rows_total
@@ -72,7 +78,7 @@ def render(
             f"{h:g} in is too short for {', '.join(panels)} at {w:g} in wide:"
             f" at least {math.ceil(need * 10) / 10:g} in"
         )
-    return _draw(motions, panels, figure, pole_inset, size, font_scale, scale)[0]
+    return _draw(motions, panels, figure, pole_inset, size, font_scale, scale, change)[0]
 
 
 def _draw(
@@ -83,6 +89,7 @@ def _draw(
     size: tuple[float, float] | None,
     font_scale: float,
     row_scale: float,
+    change: Change | None = None,
 ) -> tuple[Figure, Sheet]:
     token = FONT_SCALE.set(font_scale)
     try:
@@ -97,7 +104,16 @@ def _draw(
                 if n:
                     sheet.gap()
                 BY_NAME[name].draw(sheet, pole_inset)
+            diff = None
+            if change is not None:
+                if len(motions) != 2:
+                    raise ValueError("a repair's change is drawn for two motions: old, new")
+                diff = differences(motions[0].task, motions[1].task, change)
+                sheet.gap()
+                panel(sheet, diff, change)
             sheet.finish()
+            if change is not None and diff is not None:
+                insets(fig, motions[0], motions[1], diff, change)
     finally:
         FONT_SCALE.reset(token)
     return fig, sheet

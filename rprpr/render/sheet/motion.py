@@ -15,11 +15,13 @@ from ...model.task import Task
 @dataclass(frozen=True)
 class Motion:
     """One audited task, ready to draw: the audit and dense samples that include every
-    singular instant exactly."""
+    singular instant exactly; ``label``, when given, names it in the legends instead of
+    its name (e.g. "before" and "after" on a repair's sheet)."""
 
     source: str
     result: AuditResult
     s: Samples
+    label: str = ""
 
     @property
     def task(self) -> Task:

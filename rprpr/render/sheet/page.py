@@ -51,6 +51,9 @@ X_DECOR = 0.5  # in, tick labels and label under a panel's last row
 TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
 LEADING = 0.03  # in, between the lines of the title
 PANEL_GAP = 0.3  # in, between panels
+PAPER_MARGIN = 0.05  # in, at the top and bottom of a figure of a given size (its caption's)
+PAPER_HEADING = 9.0  # pt, a sized figure's panel heading (one line: smaller if need be)
+FONT_SCALE_TICK = 1.2  # a line of tick labels, in their size (ascent and descent)
 DPI = 150  # the resolution text is measured at (the default of ``save``)
 
 Indexed = list[tuple[int, Motion]]  # the motions of a column, each with its task index
@@ -112,6 +115,9 @@ class Sheet:
         self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
         self.fig.set_dpi(DPI)
         self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
+        if self.size is not None:  # a paper's figure: the decoration as measured, no more
+            self.decor = self._measured_decor()
+            self.y = PAPER_MARGIN
         instants = sum(len(m.result.singularities) for m in self.motions)
         for i, m in enumerate(self.motions):  # every mark's number, in the check's order
             for k in range(len(m.result.singularities) if instants <= MAX_LABELS else 0):
@@ -130,7 +136,7 @@ class Sheet:
 
     def who(self, m: Motion) -> str:
         """The prefix naming task ``m`` in the lane ("" when the sheet has one task)."""
-        return f"{short(m.name, 30)}: " if len(self.motions) > 1 else ""
+        return f"{m.label or short(m.name, 30)}: " if len(self.motions) > 1 else ""
 
     def keyed(self, i: int) -> list[tuple[int, SingularInstant, str]]:
         """Task i's singular instants that carry a key number: (key, instant, its time as
@@ -156,6 +162,17 @@ class Sheet:
         """The lane's width [in]: beside the axes, or under them in a sized figure."""
         return LANE if self.size is None else self.width - 2 * MARGIN
 
+    def _measured_decor(self) -> float:
+        """The height under a time axes of its tick labels and its label [in], measured
+        (a sized figure gives the axes every inch that text does not take)."""
+        ax = self.fig.add_axes((0.2, 0.4, 0.6, 0.2))
+        ax.set_xlim(0, 1)
+        ax.set_xlabel("t [s]")
+        box = ax.get_window_extent(renderer=self.renderer)
+        tight = ax.get_tightbbox(renderer=self.renderer)
+        ax.remove()
+        return float(box.y0 - (tight.y0 if tight is not None else box.y0)) / DPI + 0.02
+
     # -- text ------------------------------------------------------------------------------
 
     def inches(self, artist: Any) -> tuple[float, float]:
@@ -172,9 +189,30 @@ class Sheet:
         self.texts.append((t, x, self.y))
         return self.inches(t)[1] + LEADING
 
-    def heading(self, text: str) -> None:
-        """A panel's heading, bold, over its axes."""
-        self.y += self.line(text, MARGIN, size=10.5, fontweight="bold") + TITLE_GAP
+    def heading(self, text: str, *shorter: str) -> None:
+        """A panel's heading, bold, over its axes. On a figure of a given size, one line:
+        the first of ``text`` and its ``shorter`` forms that fits the width at
+        ``PAPER_HEADING`` pt, else the shortest at the size that fits (never a break
+        inside a formula)."""
+        if self.size is None:
+            self.y += self.line(text, MARGIN, size=10.5, fontweight="bold") + TITLE_GAP
+            return
+        room = self.width - 2 * MARGIN
+        for candidate in (text, *shorter):
+            t = self.fig.text(
+                0, 0, candidate, fontsize=pt(PAPER_HEADING), fontweight="bold", va="top"
+            )
+            w, h = self.inches(t)
+            if w <= room:
+                break
+            t.remove()
+        else:
+            t = self.fig.text(0, 0, candidate, fontweight="bold", va="top")
+            t.set_fontsize(pt(PAPER_HEADING) * room / w * 0.98)
+            h = self.inches(t)[1]
+        self.texts.append((t, MARGIN, self.y))
+        tick = pt(8) * FONT_SCALE_TICK / 72  # half a tick label stands above the axes
+        self.y += h + tick / 2 + 0.04
 
     def title(self) -> None:
         """The sheet's title: per task, its name and verdict (in the task's colour when
@@ -277,6 +315,7 @@ class Sheet:
                     frameon=False,
                     fontsize=pt(LABEL_SIZE),
                     borderaxespad=0,
+                    borderpad=0.4 if self.size is None else 0.1,  # sized: no invisible band
                     handlelength=2.6,
                     columnspacing=1.2,
                 )
@@ -285,13 +324,21 @@ class Sheet:
                 leg.remove()
                 ncol -= 1
             self.texts.append((leg, x, top))  # type: ignore[arg-type]
-            used += self.inches(leg)[1] + 0.08
+            used += self.inches(leg)[1] + (0.08 if self.size is None else 0.05)
         if notes:
-            chars = int((self.lane_width - 0.05) * 72 / (0.56 * pt(LABEL_SIZE)))
-            text = "\n".join(textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n)
-            t = self.fig.text(0, 0, text, fontsize=pt(LABEL_SIZE), va="top", ha="left")
+            per_char = 0.56 if self.size is None else 0.45  # then measured, down to fit
+            chars = int((self.lane_width - 0.05) * 72 / (per_char * pt(LABEL_SIZE)))
+            while True:  # a sized figure: as many characters as fit the lane, measured
+                text = "\n".join(
+                    textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n
+                )
+                t = self.fig.text(0, 0, text, fontsize=pt(LABEL_SIZE), va="top", ha="left")
+                if self.size is None or chars <= 20 or self.inches(t)[0] <= self.lane_width:
+                    break
+                t.remove()
+                chars -= 2
             self.texts.append((t, x, top + used))
-            used += self.inches(t)[1] + 0.1
+            used += self.inches(t)[1] + (0.1 if self.size is None else 0.0)
         small = None
         if inset:
             small = self.fig.add_axes((0, 0, 1, 1))
@@ -300,7 +347,7 @@ class Sheet:
                 (small, (x + 0.5, top + used + 0.25, min(LANE, self.lane_width) - 0.7, 1.45))
             )
             used += 0.25 + 1.45 + 0.45
-        self.y = max(self.y, top + used + 0.05)
+        self.y = max(self.y, top + used + (0.05 if self.size is None else 0.0))
         return small
 
     def crowded(self) -> list[str]:

@@ -30,7 +30,11 @@ APPROACH: dict[str, Any] = {
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading("Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)")
+    sheet.heading(
+        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)",
+        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29)",
+        "δ(t) = sin(θ1 − θ2), eq. (29)",
+    )
     (row,) = sheet.rows("delta", (ROW,))
     for ax, col in zip(row, sheet.columns, strict=True):
         ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)

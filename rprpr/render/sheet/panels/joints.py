@@ -30,8 +30,21 @@ def heading(motions: Sequence[Motion]) -> str:
     )
 
 
+def short_headings(motions: Sequence[Motion]) -> tuple[str, ...]:
+    """Shorter forms of ``heading``, for a figure of a given size (one line)."""
+    kinds = {m.task.robot.actuation for m in motions}
+    if kinds <= {REVOLUTE}:
+        return ("Actuated joints θ1, θ2 and leg lengths s1, s2", "Actuated θ1, θ2; legs s1, s2")
+    if REVOLUTE not in kinds:
+        return (
+            "Passive θ1, θ2; actuated legs s1, s2 (prismatic)",
+            "Passive θ1, θ2; actuated s1, s2",
+        )
+    return ("Joint angles θ1, θ2 and leg lengths s1, s2", "Joints θ1, θ2; legs s1, s2")
+
+
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading(heading(sheet.motions))
+    sheet.heading(heading(sheet.motions), *short_headings(sheet.motions))
     row_t, row_s = sheet.rows("joints", (ROW, ROW))
     degrees = []
     for ax_t, ax_s, col in zip(row_t, row_s, sheet.columns, strict=True):

@@ -56,7 +56,11 @@ CASES = (  # the singular line's stretches (Table 1): left of A, between A and B
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading("Workspace (paper Fig. 3): end-point path, robot at the singular instants")
+    sheet.heading(
+        "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
+        "Workspace (paper Fig. 3): end-point path",
+        "Workspace, end-point path",
+    )
     x0, x1, y0, y1 = view(sheet.motions)
     h = float(np.clip((y1 - y0) / (x1 - x0) * sheet.column_width, 2.0, 4.4))
     (row,) = sheet.rows("path", (h,), time=False)

@@ -327,7 +327,7 @@ def notes(sheet: Sheet, scales: dict[int, float]) -> list[str]:
         if L is not None:
             lim = f" {u}, ".join(dict.fromkeys(number(float(v)) for v in L)) + f" {u}"
             far = all(float(v) > LIMIT_NEAR * scale for v in L)
-            where = "beyond the axis, ▲ ▼ at its right edge" if far else "dash-dot lines"
+            where = "beyond the axis, ▲\u00a0▼ at its right edge" if far else "dash-dot lines"
             out.append(f"-  {who}limits |{T}1|, |{T}2| ≤ {lim}: {where}")
         if m.result.torque_limit is not None:
             for j, check in enumerate(m.result.torque_limit):

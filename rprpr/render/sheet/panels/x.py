@@ -15,7 +15,9 @@ ROW = 1.35  # in, each of x_E and y_E
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading("End-point coordinates x_E(t) (paper Fig. 2) and y_E(t)")
+    sheet.heading(
+        "End-point coordinates x_E(t) (paper Fig. 2) and y_E(t)", "End-point x_E(t), y_E(t)"
+    )
     row_x, row_y = sheet.rows("x", (ROW, ROW))
     for ax_x, ax_y, col in zip(row_x, row_y, sheet.columns, strict=True):
         ax_y.axhline(0, color=LINE, lw=1.0, ls=LINE_DASH, zorder=1)
