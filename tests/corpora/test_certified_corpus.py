@@ -199,7 +199,9 @@ def _grid_times(name: str, n: int) -> list[float]:
     g = grid(_task(name).duration, n)
     picks = {0, n - 1, n // 3}
     for ts in CORPUS[name].instants:
-        picks |= {int(i) for i in np.argsort(np.abs(g - float(ts)))[:2]}
+        # a stable sort: a tie (t_s on the grid, its neighbours equally near) goes to the
+        # earlier point in every numpy
+        picks |= {int(i) for i in np.argsort(np.abs(g - float(ts)), kind="stable")[:2]}
     return [float(g[i]) for i in sorted(picks) if i < n]
 
 
