@@ -31,6 +31,7 @@ from ..report.records import INVALID_TASK, instant_times, scheme
 from ..report.run import BUDGET, INPUT, REPORT, Attachment, Run
 from . import phrases
 from .escape import printable
+from .text import columns, instant_cells
 
 _COLUMNS = ("t [s]", "x [m]", "order", "case σ ψ", "dy/dx", "speed [m/s]", "slope",
             "velocity", "torques")  # fmt: skip
@@ -328,53 +329,19 @@ def _task(n: int, rep: dict[str, Any], attachment: Attachment) -> str:
     return "\n".join(out)
 
 
-_INSTANT_COLUMNS = (
-    "t [s]", "(x, y) [m]", "case σ ψ", "order", "dy/dx", "speed [m/s]", "slope",
-    "velocity", "eq.(34) [N]", "bounded", "T(t_s) [N m]",
-)  # fmt: skip
 _NUMERIC = {0, 4, 5, 8}  # right-aligned columns
-
-
-def _instant_columns(rep: dict[str, Any]) -> tuple[str, ...]:
-    """``_INSTANT_COLUMNS`` in the task's scheme's words (prismatic: F(t_s) [N])."""
-    e = scheme(rep)
-    named = {"eq.(34) [N]": e.column, "T(t_s) [N m]": f"{e.letter}(t_s) [{e.unit}]"}
-    return tuple(named.get(c, c) for c in _INSTANT_COLUMNS)
 
 
 def _instants(rep: dict[str, Any], times: dict[float, str]) -> str:
     """The singular instants as a table (the text report's columns), scrolling sideways
     inside the page where the screen is narrow."""
-    head = "".join(f'<th scope="col">{escape(c)}</th>' for c in _instant_columns(rep))
+    head = "".join(f'<th scope="col">{escape(c)}</th>' for c, _ in columns(rep))
     rows = []
     for s in rep["singularities"]:
-        torque = (
-            ", ".join(_cell(v) for v in s["torque_at_singularity"])
-            if s["torque_at_singularity"]
-            else "sides differ"
-            if s["torque_bounded"]
-            else "unbounded"
-        )
-        bounded = f"{s['conditions_met']}/{s['conditions_required']}" + (
-            " yes" if s["torque_bounded"] else f" no, pole {s['pole_order']}"
-        )
-        cells = [
-            times[s["t"]],
-            f"({_cell(s['x'])}, 0)",
-            f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}",
-            f"{s['order']} {s['kind']}",
-            _cell(s["slope"]),
-            _cell(s["speed"]),
-            s["slope_principle"],
-            s["velocity_principle"],
-            _cell(s["consistency_residual"]),
-            bounded,
-            torque,
-        ]
+        principles = {6: s["slope_principle"], 7: s["velocity_principle"]}  # pass/fail
         tds = []
-        for k, c in enumerate(cells):
-            cls = "num" if k in _NUMERIC else c if k in (6, 7) else ""
-            word = "FAIL" if k in (6, 7) and c == "fail" else c
+        for k, (word, _) in enumerate(instant_cells(s, times[s["t"]])):
+            cls = "num" if k in _NUMERIC else principles.get(k, "")
             tds.append(
                 f'<td class="{cls}">{escape(word)}</td>' if cls else f"<td>{escape(word)}</td>"
             )

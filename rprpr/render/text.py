@@ -65,8 +65,9 @@ def columns(rep: dict[str, Any]) -> tuple[tuple[str, str], ...]:
     return tuple((named.get(title, title), just) for title, just in COLUMNS)
 
 
-def _cells(s: dict[str, Any], t: str) -> list[tuple[str, str]]:
-    """The cells of one singular instant, in the order of ``COLUMNS``: (text, style)."""
+def instant_cells(s: dict[str, Any], t: str) -> list[tuple[str, str]]:
+    """The cells of one singular instant, in the order of ``COLUMNS``: (text, style)
+    (the text report's table and rows, and the HTML report's table)."""
     order = f"{s['order']} {s['kind']}"
     bounded = f"{s['conditions_met']}/{s['conditions_required']}"
     torque = (
@@ -182,7 +183,7 @@ def _padded(runs: Runs, width: int, justify: str, pad_style: str) -> Runs:
 
 def _instant_cells(rep: dict[str, Any]) -> list[list[tuple[str, str]]]:
     times = instant_times(rep)
-    return [_cells(s, times[s["t"]]) for s in rep["singularities"]]
+    return [instant_cells(s, times[s["t"]]) for s in rep["singularities"]]
 
 
 def _table_widths(rep: dict[str, Any], rows: list[list[tuple[str, str]]]) -> list[int]:
