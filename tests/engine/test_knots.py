@@ -205,7 +205,7 @@ def test_a_crossing_at_a_c0_knot_with_finite_but_different_sides_says_so() -> No
     order crossing, consistent: ẍ = 0 and the legs alike at the midpoint) but their
     limits differ, so the combined limit is null, and the table says the sides differ
     rather than calling bounded torques unbounded."""
-    from rprpr.render.text import _cells
+    from rprpr.render.text import instant_cells
     from rprpr.report.records import task_report
 
     pts = [Waypoint(fmpq(0), (fmpq(2), fmpq(-1))), Waypoint(fmpq(2), (fmpq(3), fmpq(0))),
@@ -219,4 +219,4 @@ def test_a_crossing_at_a_c0_knot_with_finite_but_different_sides_says_so() -> No
     )
     assert before is not None and after is not None and before != after
     assert s["sides"]["before"]["slope"] == 1.0 and s["sides"]["after"]["slope"] == 1.5
-    assert [text for text, _ in _cells(s, "2")][-1] == "sides differ"
+    assert [text for text, _ in instant_cells(s, "2")][-1] == "sides differ"
