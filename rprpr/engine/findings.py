@@ -20,6 +20,7 @@ from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
 from .knots import Knot
+from .mechanism import of
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
 from .verdicts import LimitCheck, Peak, Window
 
@@ -56,7 +57,7 @@ def findings(
     its ``knots`` (velocity and torque jumps) and ``on_line``, the pieces [start, end]
     that lie on y = 0 (then RPR104 names each)."""
     at = instant_text(a)
-    e = SCHEMES[task.robot.actuation]
+    e = of(task.robot).words
     out = path_on_singular_line(a) if not on_line else pieces_on_singular_line(on_line)
     out += [f for k in knots for f in knot(k, e)]
     out += [kinematic(k, at) for k in a.kinematic]
@@ -165,9 +166,8 @@ def unbounded(
     (``checks.unbounded_torque: warn``): the finding is downgraded to a warning."""
     if s.torque_bounded:
         return []
-    cond = "eq. 34" if e.name == REVOLUTE else e.condition
     why = (
-        f"consistent ({cond}), but only {s.conditions_met} of {s.conditions_required}"
+        f"consistent ({e.cited}), but only {s.conditions_met} of {s.conditions_required}"
         " boundedness conditions hold"
         if s.consistent
         else f"inconsistent: {e.condition} residual {s.number('consistency_residual')} N ≠ 0"
@@ -191,7 +191,7 @@ def torque_limit(
     (the peak touches it) fails too: a gate passes only what is proven."""
     if task.checks.torque_limit is None or checks is None:
         return []
-    e = SCHEMES[task.robot.actuation]
+    e = of(task.robot).words
     out = []
     for s in a.instants:
         if s.torque_bounded:

@@ -33,6 +33,7 @@ from ..model.cases import Case, case_of
 from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
+from .mechanism import Mechanism, of
 from .roots import IsolatedRoot, isolate
 from .series import KElem, NumberField, QSeries, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
@@ -216,7 +217,7 @@ def analyse(
 ) -> SingularAnalysis:
     """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f];
     ``on_stage`` is told each stage (FACTORING, ISOLATING, EXPANDING) as it begins."""
-    y = traj.y
+    y = of(robot).locus(traj.x, traj.y)
     if y.is_zero():
         on_line = _kinematic_on_line(traj)
         return SingularAnalysis([], on_line, True, (), (1,) * len(on_line))
@@ -287,19 +288,15 @@ def expansion(
 
 
 def legs(
-    X: Series, Xd: Series, Xdd: Series, Y: Series, Yd: Series, Ydd: Series,
-    a1: object, sx: int, sxa: int,
+    mech: Mechanism, p: dyn.Params, X: Series, Xd: Series, Xdd: Series, Y: Series,
+    Yd: Series, Ydd: Series, sx: int, sxa: int,
 ) -> tuple[dyn.Leg, dyn.Leg]:  # fmt: skip
     """Both legs' series; s1(t_s) = |x(t_s)| and s2(t_s) = |x(t_s) - a1| since y(t_s) = 0."""
-    U2 = X - a1
 
     def hyp(sign: int) -> Callable[[Series, Series], Series]:
         return lambda u, v: (u * u + v * v).sqrt_with(u.c[0] * sign)
 
-    return (
-        dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hyp(sx)),
-        dyn.leg(U2, Xd, Xdd, Y, Yd, Ydd, hyp(sxa)),
-    )
+    return mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hyp(sx), hyp(sxa))
 
 
 @dataclass(frozen=True)
@@ -339,16 +336,18 @@ def _expanded(
     what the audit reads of them."""
     X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
     assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
-    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
-    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
+    mech = of(robot)
+    p = mech.params(robot)
+    leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
+    d = mech.dynamics(leg1, leg2, p)
     if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
         raise AssertionError("order of δ differs from the multiplicity of y")
     valuations = (d.mu1.valuation(), d.mu2.valuation())
     return _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
-        residual=dyn.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
-        limit=_limit_torque(d, m) if min(*valuations, m) >= m else None,
+        residual=mech.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
+        limit=_limit_torque(mech, d, m) if min(*valuations, m) >= m else None,
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
     )
@@ -429,7 +428,7 @@ def _residual(numerator: Any, denominator: Any) -> Any:
     return numerator / denominator
 
 
-def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
+def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     """(T1, T2) at t_s when λ is bounded there: λ = μ^(m)/δ^(m) (eqs. 30-31), exactly when
     t_s is rational. In K the torque is only reported, so no inverse is taken there (an
     inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
@@ -437,12 +436,12 @@ def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     with an exact numerator, and that one division is made in ball arithmetic."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
-        T1, T2 = dyn.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
+        T1, T2 = mech.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
         return T1.c[0], T2.c[0]
     zero, one = D * 0, D * 0 + 1
-    A = dyn.efforts(d, Series([zero]), Series([zero]))
-    B1 = dyn.efforts(d, Series([one]), Series([zero]))
-    B2 = dyn.efforts(d, Series([zero]), Series([one]))
+    A = mech.efforts(d, Series([zero]), Series([zero]))
+    B1 = mech.efforts(d, Series([one]), Series([zero]))
+    B2 = mech.efforts(d, Series([zero]), Series([one]))
     out = []
     for a, b1, b2 in zip(A, B1, B2, strict=True):
         a0 = a.c[0]
