@@ -267,7 +267,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("    per instant (exact series in K)", "rprpr.engine.singular", "_instant", ""),
     ("      expansion (Taylor coefficients)", "rprpr.engine.singular", "expansion", "_instant"),
     ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "_instant"),
-    ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "_instant"),
+    ("      dynamics (series)", "rprpr.engine.equations", "Rprpr.dynamics", "_instant"),
     ("  certified motion (set-up)", "rprpr.engine.certified", "CertifiedMotion", ""),
     ("  torque peak (grid-free)", "rprpr.engine.envelope", "Envelope.torque_peak", ""),
     ("  limit check (grid-free)", "rprpr.engine.envelope", "Envelope.limit_violations", ""),
