@@ -31,7 +31,8 @@ from ..model.timing import LAWS, timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
-from .reading import ReadProblem, read_file, read_stream, too_large
+from .messages import expected, line_col, near, one_line, shorten, too_large, where
+from .reading import ReadProblem, read_file, read_stream
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
@@ -66,7 +67,6 @@ _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?
 _DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
 _RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
 _RESOLVER = yaml.resolver.Resolver()
-_LINE_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_-]{1,40}")  # shown unquoted (rule names have -)
 _NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
 _INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
@@ -167,7 +167,7 @@ def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.c
     except TaskFileError as e:
         first, *others = (
             TaskFileError(
-                _one_line(x.message), file=file, line=x.line, column=x.column, key=_one_line(x.key)
+                one_line(x.message), file=file, line=x.line, column=x.column, key=one_line(x.key)
             )
             for x in e.errors
         )
@@ -175,25 +175,6 @@ def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.c
         raise first from None
     except RecursionError:
         raise TaskFileError(f"nested deeper than {MAX_DEPTH} levels", file=file) from None
-
-
-def _one_line(text: str) -> str:
-    """``text`` with line breaks and other unprintable characters escaped: one line."""
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
-def _too_large(size: int) -> str:
-    return too_large(MAX_BYTES, size)
-
-
-def _line_col(text: str, index: int) -> tuple[int, int]:
-    """1-based (line, column) of the character at ``index``, counting lines as YAML does
-    (CR LF, CR, LF, NEL, LS and PS each end one)."""
-    breaks = list(_LINE_BREAK.finditer(text, 0, index))
-    start = breaks[-1].end() if breaks else 0
-    return len(breaks) + 1, index - start + 1
 
 
 def _decode(data: bytes | str) -> str:
@@ -206,11 +187,11 @@ def _decode(data: bytes | str) -> str:
                 f"not valid Unicode text (lone surrogate at character {e.start})"
             ) from None
     if len(data) > MAX_BYTES:
-        raise TaskFileError(_too_large(len(data)))
+        raise TaskFileError(too_large(MAX_BYTES, len(data)))
     text = _utf8(data).removeprefix("\ufeff")
     bad = _NON_PRINTABLE.search(text)
     if bad:
-        line, column = _line_col(text, bad.start())
+        line, column = line_col(text, bad.start())
         raise TaskFileError(
             f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
             " (a binary file?)",
@@ -307,7 +288,7 @@ def _events_of(
             if kind in _NODE_EVENTS:
                 nodes += 1
                 if nodes > MAX_NODES:
-                    line, column = _where(ev)
+                    line, column = where(ev)
                     raise TaskFileError(
                         f"too many YAML nodes (more than {MAX_NODES}); a task file has a few dozen",
                         line=line,
@@ -319,7 +300,7 @@ def _events_of(
                 elif kind is not yaml.AliasEvent:
                     depth += 1
                     if depth > MAX_DEPTH:
-                        line, column = _where(ev)
+                        line, column = where(ev)
                         raise TaskFileError(
                             f"nested deeper than {MAX_DEPTH} levels", line=line, column=column
                         )
@@ -445,7 +426,7 @@ def _syntax_error(e: yaml.MarkedYAMLError, text: str) -> TaskFileError:
     problem = ": ".join(str(x).strip() for x in (e.context, e.problem) if x)
     alias = re.match(r"\*([^\s,\[\]{}]+)", text[mark.index :]) if mark else None
     if "undefined alias" in problem and alias:
-        name = _short(alias.group(1))
+        name = shorten(alias.group(1))
         problem += f" *{name} (no anchor &{name} before it)"
     if mark and text[mark.index : mark.index + 1] == "\t":
         problem += " (a tab: YAML indents with spaces only)"
@@ -1039,12 +1020,12 @@ class _Walk:
         self.x_pieces: list[tuple[fmpq, fmpq, fmpq_poly]] | None = None  # see _timing
 
     def error(self, message: str, node: yaml.Node | None, key: str) -> TaskFileError:
-        line, column = _where(node) if node is not None else (0, 0)
+        line, column = where(node) if node is not None else (0, 0)
         return TaskFileError(message, key=key, line=line, column=column)
 
     def stop(self, message: str, node: yaml.Node | None, key: str) -> _Stop:
         """An error after which nothing more is read (the node budget, the depth)."""
-        line, column = _where(node) if node is not None else (0, 0)
+        line, column = where(node) if node is not None else (0, 0)
         return _Stop(message, key=key, line=line, column=column)
 
     def read(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
@@ -1125,7 +1106,7 @@ class _Walk:
         if tag not in _PLAIN_TAGS:
             what = ""
             if node.tag == _TAG + "timestamp":
-                what = f" ({_short(str(node.value))!r} reads as a date)"
+                what = f" ({shorten(str(node.value))!r} reads as a date)"
             raise self.error(
                 f"YAML tag {_tag_text(node)} is not allowed{what}: only plain text,"
                 " numbers, booleans, null, mappings and lists",
@@ -1146,16 +1127,16 @@ class _Walk:
         found = _misfit(node, explicit)
         if found is None:
             return
-        expected = "a plain key" if spec is None else _expected(spec, key)
+        wanted = "a plain key" if spec is None else expected(spec, key)
         hint = ""
         if spec is not None and spec.kind == "number" and _FRACTION.fullmatch(str(node.value)):
             hint = _FRACTION_HINT
-        raise self.error(f"expected {expected}, found {found}{hint}", node, key)
+        raise self.error(f"expected {wanted}, found {found}{hint}", node, key)
 
     def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
         """Read the keys ``spec`` knows, in the schema's order; default the rest."""
         if not isinstance(node, yaml.MappingNode):
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         given = self.keys(node, spec, key, depth)
         for k, child in spec.children.items():
             full = f"{key}.{k}" if key else k
@@ -1180,9 +1161,9 @@ class _Walk:
             except TaskFileError as e:
                 self.errors.append(e)
                 if isinstance(knode, yaml.ScalarNode):  # a misspelt key: not also "missing"
-                    near = _near(str(knode.value), list(spec.children))
-                    bad.update(near)
-                    self.misspelt.update(f"{key}.{k}" if key else k for k in near)
+                    meant = near(str(knode.value), list(spec.children))
+                    bad.update(meant)
+                    self.misspelt.update(f"{key}.{k}" if key else k for k in meant)
                 continue
             if k in out or k in bad:
                 first = self.lines.get(full, 0)
@@ -1204,11 +1185,11 @@ class _Walk:
             instead = child.unless and (child.unless in out or child.unless in bad)
             if child.required and k not in out and k not in bad and not instead:
                 full = f"{key}.{k}" if key else k
-                where = f"in {key}" if key else "at the top level"
-                line, column = _where(node)
+                place = f"in {key}" if key else "at the top level"
+                line, column = where(node)
                 self.errors.append(
                     _Missing(
-                        f"missing required key {k!r} {where} ({child.description.rstrip('.')})",
+                        f"missing required key {k!r} {place} ({child.description.rstrip('.')})",
                         key=full,
                         line=line,
                         column=column,
@@ -1224,23 +1205,23 @@ class _Walk:
         if not isinstance(knode, yaml.ScalarNode) or knode.tag in _NOT_KEYS:
             raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
         k = str(knode.value)
-        shown = k if _PLAIN_KEY.fullmatch(k) else repr(_short(k))
+        shown = k if _PLAIN_KEY.fullmatch(k) else repr(shorten(k))
         full = f"{key}.{shown}" if key else shown
         if k not in spec.children:
             allowed = list(spec.children)
-            near = _near(k, allowed)
+            meant = near(k, allowed)
             hint = (
-                f"; did you mean {near[0]!r}?"
-                if near
+                f"; did you mean {meant[0]!r}?"
+                if meant
                 else f"; expected one of: {', '.join(allowed)}"
             )
-            raise self.error(f"unknown key {_short(k)!r}{hint}", knode, full)
+            raise self.error(f"unknown key {shorten(k)!r}{hint}", knode, full)
         return k, full
 
     # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
         if not isinstance(node, yaml.ScalarNode):
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value).strip()
         if (
             node.tag in _NUMBER_TAGS
@@ -1252,7 +1233,7 @@ class _Walk:
         if tag not in ("int", "float"):
             hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
             raise self.error(
-                f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+                f"expected {expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
             )
         special = text[-1:] in _SPECIAL_ENDS  # nan, inf and infinity end so; numbers do not
         if special and _NAN.fullmatch(text):
@@ -1271,7 +1252,7 @@ class _Walk:
             if not (value > lo if spec.exclusive else value >= lo):
                 raise self.error(
                     f"expected a number {'>' if spec.exclusive else '>='} {_q(lo)}"
-                    f" ({spec.description}), found {_short(text)}",
+                    f" ({spec.description}), found {shorten(text)}",
                     node,
                     key,
                 )
@@ -1299,13 +1280,13 @@ class _Walk:
         try:
             if tag == "int" and _RADIX_INT.fullmatch(text):
                 if len(text) > 40:
-                    raise ExpressionError(f"number {_short(text)!r} has more than 40 digits")
+                    raise ExpressionError(f"number {shorten(text)!r} has more than 40 digits")
                 return fmpq(int(text, 0))
             if tag == "int" and _DECIMAL_INT.fullmatch(text):
                 body = text.lstrip("+-")
                 if len(body) > 1 and body.startswith("0"):
                     raise self.error(
-                        f"ambiguous number {_short(text)}: a leading 0 means octal in YAML 1.1"
+                        f"ambiguous number {shorten(text)}: a leading 0 means octal in YAML 1.1"
                         " and decimal in YAML 1.2; write it without the leading 0 (or as"
                         " 0o... for octal)",
                         node,
@@ -1316,12 +1297,12 @@ class _Walk:
                 return parse_decimal(text)
         except ExpressionError as e:
             raise self.error(e.message, node, key) from None
-        raise self.error(f"expected a decimal number, found {_short(text)!r}", node, key)
+        raise self.error(f"expected a decimal number, found {shorten(text)!r}", node, key)
 
     def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         """Two numbers, ``spec.items`` saying what each is, both bounded as ``spec`` says."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         a, b = (
             self.item(v, spec, what, f"{key}[{i}]", depth + 1)
             for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
@@ -1347,7 +1328,7 @@ class _Walk:
             if "y" not in given:
                 return x, None
             return x, self.coordinate(given["y"], spec.items[1], f"{key}.y", depth + 1)
-        raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+        raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
 
     def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
         """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
@@ -1378,12 +1359,12 @@ class _Walk:
         if spec.item is not None and isinstance(node, yaml.SequenceNode):
             return self.items(node, spec, key, depth)
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         text = str(node.value)
         try:
             return parse_polynomial(text, spec.variable)
         except ExpressionError as e:
-            line, column = _where(node)
+            line, column = where(node)
             # Point at the offending character when the scalar is written on one line
             # exactly as its value reads (no escapes, no folding); else at the scalar.
             start, end = node.start_mark, node.end_mark
@@ -1418,7 +1399,7 @@ class _Walk:
     def vector(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         """Two numbers or fractions, [x, y]."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         a, b = (
             self.coordinate(v, what, f"{key}[{i}]", depth + 1)
             for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
@@ -1432,7 +1413,7 @@ class _Walk:
         item = spec.item
         assert item is not None
         if not isinstance(node, yaml.SequenceNode) or not node.value:
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         before = len(self.errors)
         for i, element in enumerate(node.value):
             self.read(element, item, f"{key}[{i}]", depth + 1)
@@ -1453,7 +1434,7 @@ class _Walk:
         if isinstance(node, yaml.ScalarNode) and node.tag == _TAG + "str":
             return self.csv(node, key)
         if not isinstance(node, yaml.SequenceNode):
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         points = []
         for it in self.items(node, spec, key, depth):
             if "a" in it and "v" not in it:
@@ -1473,7 +1454,7 @@ class _Walk:
         if not re.fullmatch(CSV_PATTERN, name) or _ESCAPED_CONTROL.search(name):
             raise self.error(
                 f"expected a CSV file's name relative to the task file (no '..', ending in"
-                f" .csv), found {_short(name)!r}",
+                f" .csv), found {shorten(name)!r}",
                 node,
                 key,
             )
@@ -1481,8 +1462,8 @@ class _Walk:
         try:
             points, problems = parse_waypoints(read_bytes(path, inside=self.directory))
         except CsvProblem as e:
-            where = f"{name}:{e.row}" if e.row else name
-            raise self.error(f"{where}: {e.message}", node, key) from None
+            place = f"{name}:{e.row}" if e.row else name
+            raise self.error(f"{place}: {e.message}", node, key) from None
         for row, message in problems:
             self.errors.append(self.error(f"{name}:{row}: {message}", node, key))
         if problems:
@@ -1492,21 +1473,21 @@ class _Walk:
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
         if not isinstance(node, yaml.ScalarNode) or node.tag != _TAG + "bool":
-            raise self.error(f"expected {_expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
         return str(node.value).lower() in ("true", "yes", "on", "y")
 
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
         if v not in spec.choices or node.tag != _TAG + "str":
-            near = _near(v.lower(), list(spec.choices))
-            hint = f"; did you mean {near[0]!r}?" if near else ""
+            meant = near(v.lower(), list(spec.choices))
+            hint = f"; did you mean {meant[0]!r}?" if meant else ""
             raise self.error(
-                f"expected {_expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+                f"expected {expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
             )
         return v
 
@@ -1524,13 +1505,6 @@ _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
     "bool": _Walk.boolean,
     "enum": _Walk.enum,
 }
-
-
-def _near(key: str, allowed: list[str]) -> list[str]:
-    """The key of ``allowed`` that ``key`` is likely a misspelling of ([] when none)."""
-    import difflib  # only for a file with an error: not on the import path
-
-    return difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
 
 
 def _default(spec: Spec) -> Any:
@@ -1577,46 +1551,6 @@ def _minimum(bound: float) -> fmpq:
     return parse_decimal(repr(bound))
 
 
-def _expected(spec: Spec, key: str) -> str:
-    """What a key of ``spec`` takes, for "expected ..." in messages."""
-    if spec.kind == "mapping":
-        keys = ", ".join(k for k, c in spec.children.items() if c.required) or ", ".join(
-            spec.children
-        )
-        return f"a mapping with keys {keys}" if not key else f"a mapping (keys {keys})"
-    if spec.kind == "number":
-        return f"a number ({spec.description.rstrip('.')})"
-    if spec.kind == "pair":
-        return f"a list of two numbers [{', '.join(spec.items)}]"
-    if spec.kind == "point":
-        return "a point: x alone, [x, y] or {x: ..., y: ...} (numbers, or fractions such as -2/3)"
-    if spec.kind == "polynomial":
-        text = f"a polynomial in {spec.variable} (text such as '2*{spec.variable}^2 - 1')"
-        return text if spec.item is None else f"{text} or a list of pieces {_keys(spec.item)}"
-    if spec.kind == "time":
-        return "a time [s] >= 0 (a decimal or a fraction such as 5/3)"
-    if spec.kind == "vector":
-        return f"a list of two numbers [{', '.join(spec.items)}]"
-    if spec.kind == "list":
-        assert spec.item is not None
-        return f"a list of {_keys(spec.item)}"
-    if spec.kind == "waypoints":
-        assert spec.item is not None
-        return f"a list of waypoints {_keys(spec.item)} or a CSV file's name"
-    if spec.kind == "string" and key.startswith(("checks.ignore.", "checks.warn.")):
-        return "text: why this task may break the rule (a reason is required)"
-    if spec.kind == "string":
-        return "text (a name for reports)"
-    if spec.kind == "bool":
-        return "true or false"
-    return f"one of {', '.join(spec.choices)}"  # enum
-
-
-def _keys(spec: Spec) -> str:
-    """The keys of a mapping ``spec``, as written in YAML: {until, x, y}."""
-    return "{" + ", ".join(spec.children) + "}"
-
-
 def _misfit(node: yaml.Node, explicit: bool) -> str | None:
     """What ``node`` is, for "found ...", when its tag does not fit its value; else None.
 
@@ -1646,7 +1580,7 @@ def _misfit(node: yaml.Node, explicit: bool) -> str | None:
     }.get(tag, False)
     if fits:
         return None
-    return f"{_short(value)!r} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
+    return f"{shorten(value)!r} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
 
 
 def _plain_tag(text: str) -> str:
@@ -1669,18 +1603,9 @@ def _resolve(text: str) -> str:
     return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
 
 
-def _where(node: yaml.Node | yaml.Event) -> tuple[int, int]:
-    """1-based (line, column) where ``node`` starts."""
-    return node.start_mark.line + 1, node.start_mark.column + 1
-
-
-def _short(text: str, n: int = 40) -> str:
-    return text if len(text) <= n else text[: n - 3] + "..."
-
-
 def _tag_text(node: yaml.Node) -> str:
     """The tag of ``node`` as written (``!!binary``, ``!metres``), abbreviated if long."""
-    return _short(node.tag.replace(_TAG, "!!"), 60)
+    return shorten(node.tag.replace(_TAG, "!!"), 60)
 
 
 def _kind_of(node: yaml.Node) -> str:
@@ -1690,7 +1615,7 @@ def _kind_of(node: yaml.Node) -> str:
     if isinstance(node, yaml.SequenceNode):
         return f"a list of {len(node.value)}"
     tag = node.tag.removeprefix(_TAG)
-    value = _short(str(node.value))
+    value = shorten(str(node.value))
     if tag == "null":
         return "null"
     if tag == "bool":
