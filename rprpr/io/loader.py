@@ -31,12 +31,14 @@ from ..model.timing import LAWS, timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
-from .messages import expected, line_col, near, one_line, shorten, too_large, where
+from .messages import expected, near, one_line, shorten, where
 from .reading import ReadProblem, read_file, read_stream
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
+from .source import MAX_BYTES, decode
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
-MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
+__all__ = ["MAX_BYTES", "TaskFileError", "load_task", "parse_task", "read_stdin", "waypoint_file"]
+
 MAX_NODES = 10_000  # YAML nodes in the file, and nodes visited with aliases followed
 MAX_DEPTH = 32  # nesting of mappings and lists
 MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _composition_within_caps
@@ -55,12 +57,6 @@ _PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", 
 # feed, DEL, C1, and the noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML),
 # and lone surrogates, which only the pure-Python YAML parser lets through.
 _ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
-# Characters YAML does not allow in a stream, found here first so that the message names
-# the line and column whichever YAML parser runs: the very pattern of PyYAML's reader
-# (yaml.reader.Reader.NON_PRINTABLE), so that re compiles it once (20 ms) for both.
-_NON_PRINTABLE = re.compile(
-    "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
-)
 # YAML 1.2 reads 1e3 as a number; PyYAML (YAML 1.1) resolves it to text. A plain scalar
 # in this form is taken as the number it means (editors using the shipped schema agree).
 _YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
@@ -133,7 +129,7 @@ def waypoint_file(path: str, data: bytes | None = None) -> str | None:
             directory = os.path.dirname(path) or os.curdir
         else:
             directory = os.curdir
-        root, _ = _compose(_decode(data))
+        root, _ = _compose(decode(data))
     except (ReadProblem, TaskFileError, yaml.YAMLError, RecursionError):
         return None
     node = _child(_child(root, "motion"), "waypoints")
@@ -175,58 +171,6 @@ def parse_task(data: bytes | str, file: str = "<task>", *, directory: str = os.c
         raise first from None
     except RecursionError:
         raise TaskFileError(f"nested deeper than {MAX_DEPTH} levels", file=file) from None
-
-
-def _decode(data: bytes | str) -> str:
-    """The task file as text: size cap, binary and encoding checks."""
-    if isinstance(data, str):
-        try:
-            data = data.encode("utf-8")
-        except UnicodeEncodeError as e:
-            raise TaskFileError(
-                f"not valid Unicode text (lone surrogate at character {e.start})"
-            ) from None
-    if len(data) > MAX_BYTES:
-        raise TaskFileError(too_large(MAX_BYTES, len(data)))
-    text = _utf8(data).removeprefix("\ufeff")
-    bad = _NON_PRINTABLE.search(text)
-    if bad:
-        line, column = line_col(text, bad.start())
-        raise TaskFileError(
-            f"control character U+{ord(bad.group(0)):04X} is not allowed in YAML text"
-            " (a binary file?)",
-            line=line,
-            column=column,
-        )
-    return text
-
-
-def _utf8(data: bytes) -> str:
-    """``data`` decoded as UTF-8; UTF-32, UTF-16 and binary files are named as such."""
-    if data.startswith((b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")):
-        raise TaskFileError("UTF-32 text, expected UTF-8: save the file as UTF-8")
-    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise TaskFileError("UTF-16 text, expected UTF-8: save the file as UTF-8")
-    nul = data.find(b"\x00")
-    if nul >= 0:
-        line = data.count(b"\n", 0, nul) + 1
-        column = nul - (data.rfind(b"\n", 0, nul) + 1) + 1  # in bytes
-        raise TaskFileError(
-            f"binary file (NUL byte at offset {nul}), expected YAML text",
-            line=line,
-            column=column,
-        )
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1  # in bytes
-        raise TaskFileError(
-            f"not UTF-8 text: byte 0x{data[e.start]:02x} at offset {e.start} ({e.reason})",
-            line=line,
-            column=column,
-        ) from None
-    return text
 
 
 def _compose(text: str) -> tuple[yaml.Node | None, dict[tuple[int, int], str]]:
@@ -504,7 +448,7 @@ def _content(line: str) -> bool:
 
 
 def _parse(data: bytes | str, file: str, directory: str) -> Task:
-    text = _decode(data)
+    text = decode(data)
     if all(not ln.strip() or ln.lstrip().startswith("#") for ln in text.splitlines()):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     root, explicit = _compose(text)
