@@ -3,7 +3,7 @@
 Safety: the YAML is only *composed* (parsed into nodes), never constructed into Python
 objects, so no tag can run code; only the plain tags (str, int, float, bool, null, map,
 seq) are accepted, and an explicit one must fit its value: a tag never makes an invalid
-value valid (``_misfit``). Duplicate keys are errors (PyYAML would silently keep the
+value valid (``misfit``). Duplicate keys are errors (PyYAML would silently keep the
 last), and aliases are followed with a budget on visited nodes, so an alias bomb is
 rejected rather than expanded. Numbers are taken by their text (``0.1`` is 1/10). Every error is a
 ``TaskFileError`` naming the file, line, column and dotted key.
@@ -33,6 +33,28 @@ from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
 from .messages import expected, near, one_line, shorten, where
 from .reading import ReadProblem, read_file, read_stream
+from .scalars import (
+    ESCAPED_CONTROL,
+    FRACTION,
+    FRACTION_HINT,
+    INF,
+    MERGE,
+    NAN,
+    NOT_KEYS,
+    NUMBER_TAGS,
+    PLAIN_TAGS,
+    RESOLVER,
+    SCALAR_TEXT,
+    SIMPLE_DECIMAL,
+    SPECIAL_ENDS,
+    TAG,
+    kind_of,
+    misfit,
+    number_tag,
+    number_value,
+    simple_decimal,
+    tag_text,
+)
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
 from .source import MAX_BYTES, decode
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
@@ -44,49 +66,9 @@ MAX_DEPTH = 32  # nesting of mappings and lists
 MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _composition_within_caps
 
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
-_TAG = "tag:yaml.org,2002:"
-_MERGE = _TAG + "merge"
-_STR, _MAP, _SEQ = (_TAG + t for t in ("str", "map", "seq"))
-_NOT_KEYS = (_TAG + "null", _TAG + "bool")  # scalars that are not plain keys
-_NUMBER_TAGS = (_TAG + "int", _TAG + "float")
-# A number as most task files write one (0, 12, -0.03): read directly, as the general
-# path (``_Walk.number_tag``, ``_number_value``, ``parse_decimal``) would read it.
-_SIMPLE_DECIMAL = re.compile(r"-?(0|[1-9][0-9]{0,14})(\.[0-9]{1,15})?")
-_PLAIN_TAGS = {_TAG + t for t in ("str", "int", "float", "bool", "null", "map", "seq")}
-# Control characters in values after YAML's escapes are decoded: C0 but tab and line
-# feed, DEL, C1, and the noncharacters U+FFFE/U+FFFF (terminal escapes, broken SVG/XML),
-# and lone surrogates, which only the pure-Python YAML parser lets through.
-_ESCAPED_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
-# YAML 1.2 reads 1e3 as a number; PyYAML (YAML 1.1) resolves it to text. A plain scalar
-# in this form is taken as the number it means (editors using the shipped schema agree).
-_YAML12_FLOAT = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?")
-_DECIMAL_INT = re.compile(r"[-+]?[0-9]+")
-_RADIX_INT = re.compile(r"[-+]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)")
-_RESOLVER = yaml.resolver.Resolver()
+_STR, _MAP, _SEQ = (TAG + t for t in ("str", "map", "seq"))
 _PLAIN_KEY = re.compile(r"[A-Za-z0-9_-]{1,40}")  # shown unquoted (rule names have -)
-_NAN = re.compile(r"[-+]?\.?nan", re.IGNORECASE)
-_INF = re.compile(r"[-+]?\.?inf(inity)?", re.IGNORECASE)
-_SPECIAL_ENDS = "nNfFyY"  # the last letters of nan, inf, infinity (any case)
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
-_SCALAR_TEXT = {_TAG + t for t in ("str", "int", "float")}  # what reads as text
-# An explicit tag only narrows: the value must be one of its tag as YAML 1.2 has it,
-# written as the loader reads an untagged value (see _misfit).
-_YAML12_BOOL = ("true", "True", "TRUE", "false", "False", "FALSE")
-_YAML_NULL = ("", "~", "null", "Null", "NULL")
-_NOT_DECIMAL = re.compile(r"[-+]?0[xXoObB]")  # hexadecimal, octal, binary
-_TAG_MEANS = {
-    "str": "text",
-    "int": "an integer",
-    "float": "a decimal number",
-    "bool": "a boolean (YAML 1.2: true or false)",
-    "null": "null",
-    "map": "a mapping",
-    "seq": "a list",
-}
-_FRACTION = re.compile(r"[-+]?[0-9.]+\s*/\s*[0-9.]+")
-_FRACTION_HINT = (
-    " (a fraction is only allowed in path.y, timing.x, path.from and path.to: write a decimal here)"
-)
 _POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
     "mapping",
     "a point",
@@ -270,7 +252,7 @@ class _Composer:
         self.events = iter(events)
         self.anchors: dict[str, yaml.Node] = {}
         self.c = not issubclass(_Loader, yaml.composer.Composer)  # libyaml's messages
-        self.implicit = _RESOLVER.yaml_implicit_resolvers  # first character -> resolvers
+        self.implicit = RESOLVER.yaml_implicit_resolvers  # first character -> resolvers
         self.wildcard = self.implicit.get(None, [])
 
     def single_node(self) -> yaml.Node | None:
@@ -455,7 +437,7 @@ def _parse(data: bytes | str, file: str, directory: str) -> Task:
     if root is None or (isinstance(root, yaml.ScalarNode) and root.value == "" and not root.style):
         raise TaskFileError("empty task file, expected a mapping with robot, path and timing")
     # a value can hold a control character only by an escape (decoded) or as written
-    escapes = "\\" in text or _ESCAPED_CONTROL.search(text) is not None
+    escapes = "\\" in text or ESCAPED_CONTROL.search(text) is not None
     walk = _Walk(explicit, directory, escapes=escapes)
     walk.read(root, TASK, "", 0)
     if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
@@ -939,7 +921,7 @@ class _Walk:
     value, ``nodes`` each key given in the file to its value node, ``lines`` to the line
     of the key. Only the nodes the schema knows are visited, each counted against
     ``MAX_NODES`` (an alias counts every time it is followed), so aliasing cannot blow up
-    the work. An explicit tag must fit its value (``_misfit``), and a tagged value is
+    the work. An explicit tag must fit its value (``misfit``), and a tagged value is
     then read as its text written plain: a tag never makes an invalid value valid.
     """
 
@@ -1026,7 +1008,7 @@ class _Walk:
         if depth > MAX_DEPTH:
             raise self.stop(f"nested deeper than {MAX_DEPTH} levels", node, key)
         tag = node.tag
-        if tag == _MERGE:
+        if tag == MERGE:
             raise self.error(
                 "merge keys (<<) are not supported: write the keys out (an alias of a whole"
                 " value, such as 3: *link, is fine)",
@@ -1037,8 +1019,8 @@ class _Walk:
             if self.explicit and self.explicit.get(_span(node)) == "!":
                 # YAML 1.2: the non-specific tag makes a scalar text (PyYAML resolves
                 # it as if untagged: ! "6" would be the integer 6)
-                node.tag = tag = _TAG + "str"
-            bad = _ESCAPED_CONTROL.search(str(node.value)) if self.escapes else None
+                node.tag = tag = TAG + "str"
+            bad = ESCAPED_CONTROL.search(str(node.value)) if self.escapes else None
             if bad:  # written as a YAML escape ("\e", "\x07"): it would reach terminals
                 code = ord(bad.group(0))
                 what = "lone surrogate" if 0xD800 <= code <= 0xDFFF else "control character"
@@ -1047,12 +1029,12 @@ class _Walk:
                     node,
                     key,
                 )
-        if tag not in _PLAIN_TAGS:
+        if tag not in PLAIN_TAGS:
             what = ""
-            if node.tag == _TAG + "timestamp":
+            if node.tag == TAG + "timestamp":
                 what = f" ({shorten(str(node.value))!r} reads as a date)"
             raise self.error(
-                f"YAML tag {_tag_text(node)} is not allowed{what}: only plain text,"
+                f"YAML tag {tag_text(node)} is not allowed{what}: only plain text,"
                 " numbers, booleans, null, mappings and lists",
                 node,
                 key,
@@ -1067,20 +1049,20 @@ class _Walk:
         """Reject a node whose explicit tag does not fit its value (``spec`` None: a key)."""
         explicit = self.is_explicit(node)
         if not explicit and type(node) is yaml.ScalarNode:
-            return  # an untagged scalar always fits (``_misfit``)
-        found = _misfit(node, explicit)
+            return  # an untagged scalar always fits (``misfit``)
+        found = misfit(node, explicit)
         if found is None:
             return
         wanted = "a plain key" if spec is None else expected(spec, key)
         hint = ""
-        if spec is not None and spec.kind == "number" and _FRACTION.fullmatch(str(node.value)):
-            hint = _FRACTION_HINT
+        if spec is not None and spec.kind == "number" and FRACTION.fullmatch(str(node.value)):
+            hint = FRACTION_HINT
         raise self.error(f"expected {wanted}, found {found}{hint}", node, key)
 
     def mapping(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> None:
         """Read the keys ``spec`` knows, in the schema's order; default the rest."""
         if not isinstance(node, yaml.MappingNode):
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         given = self.keys(node, spec, key, depth)
         for k, child in spec.children.items():
             full = f"{key}.{k}" if key else k
@@ -1096,7 +1078,7 @@ class _Walk:
         out: dict[str, yaml.Node] = {}
         bad: set[str] = set()  # keys given but unusable (duplicated): not "missing"
         for knode, vnode in node.value:
-            if knode.tag == _MERGE:  # its keys are unknown: none is "missing"
+            if knode.tag == MERGE:  # its keys are unknown: none is "missing"
                 bad.update(spec.children)
             try:
                 k, full = self.known_key(knode, spec, key, depth)
@@ -1146,8 +1128,8 @@ class _Walk:
         self.visit(knode, key, depth + 1)
         if self.explicit or type(knode) is not yaml.ScalarNode:
             self.fit(knode, None, key)  # (an untagged scalar fits)
-        if not isinstance(knode, yaml.ScalarNode) or knode.tag in _NOT_KEYS:
-            raise self.error(f"expected a plain key, found {_kind_of(knode)}", knode, key)
+        if not isinstance(knode, yaml.ScalarNode) or knode.tag in NOT_KEYS:
+            raise self.error(f"expected a plain key, found {kind_of(knode)}", knode, key)
         k = str(knode.value)
         shown = k if _PLAIN_KEY.fullmatch(k) else repr(shorten(k))
         full = f"{key}.{shown}" if key else shown
@@ -1165,28 +1147,28 @@ class _Walk:
     # -- one reader per kind of value (``Spec.kind``) ---------------------------------
     def number(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
         if not isinstance(node, yaml.ScalarNode):
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         text = str(node.value).strip()
         if (
-            node.tag in _NUMBER_TAGS
-            and _SIMPLE_DECIMAL.fullmatch(text)
+            node.tag in NUMBER_TAGS
+            and SIMPLE_DECIMAL.fullmatch(text)
             and not self.is_explicit(node)
         ):
-            return self.bounded(_simple_decimal(text), node, spec, key, text)
-        tag = self.number_tag(node, text)
+            return self.bounded(simple_decimal(text), node, spec, key, text)
+        tag = number_tag(node, text, self.is_explicit(node))
         if tag not in ("int", "float"):
-            hint = _FRACTION_HINT if tag == "str" and _FRACTION.fullmatch(text) else ""
+            hint = FRACTION_HINT if tag == "str" and FRACTION.fullmatch(text) else ""
             raise self.error(
-                f"expected {expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+                f"expected {expected(spec, key)}, found {kind_of(node)}{hint}", node, key
             )
-        special = text[-1:] in _SPECIAL_ENDS  # nan, inf and infinity end so; numbers do not
-        if special and _NAN.fullmatch(text):
+        special = text[-1:] in SPECIAL_ENDS  # nan, inf and infinity end so; numbers do not
+        if special and NAN.fullmatch(text):
             raise self.error(f"expected a finite number ({spec.description}), found NaN", node, key)
-        if special and _INF.fullmatch(text):
+        if special and INF.fullmatch(text):
             raise self.error(
                 f"expected a finite number ({spec.description}), found infinity ({text})", node, key
             )
-        value = self._number_value(node, text.replace("_", ""), tag, key)
+        value = number_value(node, text.replace("_", ""), tag, key)
         return self.bounded(value, node, spec, key, text)
 
     def bounded(self, value: fmpq, node: yaml.Node, spec: Spec, key: str, text: str) -> fmpq:
@@ -1202,51 +1184,10 @@ class _Walk:
                 )
         return value
 
-    def number_tag(self, node: yaml.ScalarNode, text: str) -> str:
-        """The tag ``node`` is read with as a number ("int", "float", else not a number).
-
-        An untagged plain scalar that YAML 1.1 reads as text but YAML 1.2 as a number
-        (1e3, 0o17) is that number. A scalar tagged !!int or !!float (its tag checked to
-        fit) is read as its text written plain; NaN and infinities keep !!float, to be
-        named as such. !!str and quoted text stay text.
-        """
-        tag = node.tag.removeprefix(_TAG)
-        explicit = self.is_explicit(node)
-        if explicit and tag == "float" and (_NAN.fullmatch(text) or _INF.fullmatch(text)):
-            return tag
-        if (explicit and tag in ("int", "float")) or (
-            not explicit and tag == "str" and not node.style
-        ):
-            return _plain_tag(text).removeprefix(_TAG)
-        return tag
-
-    def _number_value(self, node: yaml.Node, text: str, tag: str, key: str) -> fmpq:
-        try:
-            if tag == "int" and _RADIX_INT.fullmatch(text):
-                if len(text) > 40:
-                    raise ExpressionError(f"number {shorten(text)!r} has more than 40 digits")
-                return fmpq(int(text, 0))
-            if tag == "int" and _DECIMAL_INT.fullmatch(text):
-                body = text.lstrip("+-")
-                if len(body) > 1 and body.startswith("0"):
-                    raise self.error(
-                        f"ambiguous number {shorten(text)}: a leading 0 means octal in YAML 1.1"
-                        " and decimal in YAML 1.2; write it without the leading 0 (or as"
-                        " 0o... for octal)",
-                        node,
-                        key,
-                    )
-                return parse_decimal(text)
-            if tag == "float":
-                return parse_decimal(text)
-        except ExpressionError as e:
-            raise self.error(e.message, node, key) from None
-        raise self.error(f"expected a decimal number, found {shorten(text)!r}", node, key)
-
     def pair(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         """Two numbers, ``spec.items`` saying what each is, both bounded as ``spec`` says."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         a, b = (
             self.item(v, spec, what, f"{key}[{i}]", depth + 1)
             for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
@@ -1272,7 +1213,7 @@ class _Walk:
             if "y" not in given:
                 return x, None
             return x, self.coordinate(given["y"], spec.items[1], f"{key}.y", depth + 1)
-        raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+        raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
 
     def coordinate(self, node: yaml.Node, what: str, key: str, depth: int = 0) -> fmpq:
         """A coordinate of a point: a number, or a fraction written as text (-2/3)."""
@@ -1280,8 +1221,8 @@ class _Walk:
         spec = _number_spec(what)
         if (
             isinstance(node, yaml.ScalarNode)
-            and node.tag == _TAG + "str"
-            and _FRACTION.fullmatch(str(node.value).strip())
+            and node.tag == TAG + "str"
+            and FRACTION.fullmatch(str(node.value).strip())
         ):
             try:
                 return parse_fraction(str(node.value))
@@ -1302,8 +1243,8 @@ class _Walk:
         """A polynomial; with ``spec.item``, also a list of pieces (``items``)."""
         if spec.item is not None and isinstance(node, yaml.SequenceNode):
             return self.items(node, spec, key, depth)
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in SCALAR_TEXT:
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         text = str(node.value)
         try:
             return parse_polynomial(text, spec.variable)
@@ -1327,8 +1268,8 @@ class _Walk:
         """An instant [s] >= 0: a decimal, or a fraction such as 5/3 (exact)."""
         if (
             isinstance(node, yaml.ScalarNode)
-            and node.tag == _TAG + "str"
-            and _FRACTION.fullmatch(str(node.value).strip())
+            and node.tag == TAG + "str"
+            and FRACTION.fullmatch(str(node.value).strip())
         ):
             try:
                 value = parse_fraction(str(node.value))
@@ -1343,7 +1284,7 @@ class _Walk:
     def vector(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq]:
         """Two numbers or fractions, [x, y]."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != 2:
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         a, b = (
             self.coordinate(v, what, f"{key}[{i}]", depth + 1)
             for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
@@ -1357,7 +1298,7 @@ class _Walk:
         item = spec.item
         assert item is not None
         if not isinstance(node, yaml.SequenceNode) or not node.value:
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         before = len(self.errors)
         for i, element in enumerate(node.value):
             self.read(element, item, f"{key}[{i}]", depth + 1)
@@ -1375,10 +1316,10 @@ class _Walk:
 
     def waypoints(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> list[Waypoint]:
         """Waypoints given inline (a list of {t, p, v, a}) or as a CSV file's name."""
-        if isinstance(node, yaml.ScalarNode) and node.tag == _TAG + "str":
+        if isinstance(node, yaml.ScalarNode) and node.tag == TAG + "str":
             return self.csv(node, key)
         if not isinstance(node, yaml.SequenceNode):
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         points = []
         for it in self.items(node, spec, key, depth):
             if "a" in it and "v" not in it:
@@ -1395,7 +1336,7 @@ class _Walk:
         directory); every problem of the file is an error at ``node`` naming the file
         and the row."""
         name = str(node.value)
-        if not re.fullmatch(CSV_PATTERN, name) or _ESCAPED_CONTROL.search(name):
+        if not re.fullmatch(CSV_PATTERN, name) or ESCAPED_CONTROL.search(name):
             raise self.error(
                 f"expected a CSV file's name relative to the task file (no '..', ending in"
                 f" .csv), found {shorten(name)!r}",
@@ -1416,22 +1357,22 @@ class _Walk:
         return points
 
     def text(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in _SCALAR_TEXT:
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+        if not isinstance(node, yaml.ScalarNode) or node.tag not in SCALAR_TEXT:
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         return str(node.value)
 
     def boolean(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
-        if not isinstance(node, yaml.ScalarNode) or node.tag != _TAG + "bool":
-            raise self.error(f"expected {expected(spec, key)}, found {_kind_of(node)}", node, key)
+        if not isinstance(node, yaml.ScalarNode) or node.tag != TAG + "bool":
+            raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
         return str(node.value).lower() in ("true", "yes", "on", "y")
 
     def enum(self, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
         v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
-        if v not in spec.choices or node.tag != _TAG + "str":
+        if v not in spec.choices or node.tag != TAG + "str":
             meant = near(v.lower(), list(spec.choices))
             hint = f"; did you mean {meant[0]!r}?" if meant else ""
             raise self.error(
-                f"expected {expected(spec, key)}, found {_kind_of(node)}{hint}", node, key
+                f"expected {expected(spec, key)}, found {kind_of(node)}{hint}", node, key
             )
         return v
 
@@ -1483,89 +1424,7 @@ def _number_spec(what: str, minimum: float | None = None, exclusive: bool = Fals
     return Spec("number", what, minimum=minimum, exclusive=exclusive)
 
 
-def _simple_decimal(text: str) -> fmpq:
-    """The value of ``text`` matching ``_SIMPLE_DECIMAL``, exactly (as ``parse_decimal``)."""
-    whole, _, frac = text.partition(".")
-    return fmpq(int(whole + frac), 10 ** len(frac))
-
-
 @functools.cache
 def _minimum(bound: float) -> fmpq:
     """A ``Spec.minimum``, exactly (from its text)."""
     return parse_decimal(repr(bound))
-
-
-def _misfit(node: yaml.Node, explicit: bool) -> str | None:
-    """What ``node`` is, for "found ...", when its tag does not fit its value; else None.
-
-    A mapping must be tagged !!map and a list !!seq. A scalar with an explicit tag must
-    be, as written (no surrounding spaces), a value of that tag as YAML 1.2 has it and
-    as the loader reads untagged values: !!int what an untagged value reads as an
-    integer, !!float a decimal number (or NaN or an infinity, rejected as such later),
-    !!bool true or false, !!null null; !!str anything. An empty tagged scalar is "an
-    empty value".
-    """
-    tag = node.tag.removeprefix(_TAG)
-    if isinstance(node, yaml.MappingNode | yaml.SequenceNode):
-        if tag == ("map" if isinstance(node, yaml.MappingNode) else "seq"):
-            return None
-        return f"{_kind_of(node)} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
-    value = str(node.value)
-    if not explicit or tag == "str" or (tag == "null" and value in _YAML_NULL):
-        return None
-    if value == "":
-        return "an empty value"
-    plain = _plain_tag(value).removeprefix(_TAG) if value == value.strip() else ""
-    special = bool(_NAN.fullmatch(value) or _INF.fullmatch(value))
-    fits = {
-        "int": plain == "int",
-        "float": special or (plain in ("int", "float") and not _NOT_DECIMAL.match(value)),
-        "bool": value in _YAML12_BOOL,
-    }.get(tag, False)
-    if fits:
-        return None
-    return f"{shorten(value)!r} tagged !!{tag}, which is not {_TAG_MEANS[tag]}"
-
-
-def _plain_tag(text: str) -> str:
-    """The tag of ``text`` written as an untagged plain scalar: YAML 1.1's (PyYAML's),
-    but a number as YAML 1.2 reads it (1e3 a float, 0o17 an integer; YAML 1.1: text)."""
-    tag = _resolve(text)
-    if tag == _TAG + "str":
-        if _YAML12_FLOAT.fullmatch(text):
-            return _TAG + "float"
-        if _RADIX_INT.fullmatch(text):
-            return _TAG + "int"
-    return tag
-
-
-# -- nodes, for messages -----------------------------------------------------------------
-
-
-def _resolve(text: str) -> str:
-    """The tag YAML 1.1 (PyYAML) gives the plain scalar ``text``."""
-    return str(_RESOLVER.resolve(yaml.ScalarNode, text, (True, False)))
-
-
-def _tag_text(node: yaml.Node) -> str:
-    """The tag of ``node`` as written (``!!binary``, ``!metres``), abbreviated if long."""
-    return shorten(node.tag.replace(_TAG, "!!"), 60)
-
-
-def _kind_of(node: yaml.Node) -> str:
-    """What a node is, for "found ..." in messages."""
-    if isinstance(node, yaml.MappingNode):
-        return "a mapping"
-    if isinstance(node, yaml.SequenceNode):
-        return f"a list of {len(node.value)}"
-    tag = node.tag.removeprefix(_TAG)
-    value = shorten(str(node.value))
-    if tag == "null":
-        return "null"
-    if tag == "bool":
-        return f"a boolean ({value})"
-    if tag in ("int", "float"):
-        return f"the number {value}"
-    if tag == "str":
-        return f"the text {value!r}"
-    return f"{value!r} (tagged {_tag_text(node)})"
