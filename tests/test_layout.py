@@ -287,3 +287,40 @@ def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
         [sys.executable, "-c", probe_in], capture_output=True, text=True, timeout=60, cwd=ROOT
     )
     assert done.stderr.strip().splitlines()[-1] == f"KIND=report LOADED={loaded}", done.stderr
+
+
+# -- inside io: the loader's pipeline runs one way ----------------------------------------
+# Each module of the loader's pipeline imports only modules before it in this order (the
+# walk knows neither its readers nor its rules: the loader hands them over).
+PIPELINE = (
+    "messages",
+    "scalars",
+    "source",
+    "yaml_nodes",
+    "walk",
+    "readers",
+    "build",
+    "cross_rules",
+    "loader",
+)
+
+
+def test_the_loaders_pipeline_imports_only_earlier_steps() -> None:
+    g = package_graph()
+    steps = [f"rprpr.io.{m}" for m in PIPELINE]
+    later = [
+        f"{a} -> {b}" for i, a in enumerate(steps) for b in sorted(g[a]) if b in steps[i + 1 :]
+    ]
+    assert later == []
+    assert "rprpr.io.walk" in g["rprpr.io.readers"]  # the rule sees these imports
+
+
+def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
+    probe = (
+        "import sys, rprpr.io.messages\n"
+        "print(sorted(m for m in ('yaml', 'flint', 'numpy') if m in sys.modules))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
+    assert done.stdout.strip() == "[]", done.stderr

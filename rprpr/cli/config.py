@@ -393,10 +393,10 @@ def _root(file: str | None, cwd: str | None) -> str:
 
 
 def _near(key: str, known: Mapping[str, Any]) -> str:
-    import difflib
+    from ..io.messages import near
 
-    near = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.6)
-    return f" (did you mean {near[0]!r}?)" if near else f"; known keys: {', '.join(known)}"
+    meant = near(key.replace("-", "_"), known)
+    return f" (did you mean {meant[0]!r}?)" if meant else f"; known keys: {', '.join(known)}"
 
 
 def _checked(key: str, raw: Any, where: str) -> Any:
