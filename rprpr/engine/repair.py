@@ -188,14 +188,10 @@ def repair(
     # prismatic scheme can set ÿ(t_s) by the timing or by the path, the timing first
     routes = (True, False) if task.robot.actuation == PRISMATIC and keep is None else (True,)
     for fraction, timing in itertools.product(FRACTIONS, routes):
-        try:
-            plans = [
-                _plan(task, before, s, keep, window, fraction, target, clearance, timing)
-                for s in failing
-            ]
-        except _Skip as why:
-            last = str(why)
-            continue
+        plans = [
+            _plan(task, before, s, keep, window, fraction, target, clearance, timing)
+            for s in failing
+        ]
         new = _apply(task, plans)
         if new is None:
             last = "the changed timing law is not monotone in x"
@@ -306,10 +302,6 @@ def _blended(task: Task, widths: dict[int, fmpq]) -> Task | None:
         return replace(task, name=name, x_of_t=None, pieces=tuple(out), law="pieces", lines={})
     pieces = tuple(replace(q, path=None) for q in out)
     return replace(task, name=name, path=None, x_of_t=None, pieces=pieces, law="motion", lines={})
-
-
-class _Skip(Exception):
-    """This candidate window does not apply (too wide, non-monotone): try the next one."""
 
 
 def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
@@ -763,12 +755,3 @@ def _overlaps(new: tuple[Piece, ...], old: tuple[Piece, ...]) -> list[Overlap]:
         else:
             j += 1
     return out
-
-
-def _old_y_at(task: Task, x: fmpq, t: fmpq) -> fmpq:
-    """The old path's height at x: p(x) for a path, else the old y at the time the old
-    motion reaches x (the same t when x was not retimed)."""
-    if task.path is not None:
-        return task.path(x)
-    piece = next(q for q in task.motion if q.start <= t <= q.end)
-    return piece.y(t)
