@@ -39,10 +39,10 @@ from ._version import __version__
 
 if TYPE_CHECKING:
     from .api import AuditResult, audit
-    from .engine.repair import NoRepair, Repair, repair
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
+    from .repair import NoRepair, Repair, repair
 
 _LAZY = {
     "AuditResult": ".api",
@@ -50,9 +50,9 @@ _LAZY = {
     "load_task": ".io.loader",
     "Motion": ".model.motion",
     "with_motion": ".model.motion",
-    "repair": ".engine.repair",
-    "Repair": ".engine.repair",
-    "NoRepair": ".engine.repair",
+    "repair": ".repair",
+    "Repair": ".repair",
+    "NoRepair": ".repair",
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",

@@ -1,5 +1,5 @@
 """``rprpr repair``: turn a failing motion into the nearest one that passes, exactly
-(``engine.repair``), write it as a task file and say what changed.
+(``rprpr.repair``), write it as a task file and say what changed.
 
 What is written is the task file itself with only the keys the repair changed rewritten
 (``io.edit``): its comments, key order, formatting and number spelling elsewhere are
@@ -40,8 +40,8 @@ from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named
 
 if TYPE_CHECKING:
-    from ..engine.repair import Repair
     from ..model.task import Task
+    from ..repair import Repair
 
 
 @click.command()
@@ -99,8 +99,8 @@ def repair(
     timing law and/or the path around each failing singular instant (zero slope, zero
     speed, inconsistency of eq. 34, a touch), checked strictly before it is written. Only
     the keys that change are rewritten: comments and formatting elsewhere are kept."""
-    from ..engine.repair import NoRepair
-    from ..engine.repair import repair as repaired
+    from ..repair import NoRepair
+    from ..repair import repair as repaired
 
     # every usage error before any work or write
     _exclusive(task, output_file, in_place, show_diff, plot_file)
