@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.rules import ALL, RULES, SelectorError, levels
-from ..report.exit import InputError
+from .errors import InputError
 
 if TYPE_CHECKING:  # the rest is imported when a configuration is read: --help stays light
     from fractions import Fraction

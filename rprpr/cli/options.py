@@ -14,8 +14,8 @@ from typing import Any, TypeVar
 import click
 
 from ..model.defaults import DEFAULT_SAMPLES
-from ..report.exit import InputError
 from .config import DEFAULT_BUDGET, FORMATS, TaskDefaults
+from .errors import InputError
 
 F = TypeVar("F", bound=Callable[..., Any])
 

@@ -34,7 +34,8 @@ from ..model.actuation import SCHEMES
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
 from ..model.names import file_name
-from ..report.exit import ExitCode, InputError
+from ..report.exit import ExitCode
+from .errors import InputError
 from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
 from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named

@@ -3,6 +3,7 @@ one home each, and every command follows them."""
 
 from __future__ import annotations
 
+import errno
 import inspect
 import subprocess
 import sys
@@ -12,17 +13,11 @@ from typing import Any
 import click
 import pytest
 
+from rprpr.cli.errors import InputError, InternalError, error_status
 from rprpr.cli.main import main_group
 from rprpr.cli.options import CheckOptions
 from rprpr.model.defaults import DEFAULT_SAMPLES
-from rprpr.report.exit import (
-    ExitCode,
-    InputError,
-    InternalError,
-    error_status,
-    returned_status,
-    run_status,
-)
+from rprpr.report.exit import ExitCode, exception_status, returned_status, run_status
 from rprpr.report.run import Run
 from tests.conftest import PATH2_FILE, run_cli
 
@@ -163,3 +158,28 @@ def test_check_options_are_one_frozen_value() -> None:
     with pytest.raises(AttributeError):
         options.samples = 12  # type: ignore[misc]
     assert options == CheckOptions(strict=True, samples=11)
+
+
+def test_the_report_stage_imports_no_click() -> None:
+    """The exit policy, the run and the records are plain Python: click's exceptions and
+    their statuses are the command line's (``cli.errors``)."""
+    probe = (
+        "import sys, rprpr.report.exit, rprpr.report.run, rprpr.report.records\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'click'))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize(
+    ("error", "status"),
+    [
+        (OSError(errno.ENOSPC, "No space left on device"), 2),  # the environment, not a bug
+        (KeyboardInterrupt(), 130),
+        (RuntimeError("a bug"), 3),
+    ],
+)
+def test_the_plain_exceptions_follow_the_policy_without_click(
+    error: BaseException, status: int
+) -> None:
+    assert exception_status(error) == status == error_status(error)
