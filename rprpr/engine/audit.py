@@ -103,8 +103,13 @@ class AuditResult:
         return P.sample(list(self.parts), np.asarray(t, dtype=float))
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
-        """The findings the audit made at the singular instant ``s``."""
-        return [f for f in self.findings if f.t is not None and f.t == s.t]
+        """The findings the audit made at the singular instant ``s`` (one of
+        ``singularities``), tied to it by its index: two instants whose times round to one
+        double never share them."""
+        i = next((i for i, x in enumerate(self.singularities) if x is s), None)
+        if i is None:
+            i = self.singularities.index(s)
+        return [f for f in self.findings if f.instant == i]
 
     def status_of(self, s: SingularInstant) -> str:
         """ "fail" when a finding at ``s`` fails the task, "warn" when one only warns,

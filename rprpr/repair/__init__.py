@@ -93,9 +93,8 @@ def repair(
     if jumps and blend:
         return _smooth_knots(task, before, jumps, keep, window, slope, clearance)
     failing = [s for s in before.singularities if before.status_of(s) == "fail"]
-    other = [f for f in before.findings if f.fails(True) and f.t not in {s.t for s in failing}]
     if not failing:
-        raise NoRepair(_no_local_repair(before, other))
+        raise NoRepair(_no_local_repair(before, [f for f in before.findings if f.fails(True)]))
     if before.on_singular_line:
         raise NoRepair("the path lies on the singular line y = 0: no local change helps")
     irrational = [s for s in failing if s.t_rational is None]
