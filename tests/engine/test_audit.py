@@ -674,3 +674,16 @@ def test_findings_are_tied_to_their_instant_not_to_its_rounded_time() -> None:
     assert [f.rule for f in r.findings_at(pole)] == ["RPR201"]
     assert r.status_of(pole) == "fail"
     assert r.findings_at(bounded) == [] and r.status_of(bounded) == "ok"  # by time: "fail"
+
+
+def test_the_saturation_record_is_the_unbounded_instants_alone() -> None:
+    # the two instants above, one double apart, under a torque limit: only the pole has
+    # windows above the limit; the bounded instant beside it has none
+    from rprpr.report.records import task_report
+
+    text = task_text("(x-3)*(x-3.00000000000000000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+    r = audit(parse_task(text + "checks:\n  torque_limit: [300, 300]\n"))
+    records = task_report(r, "t.yaml")["singularities"]
+    by_bounded = {s.torque_bounded: rec for s, rec in zip(r.singularities, records, strict=True)}
+    assert by_bounded[True]["saturation"] is None  # by time, the pole's windows
+    assert len(by_bounded[False]["saturation"]) == 2
