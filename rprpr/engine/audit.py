@@ -64,26 +64,53 @@ class AuditResult:
     exceed their limits (empty without a limit); ``closest_approach``: for a motion that
     never meets the line AB, how close it comes (None otherwise). ``verdict`` is "pass"
     or "fail". ``samples`` are certified values on the grid of ``grid_size`` points, made
-    when first read.
+    when first read. Only what the audit decided is stored; what follows from it (the
+    instants of ``analysis``, ``saturation``, ``knots``, ``trajectory``) is a property.
     """
 
     task: Task
     strict: bool
-    singularities: list[SingularInstant]
-    kinematic_singularities: list[KinematicSingularity]
-    on_singular_line: bool
     torque_peak: tuple[Peak, Peak] | None
     torque_limit: tuple[LimitCheck, LimitCheck] | None
-    saturation: list[Saturation]
     closest_approach: Approach | None
     findings: list[Finding]
     grid_size: int = field(repr=False)
-    trajectory: Trajectory = field(repr=False)
     analysis: SingularAnalysis = field(repr=False, compare=False)
     parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
-    knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
-    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
+    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps at the knots
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
+
+    @property
+    def singularities(self) -> list[SingularInstant]:
+        """The Type II singular instants, in time order (``analysis.instants``)."""
+        return self.analysis.instants
+
+    @property
+    def kinematic_singularities(self) -> list[KinematicSingularity]:
+        """E at A or at B (``analysis.kinematic``)."""
+        return self.analysis.kinematic
+
+    @property
+    def on_singular_line(self) -> bool:
+        """The path lies on y = 0 all along (``analysis.on_singular_line``)."""
+        return self.analysis.on_singular_line
+
+    @cached_property
+    def saturation(self) -> list[Saturation]:
+        """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
+        their limits (empty without a limit)."""
+        checked = self.torque_limit
+        return [] if checked is None else _saturation(self.analysis, checked)
+
+    @property
+    def trajectory(self) -> Trajectory:
+        """The first piece's exact trajectory."""
+        return self.parts[0].traj
+
+    @property
+    def knots(self) -> tuple[float, ...]:
+        """The break times of a piecewise motion [s] (``knot_jumps``' times)."""
+        return tuple(k.t for k in self.knot_jumps)
 
     @property
     def motion(self) -> CertifiedMotion:
@@ -169,7 +196,6 @@ def audit(
     pair = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
     top, computed, checked, approach = P.envelopes(parts, pair, batch, asked)
     analysis = _joined(task, parts)
-    saturation = _saturation(analysis, checked) if checked is not None else []
     knots = K.knots(task.motion, task.robot)
     on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
     whole = len(on_line) == len(parts) and not task.pieces
@@ -178,20 +204,14 @@ def audit(
     return AuditResult(
         task=task,
         strict=strict,
-        singularities=analysis.instants,
-        kinematic_singularities=analysis.kinematic,
-        on_singular_line=analysis.on_singular_line,
         torque_peak=top,
         peak_computed=computed,
         torque_limit=checked,
-        saturation=saturation,
         closest_approach=approach,
         findings=[replace(f, strict=strict) for f in with_levels(found, task.checks.rules)],
         grid_size=samples,
-        trajectory=parts[0].traj,
         analysis=analysis,
         parts=tuple(parts),
-        knots=tuple(k.t for k in knots),
         knot_jumps=tuple(knots),
     )
 
