@@ -2,12 +2,13 @@
 
 Python API::
 
-    from rprpr import load_task, audit
+    from rprpr import AuditOptions, audit, load_task
     result = audit(load_task("configs/paper_path2.rprpr.yaml"))
     result.verdict, result.singularities[0].order
     result.singularities[0].t_exact  # Fraction(5, 2), or None where irrational
     result.to_dict()  # the entry of ``rprpr check --format json``'s reports[]
-    audit(result.task, peak=True).torque_peak  # the certified max |T1|, |T2|: when asked
+    audit(result.task, AuditOptions(peak=True)).torque_peak  # the certified max |T1|, |T2|
+    audit(result.task, strict=True)  # AuditOptions' fields also as keywords
 
     # a planner's spline (scipy's PPoly layout), on the robot and checks of a task file
     from rprpr import Motion, with_motion
@@ -42,9 +43,11 @@ if TYPE_CHECKING:
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
+    from .model.options import AuditOptions
     from .repair import NoRepair, Repair, repair
 
 _LAZY = {
+    "AuditOptions": ".model.options",
     "AuditResult": ".api",
     "audit": ".api",
     "load_task": ".io.loader",
@@ -59,6 +62,7 @@ _LAZY = {
 }
 
 __all__ = [
+    "AuditOptions",
     "AuditResult",
     "Motion",
     "NoRepair",

@@ -34,6 +34,7 @@ from ..model.actuation import SCHEMES
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
 from ..model.names import file_name
+from ..model.options import AuditOptions
 from ..report.exit import ExitCode
 from .errors import InputError
 from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
@@ -220,7 +221,7 @@ def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool)
             return None
         if not same_motion(back, r.task):
             continue  # an edit that reads back otherwise: the task written whole instead
-        if not audit(back, strict=True).passed:  # never write a failing task
+        if not audit(back, AuditOptions(strict=True)).passed:  # never write a failing task
             say(
                 f"rprpr: {task}: the repaired task read back fails the strict check;"
                 " nothing written"
@@ -345,8 +346,8 @@ def _plot(r: Repair, old: str, new: str, out: str) -> None:
     from ..render import sheet as P
 
     motions = [
-        replace(P.motion(audit(r.before.task, peak=True), old), label="before"),
-        replace(P.motion(audit(r.task, peak=True), new), label="after"),
+        replace(P.motion(audit(r.before.task, AuditOptions(peak=True)), old), label="before"),
+        replace(P.motion(audit(r.task, AuditOptions(peak=True)), new), label="after"),
     ]
     change = P.Change(timing=r.timing_change, path=r.path_deviation)
     fig = P.render(motions, list(P.PANELS), change=change)

@@ -16,13 +16,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Unpack
 
 import numpy as np
 from flint import fmpq
 
-from ..model.defaults import DEFAULT_SAMPLES
 from ..model.numbers import to_float
+from ..model.options import AuditKeywords, AuditOptions
 from ..model.rules import Finding, with_levels
 from ..model.task import Task
 from . import knots as K
@@ -47,6 +47,8 @@ if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
 STAGES = (FACTORING, ISOLATING, EXPANDING, ENVELOPE, FINDINGS)  # in the order they begin
+
+DEFAULT = AuditOptions()  # the task's own choices
 
 Saturation = tuple[SingularInstant, Window | None, Window | None]
 
@@ -168,27 +170,28 @@ class AuditResult:
 
 def audit(
     task: Task,
+    options: AuditOptions | None = None,
     *,
-    samples: int = DEFAULT_SAMPLES,
-    strict: bool | None = None,
     on_stage: OnStage | None = None,
-    peak: bool | None = None,
+    **keywords: Unpack[AuditKeywords],
 ) -> AuditResult:
-    """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
-    (nothing the audit decides depends on it); ``strict`` overrides
-    ``task.checks.strict``. ``on_stage``, when given, is told the name of each stage
-    (``STAGES``) as it begins (a caller that stops a long audit can say where it was).
-    ``peak`` asks for the certified torque peak (None: ``task.checks.peak``); no verdict
-    needs it, so without it the peak is computed only where it costs nothing (infinite at
-    a pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
+    """Audit ``task`` as ``options`` say (``model.options.AuditOptions``: the grid of
+    ``AuditResult.samples``, the strict mode, the peak, RPR201's level; by default the
+    task's own choices); ``keywords`` are its fields, over ``options``:
+    ``audit(task, strict=True)`` is ``audit(task, AuditOptions(strict=True))``.
+    ``on_stage``, when given, is told the name of each stage (``STAGES``) as it begins (a
+    caller that stops a long audit can say where it was). No verdict needs the certified
+    peak, so unless asked for it is computed only where it costs nothing (infinite at a
+    pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
     False and ``torque_peak`` None.
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides."""
-    if samples < 2:
-        raise ValueError("at least 2 samples are needed")
-    strict = task.checks.strict if strict is None else strict
-    asked = task.checks.peak if peak is None else peak
+    o = options or DEFAULT
+    if keywords:
+        o = replace(o, **keywords)
+    strict = task.checks.strict if o.strict is None else o.strict
+    asked = task.checks.peak if o.peak is None else o.peak
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
@@ -208,8 +211,10 @@ def audit(
         peak_computed=computed,
         torque_limit=checked,
         closest_approach=approach,
-        findings=[replace(f, strict=strict) for f in with_levels(found, task.checks.rules)],
-        grid_size=samples,
+        findings=[
+            replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
+        ],
+        grid_size=o.samples,
         analysis=analysis,
         parts=tuple(parts),
         knot_jumps=tuple(knots),

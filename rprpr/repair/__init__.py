@@ -40,6 +40,7 @@ from flint import fmpq
 from ..engine.audit import AuditResult, audit
 from ..engine.singular import SingularInstant
 from ..model.actuation import PRISMATIC
+from ..model.options import AuditOptions
 from ..model.task import Task
 from .account import account
 from .bumps import apply, blended, bump, smoothstep
@@ -63,6 +64,7 @@ __all__ = [
 
 KEEPS = ("path", "timing")
 JUMP_RULES = ("RPR203", "RPR204")  # a velocity or acceleration jump at a knot
+STRICT = AuditOptions(strict=True, peak=True)  # every candidate: strict, its peak shown
 
 
 def repair(
@@ -86,7 +88,7 @@ def repair(
     ``NoRepair``."""
     if keep not in (None, *KEEPS):
         raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
-    before = audit(task, strict=True, peak=True)
+    before = audit(task, STRICT)
     if before.passed:
         return Repair(task, before, before)
     jumps = [f.t for f in before.findings if f.rule in JUMP_RULES and f.fails(True)]
@@ -114,7 +116,7 @@ def repair(
         if new is None:
             last = "the changed timing law is not monotone in x"
             continue
-        after = audit(new, strict=True, peak=True)
+        after = audit(new, STRICT)
         if after.passed:
             return account(task, new, before, after, plans)
         last = "; ".join(f.message for f in after.findings if f.fails(True))[:400]
