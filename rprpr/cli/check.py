@@ -323,7 +323,7 @@ def check_one(
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start, None
     try:
-        result = audit(task, options.audit, on_stage=on_stage)
+        result = audit(task, options=options.audit, on_stage=on_stage)
         if on_stage is not None:
             on_stage(REPORTING)
         report = task_report(result, path)

@@ -184,7 +184,7 @@ def test_sixty_irrational_instants_of_one_degree_60_factor() -> None:
 # -- the work budget ---------------------------------------------------------------------------
 
 
-def _deaf_audit(task, *, samples, strict, on_stage, peak=None):  # type: ignore[no-untyped-def]
+def _deaf_audit(task, options=None, *, on_stage):  # type: ignore[no-untyped-def]
     """An audit that enters root isolation and stays in one long C call (``sum`` over a
     range runs in C and runs no signal handler): only SIGKILL stops it. It would end after
     about a minute and return no result, which the run would report as an error, not as
