@@ -25,10 +25,13 @@ when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so tha
 
 The stages, in the order the data flows (see CONTRIBUTING.md)::
 
-    io (task file -> Task) -> model (Task, the paper's tables, rules)
+    io (task file -> Task) -> model (Task, the paper's tables, rules, AuditOptions)
        -> engine (exact trajectory, singular instants, samples, findings, audit)
        -> report (records, the run, the exit policy) -> render (text, JSON, JUnit, GitHub,
           export, sheet, animation) -> cli (one module per command)
+
+    repair (the second use case: task -> audit -> exact changes -> task), beside the
+    report: it uses the engine, and ``rprpr repair`` uses it
 """
 
 from __future__ import annotations
