@@ -3,9 +3,10 @@
 The stages, in the order the data flows, and what each may import of rprpr (besides
 itself and ``rprpr._version``)::
 
-    cli    -> render, report, engine, io, model
+    cli    -> render, report, repair, engine, io, model
     render -> report, engine, model
     report -> engine, model
+    repair -> engine, model      (the second use case: task -> audit -> changes -> task)
     engine -> model
     io     -> model
     model  -> (nothing)
@@ -32,9 +33,10 @@ from .conftest import ROOT
 PACKAGE = ROOT / "rprpr"
 
 ALLOWED: dict[str, set[str]] = {
-    "cli": {"render", "report", "engine", "io", "model"},
+    "cli": {"render", "report", "repair", "engine", "io", "model"},
     "render": {"report", "engine", "model"},
     "report": {"engine", "model"},
+    "repair": {"engine", "model"},
     "engine": {"model"},
     "io": {"model"},
     "model": set(),
@@ -177,6 +179,8 @@ def test_the_graph_sees_lazy_type_only_and_relative_imports() -> None:
     assert "rprpr.report.run" in g["rprpr.report.exit"]  # under TYPE_CHECKING
     assert "rprpr.render.sheet" in g["rprpr.render.animation"]  # from . import sheet
     assert "rprpr.cli.main" in g["rprpr.__main__"]
+    assert "rprpr.repair" in g["rprpr.cli.repair"]  # inside the command, lazily
+    assert "rprpr.engine.audit" in g["rprpr.repair"]
 
 
 # -- the rule itself: it catches what it is for ------------------------------------------
@@ -213,6 +217,16 @@ def test_a_clean_synthetic_package_passes() -> None:
 )
 def test_an_upward_import_fails(source: str) -> None:
     assert upward(_with("rprpr.model.task", source)) == ["rprpr.model.task -> rprpr.engine.audit"]
+
+
+@pytest.mark.parametrize("importer", ["rprpr.engine.audit", "rprpr.report.run", "rprpr.model.task"])
+def test_repair_sits_above_the_engine_and_below_the_command_line(importer: str) -> None:
+    repair = {"rprpr.repair": ("from ..engine.audit import audit\n", True)}
+    source = "from ..repair import repair\n"
+    g = graph_of({**SYNTHETIC, **repair, importer: (source, False)})
+    assert upward(g) == [f"{importer} -> rprpr.repair"]
+    g = graph_of({**SYNTHETIC, **repair, "rprpr.cli.main": (source, False)})
+    assert upward(g) == []
 
 
 def test_importing_the_package_root_from_a_stage_fails() -> None:
@@ -280,7 +294,7 @@ def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
         "from rprpr.cli.options import CheckOptions\n"
         f"kind, *_ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
         f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
-        " and m.startswith('rprpr.engine'))\n"
+        " and m.startswith(('rprpr.engine', 'rprpr.repair')))\n"
         "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
     )
     done = subprocess.run(

@@ -596,10 +596,6 @@ class CertifiedMotion:
         elif beyond:
             reason[j] = BEYOND_DOUBLE
 
-    def arb_point(self, t: float, prec: int) -> Values:
-        """Every quantity at the float time t in arb at ``prec`` bits (as balls)."""
-        return self._arb_point(t, prec)[0]
-
     def _arb_point(self, t: float, prec: int) -> tuple[Values, dict[str, arb]]:
         """``arb_point``, and the arb values themselves (all but θ)."""
         tq = fmpq(*t.as_integer_ratio())

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from decimal import Decimal
 from fractions import Fraction
 
@@ -62,8 +63,9 @@ def findings(
     out += [f for k in knots for f in knot(k, e)]
     out += [kinematic(k, at) for k in a.kinematic]
     accepted = task.checks.unbounded_torque == "warn"
-    for s in a.instants:
-        out += slope(s, at) + velocity(s, at) + unbounded(s, at, accepted, e)
+    for i, s in enumerate(a.instants):
+        made = slope(s, at) + velocity(s, at) + unbounded(s, at, accepted, e)
+        out += [replace(f, instant=i) for f in made]
     out += torque_limit(task, a, peak, limit, at)
     return out
 
@@ -193,7 +195,7 @@ def torque_limit(
         return []
     e = of(task.robot).words
     out = []
-    for s in a.instants:
+    for i, s in enumerate(a.instants):
         if s.torque_bounded:
             continue
         windows = [_around(s, c, j, at, e) for j, c in enumerate(checks)]
@@ -202,7 +204,7 @@ def torque_limit(
             f"{at(s.t)}: the {e.noun} are unbounded (pole of order {s.pole_order}):"
             f" beyond any limit{': ' + beyond if beyond else ''}"
         )
-        out.append(Finding("RPR202", message, s.t))
+        out.append(Finding("RPR202", message, s.t, instant=i))
     for j, c in enumerate(checks):
         limit = number(c.limit)
         above = [w for w in c.windows if not w.pole]

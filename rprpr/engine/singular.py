@@ -67,19 +67,17 @@ class SingularInstant:
 
     t: float
     x: float
-    y: float
     t_exact: Fraction | None  # t_s exactly when rational (see ``t_rational``), else None
     case: Case
     order: int
-    delta_derivatives: list[float]
+    delta_m: float  # d^m δ/dt^m at t_s, m = ``order`` (the lower derivatives vanish)
     slope: float
     speed: float
     slope_principle: Principle
     velocity_principle: Principle
     consistency_residual: float
     consistent: bool
-    conditions_required: int
-    conditions_met: int
+    conditions_met: int  # k of the ``order`` conditions (eqs. 34-38) that hold
     torque_at_singularity: tuple[float, float] | None
     beyond_double_range: tuple[tuple[str, str], ...] = ()
     knot: bool = False  # t_s is a break of a piecewise motion (0 and t_f included)
@@ -100,6 +98,21 @@ class SingularInstant:
         """The quantity ``name`` (``x``, ``slope``, ...) as text: ``numbers.number`` of its
         double, or its exact value where that double is not faithful."""
         return dict(self.beyond_double_range).get(name) or number(getattr(self, name))
+
+    @property
+    def y(self) -> float:
+        """E is on the line AB: y(t_s) = 0."""
+        return 0.0
+
+    @property
+    def delta_derivatives(self) -> list[float]:
+        """d^k δ/dt^k at t_s for k = 0..order: zero but the last, ``delta_m``."""
+        return [0.0] * self.order + [self.delta_m]
+
+    @property
+    def conditions_required(self) -> int:
+        """The conditions for bounded torques at an instant of order m: m (eqs. 34-38)."""
+        return self.order
 
     @property
     def kind(self) -> str:
@@ -400,18 +413,16 @@ def _instant(
     instant = SingularInstant(
         t=t,
         x=x,
-        y=0.0,
         t_exact=None if exact is None else Fraction(int(exact.p), int(exact.q)),
         case=case,
         order=m,
-        delta_derivatives=[delta_m if i == m else 0.0 for i in range(m + 1)],
+        delta_m=delta_m,
         slope=slope_f,
         speed=speed_f,
         slope_principle=slope_principle,
         velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
         consistency_residual=residual_f,
         consistent=is_zero(e.residual[0]),
-        conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
         beyond_double_range=tuple(beyond),

@@ -17,9 +17,9 @@ import pytest
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from rprpr.engine.repair import repair
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
+from rprpr.repair import repair
 from tests.conftest import CONFIGS, run_cli
 from tests.render.test_sheet_layout import check_texts
 from tests.sheets import drawn
