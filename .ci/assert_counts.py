@@ -38,9 +38,7 @@ def counts(root: Path = ROOT) -> dict[str, int]:
         rel = path.relative_to(root).as_posix()
         for node in ast.walk(tree):
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
-                n = sum(
-                    isinstance(sub, ast.Assert) or _is_raises(sub) for sub in ast.walk(node)
-                )
+                n = sum(isinstance(sub, ast.Assert) or _is_raises(sub) for sub in ast.walk(node))
                 key = f"{rel}::{node.name}"
                 while key in out:  # a nested or repeated name: keep each
                     key += "'"

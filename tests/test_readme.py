@@ -28,8 +28,6 @@ RUN = {"console", "sh", "python", "yaml", "toml"}
 SHOWN = {"json", "text", "xml", ""}  # reports, messages, file layouts: shown only
 
 
-# The session runs once, in one test process: its blocks share a working directory, in order.
-pytestmark = pytest.mark.xdist_group("readme")
 SMALL_DPI = 20  # the pictures README's commands write: nobody looks at their pixels here
 SMALL_FRAMES = 3  # and their GIF (tests/render/test_animation.py tests the frames themselves)
 
