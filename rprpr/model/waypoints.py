@@ -130,15 +130,16 @@ def pieces(points: list[Waypoint], file: str = "") -> list[Piece]:
                 vals += [_ratio(w.a[0]), _ratio(w.a[1])]
         rows.append((_ratio(w.t), vals))
     prev = 0
-    out = []
+    out: list[Piece] = []
     for (w0, (t0, r0)), (w1, (t1, r1)) in pairwise(zip(points, rows, strict=True)):
         T = (t1[0] * t0[1] - t0[0] * t1[1], t0[1] * t1[1])
         fields = min(len(r0), len(r1)) // 2  # 1: p; 2: p, v; 3: p, v, a
-        local = tuple(
+        x, y = (
             _coefficients(T, [r for k in range(0, 2 * fields, 2) for r in (r0[k + i], r1[k + i])])
             for i in (0, 1)
         )
-        smooth = min(prev, fields) - 1 if out else 0
-        out.append(Piece(w0.t, w1.t, None, None, None, w1.line, file, local, smooth=max(smooth, 0)))
+        # derivatives 1 .. smooth of both segments meet w0's v, a at the knot t0
+        smooth = max(min(prev, fields) - 1, 0) if out else 0
+        out.append(Piece(w0.t, w1.t, None, None, None, w1.line, file, (x, y), smooth=smooth))
         prev = fields
     return out
