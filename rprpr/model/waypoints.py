@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import pairwise
 
 from flint import fmpq, fmpq_poly
 
@@ -77,6 +76,25 @@ def _ratio(q: fmpq) -> tuple[int, int]:
     return int(q.p), int(q.q)
 
 
+def _ratios(w: Waypoint) -> tuple[tuple[int, int], list[tuple[int, int]]]:
+    """t and p (then v, then a, where given) of ``w`` as (numerator, denominator)."""
+    values = [_ratio(w.p[0]), _ratio(w.p[1])]
+    if w.v is not None:
+        values += [_ratio(w.v[0]), _ratio(w.v[1])]
+        if w.a is not None:
+            values += [_ratio(w.a[0]), _ratio(w.a[1])]
+    return _ratio(w.t), values
+
+
+def _difference(b: tuple[int, int], a: tuple[int, int]) -> tuple[int, int]:
+    """b - a for (numerator, denominator) pairs, in lowest terms: a segment's T, the
+    shortest integers its powers are formed on."""
+    d = math.lcm(a[1], b[1])
+    n = b[0] * (d // b[1]) - a[0] * (d // a[1])
+    g = math.gcd(n, d)
+    return n // g, d // g
+
+
 def _coefficients(T: tuple[int, int], ends: list[tuple[int, int]]) -> fmpq_poly:
     """``segment``'s polynomial on integers: T = Tn/Td > 0 and the ends (p0, p1[, v0, v1[,
     a0, a1]]) as (numerator, denominator) pairs, put over their least common denominator
@@ -121,18 +139,12 @@ def pieces(points: list[Waypoint], file: str = "") -> list[Piece]:
     ``line`` the end point's, ``file`` the CSV's name (or ""); ``smooth`` the derivatives
     each segment continues from the one before by construction (it ends at its
     waypoint's p, v, a exactly, where the next one starts)."""
-    rows = []
-    for w in points:
-        vals = [_ratio(w.p[0]), _ratio(w.p[1])]
-        if w.v is not None:
-            vals += [_ratio(w.v[0]), _ratio(w.v[1])]
-            if w.a is not None:
-                vals += [_ratio(w.a[0]), _ratio(w.a[1])]
-        rows.append((_ratio(w.t), vals))
-    prev = 0
     out: list[Piece] = []
-    for (w0, (t0, r0)), (w1, (t1, r1)) in pairwise(zip(points, rows, strict=True)):
-        T = (t1[0] * t0[1] - t0[0] * t1[1], t0[1] * t1[1])
+    prev = 0
+    w0, (t0, r0) = points[0], _ratios(points[0])
+    for w1 in points[1:]:  # each point's integers made once, held while its segments are
+        t1, r1 = _ratios(w1)
+        T = _difference(t1, t0)
         fields = min(len(r0), len(r1)) // 2  # 1: p; 2: p, v; 3: p, v, a
         x, y = (
             _coefficients(T, [r for k in range(0, 2 * fields, 2) for r in (r0[k + i], r1[k + i])])
@@ -142,4 +154,5 @@ def pieces(points: list[Waypoint], file: str = "") -> list[Piece]:
         smooth = max(min(prev, fields) - 1, 0) if out else 0
         out.append(Piece(w0.t, w1.t, None, None, None, w1.line, file, (x, y), smooth=smooth))
         prev = fields
+        w0, t0, r0 = w1, t1, r1
     return out
