@@ -85,20 +85,29 @@ def _poly_balls(polys: list[fmpq_poly]) -> tuple[np.ndarray, np.ndarray]:
     rounded to the nearest double m by Python's exact division, radius 0 exactly when
     m = n/d (then its reduced denominator is a power of 2, as ``_balls`` asks)."""
     n = max(max(p.degree() + 1 for p in polys), 1)
-    mid = np.zeros((n, len(polys)))
-    exact = np.ones((n, len(polys)), dtype=bool)
-    for j, p in enumerate(polys):
+    mids: list[float] = []
+    exacts: list[bool] = []
+    for p in polys:
         d = int(p.denom())
-        for k, c in enumerate(p.numer().coeffs()):
+        odd = d >> ((d & -d).bit_length() - 1)  # n/d is dyadic only if odd divides n
+        coeffs = p.numer().coeffs()
+        for c in coeffs:
             num = int(c)
             try:
                 m = num / d
             except OverflowError:
                 m = math.inf
-            mid[k, j] = m
-            if math.isfinite(m):
+            mids.append(m)
+            if num % odd or not math.isfinite(m):
+                exacts.append(False)
+            else:
                 a, b = m.as_integer_ratio()
-                exact[k, j] = a * d == num * b
+                exacts.append(a * d == num * b)
+        pad = n - len(coeffs)
+        mids += [0.0] * pad
+        exacts += [True] * pad
+    mid = np.array(mids).reshape(len(polys), n).T.copy()
+    exact = np.array(exacts, dtype=bool).reshape(len(polys), n).T.copy()
     bad = ~np.isfinite(mid)
     with quiet():
         rad = np.where(exact, 0.0, round_up(U * np.abs(mid) + ETA))
