@@ -75,7 +75,9 @@ def check_cost(python: str, task: Path) -> tuple[float, float]:
     """CPU seconds (user + system) and maximum resident set size [MB] of one ``rprpr
     check --budget 0 --format json -q`` of ``task`` by ``python``, its worker included."""
     argv = [python, "-m", "rprpr", "check", "--budget", "0", "--format", "json", "-q", str(task)]
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(  # run in the task's folder: ``-m`` puts the folder on sys.path
+        argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=task.parent
+    )
     _, status, usage = os.wait4(proc.pid, 0)
     proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode not in (0, 1):
