@@ -26,6 +26,7 @@ from functools import cached_property
 import numpy as np
 from flint import fmpq, fmpq_poly
 
+from ..model.numbers import to_float
 from ..model.task import Piece, Robot
 from .balls import ETA, Ball, U, horner, quiet, round_up
 from .certified import CertifiedMotion, _dyadic_middle, per_robot
@@ -148,9 +149,14 @@ def local_form(piece: Piece) -> tuple[fmpq_poly, fmpq_poly]:
 
 def _ends(duration: fmpq) -> tuple[float, float]:
     """The largest float <= t_f and the least float >= t_f."""
-    lo = _last_float(duration)
-    hi = lo if fmpq(*lo.as_integer_ratio()) == duration else math.nextafter(lo, math.inf)
-    return lo, hi
+    f = to_float(duration)  # the nearest float, compared once with t_f
+    if not math.isfinite(f):
+        lo = _last_float(duration)
+        return lo, math.nextafter(lo, math.inf)
+    g = fmpq(*f.as_integer_ratio())
+    if g == duration:
+        return f, f
+    return (math.nextafter(f, -math.inf), f) if g > duration else (f, math.nextafter(f, math.inf))
 
 
 class Batch:
