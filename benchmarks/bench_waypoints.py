@@ -1,23 +1,33 @@
-"""Benchmark: loading a 5,000-row quintic waypoint CSV (a 1 kHz planner over 5 s).
+"""Benchmark: a planner's long quintic waypoint CSV, loaded in process and checked end to end.
 
-    python benchmarks/bench_waypoints.py              # 5,000 rows, best of 5
+    python benchmarks/bench_waypoints.py              # 5,000 segments: load_task, best of 5
     python benchmarks/bench_waypoints.py -n 20000 --repeat 3
+    python benchmarks/bench_waypoints.py --check      # 99,999 segments over 100 s: rprpr check
+    python benchmarks/bench_waypoints.py --check --vs main=/tmp/fast2-main/.venv/bin/python
 
 Writes a task file and its CSV (header t,x,y,vx,vy,ax,ay: the paper's Example 2 motion,
-path 2 with the quintic law, sampled every millisecond with its velocity and
+path 2 with the quintic law, sampled at n + 1 evenly spaced times with its velocity and
 acceleration, each written as a planner writes a double: up to 17 digits) into a
-temporary folder, then times ``load_task`` in this process: reading the CSV (numbers by
-their decimal text), the checks (times increasing from 0, the same fields on every row)
-and the controller's quintic segments, exact over the rationals. The audit is not timed.
+temporary folder.
 
-Measured (2 shared cores, median of 3): 5,000 rows 0.44 s (0.99 s before the segment
-formulas were shortened), 1,000 rows 0.09 s; the audit of the 5,000 pieces ~1.0 s, and
-``rprpr check`` of the task end to end ~2.1 s (1,000 rows: ~1.15 s).
+Without ``--check``: times ``load_task`` in this process (reading the CSV by its
+numbers' decimal text, the checks, and the controller's quintic segments, exact over the
+rationals); the audit is not timed.
+
+With ``--check`` (n defaults to 99,999 segments over 100 s, issue 23's case: at most 8
+CPU-seconds and 400 MB): ``rprpr check --budget 0 --format json -q TASK`` as a
+subprocess for this tree and each ``--vs NAME=PYTHON``, interleaved, ``--repeat`` runs
+each (default 5): the median CPU time of the process and its worker (``os.wait4``'s
+rusage, user + system) and the median of their maximum resident set size; and the
+machine's load before and after. The machine is shared: read CPU times and ratios.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -61,15 +71,61 @@ def write_csv(path: Path, rows: int, duration: int = 5) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def check_cost(python: str, task: Path) -> tuple[float, float]:
+    """CPU seconds (user + system) and maximum resident set size [MB] of one ``rprpr
+    check --budget 0 --format json -q`` of ``task`` by ``python``, its worker included."""
+    argv = [python, "-m", "rprpr", "check", "--budget", "0", "--format", "json", "-q", str(task)]
+    proc = subprocess.Popen(  # run in the task's folder: ``-m`` puts the folder on sys.path
+        argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=task.parent
+    )
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"{python}: rprpr check exited with {proc.returncode}")
+    return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
+
+
+def check(args: argparse.Namespace, root: Path) -> None:
+    task = root / "task.rprpr.yaml"
+    pythons = [("this tree", sys.executable)]
+    pythons += [tuple(v.split("=", 1)) for v in args.vs]  # type: ignore[misc]
+    got: dict[str, list[tuple[float, float]]] = {name: [] for name, _ in pythons}
+    print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    for _ in range(args.repeat):
+        for name, python in pythons:
+            got[name].append(check_cost(python, task))
+    print(f"load average after:  {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    rows = args.n + 1
+    print(f"rprpr check --budget 0 --format json -q, {rows} rows, median of {args.repeat}:")
+    base = statistics.median(c for c, _ in got["this tree"])
+    for name, _ in pythons:
+        cpu = statistics.median(c for c, _ in got[name])
+        rss = statistics.median(m for _, m in got[name])
+        print(
+            f"  {name:>12}: {cpu:6.2f} CPU-s ({cpu / rows * 1000:.3f} ms a row),"
+            f" {rss:5.0f} MB max RSS; this tree / it {base / cpu:.2f}"
+        )
+    print("aim (issue 23): at most 0.08 ms of CPU a row (8 CPU-s at 99,999 segments), 400 MB")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("-n", type=int, default=5000, help="segments (rows - 1)")
+    parser.add_argument("-n", type=int, default=None, help="segments (rows - 1)")
+    parser.add_argument("--seconds", type=int, default=None, help="duration (default n/1000)")
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--check", action="store_true", help="rprpr check end to end")
+    parser.add_argument("--vs", action="append", default=[], metavar="NAME=PYTHON")
     args = parser.parse_args()
+    if args.n is None:
+        args.n = 99_999 if args.check else 5000
+    seconds = args.seconds or max(1, round(args.n / 1000))
     with tempfile.TemporaryDirectory() as folder:
         root = Path(folder)
-        write_csv(root / "planned.csv", args.n)
+        write_csv(root / "planned.csv", args.n, seconds)
         (root / "task.rprpr.yaml").write_text(TASK, encoding="utf-8")
+        if args.check:
+            check(args, root)
+            return
         size = (root / "planned.csv").stat().st_size
         best = float("inf")
         for _ in range(args.repeat):

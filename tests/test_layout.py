@@ -338,3 +338,34 @@ def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
         [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
     )
     assert done.stdout.strip() == "[]", done.stderr
+
+
+# modules no `check` of a task file needs in rprpr's own process (the worker imports the ball
+# machinery on demand: above): repair, the plots and the HTML sheet, the schema validator
+NOT_FOR_CHECK = (
+    "jsonschema", "matplotlib", "scipy", "sympy", "mpmath", "rprpr.repair",
+    "rprpr.cli.repair", "rprpr.engine.zones", "rprpr.engine.envelope", "rprpr.engine.certified",
+    "rprpr.engine.balls", "rprpr.engine.batch", "rprpr.engine.sampling", "rprpr.render.html",
+    "rprpr.render.sheet", "rprpr.render.json", "rprpr.cli.plot", "rprpr.cli.export",
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("config", ["case1_crossing", "paper_path2"])
+def test_check_of_a_shipped_config_imports_no_repair_plot_schema_or_balls_before_forking(
+    config: str,
+) -> None:
+    probe = (
+        "import sys\n"
+        "from rprpr.cli.main import main\n"
+        "try:\n"
+        f"    main(['check', 'configs/{config}.rprpr.yaml'])\n"
+        "except SystemExit as e:\n"
+        "    code = e.code\n"
+        f"got = sorted(m for m in sys.modules if m.startswith({NOT_FOR_CHECK!r}))\n"
+        "sys.stderr.write(f'EXIT={code} LOADED={got}\\n')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, cwd=ROOT
+    )
+    exit_code = {"case1_crossing": 1, "paper_path2": 0}[config]  # unbounded torques fail
+    assert done.stderr.strip().splitlines()[-1] == f"EXIT={exit_code} LOADED=[]", done.stderr

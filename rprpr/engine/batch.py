@@ -26,6 +26,7 @@ from functools import cached_property
 import numpy as np
 from flint import fmpq, fmpq_poly
 
+from ..model.numbers import to_float
 from ..model.task import Piece, Robot
 from .balls import ETA, Ball, U, horner, quiet, round_up
 from .certified import CertifiedMotion, _dyadic_middle, per_robot
@@ -49,7 +50,6 @@ from .verdicts import Approach, Peak
 
 START_PER_PIECE = 2  # the initial partition: boxes per piece (short pieces, smooth torques)
 LEVELS = 4  # a polynomial and its first three derivatives: what the jets read
-_ZERO = fmpq(0)
 
 
 def plain(motion: CertifiedMotion) -> bool:
@@ -79,15 +79,49 @@ def _balls(qs: list[fmpq]) -> tuple[np.ndarray, np.ndarray]:
     return np.where(bad, np.nan, mid), np.where(bad, np.inf, rad)
 
 
-def _levels(coeffs: list[list[fmpq]]) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Ball coefficients, low to high, of the polynomials ``coeffs`` (one list per
-    piece) and of their first LEVELS - 1 derivatives, as (mid, rad) arrays of shape
+def _poly_balls(polys: list[fmpq_poly]) -> tuple[np.ndarray, np.ndarray]:
+    """``_balls`` of the coefficients of ``polys``, as (mid, rad) arrays of shape
+    (degree + 1, pieces) padded with exact zeros: each polynomial
+    read as integers over its one denominator (flint's form), each coefficient n/d
+    rounded to the nearest double m by Python's exact division, radius 0 exactly when
+    m = n/d (then its reduced denominator is a power of 2, as ``_balls`` asks)."""
+    n = max(max(p.degree() + 1 for p in polys), 1)
+    mids: list[float] = []
+    exacts: list[bool] = []
+    for p in polys:
+        d = int(p.denom())
+        odd = d >> ((d & -d).bit_length() - 1)  # n/d is dyadic only if odd divides n
+        coeffs = p.numer().coeffs()
+        for c in coeffs:
+            num = int(c)
+            try:
+                m = num / d
+            except OverflowError:
+                m = math.inf
+            mids.append(m)
+            if num % odd or not math.isfinite(m):
+                exacts.append(False)
+            else:
+                a, b = m.as_integer_ratio()
+                exacts.append(a * d == num * b)
+        pad = n - len(coeffs)
+        mids += [0.0] * pad
+        exacts += [True] * pad
+    mid = np.array(mids).reshape(len(polys), n).T.copy()
+    exact = np.array(exacts, dtype=bool).reshape(len(polys), n).T.copy()
+    bad = ~np.isfinite(mid)
+    with quiet():
+        rad = np.where(exact, 0.0, round_up(U * np.abs(mid) + ETA))
+    return np.where(bad, np.nan, mid), np.where(bad, np.inf, rad)
+
+
+def _levels(polys: list[fmpq_poly]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Ball coefficients, low to high, of the polynomials ``polys`` (one per piece) and
+    of their first LEVELS - 1 derivatives, as (mid, rad) arrays of shape
     (degree + 1, pieces) padded with exact zeros: the polynomials' own coefficients
-    rounded (``_balls``), each derivative's from the one before times the exact integers
-    k in ball arithmetic (a ball that contains k c_k)."""
-    n = max(max(len(c) for c in coeffs), 1)
-    mid, rad = _balls([c[k] if k < len(c) else _ZERO for k in range(n) for c in coeffs])
-    b = Ball._of(mid.reshape(n, len(coeffs)), rad.reshape(n, len(coeffs)))
+    rounded (``_poly_balls``), each derivative's from the one before times the exact
+    integers k in ball arithmetic (a ball that contains k c_k)."""
+    b = Ball._of(*_poly_balls(polys))
     out = [(b.mid, b.rad)]
     with quiet():
         for _ in range(LEVELS - 1):
@@ -115,9 +149,14 @@ def local_form(piece: Piece) -> tuple[fmpq_poly, fmpq_poly]:
 
 def _ends(duration: fmpq) -> tuple[float, float]:
     """The largest float <= t_f and the least float >= t_f."""
-    lo = _last_float(duration)
-    hi = lo if fmpq(*lo.as_integer_ratio()) == duration else math.nextafter(lo, math.inf)
-    return lo, hi
+    f = to_float(duration)  # the nearest float, compared once with t_f
+    if not math.isfinite(f):
+        lo = _last_float(duration)
+        return lo, math.nextafter(lo, math.inf)
+    g = fmpq(*f.as_integer_ratio())
+    if g == duration:
+        return f, f
+    return (math.nextafter(f, -math.inf), f) if g > duration else (f, math.nextafter(f, math.inf))
 
 
 class Batch:
@@ -136,7 +175,7 @@ class Batch:
         self.direct = self.path is None
         assert all((p.path is None) == self.direct for p in pieces)
         self.forms = [local_form(p) for p in pieces]
-        self.x = _levels([x.coeffs() for x, _ in self.forms])
+        self.x = _levels([x for x, _ in self.forms])
         ends = [_ends(d) for d in self.durations]
         self.t_last = np.array([e[0] for e in ends])
         self.t_end = np.array([e[1] for e in ends])
@@ -146,7 +185,7 @@ class Batch:
         else:  # y = q(x - c), q the path recentred on the middle of the piece's x range
             centres = self._x_centres()
             qs = [self.path(fmpq_poly([c, 1])) for c in centres]
-        self.q = _levels([q.coeffs() for q in qs])
+        self.q = _levels(qs)
         self.center = Ball._of(*_balls(centres))
         self.stacked = per_robot(robot, _Stacked)
 

@@ -68,8 +68,8 @@ def _local(piece: Piece, t: fmpq) -> tuple[tuple[Any, Any], fmpq]:
 def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | None:
     """(T1, T2) of the motion ``piece`` at the exact time t (eq. 28 with λ = μ/δ,
     eqs. 30-31), in arb; None where δ or s1, s2 are not proven nonzero."""
-    x, y = piece.x, piece.y
-    values = [p(t) for p in (x, x.derivative(), x.derivative().derivative(),
+    (x, y), u = _local(piece, t)
+    values = [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
                               y, y.derivative(), y.derivative().derivative())]  # fmt: skip
     old = ctx.prec
     ctx.prec = PREC
@@ -98,15 +98,20 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
 
 def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
     """The interior knots of ``pieces`` with their jumps (module docstring); torques only
-    where the acceleration jumps and the velocity does not."""
+    where the acceleration jumps and the velocity does not. A jump a piece rules out by
+    its construction (``Piece.smooth``) is not evaluated: it is zero exactly."""
     out = []
     for i, (p, q) in enumerate(itertools.pairwise(pieces)):
         t = p.end
+        if q.smooth >= 2:  # continuous in velocity and acceleration by construction
+            out.append(Knot(to_float(t), Fraction(int(t.p), int(t.q)), i, None, None,
+                            (None, None), p.line, p.file))  # fmt: skip
+            continue
         (px, py), up = _local(p, t)
         (qx, qy), uq = _local(q, t)
         dp = (px.derivative(), py.derivative())
         dq = (qx.derivative(), qy.derivative())
-        v = _jump(dp, up, dq, uq)
+        v = None if q.smooth >= 1 else _jump(dp, up, dq, uq)
         a = _jump((dp[0].derivative(), dp[1].derivative()), up,
                   (dq[0].derivative(), dq[1].derivative()), uq)  # fmt: skip
         sides: tuple[Any, Any] = (None, None)

@@ -77,9 +77,15 @@ def origin_of(start: fmpq, end: fmpq) -> fmpq:
 def piece_trajectory(piece: Piece, a1: fmpq) -> Trajectory:
     """The exact trajectory of one piece, in its local time (module docstring)."""
     origin = origin_of(piece.start, piece.end)
-    shift = fmpq_poly([origin, 1])  # t = origin + u
-    x = piece.x(shift) if origin != 0 else piece.x
-    y = piece.y(shift) if origin != 0 else piece.y
+    if piece.local is not None and piece.path is None:  # the same polynomials, shorter work
+        lead = piece.start - origin  # t - start = u - lead
+        x, y = piece.local
+        if lead != 0:
+            x, y = x(fmpq_poly([-lead, 1])), y(fmpq_poly([-lead, 1]))
+    else:
+        shift = fmpq_poly([origin, 1])  # t = origin + u
+        x = piece.x(shift) if origin != 0 else piece.x
+        y = piece.y(shift) if origin != 0 else piece.y
     return Trajectory(
         x=x, y=y, path=piece.path, a1=a1, duration=piece.end - origin, origin=origin,
         lead=piece.start - origin,

@@ -29,6 +29,7 @@ HEADERS = tuple(WAYPOINT_COLUMNS[:n] for n in (3, 5, 7))
 # most MAX_DIGITS digits and an exponent within MAX_EXP10; anything else goes through
 # parse_fraction, which reads fractions and names what is wrong
 _PLAIN = re.compile(r"(-?)([0-9]{1,20})(?:\.([0-9]{0,20}))?(?:[eE]([-+]?[0-9]{1,2}))?")
+_POW10 = [10**k for k in range(21)]
 
 
 class CsvProblem(Exception):
@@ -102,15 +103,21 @@ def _waypoint(row: int, line: str, names: tuple[str, ...]) -> Waypoint:
 
 def _number(cell: str, name: str) -> fmpq:
     text = cell.strip()
+    plain = _PLAIN.fullmatch(text)
+    if plain is not None:  # the signed digits over a power of ten, made once
+        sign, whole, frac, exp = plain.groups()
+        if exp is None:
+            return (
+                fmpq(int(sign + whole + frac), _POW10[len(frac)])
+                if frac
+                else fmpq(int(sign + whole))
+            )
+        if abs(e := int(exp)) <= MAX_EXP10:
+            scale = e - len(frac or "")
+            n = int(sign + whole + (frac or ""))
+            return fmpq(n * 10**scale) if scale >= 0 else fmpq(n, 10**-scale)
     if not text:
         raise CsvProblem(f"column {name}: empty, expected a number")
-    plain = _PLAIN.fullmatch(text)
-    if plain and abs(int(plain.group(4) or 0)) <= MAX_EXP10:
-        sign, whole, frac, exp = plain.groups()
-        scale = int(exp or 0) - len(frac or "")
-        n = int(whole + (frac or ""))
-        value = fmpq(n * 10**scale) if scale >= 0 else fmpq(n, 10**-scale)
-        return -value if sign else value
     try:
         return parse_fraction(text)
     except ExpressionError as e:

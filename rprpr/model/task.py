@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any, overload
 
 from flint import fmpq, fmpq_poly
 
@@ -63,6 +64,33 @@ class Checks:
     peak: bool
 
 
+class _Absolute:
+    """``Piece.x`` or ``Piece.y``: the polynomial given, or (given as None) the piece's
+    local form composed with u = t - start, exactly, when first read. A planner's segments
+    come in local form, and most of them are audited in it alone: their polynomials in
+    absolute time (long rationals once t is far from 0) are made only where read."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name, self.slot, self.index = name, "_" + name, 0 if name == "x" else 1
+
+    @overload
+    def __get__(self, obj: None, owner: Any = None) -> _Absolute: ...
+    @overload
+    def __get__(self, obj: Piece, owner: Any = None) -> fmpq_poly: ...
+    def __get__(self, obj: Piece | None, owner: Any = None) -> fmpq_poly | _Absolute:
+        if obj is None:
+            raise AttributeError(self.name)  # no default: the field is required
+        value = obj.__dict__[self.slot]
+        if value is None:
+            assert obj.local is not None, f"a piece needs {self.name} or its local form"
+            value = obj.local[self.index](fmpq_poly([-obj.start, 1]))
+            obj.__dict__[self.slot] = value
+        return value
+
+    def __set__(self, obj: Piece, value: fmpq_poly | None) -> None:
+        obj.__dict__[self.slot] = value
+
+
 @dataclass(frozen=True)
 class Piece:
     """One piece of a piecewise-polynomial motion: for ``start`` <= t <= ``end`` the end
@@ -75,17 +103,23 @@ class Piece:
     at the knot ``end`` point there. ``local``, when given, is (x, y) again as
     polynomials in the local time t - ``start`` (the same motion, exactly: what a planner's
     segment is written in, with shorter coefficients), which the engine uses where it works
-    in local time; it takes no part in comparisons.
+    in local time; it takes no part in comparisons. With ``local`` given, ``x`` and ``y``
+    may be given as None: they are then made from it when first read (``_Absolute``).
+    ``smooth`` is how many derivatives of (x, y) (1: velocity, 2: and acceleration) the
+    piece continues, by its construction, from the piece before at ``start`` (a waypoint
+    segment ends at its waypoint's p, v, a exactly, where the next one starts): the knot
+    there has no such jump without an evaluation; 0 when not known so.
     """
 
     start: fmpq
     end: fmpq
-    x: fmpq_poly
-    y: fmpq_poly
+    x: _Absolute = _Absolute()
+    y: _Absolute = _Absolute()
     path: fmpq_poly | None = None
     line: int = 0
     file: str = ""
     local: tuple[fmpq_poly, fmpq_poly] | None = field(default=None, compare=False, repr=False)
+    smooth: int = field(default=0, compare=False, repr=False)
 
     def __repr__(self) -> str:
         """``<Piece 0 <= t <= 5/2: x(t) = ..., y(t) = ...>`` (polynomials in t, exact)."""
