@@ -618,8 +618,8 @@ class CertifiedMotion:
             out["s1"], out["s2"] = s1, s2
             if not (s1 > 0 and s2 > 0):
                 return {n: Ball.of_arb(v) for n, v in out.items()}, out
-            leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
-            leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, _arb_hypot)
+            leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, hypot)
+            leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, hypot)
             d = dyn.dynamics(leg1, leg2, dyn.Params.of(self.robot, arb))
             s12 = s1 * s2
             delta = -(a1 * y) / s12
@@ -654,10 +654,6 @@ def _beyond_double(a: arb) -> bool:
     """True when the arb ball is certified to the mixed tolerance and every member
     exceeds the largest double in magnitude."""
     return bool(a.is_finite() and a.rad() <= TOL * abs(a.mid()) and abs(a).lower() > DBL_MAX)
-
-
-def _arb_hypot(u: Any, v: Any) -> Any:
-    return (u * u + v * v).sqrt()
 
 
 def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:

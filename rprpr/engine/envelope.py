@@ -35,7 +35,7 @@ from ..model.actuation import PRISMATIC
 from ..model.numbers import to_float
 from ..model.task import Robot
 from . import equations as dyn
-from .balls import Ball, U, centred, horner, poly_balls, quiet, round_up, stack
+from .balls import Ball, U, centred, horner, hypot, poly_balls, quiet, round_up, stack
 from .certified import CertifiedMotion, _roots, per_robot
 from .roots import IsolatedRoot, isolate
 from .series import accurate, ball, taylor
@@ -124,15 +124,7 @@ class Jet:
         return Jet(r, self.d / (r * 2.0))
 
 
-def _jet_hypot(u: Jet, v: Jet) -> Jet:
-    return (u * u + v * v).sqrt()
-
-
 # -- enclosures over boxes ----------------------------------------------------------------
-
-
-def _hypot(u: Any, v: Any) -> Any:
-    return (u * u + v * v).sqrt()
 
 
 class _Polys:
@@ -253,7 +245,7 @@ class _Stacked:
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
-        return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, _hypot)
+        return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, hypot)
 
     def torques(
         self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
@@ -336,7 +328,7 @@ class _Through:
         y = _jets3(self.dy, eps)
         reg = st.legs(x[0], x[1], x[2], y[0], y[1], y[2])
         a, b, phi = _jets3(self.da, eps), _jets3(self.db, eps), _jets3(self.dphi, eps)
-        f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], _hypot)
+        f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], hypot)
         r, r1, r2 = f.s, f.s_d, f.s_dd
         own = dyn.Leg(
             (phi[0] * r) * sigma,

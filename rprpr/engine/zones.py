@@ -33,7 +33,7 @@ from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, horner, quiet, two_sum
+from .balls import ETA, Ball, U, horner, hypot, quiet, two_sum
 from .series import taylor
 from .singular import SingularInstant
 
@@ -122,10 +122,6 @@ ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
 
 
-def _hypot(u: Any, v: Any) -> Any:
-    return (u * u + v * v).sqrt()
-
-
 def taylor_at_instant(motion: CertifiedMotion, s: SingularInstant, prec: int) -> list[list[arb]]:
     """The Taylor coefficients of x(t) and y(t) about t_s (exact values rounded to balls)."""
     out = []
@@ -179,8 +175,8 @@ def taylor_lambda(
         X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, E, n)
         ctx.cap = n
         a1 = arb(motion.traj.a1)
-        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-        l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
+        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hypot)
+        l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, hypot)
         d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
         dm = _coef(-(Y * a1) / (l1.s * l2.s), m)  # δ^(m)(ξ)/m!, eq. (29)
         if not dm.is_finite() or dm.contains(0):
@@ -219,8 +215,8 @@ def _torque_series(motion: CertifiedMotion, ser: tuple[Any, ...]) -> tuple[Any, 
     """T1, T2 as series from the series of x, x', x'', y, y', y'' (eqs. 28-31)."""
     X, Xd, Xdd, Y, Yd, Ydd = ser
     a1 = arb(motion.traj.a1)
-    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hypot)
+    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, hypot)
     d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
     delta = -(Y * a1) / (l1.s * l2.s)  # eq. (29), product form
     T1, T2 = dyn.efforts(d, d.mu1 / delta, d.mu2 / delta)
@@ -311,8 +307,8 @@ def _series_parts(
     """μ1, μ2 and δ (product form) as series about t_s + ε for every ε in ``eps``."""
     X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, eps, n)
     a1 = arb(motion.traj.a1)
-    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hypot)
+    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, hypot)
     d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
     return d.mu1, d.mu2, -(Y * a1) / (l1.s * l2.s)
 
