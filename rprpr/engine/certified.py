@@ -56,7 +56,7 @@ from ..model.task import Robot
 from . import equations as dyn
 from .balls import ETA, Ball, U, horner, hypot, poly_balls, quiet
 from .series import taylor
-from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
+from .singular import SingularAnalysis, SingularInstant, expansion, legs
 from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
@@ -119,19 +119,6 @@ def _instant_time(analysis: SingularAnalysis, s: SingularInstant) -> ExactTime:
         return field.evaluate(fmpq_poly([0, 1]), prec)
 
     return ExactTime(s.t_rational, at)
-
-
-def _roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
-    """The real roots of ``poly`` in [0, t_f], exactly, in increasing order."""
-    if poly.is_zero():
-        return []
-    out = []
-    for f, _ in poly.factor()[1]:
-        if f.degree() < 1:
-            continue
-        for exact, at in _real_roots(f, duration):  # only the roots in [0, t_f]
-            out.append(ExactTime(exact, at))
-    return sorted(out, key=lambda e: e.hi)
 
 
 @dataclass
@@ -278,7 +265,7 @@ class CertifiedMotion:
         out = []
         for leg, u in ((1, traj.x), (2, traj.x - traj.a1)):
             common = u if traj.y.is_zero() else u.gcd(traj.y)
-            for e in _roots(common, traj.duration):
+            for e in ExactTime.roots(common, traj.duration):
                 match = [k for k in self.analysis.kinematic if k.leg == leg]
                 near = min(match, key=lambda k: abs(k.t - e.hi), default=None)
                 order, ys = (near.order, self.analysis.kinematic_sign(near)) if near else (1, 1)

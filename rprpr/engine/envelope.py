@@ -36,8 +36,8 @@ from ..model.numbers import to_float
 from ..model.task import Robot
 from . import equations as dyn
 from .balls import Ball, U, centred, horner, hypot, poly_balls, quiet, round_up, stack
-from .certified import CertifiedMotion, _roots, per_robot
-from .roots import IsolatedRoot, isolate
+from .certified import CertifiedMotion, per_robot
+from .roots import real_roots_in
 from .series import accurate, ball, taylor
 from .singular import SingularInstant
 from .trajectory import Trajectory
@@ -1243,7 +1243,7 @@ def min_abs_y(traj: Trajectory, duration: fmpq) -> tuple[float, float]:
     y = traj.y
     for t in (fmpq(0), duration):
         cands.append((ball(abs(y(t))), to_float(t)))
-    for e in _roots(traj.yd, duration):
+    for e in ExactTime.roots(traj.yd, duration):
         if e.exact is not None:
             cands.append((ball(abs(y(e.exact))), e.hi))
         else:
@@ -1272,7 +1272,8 @@ def min_abs_delta(traj: Trajectory, duration: fmpq) -> tuple[float, float, float
     a rational one, else in arb at a precision raised until it is accurate."""
     times: list[fmpq | Callable[[int], arb]] = [fmpq(0), duration]
     for f, square_free in _delta_critical(traj):
-        times += _roots_in(f, duration, square_free)
+        times += [r if r is not None else at
+                  for r, at in real_roots_in(f, duration, simple=square_free)]  # fmt: skip
     lo, hi, t_min = math.inf, math.inf, 0.0
     for t in times:
         if isinstance(t, fmpq):
@@ -1327,22 +1328,4 @@ def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
         elif f.degree() > 1:
             h = f(x)
             out.append((h // h.gcd(h.derivative()), True))
-    return out
-
-
-def _roots_in(f: fmpq_poly, duration: fmpq, square_free: bool) -> list[fmpq | Callable[[int], arb]]:
-    """The real roots of f in (0, t_f): a rational root exactly, an irrational one as its
-    ball at a given precision (``IsolatedRoot.ball``); by the factors of f over Q, or,
-    when f is square-free with no rational root, by isolating f itself."""
-    if f.degree() < 1:
-        return []
-    parts = [f] if square_free else [g for g, _ in f.factor()[1] if g.degree() >= 1]
-    out: list[fmpq | Callable[[int], arb]] = []
-    for g in parts:
-        if g.degree() == 1:
-            root = -g[0] / g[1]
-            if 0 < root < duration:
-                out.append(root)
-            continue
-        out += [IsolatedRoot(g, lo, hi).ball for lo, hi in isolate(g, duration)]
     return out

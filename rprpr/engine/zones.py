@@ -29,11 +29,12 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
-from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
+from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from . import equations as dyn
 from .balls import ETA, Ball, U, horner, hypot, quiet, two_sum
+from .roots import real_roots_in
 from .series import taylor
 from .singular import SingularInstant
 
@@ -81,6 +82,12 @@ class ExactTime:
                 self.err = float(e) * (1 + 4 * U) + ETA
             finally:
                 ctx.prec = old
+
+    @staticmethod
+    def roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
+        """The real roots of ``poly`` in [0, t_f] (``roots.real_roots_in``), in increasing
+        order."""
+        return sorted((ExactTime(*r) for r in real_roots_in(poly, duration)), key=lambda e: e.hi)
 
     @property
     def t(self) -> float:
