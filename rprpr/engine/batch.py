@@ -28,7 +28,7 @@ from flint import fmpq, fmpq_poly
 
 from ..model.task import Piece, Robot
 from .balls import ETA, Ball, U, horner, quiet, round_up
-from .certified import CertifiedMotion, _dyadic_middle, per_robot
+from .certified import CertifiedMotion, dyadic_middle, per_robot
 from .envelope import (
     MAX_LIVE,
     MAX_ROUNDS,
@@ -141,7 +141,7 @@ class Batch:
         self.t_last = np.array([e[0] for e in ends])
         self.t_end = np.array([e[1] for e in ends])
         if self.path is None:
-            centres = [_dyadic_middle(0.0, t) for t in self.t_last]
+            centres = [dyadic_middle(0.0, t) for t in self.t_last]
             qs = [y(fmpq_poly([c, 1])) for (_, y), c in zip(self.forms, centres, strict=True)]
         else:  # y = q(x - c), q the path recentred on the middle of the piece's x range
             centres = self._x_centres()
@@ -161,7 +161,7 @@ class Batch:
                 xs = xs * f + mid[k]
             xs = np.where(np.isfinite(xs), xs, np.nan)
             lo, hi = np.nanmin(xs, axis=0), np.nanmax(xs, axis=0)
-        return [_dyadic_middle(float(a), float(b)) if math.isfinite(a) and math.isfinite(b)
+        return [dyadic_middle(float(a), float(b)) if math.isfinite(a) and math.isfinite(b)
                 else fmpq(0) for a, b in zip(lo, hi, strict=True)]  # fmt: skip
 
     def __len__(self) -> int:

@@ -152,7 +152,7 @@ def _tighter(a: Ball, b: Ball) -> Ball:
     return Ball(np.where(pick, a.mid, b.mid), np.where(pick, a.rad, b.rad))
 
 
-def _dyadic_middle(lo: float, hi: float) -> fmpq:
+def dyadic_middle(lo: float, hi: float) -> fmpq:
     """A short dyadic number near (lo + hi)/2 (12 significant bits)."""
     m = 0.5 * (lo + hi)
     if m == 0 or not math.isfinite(m):
@@ -227,7 +227,7 @@ class CertifiedMotion:
 
     @cached_property
     def t_center(self) -> fmpq:
-        return _dyadic_middle(0.0, to_float(self.traj.duration))
+        return dyadic_middle(0.0, to_float(self.traj.duration))
 
     @cached_property
     def recentred(self) -> fmpq_poly:
@@ -258,7 +258,7 @@ class CertifiedMotion:
         with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
             xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
         xs = xs[np.isfinite(xs)]
-        return _dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
+        return dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
 
     def _kinematic(self) -> list[_Kinematic]:
         traj = self.traj
