@@ -27,23 +27,13 @@ import numpy as np
 from flint import fmpq, fmpq_poly
 
 from ..model.task import Piece, Robot
+from .approach import min_abs_y
 from .balls import ETA, Ball, U, horner, quiet, round_up
+from .boxes import Bounds, full, last_float, partition, split
 from .certified import CertifiedMotion, dyadic_middle, per_robot
-from .envelope import (
-    MAX_LIVE,
-    MAX_ROUNDS,
-    PEAK_REL,
-    Jet,
-    _Bounds,
-    _boxes,
-    _fan,
-    _full,
-    _last_float,
-    _split,
-    _Stacked,
-    min_abs_y,
-    prune,
-)
+from .jets import Jet
+from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, fan, prune
+from .stacked import Stacked
 from .trajectory import Trajectory
 from .verdicts import Approach, Peak
 
@@ -115,7 +105,7 @@ def local_form(piece: Piece) -> tuple[fmpq_poly, fmpq_poly]:
 
 def _ends(duration: fmpq) -> tuple[float, float]:
     """The largest float <= t_f and the least float >= t_f."""
-    lo = _last_float(duration)
+    lo = last_float(duration)
     hi = lo if fmpq(*lo.as_integer_ratio()) == duration else math.nextafter(lo, math.inf)
     return lo, hi
 
@@ -148,7 +138,7 @@ class Batch:
             qs = [self.path(fmpq_poly([c, 1])) for c in centres]
         self.q = _levels([q.coeffs() for q in qs])
         self.center = Ball._of(*_balls(centres))
-        self.stacked = per_robot(robot, _Stacked)
+        self.stacked = per_robot(robot, Stacked)
 
     def _x_centres(self) -> list[fmpq]:
         """A short dyadic number in the middle of each piece's x range, from 17 float
@@ -193,8 +183,8 @@ class Batch:
         n = len(self)
         idx = np.arange(n)
         with quiet():
-            y = _full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
-            y0 = _full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
+            y = full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
+            y0 = full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
             low, up = y.lower_abs(), y0.upper_abs()
         return np.where(np.isnan(low), 0.0, low), np.where(np.isnan(up), np.inf, up)
 
@@ -222,7 +212,7 @@ class Batch:
 
     # -- one pass ---------------------------------------------------------------------------
     def jets(self, box: Ball, idx: np.ndarray) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
-        """``_Polys.jets`` over boxes of many pieces (box j of piece idx[j])."""
+        """``Polys.jets`` over boxes of many pieces (box j of piece idx[j])."""
 
         def at(pm: tuple[np.ndarray, np.ndarray], x: Ball) -> Ball:
             mid, rad = pm[0][:, idx], pm[1][:, idx]
@@ -244,15 +234,19 @@ class Batch:
     def _pass(self, t: Ball, idx: np.ndarray) -> tuple[Ball, Ball]:
         x, xd, xdd, y, yd, ydd = self.jets(t, idx)
         T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return _full(T.v, len(idx)), _full(T.d, len(idx))
+        return full(T.v, len(idx)), full(T.d, len(idx))
 
     def _values(self, t: np.ndarray, idx: np.ndarray) -> Ball:
         x, xd, xdd, y, yd, ydd = (J.v for J in self.jets(Ball.exact(t), idx))
         T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return _full(T, len(idx))
+        return full(T, len(idx))
 
-    def bounds(self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray) -> _Bounds:
-        """``Envelope.bounds`` over boxes of many pieces (no instant: direct forms)."""
+    def bounds(
+        self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0
+    ) -> Bounds:
+        """``Envelope.bounds`` over boxes of many pieces (box j of piece idx[j]; no
+        instant: the direct forms, whatever ``need``)."""
+        assert idx is not None
         n = len(lo)
         with quiet():
             box = Ball.hull(lo, hi)
@@ -274,12 +268,12 @@ class Batch:
             low = np.maximum(la, lb)
             low_t = np.where(la >= lb, lo, hi)
         up = np.where(np.isnan(up), np.inf, up)
-        return _Bounds(lo, hi, low, low_t, up, np.zeros_like(up))
+        return Bounds(lo, hi, low, low_t, up, np.zeros_like(up))
 
     @cached_property
     def _start(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The first partition: START_PER_PIECE boxes per piece, each box's piece."""
-        parts = [_boxes(d, START_PER_PIECE) for d in self.durations]
+        parts = [partition(d, START_PER_PIECE) for d in self.durations]
         lo = np.concatenate([p[0] for p in parts])
         hi = np.concatenate([p[1] for p in parts])
         return lo, hi, np.repeat(np.arange(len(parts)), START_PER_PIECE)
@@ -306,8 +300,8 @@ class Batch:
                 break
             if n > cap:
                 break
-            k = _fan(n)
-            lo, hi = _split(b.lo[keep], b.hi[keep], k)
+            k = fan(n)
+            lo, hi = split(b.lo[keep], b.hi[keep], k)
             idx = np.repeat(idx[keep], k)
             b = self.bounds(lo, hi, idx)
         out = []
@@ -339,8 +333,8 @@ class Batch:
                 return True
             if n > cap:
                 return False
-            k = _fan(n)
-            lo, hi = _split(b.lo[keep], b.hi[keep], k)
+            k = fan(n)
+            lo, hi = split(b.lo[keep], b.hi[keep], k)
             idx = np.repeat(idx[keep], k)
             b = self.bounds(lo, hi, idx)
         return False
@@ -370,8 +364,8 @@ class Batch:
                 break
             if n > cap:
                 break
-            k = _fan(n)
-            lo, hi = _split(lo[keep], hi[keep], k)
+            k = fan(n)
+            lo, hi = split(lo[keep], hi[keep], k)
             idx = np.repeat(idx[keep], k)
         delta_lo = min(floor, best, float(low.min(initial=best)))
         a = Approach(ys[0], ys[1], delta_lo, best, best_t)
@@ -390,10 +384,10 @@ class Batch:
             x, xd, xdd, y, yd, ydd = self.jets(box, idx)
             lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
             delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
-            V, D = _full(delta.v, n, 0), _full(delta.d, n, 0)
+            V, D = full(delta.v, n, 0), full(delta.d, n, 0)
             v = [J.v for J in self.jets(Ball.exact(pts), both)]
             lp = self.stacked.legs(*v)
-            P = _full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), 2 * n, 0)
+            P = full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), 2 * n, 0)
             width = 2.0 * box.rad
             around = P[:n] + D * Ball(0.5 * width, 0.5 * width)
             low = np.maximum(V.lower_abs(), around.lower_abs())
