@@ -29,10 +29,10 @@ from flint import fmpq, fmpq_poly
 from ..model.task import Piece, Robot
 from .approach import min_abs_y
 from .balls import ETA, Ball, U, horner, quiet, round_up
-from .boxes import Bounds, full, last_float, partition, split
+from .boxes import Bounds, full, last_float, partition
 from .certified import CertifiedMotion, dyadic_middle, per_robot
 from .jets import Jet
-from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, fan, prune
+from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, cut, maximise
 from .stacked import Stacked
 from .trajectory import Trajectory
 from .verdicts import Approach, Peak
@@ -283,35 +283,10 @@ class Batch:
         """max |T1| and max |T2| over all the pieces, each with the index of the piece
         where its value is reached (``t``: local time of that piece)."""
         lo, hi, idx = self._start
-        cap = MAX_LIVE * len(self)
-        best, best_t = np.zeros(2), np.zeros(2)
-        best_j = np.zeros(2, dtype=int)
-        dropped = np.zeros(2)
-        certified = False
         b = self.bounds(lo, hi, idx)
-        for _ in range(MAX_ROUNDS):
-            keep, better = prune(b, best, best_t, dropped, rel)
-            for i, j in enumerate(better):
-                if j is not None:
-                    best_j[i] = idx[j]
-            n = int(keep.sum())
-            if not n:
-                certified = True
-                break
-            if n > cap:
-                break
-            k = fan(n)
-            lo, hi = split(b.lo[keep], b.hi[keep], k)
-            idx = np.repeat(idx[keep], k)
-            b = self.bounds(lo, hi, idx)
-        out = []
-        for i in (0, 1):
-            up = max(best[i], dropped[i])
-            if not certified:
-                up = max(up, float(b.up[i].max(initial=0.0)))
-            peak = Peak(float(best[i]), float(best_t[i]), float(up), certified)
-            out.append((peak, int(best_j[i])))
-        return out[0], out[1]
+        best, best_t = np.zeros(2), np.zeros(2)
+        peaks, where = maximise(self, b, idx, best, best_t, rel, MAX_LIVE * len(self))
+        return (peaks[0], where[0]), (peaks[1], where[1])
 
     # -- the limit ---------------------------------------------------------------------------
     def below(self, limit: tuple[float, float]) -> bool:
@@ -333,9 +308,7 @@ class Batch:
                 return True
             if n > cap:
                 return False
-            k = fan(n)
-            lo, hi = split(b.lo[keep], b.hi[keep], k)
-            idx = np.repeat(idx[keep], k)
+            lo, hi, idx = cut(b.lo, b.hi, idx, keep)
             b = self.bounds(lo, hi, idx)
         return False
 
@@ -364,9 +337,7 @@ class Batch:
                 break
             if n > cap:
                 break
-            k = fan(n)
-            lo, hi = split(lo[keep], hi[keep], k)
-            idx = np.repeat(idx[keep], k)
+            lo, hi, idx = cut(lo, hi, idx, keep)
         delta_lo = min(floor, best, float(low.min(initial=best)))
         a = Approach(ys[0], ys[1], delta_lo, best, best_t)
         return a, jy, best_j

@@ -40,13 +40,12 @@ from .boxes import (
     partition,
     poor_columns,
     put_narrower,
-    split,
 )
 from .certified import CertifiedMotion, per_robot
 from .ladders import Ladders
 from .limits import LimitChecks, loose
 from .near import MAX_BOX_MODELS, NearForms
-from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, fan, prune
+from .search import MAX_LIVE, PEAK_REL, maximise
 from .singular import SingularInstant
 from .stacked import Stacked
 from .through import Through
@@ -237,6 +236,8 @@ class Envelope(LimitChecks, NearForms, Ladders):
         return self._peak
 
     def _maximise(self, rel: float) -> tuple[Peak, Peak]:
+        """The peak by the branch and bound of ``search`` from the first partition, the
+        torques' limits at bounded instants known beforehand."""
         b = self._start()
         best, best_t = np.zeros(2), np.zeros(2)
         for s in self.bounded:  # the limits at bounded instants are values of T too
@@ -245,25 +246,9 @@ class Envelope(LimitChecks, NearForms, Ladders):
                     v = abs(s.torque_at_singularity[i]) * (1 - 4 * U)
                     if v > best[i]:
                         best[i], best_t[i] = v, s.t
-        dropped = np.zeros(2)  # the largest upper bound of a box set aside
-        certified = False
-        for _ in range(MAX_ROUNDS):
-            keep, _ = prune(b, best, best_t, dropped, rel)
-            n = int(keep.sum())
-            if not n:
-                certified = True
-                break
-            if n > MAX_LIVE:
-                break
-            lo, hi = split(b.lo[keep], b.hi[keep], fan(n))
-            b = self.bounds(lo, hi, need=float(best.min() * (1 + rel)))
-        out = []
-        for i in (0, 1):
-            up = max(best[i], dropped[i])
-            if not certified:
-                up = max(up, float(b.up[i].max(initial=0.0)))
-            out.append(Peak(float(best[i]), float(best_t[i]), float(up), certified))
-        return out[0], out[1]
+        idx = np.zeros(len(b.lo), dtype=int)  # one motion: every box is of piece 0
+        peaks, _ = maximise(self, b, idx, best, best_t, rel, MAX_LIVE)
+        return peaks
 
     # -- limits ---------------------------------------------------------------------------
     def limit_violations(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
