@@ -25,8 +25,7 @@ class Stacked:
     written once for both legs so that each operation runs on both at once (the cost of a
     ball operation on short vectors is its call, not its length: through ``equations``
     one pass takes 1.3-1.65 times as long; tests/engine/test_stacked.py holds the two
-    together), with the constant
-    parts of eqs. (7), (9), (11), (13) summed exactly in Q:
+    together), with the constant parts of eqs. (7), (9), (11), (13) summed exactly in Q:
         M_i = K_i + m_i d_i²,  d_i = s_i - r_i,  K = m2 r2² + I2 + I3 (leg 2: m4, r4, I4, I5),
         N_i = 2 m_i s_i' θ_i' d_i + (G_i + m_i g s_i) cos θ_i,  G = (m2 r2 - m3 r3) g,
         F_i = m_i (s_i'' - d_i θ_i'²) + m_i g sin θ_i   (M22 s1'' + N2, M44 s2'' + N4),
