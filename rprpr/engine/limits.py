@@ -98,6 +98,33 @@ def _closer(
     return a, fa, z, fz, c, fc
 
 
+def _record(
+    rows: np.ndarray, lo: np.ndarray, hi: np.ndarray, up: np.ndarray, a: np.ndarray,
+    z: np.ndarray, res: float, done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """The crossings' boxes [lo, hi] recorded in ``done`` (per torque ``rows``) as three
+    once bracketed by [a, z] (``Envelope._bracket``): on the side of its end up to the
+    bracket, open on it, on the other side beyond; the brackets wider than ``res`` come
+    back as boxes, each active for its torque (rows)."""
+    x0, x1 = np.minimum(a, z), np.maximum(a, z)
+    ok = x1 - x0 <= res
+    left = np.where(up, -1, 1)  # the state of [lo, x0]
+    for i in (0, 1):
+        sel = rows == i
+        if not sel.any():
+            continue
+        mid = np.where(ok[sel], 0, 2)  # the unclosed [x0, x1] come back (dropped below)
+        states = np.concatenate([left[sel], mid, -left[sel]])
+        keep = states != 2
+        done[i].append((np.concatenate([lo[sel], x0[sel], x1[sel]])[keep],
+                        np.concatenate([x0[sel], x1[sel], hi[sel]])[keep],
+                        states[keep]))  # fmt: skip
+    back = ~ok
+    act = np.zeros((2, int(back.sum())), dtype=bool)
+    act[rows[back], np.arange(int(back.sum()))] = True
+    return x0[back], x1[back], act
+
+
 class LimitChecks:
     """Whether |T_i| <= L_i over [0, t_f], with the windows above it, for ``Envelope``
     (a part of it: what it reads of the envelope is declared here)."""
@@ -173,19 +200,27 @@ class LimitChecks:
             lo, hi, act = self._bracket(pending, L, res, done)
             for i in (0, 1):
                 done[i].append((lo[act[i]], hi[act[i]], np.zeros(int(act[i].sum()), dtype=int)))
-        out = []
-        for i in (0, 1):
-            parts = done[i]
-            Ls = np.concatenate([p[0] for p in parts])
-            Hs = np.concatenate([p[1] for p in parts])
-            Ss = np.concatenate([p[2] for p in parts]).astype(int)
-            order = np.argsort(Ls, kind="stable")
-            Ls, Hs, Ss = self._sharpen(i, float(L[i]), res, Ls[order], Hs[order], Ss[order])
-            windows = self._windows(Ls, Hs, Ss)
-            above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
-            passed: bool | None = False if above else (True if (Ss == -1).all() else None)
-            out.append(LimitCheck(float(L[i]), passed, tuple(windows), res))
-        return out[0], out[1]
+        return self._verdict(0, L, res, done, seen_above), self._verdict(
+            1, L, res, done, seen_above
+        )
+
+    def _verdict(
+        self, i: int, L: np.ndarray, res: float,
+        done: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]], seen_above: np.ndarray,
+    ) -> LimitCheck:  # fmt: skip
+        """Torque i's check from the boxes recorded in ``done`` (in order, sharpened):
+        failed where a value above L_i was seen (or a pole), passed where every box is
+        below it, else undecided; with its windows."""
+        parts = done[i]
+        Ls = np.concatenate([p[0] for p in parts])
+        Hs = np.concatenate([p[1] for p in parts])
+        Ss = np.concatenate([p[2] for p in parts]).astype(int)
+        order = np.argsort(Ls, kind="stable")
+        Ls, Hs, Ss = self._sharpen(i, float(L[i]), res, Ls[order], Hs[order], Ss[order])
+        windows = self._windows(Ls, Hs, Ss)
+        above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
+        passed: bool | None = False if above else (True if (Ss == -1).all() else None)
+        return LimitCheck(float(L[i]), passed, tuple(windows), res)
 
     def _sharpen(
         self, i: int, limit: float, res: float, L: np.ndarray, H: np.ndarray, S: np.ndarray
@@ -322,23 +357,7 @@ class LimitChecks:
             a[j], fa[j], z[j], fz[j], c[j], fc[j] = _closer(
                 probe, f, inside & below, inside & above, a[j], fa[j], z[j], fz[j], c[j], fc[j]
             )
-        x0, x1 = np.minimum(a, z), np.maximum(a, z)
-        ok = x1 - x0 <= res
-        left = np.where(up, -1, 1)  # the state of [lo, x0]
-        for i in (0, 1):
-            sel = rows == i
-            if not sel.any():
-                continue
-            mid = np.where(ok[sel], 0, 2)  # the unclosed [x0, x1] come back (dropped below)
-            states = np.concatenate([left[sel], mid, -left[sel]])
-            keep = states != 2
-            done[i].append((np.concatenate([lo[sel], x0[sel], x1[sel]])[keep],
-                            np.concatenate([x0[sel], x1[sel], hi[sel]])[keep],
-                            states[keep]))  # fmt: skip
-        back = ~ok
-        act = np.zeros((2, int(back.sum())), dtype=bool)
-        act[rows[back], np.arange(int(back.sum()))] = True
-        return x0[back], x1[back], act
+        return _record(rows, lo, hi, up, a, z, res, done)
 
     def _holds_pole(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The boxes [lo, hi] that may hold an instant with unbounded torques."""
