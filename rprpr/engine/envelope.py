@@ -18,6 +18,11 @@ What they decide (``torque_peak``, ``limit_violations``, ``saturation_windows``,
 values (``certified``), upper bounds from the enclosures, boxes bisected until the
 bracket is within the stated tolerance. Boxes are deterministic (bisections of a fixed
 partition of [0, t_f]), so no answer depends on a sampling grid.
+
+``Envelope`` is one of the two sources of ``search`` (the peak's branch and bound), and
+is made of three parts, a module each: ``near`` (the forms near singular instants),
+``ladders`` (the first partition cut finer about the likely maxima) and ``limits`` (the
+limit check). The closest approach comes from ``approach`` (exact critical points).
 """
 
 from __future__ import annotations
