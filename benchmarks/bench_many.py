@@ -263,7 +263,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("audit", "rprpr.engine.audit", "audit", ""),
     ("  trajectory (compose y(x(t)))", "rprpr.engine.trajectory", "piece_trajectory", ""),
     ("  analyse (exact)", "rprpr.engine.singular", "analyse", ""),
-    ("    root isolation", "rprpr.engine.singular", "_real_roots", ""),
+    ("    root isolation", "rprpr.engine.singular", "real_roots_in", ""),
     ("    per instant (exact series in K)", "rprpr.engine.singular", "_instant", ""),
     ("      expansion (Taylor coefficients)", "rprpr.engine.singular", "expansion", "_instant"),
     ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "_instant"),

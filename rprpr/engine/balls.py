@@ -339,8 +339,10 @@ def _unbounded_where(b: Ball, where: Array) -> Ball:
     return Ball._of(np.where(where, np.nan, b.mid), np.where(where, np.inf, b.rad))
 
 
-def hypot(u: Ball, v: Ball) -> Ball:
-    """√(u² + v²): every operation rounded, IEEE's correctly rounded square root."""
+def hypot(u: Any, v: Any) -> Any:
+    """√(u² + v²) for balls, first-order jets of balls and arb balls alike (what
+    ``equations.leg`` takes): for balls every operation rounded, IEEE's correctly rounded
+    square root; for arb, arb's own enclosure."""
     return (u * u + v * v).sqrt()
 
 

@@ -28,23 +28,13 @@ from flint import fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from ..model.task import Piece, Robot
+from .approach import min_abs_y
 from .balls import ETA, Ball, U, horner, quiet, round_up
-from .certified import CertifiedMotion, _dyadic_middle, per_robot
-from .envelope import (
-    MAX_LIVE,
-    MAX_ROUNDS,
-    PEAK_REL,
-    Jet,
-    _Bounds,
-    _boxes,
-    _fan,
-    _full,
-    _last_float,
-    _split,
-    _Stacked,
-    min_abs_y,
-    prune,
-)
+from .boxes import Bounds, full, last_float, partition
+from .certified import CertifiedMotion, dyadic_middle, per_robot
+from .jets import Jet
+from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, cut, maximise
+from .stacked import Stacked
 from .trajectory import Trajectory
 from .verdicts import Approach, Peak
 
@@ -151,7 +141,7 @@ def _ends(duration: fmpq) -> tuple[float, float]:
     """The largest float <= t_f and the least float >= t_f."""
     f = to_float(duration)  # the nearest float, compared once with t_f
     if not math.isfinite(f):
-        lo = _last_float(duration)
+        lo = last_float(duration)
         return lo, math.nextafter(lo, math.inf)
     g = fmpq(*f.as_integer_ratio())
     if g == duration:
@@ -180,14 +170,14 @@ class Batch:
         self.t_last = np.array([e[0] for e in ends])
         self.t_end = np.array([e[1] for e in ends])
         if self.path is None:
-            centres = [_dyadic_middle(0.0, t) for t in self.t_last]
+            centres = [dyadic_middle(0.0, t) for t in self.t_last]
             qs = [y(fmpq_poly([c, 1])) for (_, y), c in zip(self.forms, centres, strict=True)]
         else:  # y = q(x - c), q the path recentred on the middle of the piece's x range
             centres = self._x_centres()
             qs = [self.path(fmpq_poly([c, 1])) for c in centres]
         self.q = _levels(qs)
         self.center = Ball._of(*_balls(centres))
-        self.stacked = per_robot(robot, _Stacked)
+        self.stacked = per_robot(robot, Stacked)
 
     def _x_centres(self) -> list[fmpq]:
         """A short dyadic number in the middle of each piece's x range, from 17 float
@@ -200,7 +190,7 @@ class Batch:
                 xs = xs * f + mid[k]
             xs = np.where(np.isfinite(xs), xs, np.nan)
             lo, hi = np.nanmin(xs, axis=0), np.nanmax(xs, axis=0)
-        return [_dyadic_middle(float(a), float(b)) if math.isfinite(a) and math.isfinite(b)
+        return [dyadic_middle(float(a), float(b)) if math.isfinite(a) and math.isfinite(b)
                 else fmpq(0) for a, b in zip(lo, hi, strict=True)]  # fmt: skip
 
     def __len__(self) -> int:
@@ -232,8 +222,8 @@ class Batch:
         n = len(self)
         idx = np.arange(n)
         with quiet():
-            y = _full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
-            y0 = _full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
+            y = full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
+            y0 = full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
             low, up = y.lower_abs(), y0.upper_abs()
         return np.where(np.isnan(low), 0.0, low), np.where(np.isnan(up), np.inf, up)
 
@@ -261,7 +251,7 @@ class Batch:
 
     # -- one pass ---------------------------------------------------------------------------
     def jets(self, box: Ball, idx: np.ndarray) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
-        """``_Polys.jets`` over boxes of many pieces (box j of piece idx[j])."""
+        """``Polys.jets`` over boxes of many pieces (box j of piece idx[j])."""
 
         def at(pm: tuple[np.ndarray, np.ndarray], x: Ball) -> Ball:
             mid, rad = pm[0][:, idx], pm[1][:, idx]
@@ -283,15 +273,19 @@ class Batch:
     def _pass(self, t: Ball, idx: np.ndarray) -> tuple[Ball, Ball]:
         x, xd, xdd, y, yd, ydd = self.jets(t, idx)
         T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return _full(T.v, len(idx)), _full(T.d, len(idx))
+        return full(T.v, len(idx)), full(T.d, len(idx))
 
     def _values(self, t: np.ndarray, idx: np.ndarray) -> Ball:
         x, xd, xdd, y, yd, ydd = (J.v for J in self.jets(Ball.exact(t), idx))
         T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-        return _full(T, len(idx))
+        return full(T, len(idx))
 
-    def bounds(self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray) -> _Bounds:
-        """``Envelope.bounds`` over boxes of many pieces (no instant: direct forms)."""
+    def bounds(
+        self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0
+    ) -> Bounds:
+        """``Envelope.bounds`` over boxes of many pieces (box j of piece idx[j]; no
+        instant: the direct forms, whatever ``need``)."""
+        assert idx is not None
         n = len(lo)
         with quiet():
             box = Ball.hull(lo, hi)
@@ -313,12 +307,12 @@ class Batch:
             low = np.maximum(la, lb)
             low_t = np.where(la >= lb, lo, hi)
         up = np.where(np.isnan(up), np.inf, up)
-        return _Bounds(lo, hi, low, low_t, up, np.zeros_like(up))
+        return Bounds(lo, hi, low, low_t, up, np.zeros_like(up))
 
     @cached_property
     def _start(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The first partition: START_PER_PIECE boxes per piece, each box's piece."""
-        parts = [_boxes(d, START_PER_PIECE) for d in self.durations]
+        parts = [partition(d, START_PER_PIECE) for d in self.durations]
         lo = np.concatenate([p[0] for p in parts])
         hi = np.concatenate([p[1] for p in parts])
         return lo, hi, np.repeat(np.arange(len(parts)), START_PER_PIECE)
@@ -328,35 +322,10 @@ class Batch:
         """max |T1| and max |T2| over all the pieces, each with the index of the piece
         where its value is reached (``t``: local time of that piece)."""
         lo, hi, idx = self._start
-        cap = MAX_LIVE * len(self)
-        best, best_t = np.zeros(2), np.zeros(2)
-        best_j = np.zeros(2, dtype=int)
-        dropped = np.zeros(2)
-        certified = False
         b = self.bounds(lo, hi, idx)
-        for _ in range(MAX_ROUNDS):
-            keep, better = prune(b, best, best_t, dropped, rel)
-            for i, j in enumerate(better):
-                if j is not None:
-                    best_j[i] = idx[j]
-            n = int(keep.sum())
-            if not n:
-                certified = True
-                break
-            if n > cap:
-                break
-            k = _fan(n)
-            lo, hi = _split(b.lo[keep], b.hi[keep], k)
-            idx = np.repeat(idx[keep], k)
-            b = self.bounds(lo, hi, idx)
-        out = []
-        for i in (0, 1):
-            up = max(best[i], dropped[i])
-            if not certified:
-                up = max(up, float(b.up[i].max(initial=0.0)))
-            peak = Peak(float(best[i]), float(best_t[i]), float(up), certified)
-            out.append((peak, int(best_j[i])))
-        return out[0], out[1]
+        best, best_t = np.zeros(2), np.zeros(2)
+        peaks, where = maximise(self, b, idx, best, best_t, rel, MAX_LIVE * len(self))
+        return (peaks[0], where[0]), (peaks[1], where[1])
 
     # -- the limit ---------------------------------------------------------------------------
     def below(self, limit: tuple[float, float]) -> bool:
@@ -378,9 +347,7 @@ class Batch:
                 return True
             if n > cap:
                 return False
-            k = _fan(n)
-            lo, hi = _split(b.lo[keep], b.hi[keep], k)
-            idx = np.repeat(idx[keep], k)
+            lo, hi, idx = cut(b.lo, b.hi, idx, keep)
             b = self.bounds(lo, hi, idx)
         return False
 
@@ -409,9 +376,7 @@ class Batch:
                 break
             if n > cap:
                 break
-            k = _fan(n)
-            lo, hi = _split(lo[keep], hi[keep], k)
-            idx = np.repeat(idx[keep], k)
+            lo, hi, idx = cut(lo, hi, idx, keep)
         delta_lo = min(floor, best, float(low.min(initial=best)))
         a = Approach(ys[0], ys[1], delta_lo, best, best_t)
         return a, jy, best_j
@@ -429,10 +394,10 @@ class Batch:
             x, xd, xdd, y, yd, ydd = self.jets(box, idx)
             lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
             delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
-            V, D = _full(delta.v, n, 0), _full(delta.d, n, 0)
+            V, D = full(delta.v, n, 0), full(delta.d, n, 0)
             v = [J.v for J in self.jets(Ball.exact(pts), both)]
             lp = self.stacked.legs(*v)
-            P = _full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), 2 * n, 0)
+            P = full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), 2 * n, 0)
             width = 2.0 * box.rad
             around = P[:n] + D * Ball(0.5 * width, 0.5 * width)
             low = np.maximum(V.lower_abs(), around.lower_abs())

@@ -57,7 +57,7 @@ from . import equations as dyn
 from .balls import ETA, Ball, U, horner, hypot, poly_balls, quiet
 from .mechanism import of
 from .series import taylor
-from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
+from .singular import SingularAnalysis, SingularInstant, expansion, legs
 from .trajectory import Trajectory
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
@@ -122,19 +122,6 @@ def _instant_time(analysis: SingularAnalysis, s: SingularInstant) -> ExactTime:
     return ExactTime(s.t_rational, at)
 
 
-def _roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
-    """The real roots of ``poly`` in [0, t_f], exactly, in increasing order."""
-    if poly.is_zero():
-        return []
-    out = []
-    for f, _ in poly.factor()[1]:
-        if f.degree() < 1:
-            continue
-        for exact, at in _real_roots(f, duration):  # only the roots in [0, t_f]
-            out.append(ExactTime(exact, at))
-    return sorted(out, key=lambda e: e.hi)
-
-
 @dataclass
 class _Kinematic:
     time: ExactTime
@@ -166,7 +153,7 @@ def _tighter(a: Ball, b: Ball) -> Ball:
     return Ball(np.where(pick, a.mid, b.mid), np.where(pick, a.rad, b.rad))
 
 
-def _dyadic_middle(lo: float, hi: float) -> fmpq:
+def dyadic_middle(lo: float, hi: float) -> fmpq:
     """A short dyadic number near (lo + hi)/2 (12 significant bits)."""
     m = 0.5 * (lo + hi)
     if m == 0 or not math.isfinite(m):
@@ -242,7 +229,7 @@ class CertifiedMotion:
 
     @cached_property
     def t_center(self) -> fmpq:
-        return _dyadic_middle(0.0, to_float(self.traj.duration))
+        return dyadic_middle(0.0, to_float(self.traj.duration))
 
     @cached_property
     def recentred(self) -> fmpq_poly:
@@ -273,14 +260,14 @@ class CertifiedMotion:
         with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
             xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
         xs = xs[np.isfinite(xs)]
-        return _dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
+        return dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
 
     def _kinematic(self) -> list[_Kinematic]:
         traj = self.traj
         out = []
         for leg, u in ((1, traj.x), (2, traj.x - traj.a1)):
             common = u if traj.y.is_zero() else u.gcd(traj.y)
-            for e in _roots(common, traj.duration):
+            for e in ExactTime.roots(common, traj.duration):
                 match = [k for k in self.analysis.kinematic if k.leg == leg]
                 near = min(match, key=lambda k: abs(k.t - e.hi), default=None)
                 order, ys = (near.order, self.analysis.kinematic_sign(near)) if near else (1, 1)
@@ -616,7 +603,7 @@ class CertifiedMotion:
                 return {n: Ball.of_arb(v) for n, v in out.items()}, out
             mech = self.mech
             p = mech.params(self.robot, arb)
-            leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, _arb_hypot)
+            leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
             d = mech.dynamics(leg1, leg2, p)
             delta = mech.delta(p, y, leg1, leg2)
             out["delta"] = delta
@@ -650,10 +637,6 @@ def _beyond_double(a: arb) -> bool:
     """True when the arb ball is certified to the mixed tolerance and every member
     exceeds the largest double in magnitude."""
     return bool(a.is_finite() and a.rad() <= TOL * abs(a.mid()) and abs(a).lower() > DBL_MAX)
-
-
-def _arb_hypot(u: Any, v: Any) -> Any:
-    return (u * u + v * v).sqrt()
 
 
 def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:

@@ -21,10 +21,13 @@ Conventions: polynomials are flint's (coefficients low -> high), rationals ``fmp
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly, fmpz, fmpz_poly
 
 Mobius = tuple[fmpz, fmpz, fmpz, fmpz]  # (a, b, c, d): x -> (a x + b) / (c x + d)
+RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
 
 JUMP_SCALE_BITS = 4  # a lower bound of 2^4 or more is used by scaling x, not by shifting
 
@@ -125,6 +128,34 @@ def isolate(f: fmpq_poly, duration: fmpq) -> list[tuple[fmpq, fmpq]]:
         stack.append((_shifted(p), (m[0], m[0] + m[1], m[2], m[2] + m[3])))
         stack.append((_inverted(p, n), (m[1], m[0] + m[1], m[3], m[2] + m[3])))
     return sorted(found)
+
+
+def real_roots_in(
+    f: fmpq_poly, duration: fmpq, *, simple: bool = False
+) -> list[tuple[fmpq | None, RootAt]]:
+    """The real roots of f in [0, t_f]: (the root when it is rational, else None;
+    precision -> certified ball), by the irreducible factors of f over Q in flint's
+    order, each factor's roots in increasing order. A rational root is exact; an
+    irrational one is isolated and refined with rational arithmetic (``IsolatedRoot``:
+    its interval narrows as higher precisions are asked for, and is kept). ``simple``: f
+    is irreducible, or square-free with no rational root, and is isolated as it is."""
+    if f.degree() < 1:
+        return []
+    parts = [f] if simple else [g for g, _ in f.factor()[1] if g.degree() >= 1]
+    out: list[tuple[fmpq | None, RootAt]] = []
+    for g in parts:
+        if g.degree() == 1:
+            r = -g[0] / g[1]
+            if 0 <= r <= duration:
+                out.append((r, partial(_exact_ball, r)))
+            continue
+        out += [(None, IsolatedRoot(g, lo, hi).ball) for lo, hi in isolate(g, duration)]
+    return out
+
+
+def _exact_ball(r: fmpq, prec: int) -> arb:
+    """The rational root r as a ball (at the working precision)."""
+    return arb(r)
 
 
 def _u_interval(m: Mobius, duration: fmpq) -> tuple[fmpq, fmpq]:

@@ -34,7 +34,7 @@ from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
 from .mechanism import Mechanism, of
-from .roots import IsolatedRoot, isolate
+from .roots import RootAt, real_roots_in
 from .series import KElem, NumberField, QSeries, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
 
@@ -186,7 +186,6 @@ class SingularAnalysis:
             raise ValueError("one sign is needed per kinematic singularity")
 
 
-RootAt = Callable[[int], arb]  # working precision in bits -> ball containing the root
 OnStage = Callable[[str], None]  # told the name of each stage of the analysis as it begins
 
 # the stages of the exact analysis, named for "exceeded its budget at ..." (``audit.STAGES``)
@@ -197,23 +196,6 @@ EXPANDING = "the series about the singular instants"
 
 def _quiet(stage: str) -> None:
     """An ``OnStage`` that listens to nothing."""
-
-
-def _real_roots(f: fmpq_poly, duration: fmpq) -> list[tuple[fmpq | None, RootAt]]:
-    """The real roots of irreducible f in [0, t_f], in increasing order: (exact value when
-    rational, precision -> certified ball). A root of degree >= 2 is isolated and refined
-    with rational arithmetic (``roots``); its interval narrows as higher precisions are
-    asked for, and is kept."""
-    if f.degree() == 1:
-        r = -f[0] / f[1]
-        if not 0 <= r <= duration:
-            return []
-
-        def exact_ball(prec: int) -> arb:
-            return arb(r)
-
-        return [(r, exact_ball)]
-    return [(None, IsolatedRoot(f, lo, hi).ball) for lo, hi in isolate(f, duration)]
 
 
 def _passage(
@@ -243,7 +225,7 @@ def analyse(
             continue
         done: Expansions = {}
         on_stage(ISOLATING)
-        roots = _real_roots(f, traj.duration)
+        roots = real_roots_in(f, traj.duration, simple=True)
         on_stage(EXPANDING)
         for exact, at in roots:
             if (traj.x % f).is_zero():
@@ -274,11 +256,8 @@ def _kinematic_on_line(traj: Trajectory) -> list[KinematicSingularity]:
         if poly.is_zero():
             out.append(KinematicSingularity(0.0, xv, 0.0, leg))
             continue
-        for f, _ in poly.factor()[1]:
-            if f.degree() < 1:
-                continue
-            for exact, at in _real_roots(f, traj.duration):
-                out.append(_passage(exact, at, xv, leg))
+        for exact, at in real_roots_in(poly, traj.duration):
+            out.append(_passage(exact, at, xv, leg))
     return sorted(out, key=lambda k: k.t)
 
 

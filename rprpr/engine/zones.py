@@ -29,12 +29,13 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
-from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
+from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from . import equations as dyn
-from .balls import ETA, Ball, U, horner, quiet, two_sum
+from .balls import ETA, Ball, U, horner, hypot, quiet, two_sum
 from .mechanism import Mechanism, of
+from .roots import real_roots_in
 from .series import taylor
 from .singular import SingularInstant
 
@@ -83,6 +84,12 @@ class ExactTime:
             finally:
                 ctx.prec = old
 
+    @staticmethod
+    def roots(poly: fmpq_poly, duration: fmpq) -> list[ExactTime]:
+        """The real roots of ``poly`` in [0, t_f] (``roots.real_roots_in``), in increasing
+        order."""
+        return sorted((ExactTime(*r) for r in real_roots_in(poly, duration)), key=lambda e: e.hi)
+
     @property
     def t(self) -> float:
         return self.hi
@@ -121,10 +128,6 @@ CIRCLE_BALLS = 32  # complex balls covering the circle of a Cauchy bound (then t
 DISC_GRID = 12  # complex balls per side of the grid proving analyticity on a disc
 ZONE_SLACK = 1e-9  # a zone's remainders stay below this fraction of its leading terms
 TAYLOR_BOX_ORDER = 4  # degree N of the Taylor model over a box (``taylor_box``)
-
-
-def _hypot(u: Any, v: Any) -> Any:
-    return (u * u + v * v).sqrt()
 
 
 def taylor_at_instant(motion: CertifiedMotion, s: SingularInstant, prec: int) -> list[list[arb]]:
@@ -180,7 +183,7 @@ def taylor_lambda(
         X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, E, n)
         ctx.cap = n
         mech, p = _arb_params(motion)
-        l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+        l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
         d = mech.dynamics(l1, l2, p)
         dm = _coef(mech.delta(p, Y, l1, l2), m)  # δ^(m)(ξ)/m!, eq. (29)
         if not dm.is_finite() or dm.contains(0):
@@ -225,7 +228,7 @@ def _torque_series(motion: CertifiedMotion, ser: tuple[Any, ...]) -> tuple[Any, 
     """T1, T2 as series from the series of x, x', x'', y, y', y'' (eqs. 28-31)."""
     X, Xd, Xdd, Y, Yd, Ydd = ser
     mech, p = _arb_params(motion)
-    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
     d = mech.dynamics(l1, l2, p)
     delta = mech.delta(p, Y, l1, l2)  # product form
     T1, T2 = mech.efforts(d, d.mu1 / delta, d.mu2 / delta)
@@ -316,7 +319,7 @@ def _series_parts(
     """μ1, μ2 and δ (product form) as series about t_s + ε for every ε in ``eps``."""
     X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, eps, n)
     mech, p = _arb_params(motion)
-    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
     d = mech.dynamics(l1, l2, p)
     return d.mu1, d.mu2, mech.delta(p, Y, l1, l2)
 

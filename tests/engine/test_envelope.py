@@ -273,20 +273,6 @@ def test_order_13_bounded_instant_peak_is_certified() -> None:
     assert np.max(np.abs(c.value["T1"])) <= peaks[0].upper
 
 
-def test_the_first_partition_has_the_nearest_doubles_to_its_exact_ends() -> None:
-    """Box ends RN(t_f i/n) (t_f exact), whether t_f is a float or not."""
-    from flint import fmpq
-
-    from rprpr.engine.envelope import _boxes
-
-    for d in (fmpq(5, 2), fmpq(1, 10), fmpq(1000), fmpq(1, 1000), fmpq(123456789, 2**20)):
-        lo, hi = _boxes(d, 512)
-        exact = [fmpq(d) * fmpq(i, 512) for i in range(513)]
-        nearest = [int(q.p) / int(q.q) for q in exact]
-        assert list(lo) == nearest[:-1] and list(hi[:-1]) == nearest[1:-1]
-        assert hi[-1] >= nearest[-1] and fmpq(*float(hi[-1]).as_integer_ratio()) >= d
-
-
 def test_the_first_partition_is_cut_finer_where_the_reference_peaks() -> None:
     """The double-precision guess of where |T1| and |T2| peak (``_ladders``) lies within
     5e-5 s of the maxima of the 60-digit reference (path 2: t = 2.74335 s and 0.20245 s

@@ -22,7 +22,7 @@ import pytest
 from numpy.polynomial.chebyshev import cheb2poly
 from rich.console import Console
 
-from rprpr.engine import envelope
+from rprpr.engine import envelope, search
 from rprpr.engine.audit import AuditResult, audit
 from rprpr.io.loader import load_task, parse_task
 from rprpr.render.junit import render as junit
@@ -119,7 +119,7 @@ def test_an_uncertified_peak_reports_a_lower_bound_and_says_so(
     refining pass after the first, and that one over the uniform boxes only), the peak
     is still |T| at the time it names, and the report says "not certified" and gives
     the (wider) bound it has."""
-    monkeypatch.setattr(envelope, "MAX_ROUNDS", 1)
+    monkeypatch.setattr(search, "MAX_ROUNDS", 1)
     monkeypatch.setattr(envelope.Envelope, "_ladders", lambda self, h: np.zeros(0))
     task = parse_task(CHEBYSHEV_16)
     rep = task_report(audit(task, peak=True), "t.yaml")
