@@ -34,7 +34,7 @@ from .boxes import Bounds, full, last_float, partition
 from .certified import CertifiedMotion, dyadic_middle, per_robot
 from .jets import Jet
 from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, cut, maximise
-from .stacked import Stacked
+from .stacked import stacked_form
 from .trajectory import Trajectory
 from .verdicts import Approach, Peak
 
@@ -177,7 +177,7 @@ class Batch:
             qs = [self.path(fmpq_poly([c, 1])) for c in centres]
         self.q = _levels(qs)
         self.center = Ball._of(*_balls(centres))
-        self.stacked = per_robot(robot, Stacked)
+        self.stacked = per_robot(robot, stacked_form)
 
     def _x_centres(self) -> list[fmpq]:
         """A short dyadic number in the middle of each piece's x range, from 17 float
@@ -393,11 +393,11 @@ class Batch:
             box = Ball.hull(lo, hi)
             x, xd, xdd, y, yd, ydd = self.jets(box, idx)
             lg = self.stacked.legs(x, xd, xdd, y, yd, ydd)
-            delta = -(y * self.stacked.a1) / (lg.s[0] * lg.s[1])
+            delta = self.stacked.delta(lg, y)
             V, D = full(delta.v, n, 0), full(delta.d, n, 0)
             v = [J.v for J in self.jets(Ball.exact(pts), both)]
             lp = self.stacked.legs(*v)
-            P = full(-(v[3] * self.stacked.a1) / (lp.s[0] * lp.s[1]), 2 * n, 0)
+            P = full(self.stacked.delta(lp, v[3]), 2 * n, 0)
             width = 2.0 * box.rad
             around = P[:n] + D * Ball(0.5 * width, 0.5 * width)
             low = np.maximum(V.lower_abs(), around.lower_abs())

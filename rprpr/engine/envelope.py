@@ -52,7 +52,7 @@ from .limits import LimitChecks, loose
 from .near import MAX_BOX_MODELS, NearForms
 from .search import MAX_LIVE, PEAK_REL, maximise
 from .singular import SingularInstant
-from .stacked import Stacked
+from .stacked import General, Stacked, stacked_form
 from .through import Through
 from .verdicts import Approach, LimitCheck, Peak, Window, around_poles
 from .zones import Zone
@@ -83,8 +83,8 @@ class Envelope(LimitChecks, NearForms, Ladders):
         return Polys(self.motion)
 
     @cached_property
-    def stacked(self) -> Stacked:
-        return per_robot(self.motion.robot, Stacked)
+    def stacked(self) -> Stacked | General:
+        return per_robot(self.motion.robot, stacked_form)
 
     # -- one pass -------------------------------------------------------------------------
     def _pass(self, t: Ball) -> tuple[Ball, Ball]:
@@ -139,6 +139,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
             else:
                 e = Ball.hull(np.minimum(el[j], 0.0), np.minimum(eh[j], 0.0))
             sigma = 1.0 if side > 0 else (-1.0) ** th.k
+            assert isinstance(self.stacked, Stacked)  # E at A or B: the RPRPR's Type I form
             T, _ = th.torques(self.stacked, e, sigma)
             for q, B in enumerate((T.v, T.d)):
                 lo_q, hi_q = bounds[2 * q], bounds[2 * q + 1]

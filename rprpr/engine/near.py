@@ -16,7 +16,7 @@ from .boxes import put_narrower
 
 if TYPE_CHECKING:
     from .boxes import Polys
-    from .stacked import Stacked
+    from .stacked import General, Stacked
 from .certified import CertifiedMotion
 from .zones import TAYLOR_PREC, ExactTime, Zone, taylor_at_instant, taylor_box, taylor_lambda
 
@@ -41,7 +41,7 @@ class NearForms:
         def polys(self) -> Polys: ...
 
         @property
-        def stacked(self) -> Stacked: ...
+        def stacked(self) -> Stacked | General: ...
 
     def _near(
         self, pts: np.ndarray, lo: np.ndarray, hi: np.ndarray, P: Ball, B: Ball, need: float

@@ -1,16 +1,25 @@
-"""The two legs stacked in rows 0 and 1: T1, T2 (and δ) on balls or jets in one run of
-ball operations (``Stacked``)."""
+"""The two efforts stacked in rows 0 and 1, on balls or jets: what the bounds layer
+(envelope, batch, the forms near instants) evaluates over boxes.
+
+``stacked_form(robot)`` gives the form for the robot's mechanism: ``Stacked``, the RPRPR's
+own (both legs in one run of ball operations, both actuation schemes), or, for any other
+implementation of the mechanism interface (``engine/mechanism.py``), ``Through`` its
+``legs``, ``delta``, ``dynamics`` and ``efforts`` on the same balls or jets: slower, never
+looser in what it proves. A mechanism with a stacked form of its own registers it in
+``FORMS``."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from ..model.actuation import PRISMATIC
 from ..model.task import Robot
 from . import equations as dyn
 from .balls import Ball, hypot, stack
+from .jets import Jet
+from .mechanism import of
 
 
 def _pair(a: Any, b: Any) -> Ball:
@@ -50,11 +59,15 @@ class Stacked:
                        (L[4].mass * L[4].r - L[5].mass * L[5].r) * g)  # fmt: skip
         self.mg = _pair(L[3].mass * g, L[5].mass * g)
         self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
-        self.prismatic = r.actuation == PRISMATIC
+        self.prismatic = isinstance(of(r), dyn.Prismatic)  # the RPRPR's two schemes
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
         return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, hypot)
+
+    def delta(self, lg: dyn.Leg, y: Any) -> Any:
+        """δ = -a1 y/(s1 s2) (eq. 29), from the stacked legs."""
+        return -(self.a1 * y) / (lg.s[0] * lg.s[1])
 
     def torques(
         self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
@@ -65,7 +78,7 @@ class Stacked:
         N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
         F = self.m * (lg.s_dd - d * (lg.th_d * lg.th_d)) + self.mg * lg.sin
         if delta is None:
-            delta = -(self.a1 * y) / (lg.s[0] * lg.s[1])
+            delta = self.delta(lg, y)
         if self.prismatic:
             U = M * lg.th_dd + N
             if lam is None:
@@ -78,3 +91,53 @@ class Stacked:
             lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
         T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
         return T, delta
+
+
+def _rows(a: Any, b: Any) -> Any:
+    """Two balls (or jets of balls) of one shape as one with rows 0 and 1."""
+    if isinstance(a, Jet) or isinstance(b, Jet):
+        a, b = Jet._of(a), Jet._of(b)
+        return Jet(stack([a.v, b.v]), stack([a.d, b.d]))
+    return stack([Ball.coerce(a), Ball.coerce(b)])
+
+
+class General:
+    """The stacked form of any mechanism, through its interface (``mechanism.Mechanism``):
+    the same operations as ``equations`` runs for it, on balls or jets, the two efforts
+    stacked in rows 0 and 1 afterwards. ``legs`` gives the pair of legs."""
+
+    def __init__(self, r: Robot) -> None:
+        self.mech = of(r)
+        self.p = self.mech.params(r, Ball.of_rational)
+
+    def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Any:
+        return self.mech.legs(self.p, x, xd, xdd, y, yd, ydd, hypot)
+
+    def delta(self, lg: Any, y: Any) -> Any:
+        l1, l2 = lg
+        return self.mech.delta(self.p, y, l1, l2)
+
+    def torques(
+        self, lg: Any, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """(efforts stacked, δ) from the legs; λ given, or μ/δ (δ given, or the mechanism's)."""
+        l1, l2 = lg
+        d = self.mech.dynamics(l1, l2, self.p)
+        if delta is None:
+            delta = self.delta(lg, y)
+        if lam is None:
+            lam = (d.mu1 / delta, d.mu2 / delta)
+        return _rows(*self.mech.efforts(d, *lam)), delta
+
+
+FORMS: dict[type, Callable[[Robot], Stacked | General]] = {
+    dyn.Rprpr: Stacked
+}  # a mechanism's class -> its own stacked form
+
+
+def stacked_form(r: Robot) -> Stacked | General:
+    """The stacked form for the robot's mechanism: its own (``FORMS``), or ``General``."""
+    for cls in type(of(r)).__mro__:
+        if cls in FORMS:
+            return FORMS[cls](r)
+    return General(r)

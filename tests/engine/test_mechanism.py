@@ -21,9 +21,11 @@ import pytest
 from flint import fmpq
 
 from rprpr.engine import equations, mechanism
+from rprpr.engine.audit import audit
 from rprpr.engine.certified import CertifiedMotion
 from rprpr.engine.findings import findings
 from rprpr.engine.singular import analyse
+from rprpr.engine.stacked import General, stacked_form
 from rprpr.engine.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.actuation import PRISMATIC, REVOLUTE
@@ -218,3 +220,25 @@ def test_the_layers_do_not_branch_on_the_scheme(layer: str) -> None:
     assert "PRISMATIC" not in names and "AUTOMATIC" not in attributes
     assert "actuation" not in attributes
     assert equations.MECHANISMS is mechanism.MECHANISMS
+
+
+def test_a_third_implementation_drives_the_grid_free_peak(tripled: Tripled) -> None:
+    """The certified torque peak over [0, t_f] (the bounds layer, through the general
+    stacked form, since the tripled mechanism has none of its own) encloses the maximum of
+    the reference's |T| on the task with tripled links, sampled on a grid, and is within
+    the peak's tolerance of it."""
+    task = _as(_path2(REVOLUTE), tripled.name)
+    assert isinstance(stacked_form(task.robot), General)
+    peaks = audit(task, peak=True).torque_peak
+    assert peaks is not None
+    scaled = _scaled_links(_path2(REVOLUTE))
+    grid = [Fraction(k, 400) * 5 for k in range(401)]  # 0 .. 5 s, t_s = 2.5 s on it
+    for i, name in enumerate(("T1", "T2")):
+        best = 0.0
+        for t in grid:
+            ref = reference(scaled, float(t)) if t != Fraction(5, 2) else limit(scaled, t)
+            assert ref is not None
+            best = max(best, abs(float(ref[name])))
+        peak = peaks[i]
+        assert peak.certified and best <= peak.upper * (1 + 1e-12)
+        assert abs(peak.value - best) <= 1e-3 * best, (name, peak, best)
