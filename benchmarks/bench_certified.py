@@ -23,12 +23,12 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from rprpr.engine.balls import quiet
-from rprpr.engine.certified import CertifiedMotion
-from rprpr.engine.envelope import Envelope
-from rprpr.engine.sampling import grid, sample
-from rprpr.engine.singular import analyse
-from rprpr.engine.trajectory import trajectory
+from rprpr.engine.bounds.envelope import Envelope
+from rprpr.engine.certified.balls import quiet
+from rprpr.engine.certified.motion import CertifiedMotion
+from rprpr.engine.certified.sampling import grid, sample
+from rprpr.engine.exact.singular import analyse
+from rprpr.engine.exact.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import RprprError
 

@@ -5,7 +5,7 @@
 
 Measured (2 shared cores, median of 3): N = 1000: 0.15 s, N = 5000: 0.71 s (0.14 ms per
 piece; 3.2 s before the batch proved each piece apart from y = 0 ahead of the exact
-analysis and built certified motions only when read; ~260 s before ``engine/batch.py``).
+analysis and built certified motions only when read; ~260 s before ``engine/bounds/batch.py``).
 The 5,000-row CSV of ``bench_waypoints`` (17-digit decimals, long rationals) audits in
 ~1.0 s (12 s before), and ``rprpr check`` of it end to end takes ~2.1 s (11 s before):
 loading ~0.45 s, audit ~1.0 s, the rest start-up and the report.

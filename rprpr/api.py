@@ -13,7 +13,7 @@ from dataclasses import fields
 from typing import Any, Unpack
 
 from .engine import audit as _engine
-from .engine.singular import OnStage
+from .engine.exact.singular import OnStage
 from .model.options import AuditKeywords, AuditOptions
 from .model.task import Task
 from .render.html import report_html

@@ -343,10 +343,11 @@ def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
 # modules no `check` of a task file needs in rprpr's own process (the worker imports the ball
 # machinery on demand: above): repair, the plots and the HTML sheet, the schema validator
 NOT_FOR_CHECK = (
-    "jsonschema", "matplotlib", "scipy", "sympy", "mpmath", "rprpr.repair",
-    "rprpr.cli.repair", "rprpr.engine.zones", "rprpr.engine.envelope", "rprpr.engine.certified",
-    "rprpr.engine.balls", "rprpr.engine.batch", "rprpr.engine.sampling", "rprpr.render.html",
-    "rprpr.render.sheet", "rprpr.render.json", "rprpr.cli.plot", "rprpr.cli.export",
+    "jsonschema", "matplotlib", "scipy", "sympy", "mpmath", "rprpr.repair", "rprpr.cli.repair",
+    "rprpr.engine.certified", "rprpr.render.html", "rprpr.render.sheet",
+    *(f"rprpr.engine.bounds.{m}" for m in ("approach", "batch", "boxes", "envelope", "ladders",
+                                           "limits", "near", "search")),
+    "rprpr.render.json", "rprpr.cli.plot", "rprpr.cli.export",
 )  # fmt: skip
 
 
@@ -369,3 +370,58 @@ def test_check_of_a_shipped_config_imports_no_repair_plot_schema_or_balls_before
     )
     exit_code = {"case1_crossing": 1, "paper_path2": 0}[config]  # unbounded torques fail
     assert done.stderr.strip().splitlines()[-1] == f"EXIT={exit_code} LOADED=[]", done.stderr
+
+
+# -- inside engine: its three layers, one way -------------------------------------------------
+# exact (the paper in rational arithmetic) <- certified (floats with proofs) <- bounds
+# (grid-free verdicts) <- the audit's own modules (pieces, findings, audit) directly in engine/.
+ENGINE_LAYERS: dict[str, set[str]] = {
+    "exact": set(),
+    "certified": {"exact"},
+    "bounds": {"certified", "exact"},
+    "": {"bounds", "certified", "exact"},  # engine/pieces.py, findings.py, audit.py
+}
+
+
+def engine_layer(name: str) -> str | None:
+    """``rprpr.engine.exact.roots`` -> ``exact``; ``rprpr.engine.audit`` -> ``""``."""
+    parts = name.split(".")
+    if parts[:2] != ["rprpr", "engine"] or len(parts) < 3:
+        return None
+    return parts[2] if parts[2] in ENGINE_LAYERS else ""
+
+
+def engine_upward(graph: Graph) -> list[str]:
+    bad = []
+    for name, targets in sorted(graph.items()):
+        here = engine_layer(name)
+        if here is None:
+            continue
+        for target in sorted(targets):
+            there = engine_layer(target)
+            if there is None or there == here:
+                continue
+            if there not in ENGINE_LAYERS[here]:
+                bad.append(f"{name} -> {target}")
+    return bad
+
+
+def test_the_engines_layers_import_only_the_layers_below() -> None:
+    g = package_graph()
+    assert engine_upward(g) == []
+    for layer in ("exact", "certified", "bounds"):  # each layer is a package with modules
+        assert any(engine_layer(m) == layer for m in g if m != f"rprpr.engine.{layer}")
+    assert "rprpr.engine.exact.roots" in g["rprpr.engine.certified.zones"]  # the rule sees these
+
+
+def test_the_engine_layer_rule_catches_an_upward_import() -> None:
+    fake = {
+        "rprpr.engine.exact.singular": ("from ..certified.balls import Ball\n", False),
+        "rprpr.engine.certified.balls": ("", False),
+        "rprpr.engine.bounds.search": ("from ...engine import audit\n", False),
+        "rprpr.engine.audit": ("", False),
+    }
+    assert engine_upward(graph_of(fake)) == [
+        "rprpr.engine.bounds.search -> rprpr.engine.audit",
+        "rprpr.engine.exact.singular -> rprpr.engine.certified.balls",
+    ]

@@ -443,7 +443,7 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     if not files:
         return run
     if min(options.jobs, len(files)) > 1:  # the ball machinery once, not in every worker
-        from ..engine import envelope  # noqa: F401  (one task loads it only if it needs it)
+        from ..engine.bounds import envelope  # noqa: F401  (one task loads it only if it needs it)
     work = functools.partial(_check_in_worker, options)
     if options.format == "html" and options.sheets:  # drawn in the workers: imported once
         with contextlib.suppress(Exception):  # a broken matplotlib: each task's note says so

@@ -25,10 +25,10 @@ from ..model.numbers import to_float
 from ..model.options import AuditKeywords, AuditOptions
 from ..model.rules import Finding, with_levels
 from ..model.task import Task
-from . import knots as K
 from . import pieces as P
-from .findings import findings
-from .singular import (
+from .bounds.verdicts import Approach, LimitCheck, Peak, Window, around_poles
+from .exact import knots as K
+from .exact.singular import (
     EXPANDING,
     FACTORING,
     ISOLATING,
@@ -37,12 +37,12 @@ from .singular import (
     SingularAnalysis,
     SingularInstant,
 )
-from .trajectory import Trajectory
-from .verdicts import Approach, LimitCheck, Peak, Window, around_poles
+from .exact.trajectory import Trajectory
+from .findings import findings
 
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
-    from .certified import CertifiedMotion
-    from .sampling import Samples
+    from .certified.motion import CertifiedMotion
+    from .certified.sampling import Samples
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -122,7 +122,7 @@ class AuditResult:
     @cached_property
     def samples(self) -> Samples:
         """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
-        from .sampling import grid
+        from .certified.sampling import grid
 
         return self.resample(grid(self.task.duration, self.grid_size))
 

@@ -20,10 +20,10 @@ from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task
-from .knots import Knot
-from .mechanism import of
-from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
-from .verdicts import LimitCheck, Peak, Window
+from .bounds.verdicts import LimitCheck, Peak, Window
+from .exact.knots import Knot
+from .exact.mechanism import of
+from .exact.singular import KinematicSingularity, SingularAnalysis, SingularInstant
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 

@@ -22,7 +22,8 @@ from flint import arb, ctx, fmpq, fmpq_poly
 
 from ..model.numbers import to_float
 from ..model.task import Checks, Piece, Robot, Task
-from .singular import (
+from .bounds.verdicts import CROSSING_REL, Approach, LimitCheck, Peak, Window
+from .exact.singular import (
     KinematicSingularity,
     OnStage,
     Principle,
@@ -30,14 +31,13 @@ from .singular import (
     SingularInstant,
     analyse,
 )
-from .trajectory import Trajectory, origin_of, piece_trajectory
-from .verdicts import CROSSING_REL, Approach, LimitCheck, Peak, Window
+from .exact.trajectory import Trajectory, origin_of, piece_trajectory
 
 if TYPE_CHECKING:  # the ball machinery is imported when a piece needs a pass (below)
-    from .batch import Batch
-    from .certified import CertifiedMotion
-    from .envelope import Envelope
-    from .sampling import Samples
+    from .bounds.batch import Batch
+    from .bounds.envelope import Envelope
+    from .certified.motion import CertifiedMotion
+    from .certified.sampling import Samples
 
 
 class Part:
@@ -64,13 +64,13 @@ class Part:
 
     @cached_property
     def motion(self) -> CertifiedMotion:
-        from .certified import CertifiedMotion
+        from .certified.motion import CertifiedMotion
 
         return CertifiedMotion(self.traj, self.robot, self.analysis)
 
     @cached_property
     def envelope(self) -> Envelope:
-        from .envelope import Envelope
+        from .bounds.envelope import Envelope
 
         return Envelope(self.motion)
 
@@ -82,7 +82,7 @@ class Part:
     @property
     def plain(self) -> bool:
         """Whether the batch can enclose the piece (``batch.plain``)."""
-        from .batch import plain
+        from .bounds.batch import plain
 
         return self.apart or plain(self.motion)
 
@@ -102,7 +102,7 @@ def parts(task: Task, tell: OnStage) -> tuple[list[Part], Batch | None]:
     motion = list(task.motion)
     batch = None
     if len(motion) > 1 and len({p.path is None for p in motion}) == 1:
-        from .batch import Batch
+        from .bounds.batch import Batch
 
         batch = Batch(motion, task.robot)
     apart = batch.apart() if batch is not None else np.zeros(len(motion), dtype=bool)
@@ -451,8 +451,8 @@ def theta_offsets(parts: list[Part]) -> None:
 
 def sample(parts: list[Part], t: np.ndarray) -> Samples:
     """Certified samples at the absolute times ``t``, each from its own piece."""
-    from .certified import FIELDS
-    from .sampling import Samples
+    from .certified.motion import FIELDS
+    from .certified.sampling import Samples
 
     t = np.asarray(t, dtype=float)
     if len(parts) == 1:

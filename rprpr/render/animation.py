@@ -36,8 +36,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 from PIL import Image
 
-from ..engine.sampling import Samples
-from ..engine.singular import SingularInstant
+from ..engine.certified.sampling import Samples
+from ..engine.exact.singular import SingularInstant
 from ..model.actuation import SCHEMES
 from ..model.numbers import number
 from . import sheet as P

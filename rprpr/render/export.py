@@ -38,8 +38,8 @@ import numpy as np
 
 from .._version import __version__
 from ..engine.audit import AuditResult
-from ..engine.certified import POLE, REASONS, TOL
-from ..engine.sampling import COLUMNS
+from ..engine.certified.motion import POLE, REASONS, TOL
+from ..engine.certified.sampling import COLUMNS
 from ..model.actuation import PRISMATIC, REVOLUTE
 from ..model.names import file_name
 from ..model.numbers import number, round_trip

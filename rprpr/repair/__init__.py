@@ -38,7 +38,7 @@ from dataclasses import replace
 from flint import fmpq
 
 from ..engine.audit import AuditResult, audit
-from ..engine.singular import SingularInstant
+from ..engine.exact.singular import SingularInstant
 from ..model.actuation import PRISMATIC
 from ..model.options import AuditOptions
 from ..model.task import Task

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 from flint import fmpq
 
 from ..engine.audit import AuditResult
-from ..engine.roots import max_abs
+from ..engine.exact.roots import max_abs
 from ..model.task import Piece, Task
 from .records import Repair
 

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 from flint import fmpq, fmpq_poly
 
-from ..engine.roots import isolate
+from ..engine.exact.roots import isolate
 from ..model.task import Piece, Task
 
 if TYPE_CHECKING:

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from flint import fmpq
 
-from ..engine import equations as dyn
+from ..engine.exact import equations as dyn
 from ..model.task import Robot
 
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from flint import fmpq, fmpq_poly, fmpz
 
 from ..engine.audit import AuditResult
-from ..engine.singular import SingularInstant
+from ..engine.exact.singular import SingularInstant
 from ..model.actuation import PRISMATIC
 from ..model.task import Piece, Robot, Task
 from .consistency import consistent_acceleration, consistent_ydd, leg_term

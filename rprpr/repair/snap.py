@@ -6,7 +6,7 @@ from __future__ import annotations
 from flint import fmpq
 
 from ..engine.audit import AuditResult
-from ..engine.singular import SingularInstant
+from ..engine.exact.singular import SingularInstant
 from ..model.task import Piece, Task
 from .plan import Plan
 from .records import Change, NoRepair

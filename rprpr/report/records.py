@@ -11,9 +11,9 @@ import traceback
 from typing import Any
 
 from ..engine.audit import AuditResult, Saturation
-from ..engine.knots import Knot
-from ..engine.singular import SingularInstant
-from ..engine.verdicts import Approach, LimitCheck, Peak, Window
+from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
+from ..engine.exact.knots import Knot
+from ..engine.exact.singular import SingularInstant
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.names import file_name

@@ -24,10 +24,19 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rprpr.engine.certified import AT_A, AT_B, FIELDS, OK, ON_LINE, POLE, TOL, CertifiedMotion
-from rprpr.engine.sampling import grid
-from rprpr.engine.singular import analyse
-from rprpr.engine.trajectory import trajectory
+from rprpr.engine.certified.motion import (
+    AT_A,
+    AT_B,
+    FIELDS,
+    OK,
+    ON_LINE,
+    POLE,
+    TOL,
+    CertifiedMotion,
+)
+from rprpr.engine.certified.sampling import grid
+from rprpr.engine.exact.singular import analyse
+from rprpr.engine.exact.trajectory import trajectory
 from rprpr.io.loader import parse_task
 from rprpr.model.task import Task
 from tests.conftest import CONFIGS, task_text

@@ -31,9 +31,9 @@ from rprpr.cli.check import run_checks
 from rprpr.cli.main import main
 from rprpr.cli.options import CheckOptions
 from rprpr.engine import audit as auditing
-from rprpr.engine import envelope as enveloping
 from rprpr.engine.audit import AuditResult, audit
-from rprpr.engine.singular import ISOLATING
+from rprpr.engine.bounds import envelope as enveloping
+from rprpr.engine.exact.singular import ISOLATING
 from rprpr.io.loader import parse_task
 from rprpr.model.options import AuditOptions
 from rprpr.report.exit import ExitCode, run_status

@@ -12,8 +12,8 @@ import pytest
 from flint import fmpq
 
 from rprpr.engine.audit import AuditResult, audit
-from rprpr.engine.sampling import grid
-from rprpr.engine.verdicts import LimitCheck
+from rprpr.engine.bounds.verdicts import LimitCheck
+from rprpr.engine.certified.sampling import grid
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.rules import Finding
 from rprpr.model.task import Task
@@ -409,7 +409,8 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
 
 def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
     code = (
-        "import sys, rprpr.engine.audit, rprpr.engine.sampling, rprpr.engine.singular;"
+        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling;"
+        "import rprpr.engine.exact.singular;"
         "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules];"
         "print(','.join(bad))"
     )

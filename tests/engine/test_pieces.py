@@ -833,7 +833,7 @@ def test_a_float_cubic_spline_audits_as_c2_once_its_rounding_is_closed() -> None
     """A C2 cubic spline in floats: its knots agree in slope and curvature only to
     rounding; with a tolerance the later pieces are corrected (by an amount ``snapped``
     bounds) and every knot is exactly C2, so the audit finds no jump."""
-    from rprpr.engine.knots import knots as knot_list
+    from rprpr.engine.exact.knots import knots as knot_list
 
     # x = t^3/3 on [0, 1], then 1/3 + u + u^2 - u^3/3 (u = t - 1): C2 in exact arithmetic
     # (value 1/3, slope 1, curvature 2 at t = 1); in floats 1/3 rounds, 3 fl(1/3) != 1

@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 from flint import fmpq, fmpq_poly
 
-from rprpr.engine import knots as K
 from rprpr.engine.audit import audit
+from rprpr.engine.exact import knots as K
 from rprpr.io.loader import load_task
 from rprpr.model.waypoints import Waypoint, pieces
 

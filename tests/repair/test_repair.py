@@ -253,7 +253,7 @@ def _fixed_ends(text: str) -> str:
 def test_the_largest_change_is_the_exact_maximum_of_the_difference() -> None:
     """``roots.max_abs``: the maximum of |p| over [a, b] at an irrational critical point
     (t^3 - 2t on [0, 2]: |p| = 4 at t = 2; on [0, 1]: 4 sqrt(2/3)/3 at t = sqrt(2/3))."""
-    from rprpr.engine.roots import max_abs
+    from rprpr.engine.exact.roots import max_abs
 
     p = fmpq_poly([0, -2, 0, 1])
     assert max_abs(p, fmpq(0), fmpq(2)) == (pytest.approx(4.0, rel=1e-15), 2.0)
@@ -338,7 +338,7 @@ def test_a_prismatic_crossing_is_repaired_by_the_schemes_own_condition() -> None
     prismatic crossing with ÿ(t_s) one m/s² off ÿ* fails; with the path kept, ÿ = p' ẍ +
     p'' ẋ² and p' = 3, so the timing bump sets ẍ(t_s) = -1/3; with the timing kept, the
     path bump (t - t_s)² W restores ÿ(t_s) = ÿ* itself. Both pass strict, residual 0."""
-    from tests.engine.test_equations_prismatic import _crossing, _prismatic_ydd
+    from tests.engine.exact.test_equations_prismatic import _crossing, _prismatic_ydd
 
     want = _prismatic_ydd(Fraction(4), Fraction(1), Fraction(3))
     assert want == Fraction(-37323, 2450)  # the config's value

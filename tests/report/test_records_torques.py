@@ -22,8 +22,8 @@ import pytest
 from numpy.polynomial.chebyshev import cheb2poly
 from rich.console import Console
 
-from rprpr.engine import envelope, search
 from rprpr.engine.audit import AuditResult, audit
+from rprpr.engine.bounds import envelope, search
 from rprpr.io.loader import load_task, parse_task
 from rprpr.render.junit import render as junit
 from rprpr.render.text import render as text

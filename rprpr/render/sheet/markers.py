@@ -10,7 +10,7 @@ from typing import Any
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
-from ...engine.singular import SingularInstant
+from ...engine.exact.singular import SingularInstant
 from .motion import Motion
 from .page import Sheet
 from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, pt, task_colour

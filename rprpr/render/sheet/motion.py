@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...engine.audit import AuditResult, audit
-from ...engine.sampling import Samples, grid
+from ...engine.certified.sampling import Samples, grid
 from ...model.names import file_name
 from ...model.task import Task
 

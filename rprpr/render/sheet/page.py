@@ -32,7 +32,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from ..._version import __version__
-from ...engine.singular import SingularInstant
+from ...engine.exact.singular import SingularInstant
 from .labels import MAX_LABELS
 from .motion import Motion
 from .style import FONT_SCALE, LABEL_SIZE, OVERLAID, WIDTH, pt, task_colour

@@ -18,7 +18,7 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
-from ...engine.sampling import Samples
+from ...engine.certified.sampling import Samples
 from .motion import Motion
 from .style import LEG1, LEG2, LINE, LINE_DASH, POINT, pt
 

@@ -9,8 +9,8 @@ from collections.abc import Sequence
 
 from ..._version import __version__
 from ...engine.audit import AuditResult
-from ...engine.singular import SingularInstant
-from ...engine.verdicts import Approach
+from ...engine.bounds.verdicts import Approach
+from ...engine.exact.singular import SingularInstant
 from ...model.actuation import REVOLUTE, SCHEMES, Scheme
 from ...model.numbers import distinct, number
 from .motion import Motion

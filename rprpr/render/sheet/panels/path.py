@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
-from ....engine.singular import SingularInstant
+from ....engine.exact.singular import SingularInstant
 from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from ..axes import handles, look

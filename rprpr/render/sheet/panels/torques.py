@@ -22,8 +22,8 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 from matplotlib.transforms import blended_transform_factory
 
-from ....engine.singular import SingularInstant
-from ....engine.verdicts import Window
+from ....engine.bounds.verdicts import Window
+from ....engine.exact.singular import SingularInstant
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look

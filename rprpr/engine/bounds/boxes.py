@@ -1,0 +1,142 @@
+"""Boxes of time and what one pass proves over them: the motion's polynomials enclosed
+over boxes (``Polys``), the partition of [0, t_f] and its cuts, stacked balls by
+columns, and ``Bounds``, what one pass proves per box."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from flint import fmpq, fmpq_poly
+
+from ...model.numbers import to_float
+from ..certified.balls import Ball, centred, horner, poly_balls
+from ..certified.jets import Jet
+from ..certified.motion import CertifiedMotion
+
+START_BOXES = 512  # the initial partition of [0, t_f]
+CENTRED_DEGREE = 7  # a longer polynomial is enclosed over boxes by the centred form
+
+
+class Polys:
+    """Ball coefficients of x, x', x'', x''' in t and of q, q', q'', q''' in w = x - c
+    (q: the path recentred), or without a path q = y recentred, in w = t - c_t; and the
+    fourth derivatives, which the centred form (``balls.centred``) needs where a long
+    polynomial is enclosed over boxes."""
+
+    def __init__(self, motion: CertifiedMotion) -> None:
+        self.direct = motion.traj.path is None  # then q is y in w = t - c_t
+        q3 = motion.y3 if self.direct else motion.q3  # up to the second derivative
+        assert q3 is not None
+        x, q = motion.traj.x, motion.recentred
+        x3 = x.derivative().derivative().derivative()
+        q3d = q.derivative().derivative().derivative()
+        self.x = [*motion.x3, poly_balls(x3), *_fourth(x3)]
+        self.q = [*q3, poly_balls(q3d), *_fourth(q3d)]
+
+    @staticmethod
+    def _enclose(cs: list[list[Ball]], box: Ball) -> list[Ball]:
+        """The polynomial and its first three derivatives over the balls ``box``: by
+        Horner's rule, or, where ``cs`` carries the fourth derivative (a degree over
+        CENTRED_DEGREE), by the centred form on balls of some width (where cancellation
+        makes Horner's enclosure far too wide)."""
+        if len(cs) > 4 and bool(np.any(box.rad > 0)):
+            return centred(cs, box)[:4]
+        return [horner(c, box) for c in cs[:4]]
+
+    def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
+        """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
+        xv = self._enclose(self.x, box)
+        x, xd, xdd = Jet(xv[0], xv[1]), Jet(xv[1], xv[2]), Jet(xv[2], xv[3])
+        if self.direct:
+            yv = self._enclose(self.q, box - motion.t_center)
+            return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
+        w = xv[0] - motion.center
+        qv = self._enclose(self.q, w)
+        q1 = Jet(qv[1], qv[2] * xv[1])
+        q2 = Jet(qv[2], qv[3] * xv[1])
+        y = Jet(qv[0], qv[1] * xv[1])
+        return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
+
+
+def _fourth(third: fmpq_poly) -> list[list[Ball]]:
+    """The fourth derivative's ball coefficients from the third derivative, where the
+    polynomial's degree (the third's plus 3) calls for the centred form; else none."""
+    return [poly_balls(third.derivative())] if third.degree() + 3 > CENTRED_DEGREE else []
+
+
+def full(b: Ball, n: int, rows: int = 2) -> Ball:
+    """The ball ``b`` broadcast to ``rows`` rows (0: none) of n columns (a motion that
+    does not move, x and y constant, gives balls that do not depend on t)."""
+    shape = (rows, n) if rows else (n,)
+    mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
+    return Ball._of(np.array(mid), np.array(rad))
+
+
+def poor_columns(b: Ball) -> np.ndarray:
+    """The columns of a stacked ball (rows: torques) whose enclosure is wider than its
+    value in some row (unbounded ones included)."""
+    return np.asarray(~(b.rad <= np.abs(b.mid)).all(axis=0))
+
+
+def put_narrower(b: Ball, idx: np.ndarray, new: Ball) -> Ball:
+    """b (rows by columns) with its columns ``idx`` replaced by ``new`` where narrower."""
+    if not len(idx):
+        return b
+    mid, rad = b.mid.copy(), b.rad.copy()
+    pick = ~(rad[:, idx] <= new.rad)  # NaN radii (unbounded) are replaced
+    mid[:, idx] = np.where(pick, new.mid, mid[:, idx])
+    rad[:, idx] = np.where(pick, new.rad, rad[:, idx])
+    return Ball._of(mid, rad)
+
+
+def partition(duration: fmpq, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A partition of [0, t_f] into n boxes with float ends (the last one reaches just
+    past t_f when t_f is no float)."""
+    tf = to_float(duration)
+    step = tf / n
+    if n & (n - 1) == 0 and math.isfinite(tf) and step * n == tf and step >= 2.0**-1000 \
+            and fmpq(*tf.as_integer_ratio()) == duration:  # fmt: skip
+        # t_f a float, n a power of 2: t_f/n is exact and i (t_f/n) the double nearest
+        # t_f i/n (one correctly rounded product), as the exact line below gives
+        ends = np.arange(n + 1) * step
+    else:
+        ends = np.array([to_float(duration * fmpq(i, n)) for i in range(n + 1)])
+    if fmpq(*tf.as_integer_ratio()) < duration:
+        ends[-1] = np.nextafter(tf, np.inf)
+    return ends[:-1], ends[1:]
+
+
+def split(lo: np.ndarray, hi: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each box [lo_j, hi_j] cut into k boxes that share their float ends (rounding is
+    monotone, so they cover it)."""
+    f = np.arange(k + 1) / k
+    ends = lo[:, None] + (hi - lo)[:, None] * f[None, :]
+    ends[:, 0], ends[:, -1] = lo, hi
+    return ends[:, :-1].ravel(), ends[:, 1:].ravel()
+
+
+def last_float(duration: fmpq) -> float:
+    """The largest float <= t_f."""
+    tf = to_float(duration)
+    if fmpq(*tf.as_integer_ratio()) > duration:
+        tf = float(np.nextafter(tf, -np.inf))
+    return tf
+
+
+@dataclass
+class Bounds:
+    """What one pass proves about boxes [lo_j, hi_j], per torque i (rows):
+    ``low``/``low_t``: a certified value of |T_i| at a time of the box (a lower bound of
+    its max there; 0 with no such value), ``up``: an upper bound of |T_i| over the box,
+    ``floor``: a lower bound of |T_i| over the box."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    low: np.ndarray
+    low_t: np.ndarray
+    up: np.ndarray
+    floor: np.ndarray
+    ends: tuple[np.ndarray, ...] | None = None  # |T| at the ends: bounds, values (``_crossing``)
+    monotone: np.ndarray | None = None  # |T_i| monotone on the box (T' ∌ 0, T ∌ 0)

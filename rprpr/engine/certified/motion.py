@@ -1,0 +1,661 @@
+"""Certified values of the motion, joints, δ, λ and torques at given times.
+
+Every value returned for a time t (a float, taken as its exact binary value) is within a
+proven bound of the true value of the paper's formulas at t: the mixed error
+|value - true| <= TOL (1 + |value|), TOL = 1e-9; or it is NaN with a reason code.
+
+How (all choices depend on t alone, never on the other times asked for):
+
+1. **A vectorised ball pass** (``balls.Ball``, rigorous under round-to-nearest): x, x', x''
+   by Horner from the exact coefficients rounded to balls; y(t) likewise, recentred on
+   the middle of the span, when the task gives no path; else y = p(x) with the path
+   recentred, y = q(x - c) where q(w) = p(c + w) is formed exactly in Q and c is a short
+   dyadic number in the middle of the x range (this keeps Horner well conditioned); near
+   each exact root t_s of y (Type II instants, E at A or B), y and x also from their exact
+   Taylor polynomials about t_s in ε = t - t_s, with ε taken from a double-double t_s
+   plus a proven residual, and the tighter of the two balls kept. Then the paper's formulas
+   (``equations.leg``/``dynamics``/``torques``) run unchanged on balls, with δ in its
+   product form δ = -a1 y/(s1 s2) (eq. 29), δ' = -a1/(s1 s2) (y' - y (s1'/s1 + s2'/s2)),
+   λ = μ/δ (eqs. 30-31).
+2. **θ** from ``numpy.arctan2`` with an allowance of 8 ulp for the C library (glibc's
+   documented maximum error of atan2 is 1 ulp; numpy's vectorised loops stay within 4),
+   plus the propagated input error: every point of the box mid ± rad lies in the disc of
+   radius ρ = r_u + r_v about (u, v), whose angle differs by at most arcsin(ρ/|M|) <=
+   (π/2) ρ/max(|u|, |v|). Where the ball of y contains 0 behind the base joint, the sign
+   of y(t) is decided exactly in Q, so the branch is never guessed. θ is continuous: the
+   principal value is shifted by 2π after each exact instant at which the leg's line
+   crosses its cut (y = 0 behind A for leg 1, behind B for leg 2); exactly at such an
+   instant θ takes its limit from the left (``sampling._continuous_angle``'s semantics,
+   decided exactly instead of by a width).
+3. **Near a singular instant**, where λ = μ/δ fails the acceptance, λ is taken from the
+   instant's zone form (``zones.Zone``: the Taylor coefficients of μ and δ at t_s with the
+   exactly vanishing ones dropped, and a proven remainder), which cancels nothing.
+4. **Refinement**: a sample whose ball fails the acceptance (rad <= TOL (1 + |mid|)) is
+   evaluated again alone in flint's arb at the exact t, with x(t), y(t) and their
+   derivatives exact in Q, at 128 bits doubled up to 4096 until every value passes.
+5. **Exactly at a singular instant** (t == t_s, only possible for a dyadic t_s): δ = 0;
+   bounded: λ and T are the exact limits from the exact series (``singular``); a pole:
+   λ2, T1, T2 NaN (reason POLE; λ1 = μ1/δ is always bounded, μ1 = O(ε^m)). E exactly at
+   A or B: the leg's angle, rates, δ, λ and T NaN (reasons AT_A, AT_B). An irrational or
+   non-dyadic t_s is never a float, so every float time gets finite certified values.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any, TypeVar
+
+import numpy as np
+from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
+
+from ...model.numbers import number, to_float
+from ...model.task import Robot
+from ..exact import equations as dyn
+from ..exact.mechanism import of
+from ..exact.series import taylor
+from ..exact.singular import SingularAnalysis, SingularInstant, expansion, legs
+from ..exact.trajectory import Trajectory
+from .balls import ETA, Ball, U, horner, hypot, poly_balls, quiet
+from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
+
+TOL = 1e-9  # the mixed error every certified value meets
+START_PREC = 128  # bits of the arb refinement, to start with
+MAX_PREC = 4096  # ... doubled up to this
+
+# reason codes of a sample with values that are not finite (0: every value certified);
+# where several apply, the first of UNCERTIFIED, BEYOND_DOUBLE, then the one that makes
+# values undefined (POLE, AT_A, AT_B before ON_LINE)
+OK, POLE, AT_A, AT_B, ON_LINE, UNCERTIFIED, BEYOND_DOUBLE = 0, 1, 2, 3, 4, 5, 6
+REASONS = {
+    OK: "",
+    POLE: "a singular instant with unbounded torques (a pole of λ2): λ2, T1, T2 undefined",
+    AT_A: "the end point is at A (s1 = 0): θ1, its rates, δ, λ and T undefined",
+    AT_B: "the end point is at B (s2 = 0): θ2, its rates, δ, λ and T undefined",
+    ON_LINE: "the path lies on y = 0 (δ ≡ 0): λ and T undefined",
+    UNCERTIFIED: f"not certified to {number(TOL)} at {MAX_PREC} bits: no value",
+    BEYOND_DOUBLE: "beyond the double range: |value| > 1.8e308 (certified)",
+}
+DBL_MAX = float(np.finfo(float).max)
+
+FIELDS = (
+    "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot",
+    "theta1", "s1", "theta2", "s2",
+    "theta1_dot", "s1_dot", "theta2_dot", "s2_dot",
+    "theta1_ddot", "s1_ddot", "theta2_ddot", "s2_ddot",
+    "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+)  # fmt: skip
+LEG1 = ("theta1", "theta1_dot", "s1_dot", "theta1_ddot", "s1_ddot")
+LEG2 = ("theta2", "theta2_dot", "s2_dot", "theta2_ddot", "s2_ddot")
+DYNAMIC = ("delta", "delta_dot", "lambda1", "lambda2", "T1", "T2")
+
+Values = dict[str, Ball]
+
+
+@dataclass(frozen=True)
+class CertifiedSamples:
+    """Certified values at the times ``t``: ``value[name]`` (floats, NaN where undefined
+    or not certified, ±inf where the true value is proven beyond the double range),
+    ``radius[name]`` (proven error bounds, <= TOL (1 + |value|); inf beside ±inf) and
+    ``reason`` (one code per sample, ``REASONS``; 0 when every value is finite)."""
+
+    t: np.ndarray
+    value: dict[str, np.ndarray]
+    radius: dict[str, np.ndarray]
+    reason: np.ndarray
+
+    def column(self, name: str) -> np.ndarray:
+        return self.t if name == "t" else self.value[name]
+
+
+# -- exact instants -------------------------------------------------------------------
+
+
+def _instant_time(analysis: SingularAnalysis, s: SingularInstant) -> ExactTime:
+    field = analysis.hints(s).field
+
+    def at(prec: int) -> arb:
+        return field.evaluate(fmpq_poly([0, 1]), prec)
+
+    return ExactTime(s.t_rational, at)
+
+
+@dataclass
+class _Kinematic:
+    time: ExactTime
+    leg: int
+    order: int
+    y_sign: int
+
+
+@dataclass
+class _Cut:
+    """An exact instant at which y = 0 on a leg's branch cut (see ``sampling._cuts``)."""
+
+    time: ExactTime
+    after: int  # sign of y just after
+    crossing: bool
+
+
+# -- polynomials in balls ---------------------------------------------------------------
+
+
+def _poly3(p: fmpq_poly) -> tuple[list[Ball], list[Ball], list[Ball]]:
+    d = p.derivative()
+    return poly_balls(p), poly_balls(d), poly_balls(d.derivative())
+
+
+def _tighter(a: Ball, b: Ball) -> Ball:
+    """Of two enclosures of the same values, the narrower one elementwise."""
+    pick = ~(b.rad < a.rad)
+    return Ball(np.where(pick, a.mid, b.mid), np.where(pick, a.rad, b.rad))
+
+
+def dyadic_middle(lo: float, hi: float) -> fmpq:
+    """A short dyadic number near (lo + hi)/2 (12 significant bits)."""
+    m = 0.5 * (lo + hi)
+    if m == 0 or not math.isfinite(m):
+        return fmpq(0)
+    e = math.frexp(m)[1] - 12
+    return fmpq(round(m / 2.0**e)) * fmpq(2) ** e if e >= 0 else fmpq(round(m * 2.0**-e), 2**-e)
+
+
+@dataclass
+class _Local:
+    """Exact Taylor polynomials about an exact root t_s of y (in ε/h, h a power of 2)."""
+
+    time: ExactTime
+    he: int  # h = 2^he
+    x: tuple[list[Ball], list[Ball], list[Ball]]
+    y: tuple[list[Ball], list[Ball], list[Ball]]
+
+
+# -- what one robot shares -------------------------------------------------------------
+
+Shared = TypeVar("Shared")
+
+_SHARED: dict[Callable[[Robot], Any], tuple[Robot, Any]] = {}
+
+
+def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
+    """make(robot), made once for the robot last given (the pieces of one motion share
+    their robot: its constants as balls are converted once, not once per piece)."""
+    hit = _SHARED.get(make)
+    if hit is None or hit[0] is not robot:
+        hit = (robot, make(robot))
+        _SHARED[make] = hit
+    return hit[1]
+
+
+def _ball_params(robot: Robot) -> dyn.Params:
+    return of(robot).params(robot, Ball.of_rational)
+
+
+# -- the motion ---------------------------------------------------------------------
+
+
+class CertifiedMotion:
+    """Certified evaluation of one task's motion (``sample``); built once per task."""
+
+    def __init__(self, traj: Trajectory, robot: Robot, analysis: SingularAnalysis) -> None:
+        self.traj = traj
+        self.robot = robot
+        self.mech = of(robot)  # the robot's formulas (``mechanism``)
+        self.analysis = analysis
+        self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
+        self.kinematic = self._kinematic()
+        self._limits: dict[int, tuple[Ball, Ball, Ball, Ball]] = {}
+        self._zones: dict[int, Zone | None] = {}
+
+    # -- set-up (each part made when first read: a motion whose torques are unbounded
+    # needs few of them) ------------------------------------------------------------------
+    @cached_property
+    def params(self) -> dyn.Params:
+        return per_robot(self.robot, _ball_params)
+
+    @cached_property
+    def a1(self) -> Ball:
+        return Ball.of_rational(self.traj.a1)
+
+    @cached_property
+    def x3(self) -> tuple[list[Ball], list[Ball], list[Ball]]:
+        return _poly3(self.traj.x)
+
+    @cached_property
+    def center(self) -> fmpq:
+        return self._center()
+
+    @cached_property
+    def t_center(self) -> fmpq:
+        return dyadic_middle(0.0, to_float(self.traj.duration))
+
+    @cached_property
+    def recentred(self) -> fmpq_poly:
+        """y = p(x) through the path recentred on x's range, p(c + w) exactly; without a
+        path, y(t) itself recentred on the middle of the span, y(t) = r(t - c_t)."""
+        if self.traj.path is not None:
+            return self.traj.path(fmpq_poly([self.center, 1]))
+        return self.traj.y(fmpq_poly([self.t_center, 1]))
+
+    @cached_property
+    def q3(self) -> tuple[list[Ball], list[Ball], list[Ball]] | None:
+        return _poly3(self.recentred) if self.traj.path is not None else None
+
+    @cached_property
+    def y3(self) -> tuple[list[Ball], list[Ball], list[Ball]] | None:
+        return _poly3(self.recentred) if self.traj.path is None else None
+
+    @cached_property
+    def locals(self) -> list[_Local]:
+        """The Taylor polynomials about each exact root of y (made when first sampled)."""
+        return [self._local(e) for _, e in self.instants] + [
+            self._local(k.time) for k in self.kinematic
+        ]
+
+    def _center(self) -> fmpq:
+        tf = to_float(self.traj.duration)
+        ts = np.linspace(0.0, tf, 65)
+        with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
+            xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
+        xs = xs[np.isfinite(xs)]
+        return dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
+
+    def _kinematic(self) -> list[_Kinematic]:
+        traj = self.traj
+        out = []
+        for leg, u in ((1, traj.x), (2, traj.x - traj.a1)):
+            common = u if traj.y.is_zero() else u.gcd(traj.y)
+            for e in ExactTime.roots(common, traj.duration):
+                match = [k for k in self.analysis.kinematic if k.leg == leg]
+                near = min(match, key=lambda k: abs(k.t - e.hi), default=None)
+                order, ys = (near.order, self.analysis.kinematic_sign(near)) if near else (1, 1)
+                out.append(_Kinematic(e, leg, order, ys))
+        return out
+
+    def _local(self, e: ExactTime) -> _Local:
+        tf = to_float(self.traj.duration)
+        he = math.frexp(tf)[1] if tf > 0 else 0
+        out = []
+        for p in (self.traj.x, self.traj.y):
+            cs = taylor(p, max(p.degree(), 0) + 1)
+            scale = [fmpq(2) ** (he * k) for k in range(len(cs))]  # h^k, exactly
+            if e.exact is not None:
+                coeffs = [Ball.of_rational(c(e.exact) * scale[k]) for k, c in enumerate(cs)]
+            else:
+                coeffs = [_arb_at(c, e, 256, scale[k]) for k, c in enumerate(cs)]
+            with quiet():  # beyond the double range: unbounded balls
+                d1 = [coeffs[k] * k for k in range(1, len(coeffs))] or [Ball.exact(0.0)]
+                d2 = [d1[k] * k for k in range(1, len(d1))] or [Ball.exact(0.0)]
+            out.append((coeffs, d1, d2))
+        return _Local(e, he, out[0], out[1])
+
+    @cached_property
+    def cuts(self) -> dict[int, list[_Cut]]:
+        return {1: self._cuts(1), 2: self._cuts(2)}
+
+    def _cuts(self, leg: int) -> list[_Cut]:
+        on_cut = (2,) if leg == 1 else (2, 3)
+        cuts = [
+            _Cut(e, self.analysis.hints(s).y_leading_sign, s.order % 2 == 1)
+            for s, e in self.instants
+            if s.case.number in on_cut
+        ]
+        if leg == 2 and not self.traj.y.is_zero():  # on y = 0, E passing A stays on the cut
+            cuts += [_Cut(k.time, k.y_sign, k.order % 2 == 1) for k in self.kinematic if k.leg == 1]
+        return sorted(cuts, key=lambda c: c.time.hi)
+
+    # -- sampling --------------------------------------------------------------------
+    def sample(self, t: np.ndarray, refine: bool = True) -> CertifiedSamples:
+        """Certified values at the float times ``t`` [s] (module docstring); without
+        ``refine``, values the ball pass and the zone forms do not certify are left NaN
+        (reason UNCERTIFIED) instead of being refined in arb."""
+        t = np.asarray(t, dtype=float)
+        with quiet():
+            balls = self.ball_pass(t)
+        value = {n: np.array(b.mid + 0 * t, dtype=float) for n, b in balls.items()}
+        radius = {n: np.array(b.rad + 0 * t, dtype=float) for n, b in balls.items()}
+        reason = np.zeros(len(t), dtype=np.int8)
+        undefined = {name: np.zeros(len(t), dtype=bool) for name in FIELDS}
+        if self.analysis.on_singular_line:
+            reason[:] = ON_LINE
+            for name in ("lambda1", "lambda2", "T1", "T2"):
+                undefined[name][:] = True
+        for s, e in self.instants:
+            for j in np.nonzero(e.compare(t) == 0)[0]:
+                self._at_instant(s, int(j), value, radius, reason, undefined)
+        for k in self.kinematic:
+            for j in np.nonzero(k.time.compare(t) == 0)[0]:
+                reason[j] = AT_A if k.leg == 1 else AT_B
+                for name in (LEG1 if k.leg == 1 else LEG2) + DYNAMIC:
+                    undefined[name][j] = True
+        bad = self._failing(value, radius, undefined)
+        if bad.any() and self.instants and not self.analysis.on_singular_line:
+            with quiet():
+                self._from_zones(t, bad & (reason == OK), value, radius)
+            bad = self._failing(value, radius, undefined)
+        for j in np.nonzero(bad)[0]:
+            if refine:
+                self._refine(float(t[j]), int(j), value, radius, undefined, reason)
+                continue
+            reason[j] = UNCERTIFIED  # defined values left NaN: said before the others
+            for n in FIELDS:
+                if not radius[n][j] <= TOL * (1.0 + abs(value[n][j])):
+                    undefined[n][j] = True
+        for n in FIELDS:
+            value[n][undefined[n]] = np.nan
+            radius[n][undefined[n]] = np.nan
+        return CertifiedSamples(t, value, radius, reason)
+
+    @staticmethod
+    def _failing(
+        value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+        undefined: dict[str, np.ndarray],
+    ) -> np.ndarray:
+        """Samples with a defined value not yet certified."""
+        bad = np.zeros(len(next(iter(value.values()))), dtype=bool)
+        for n in FIELDS:
+            ok = radius[n] <= TOL * (1.0 + np.abs(value[n]))
+            bad |= ~ok & ~undefined[n]
+        return bad
+
+    def zone(self, k: int) -> Zone | None:
+        """The zone form of λ about the k-th singular instant (``zones.make_zone``)."""
+        if k not in self._zones:
+            s = self.instants[k][0]
+            self._zones[k] = make_zone(self, s, taylor_at_instant(self, s, TAYLOR_PREC))
+        return self._zones[k]
+
+    def _from_zones(
+        self, t: np.ndarray, todo: np.ndarray, value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray],
+    ) -> None:  # fmt: skip
+        """λ and T at samples near a singular instant from its zone form (no cancellation
+        left), where that is narrower than the direct quotient."""
+        times = np.array([e.hi for _, e in self.instants])
+        near = np.argmin(np.abs(t[:, None] - times[None, :]), axis=1)
+        for k in np.unique(near[todo]):
+            idx = np.nonzero(todo & (near == k))[0]
+            zone = self.zone(int(k))
+            if zone is None:
+                continue
+            idx = idx[np.abs(t[idx] - zone.e.hi) <= 0.999 * zone.r]
+            if not len(idx):
+                continue
+            lam = zone.lam(zone.e.eps(t[idx]))
+            b = {
+                n: Ball(value[n][idx], radius[n][idx])
+                for n in ("x", "x_dot", "x_ddot", "y", "y_dot", "y_ddot")
+            }
+            p, mech = self.params, self.mech
+            kin = (b["x"], b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"])
+            leg1, leg2 = mech.legs(p, *kin, hypot)
+            T1, T2 = mech.efforts(mech.dynamics(leg1, leg2, p), lam[0], lam[1])
+            for name, new in (("lambda1", lam[0]), ("lambda2", lam[1]), ("T1", T1), ("T2", T2)):
+                better = new.rad < radius[name][idx]
+                value[name][idx[better]] = new.mid[better]
+                radius[name][idx[better]] = new.rad[better]
+
+    def ball_pass(self, t: np.ndarray) -> Values:
+        """Every quantity at the times ``t`` as balls (no refinement; call within
+        ``balls.quiet()``). ``t`` may also be a ``Ball`` (intervals of time)."""
+        tb = t if isinstance(t, Ball) else Ball.exact(t)
+        xc, xdc, xddc = self.x3
+        x = horner(xc, tb)
+        xd = horner(xdc, tb)
+        xdd = horner(xddc, tb)
+        if self.y3 is None:
+            assert self.q3 is not None
+            w = x - self.center
+            qc, q1c, q2c = self.q3
+            q1 = horner(q1c, w)
+            y = horner(qc, w)
+            yd = q1 * xd
+            ydd = horner(q2c, w) * xd * xd + q1 * xdd
+        else:
+            wt = tb - self.t_center
+            y, yd, ydd = (horner(c, wt) for c in self.y3)
+        if isinstance(t, Ball):
+            return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
+        x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)
+        out = self.formulas(x, xd, xdd, y, yd, ydd)
+        out["theta1"] = self.theta(1, t, x, y)
+        out["theta2"] = self.theta(2, t, x - self.a1, y)
+        return out
+
+    def _locally(self, t: np.ndarray, *v: Ball) -> tuple[Ball, ...]:
+        """x and y (with derivatives) from the Taylor polynomials about the nearest exact
+        root of y, where that is tighter."""
+        if not self.locals:
+            return v
+        roots = np.array([loc.time.hi for loc in self.locals])
+        near = np.argmin(np.abs(t[:, None] - roots[None, :]), axis=1)
+        out = [Ball(b.mid + 0 * t, b.rad + 0 * t) for b in v]  # full-length copies
+        for i, loc in enumerate(self.locals):
+            idx = np.nonzero(near == i)[0]
+            if not len(idx):
+                continue
+            inv = np.ldexp(1.0, -loc.he)  # 1/h, exact (or inf: unbounded balls)
+            r = loc.time.eps(t[idx]) * inv  # exact scaling by a power of 2
+            for slot, (c, c1, c2) in ((0, loc.x), (3, loc.y)):
+                vals = (horner(c, r), horner(c1, r) * inv, horner(c2, r) * inv * inv)
+                for k in range(3):
+                    cur = out[slot + k]
+                    best = _tighter(cur[idx], vals[k])
+                    cur.mid[idx] = best.mid
+                    cur.rad[idx] = best.rad
+        return tuple(out)
+
+    def formulas(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Values:
+        """The paper's formulas on balls (all but θ, ``theta``)."""
+        p, mech = self.params, self.mech
+        leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
+        d = mech.dynamics(leg1, leg2, p)
+        delta = mech.delta(p, y, leg1, leg2)  # product form (eq. 29 for the RPRPR)
+        delta_dot = mech.delta_rate(p, y, yd, leg1, leg2)
+        lam1 = d.mu1 / delta
+        lam2 = d.mu2 / delta
+        T1, T2 = mech.efforts(d, lam1, lam2)
+        out = {
+            "x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd,
+            "s1": leg1.s, "s2": leg2.s,
+            "theta1_dot": leg1.th_d, "s1_dot": leg1.s_d, "theta2_dot": leg2.th_d,
+            "s2_dot": leg2.s_d, "theta1_ddot": leg1.th_dd, "s1_ddot": leg1.s_dd,
+            "theta2_ddot": leg2.th_dd, "s2_ddot": leg2.s_dd,
+            "delta": delta, "delta_dot": delta_dot, "lambda1": lam1, "lambda2": lam2,
+            "T1": T1, "T2": T2,
+        }  # fmt: skip
+        return out
+
+    # -- angles --------------------------------------------------------------------
+    def theta(self, leg: int, t: np.ndarray, u: Ball, v: Ball) -> Ball:
+        """The continuous angle of leg ``leg`` at the float times t (module docstring)."""
+        vm = np.array(v.mid + 0 * t, dtype=float)
+        um = u.mid + 0 * t
+        behind = ~(u.lower() > 0)
+        for j in np.nonzero(v.contains_zero() & behind & np.isfinite(vm))[0]:
+            sy = self._sign_y(float(t[j]))  # the branch side, decided exactly
+            vm[j] = abs(vm[j]) if sy >= 0 else -abs(vm[j])
+        raw = np.arctan2(vm, um)
+        size = np.maximum(np.abs(um), np.abs(vm))
+        rho = (u.rad + v.rad) * (1 + 4 * U)
+        prop = np.where(rho < size, (np.pi / 2 * (1 + 4 * U)) * rho / size, np.inf)
+        # Ball additions round their radii upward: the allowance and the propagation
+        principal = Ball.exact(raw) + Ball(0.0, prop) + Ball(0.0, (16 * U) * np.abs(raw) + 16 * ETA)
+        return self._on_branch(leg, t, principal)
+
+    def _on_branch(self, leg: int, t: np.ndarray, principal: Ball) -> Ball:
+        """The principal angle moved to the continuous branch: -2π·(sign of y after) past
+        each crossing of the leg's cut; exactly on the cut, the limit from the left."""
+        half_turns = np.zeros(len(t))
+        mid, rad = principal.mid.copy(), principal.rad.copy()
+        for c in self.cuts[leg]:
+            cmp = c.time.compare(t)
+            at = cmp == 0
+            mid[at] = (-c.after if c.crossing else c.after) * np.pi
+            rad[at] = U * np.pi
+            if c.crossing:
+                half_turns[cmp > 0] -= 2 * c.after
+        if not half_turns.any():
+            return Ball(mid, rad)
+        return Ball(mid, rad) + Ball(np.pi, U * np.pi) * half_turns  # π ± u π ∋ π
+
+    def _sign_y(self, t: float) -> int:
+        v = self.traj.y(fmpq(*t.as_integer_ratio()))
+        return (v > 0) - (v < 0)
+
+    # -- exact instants ------------------------------------------------------------
+    def _at_instant(
+        self, s: SingularInstant, j: int, value: dict[str, np.ndarray],
+        radius: dict[str, np.ndarray], reason: np.ndarray, undefined: dict[str, np.ndarray],
+    ) -> None:  # fmt: skip
+        """Values at t == t_s exactly: δ = 0 and the exact limits of λ and T."""
+        value["delta"][j], radius["delta"][j] = 0.0, 0.0
+        lam1, lam2, T1, T2 = self._limits_at(s)
+        for name, b in (("lambda1", lam1), ("lambda2", lam2), ("T1", T1), ("T2", T2)):
+            value[name][j], radius[name][j] = float(b.mid), float(b.rad)
+        if not s.torque_bounded:
+            reason[j] = POLE
+            pole = "lambda2" if self.mech.automatic == 0 else "lambda1"
+            for name in (pole, "T1", "T2"):
+                undefined[name][j] = True
+
+    def _limits_at(self, s: SingularInstant) -> tuple[Ball, Ball, Ball, Ball]:
+        """λ1, λ2, T1, T2 at a rational t_s, exact (NaN balls where a pole)."""
+        key = self.analysis.instants.index(s)
+        if key not in self._limits:
+            m = s.order
+            X, Xd, Xdd, Y, Yd, Ydd = expansion(
+                self.traj, self.analysis.hints(s).field, m + 1, exact=s.t_rational
+            )
+            sx = 1 if X.c[0] > 0 else -1
+            sxa = 1 if X.c[0] - self.traj.a1 > 0 else -1
+            mech = self.mech
+            p = mech.params(self.robot)
+            l1, l2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
+            d = mech.dynamics(l1, l2, p)
+            mu = (d.mu1, d.mu2)
+            auto = mech.automatic  # μ_auto = O(ε^m): always bounded
+            pole = Ball(np.nan, np.inf)
+            lam: list[Any] = [None, None]
+            lam[auto] = mu[auto].c[m] / d.delta.c[m]
+            lam_b = [pole, pole]
+            lam_b[auto] = Ball.of_rational(lam[auto])
+            T = [pole, pole]
+            if s.torque_bounded:
+                lam[1 - auto] = mu[1 - auto].c[m] / d.delta.c[m]
+                lam_b[1 - auto] = Ball.of_rational(lam[1 - auto])
+                T1, T2 = mech.efforts(d, lam[0], lam[1])
+                T = [Ball.of_rational(T1.c[0]), Ball.of_rational(T2.c[0])]
+            self._limits[key] = (lam_b[0], lam_b[1], T[0], T[1])
+        return self._limits[key]
+
+    # -- refinement in arb ------------------------------------------------------------
+    def _refine(
+        self, t: float, j: int, value: dict[str, np.ndarray], radius: dict[str, np.ndarray],
+        undefined: dict[str, np.ndarray], reason: np.ndarray,
+    ) -> None:  # fmt: skip
+        """Values at t alone in arb, the precision doubled until each one is certified;
+        a value certified beyond the double range becomes ±inf (BEYOND_DOUBLE)."""
+        todo = [n for n in FIELDS if not radius[n][j] <= TOL * (1 + abs(value[n][j]))]
+        todo = [n for n in todo if not undefined[n][j]]
+        prec = START_PREC
+        beyond = False
+        while todo and prec <= MAX_PREC:
+            got, raw = self._arb_point(t, prec)
+            for n in list(todo):
+                b = got.get(n)
+                if b is not None and bool(b.certified(TOL)):
+                    value[n][j], radius[n][j] = float(b.mid), float(b.rad)
+                    todo.remove(n)
+                elif n in raw and _beyond_double(raw[n]):
+                    value[n][j] = math.inf if raw[n] > 0 else -math.inf
+                    radius[n][j] = math.inf
+                    todo.remove(n)
+                    beyond = True
+            prec *= 2
+        for n in todo:
+            undefined[n][j] = True
+        if todo:
+            reason[j] = UNCERTIFIED
+        elif beyond:
+            reason[j] = BEYOND_DOUBLE
+
+    def _arb_point(self, t: float, prec: int) -> tuple[Values, dict[str, arb]]:
+        """``arb_point``, and the arb values themselves (all but θ)."""
+        tq = fmpq(*t.as_integer_ratio())
+        traj = self.traj
+        exact = [p(tq) for p in (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)]
+        old = ctx.prec
+        ctx.prec = prec
+        try:
+            x, xd, xdd, y, yd, ydd = (arb(v) for v in exact)
+            a1 = arb(traj.a1)
+            out: dict[str, Any] = {"x": x, "x_dot": xd, "x_ddot": xdd, "y": y,
+                                   "y_dot": yd, "y_ddot": ydd}  # fmt: skip
+            u2 = x - a1
+            s1 = (x * x + y * y).sqrt()
+            s2 = (u2 * u2 + y * y).sqrt()
+            out["s1"], out["s2"] = s1, s2
+            if not (s1 > 0 and s2 > 0):
+                return {n: Ball.of_arb(v) for n, v in out.items()}, out
+            mech = self.mech
+            p = mech.params(self.robot, arb)
+            leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
+            d = mech.dynamics(leg1, leg2, p)
+            delta = mech.delta(p, y, leg1, leg2)
+            out["delta"] = delta
+            out["delta_dot"] = mech.delta_rate(p, y, yd, leg1, leg2)
+            out.update(
+                theta1_dot=leg1.th_d,
+                s1_dot=leg1.s_d,
+                theta2_dot=leg2.th_d,
+                s2_dot=leg2.s_d,
+                theta1_ddot=leg1.th_dd,
+                s1_ddot=leg1.s_dd,
+                theta2_ddot=leg2.th_dd,
+                s2_ddot=leg2.s_dd,
+            )
+            if not self.analysis.on_singular_line and (delta > 0 or delta < 0):
+                lam1, lam2 = d.mu1 / delta, d.mu2 / delta
+                T1, T2 = mech.efforts(d, lam1, lam2)
+                out.update(lambda1=lam1, lambda2=lam2, T1=T1, T2=T2)
+            balls = {n: Ball.of_arb(v) for n, v in out.items()}
+            ta = np.array([t])
+            for leg, u in ((1, x), (2, u2)):
+                raw = arb.atan2(y, u)  # y is exact: its sign is known (y = 0: π behind)
+                b = self._on_branch(leg, ta, Ball.of_arb(raw)[None])
+                balls[f"theta{leg}"] = Ball(b.mid[0], b.rad[0])
+            return balls, out
+        finally:
+            ctx.prec = old
+
+
+def _beyond_double(a: arb) -> bool:
+    """True when the arb ball is certified to the mixed tolerance and every member
+    exceeds the largest double in magnitude."""
+    return bool(a.is_finite() and a.rad() <= TOL * abs(a.mid()) and abs(a).lower() > DBL_MAX)
+
+
+def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:
+    """c(t_s) · scale for the exact time e (scale exact), in arb."""
+    old = ctx.prec
+    ctx.prec = prec
+    try:
+        if c.degree() <= 0:
+            return Ball.of_rational((c[0] if c.degree() == 0 else fmpq(0)) * scale)
+        return Ball.of_arb(arb_poly(c.coeffs())(e.at(prec)) * arb(scale))
+    finally:
+        ctx.prec = old
+
+
+def certify(
+    traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray
+) -> CertifiedSamples:
+    """Certified values at the times ``t`` (a one-off ``CertifiedMotion(...).sample``)."""
+    return CertifiedMotion(traj, robot, analysis).sample(t)
+
+
+__all__ = ["FIELDS", "REASONS", "TOL", "CertifiedMotion", "CertifiedSamples", "certify"]

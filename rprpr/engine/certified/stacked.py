@@ -1,0 +1,143 @@
+"""The two efforts stacked in rows 0 and 1, on balls or jets: what the bounds layer
+(envelope, batch, the forms near instants) evaluates over boxes.
+
+``stacked_form(robot)`` gives the form for the robot's mechanism: ``Stacked``, the RPRPR's
+own (both legs in one run of ball operations, both actuation schemes), or, for any other
+implementation of the mechanism interface (``engine/exact/mechanism.py``), ``Through`` its
+``legs``, ``delta``, ``dynamics`` and ``efforts`` on the same balls or jets: slower, never
+looser in what it proves. A mechanism with a stacked form of its own registers it in
+``FORMS``."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ...model.task import Robot
+from ..exact import equations as dyn
+from ..exact.mechanism import of
+from .balls import Ball, hypot, stack
+from .jets import Jet
+
+
+def _pair(a: Any, b: Any) -> Ball:
+    """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column."""
+    return stack([Ball.of_rational(a), Ball.of_rational(b)])[:, None]
+
+
+class Stacked:
+    """T1, T2 (and δ) with the two legs stacked in rows 0 and 1, on balls or jets.
+
+    The same equations as ``equations.leg``/``dynamics``/``torques`` (eqs. 7-14, 28-33),
+    written once for both legs so that each operation runs on both at once (the cost of a
+    ball operation on short vectors is its call, not its length: through ``equations``
+    one pass takes 1.3-1.65 times as long; tests/engine/certified/test_stacked.py holds the two
+    together), with the constant parts of eqs. (7), (9), (11), (13) summed exactly in Q:
+        M_i = K_i + m_i d_i²,  d_i = s_i - r_i,  K = m2 r2² + I2 + I3 (leg 2: m4, r4, I4, I5),
+        N_i = 2 m_i s_i' θ_i' d_i + (G_i + m_i g s_i) cos θ_i,  G = (m2 r2 - m3 r3) g,
+        F_i = m_i (s_i'' - d_i θ_i'²) + m_i g sin θ_i   (M22 s1'' + N2, M44 s2'' + N4),
+        μ1 = -(sin θ2 F1 + sin θ1 F2),  μ2 = cos θ2 F1 + cos θ1 F2,  δ = -a1 y/(s1 s2),
+        T_i = M_i θ_i'' + N_i ± s_i (sin θ_i λ1 - cos θ_i λ2)   (+ for T1, - for T2),
+    with m_i = m3, m5 and r_i = r3, r5. Under the prismatic scheme (``equations``), with
+    V_i = (M_i θ_i'' + N_i)/s_i:
+        μ1 = -(cos θ2 V1 + cos θ1 V2),  μ2 = -(sin θ1 V2 + sin θ2 V1),
+        F_i ∓ (cos θ_i λ1 + sin θ_i λ2)   (- for F1, + for F2) are the efforts."""
+
+    def __init__(self, r: Robot) -> None:
+        L, g = r.links, r.gravity
+        self.base = _pair(0, r.a1)  # u = x - base: (x, x - a1)
+        self.a1 = Ball.of_rational(r.a1)
+        self.m = _pair(L[3].mass, L[5].mass)
+        self.r = _pair(L[3].r, L[5].r)
+        self.K = _pair(
+            L[2].mass * L[2].r ** 2 + L[2].inertia + L[3].inertia,
+            L[4].mass * L[4].r ** 2 + L[4].inertia + L[5].inertia,
+        )
+        self.G = _pair((L[2].mass * L[2].r - L[3].mass * L[3].r) * g,
+                       (L[4].mass * L[4].r - L[5].mass * L[5].r) * g)  # fmt: skip
+        self.mg = _pair(L[3].mass * g, L[5].mass * g)
+        self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
+        self.prismatic = isinstance(of(r), dyn.Prismatic)  # the RPRPR's two schemes
+
+    def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
+        """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
+        return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, hypot)
+
+    def delta(self, lg: dyn.Leg, y: Any) -> Any:
+        """δ = -a1 y/(s1 s2) (eq. 29), from the stacked legs."""
+        return -(self.a1 * y) / (lg.s[0] * lg.s[1])
+
+    def torques(
+        self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29)."""
+        d = lg.s - self.r
+        M = self.K + self.m * (d * d)
+        N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
+        F = self.m * (lg.s_dd - d * (lg.th_d * lg.th_d)) + self.mg * lg.sin
+        if delta is None:
+            delta = self.delta(lg, y)
+        if self.prismatic:
+            U = M * lg.th_dd + N
+            if lam is None:
+                V = U / lg.s
+                cV, sV = lg.cos * V[::-1], lg.sin * V[::-1]
+                lam = (-(cV[0] + cV[1]) / delta, -(sV[0] + sV[1]) / delta)
+            return F - self.sign * (lg.cos * lam[0] + lg.sin * lam[1]), delta
+        if lam is None:
+            sF, cF = lg.sin * F[::-1], lg.cos * F[::-1]
+            lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
+        T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
+        return T, delta
+
+
+def _rows(a: Any, b: Any) -> Any:
+    """Two balls (or jets of balls) of one shape as one with rows 0 and 1."""
+    if isinstance(a, Jet) or isinstance(b, Jet):
+        a, b = Jet._of(a), Jet._of(b)
+        return Jet(stack([a.v, b.v]), stack([a.d, b.d]))
+    return stack([Ball.coerce(a), Ball.coerce(b)])
+
+
+class General:
+    """The stacked form of any mechanism, through its interface (``mechanism.Mechanism``):
+    the same operations as ``equations`` runs for it, on balls or jets, the two efforts
+    stacked in rows 0 and 1 afterwards. ``legs`` gives the pair of legs."""
+
+    def __init__(self, r: Robot) -> None:
+        self.mech = of(r)
+        self.p = self.mech.params(r, Ball.of_rational)
+
+    def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Any:
+        return self.mech.legs(self.p, x, xd, xdd, y, yd, ydd, hypot)
+
+    def delta(self, lg: Any, y: Any) -> Any:
+        l1, l2 = lg
+        return self.mech.delta(self.p, y, l1, l2)
+
+    def torques(
+        self, lg: Any, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """(efforts stacked, δ) from the legs; λ given, or μ/δ (δ given, or the mechanism's)."""
+        l1, l2 = lg
+        d = self.mech.dynamics(l1, l2, self.p)
+        if delta is None:
+            delta = self.delta(lg, y)
+        if lam is None:
+            lam = (d.mu1 / delta, d.mu2 / delta)
+        return _rows(*self.mech.efforts(d, *lam)), delta
+
+
+FORMS: dict[type, Callable[[Robot], Stacked | General]] = {
+    dyn.Rprpr: Stacked
+}  # a mechanism's class -> its own stacked form
+
+
+def stacked_form(r: Robot) -> Stacked | General:
+    """The stacked form for the robot's mechanism: its own (``FORMS``), or ``General``."""
+    for cls in type(of(r)).__mro__:
+        if cls in FORMS:
+            return FORMS[cls](r)
+    return General(r)
