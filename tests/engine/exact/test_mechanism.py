@@ -209,7 +209,8 @@ def test_a_third_implementation_drives_the_certified_values(tripled: Tripled) ->
 # -- the layers name no scheme ---------------------------------------------------------------
 
 LAYERS = (
-    "exact/singular", "exact/knots", "certified/motion", "certified/zones", "bounds/envelope",
+    "exact/singular", "exact/knots", "certified/motion", "certified/zones", "certified/discs",
+    "certified/taylor_forms", "bounds/envelope",
     "bounds/batch", "findings",
 )  # fmt: skip
 
