@@ -134,12 +134,22 @@ def repair(
     if text is None:
         return ExitCode.FAILED
     if show_diff:
-        for line in summary(r):
-            say(line)
-        with writing("the diff", None, ExitCode.FAILED):
-            sys.stdout.write(unified_diff(data, text, task))
-            sys.stdout.flush()
-        return ExitCode.FAILED
+        return _show_diff(r, task, data, text)
+    return _write(r, task, text, out, plot_file)
+
+
+def _show_diff(r: Repair, task: str, data: str, text: str) -> ExitCode:
+    """The repair as a unified diff of TASK on standard output (nothing written)."""
+    for line in summary(r):
+        say(line)
+    with writing("the diff", None, ExitCode.FAILED):
+        sys.stdout.write(unified_diff(data, text, task))
+        sys.stdout.flush()
+    return ExitCode.FAILED
+
+
+def _write(r: Repair, task: str, text: str, out: str, plot_file: str | None) -> ExitCode:
+    """The repaired text written to ``out`` (atomically), then the sheet if asked for."""
 
     def write(tmp: str) -> None:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
