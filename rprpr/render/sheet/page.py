@@ -31,36 +31,33 @@ from matplotlib.backends.backend_agg import RendererAgg
 from matplotlib.figure import Figure
 from matplotlib.text import Text
 
-from ..._version import __version__
 from ...engine.exact.singular import SingularInstant
+from .heads import Heads
 from .labels import MAX_LABELS
+from .measures import (
+    COLUMN,
+    COLUMN_GAP,
+    DPI,
+    LANE,
+    LANE_GAP,
+    LEFT,
+    MARGIN,
+    PANEL_GAP,
+    PAPER_MARGIN,
+    ROW_GAP,
+    SHARED_TIME,
+    UNIT_GAP,
+    X_DECOR,
+)
 from .motion import Motion
 from .style import FONT_SCALE, LABEL_SIZE, OVERLAID, WIDTH, pt, task_colour
-from .words import heading_lines, instant_times, short
-
-MARGIN = 0.15  # in, at the figure's edges
-LEFT = 0.95  # in, from the figure's left edge to the axes: y tick labels and label
-LANE = 2.85  # in, the lane right of the axes: legends and keys
-LANE_GAP = 0.25  # in, between the axes and the lane
-COLUMN = 2.45  # in, the width of one small multiple
-COLUMN_GAP = 0.3  # in, between small multiples
-UNIT_GAP = 0.85  # in, between small multiples when a row's columns differ in unit: y labels
-SHARED_TIME = 0.5  # small multiples share one t axis when every t_f is at least this share
-ROW_GAP = 0.22  # in, between the rows of one panel (sharing their t axis)
-X_DECOR = 0.5  # in, tick labels and label under a panel's last row
-TITLE_GAP = 0.16  # in, under a heading (half a tick label stands above the axes)
-LEADING = 0.03  # in, between the lines of the title
-PANEL_GAP = 0.3  # in, between panels
-PAPER_MARGIN = 0.05  # in, at the top and bottom of a figure of a given size (its caption's)
-PAPER_HEADING = 9.0  # pt, a sized figure's panel heading (one line: smaller if need be)
-FONT_SCALE_TICK = 1.2  # a line of tick labels, in their size (ascent and descent)
-DPI = 150  # the resolution text is measured at (the default of ``save``)
+from .words import instant_times, short
 
 Indexed = list[tuple[int, Motion]]  # the motions of a column, each with its task index
 
 
 @dataclass
-class Sheet:
+class Sheet(Heads):
     """A sheet being laid out: the figure, its columns of tasks, and what has been placed
     where (inches from the top left; positions are set in figure fractions by
     ``finish``)."""
@@ -172,64 +169,6 @@ class Sheet:
         tight = ax.get_tightbbox(renderer=self.renderer)
         ax.remove()
         return float(box.y0 - (tight.y0 if tight is not None else box.y0)) / DPI + 0.02
-
-    # -- text ------------------------------------------------------------------------------
-
-    def inches(self, artist: Any) -> tuple[float, float]:
-        """The width and height of ``artist`` [in], as it will be drawn."""
-        bb = artist.get_window_extent(renderer=self.renderer)
-        return bb.width / DPI, bb.height / DPI
-
-    def line(self, text: str, x: float, *, size: float, **kw: Any) -> float:
-        """Write ``text`` with its top left at (x, the next free height) [in], wrapped to
-        the figure; returns its height [in] (the next free height does not move)."""
-        chars = max(20, int((self.width - x - MARGIN) * 72 / (0.58 * size)))
-        wrapped = "\n".join(textwrap.fill(p, chars) for p in text.split("\n"))
-        t = self.fig.text(0, 0, wrapped, fontsize=pt(size), va="top", ha="left", **kw)
-        self.texts.append((t, x, self.y))
-        return self.inches(t)[1] + LEADING
-
-    def heading(self, text: str, *shorter: str) -> None:
-        """A panel's heading, bold, over its axes. On a figure of a given size, one line:
-        the first of ``text`` and its ``shorter`` forms that fits the width at
-        ``PAPER_HEADING`` pt, else the shortest at the size that fits (never a break
-        inside a formula)."""
-        if self.size is None:
-            self.y += self.line(text, MARGIN, size=10.5, fontweight="bold") + TITLE_GAP
-            return
-        room = self.width - 2 * MARGIN
-        for candidate in (text, *shorter):
-            t = self.fig.text(
-                0, 0, candidate, fontsize=pt(PAPER_HEADING), fontweight="bold", va="top"
-            )
-            w, h = self.inches(t)
-            if w <= room:
-                break
-            t.remove()
-        else:
-            t = self.fig.text(0, 0, candidate, fontweight="bold", va="top")
-            t.set_fontsize(pt(PAPER_HEADING) * room / w * 0.98)
-            h = self.inches(t)[1]
-        self.texts.append((t, MARGIN, self.y))
-        tick = pt(8) * FONT_SCALE_TICK / 72  # half a tick label stands above the axes
-        self.y += h + tick / 2 + 0.04
-
-    def title(self) -> None:
-        """The sheet's title: per task, its name and verdict (in the task's colour when
-        tasks share axes or columns), and its file in small print; none on a figure of
-        a given size (a paper's figure has its caption)."""
-        if self.size is not None:
-            return
-        self.y += self.line(f"rprpr {__version__} audit sheet", MARGIN, size=8, color="#555555")
-        self.y += 0.04
-        several = len(self.motions) > 1
-        for i, m in enumerate(self.motions):
-            head, source = heading_lines(m)
-            colour = task_colour(i) if several else "black"
-            self.y += self.line(head, MARGIN, size=10, fontweight="bold", color=colour)
-            if source:
-                self.y += self.line(source, MARGIN, size=7, color="#555555") + 0.03
-        self.y += PANEL_GAP / 2
 
     # -- axes ------------------------------------------------------------------------------
 
@@ -393,3 +332,6 @@ def column_heads(sheet: Sheet) -> None:
         sheet.texts.append((t, sheet.left(c), sheet.y))
         height = max(height, sheet.inches(t)[1])
     sheet.y += height + 0.1
+
+
+__all__ = ["DPI", "PAPER_MARGIN", "Indexed", "Sheet", "column_heads"]  # the measures as before
