@@ -16,6 +16,9 @@ Every import counts: at module level, inside functions (lazy imports), and under
 one). The package root ``rprpr/__init__.py`` (the lazy public API), ``rprpr/api.py`` (the
 result the public ``audit`` returns, with its report and HTML table), ``rprpr/__main__.py``
 and ``rprpr/_version.py`` stand outside the stages.
+
+And no part grows past what a reader holds at once: no module over 600 lines, no function
+over 60, no class over 300 (``too_long``).
 """
 
 from __future__ import annotations
@@ -425,3 +428,61 @@ def test_the_engine_layer_rule_catches_an_upward_import() -> None:
         "rprpr.engine.bounds.search -> rprpr.engine.audit",
         "rprpr.engine.exact.singular -> rprpr.engine.certified.balls",
     ]
+
+
+# -- sizes: no module over 600 lines, no function over 60, no class over 300 ---------------
+MAX_MODULE, MAX_FUNCTION, MAX_CLASS = 600, 60, 300
+# "module:name" (or "module" alone) -> why it may stay longer; empty: every part of rprpr
+# keeps to the sizes (a part that must not says why here, for its reader to judge)
+LONG_ALLOWED: dict[str, str] = {}
+
+
+def too_long(sources: Mapping[str, str], allowed: Mapping[str, str] = LONG_ALLOWED) -> list[str]:
+    """Every module (by its lines), function or class (from its ``def`` or ``class`` line
+    to its last) of ``sources`` (dotted name -> text) longer than its size allows."""
+    bad = []
+    for name, text in sorted(sources.items()):
+        lines = len(text.splitlines())
+        if lines > MAX_MODULE and name not in allowed:
+            bad.append(f"{name}: module of {lines} lines (at most {MAX_MODULE})")
+        for node in ast.walk(ast.parse(text)):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                continue
+            most = MAX_CLASS if isinstance(node, ast.ClassDef) else MAX_FUNCTION
+            size = (node.end_lineno or node.lineno) - node.lineno + 1
+            if size > most and f"{name}:{node.name}" not in allowed:
+                bad.append(f"{name}:{node.lineno}: {node.name} of {size} lines (at most {most})")
+    return bad
+
+
+def test_no_module_function_or_class_is_too_long() -> None:
+    sources = {name: path.read_text(encoding="utf-8") for name, path in modules().items()}
+    assert too_long(sources) == []
+    assert all(name in sources for name in LONG_ALLOWED)  # no excuse outlives its module
+
+
+def _lines(n: int, indent: str = "    ") -> str:
+    return "".join(f"{indent}x{i} = {i}\n" for i in range(n))
+
+
+def test_the_size_rule_catches_a_long_module_function_or_class() -> None:
+    # def line + body: 60 lines pass, 61 fail; a class likewise at 300, a module at 600
+    fine = {
+        "m.f": "def f():\n" + _lines(MAX_FUNCTION - 1),
+        "m.c": "class C:\n" + _lines(MAX_CLASS - 1),
+        "m.m": _lines(MAX_MODULE, ""),
+    }
+    assert too_long(fine) == []
+    long = {
+        "m.f": "def f():\n" + _lines(MAX_FUNCTION),
+        "m.c": "class C:\n" + _lines(MAX_CLASS),
+        "m.m": _lines(MAX_MODULE + 1, ""),
+        "m.n": "class C:\n    async def g(self):\n" + _lines(MAX_FUNCTION, "        "),
+    }
+    assert too_long(long) == [
+        "m.c:1: C of 301 lines (at most 300)",
+        "m.f:1: f of 61 lines (at most 60)",
+        "m.m: module of 601 lines (at most 600)",
+        "m.n:2: g of 61 lines (at most 60)",
+    ]
+    assert too_long(long, {"m.c:C": "", "m.f:f": "", "m.m": "", "m.n:g": ""}) == []
