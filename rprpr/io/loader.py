@@ -33,6 +33,8 @@ from ..model.waypoints import pieces as waypoint_pieces
 from .expression import MAX_DEGREE, height, parse_decimal, parse_fraction, parse_polynomial
 from .reading import ReadProblem, read_file, read_stream, too_large
 from .schema import CSV_PATTERN, TASK, TRAPEZOIDAL, Spec
+from .uncertainty import EXPECTED as _PERCENT_EXPECTED
+from .uncertainty import needs_limit, percent, relative, uncertainty_of
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
 MAX_BYTES = 1 << 20  # 1 MiB: a task file is a few hundred bytes
@@ -567,6 +569,7 @@ def _task(w: _Walk, file: str) -> Task:
         lines=dict(w.lines),
         source=file,
         pieces=tuple(pieces),
+        uncertainty=uncertainty_of(v, "uncertainty" in w.nodes),
     )
 
 
@@ -987,6 +990,7 @@ _RULES: dict[str, tuple[_Rule, tuple[str, ...]]] = {
     "motion.pieces": (_motion_pieces_meet, ()),
     "motion.waypoints": (_waypoints_in_order, ()),
     "motion": (_motion_alone, ()),
+    "uncertainty": (needs_limit, ()),
 }
 
 
@@ -1523,6 +1527,8 @@ _READERS: dict[str, Callable[[_Walk, yaml.Node, Spec, str, int], Any]] = {
     "string": _Walk.text,
     "bool": _Walk.boolean,
     "enum": _Walk.enum,
+    "percent": percent,
+    "relative": relative,
 }
 
 
@@ -1609,6 +1615,8 @@ def _expected(spec: Spec, key: str) -> str:
         return "text (a name for reports)"
     if spec.kind == "bool":
         return "true or false"
+    if spec.kind in ("percent", "relative"):
+        return _PERCENT_EXPECTED
     return f"one of {', '.join(spec.choices)}"  # enum
 
 

@@ -64,6 +64,24 @@ class Checks:
 
 
 @dataclass(frozen=True)
+class Uncertainty:
+    """What the real robot may differ by from the task's model (``docs/robust.md``):
+    ``links`` maps a link i = 2..5 to the relative half-widths (mass, inertia, r) of its
+    parameters (0 <= each < 1; a link not named is exact); ``acceleration`` bounds the
+    end point's acceleration tracking error on each axis [m/s^2]; ``period`` is the
+    controller's sample period [s]: a saturation window no longer than it is tolerated."""
+
+    links: dict[int, tuple[fmpq, fmpq, fmpq]]
+    acceleration: fmpq
+    period: fmpq
+
+    @property
+    def zero(self) -> bool:
+        """No uncertainty at all (a box of radius zero)."""
+        return self.acceleration == 0 and all(v == 0 for t in self.links.values() for v in t)
+
+
+@dataclass(frozen=True)
 class Piece:
     """One piece of a piecewise-polynomial motion: for ``start`` <= t <= ``end`` the end
     point is at (``x``(t), ``y``(t)), polynomials in *absolute* time t (exact rationals).
@@ -121,6 +139,7 @@ class Task:
     lines: dict[str, int] = field(default_factory=dict)
     source: str = ""
     pieces: tuple[Piece, ...] = ()
+    uncertainty: Uncertainty | None = None  # None: the exact model (today's verdicts)
 
     def __repr__(self) -> str:
         """One line: ``<Task 'name': y(x) = ..., x(t) = ..., 0 <= t <= 5 s (quintic),
