@@ -83,7 +83,7 @@ def uncertainty_of(values: dict[str, Any], given: bool) -> Uncertainty | None:
     for i in (2, 3, 4, 5):
         if every == "per link":
             q = [values.get(f"uncertainty.links.{i}.{n}") for n in LINK_QUANTITIES]
-            links[i] = tuple(fmpq(0) if v is None else v for v in q)  # type: ignore[assignment]
+            links[i] = tuple(fmpq(0) if v is None else v for v in q)
         else:
             links[i] = (every, every, every)
     zero = fmpq(0)  # a key not given (the schema states no default: "not given: 0")
