@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
+    from .model.task import Uncertainty
 
 _LAZY = {
     "AuditResult": ".api",
@@ -56,6 +57,7 @@ _LAZY = {
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",
+    "Uncertainty": ".model.task",
 }
 
 __all__ = [
@@ -65,6 +67,7 @@ __all__ = [
     "Repair",
     "RprprError",
     "TaskFileError",
+    "Uncertainty",
     "__version__",
     "audit",
     "load_task",

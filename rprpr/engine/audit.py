@@ -24,7 +24,7 @@ from flint import fmpq
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.numbers import to_float
 from ..model.rules import Finding, with_levels
-from ..model.task import Task
+from ..model.task import Task, Uncertainty
 from . import knots as K
 from . import pieces as P
 from .findings import findings
@@ -42,6 +42,7 @@ from .verdicts import Approach, LimitCheck, Peak, Window, around_poles
 
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
     from .certified import CertifiedMotion
+    from .robust import Robust
     from .sampling import Samples
 
 ENVELOPE = "the torque envelope"
@@ -84,6 +85,8 @@ class AuditResult:
     knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
+    # with ``task.uncertainty``: each singular instant's robust analysis (docs/robust.md)
+    robust: tuple[Robust, ...] = ()
 
     @property
     def motion(self) -> CertifiedMotion:
@@ -101,6 +104,13 @@ class AuditResult:
         """The motion, joints, δ, λ and torques at the times ``t`` [s], certified, from
         the exact analysis already made (no new analysis)."""
         return P.sample(list(self.parts), np.asarray(t, dtype=float))
+
+    def robust_of(self, s: SingularInstant) -> Robust | None:
+        """The robust analysis of the instant ``s`` (None without declared uncertainty)."""
+        for i, r in zip(self.singularities, self.robust, strict=False):
+            if i is s or i.t == s.t:
+                return r
+        return None
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
         """The findings the audit made at the singular instant ``s``."""
@@ -141,6 +151,7 @@ def audit(
     strict: bool | None = None,
     on_stage: OnStage | None = None,
     peak: bool | None = None,
+    uncertainty: Uncertainty | None = None,
 ) -> AuditResult:
     """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
     (nothing the audit decides depends on it); ``strict`` overrides
@@ -149,12 +160,15 @@ def audit(
     ``peak`` asks for the certified torque peak (None: ``task.checks.peak``); no verdict
     needs it, so without it the peak is computed only where it costs nothing (infinite at
     a pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
-    False and ``torque_peak`` None.
+    False and ``torque_peak`` None. ``uncertainty``, when given, replaces the task's own
+    (``docs/robust.md``): each instant then has its robust analysis (``robust``).
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides."""
     if samples < 2:
         raise ValueError("at least 2 samples are needed")
+    if uncertainty is not None:
+        task = replace(task, uncertainty=uncertainty.exact())
     strict = task.checks.strict if strict is None else strict
     asked = task.checks.peak if peak is None else peak
     tell = on_stage or _quiet
@@ -168,8 +182,9 @@ def audit(
     knots = K.knots(task.motion, task.robot)
     on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
     whole = len(on_line) == len(parts) and not task.pieces
+    robust = _robust(task, parts, analysis)
     tell(FINDINGS)
-    found = findings(task, analysis, top, checked, knots, [] if whole else on_line)
+    found = findings(task, analysis, top, checked, knots, [] if whole else on_line, robust)
     return AuditResult(
         task=task,
         strict=strict,
@@ -188,7 +203,17 @@ def audit(
         parts=tuple(parts),
         knots=tuple(k.t for k in knots),
         knot_jumps=tuple(knots),
+        robust=tuple(robust),
     )
+
+
+def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list[Robust]:
+    """The robust analysis of each instant when the task declares uncertainty."""
+    if task.uncertainty is None or not analysis.instants:
+        return []
+    from .robust import robust
+
+    return robust(task, parts, analysis.instants)
 
 
 def _joined(task: Task, parts: list[P.Part]) -> SingularAnalysis:

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -83,7 +84,7 @@ class Box:
         for i, link in robot.links.items():
             rm, ri, rr = u.links.get(i, (fmpq(0), fmpq(0), fmpq(0)))
             out[i] = (_interval(link.mass, rm), _interval(link.r, rr), _interval(link.inertia, ri))
-        return Box(out, u.acceleration)
+        return Box(out, _q(u.acceleration))
 
     def robot_links(self, values: dict[int, tuple[fmpq, fmpq, fmpq]]) -> list[arb]:
         """``Params``' link fields (m2, I2, r2, ..., m5, I5, r5) from (m, r, I) per link."""
@@ -104,8 +105,16 @@ class Box:
                                                     for sy in (-1, 1)]  # fmt: skip
 
 
-def _interval(v: fmpq, rel: fmpq) -> tuple[fmpq, fmpq]:
-    w = abs(v) * rel
+def _q(v: Any) -> fmpq:
+    """An exact rational from an fmpq, a Fraction, an int or a float (its binary value)."""
+    if isinstance(v, fmpq):
+        return v
+    n, d = Fraction(v).as_integer_ratio()
+    return fmpq(n, d)
+
+
+def _interval(v: fmpq, rel: Any) -> tuple[fmpq, fmpq]:
+    w = abs(v) * _q(rel)
     return (v - w, v + w)
 
 

@@ -12,6 +12,7 @@ one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property
 
 from flint import fmpq, fmpq_poly
@@ -74,6 +75,19 @@ class Uncertainty:
     links: dict[int, tuple[fmpq, fmpq, fmpq]]
     acceleration: fmpq
     period: fmpq
+
+    def exact(self) -> Uncertainty:
+        """The same with every number an exact rational (``fmpq``): a ``Fraction``, an int
+        or a float (its binary value) given from Python is converted."""
+
+        def q(v: object) -> fmpq:
+            if isinstance(v, fmpq):
+                return v
+            n, d = Fraction(v).as_integer_ratio()  # type: ignore[call-overload]
+            return fmpq(n, d)
+
+        links = {int(i): (q(m), q(j), q(r)) for i, (m, j, r) in self.links.items()}
+        return Uncertainty(links, q(self.acceleration), q(self.period))
 
     @property
     def zero(self) -> bool:
