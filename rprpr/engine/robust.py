@@ -548,7 +548,8 @@ def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: in
              reach: float) -> float:  # fmt: skip
     """A proven outer end for a window too narrow for doubles: from the piece's end
     towards t_s by factors of 16, then of 2, the nearest h at which both max |T_j| <=
-    their limits are proven."""
+    their limits are proven (down to 1e-30 of the piece's reach: a window narrower
+    is reported as that bound)."""
 
     def below(h: float) -> bool:
         phi = _phi_ball(ab, d * h, box, bbox)
@@ -556,7 +557,7 @@ def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: in
 
     best, h = reach, reach / 2
     for factor in (16.0, 2.0):
-        while h > 1e-300 and below(h):
+        while h > reach * 1e-30 and below(h):  # (a window under 1e-30 of the piece: 0)
             best, h = h, h / factor
         h = best / 2
     return best
