@@ -267,7 +267,7 @@ STAGES: list[tuple[str, str, str, str]] = [
     ("    per instant (exact series in K)", "rprpr.engine.singular", "_instant", ""),
     ("      expansion (Taylor coefficients)", "rprpr.engine.singular", "expansion", "_instant"),
     ("      legs (series sqrt, /)", "rprpr.engine.singular", "legs", "_instant"),
-    ("      dynamics (series)", "rprpr.engine.equations", "dynamics", "_instant"),
+    ("      dynamics (series)", "rprpr.engine.equations", "Rprpr.dynamics", "_instant"),
     ("  certified motion (set-up)", "rprpr.engine.certified", "CertifiedMotion", ""),
     ("  torque peak (grid-free)", "rprpr.engine.envelope", "Envelope.torque_peak", ""),
     ("  limit check (grid-free)", "rprpr.engine.envelope", "Envelope.limit_violations", ""),
@@ -324,10 +324,11 @@ def stages(folder: Path, samples: int | None) -> None:
     from rprpr.cli.check import check_one
     from rprpr.cli.options import CheckOptions
     from rprpr.cli.tasks import collect_tasks
+    from rprpr.model.options import AuditOptions
     from rprpr.render.json import render as json_report
     from rprpr.report.run import Run
 
-    options = CheckOptions(samples=samples) if samples else CheckOptions()  # rprpr's default
+    options = CheckOptions(AuditOptions(samples)) if samples else CheckOptions()  # the default
     files = collect_tasks([str(folder)])
     for f in files[:20]:  # warm up (first-call costs are the imports' business)
         check_one(f, options)
@@ -345,7 +346,7 @@ def stages(folder: Path, samples: int | None) -> None:
     t2 = time.perf_counter()
     n = len(files)
     per_task = (t1 - t0) / n * 1000
-    print(f"\nin-process, {n} tasks, --samples {options.samples}: {per_task:.2f} ms/task")
+    print(f"\nin-process, {n} tasks, --samples {options.audit.samples}: {per_task:.2f} ms/task")
     _per_task(costs)
     print(f"  {'stage':42s} {'ms/task':>8s} {'share':>6s}")
     rows = [(label, v) for (label, _, _, _), v in zip(STAGES, totals, strict=True)]

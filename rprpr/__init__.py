@@ -2,12 +2,13 @@
 
 Python API::
 
-    from rprpr import load_task, audit
+    from rprpr import AuditOptions, audit, load_task
     result = audit(load_task("configs/paper_path2.rprpr.yaml"))
     result.verdict, result.singularities[0].order
     result.singularities[0].t_exact  # Fraction(5, 2), or None where irrational
     result.to_dict()  # the entry of ``rprpr check --format json``'s reports[]
-    audit(result.task, peak=True).torque_peak  # the certified max |T1|, |T2|: when asked
+    audit(result.task, AuditOptions(peak=True)).torque_peak  # the certified max |T1|, |T2|
+    audit(result.task, strict=True)  # AuditOptions' fields also as keywords
 
     # a planner's spline (scipy's PPoly layout), on the robot and checks of a task file
     from rprpr import Motion, with_motion
@@ -24,10 +25,13 @@ when first used, the YAML loader when ``load_task`` or ``parse_task`` is, so tha
 
 The stages, in the order the data flows (see CONTRIBUTING.md)::
 
-    io (task file -> Task) -> model (Task, the paper's tables, rules)
+    io (task file -> Task) -> model (Task, the paper's tables, rules, AuditOptions)
        -> engine (exact trajectory, singular instants, samples, findings, audit)
        -> report (records, the run, the exit policy) -> render (text, JSON, JUnit, GitHub,
           export, sheet, animation) -> cli (one module per command)
+
+    repair (the second use case: task -> audit -> exact changes -> task), beside the
+    report: it uses the engine, and ``rprpr repair`` uses it
 """
 
 from __future__ import annotations
@@ -39,21 +43,23 @@ from ._version import __version__
 
 if TYPE_CHECKING:
     from .api import AuditResult, audit
-    from .engine.repair import NoRepair, Repair, repair
     from .io.loader import load_task, parse_task
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
+    from .model.options import AuditOptions
     from .model.task import Uncertainty
+    from .repair import NoRepair, Repair, repair
 
 _LAZY = {
+    "AuditOptions": ".model.options",
     "AuditResult": ".api",
     "audit": ".api",
     "load_task": ".io.loader",
     "Motion": ".model.motion",
     "with_motion": ".model.motion",
-    "repair": ".engine.repair",
-    "Repair": ".engine.repair",
-    "NoRepair": ".engine.repair",
+    "repair": ".repair",
+    "Repair": ".repair",
+    "NoRepair": ".repair",
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",
@@ -61,6 +67,7 @@ _LAZY = {
 }
 
 __all__ = [
+    "AuditOptions",
     "AuditResult",
     "Motion",
     "NoRepair",

@@ -10,9 +10,11 @@ report -> engine -> model), so ``rprpr.audit`` hands back this thin subclass, wh
 from __future__ import annotations
 
 from dataclasses import fields
-from typing import Any
+from typing import Any, Unpack
 
 from .engine import audit as _engine
+from .engine.singular import OnStage
+from .model.options import AuditKeywords, AuditOptions
 from .model.task import Task
 from .render.html import report_html
 from .render.json import finite
@@ -34,8 +36,16 @@ class AuditResult(_engine.AuditResult):
         return report_html(self.to_dict())
 
 
-def audit(task: Task, **options: Any) -> AuditResult:
-    """``engine.audit.audit(task, **options)`` (``samples``, ``strict``, ``on_stage``, ``peak``),
-    as an ``AuditResult`` of this module."""
-    result = _engine.audit(task, **options)
+def audit(
+    task: Task,
+    options: AuditOptions | None = None,
+    *,
+    on_stage: OnStage | None = None,
+    **keywords: Unpack[AuditKeywords],
+) -> AuditResult:
+    """``engine.audit.audit(task, options, on_stage=..., **keywords)`` as an
+    ``AuditResult`` of this module: ``options`` an ``AuditOptions`` (``samples``,
+    ``strict``, ``peak``, ``warn_unbounded``), its fields also taken as keywords
+    (``audit(task, peak=True)``)."""
+    result = _engine.audit(task, options, on_stage=on_stage, **keywords)
     return AuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})

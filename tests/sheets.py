@@ -10,6 +10,7 @@ import functools
 from collections.abc import Sequence
 from typing import Any
 
+import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
 from matplotlib.figure import Figure
 
@@ -31,6 +32,18 @@ PIECEWISE = [p for p in ALL_CONFIGS if p not in CONFIG_FILES]
 SETS = [[p] for p in ALL_CONFIGS] + [[PATH1, PATH2], CONFIG_FILES]
 SAMPLES = 101  # enough for every check on a shared sheet
 DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
+SMALL_DPI = 20  # a picture a test writes but never looks at the pixels of
+
+
+def small_pictures(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The sheets the commands write (``plot``, ``repair --plot``) at SMALL_DPI for the rest
+    of the test: the same figure and code path, a fraction of the pixels to rasterize."""
+    save = P.save
+
+    def small(*args: Any, **kwargs: Any) -> None:
+        save(*args, **{**kwargs, "dpi": SMALL_DPI})
+
+    monkeypatch.setattr(P, "save", small)
 
 
 @functools.cache

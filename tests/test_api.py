@@ -70,3 +70,23 @@ def test_former_import_name_still_works() -> None:
     import rprpr_cli
 
     assert rprpr_cli.audit is rprpr.audit
+
+
+def test_one_options_value_says_what_changes_a_verdict() -> None:
+    """``audit(task, AuditOptions(...))``; its fields also as keywords, over the options
+    given; ``warn_unbounded`` as ``rprpr check --warn-unbounded``."""
+    task = rprpr.load_task(PATH1)  # path 1 of the paper: RPR101 and RPR201 fail it
+    assert rprpr.audit(task).verdict == "fail"
+    lenient = rprpr.AuditOptions(warn_unbounded=True, samples=11)
+    r = rprpr.audit(task, lenient)
+    assert [(f.rule, f.severity) for f in r.findings] == [
+        ("RPR101", "error"),
+        ("RPR201", "warning"),
+    ]
+    assert r.grid_size == 11 and r.task is task  # the task itself is not changed
+    strict = rprpr.audit(task, lenient, strict=True)  # a keyword over the options
+    assert [f.severity for f in strict.findings] == ["error", "error"] and strict.strict
+    assert rprpr.audit(task, peak=True).peak_computed
+    code, out, _ = run_cli("check", "--warn-unbounded", "--format", "json", PATH1)
+    by_cli = [(f["rule"], f["severity"]) for f in json.loads(out)["reports"][0]["findings"]]
+    assert by_cli == [(f.rule, f.severity) for f in r.findings] and code == 1

@@ -3,9 +3,10 @@
 The stages, in the order the data flows, and what each may import of rprpr (besides
 itself and ``rprpr._version``)::
 
-    cli    -> render, report, engine, io, model
+    cli    -> render, report, repair, engine, io, model
     render -> report, engine, model
     report -> engine, model
+    repair -> engine, model      (the second use case: task -> audit -> changes -> task)
     engine -> model
     io     -> model
     model  -> (nothing)
@@ -32,9 +33,10 @@ from .conftest import ROOT
 PACKAGE = ROOT / "rprpr"
 
 ALLOWED: dict[str, set[str]] = {
-    "cli": {"render", "report", "engine", "io", "model"},
+    "cli": {"render", "report", "repair", "engine", "io", "model"},
     "render": {"report", "engine", "model"},
     "report": {"engine", "model"},
+    "repair": {"engine", "model"},
     "engine": {"model"},
     "io": {"model"},
     "model": set(),
@@ -177,6 +179,8 @@ def test_the_graph_sees_lazy_type_only_and_relative_imports() -> None:
     assert "rprpr.report.run" in g["rprpr.report.exit"]  # under TYPE_CHECKING
     assert "rprpr.render.sheet" in g["rprpr.render.animation"]  # from . import sheet
     assert "rprpr.cli.main" in g["rprpr.__main__"]
+    assert "rprpr.repair" in g["rprpr.cli.repair"]  # inside the command, lazily
+    assert "rprpr.engine.audit" in g["rprpr.repair"]
 
 
 # -- the rule itself: it catches what it is for ------------------------------------------
@@ -213,6 +217,16 @@ def test_a_clean_synthetic_package_passes() -> None:
 )
 def test_an_upward_import_fails(source: str) -> None:
     assert upward(_with("rprpr.model.task", source)) == ["rprpr.model.task -> rprpr.engine.audit"]
+
+
+@pytest.mark.parametrize("importer", ["rprpr.engine.audit", "rprpr.report.run", "rprpr.model.task"])
+def test_repair_sits_above_the_engine_and_below_the_command_line(importer: str) -> None:
+    repair = {"rprpr.repair": ("from ..engine.audit import audit\n", True)}
+    source = "from ..repair import repair\n"
+    g = graph_of({**SYNTHETIC, **repair, importer: (source, False)})
+    assert upward(g) == [f"{importer} -> rprpr.repair"]
+    g = graph_of({**SYNTHETIC, **repair, "rprpr.cli.main": (source, False)})
+    assert upward(g) == []
 
 
 def test_importing_the_package_root_from_a_stage_fails() -> None:
@@ -280,10 +294,47 @@ def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
         "from rprpr.cli.options import CheckOptions\n"
         f"kind, *_ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
         f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
-        " and m.startswith('rprpr.engine'))\n"
+        " and m.startswith(('rprpr.engine', 'rprpr.repair')))\n"
         "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
     )
     done = subprocess.run(
         [sys.executable, "-c", probe_in], capture_output=True, text=True, timeout=60, cwd=ROOT
     )
     assert done.stderr.strip().splitlines()[-1] == f"KIND=report LOADED={loaded}", done.stderr
+
+
+# -- inside io: the loader's pipeline runs one way ----------------------------------------
+# Each module of the loader's pipeline imports only modules before it in this order (the
+# walk knows neither its readers nor its rules: the loader hands them over).
+PIPELINE = (
+    "messages",
+    "scalars",
+    "source",
+    "yaml_nodes",
+    "walk",
+    "readers",
+    "build",
+    "cross_rules",
+    "loader",
+)
+
+
+def test_the_loaders_pipeline_imports_only_earlier_steps() -> None:
+    g = package_graph()
+    steps = [f"rprpr.io.{m}" for m in PIPELINE]
+    later = [
+        f"{a} -> {b}" for i, a in enumerate(steps) for b in sorted(g[a]) if b in steps[i + 1 :]
+    ]
+    assert later == []
+    assert "rprpr.io.walk" in g["rprpr.io.readers"]  # the rule sees these imports
+
+
+def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
+    probe = (
+        "import sys, rprpr.io.messages\n"
+        "print(sorted(m for m in ('yaml', 'flint', 'numpy') if m in sys.modules))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
+    assert done.stdout.strip() == "[]", done.stderr

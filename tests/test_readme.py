@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -27,10 +28,30 @@ RUN = {"console", "sh", "python", "yaml", "toml"}
 SHOWN = {"json", "text", "xml", ""}  # reports, messages, file layouts: shown only
 
 
+SMALL_DPI = 20  # the pictures README's commands write: nobody looks at their pixels here
+SMALL_FRAMES = 3  # and their GIF (tests/render/test_animation.py tests the frames themselves)
+
+
 @pytest.fixture(scope="module")
 def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[int, Outcome]:
+    """Every block's outcome, README's pictures written at SMALL_DPI and its GIF with
+    SMALL_FRAMES frames (the same commands, the same code path, a fraction of the pixels)."""
+    from rprpr.render import animation as A
+    from rprpr.render import sheet as P
+
+    save, write_gif = P.save, A.write_gif
+
+    def small_save(*args: Any, **kwargs: Any) -> None:
+        save(*args, **{**kwargs, "dpi": SMALL_DPI})
+
+    def small_gif(*args: Any, **kwargs: Any) -> int:
+        return write_gif(*args, **{**kwargs, "frames": SMALL_FRAMES})
+
     here = tmp_path_factory.mktemp("readme")
-    return {block.line: outcome for block, outcome in session(TEXT, here)}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(P, "save", small_save)
+        mp.setattr(A, "write_gif", small_gif)
+        return {block.line: outcome for block, outcome in session(TEXT, here)}
 
 
 def test_every_block_is_of_a_known_kind() -> None:

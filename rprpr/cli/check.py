@@ -22,6 +22,7 @@ import click
 
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
+from ..model.options import AuditOptions
 from ..report.exit import ExitCode, run_status
 from .config import DEFAULT_BUDGET, Settings, configure, load_settings, show, with_rules
 from .options import CHECK_FORMATS, PLOT_EXTRA, CheckOptions, color_option, output_file_option
@@ -241,13 +242,16 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
         ignore=_selectors(params["ignore"]),
     )
     output_file = params["output_file"]
-    options = CheckOptions(
-        format=settings["format"],
-        output_file=None if output_file == "-" else output_file,  # "-": standard output
+    verdicts = AuditOptions(
+        samples=settings["samples"],
         strict=params["strict"] or None,  # the command line's: over every task's own
         peak=params["peak"] or None,
         warn_unbounded=params["warn_unbounded"],
-        samples=settings["samples"],
+    )
+    options = CheckOptions(
+        audit=verdicts,
+        format=settings["format"],
+        output_file=None if output_file == "-" else output_file,  # "-": standard output
         jobs=settings["jobs"] or _cpus(),
         quiet=params["quiet"],
         layout=params["layout"],
@@ -312,18 +316,14 @@ def check_one(
         if name == STDIN and options.stdin_error:
             raise TaskFileError(options.stdin_error, file=path)
         task = read_task(name, options.stdin, path)
-        # the configuration's defaults and levels; --warn-unbounded over the task's own
-        task = configure(task, options.defaults, options.warn_unbounded)
+        task = configure(task, options.defaults)  # the configuration's defaults and levels
     except TaskFileError as e:
         attached = _attach(name, options, None, path, start) if html else None
         return INPUT, input_error(e, path), time.perf_counter() - start, attached
     except Exception as e:  # a bug while reading: still name the file
         return INTERNAL, internal_error(e, path), time.perf_counter() - start, None
     try:
-        result = audit(
-            task, samples=options.samples, strict=options.strict, on_stage=on_stage,
-            peak=options.peak,
-        )  # fmt: skip
+        result = audit(task, options=options.audit, on_stage=on_stage)
         if on_stage is not None:
             on_stage(REPORTING)
         report = task_report(result, path)

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.rules import ALL, RULES, SelectorError, levels
-from ..report.exit import InputError
+from .errors import InputError
 
 if TYPE_CHECKING:  # the rest is imported when a configuration is read: --help stays light
     from fractions import Fraction
@@ -393,10 +393,10 @@ def _root(file: str | None, cwd: str | None) -> str:
 
 
 def _near(key: str, known: Mapping[str, Any]) -> str:
-    import difflib
+    from ..io.messages import near
 
-    near = difflib.get_close_matches(key.replace("-", "_"), list(known), n=1, cutoff=0.6)
-    return f" (did you mean {near[0]!r}?)" if near else f"; known keys: {', '.join(known)}"
+    meant = near(key.replace("-", "_"), known)
+    return f" (did you mean {meant[0]!r}?)" if meant else f"; known keys: {', '.join(known)}"
 
 
 def _checked(key: str, raw: Any, where: str) -> Any:
@@ -509,11 +509,11 @@ def show(settings: Settings) -> Iterator[str]:
 
 
 # -- a task under the configuration --------------------------------------------------------
-def configure(task: Task, d: TaskDefaults, warn_unbounded: bool = False) -> Task:
+def configure(task: Task, d: TaskDefaults) -> Task:
     """``task`` with the configuration's defaults where its file gives no value (a key the
     file gives is in ``task.lines``), and its rule levels: the configuration's, then the
-    task's own (``checks.ignore``, ``checks.warn``, ``checks.unbounded_torque``), then
-    ``--warn-unbounded``."""
+    task's own (``checks.ignore``, ``checks.warn``, ``checks.unbounded_torque``);
+    ``--warn-unbounded`` is the audit's (``AuditOptions.warn_unbounded``)."""
     from flint import fmpq
 
     def exact(q: Fraction) -> fmpq:
@@ -536,8 +536,6 @@ def configure(task: Task, d: TaskDefaults, warn_unbounded: bool = False) -> Task
     if "checks.unbounded_torque" in given:  # the task's own choice for RPR201
         rules["RPR201"] = "warn" if checks.unbounded_torque == "warn" else "error"
     rules.update(checks.rules)
-    if warn_unbounded:
-        rules["RPR201"] = "warn"
     if rules != checks.rules:
         changes["rules"] = rules
     if not changes:

@@ -40,10 +40,11 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     refuse_overwriting_inputs([output_file], task_inputs(task, loaded))  # and its CSV
 
     from ..engine.audit import audit
+    from ..model.options import AuditOptions
     from ..render import export as E
 
     with task_named(task):
-        result = audit(loaded, samples=samples)
+        result = audit(loaded, AuditOptions(samples))
     if output_file is None:
         with writing("the samples", None, ExitCode.PASSED):
             E.write(result, sys.stdout, fmt, task)

@@ -13,8 +13,9 @@ import os
 import click
 
 from ..model.defaults import SCHEMA_MODELINE
-from ..report.exit import ExitCode, InputError
+from ..report.exit import ExitCode
 from .config import TASK_GLOBS, FileSelection
+from .errors import InputError
 from .output import say
 
 DEFAULT_NAME = "task.rprpr.yaml"

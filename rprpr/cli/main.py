@@ -20,7 +20,8 @@ from typing import Any, NoReturn
 import click
 
 from .._version import __version__
-from ..report.exit import OUT_OF_SPACE, Interrupted, error_status, returned_status
+from ..report.exit import OUT_OF_SPACE, Interrupted, returned_status
+from .errors import error_status
 
 # each command in the module of its name, with the line ``rprpr --help`` lists it with (so
 # that the list imports none of them; tests/cli/test_main.py keeps the lines true)

@@ -1,7 +1,9 @@
 """The options of the commands: declared once here, and ``check``'s taken as one value.
 
-``CheckOptions`` (like black's ``Mode``) is built once from the command line and passed
-down, to the workers and the renderers, instead of one parameter per option.
+``CheckOptions`` is built once from the command line and passed down, to the workers and
+the renderers, instead of one parameter per option. What in it changes a verdict is one
+value of its own, ``audit`` (``model.options.AuditOptions``, like black's ``Mode``); the
+rest is the command line's plumbing.
 """
 
 from __future__ import annotations
@@ -14,8 +16,9 @@ from typing import Any, TypeVar
 import click
 
 from ..model.defaults import DEFAULT_SAMPLES
-from ..report.exit import InputError
+from ..model.options import AuditOptions
 from .config import DEFAULT_BUDGET, FORMATS, TaskDefaults
+from .errors import InputError
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -44,11 +47,10 @@ def require_plotting(what: str) -> None:
 class CheckOptions:
     """How ``rprpr check`` audits and reports; the defaults are the command line's.
 
-    ``output_file`` None is standard output; ``strict`` None leaves each task's own
-    ``checks.strict``; ``peak`` True computes the certified torque peak of every task,
-    None leaves each task's own ``checks.peak``; ``warn_unbounded`` accepts unbounded
-    torques (RPR201 a warning) in every task, False leaves each task's
-    ``checks.unbounded_torque``; ``jobs`` is the number of worker processes; ``budget``
+    ``audit``: what changes a verdict (``AuditOptions``: ``--samples``, ``--strict``,
+    ``--peak``, ``--warn-unbounded``; each None or False leaves every task its own
+    choice). ``output_file`` None is standard output; ``jobs`` is the number of worker
+    processes; ``budget``
     the wall-clock seconds each task may take before it is stopped (None: no limit).
     ``defaults``: what the repository's configuration sets in every task
     (``config.configure``); ``statistics``: counts per rule instead of the report;
@@ -58,12 +60,9 @@ class CheckOptions:
     not installed).
     """
 
+    audit: AuditOptions = field(default_factory=AuditOptions)
     format: str = "text"
     output_file: str | None = None
-    strict: bool | None = None
-    peak: bool | None = None
-    warn_unbounded: bool = False
-    samples: int = DEFAULT_SAMPLES
     jobs: int = 1
     quiet: bool = False
     layout: str = "auto"  # the text report's instants: "auto", "table" or "rows"

@@ -23,7 +23,8 @@ from typing import Any, TextIO
 
 import click
 
-from ..report.exit import ExitCode, InputError
+from ..report.exit import ExitCode
+from .errors import InputError
 from .signals import discard_on_signal, keep_on_signal
 
 NON_TTY_WIDTH = 160  # text report width when not writing to a terminal (COLUMNS overrides)

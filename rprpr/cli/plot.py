@@ -202,12 +202,13 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     """Each loaded task (with its file) audited on ``samples`` points and made ready to
     draw."""
     from ..engine.audit import audit
+    from ..model.options import AuditOptions
     from ..render import sheet as P
 
     motions = []
     for task, src in loaded:
         with task_named(src):
-            motions.append(P.motion(audit(task, samples=samples, peak=True), src))
+            motions.append(P.motion(audit(task, AuditOptions(samples, peak=True)), src))
     return motions
 
 

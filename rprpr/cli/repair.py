@@ -1,5 +1,5 @@
 """``rprpr repair``: turn a failing motion into the nearest one that passes, exactly
-(``engine.repair``), write it as a task file and say what changed.
+(``rprpr.repair``), write it as a task file and say what changed.
 
 What is written is the task file itself with only the keys the repair changed rewritten
 (``io.edit``): its comments, key order, formatting and number spelling elsewhere are
@@ -34,14 +34,16 @@ from ..model.actuation import SCHEMES
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
 from ..model.names import file_name
-from ..report.exit import ExitCode, InputError
+from ..model.options import AuditOptions
+from ..report.exit import ExitCode
+from .errors import InputError
 from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
 from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named
 
 if TYPE_CHECKING:
-    from ..engine.repair import Repair
     from ..model.task import Task
+    from ..repair import Repair
 
 
 @click.command()
@@ -99,8 +101,8 @@ def repair(
     timing law and/or the path around each failing singular instant (zero slope, zero
     speed, inconsistency of eq. 34, a touch), checked strictly before it is written. Only
     the keys that change are rewritten: comments and formatting elsewhere are kept."""
-    from ..engine.repair import NoRepair
-    from ..engine.repair import repair as repaired
+    from ..repair import NoRepair
+    from ..repair import repair as repaired
 
     # every usage error before any work or write
     _exclusive(task, output_file, in_place, show_diff, plot_file)
@@ -219,7 +221,7 @@ def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool)
             return None
         if not same_motion(back, r.task):
             continue  # an edit that reads back otherwise: the task written whole instead
-        if not audit(back, strict=True).passed:  # never write a failing task
+        if not audit(back, AuditOptions(strict=True)).passed:  # never write a failing task
             say(
                 f"rprpr: {task}: the repaired task read back fails the strict check;"
                 " nothing written"
@@ -344,8 +346,8 @@ def _plot(r: Repair, old: str, new: str, out: str) -> None:
     from ..render import sheet as P
 
     motions = [
-        replace(P.motion(audit(r.before.task, peak=True), old), label="before"),
-        replace(P.motion(audit(r.task, peak=True), new), label="after"),
+        replace(P.motion(audit(r.before.task, AuditOptions(peak=True)), old), label="before"),
+        replace(P.motion(audit(r.task, AuditOptions(peak=True)), new), label="after"),
     ]
     change = P.Change(timing=r.timing_change, path=r.path_deviation)
     fig = P.render(motions, list(P.PANELS), change=change)

@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING
 import click
 
 from ..model.errors import TaskFileError
-from ..report.exit import InputError, InternalError
 from .config import FileSelection
+from .errors import InputError, InternalError
 
 if TYPE_CHECKING:
     from ..model.task import Task

@@ -16,15 +16,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Unpack
 
 import numpy as np
 from flint import fmpq
 
-from ..model.defaults import DEFAULT_SAMPLES
 from ..model.numbers import to_float
+from ..model.options import AuditKeywords, AuditOptions
 from ..model.rules import Finding, with_levels
-from ..model.task import Task, Uncertainty
+from ..model.task import Task
 from . import knots as K
 from . import pieces as P
 from .findings import findings
@@ -49,6 +49,8 @@ ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
 STAGES = (FACTORING, ISOLATING, EXPANDING, ENVELOPE, FINDINGS)  # in the order they begin
 
+DEFAULT = AuditOptions()  # the task's own choices
+
 Saturation = tuple[SingularInstant, Window | None, Window | None]
 
 
@@ -65,28 +67,55 @@ class AuditResult:
     exceed their limits (empty without a limit); ``closest_approach``: for a motion that
     never meets the line AB, how close it comes (None otherwise). ``verdict`` is "pass"
     or "fail". ``samples`` are certified values on the grid of ``grid_size`` points, made
-    when first read.
+    when first read. Only what the audit decided is stored; what follows from it (the
+    instants of ``analysis``, ``saturation``, ``knots``, ``trajectory``) is a property.
     """
 
     task: Task
     strict: bool
-    singularities: list[SingularInstant]
-    kinematic_singularities: list[KinematicSingularity]
-    on_singular_line: bool
     torque_peak: tuple[Peak, Peak] | None
     torque_limit: tuple[LimitCheck, LimitCheck] | None
-    saturation: list[Saturation]
     closest_approach: Approach | None
     findings: list[Finding]
     grid_size: int = field(repr=False)
-    trajectory: Trajectory = field(repr=False)
     analysis: SingularAnalysis = field(repr=False, compare=False)
     parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
-    knots: tuple[float, ...] = ()  # the interior break times of a piecewise motion [s]
-    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps there
+    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps at the knots
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
     # with ``task.uncertainty``: each singular instant's robust analysis (docs/robust.md)
     robust: tuple[Robust, ...] = ()
+
+    @property
+    def singularities(self) -> list[SingularInstant]:
+        """The Type II singular instants, in time order (``analysis.instants``)."""
+        return self.analysis.instants
+
+    @property
+    def kinematic_singularities(self) -> list[KinematicSingularity]:
+        """E at A or at B (``analysis.kinematic``)."""
+        return self.analysis.kinematic
+
+    @property
+    def on_singular_line(self) -> bool:
+        """The path lies on y = 0 all along (``analysis.on_singular_line``)."""
+        return self.analysis.on_singular_line
+
+    @cached_property
+    def saturation(self) -> list[Saturation]:
+        """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
+        their limits (empty without a limit)."""
+        checked = self.torque_limit
+        return [] if checked is None else _saturation(self.analysis, checked)
+
+    @property
+    def trajectory(self) -> Trajectory:
+        """The first piece's exact trajectory."""
+        return self.parts[0].traj
+
+    @property
+    def knots(self) -> tuple[float, ...]:
+        """The break times of a piecewise motion [s] (``knot_jumps``' times)."""
+        return tuple(k.t for k in self.knot_jumps)
 
     @property
     def motion(self) -> CertifiedMotion:
@@ -113,8 +142,13 @@ class AuditResult:
         return None
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
-        """The findings the audit made at the singular instant ``s``."""
-        return [f for f in self.findings if f.t is not None and f.t == s.t]
+        """The findings the audit made at the singular instant ``s`` (one of
+        ``singularities``), tied to it by its index: two instants whose times round to one
+        double never share them."""
+        i = next((i for i, x in enumerate(self.singularities) if x is s), None)
+        if i is None:
+            i = self.singularities.index(s)
+        return [f for f in self.findings if f.instant == i]
 
     def status_of(self, s: SingularInstant) -> str:
         """ "fail" when a finding at ``s`` fails the task, "warn" when one only warns,
@@ -146,31 +180,31 @@ class AuditResult:
 
 def audit(
     task: Task,
+    options: AuditOptions | None = None,
     *,
-    samples: int = DEFAULT_SAMPLES,
-    strict: bool | None = None,
     on_stage: OnStage | None = None,
-    peak: bool | None = None,
-    uncertainty: Uncertainty | None = None,
+    **keywords: Unpack[AuditKeywords],
 ) -> AuditResult:
-    """Audit ``task``; ``samples`` is the size of the grid of ``AuditResult.samples``
-    (nothing the audit decides depends on it); ``strict`` overrides
-    ``task.checks.strict``. ``on_stage``, when given, is told the name of each stage
-    (``STAGES``) as it begins (a caller that stops a long audit can say where it was).
-    ``peak`` asks for the certified torque peak (None: ``task.checks.peak``); no verdict
-    needs it, so without it the peak is computed only where it costs nothing (infinite at
-    a pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
-    False and ``torque_peak`` None. ``uncertainty``, when given, replaces the task's own
+    """Audit ``task`` as ``options`` say (``model.options.AuditOptions``: the grid of
+    ``AuditResult.samples``, the strict mode, the peak, RPR201's level; by default the
+    task's own choices); ``keywords`` are its fields, over ``options``:
+    ``audit(task, strict=True)`` is ``audit(task, AuditOptions(strict=True))``.
+    ``on_stage``, when given, is told the name of each stage (``STAGES``) as it begins (a
+    caller that stops a long audit can say where it was). No verdict needs the certified
+    peak, so unless asked for it is computed only where it costs nothing (infinite at a
+    pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
+    False and ``torque_peak`` None. ``uncertainty`` (an option) replaces the task's own
     (``docs/robust.md``): each instant then has its robust analysis (``robust``).
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides."""
-    if samples < 2:
-        raise ValueError("at least 2 samples are needed")
-    if uncertainty is not None:
-        task = replace(task, uncertainty=uncertainty.exact())
-    strict = task.checks.strict if strict is None else strict
-    asked = task.checks.peak if peak is None else peak
+    o = options or DEFAULT
+    if keywords:
+        o = replace(o, **keywords)
+    strict = task.checks.strict if o.strict is None else o.strict
+    asked = task.checks.peak if o.peak is None else o.peak
+    if o.uncertainty is not None:
+        task = replace(task, uncertainty=o.uncertainty.exact())
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
@@ -178,7 +212,6 @@ def audit(
     pair = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
     top, computed, checked, approach = P.envelopes(parts, pair, batch, asked)
     analysis = _joined(task, parts)
-    saturation = _saturation(analysis, checked) if checked is not None else []
     knots = K.knots(task.motion, task.robot)
     on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
     whole = len(on_line) == len(parts) and not task.pieces
@@ -188,20 +221,16 @@ def audit(
     return AuditResult(
         task=task,
         strict=strict,
-        singularities=analysis.instants,
-        kinematic_singularities=analysis.kinematic,
-        on_singular_line=analysis.on_singular_line,
         torque_peak=top,
         peak_computed=computed,
         torque_limit=checked,
-        saturation=saturation,
         closest_approach=approach,
-        findings=[replace(f, strict=strict) for f in with_levels(found, task.checks.rules)],
-        grid_size=samples,
-        trajectory=parts[0].traj,
+        findings=[
+            replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
+        ],
+        grid_size=o.samples,
         analysis=analysis,
         parts=tuple(parts),
-        knots=tuple(k.t for k in knots),
         knot_jumps=tuple(knots),
         robust=tuple(robust),
     )

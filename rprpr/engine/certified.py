@@ -55,6 +55,7 @@ from ..model.numbers import number, to_float
 from ..model.task import Robot
 from . import equations as dyn
 from .balls import ETA, Ball, U, horner, hypot, poly_balls, quiet
+from .mechanism import of
 from .series import taylor
 from .singular import SingularAnalysis, SingularInstant, _real_roots, expansion, legs
 from .trajectory import Trajectory
@@ -202,7 +203,7 @@ def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
 
 
 def _ball_params(robot: Robot) -> dyn.Params:
-    return dyn.Params.of(robot, Ball.of_rational)
+    return of(robot).params(robot, Ball.of_rational)
 
 
 # -- the motion ---------------------------------------------------------------------
@@ -214,6 +215,7 @@ class CertifiedMotion:
     def __init__(self, traj: Trajectory, robot: Robot, analysis: SingularAnalysis) -> None:
         self.traj = traj
         self.robot = robot
+        self.mech = of(robot)  # the robot's formulas (``mechanism``)
         self.analysis = analysis
         self.instants = [(s, _instant_time(analysis, s)) for s in analysis.instants]
         self.kinematic = self._kinematic()
@@ -400,11 +402,10 @@ class CertifiedMotion:
                 n: Ball(value[n][idx], radius[n][idx])
                 for n in ("x", "x_dot", "x_ddot", "y", "y_dot", "y_ddot")
             }
-            leg1 = dyn.leg(b["x"], b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot)
-            leg2 = dyn.leg(
-                b["x"] - self.a1, b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"], hypot
-            )
-            T1, T2 = dyn.efforts(dyn.dynamics(leg1, leg2, self.params), lam[0], lam[1])
+            p, mech = self.params, self.mech
+            kin = (b["x"], b["x_dot"], b["x_ddot"], b["y"], b["y_dot"], b["y_ddot"])
+            leg1, leg2 = mech.legs(p, *kin, hypot)
+            T1, T2 = mech.efforts(mech.dynamics(leg1, leg2, p), lam[0], lam[1])
             for name, new in (("lambda1", lam[0]), ("lambda2", lam[1]), ("T1", T1), ("T2", T2)):
                 better = new.rad < radius[name][idx]
                 value[name][idx[better]] = new.mid[better]
@@ -462,17 +463,14 @@ class CertifiedMotion:
 
     def formulas(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Values:
         """The paper's formulas on balls (all but θ, ``theta``)."""
-        p = self.params
-        leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, hypot)
-        u2 = x - self.a1
-        leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, hypot)
-        d = dyn.dynamics(leg1, leg2, p)
-        s12 = leg1.s * leg2.s
-        delta = -(self.a1 * y) / s12  # eq. (29), product form
-        delta_dot = -(self.a1 / s12) * (yd - y * (leg1.s_d / leg1.s + leg2.s_d / leg2.s))
+        p, mech = self.params, self.mech
+        leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
+        d = mech.dynamics(leg1, leg2, p)
+        delta = mech.delta(p, y, leg1, leg2)  # product form (eq. 29 for the RPRPR)
+        delta_dot = mech.delta_rate(p, y, yd, leg1, leg2)
         lam1 = d.mu1 / delta
         lam2 = d.mu2 / delta
-        T1, T2 = dyn.efforts(d, lam1, lam2)
+        T1, T2 = mech.efforts(d, lam1, lam2)
         out = {
             "x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd,
             "s1": leg1.s, "s2": leg2.s,
@@ -533,7 +531,7 @@ class CertifiedMotion:
             value[name][j], radius[name][j] = float(b.mid), float(b.rad)
         if not s.torque_bounded:
             reason[j] = POLE
-            pole = "lambda2" if dyn.AUTOMATIC[self.robot.actuation] == 0 else "lambda1"
+            pole = "lambda2" if self.mech.automatic == 0 else "lambda1"
             for name in (pole, "T1", "T2"):
                 undefined[name][j] = True
 
@@ -547,10 +545,12 @@ class CertifiedMotion:
             )
             sx = 1 if X.c[0] > 0 else -1
             sxa = 1 if X.c[0] - self.traj.a1 > 0 else -1
-            l1, l2 = legs(X, Xd, Xdd, Y, Yd, Ydd, self.traj.a1, sx, sxa)
-            d = dyn.dynamics(l1, l2, dyn.Params.of(self.robot))
+            mech = self.mech
+            p = mech.params(self.robot)
+            l1, l2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
+            d = mech.dynamics(l1, l2, p)
             mu = (d.mu1, d.mu2)
-            auto = dyn.AUTOMATIC[self.robot.actuation]  # μ_auto = O(ε^m): always bounded
+            auto = mech.automatic  # μ_auto = O(ε^m): always bounded
             pole = Ball(np.nan, np.inf)
             lam: list[Any] = [None, None]
             lam[auto] = mu[auto].c[m] / d.delta.c[m]
@@ -560,7 +560,7 @@ class CertifiedMotion:
             if s.torque_bounded:
                 lam[1 - auto] = mu[1 - auto].c[m] / d.delta.c[m]
                 lam_b[1 - auto] = Ball.of_rational(lam[1 - auto])
-                T1, T2 = dyn.efforts(d, lam[0], lam[1])
+                T1, T2 = mech.efforts(d, lam[0], lam[1])
                 T = [Ball.of_rational(T1.c[0]), Ball.of_rational(T2.c[0])]
             self._limits[key] = (lam_b[0], lam_b[1], T[0], T[1])
         return self._limits[key]
@@ -596,10 +596,6 @@ class CertifiedMotion:
         elif beyond:
             reason[j] = BEYOND_DOUBLE
 
-    def arb_point(self, t: float, prec: int) -> Values:
-        """Every quantity at the float time t in arb at ``prec`` bits (as balls)."""
-        return self._arb_point(t, prec)[0]
-
     def _arb_point(self, t: float, prec: int) -> tuple[Values, dict[str, arb]]:
         """``arb_point``, and the arb values themselves (all but θ)."""
         tq = fmpq(*t.as_integer_ratio())
@@ -618,13 +614,13 @@ class CertifiedMotion:
             out["s1"], out["s2"] = s1, s2
             if not (s1 > 0 and s2 > 0):
                 return {n: Ball.of_arb(v) for n, v in out.items()}, out
-            leg1 = dyn.leg(x, xd, xdd, y, yd, ydd, _arb_hypot)
-            leg2 = dyn.leg(u2, xd, xdd, y, yd, ydd, _arb_hypot)
-            d = dyn.dynamics(leg1, leg2, dyn.Params.of(self.robot, arb))
-            s12 = s1 * s2
-            delta = -(a1 * y) / s12
+            mech = self.mech
+            p = mech.params(self.robot, arb)
+            leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, _arb_hypot)
+            d = mech.dynamics(leg1, leg2, p)
+            delta = mech.delta(p, y, leg1, leg2)
             out["delta"] = delta
-            out["delta_dot"] = -(a1 / s12) * (yd - y * (leg1.s_d / s1 + leg2.s_d / s2))
+            out["delta_dot"] = mech.delta_rate(p, y, yd, leg1, leg2)
             out.update(
                 theta1_dot=leg1.th_d,
                 s1_dot=leg1.s_d,
@@ -637,7 +633,7 @@ class CertifiedMotion:
             )
             if not self.analysis.on_singular_line and (delta > 0 or delta < 0):
                 lam1, lam2 = d.mu1 / delta, d.mu2 / delta
-                T1, T2 = dyn.efforts(d, lam1, lam2)
+                T1, T2 = mech.efforts(d, lam1, lam2)
                 out.update(lambda1=lam1, lambda2=lam2, T1=T1, T2=T2)
             balls = {n: Ball.of_arb(v) for n, v in out.items()}
             ta = np.array([t])

@@ -21,6 +21,7 @@ from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task, Uncertainty
 from .knots import Knot
+from .mechanism import of
 from .robust import Robust
 from .singular import KinematicSingularity, SingularAnalysis, SingularInstant
 from .verdicts import LimitCheck, Peak, Window
@@ -61,21 +62,20 @@ def findings(
     holds each instant's robust analysis: RPR205 fails a window longer than the period,
     and RPR201 is a warning that says what the window is (``docs/robust.md``)."""
     at = instant_text(a)
-    e = SCHEMES[task.robot.actuation]
+    e = of(task.robot).words
     out = path_on_singular_line(a) if not on_line else pieces_on_singular_line(on_line)
     out += [f for k in knots for f in knot(k, e)]
     out += [kinematic(k, at) for k in a.kinematic]
     accepted = task.checks.unbounded_torque == "warn"
     u = task.uncertainty
-    rob = dict(zip((s.t for s in a.instants), robust, strict=False)) if u is not None else {}
-    for s in a.instants:
+    for i, s in enumerate(a.instants):
         pole = unbounded(s, at, accepted or u is not None, e)
-        if u is not None and pole and s.t in rob:
-            pole = [replace(f, message=f.message + robust_note(rob[s.t], u)) for f in pole]
-        out += slope(s, at) + velocity(s, at) + pole
+        r = robust[i] if u is not None and i < len(robust) else None
+        if u is not None and r is not None:
+            pole = [replace(f, message=f.message + robust_note(r, u)) for f in pole]
+            pole += window(s, r, task, at, e)
+        out += [replace(f, instant=i) for f in slope(s, at) + velocity(s, at) + pole]
     out += torque_limit(task, a, peak, limit, at)
-    if u is not None:
-        out += [f for s in a.instants if s.t in rob for f in window(s, rob[s.t], task, at, e)]
     return out
 
 
@@ -241,9 +241,8 @@ def unbounded(
     (``checks.unbounded_torque: warn``): the finding is downgraded to a warning."""
     if s.torque_bounded:
         return []
-    cond = "eq. 34" if e.name == REVOLUTE else e.condition
     why = (
-        f"consistent ({cond}), but only {s.conditions_met} of {s.conditions_required}"
+        f"consistent ({e.cited}), but only {s.conditions_met} of {s.conditions_required}"
         " boundedness conditions hold"
         if s.consistent
         else f"inconsistent: {e.condition} residual {s.number('consistency_residual')} N ≠ 0"
@@ -267,9 +266,9 @@ def torque_limit(
     (the peak touches it) fails too: a gate passes only what is proven."""
     if task.checks.torque_limit is None or checks is None:
         return []
-    e = SCHEMES[task.robot.actuation]
+    e = of(task.robot).words
     out = []
-    for s in a.instants:
+    for i, s in enumerate(a.instants):
         if s.torque_bounded:
             continue
         windows = [_around(s, c, j, at, e) for j, c in enumerate(checks)]
@@ -278,7 +277,7 @@ def torque_limit(
             f"{at(s.t)}: the {e.noun} are unbounded (pole of order {s.pole_order}):"
             f" beyond any limit{': ' + beyond if beyond else ''}"
         )
-        out.append(Finding("RPR202", message, s.t))
+        out.append(Finding("RPR202", message, s.t, instant=i))
     for j, c in enumerate(checks):
         limit = number(c.limit)
         above = [w for w in c.windows if not w.pole]

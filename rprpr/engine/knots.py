@@ -19,7 +19,7 @@ from flint import arb, ctx, fmpq
 
 from ..model.numbers import to_float
 from ..model.task import Piece, Robot
-from . import equations as dyn
+from .mechanism import of
 
 PREC = 128  # bits of the one-sided torques
 
@@ -83,13 +83,14 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
         s1, s2 = hyp(X, Y), hyp(X - a1, Y)
         if not (s1 > 0 and s2 > 0):
             return None
-        leg1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hyp)
-        leg2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, hyp)
-        d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot, arb))
-        delta = -(a1 * Y) / (s1 * s2)
+        mech = of(robot)
+        p = mech.params(robot, arb)
+        leg1, leg2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hyp)
+        d = mech.dynamics(leg1, leg2, p)
+        delta = mech.delta(p, Y, leg1, leg2)
         if not (delta > 0 or delta < 0):
             return None
-        T1, T2 = dyn.efforts(d, d.mu1 / delta, d.mu2 / delta)
+        T1, T2 = mech.efforts(d, d.mu1 / delta, d.mu2 / delta)
         return float(T1.mid()), float(T2.mid())
     finally:
         ctx.prec = old

@@ -226,7 +226,6 @@ def at_knot(before: SingularInstant | None, after: SingularInstant | None) -> Si
         velocity_principle=_side(speed_n, speed_s.velocity_principle, two),
         consistency_residual=resid_s.consistency_residual,
         consistent=all(s.consistent for s in ss),
-        conditions_required=order,
         conditions_met=order - pole,
         torque_at_singularity=torque,
         beyond_double_range=beyond,

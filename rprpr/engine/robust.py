@@ -40,6 +40,7 @@ from flint import arb, ctx, fmpq, fmpq_poly
 from ..model.numbers import to_float
 from ..model.task import Robot, Task, Uncertainty
 from . import equations as dyn
+from .mechanism import of
 from .pieces import absolute
 from .series import taylor
 
@@ -133,7 +134,7 @@ def _params(robot: Robot, k: int, convert: Callable[[Any], Any]) -> dyn.Params:
         convert(robot.a1), convert(robot.gravity),
         vals[2][0], vals[2][2], vals[2][1], vals[3][0], vals[3][2], vals[3][1],
         vals[4][0], vals[4][2], vals[4][1], vals[5][0], vals[5][2], vals[5][1],
-        robot.actuation,
+        of(robot),
     )  # fmt: skip
 
 
@@ -142,7 +143,7 @@ def _params_array(robot: Robot) -> dyn.Params:
     cols = [_params(robot, k, float) for k in range(len(BASIS))]
     names = ("m2", "I2", "r2", "m3", "I3", "r3", "m4", "I4", "r4", "m5", "I5", "r5")
     arrays = {n: np.array([getattr(c, n) for c in cols]) for n in names}
-    return dyn.Params(float(robot.a1), float(robot.gravity), **arrays, actuation=robot.actuation)
+    return dyn.Params(float(robot.a1), float(robot.gravity), **arrays, mechanism=of(robot))
 
 
 def _to_basis(values: list[Any]) -> list[Any]:
@@ -156,14 +157,11 @@ def _to_basis(values: list[Any]) -> list[Any]:
     return out
 
 
-def _kin(c: Sequence[Sequence[Any]], h: Any, a1: Any, ex: Any, ey: Any, hyp: Any) -> Any:
+def _kin(c: Sequence[Sequence[Any]], h: Any, p: dyn.Params, ex: Any, ey: Any, hyp: Any) -> Any:
     """The legs at t_s + h from the Taylor coefficients ``c`` (x, x', x'', y, y', y''
-    about t_s), the acceleration error (ex, ey) added."""
-    x, xd, xdd, y, yd, ydd = (_horner(p, h) for p in c)
-    return (
-        dyn.leg(x, xd, xdd + ex, y, yd, ydd + ey, hyp),
-        dyn.leg(x - a1, xd, xdd + ex, y, yd, ydd + ey, hyp),
-    )
+    about t_s), the acceleration error (ex, ey) added (the mechanism's inverse kinematics)."""
+    x, xd, xdd, y, yd, ydd = (_horner(q, h) for q in c)
+    return p.mechanism.legs(p, x, xd, xdd + ex, y, yd, ydd + ey, hyp)
 
 
 def _horner(p: Sequence[Any], h: Any) -> Any:
@@ -306,9 +304,10 @@ def _regressor_float(ab: _About, h: np.ndarray) -> np.ndarray:
     hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
-    legs = _kin(c, hh, float(robot.a1), ex, ey, np.hypot)
+    params = _params_array(robot)
+    legs = _kin(c, hh, params, ex, ey, np.hypot)
     with np.errstate(divide="ignore", invalid="ignore"):
-        T1, T2 = _efforts(legs, _params_array(robot))  # (n, 3, 10)
+        T1, T2 = _efforts(legs, params)  # (n, 3, 10)
     Y = np.stack(np.broadcast_arrays(T1, T2), axis=2)  # (n, 3, 2, 10)
     Y = np.moveaxis(Y, 1, 0)  # (3, n, 2, 10)
     B = _to_basis([Y[..., k] for k in range(len(BASIS))])
@@ -336,11 +335,10 @@ def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[A
     coefficients as the one "joint"."""
     robot = ab.robot
     c = [[_ball(v) for v in p] for p in ab.coeffs]
-    a1 = _ball(robot.a1)
     params = [_params(robot, k, _ball) for k in range(len(BASIS))]
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
-        legs = _kin(c, h, a1, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        legs = _kin(c, h, params[0], arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
         values: list[tuple[Any, ...]] = []
         for p in params:
             d = dyn.dynamics(legs[0], legs[1], p)
@@ -521,9 +519,8 @@ def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
     ctx.prec = PREC
     try:
         c = [[_ball(v) for v in p] for p in ab.coeffs]
-        legs = _kin(c, arb(h), _ball(ab.robot.a1), arb(ex), arb(ey),
-                    lambda u, v: (u * u + v * v).sqrt())  # fmt: skip
-        p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, ab.robot.actuation)  # type: ignore[call-arg]
+        p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
+        legs = _kin(c, arb(h), p, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
         d = dyn.dynamics(legs[0], legs[1], p)
         return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
     finally:

@@ -33,6 +33,7 @@ from ..model.cases import Case, case_of
 from ..model.numbers import exact_apart, exact_number, faithful, number
 from ..model.task import Checks, Robot
 from . import equations as dyn
+from .mechanism import Mechanism, of
 from .roots import IsolatedRoot, isolate
 from .series import KElem, NumberField, QSeries, Series, ball, is_zero, real, sign, taylor
 from .trajectory import Trajectory
@@ -66,19 +67,17 @@ class SingularInstant:
 
     t: float
     x: float
-    y: float
     t_exact: Fraction | None  # t_s exactly when rational (see ``t_rational``), else None
     case: Case
     order: int
-    delta_derivatives: list[float]
+    delta_m: float  # d^m δ/dt^m at t_s, m = ``order`` (the lower derivatives vanish)
     slope: float
     speed: float
     slope_principle: Principle
     velocity_principle: Principle
     consistency_residual: float
     consistent: bool
-    conditions_required: int
-    conditions_met: int
+    conditions_met: int  # k of the ``order`` conditions (eqs. 34-38) that hold
     torque_at_singularity: tuple[float, float] | None
     beyond_double_range: tuple[tuple[str, str], ...] = ()
     knot: bool = False  # t_s is a break of a piecewise motion (0 and t_f included)
@@ -99,6 +98,21 @@ class SingularInstant:
         """The quantity ``name`` (``x``, ``slope``, ...) as text: ``numbers.number`` of its
         double, or its exact value where that double is not faithful."""
         return dict(self.beyond_double_range).get(name) or number(getattr(self, name))
+
+    @property
+    def y(self) -> float:
+        """E is on the line AB: y(t_s) = 0."""
+        return 0.0
+
+    @property
+    def delta_derivatives(self) -> list[float]:
+        """d^k δ/dt^k at t_s for k = 0..order: zero but the last, ``delta_m``."""
+        return [0.0] * self.order + [self.delta_m]
+
+    @property
+    def conditions_required(self) -> int:
+        """The conditions for bounded torques at an instant of order m: m (eqs. 34-38)."""
+        return self.order
 
     @property
     def kind(self) -> str:
@@ -216,7 +230,7 @@ def analyse(
 ) -> SingularAnalysis:
     """Every Type II and inverse-kinematic singular instant of ``traj`` in [0, t_f];
     ``on_stage`` is told each stage (FACTORING, ISOLATING, EXPANDING) as it begins."""
-    y = traj.y
+    y = of(robot).locus(traj.x, traj.y)
     if y.is_zero():
         on_line = _kinematic_on_line(traj)
         return SingularAnalysis([], on_line, True, (), (1,) * len(on_line))
@@ -287,19 +301,15 @@ def expansion(
 
 
 def legs(
-    X: Series, Xd: Series, Xdd: Series, Y: Series, Yd: Series, Ydd: Series,
-    a1: object, sx: int, sxa: int,
+    mech: Mechanism, p: dyn.Params, X: Series, Xd: Series, Xdd: Series, Y: Series,
+    Yd: Series, Ydd: Series, sx: int, sxa: int,
 ) -> tuple[dyn.Leg, dyn.Leg]:  # fmt: skip
     """Both legs' series; s1(t_s) = |x(t_s)| and s2(t_s) = |x(t_s) - a1| since y(t_s) = 0."""
-    U2 = X - a1
 
     def hyp(sign: int) -> Callable[[Series, Series], Series]:
         return lambda u, v: (u * u + v * v).sqrt_with(u.c[0] * sign)
 
-    return (
-        dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, hyp(sx)),
-        dyn.leg(U2, Xd, Xdd, Y, Yd, Ydd, hyp(sxa)),
-    )
+    return mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hyp(sx), hyp(sxa))
 
 
 @dataclass(frozen=True)
@@ -339,16 +349,18 @@ def _expanded(
     what the audit reads of them."""
     X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
     assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
-    leg1, leg2 = legs(X, Xd, Xdd, Y, Yd, Ydd, traj.a1, sx, sxa)
-    d = dyn.dynamics(leg1, leg2, dyn.Params.of(robot))
+    mech = of(robot)
+    p = mech.params(robot)
+    leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
+    d = mech.dynamics(leg1, leg2, p)
     if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
         raise AssertionError("order of δ differs from the multiplicity of y")
     valuations = (d.mu1.valuation(), d.mu2.valuation())
     return _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
-        residual=dyn.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
-        limit=_limit_torque(d, m) if min(*valuations, m) >= m else None,
+        residual=mech.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
+        limit=_limit_torque(mech, d, m) if min(*valuations, m) >= m else None,
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
     )
@@ -401,18 +413,16 @@ def _instant(
     instant = SingularInstant(
         t=t,
         x=x,
-        y=0.0,
         t_exact=None if exact is None else Fraction(int(exact.p), int(exact.q)),
         case=case,
         order=m,
-        delta_derivatives=[delta_m if i == m else 0.0 for i in range(m + 1)],
+        delta_m=delta_m,
         slope=slope_f,
         speed=speed_f,
         slope_principle=slope_principle,
         velocity_principle=_velocity_principle(e.speed2, speed, checks.min_speed),
         consistency_residual=residual_f,
         consistent=is_zero(e.residual[0]),
-        conditions_required=m,
         conditions_met=k,
         torque_at_singularity=torque,
         beyond_double_range=tuple(beyond),
@@ -429,7 +439,7 @@ def _residual(numerator: Any, denominator: Any) -> Any:
     return numerator / denominator
 
 
-def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
+def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     """(T1, T2) at t_s when λ is bounded there: λ = μ^(m)/δ^(m) (eqs. 30-31), exactly when
     t_s is rational. In K the torque is only reported, so no inverse is taken there (an
     inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
@@ -437,12 +447,12 @@ def _limit_torque(d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     with an exact numerator, and that one division is made in ball arithmetic."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
-        T1, T2 = dyn.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
+        T1, T2 = mech.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
         return T1.c[0], T2.c[0]
     zero, one = D * 0, D * 0 + 1
-    A = dyn.efforts(d, Series([zero]), Series([zero]))
-    B1 = dyn.efforts(d, Series([one]), Series([zero]))
-    B2 = dyn.efforts(d, Series([zero]), Series([one]))
+    A = mech.efforts(d, Series([zero]), Series([zero]))
+    B1 = mech.efforts(d, Series([one]), Series([zero]))
+    B2 = mech.efforts(d, Series([zero]), Series([one]))
     out = []
     for a, b1, b2 in zip(A, B1, B2, strict=True):
         a0 = a.c[0]

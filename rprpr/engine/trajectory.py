@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 
 from flint import fmpq, fmpq_poly
 
@@ -47,13 +46,6 @@ class Trajectory:
         """dy/dx along a path, p'(x(t)) (polynomial in t; only with a ``path``)."""
         assert self.path is not None
         return self.path.derivative()(self.x)
-
-    @cached_property
-    def motion_coefficients(self) -> tuple[list[fmpq], ...]:
-        """The coefficients of x, x', x'', y, y', y'' (computed once: a long polynomial's
-        ``coeffs()`` costs milliseconds, and the ball-arithmetic samples read them often)."""
-        polys = (self.x, self.xd, self.xdd, self.y, self.yd, self.ydd)
-        return tuple(p.coeffs() for p in polys)
 
     @property
     def xd(self) -> fmpq_poly:

@@ -34,6 +34,7 @@ from flint import acb, acb_poly, arb, arb_poly, arb_series, ctx, fmpq
 from ..model.numbers import to_float
 from . import equations as dyn
 from .balls import ETA, Ball, U, horner, quiet, two_sum
+from .mechanism import Mechanism, of
 from .series import taylor
 from .singular import SingularInstant
 
@@ -178,11 +179,10 @@ def taylor_lambda(
             coeffs = taylor_at_instant(motion, s, TAYLOR_PREC)
         X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, E, n)
         ctx.cap = n
-        a1 = arb(motion.traj.a1)
-        l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-        l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
-        d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
-        dm = _coef(-(Y * a1) / (l1.s * l2.s), m)  # δ^(m)(ξ)/m!, eq. (29)
+        mech, p = _arb_params(motion)
+        l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+        d = mech.dynamics(l1, l2, p)
+        dm = _coef(mech.delta(p, Y, l1, l2), m)  # δ^(m)(ξ)/m!, eq. (29)
         if not dm.is_finite() or dm.contains(0):
             return None
         eps = Ball.hull(np.array([lo]), np.array([hi])) - Ball.of_arb(ts)
@@ -215,15 +215,20 @@ def _coef(s: Any, k: int) -> arb:
     return c[k] if k < len(c) else arb(0)
 
 
+def _arb_params(motion: CertifiedMotion) -> tuple[Mechanism, dyn.Params]:
+    """The motion's mechanism and its parameters as arb (at the working precision)."""
+    mech = of(motion.robot)
+    return mech, mech.params(motion.robot, arb)
+
+
 def _torque_series(motion: CertifiedMotion, ser: tuple[Any, ...]) -> tuple[Any, Any]:
     """T1, T2 as series from the series of x, x', x'', y, y', y'' (eqs. 28-31)."""
     X, Xd, Xdd, Y, Yd, Ydd = ser
-    a1 = arb(motion.traj.a1)
-    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
-    delta = -(Y * a1) / (l1.s * l2.s)  # eq. (29), product form
-    T1, T2 = dyn.efforts(d, d.mu1 / delta, d.mu2 / delta)
+    mech, p = _arb_params(motion)
+    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    d = mech.dynamics(l1, l2, p)
+    delta = mech.delta(p, Y, l1, l2)  # product form
+    T1, T2 = mech.efforts(d, d.mu1 / delta, d.mu2 / delta)
     return T1, T2
 
 
@@ -310,11 +315,10 @@ def _series_parts(
 ) -> tuple[Any, Any, Any]:
     """μ1, μ2 and δ (product form) as series about t_s + ε for every ε in ``eps``."""
     X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, eps, n)
-    a1 = arb(motion.traj.a1)
-    l1 = dyn.leg(X, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    l2 = dyn.leg(X - a1, Xd, Xdd, Y, Yd, Ydd, _hypot)
-    d = dyn.dynamics(l1, l2, dyn.Params.of(motion.robot, arb))
-    return d.mu1, d.mu2, -(Y * a1) / (l1.s * l2.s)
+    mech, p = _arb_params(motion)
+    l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, _hypot)
+    d = mech.dynamics(l1, l2, p)
+    return d.mu1, d.mu2, mech.delta(p, Y, l1, l2)
 
 
 def _on_ball(
@@ -332,13 +336,12 @@ def _on_ball(
         if (u * u + y * y).contains(0):
             return None
     out = [arb(0), arb(0), arb(0)]
-    one = dyn.leg(x, xd, xdd, y, yd, ydd, _branch(1))
-    two = dyn.leg(x - a1, xd, xdd, y, yd, ydd, _branch(1))
+    mech, params = _arb_params(motion)
+    one, two = mech.legs(params, x, xd, xdd, y, yd, ydd, _branch(1))
     first, second = (one, _other_root(one)), (two, _other_root(two))
-    params = dyn.Params.of(motion.robot, arb)
     for l1, l2 in ((a, b) for a in first for b in second):  # every branch of s1, s2
-        d = dyn.dynamics(l1, l2, params)
-        got = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(-(y * a1) / (l1.s * l2.s)).upper())
+        d = mech.dynamics(l1, l2, params)
+        got = (abs(d.mu1).upper(), abs(d.mu2).upper(), abs(mech.delta(params, y, l1, l2)).upper())
         out = [o if o > g else g for o, g in zip(out, got, strict=True)]
     return (out[0], out[1], out[2]) if all(v.is_finite() for v in out) else None
 

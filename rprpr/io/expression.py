@@ -20,6 +20,7 @@ import re
 from flint import fmpq, fmpq_poly
 
 from ..model.errors import ExpressionError
+from .messages import shorten
 
 MAX_DEGREE = 60  # cap on the degree of every polynomial and of the composition y(x(t))
 MAX_LENGTH = 4000  # characters in one expression
@@ -78,8 +79,9 @@ def parse_fraction(text: str) -> fmpq:
 
 
 def _shown(text: str, n: int = 24) -> str:
-    """``text`` for a message: abbreviated beyond ``n`` characters."""
-    return text if len(text) <= n else text[: n - 4] + "..."
+    """``text`` for a message: abbreviated beyond ``n`` characters (``messages.shorten``;
+    the parser's messages keep one character fewer than the loader's)."""
+    return shorten(text, n, cut=4)
 
 
 def _literal(text: str) -> fmpq:

@@ -17,6 +17,8 @@ import stat
 import time
 from typing import BinaryIO
 
+from .messages import too_large
+
 CHUNK = 1 << 16  # bytes asked of a stream at a time
 
 
@@ -26,23 +28,6 @@ class ReadProblem(Exception):
     def __init__(self, message: str) -> None:
         super().__init__(message)
         self.message = message
-
-
-def size_name(cap: int) -> str:
-    """``cap`` bytes in words when it is a round size (``1 MiB``, ``16 MiB``, ``4 KiB``),
-    else ''."""
-    for unit, shift in (("MiB", 20), ("KiB", 10)):
-        if cap >= 1 << shift and cap % (1 << shift) == 0:
-            return f"{cap >> shift} {unit}"
-    return ""
-
-
-def too_large(cap: int, size: int | None = None) -> str:
-    """The message for a file over ``cap`` bytes (``size`` None: a stream, whose size is
-    only known to pass the cap)."""
-    held = f"{size} bytes" if size is not None else f"more than {cap} bytes"
-    words = size_name(cap)
-    return f"file too large: {held}, the cap is {cap} bytes" + (f" ({words})" if words else "")
 
 
 def read_file(path: str, cap: int, what: str, *, inside: str | None = None) -> bytes:

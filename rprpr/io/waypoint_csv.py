@@ -17,6 +17,7 @@ from flint import fmpq
 from ..model.errors import ExpressionError
 from ..model.waypoints import Waypoint
 from .expression import MAX_EXP10, parse_fraction
+from .messages import shorten
 from .reading import ReadProblem, read_file
 from .schema import WAYPOINT_COLUMNS
 
@@ -70,7 +71,7 @@ def parse_waypoints(data: bytes) -> tuple[list[Waypoint], list[tuple[int, str]]]
     if names not in HEADERS:
         raise CsvProblem(
             "expected the header t,x,y or t,x,y,vx,vy or t,x,y,vx,vy,ax,ay, found"
-            f" {_shown(header.strip())!r}",
+            f" {shorten(header.strip())!r}",
             header_row,
         )
     if len(body) > MAX_CSV_ROWS:
@@ -114,7 +115,3 @@ def _number(cell: str, name: str) -> fmpq:
         return parse_fraction(text)
     except ExpressionError as e:
         raise CsvProblem(f"column {name}: {e.message}") from None
-
-
-def _shown(text: str, n: int = 40) -> str:
-    return text if len(text) <= n else text[: n - 3] + "..."

@@ -30,9 +30,12 @@ class Scheme:
     noun: str  # "torques" or "forces"
     condition: str  # the consistency condition, in words
     column: str  # its column title in the check table
+    cited: str  # the condition as a finding cites it
 
 
 SCHEMES = {
-    REVOLUTE: Scheme(REVOLUTE, "T", "N m", "torques", "eq. (34)", "eq.(34) [N]"),
-    PRISMATIC: Scheme(PRISMATIC, "F", "N", "forces", "moment balance", "moments [N]"),
+    REVOLUTE: Scheme(REVOLUTE, "T", "N m", "torques", "eq. (34)", "eq.(34) [N]", "eq. 34"),
+    PRISMATIC: Scheme(
+        PRISMATIC, "F", "N", "forces", "moment balance", "moments [N]", "moment balance"
+    ),
 }

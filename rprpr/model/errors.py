@@ -37,12 +37,6 @@ class TaskFileError(RprprError, ValueError):
         self.key = key
         self.errors: tuple[TaskFileError, ...] = errors or (self,)
 
-    def with_file(self, file: str) -> TaskFileError:
-        """The same error (and every one of ``errors``), naming ``file``."""
-        first = self.naming(file)
-        first.errors = (first, *(e.naming(file) for e in self.errors if e is not self))
-        return first
-
     def naming(self, file: str) -> TaskFileError:
         """This error alone (``errors`` just itself), naming ``file``."""
         return TaskFileError(

@@ -164,6 +164,8 @@ class Finding:
     downgraded: bool = False  # accepted by the user: fails only in strict mode
     promoted: bool = False  # made an error by the user: fails in every mode
     line: int | None = None  # the task file's line it points at, when not its key's (a knot)
+    # the index of the singular instant it was made at (``AuditResult.findings_at``)
+    instant: int | None = field(default=None, repr=False)
     # the mode of the audit that made it (``audit`` sets it): what ``severity`` reads
     strict: bool = field(default=False, compare=False, repr=False)
 

@@ -37,8 +37,6 @@ import errno
 from enum import IntEnum
 from typing import TYPE_CHECKING
 
-import click
-
 if TYPE_CHECKING:  # annotations only: run.py never imports this module (no circle)
     from .run import Run
 
@@ -77,18 +75,6 @@ class Interrupted(BaseException):
 OUT_OF_SPACE = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
-class InputError(click.ClickException):
-    """A bad task file or an output that cannot be written: one line, exit 2."""
-
-    exit_code = int(ExitCode.INPUT)
-
-
-class InternalError(click.ClickException):
-    """A bug met while working on a named task file: one line, exit 3."""
-
-    exit_code = int(ExitCode.INTERNAL)
-
-
 def run_status(run: Run, *, exit_zero: bool = False) -> ExitCode:
     """The status of a ``check`` run, the highest that applies: 4 over budget > 3 internal
     > 2 input > 1 failed > 0 passed. ``exit_zero`` turns a failed audit into 0 but never
@@ -110,28 +96,16 @@ def returned_status(value: object) -> ExitCode:
     return ExitCode(value) if isinstance(value, int) else ExitCode.PASSED
 
 
-def error_status(error: BaseException) -> int:
-    """The status of a command stopped by ``error`` (an ``ExitCode``, or 128 + N for a
-    command stopped by signal N)."""
+def exception_status(error: BaseException) -> int:
+    """The status of a command stopped by ``error``, any exception but the command line's
+    own (``cli.errors.error_status`` maps click's): an ``ExitCode``, or 128 + N for a
+    command stopped by signal N."""
     if isinstance(error, Interrupted):
         return error.status
-    if isinstance(error, KeyboardInterrupt) or _interrupted_abort(error):
+    if isinstance(error, KeyboardInterrupt):
         return ExitCode.INTERRUPTED
     if isinstance(error, BrokenPipeError):  # the reader went away; nothing else failed
         return ExitCode.PASSED
-    if isinstance(error, click.exceptions.Exit):
-        return returned_status(error.exit_code)
-    if isinstance(error, InternalError):
-        return ExitCode.INTERNAL
     if isinstance(error, OSError) and error.errno in OUT_OF_SPACE:
         return ExitCode.INPUT  # a full disk met outside a guarded write (--help > /dev/full)
-    if isinstance(error, click.ClickException | click.exceptions.Abort):
-        return ExitCode.INPUT  # usage errors, bad input, unwritable outputs; click's own 1 never
     return ExitCode.INTERNAL  # any other exception is a bug
-
-
-def _interrupted_abort(error: BaseException) -> bool:
-    """click's ``Abort`` standing for a KeyboardInterrupt it caught (Ctrl-C)."""
-    return isinstance(error, click.exceptions.Abort) and isinstance(
-        error.__context__, KeyboardInterrupt
-    )

@@ -173,20 +173,21 @@ def peak_fields(peak: tuple[Peak, Peak] | None, computed: bool = True) -> dict[s
     }
 
 
-def _saturations(result: AuditResult) -> dict[float, list[dict[str, Any] | None]]:
-    """The saturation record of each unbounded instant, by its time."""
+def _saturations(result: AuditResult) -> dict[int, list[dict[str, Any] | None]]:
+    """The saturation record of each unbounded instant, by the instant itself (``id``:
+    two instants whose times round to one double are still two)."""
     limits = result.torque_limit
     if limits is None:
         return {}
     sat: list[Saturation] = result.saturation
-    return {s.t: saturation_record(limits, (w1, w2)) for s, w1, w2 in sat}
+    return {id(s): saturation_record(limits, (w1, w2)) for s, w1, w2 in sat}
 
 
 def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
     """The report of one audited task (the ``reports[]`` entries of ``--format json``)."""
     task = result.task
     saturation = _saturations(result)
-    sings = [singularity_record(s, saturation.get(s.t)) for s in result.singularities]
+    sings = [singularity_record(s, saturation.get(id(s))) for s in result.singularities]
     for rec, r in zip(sings, result.robust, strict=False):
         rec["robust"] = robust_record(r)  # only with declared uncertainty (docs/robust.md)
     findings = []

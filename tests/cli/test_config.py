@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 from rprpr.cli.config import find_config, load_settings
+from rprpr.cli.errors import InputError
 from rprpr.model.rules import Finding, SelectorError, levels, with_levels
-from rprpr.report.exit import InputError
 from tests.conftest import CONFIGS, run_cli
 
 P1 = CONFIGS / "paper_path1.rprpr.yaml"  # fails RPR101 (horizontal) and RPR201

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from rprpr.io import loader, reading
+from rprpr.io import reading, source
 from rprpr.io.loader import MAX_BYTES, load_task, parse_task
 from rprpr.model.errors import TaskFileError
 from tests.conftest import run_cli
@@ -429,7 +429,7 @@ def test_characters_rejected_before_parsing_are_those_yaml_rejects() -> None:
     """The loader's own scan rejects exactly the characters YAML's reader does (PyYAML's
     NON_PRINTABLE), every code point checked: it only finds them first, with a line."""
     every = "".join(map(chr, range(0x110000)))
-    rejected = [m.start() for m in loader._NON_PRINTABLE.finditer(every)]
+    rejected = [m.start() for m in source._NON_PRINTABLE.finditer(every)]
     assert rejected == [m.start() for m in yaml.reader.Reader.NON_PRINTABLE.finditer(every)]
 
 

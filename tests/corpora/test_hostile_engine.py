@@ -35,6 +35,7 @@ from rprpr.engine import envelope as enveloping
 from rprpr.engine.audit import AuditResult, audit
 from rprpr.engine.singular import ISOLATING
 from rprpr.io.loader import parse_task
+from rprpr.model.options import AuditOptions
 from rprpr.report.exit import ExitCode, run_status
 from rprpr.report.records import task_report
 from tests.conftest import CONFIGS
@@ -183,7 +184,7 @@ def test_sixty_irrational_instants_of_one_degree_60_factor() -> None:
 # -- the work budget ---------------------------------------------------------------------------
 
 
-def _deaf_audit(task, *, samples, strict, on_stage, peak=None):  # type: ignore[no-untyped-def]
+def _deaf_audit(task, options=None, *, on_stage):  # type: ignore[no-untyped-def]
     """An audit that enters root isolation and stays in one long C call (``sum`` over a
     range runs in C and runs no signal handler): only SIGKILL stops it. It would end after
     about a minute and return no result, which the run would report as an error, not as
@@ -214,7 +215,7 @@ def test_a_task_over_budget_is_stopped_at_its_stage_and_the_batch_goes_on(
     ]
     # 1 s: a thousand times what the exact analysis of the other tasks costs, so that a
     # busy machine cannot push them over it too
-    run = run_checks(files, CheckOptions(samples=101, budget=1.0))
+    run = run_checks(files, CheckOptions(AuditOptions(samples=101), budget=1.0))
     assert [kind for kind, _, _ in run.entries()] == ["budget", "report", "report"]
     (error,) = run.budget_errors
     assert error["task"] == str(slow) and error["stage"] == ISOLATING
@@ -246,7 +247,7 @@ def test_with_two_workers_a_stopped_task_and_a_dead_worker_keep_the_task_order(
         return _deaf_audit(task, **kw) if task.name == "slow" else real(task, **kw)
 
     monkeypatch.setattr(auditing, "audit", audit_or_not)
-    run = run_checks(files, CheckOptions(samples=101, budget=1.0, jobs=2))
+    run = run_checks(files, CheckOptions(AuditOptions(samples=101), budget=1.0, jobs=2))
     assert [(kind, item["task"]) for kind, item, _ in run.entries()] == [
         ("budget", files[0]), ("report", files[1]), ("internal", files[2]), ("report", files[3]),
     ]  # fmt: skip

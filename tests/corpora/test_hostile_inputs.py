@@ -37,8 +37,8 @@ from pathlib import Path
 import pytest
 
 from rprpr.cli.config import load_settings
+from rprpr.cli.errors import InputError
 from rprpr.model.errors import TaskFileError
-from rprpr.report.exit import InputError
 from rprpr.report.records import input_error
 from rprpr.report.run import INPUT, Run
 from tests.conftest import CONFIGS, LINKS_ALIKE, PATH1_FILE, run_cli

@@ -26,7 +26,7 @@ import yaml
 from flint import fmpq
 
 from rprpr.cli.main import main
-from rprpr.io import loader
+from rprpr.io import yaml_nodes
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.errors import TaskFileError
 from rprpr.model.numbers import rational, to_float
@@ -127,7 +127,7 @@ def test_a_lone_surrogate_escape_is_refused_by_either_yaml_parser(
     """libyaml refuses the escape itself; the pure-Python parser decodes it, and the
     loader refuses the value (it could not be written to any UTF-8 report)."""
     if parser == "pure Python":
-        monkeypatch.setattr(loader, "_Loader", yaml.SafeLoader)
+        monkeypatch.setattr(yaml_nodes, "_Loader", yaml.SafeLoader)
     elif not hasattr(yaml, "CSafeLoader"):
         pytest.skip("PyYAML without libyaml")
     text = (HERE / "surrogate_escape.task").read_text(encoding="utf-8")

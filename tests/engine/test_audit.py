@@ -657,3 +657,33 @@ def test_checks_peak_asks_for_the_peak() -> None:
     assert r.peak_computed and r.torque_peak is not None
     assert r.torque_peak[0].value == pytest.approx(66.1221116, rel=1e-7)
     assert not audit(asked, samples=11, peak=False).peak_computed  # the caller's choice wins
+
+
+def test_findings_are_tied_to_their_instant_not_to_its_rounded_time() -> None:
+    # y = (x - 3)(x - 3 - 10⁻²⁰), x = 2 + t: two crossings of AB at t = 1 and 1 + 10⁻²⁰,
+    # one double apart from nothing; only one of them has unbounded torques
+    task = parse_task(
+        task_text("(x-3)*(x-3.00000000000000000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+    )
+    r = audit(task)
+    first, second = r.singularities
+    assert first.t == second.t == 1.0
+    assert {first.t_rational, second.t_rational} == {fmpq(1), 1 + fmpq(1, 10**20)}
+    (pole,) = [s for s in r.singularities if not s.torque_bounded]
+    (bounded,) = [s for s in r.singularities if s.torque_bounded]
+    assert [f.rule for f in r.findings_at(pole)] == ["RPR201"]
+    assert r.status_of(pole) == "fail"
+    assert r.findings_at(bounded) == [] and r.status_of(bounded) == "ok"  # by time: "fail"
+
+
+def test_the_saturation_record_is_the_unbounded_instants_alone() -> None:
+    # the two instants above, one double apart, under a torque limit: only the pole has
+    # windows above the limit; the bounded instant beside it has none
+    from rprpr.report.records import task_report
+
+    text = task_text("(x-3)*(x-3.00000000000000000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+    r = audit(parse_task(text + "checks:\n  torque_limit: [300, 300]\n"))
+    records = task_report(r, "t.yaml")["singularities"]
+    by_bounded = {s.torque_bounded: rec for s, rec in zip(r.singularities, records, strict=True)}
+    assert by_bounded[True]["saturation"] is None  # by time, the pole's windows
+    assert len(by_bounded[False]["saturation"]) == 2

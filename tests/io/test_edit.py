@@ -6,10 +6,10 @@ import difflib
 
 import pytest
 
-from rprpr.engine.repair import repair
 from rprpr.io.edit import edit, modeline, same_motion
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.task import Task
+from rprpr.repair import repair
 from tests.conftest import CONFIGS, LINKS_ALIKE, task_text
 
 REPAIRABLE = ["case1_crossing", "case2_crossing", "paper_path1", "piecewise_timing",

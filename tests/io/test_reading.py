@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from rprpr.io.reading import ReadProblem, read_file, read_stream, size_name, too_large
+from rprpr.io.reading import ReadProblem, read_file, read_stream
 
 
 def test_a_stream_within_the_cap_is_read_whole() -> None:
@@ -29,12 +29,6 @@ def test_a_closed_stream_is_empty() -> None:
     stream = io.BytesIO(b"abc")
     stream.close()
     assert read_stream(stream, 10) == b""
-
-
-def test_sizes_in_words() -> None:
-    assert size_name(1 << 20) == "1 MiB" and size_name(16 << 20) == "16 MiB"
-    assert size_name(4096) == "4 KiB" and size_name(1000) == ""
-    assert too_large(1 << 20, 5) == "file too large: 5 bytes, the cap is 1048576 bytes (1 MiB)"
 
 
 def test_a_file_is_read_within_its_cap(tmp_path: Path) -> None:

@@ -28,7 +28,7 @@ import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from rprpr.io import loader
+from rprpr.io import yaml_nodes
 from rprpr.io.expression import MAX_DIGITS, MAX_EXP10, parse_polynomial
 from rprpr.io.loader import parse_task
 from rprpr.io.schema import TASK, Spec
@@ -317,7 +317,7 @@ def test_tags_are_read_alike_by_both_yaml_parsers(
     parser: str, slot: str, value: str, message: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     if parser == "pure Python":
-        monkeypatch.setattr(loader, "_Loader", yaml.SafeLoader)
+        monkeypatch.setattr(yaml_nodes, "_Loader", yaml.SafeLoader)
     elif not hasattr(yaml, "CSafeLoader"):
         pytest.skip("PyYAML without libyaml")
     got = load(with_value(slot, value))

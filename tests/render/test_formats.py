@@ -21,6 +21,7 @@ from rprpr.cli.check import check_one
 from rprpr.cli.options import CheckOptions
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
+from rprpr.model.options import AuditOptions
 from rprpr.model.rules import RULES
 from rprpr.render.github import annotation_path, command, escape_data, escape_property
 from rprpr.render.github import render as github
@@ -51,7 +52,8 @@ def make_run(
     *paths: str, samples: int = 101, strict: bool | None = None, warn_unbounded: bool = False
 ) -> Run:
     r = Run()
-    options = CheckOptions(samples=samples, strict=strict, warn_unbounded=warn_unbounded)
+    verdicts = AuditOptions(samples=samples, strict=strict, warn_unbounded=warn_unbounded)
+    options = CheckOptions(verdicts)
     for p in paths:
         r.add(*check_one(p, options))
     return r

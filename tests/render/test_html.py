@@ -20,13 +20,14 @@ import pytest
 
 from rprpr.cli.check import _OutOfTime, _source_lines, _time_limit, check_one
 from rprpr.cli.options import CheckOptions
+from rprpr.model.options import AuditOptions
 from rprpr.render.html import inline_svg, render
 from rprpr.report.run import INPUT, REPORT, Attachment, Run
 from tests.conftest import BAD_A1, ROOT, run_cli
 
 P1 = "configs/paper_path1.rprpr.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
 P2 = "configs/paper_path2.rprpr.yaml"  # passes, no finding
-HTML = CheckOptions(format="html", samples=101, sheets=False)
+HTML = CheckOptions(AuditOptions(samples=101), format="html", sheets=False)
 HOSTILE = '<script>alert("x")</script> & \x1b[2J\r\nverdict: PASS \u202e'
 
 

@@ -21,7 +21,7 @@ from matplotlib.lines import Line2D
 from rprpr.render import animation as A
 from rprpr.render import sheet as P
 from tests.conftest import CONFIGS, run_cli
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, sheet
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, sheet, small_pictures
 
 MARK = re.compile(r"^(path|x|y|delta|gif-path|gif-delta)-singular-(\d+)-(\d+)$")
 
@@ -149,6 +149,7 @@ def test_the_repair_sheet_marks_before_and_after_at_their_data(
         return fig
 
     monkeypatch.setattr(P, "render", spy)
+    small_pictures(monkeypatch)  # the PNG is only checked to exist
     out = tmp_path / "r.yaml"
     sheet_file = tmp_path / "r.png"
     code, _, err = run_cli("repair", PATH1, "-o", str(out), "--plot", str(sheet_file))

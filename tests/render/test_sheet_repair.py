@@ -17,12 +17,12 @@ import pytest
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from rprpr.engine.repair import repair
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
+from rprpr.repair import repair
 from tests.conftest import CONFIGS, run_cli
 from tests.render.test_sheet_layout import check_texts
-from tests.sheets import drawn
+from tests.sheets import drawn, small_pictures
 
 TRAPEZOIDAL = str(CONFIGS / "trapezoidal.rprpr.yaml")  # timing: 0.768 mm at t = 3.51 s
 PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")  # path: 35.7 mm at x = 3.28 m
@@ -41,6 +41,7 @@ def repair_sheet(
         return fig
 
     monkeypatch.setattr(P, "render", spy)
+    small_pictures(monkeypatch)  # the PNG is only checked to exist
     sheet_file = tmp_path / "r.png"
     code, out, err = run_cli(
         "repair", task, "-o", str(tmp_path / "r.rprpr.yaml"), "--plot", str(sheet_file)

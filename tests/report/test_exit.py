@@ -3,6 +3,8 @@ one home each, and every command follows them."""
 
 from __future__ import annotations
 
+import dataclasses
+import errno
 import inspect
 import subprocess
 import sys
@@ -12,17 +14,12 @@ from typing import Any
 import click
 import pytest
 
+from rprpr.cli.errors import InputError, InternalError, error_status
 from rprpr.cli.main import main_group
 from rprpr.cli.options import CheckOptions
 from rprpr.model.defaults import DEFAULT_SAMPLES
-from rprpr.report.exit import (
-    ExitCode,
-    InputError,
-    InternalError,
-    error_status,
-    returned_status,
-    run_status,
-)
+from rprpr.model.options import AuditOptions
+from rprpr.report.exit import ExitCode, exception_status, returned_status, run_status
 from rprpr.report.run import Run
 from tests.conftest import PATH2_FILE, run_cli
 
@@ -142,7 +139,8 @@ def test_check_samples_default_to_the_one_default_through_the_settings() -> None
 def test_the_audit_defaults_to_the_same_sample_count() -> None:
     from rprpr.engine.audit import audit
 
-    assert inspect.signature(audit).parameters["samples"].default == DEFAULT_SAMPLES
+    assert AuditOptions().samples == DEFAULT_SAMPLES
+    assert inspect.signature(audit).parameters["options"].default is None  # AuditOptions()
 
 
 def test_check_options_default_to_the_command_lines_defaults() -> None:
@@ -159,7 +157,53 @@ def test_check_options_default_to_the_command_lines_defaults() -> None:
 
 
 def test_check_options_are_one_frozen_value() -> None:
-    options = CheckOptions(samples=11, strict=True)
+    options = CheckOptions(AuditOptions(samples=11, strict=True), jobs=2)
     with pytest.raises(AttributeError):
-        options.samples = 12  # type: ignore[misc]
-    assert options == CheckOptions(strict=True, samples=11)
+        options.jobs = 3  # type: ignore[misc]
+    with pytest.raises(AttributeError):
+        options.audit.samples = 12  # type: ignore[misc]
+    assert options == CheckOptions(jobs=2, audit=AuditOptions(strict=True, samples=11))
+
+
+def test_what_changes_a_verdict_is_apart_from_the_plumbing() -> None:
+    """``check``'s flags that change a verdict build its ``AuditOptions``; the others
+    (formats, jobs, budgets, colours) stay the command line's."""
+    from rprpr.cli.check import resolve
+
+    cmd = main_group.get_command(click.Context(main_group), "check")
+    assert cmd is not None
+    argv = ["--isolated", "--strict", "--peak", "--warn-unbounded", "--samples", "21", "-j", "2"]
+    given = cmd.make_context("check", [*argv, "task.yaml"]).params
+    del given["tasks"]
+    _, options = resolve(given)
+    assert options.audit == AuditOptions(samples=21, strict=True, peak=True, warn_unbounded=True)
+    assert options.jobs == 2
+    verdict_fields = {"samples", "strict", "peak", "warn_unbounded"}
+    assert not verdict_fields & {f.name for f in dataclasses.fields(CheckOptions)}
+    with pytest.raises(ValueError, match="at least 2 samples"):
+        AuditOptions(samples=1)
+
+
+def test_the_report_stage_imports_no_click() -> None:
+    """The exit policy, the run and the records are plain Python: click's exceptions and
+    their statuses are the command line's (``cli.errors``)."""
+    probe = (
+        "import sys, rprpr.report.exit, rprpr.report.run, rprpr.report.records\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'click'))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize(
+    ("error", "status"),
+    [
+        (OSError(errno.ENOSPC, "No space left on device"), 2),  # the environment, not a bug
+        (KeyboardInterrupt(), 130),
+        (RuntimeError("a bug"), 3),
+    ],
+)
+def test_the_plain_exceptions_follow_the_policy_without_click(
+    error: BaseException, status: int
+) -> None:
+    assert exception_status(error) == status == error_status(error)

@@ -3,7 +3,7 @@ change itself, which on the overlaid panels is often far smaller than a line's w
 0.77 mm timing change on a 2 m path).
 
 ``differences`` evaluates the new motion minus the old one exactly as the repair's
-account measures it (``engine.repair``): Δx(t) = x_new(t) - x_old(t), and Δy at equal x,
+account measures it (``rprpr.repair``): Δx(t) = x_new(t) - x_old(t), and Δy at equal x,
 the new y(t) against the old path at the new x(t) (without a path, the old y(t)); the
 differences are exact polynomials, evaluated in floating point only at the end.
 ``panel`` draws them in mm over t, the account's maximum marked; ``insets`` zooms the x
@@ -35,7 +35,7 @@ INSET_HALF = 4.0  # the inset spans this many largest changes either side of the
 
 @dataclass(frozen=True)
 class Change:
-    """The repair's account (``engine.repair.Repair``): (max |Δx(t)| [m], the t where) or
+    """The repair's account (``rprpr.repair.Repair``): (max |Δx(t)| [m], the t where) or
     None when the timing is kept; (max |Δy| at equal x [m], the x where) or None when the
     path is kept."""
 

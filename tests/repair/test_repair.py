@@ -15,8 +15,8 @@ from flint import fmpq, fmpq_poly
 
 from rprpr import load_task, parse_task
 from rprpr.engine.audit import audit
-from rprpr.engine.repair import NoRepair, repair
 from rprpr.io.writer import task_text
+from rprpr.repair import NoRepair, repair
 from tests import reference as R
 from tests.conftest import CONFIGS, run_cli
 

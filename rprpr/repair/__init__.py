@@ -1,0 +1,214 @@
+"""Repair of a failing motion: the smallest local, exact change that makes it pass (pure).
+
+At a first-order crossing (ẏ(t_s) != 0) eq. (34) (``consistency``) is the only condition
+for bounded torques (one condition for order 1). So a failing instant is repaired by local
+bumps of half-width w about t_s, u = (t - t_s)/w, W = (1 - u²)³ on |u| <= 1 (zero
+outside; W and its first two derivatives vanish at u = ±1, so the motion stays C2 and its
+torques continuous):
+
+* timing, Δx = (t - t_s)(b1 + a (t - t_s)) W: keeps x(t_s), changes ẋ(t_s) by b1 (a zero
+  speed made nonzero) and ẍ(t_s) by 2a (to the consistent value);
+* path, Δy = b (t - t_s) W: keeps the crossing point, changes ẏ(t_s) by b (a zero slope
+  made b/ẋ); a touch (even order) is lifted clear of AB instead, Δy = h W.
+
+A knot where the velocity or the acceleration jumps (RPR203, RPR204: impulsive or
+jumping torques) is smoothed by blending the two pieces over [t_k - w, t_k + w]:
+x_B = x_L + (x_R - x_L) S(σ), σ = (t - t_k + w)/(2w), S = 10σ³ - 15σ⁴ + 6σ⁵ (the
+quintic smoothstep: S and its first two derivatives are 0 at σ = 0 and match 1, 0, 0 at
+σ = 1), so x_B continues x_L and x_R with two derivatives at the window's ends; y alike
+(or y = p(x_B) when the task gives its path). At a C1 knot x_R - x_L = O((t - t_k)²),
+so the change is of order Δẍ w².
+
+Every bump is a polynomial with rational coefficients in rational windows, so the
+repaired motion is exact and its audit is exact; every candidate is audited (strict)
+and only a passing one is returned.
+
+The modules, in the order a repair uses them: ``windows`` (where a change fits), ``plan``
+(the bumps' coefficients at each instant, by ``consistency``), ``snap`` (irrational
+instants moved to rational times), ``bumps`` (the changes applied, exactly), ``account``
+(what changed, and by how much); ``records`` holds what it returns.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable
+from dataclasses import replace
+
+from flint import fmpq
+
+from ..engine.audit import AuditResult, audit
+from ..engine.singular import SingularInstant
+from ..model.actuation import PRISMATIC
+from ..model.options import AuditOptions
+from ..model.task import Task
+from .account import account
+from .bumps import apply, blended, bump, smoothstep
+from .consistency import consistent_acceleration, consistent_ydd
+from .plan import plan_at
+from .records import Change, NoRepair, Repair
+from .snap import snap_plans
+from .windows import FRACTIONS, blend_width
+
+__all__ = [
+    "KEEPS",
+    "Change",
+    "NoRepair",
+    "Repair",
+    "bump",
+    "consistent_acceleration",
+    "consistent_ydd",
+    "repair",
+    "smoothstep",
+]
+
+KEEPS = ("path", "timing")
+JUMP_RULES = ("RPR203", "RPR204")  # a velocity or acceleration jump at a knot
+STRICT = AuditOptions(strict=True, peak=True)  # every candidate: strict, its peak shown
+
+
+def repair(
+    task: Task,
+    *,
+    keep: str | None = None,
+    window: fmpq | None = None,
+    slope: fmpq | None = None,
+    clearance: fmpq | None = None,
+    blend: bool = True,
+    snap: bool = True,
+) -> Repair:
+    """The nearest passing motion: local bumps at each failing singular instant, each
+    candidate window tried (``window``, or the largest that fits, then halves) and
+    audited strictly; the first that passes is returned. ``keep`` = "path" (timing
+    changes only) or "timing" (path changes only); ``slope`` the |dy/dx| to give a
+    zero-slope crossing (default max(1/5, 2 min_slope)); ``clearance`` the lift of a
+    touch [m] (default w ẋ(t_s) slope / 2, at least 1/100); ``blend``: first smooth the
+    knots whose velocity or acceleration jump fails (``_smooth_knots``); ``snap``: move
+    failing instants at irrational times to rational ones (``_snap_instants``). Raises
+    ``NoRepair``."""
+    if keep not in (None, *KEEPS):
+        raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
+    before = audit(task, STRICT)
+    if before.passed:
+        return Repair(task, before, before)
+    jumps = [f.t for f in before.findings if f.rule in JUMP_RULES and f.fails(True)]
+    if jumps and blend:
+        return _smooth_knots(task, before, jumps, keep, window, slope, clearance)
+    failing = [s for s in before.singularities if before.status_of(s) == "fail"]
+    if not failing:
+        raise NoRepair(_no_local_repair(before, [f for f in before.findings if f.fails(True)]))
+    if before.on_singular_line:
+        raise NoRepair("the path lies on the singular line y = 0: no local change helps")
+    irrational = [s for s in failing if s.t_rational is None]
+    if irrational and snap:
+        return _snap_instants(task, before, irrational, keep, window, slope, clearance)
+    target = slope if slope is not None else max(fmpq(1, 5), 2 * task.checks.min_slope)
+    last = "no candidate window"
+    # the candidates: each window (the largest that fits, then halves) and, where the
+    # prismatic scheme can set ÿ(t_s) by the timing or by the path, the timing first
+    routes = (True, False) if task.robot.actuation == PRISMATIC and keep is None else (True,)
+    for fraction, timing in itertools.product(FRACTIONS, routes):
+        plans = [
+            plan_at(task, before, s, keep, window, fraction, target, clearance, timing)
+            for s in failing
+        ]
+        new = apply(task, plans)
+        if new is None:
+            last = "the changed timing law is not monotone in x"
+            continue
+        after = audit(new, STRICT)
+        if after.passed:
+            return account(task, new, before, after, plans)
+        last = "; ".join(f.message for f in after.findings if f.fails(True))[:400]
+        if window is not None:
+            break
+    raise NoRepair(f"no candidate passes the strict check (last: {last})")
+
+
+def _smooth_knots(
+    task: Task,
+    before: AuditResult,
+    jumps: list[float | None],
+    keep: str | None,
+    window: fmpq | None,
+    slope: fmpq | None,
+    clearance: fmpq | None,
+) -> Repair:
+    """Blend the pieces at each knot whose jump fails (``jumps``: the findings' times),
+    then repair what still fails at the singular instants (``repair`` on the blended
+    motion); the account is against the task as given."""
+    if keep == "timing" or (keep == "path" and task.path is None):
+        raise NoRepair(
+            "a knot's velocity or acceleration jump is smoothed by blending the pieces"
+            " about it, which changes the timing (and, without a path, the path); allow"
+            " it (drop --keep)"
+        )
+    knots = [i for i, p in enumerate(task.motion[:-1]) if float(p.end) in set(jumps)]
+    last = ""
+    for fraction in FRACTIONS:
+        widths = [blend_width(task, before, i, window, fraction) for i in knots]
+        new = blended(task, dict(zip(knots, widths, strict=True)))
+        if new is None:
+            last = "the blended timing law is not monotone in x"
+            continue
+        try:
+            inner = repair(new, keep=keep, window=window, slope=slope, clearance=clearance,
+                           blend=False)  # fmt: skip
+        except NoRepair as why:
+            last = str(why)
+            if window is not None:
+                break
+            continue
+        blends = tuple(
+            f"knot t = {task.motion[i].end} s: the pieces blended over ±{w} s (C2)"
+            for i, w in zip(knots, widths, strict=True)
+        )
+        path_changed = task.path is None or not inner.path_kept
+        r = account(task, inner.task, before, inner.after, [], path_changed)
+        return replace(r, changes=inner.changes, notes=blends + inner.notes)
+    raise NoRepair(f"no blend of the knots passes the strict check (last: {last})")
+
+
+def _no_local_repair(before: AuditResult, other: Iterable[object]) -> str:
+    rules = sorted({getattr(f, "rule", "") for f in other})
+    peak = before.torque_peak
+    where = ""
+    if peak is not None:
+        t1, t2 = peak
+        where = (
+            f"; peak |T1| {t1.value:.6g} N m at t = {t1.t:.4g} s,"
+            f" |T2| {t2.value:.6g} N m at t = {t2.t:.4g} s"
+        )
+    return (
+        f"every singular instant passes; what fails ({', '.join(rules)}) is not at a"
+        " singular instant, and rprpr repair changes the motion only locally around"
+        " singular instants and its knots (a torque limit exceeded away from them needs a"
+        f" slower or longer motion){where}"
+    )
+
+
+def _snap_instants(
+    task: Task,
+    before: AuditResult,
+    instants: list[SingularInstant],
+    keep: str | None,
+    window: fmpq | None,
+    slope: fmpq | None,
+    clearance: fmpq | None,
+) -> Repair:
+    """Failing instants at irrational times moved to rational ones (``snap.snap_plans``),
+    then repaired as rational ones (``repair``); the account is against the task as given."""
+    plans = snap_plans(task, before, instants, keep, window)
+    new = apply(task, plans)
+    if new is None:
+        raise NoRepair("moving the irrational singular instants to rational times makes x(t)"
+                       " non-monotone")  # fmt: skip
+    inner = repair(new, keep=keep, window=window, slope=slope, clearance=clearance, blend=False,
+                   snap=False)  # fmt: skip
+    path_changed = any(p.h != 0 for p in plans) or not inner.path_kept
+    r = account(task, inner.task, before, inner.after, [], path_changed)
+    moved = tuple(
+        f"t ≈ {s.t:.12g} s (irrational) moved to t = {p.t} s" for s, p in zip(instants, plans,
+                                                                            strict=True)
+    )  # fmt: skip
+    return replace(r, changes=inner.changes, notes=moved + inner.notes)
