@@ -40,6 +40,7 @@ from .errors import InputError
 from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
 from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named
+from .uncertainty import needs_limit
 
 if TYPE_CHECKING:
     from ..model.task import Task
@@ -177,6 +178,7 @@ def _read(task: str) -> tuple[Task, str]:
         try:
             raw = stdin_bytes()
             old = read_task(STDIN, raw)
+            needs_limit(old)  # no configuration here: the task's own limit
         except TaskFileError as e:
             raise InputError(str(e)) from None
     else:

@@ -205,6 +205,11 @@ def audit(
     asked = task.checks.peak if o.peak is None else o.peak
     if o.uncertainty is not None:
         task = replace(task, uncertainty=o.uncertainty.exact())
+    if task.uncertainty is not None and task.checks.torque_limit is None:
+        raise ValueError(
+            "uncertainty needs checks.torque_limit: the saturation window around each"
+            " singular instant is measured against the actuators' limits"
+        )
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)

@@ -49,13 +49,17 @@ def task(w: Walk, file: str) -> Task:
         lines=dict(w.lines),
         source=file,
         pieces=tuple(pieces),
-        uncertainty=_uncertainty(v) if "uncertainty" in w.nodes else None,
+        uncertainty=_uncertainty(w) if "uncertainty" in w.nodes else None,
     )
 
 
-def _uncertainty(v: dict[str, Any]) -> Uncertainty:
+def _uncertainty(w: Walk) -> Uncertainty:
     """The task's ``uncertainty``: a link or quantity not named is exact, and so is an
-    acceleration or period not given (the schema states no default: "not given: 0")."""
+    acceleration or period not given (the schema states no default: "not given: 0").
+    It needs a torque limit, the task's or the configuration's: checked once the
+    configuration is applied (``cli.uncertainty.needs_limit``)."""
+    v = w.values
+    mark = w.nodes["uncertainty"].start_mark
     zero = fmpq(0)
     links: dict[int, tuple[fmpq, fmpq, fmpq]] = {}
     every = v.get("uncertainty.links", zero)
@@ -66,7 +70,10 @@ def _uncertainty(v: dict[str, Any]) -> Uncertainty:
         else:
             links[i] = (every, every, every)
     return Uncertainty(
-        links, v.get("uncertainty.acceleration", zero), v.get("uncertainty.period", zero)
+        links,
+        v.get("uncertainty.acceleration", zero),
+        v.get("uncertainty.period", zero),
+        where=(mark.line + 1, mark.column + 1),
     )
 
 

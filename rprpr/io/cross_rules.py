@@ -331,19 +331,6 @@ def _motion_alone(w: Walk, key: str) -> None:
         )
 
 
-def _needs_limit(w: Walk, key: str) -> None:
-    """``uncertainty`` needs ``checks.torque_limit``: a window is measured against it."""
-    if "checks.torque_limit" in w.nodes or {"checks", "checks.torque_limit"} & w.misspelt:
-        return  # given (a bad value is reported by its own reader), or misspelt (reported)
-    raise w.error(
-        "uncertainty needs checks.torque_limit: the saturation window around each singular"
-        " instant is measured against the actuators' limits (add checks: {torque_limit:"
-        " [T1 max, T2 max]})",
-        w.nodes[key],
-        key,
-    )
-
-
 # key -> (its rule, the values the rule needs besides the key's own): a rule runs only
 # when they were all read, so that a bad value is reported once, by its own reader
 RULES: Rules = {
@@ -357,5 +344,4 @@ RULES: Rules = {
     "motion.pieces": (_motion_pieces_meet, ()),
     "motion.waypoints": (_waypoints_in_order, ()),
     "motion": (_motion_alone, ()),
-    "uncertainty": (_needs_limit, ()),
 }

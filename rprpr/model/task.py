@@ -75,6 +75,10 @@ class Uncertainty:
     links: dict[int, tuple[fmpq, fmpq, fmpq]]
     acceleration: fmpq
     period: fmpq
+    # where it is declared, for messages: the task file's (line, column) of the key's
+    # value, or ``origin``, the configuration's ``file:line`` when it comes from there
+    where: tuple[int, int] = field(default=(0, 0), compare=False, repr=False)
+    origin: str = field(default="", compare=False, repr=False)
 
     def exact(self) -> Uncertainty:
         """The same with every number an exact rational (``fmpq``): a ``Fraction``, an int
@@ -87,7 +91,9 @@ class Uncertainty:
             return fmpq(n, d)
 
         links = {int(i): (q(m), q(j), q(r)) for i, (m, j, r) in self.links.items()}
-        return Uncertainty(links, q(self.acceleration), q(self.period))
+        return Uncertainty(
+            links, q(self.acceleration), q(self.period), where=self.where, origin=self.origin
+        )
 
     @property
     def zero(self) -> bool:
