@@ -37,40 +37,54 @@ def worst_efforts(task: Task, parts: Sequence[Any], t: np.ndarray) -> tuple[np.n
     """Per time of ``t`` [s] (absolute), proven upper bounds of max |E1|, max |E2| over
     ``task.uncertainty``'s box (+inf where unbounded: at a pole). ``parts``: the audit's
     pieces (``AuditResult.parts``)."""
+    (lo1, hi1), (lo2, hi2) = effort_bands(task, parts, t)
+    return np.maximum(hi1, -lo1), np.maximum(hi2, -lo2)
+
+
+def effort_bands(
+    task: Task, parts: Sequence[Any], t: np.ndarray
+) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """Per time of ``t`` [s] (absolute), for E1 and E2 a proven (lower, upper) bound of
+    the effort over ``task.uncertainty``'s box: every effort the box allows at that time
+    lies in [lower, upper] (∓inf where unbounded: at a pole)."""
     from .pieces import which
 
     u = task.uncertainty
     assert u is not None
     box = Box.of(task.robot, u)
     t = np.asarray(t, dtype=float)
-    out = np.full((2, len(t)), np.inf)
+    out = np.full((2, 2, len(t)), np.inf)
+    out[:, 0] = -np.inf
     idx = which(list(parts), t) if len(parts) > 1 else np.zeros(len(t), dtype=int)
     with quiet():
         for i in np.unique(idx):
             p = parts[int(i)]
             sel = np.nonzero(idx == i)[0]
             kin = p.motion.end_point(t[sel] - to_float(p.origin))
-            for j, bound in enumerate(_worst(task, kin, box)):
-                out[j, sel] = bound
-    return out[0], out[1]
+            for j, (lo, hi) in enumerate(_bands(task, kin, box)):
+                out[j, 0, sel], out[j, 1, sel] = lo, hi
+    return (out[0, 0], out[0, 1]), (out[1, 0], out[1, 1])
 
 
-def _worst(task: Task, kin: Sequence[Ball], box: Box) -> list[np.ndarray]:
-    """max |E_j| over the box, j = 1, 2, from the end point's balls ``kin``."""
+def _bands(task: Task, kin: Sequence[Ball], box: Box) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:
+    the upper bound of max s E_j for s = +1, and minus it for s = -1."""
     Y = _regressor(task, kin)
     corners = [(Ball.of_rational(ex), Ball.of_rational(ey)) for ex, ey in box.corners()]
     links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
     out = []
     for j in (0, 1):
-        best = np.full(kin[0].mid.shape, -np.inf)
-        for ex, ey in corners:
-            for s in (1.0, -1.0):
+        ends = []
+        for s in (1.0, -1.0):
+            best = np.full(kin[0].mid.shape, -np.inf)
+            for ex, ey in corners:
                 form = [
                     (a + b * ex + c * ey) * s
-                    for a, b, c in zip(*(Y[k][j] for k in range(3)), strict=True)
+                    for a, b, c in zip(Y[0][j], Y[1][j], Y[2][j], strict=True)
                 ]
                 best = np.maximum(best, _form_upper(form, links))
-        out.append(np.where(np.isnan(best), np.inf, best))
+            ends.append(np.where(np.isnan(best), np.inf, best))
+        out.append((-ends[1], ends[0]))
     return out
 
 
