@@ -84,6 +84,9 @@ class AuditResult:
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
     # with ``task.uncertainty``: each singular instant's robust analysis (docs/robust.md)
     robust: tuple[Robust, ...] = ()
+    # with ``task.uncertainty`` and the peak asked for: ((lower, upper) of sup |E1|, of
+    # sup |E2|) over the box and the times outside the proven windows (``worst_peak``)
+    robust_peak: tuple[tuple[float, float], tuple[float, float]] | None = None
 
     @property
     def singularities(self) -> list[SingularInstant]:
@@ -238,7 +241,19 @@ def audit(
         parts=tuple(parts),
         knot_jumps=tuple(knots),
         robust=tuple(robust),
+        robust_peak=_robust_peak(task, parts, robust) if asked else None,
     )
+
+
+def _robust_peak(
+    task: Task, parts: list[P.Part], robust: list[Robust]
+) -> tuple[tuple[float, float], tuple[float, float]] | None:
+    """The worst-case peak over the box between the instants (with uncertainty only)."""
+    if task.uncertainty is None:
+        return None
+    from .worst_peak import worst_peak
+
+    return worst_peak(task, parts, robust)
 
 
 def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list[Robust]:

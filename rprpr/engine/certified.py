@@ -424,9 +424,11 @@ class CertifiedMotion:
         out["theta2"] = self.theta(2, t, x - self.a1, y)
         return out
 
-    def end_point(self, t: np.ndarray) -> tuple[Ball, ...]:
-        """x, ẋ, ẍ, y, ẏ, ÿ at the float times ``t`` as balls (within ``balls.quiet()``),
-        as ``ball_pass`` has them."""
+    def end_point(self, t: np.ndarray | Ball) -> tuple[Ball, ...]:
+        """x, ẋ, ẍ, y, ẏ, ÿ at the float times ``t`` (or over the intervals of the ``Ball``
+        ``t``) as balls (within ``balls.quiet()``), as ``ball_pass`` has them."""
+        if isinstance(t, Ball):
+            return self._end_point(t)
         return self._locally(t, *self._end_point(Ball.exact(t)))
 
     def _end_point(self, tb: Ball) -> tuple[Ball, ...]:

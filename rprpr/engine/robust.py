@@ -29,7 +29,7 @@ upper bound of the largest |T_i| is at most the limit, so the window cannot reac
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -42,14 +42,21 @@ from ..model.task import Robot, Task, Uncertainty
 from . import equations as dyn
 from .mechanism import of
 from .pieces import absolute
+from .regressor import (
+    BASIS,
+    LINKS,
+    Pair,
+    efforts_of,
+    form_max,
+    legs_about,
+    pair_max,
+    setting_params,
+    settings_array,
+    to_basis,
+)
 from .series import taylor
 
 PREC = 160  # bits of the proofs at the window's ends
-# the links' inertial parameters (π above): (link, what), what one of m, mr, J
-BASIS = ((2, "mr"), (2, "J"), (3, "m"), (3, "mr"), (3, "J"),
-         (4, "mr"), (4, "J"), (5, "m"), (5, "mr"), (5, "J"))  # fmt: skip
-# the (m, r, I) settings whose efforts give the regressor: setting k has π = SETTINGS_PI[k]
-_SETTING = {"m": (1, 0, 0), "mr": (1, 1, -1), "J": (0, 0, 1)}
 
 
 @dataclass(frozen=True)
@@ -119,140 +126,6 @@ def _interval(v: fmpq, rel: Any) -> tuple[fmpq, fmpq]:
     return (v - w, v + w)
 
 
-# -- the regressor: efforts as linear forms in π, affine in e ----------------------------
-
-
-def _params(robot: Robot, k: int, convert: Callable[[Any], Any]) -> dyn.Params:
-    """The parameters whose π is the k-th setting: one link's (m, r, I) from ``_SETTING``,
-    every other link zero."""
-    link, what = BASIS[k]
-    m, r, i = _SETTING[what]
-    z = convert(0)
-    vals = dict.fromkeys((2, 3, 4, 5), (z, z, z))
-    vals[link] = (convert(m), convert(r), convert(i))
-    return dyn.Params(
-        convert(robot.a1), convert(robot.gravity),
-        vals[2][0], vals[2][2], vals[2][1], vals[3][0], vals[3][2], vals[3][1],
-        vals[4][0], vals[4][2], vals[4][1], vals[5][0], vals[5][2], vals[5][1],
-        of(robot),
-    )  # fmt: skip
-
-
-def _params_array(robot: Robot) -> dyn.Params:
-    """All the settings at once: each link parameter a double array over ``BASIS``."""
-    cols = [_params(robot, k, float) for k in range(len(BASIS))]
-    names = ("m2", "I2", "r2", "m3", "I3", "r3", "m4", "I4", "r4", "m5", "I5", "r5")
-    arrays = {n: np.array([getattr(c, n) for c in cols]) for n in names}
-    return dyn.Params(float(robot.a1), float(robot.gravity), **arrays, mechanism=of(robot))
-
-
-def _to_basis(values: list[Any]) -> list[Any]:
-    """From the efforts at the settings to the coefficients of π: the "mr" setting has
-    π = (m, mr) = (1, 1), so its coefficient is its value less the "m" setting's (links 3,
-    5); links 2, 4 have no m coefficient."""
-    out = list(values)
-    for k, (link, what) in enumerate(BASIS):
-        if what == "mr" and (link, "m") in BASIS:
-            out[k] = values[k] - values[BASIS.index((link, "m"))]
-    return out
-
-
-def _kin(c: Sequence[Sequence[Any]], h: Any, p: dyn.Params, ex: Any, ey: Any, hyp: Any) -> Any:
-    """The legs at t_s + h from the Taylor coefficients ``c`` (x, x', x'', y, y', y''
-    about t_s), the acceleration error (ex, ey) added (the mechanism's inverse kinematics)."""
-    x, xd, xdd, y, yd, ydd = (_horner(q, h) for q in c)
-    return p.mechanism.legs(p, x, xd, xdd + ex, y, yd, ydd + ey, hyp)
-
-
-def _horner(p: Sequence[Any], h: Any) -> Any:
-    v = p[-1] * 1 if p else 0 * h
-    for c in reversed(p[:-1]):
-        v = v * h + c
-    return v + 0 * h
-
-
-def _efforts(legs: Any, p: dyn.Params) -> tuple[Any, Any]:
-    """(T1, T2) of the scheme at the legs (λ = μ/δ, eqs. 30-31)."""
-    d = dyn.dynamics(legs[0], legs[1], p)
-    return dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)
-
-
-# -- the exact maximum of a link's linear form over its box ------------------------------
-
-
-def _link_max_float(A: Any, B: Any, C: Any, box: Any) -> Any:
-    """max over (m, r, I) in the box of A m + B m r + C (m r² + I), elementwise."""
-    (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
-    glo = A + B * rlo + C * rlo * rlo
-    ghi = A + B * rhi + C * rhi * rhi
-    G = np.maximum(glo, ghi)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rs = -B / (2 * C)
-        inside = (C < 0) & (rs > rlo) & (rs < rhi)
-        G = np.where(inside, np.maximum(G, A - B * B / (4 * C)), G)
-    return np.maximum(mlo * G, mhi * G) + np.maximum(C * ilo, C * ihi)
-
-
-Pair = tuple[arb, arb]  # (a lower bound, an upper bound): exact points, never one wide ball
-
-
-def _pair(b: arb) -> Pair:
-    return b.lower(), b.upper()
-
-
-def _pmax(pairs: Sequence[Pair]) -> Pair:
-    """Bounds on the largest of values bounded by ``pairs``."""
-    lo, hi = pairs[0][0].lower(), pairs[0][1].upper()
-    for a, b in pairs[1:]:
-        a, b = a.lower(), b.upper()
-        if a > lo:
-            lo = a
-        if b > hi:
-            hi = b
-    return lo, hi
-
-
-def _link_max_ball(A: arb, B: arb, C: arb, box: Any) -> Pair:
-    """``_link_max_float`` in ball arithmetic: bounds on the maximum."""
-    (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
-    g0 = A + B * rlo + C * rlo * rlo
-    g = [_pair(g0), _pair(A + B * rhi + C * rhi * rhi)]
-    if not (C > 0) and not C.is_zero():  # an interior maximum in r is possible
-        if C < 0:
-            rs = -B / (2 * C)
-            if not (rs <= rlo or rs >= rhi):
-                top = A - B * B / (4 * C)
-                if rs > rlo and rs < rhi:
-                    g.append(_pair(top))
-                else:  # maybe inside: it bounds the maximum from above only
-                    g.append((g0.lower(), top.upper()))
-        else:  # C's sign undecided: the quadratic's range over [r_lo, r_hi]
-            r = (arb(rlo) + arb(rhi)) / 2 + (arb(rhi) - arb(rlo)) / 2 * arb("0 +/- 1")
-            g.append((g0.lower(), (A + B * r + C * r * r).upper()))
-    Glo, Ghi = _pmax(g)
-    mG = _pmax([(mlo * Glo, mlo * Ghi), (mhi * Glo, mhi * Ghi)])
-    cI = _pmax([_pair(C * ilo), _pair(C * ihi)])
-    return (mG[0] + cI[0]).lower(), (mG[1] + cI[1]).upper()
-
-
-_LINKS = ((2, None, 0, 1), (3, 2, 3, 4), (4, None, 5, 6), (5, 7, 8, 9))  # link, m, mr, J
-
-
-def _form_max(Y: Sequence[Any], box: Any, ball: bool) -> Any:
-    """max over the box's links of Σ_k Y_k π_k (Y indexed as ``BASIS``)."""
-    total: Any = 0
-    lo, hi = arb(0), arb(0)
-    for link, km, kmr, kj in _LINKS:
-        A = Y[km] if km is not None else Y[kmr] * 0
-        b = box[link]
-        if ball:
-            pl, ph = _link_max_ball(A, Y[kmr], Y[kj], b)
-            lo, hi = (lo + pl).lower(), (hi + ph).upper()
-        else:
-            total = total + _link_max_float(A, Y[kmr], Y[kj], b)
-    return (lo, hi) if ball else total
-
-
 # -- one instant ---------------------------------------------------------------------------
 
 
@@ -304,13 +177,13 @@ def _regressor_float(ab: _About, h: np.ndarray) -> np.ndarray:
     hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
-    params = _params_array(robot)
-    legs = _kin(c, hh, params, ex, ey, np.hypot)
+    params = settings_array(robot)
+    legs = legs_about(c, hh, params, ex, ey, np.hypot)
     with np.errstate(divide="ignore", invalid="ignore"):
-        T1, T2 = _efforts(legs, params)  # (n, 3, 10)
+        T1, T2 = efforts_of(legs, params)  # (n, 3, 10)
     Y = np.stack(np.broadcast_arrays(T1, T2), axis=2)  # (n, 3, 2, 10)
     Y = np.moveaxis(Y, 1, 0)  # (3, n, 2, 10)
-    B = _to_basis([Y[..., k] for k in range(len(BASIS))])
+    B = to_basis([Y[..., k] for k in range(len(BASIS))])
     Y = np.stack(B, axis=-1)
     return np.stack([Y[0], Y[1] - Y[0], Y[2] - Y[0]])
 
@@ -325,7 +198,7 @@ def _phi_float(ab: _About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
         + k[:, 0, None, None, None] * Ys[1][None]
         + (k[:, 1, None, None, None] * Ys[2][None])
     )  # (c, n, 2, 10)
-    v = _form_max([Y[..., j] for j in range(len(BASIS))], fbox, False)
+    v = form_max([Y[..., j] for j in range(len(BASIS))], fbox, False)
     return v.max(axis=0)
 
 
@@ -335,10 +208,10 @@ def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[A
     coefficients as the one "joint"."""
     robot = ab.robot
     c = [[_ball(v) for v in p] for p in ab.coeffs]
-    params = [_params(robot, k, _ball) for k in range(len(BASIS))]
+    params = [setting_params(robot, k, _ball) for k in range(len(BASIS))]
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
-        legs = _kin(c, h, params[0], arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        legs = legs_about(c, h, params[0], arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
         values: list[tuple[Any, ...]] = []
         for p in params:
             d = dyn.dynamics(legs[0], legs[1], p)
@@ -347,7 +220,7 @@ def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[A
                 values.append((num if den is None else num / den,))
             else:
                 values.append(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta))
-        out.append([_to_basis([v[j] for v in values]) for j in range(len(values[0]))])
+        out.append([to_basis([v[j] for v in values]) for j in range(len(values[0]))])
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
 
@@ -380,8 +253,8 @@ def _phi_ball(ab: _About, h: float, box: Box, bbox: Any) -> tuple[Pair, Pair]:
         for ex, ey in box.corners():
             for j in (0, 1):
                 for s in (1, -1):
-                    best[j].append(_form_max(_at_corner(Ys, ex, ey, j, s), bbox, True))
-        return _pmax(best[0]), _pmax(best[1])
+                    best[j].append(form_max(_at_corner(Ys, ex, ey, j, s), bbox, True))
+        return pair_max(best[0]), pair_max(best[1])
     finally:
         ctx.prec = old
 
@@ -397,9 +270,9 @@ def residual(ab: _About, box: Box) -> tuple[arb, arb]:
         hi: list[Pair] = []
         Ys = _regressor_ball(ab, arb(0), at_ts=True)
         for ex, ey in box.corners():
-            hi.append(_form_max(_at_corner(Ys, ex, ey, 0, 1), bbox, True))
-            lo.append(_form_max(_at_corner(Ys, ex, ey, 0, -1), bbox, True))  # -min
-        return -_pmax(lo)[1], _pmax(hi)[1]
+            hi.append(form_max(_at_corner(Ys, ex, ey, 0, 1), bbox, True))
+            lo.append(form_max(_at_corner(Ys, ex, ey, 0, -1), bbox, True))  # -min
+        return -pair_max(lo)[1], pair_max(hi)[1]
     finally:
         ctx.prec = old
 
@@ -498,20 +371,20 @@ def _prove_in(ab: _About, box: Box, bbox: Any, lim: float, j: int, d: int, h: fl
 
 def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
-    corners of e, and per link the maximiser of ``_link_max_float``), as a ball."""
+    corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
     fbox = _float_box(box)
     Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
     best, arg = -math.inf, None
     for ex, ey in box.corners():
         for s in (1.0, -1.0):
             Y = s * (Ys[0] + float(ex) * Ys[1] + float(ey) * Ys[2])
-            v = float(_form_max(list(Y), fbox, False))
+            v = float(form_max(list(Y), fbox, False))
             if v > best:
                 best, arg = v, (ex, ey, s, Y)
     assert arg is not None
     ex, ey, s, Y = arg
     values = {}
-    for link, km, kmr, kj in _LINKS:
+    for link, km, kmr, kj in LINKS:
         A = Y[km] if km is not None else 0.0
         values[link] = _argmax(A, Y[kmr], Y[kj], box.links[link])
     L = box.robot_links(values)
@@ -520,7 +393,7 @@ def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
     try:
         c = [[_ball(v) for v in p] for p in ab.coeffs]
         p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
-        legs = _kin(c, arb(h), p, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        legs = legs_about(c, arb(h), p, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
         d = dyn.dynamics(legs[0], legs[1], p)
         return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
     finally:

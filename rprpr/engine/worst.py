@@ -28,7 +28,8 @@ import numpy as np
 from ..model.numbers import to_float
 from ..model.task import Task
 from .balls import Ball, hypot, quiet
-from .robust import _LINKS, BASIS, Box, _params, _to_basis
+from .regressor import BASIS, LINKS, setting_params, to_basis
+from .robust import Box
 
 ERRORS = ((0, 0), (1, 0), (0, 1))  # the error parts of the regressor: e = 0, unit e_x, e_y
 
@@ -66,9 +67,12 @@ def effort_bands(
     return (out[0, 0], out[0, 1]), (out[1, 0], out[1, 1])
 
 
-def _bands(task: Task, kin: Sequence[Ball], box: Box) -> list[tuple[np.ndarray, np.ndarray]]:
+def _bands(
+    task: Task, kin: Sequence[Ball], box: Box, lower: bool = False
+) -> list[tuple[np.ndarray, np.ndarray]]:
     """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:
-    the upper bound of max s E_j for s = +1, and minus it for s = -1."""
+    the upper bound of max s E_j for s = +1, and minus it for s = -1. With ``lower``,
+    the same from lower bounds of the maxima (a band inside the true one)."""
     Y = _regressor(task, kin)
     corners = [(Ball.of_rational(ex), Ball.of_rational(ey)) for ex, ey in box.corners()]
     links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
@@ -82,8 +86,8 @@ def _bands(task: Task, kin: Sequence[Ball], box: Box) -> list[tuple[np.ndarray, 
                     (a + b * ex + c * ey) * s
                     for a, b, c in zip(Y[0][j], Y[1][j], Y[2][j], strict=True)
                 ]
-                best = np.maximum(best, _form_upper(form, links))
-            ends.append(np.where(np.isnan(best), np.inf, best))
+                best = np.maximum(best, _form_bound(form, links, lower))
+            ends.append(np.where(np.isnan(best), -np.inf if lower else np.inf, best))
         out.append((-ends[1], ends[0]))
     return out
 
@@ -92,7 +96,7 @@ def _regressor(task: Task, kin: Sequence[Ball]) -> list[list[list[Ball]]]:
     """[error part][effort][``BASIS``]: the efforts' coefficients of π for e = 0, and
     their change per unit e_x, per unit e_y."""
     x, xd, xdd, y, yd, ydd = kin
-    params = [_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
+    params = [setting_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
     mech = params[0].mechanism
     out = []
     for ex, ey in ERRORS:
@@ -102,33 +106,45 @@ def _regressor(task: Task, kin: Sequence[Ball]) -> list[list[list[Ball]]]:
         for p in params:
             d = mech.dynamics(leg1, leg2, p)
             values.append(mech.efforts(d, d.mu1 / delta, d.mu2 / delta))
-        out.append([_to_basis([v[j] for v in values]) for j in (0, 1)])
+        out.append([to_basis([v[j] for v in values]) for j in (0, 1)])
     return [out[0]] + [
         [[a - b for a, b in zip(out[i][j], out[0][j], strict=True)] for j in (0, 1)] for i in (1, 2)
     ]
 
 
-def _form_upper(form: Sequence[Ball], links: dict[int, list[list[Ball]]]) -> np.ndarray:
-    """An upper bound of max over the box of Σ_k form_k π_k (``BASIS`` order)."""
+def _form_bound(
+    form: Sequence[Ball], links: dict[int, list[list[Ball]]], lower: bool
+) -> np.ndarray:
+    """An upper bound (``lower``: a lower bound) of max over the box of Σ_k form_k π_k
+    (``BASIS`` order)."""
     total = Ball.exact(0.0)
-    for link, km, kmr, kj in _LINKS:
+    for link, km, kmr, kj in LINKS:
         A = form[km] if km is not None else form[kmr] * 0.0
-        total = total + Ball.exact(_link_upper(A, form[kmr], form[kj], links[link]))
-    return total.upper()
+        total = total + Ball.exact(_link_bound(A, form[kmr], form[kj], links[link], lower))
+    return total.lower() if lower else total.upper()
 
 
-def _link_upper(A: Ball, B: Ball, C: Ball, box: list[list[Ball]]) -> np.ndarray:
-    """An upper bound of max over the link's (m, r, I) of A m + B m r + C (m r² + I)."""
+def _link_bound(A: Ball, B: Ball, C: Ball, box: list[list[Ball]], lower: bool) -> np.ndarray:
+    """An upper bound of max over the link's (m, r, I) of A m + B m r + C (m r² + I); with
+    ``lower``, a lower bound of it (only the candidates the balls decide)."""
     (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
-    G = np.maximum((A + B * rlo + C * rlo * rlo).upper(), (A + B * rhi + C * rhi * rhi).upper())
+
+    def end(b: Ball) -> np.ndarray:
+        return b.lower() if lower else b.upper()
+
+    G = np.maximum(end(A + B * rlo + C * rlo * rlo), end(A + B * rhi + C * rhi * rhi))
     concave = C.upper() < 0
     vertex = -B / (C * 2.0)
-    inside = concave & (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
-    G = np.where(inside, np.maximum(G, (A - B * B / (C * 4.0)).upper()), G)
-    r = Ball.hull(rlo.lower(), rhi.upper())
-    undecided = ~concave & (C.lower() < 0)  # the sign of C unknown: r's whole interval
-    G = np.where(undecided, np.maximum(G, (A + B * r + C * r * r).upper()), G)
+    if lower:  # the vertex only where it surely lies inside
+        inside = concave & (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
+    else:
+        inside = concave & (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
+    G = np.where(inside, np.maximum(G, end(A - B * B / (C * 4.0))), G)
+    if not lower:
+        r = Ball.hull(rlo.lower(), rhi.upper())
+        undecided = ~concave & (C.lower() < 0)  # the sign of C unknown: r's whole interval
+        G = np.where(undecided, np.maximum(G, (A + B * r + C * r * r).upper()), G)
     g = Ball.exact(G)
-    m_part = np.maximum((g * mlo).upper(), (g * mhi).upper())  # m > 0: linear in m
-    i_part = np.maximum((C * ilo).upper(), (C * ihi).upper())
-    return (Ball.exact(m_part) + Ball.exact(i_part)).upper()
+    m_part = np.maximum(end(g * mlo), end(g * mhi))  # m > 0: linear in m
+    i_part = np.maximum(end(C * ilo), end(C * ihi))
+    return end(Ball.exact(m_part) + Ball.exact(i_part))

@@ -342,6 +342,12 @@ def robust_lines(rep: dict[str, Any]) -> list[str]:
             f" window {with_unit(r['window'], 's')}{where},"
             f" period {with_unit(u['period'], 's')}"
         )
+    if "peak" in u:
+        (_, h1), (_, h2) = u["peak"]
+        out.append(
+            f"  robust peak outside the windows: |{e.letter}1| <= {number(h1)} {e.unit},"
+            f" |{e.letter}2| <= {number(h2)} {e.unit} (over the box)"
+        )
     return out
 
 

@@ -223,7 +223,7 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "closest_approach": approach_record(result.closest_approach),
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
-        **uncertainty_fields(task),
+        **uncertainty_fields(task, result.robust_peak),
     }
 
 
@@ -240,10 +240,13 @@ def robust_record(r: Robust) -> dict[str, Any]:
     }
 
 
-def uncertainty_fields(task: Task) -> dict[str, Any]:
+def uncertainty_fields(
+    task: Task, peak: tuple[tuple[float, float], tuple[float, float]] | None = None
+) -> dict[str, Any]:
     """The declared uncertainty echoed (nothing without it: reports stay as before):
     per link the half-widths of mass, inertia and r as fractions, acceleration [m/s²],
-    period [s]."""
+    period [s]; with the peak asked for, ``peak``: the certified [lower, upper] of the
+    largest |T1|, |T2| over the box outside the proven windows (``engine.worst_peak``)."""
     u = task.uncertainty
     if u is None:
         return {}
@@ -256,6 +259,7 @@ def uncertainty_fields(task: Task) -> dict[str, Any]:
             "links": links,
             "acceleration": to_float(u.acceleration),
             "period": to_float(u.period),
+            **({"peak": [list(peak[0]), list(peak[1])]} if peak is not None else {}),
         }
     }
 

@@ -206,7 +206,7 @@ def test_a_third_implementation_drives_the_certified_values(tripled: Tripled) ->
 
 # -- the layers name no scheme ---------------------------------------------------------------
 
-LAYERS = ("singular", "certified", "zones", "knots", "findings", "robust")
+LAYERS = ("singular", "certified", "zones", "knots", "findings", "robust", "regressor", "worst")
 
 
 @pytest.mark.parametrize("layer", LAYERS)
