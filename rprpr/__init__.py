@@ -47,6 +47,7 @@ if TYPE_CHECKING:
     from .model.errors import RprprError, TaskFileError
     from .model.motion import Motion, with_motion
     from .model.options import AuditOptions
+    from .model.task import Uncertainty
     from .repair import NoRepair, Repair, repair
 
 _LAZY = {
@@ -62,6 +63,7 @@ _LAZY = {
     "parse_task": ".io.loader",
     "RprprError": ".model.errors",
     "TaskFileError": ".model.errors",
+    "Uncertainty": ".model.task",
 }
 
 __all__ = [
@@ -72,6 +74,7 @@ __all__ = [
     "Repair",
     "RprprError",
     "TaskFileError",
+    "Uncertainty",
     "__version__",
     "audit",
     "load_task",

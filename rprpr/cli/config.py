@@ -37,6 +37,7 @@ if TYPE_CHECKING:  # the rest is imported when a configuration is read: --help s
     from fractions import Fraction
 
     from ..model.task import Task
+    from .uncertainty import UncertaintyDefault
 
 CONFIG_FILES = (".rprpr.toml", "rprpr.toml", "pyproject.toml")  # looked for in this order
 TASK_GLOBS = ("*.rprpr.yaml", "*.rprpr.yml")  # what a task file is called, by default
@@ -61,6 +62,7 @@ KEYS: dict[str, tuple[str, Any]] = {
     "torque_limit": ("limits", None),
     "min_slope": ("margin", None),
     "min_speed": ("margin", None),
+    "uncertainty": ("uncertainty", None),
     "samples": ("samples", DEFAULT_SAMPLES),
     "jobs": ("jobs", 1),
     "budget": ("budget", DEFAULT_BUDGET),
@@ -95,6 +97,7 @@ class Settings:
             strict=self["strict"],
             rules=self.rule_levels,
             peak=self["peak"],
+            uncertainty=self["uncertainty"],
         )
 
     def selection(self, force: bool = False) -> FileSelection:
@@ -112,6 +115,7 @@ class TaskDefaults:
     strict: bool | None = None
     rules: dict[str, str] = field(default_factory=dict)
     peak: bool | None = None  # compute the certified torque peak (checks.peak)
+    uncertainty: UncertaintyDefault | None = None  # a task's own ``uncertainty:`` wins
 
 
 @dataclass(frozen=True)
@@ -427,6 +431,10 @@ def _checked(key: str, raw: Any, where: str) -> Any:
         return pair
     if kind == "margin":
         return _number(raw, where, positive=False)
+    if kind == "uncertainty":
+        from .uncertainty import read
+
+        return read(raw, where, _number, _toml)
     bounds = {"samples": (2, 1_000_000), "jobs": (0, 256)}
     if kind in bounds:
         low, high = bounds[kind]
@@ -472,6 +480,10 @@ def _toml(value: Any) -> str:
 
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + "}"
+    if hasattr(value, "origin"):  # the uncertainty (cli.uncertainty.UncertaintyDefault)
+        return str(value.text)
     if isinstance(value, _Float):
         return str.__str__(value)
     if isinstance(value, str):
@@ -513,7 +525,19 @@ def configure(task: Task, d: TaskDefaults) -> Task:
     """``task`` with the configuration's defaults where its file gives no value (a key the
     file gives is in ``task.lines``), and its rule levels: the configuration's, then the
     task's own (``checks.ignore``, ``checks.warn``, ``checks.unbounded_torque``);
-    ``--warn-unbounded`` is the audit's (``AuditOptions.warn_unbounded``)."""
+    ``--warn-unbounded`` is the audit's (``AuditOptions.warn_unbounded``). The
+    configuration's ``uncertainty`` applies to a task that declares none; a task then
+    audited with an uncertainty and no torque limit is a ``TaskFileError``
+    (``uncertainty.needs_limit``)."""
+    from .uncertainty import apply, needs_limit
+
+    task = _checks(apply(task, d.uncertainty), d)
+    needs_limit(task)
+    return task
+
+
+def _checks(task: Task, d: TaskDefaults) -> Task:
+    """``task`` with the configuration's ``checks`` defaults and rule levels."""
     from flint import fmpq
 
     def exact(q: Fraction) -> fmpq:

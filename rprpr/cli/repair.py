@@ -40,6 +40,7 @@ from .errors import InputError
 from .options import SHEET_FORMATS, output_file_option, require_plotting, suffix_choice
 from .output import echo, refuse_overwriting_inputs, say, write_atomic, writing
 from .tasks import STDIN, load, read_task, stdin_bytes, task_inputs, task_named
+from .uncertainty import needs_limit
 
 if TYPE_CHECKING:
     from ..model.task import Task
@@ -187,6 +188,7 @@ def _read(task: str) -> tuple[Task, str]:
         try:
             raw = stdin_bytes()
             old = read_task(STDIN, raw)
+            needs_limit(old)  # no configuration here: the task's own limit
         except TaskFileError as e:
             raise InputError(str(e)) from None
     else:
@@ -314,7 +316,25 @@ def summary(r: Repair) -> list[str]:
                 f"{e.noun[:-1]} peak {name}: |{e.letter}1| {peak[0].value:.6g} {e.unit},"
                 f" |{e.letter}2| {peak[1].value:.6g} {e.unit}"
             )
-    return lines
+    lines += robust_lines(r)
+    return lines + [f"warning: {w}" for w in r.warnings]
+
+
+def robust_lines(r: Repair) -> list[str]:
+    """With declared uncertainty, the repaired motion's worst case at each singular
+    instant (``docs/robust.md``): the residual over the box and the proven window."""
+    u = r.task.uncertainty
+    if u is None:
+        return []
+    out = []
+    for s, b in zip(r.after.singularities, r.after.robust, strict=False):
+        lo, hi = b.residual
+        window = f"{b.window * 1e3:.3g} ms" if b.window > 0 else "none"
+        out.append(
+            f"  over the box at t = {s.t:.6g} s: residual [{lo:.6g}, {hi:.6g}] N, saturation"
+            f" window {window} (period {float(u.period) * 1e3:.3g} ms)"
+        )
+    return out
 
 
 def _f(q: fmpq) -> str:

@@ -208,10 +208,14 @@ def stdin_bytes(name: str = STDIN) -> bytes:
 def load(path: str) -> Task:
     """The task in the file ``path`` (``-``: standard input); a bad task file is an
     ``InputError`` (its message names the file, line, column and key)."""
+    from .uncertainty import needs_limit
+
     try:
-        return read_task(path)
+        task = read_task(path)
+        needs_limit(task)  # no configuration here: the task's own limit
     except TaskFileError as e:
         raise InputError(str(e)) from None
+    return task
 
 
 @contextmanager

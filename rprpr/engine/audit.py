@@ -43,6 +43,7 @@ from .findings import findings
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
     from .certified.motion import CertifiedMotion
     from .certified.sampling import Samples
+    from .robust import Robust
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -81,6 +82,11 @@ class AuditResult:
     parts: tuple[P.Part, ...] = field(default=(), repr=False, compare=False)  # ``resample``
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False)  # what jumps at the knots
     peak_computed: bool = True  # False: the peak was not asked for (``torque_peak`` None)
+    # with ``task.uncertainty``: each singular instant's robust analysis (docs/robust.md)
+    robust: tuple[Robust, ...] = ()
+    # with ``task.uncertainty`` and the peak asked for: ((lower, upper) of sup |E1|, of
+    # sup |E2|) over the box and the times outside the proven windows (``worst_peak``)
+    robust_peak: tuple[tuple[float, float], tuple[float, float]] | None = None
 
     @property
     def singularities(self) -> list[SingularInstant]:
@@ -130,6 +136,13 @@ class AuditResult:
         """The motion, joints, δ, λ and torques at the times ``t`` [s], certified, from
         the exact analysis already made (no new analysis)."""
         return P.sample(list(self.parts), np.asarray(t, dtype=float))
+
+    def robust_of(self, s: SingularInstant) -> Robust | None:
+        """The robust analysis of the instant ``s`` (None without declared uncertainty)."""
+        for i, r in zip(self.singularities, self.robust, strict=False):
+            if i is s or i.t == s.t:
+                return r
+        return None
 
     def findings_at(self, s: SingularInstant) -> list[Finding]:
         """The findings the audit made at the singular instant ``s`` (one of
@@ -183,7 +196,8 @@ def audit(
     caller that stops a long audit can say where it was). No verdict needs the certified
     peak, so unless asked for it is computed only where it costs nothing (infinite at a
     pole, undefined on y = 0 or through A or B), else ``AuditResult.peak_computed`` is
-    False and ``torque_peak`` None.
+    False and ``torque_peak`` None. ``uncertainty`` (an option) replaces the task's own
+    (``docs/robust.md``): each instant then has its robust analysis (``robust``).
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides."""
@@ -192,6 +206,13 @@ def audit(
         o = replace(o, **keywords)
     strict = task.checks.strict if o.strict is None else o.strict
     asked = task.checks.peak if o.peak is None else o.peak
+    if o.uncertainty is not None:
+        task = replace(task, uncertainty=o.uncertainty.exact())
+    if task.uncertainty is not None and task.checks.torque_limit is None:
+        raise ValueError(
+            "uncertainty needs checks.torque_limit: the saturation window around each"
+            " singular instant is measured against the actuators' limits"
+        )
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
@@ -202,8 +223,9 @@ def audit(
     knots = K.knots(task.motion, task.robot)
     on_line = [(p.start, p.end) for p in parts if p.analysis.on_singular_line]
     whole = len(on_line) == len(parts) and not task.pieces
+    robust = _robust(task, parts, analysis)
     tell(FINDINGS)
-    found = findings(task, analysis, top, checked, knots, [] if whole else on_line)
+    found = findings(task, analysis, top, checked, knots, [] if whole else on_line, robust)
     return AuditResult(
         task=task,
         strict=strict,
@@ -218,7 +240,29 @@ def audit(
         analysis=analysis,
         parts=tuple(parts),
         knot_jumps=tuple(knots),
+        robust=tuple(robust),
+        robust_peak=_robust_peak(task, parts, robust) if asked else None,
     )
+
+
+def _robust_peak(
+    task: Task, parts: list[P.Part], robust: list[Robust]
+) -> tuple[tuple[float, float], tuple[float, float]] | None:
+    """The worst-case peak over the box between the instants (with uncertainty only)."""
+    if task.uncertainty is None:
+        return None
+    from .worst_peak import worst_peak
+
+    return worst_peak(task, parts, robust)
+
+
+def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list[Robust]:
+    """The robust analysis of each instant when the task declares uncertainty."""
+    if task.uncertainty is None or not analysis.instants:
+        return []
+    from .robust import robust
+
+    return robust(task, parts, analysis.instants)
 
 
 def _joined(task: Task, parts: list[P.Part]) -> SingularAnalysis:

@@ -19,11 +19,12 @@ from flint import fmpq
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
 from ..model.rules import Finding
-from ..model.task import Task
+from ..model.task import Task, Uncertainty
 from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact.knots import Knot
 from .exact.mechanism import of
 from .exact.singular import KinematicSingularity, SingularAnalysis, SingularInstant
+from .robust import Robust
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 
@@ -49,6 +50,7 @@ def findings(
     limit: tuple[LimitCheck, LimitCheck] | None,
     knots: Sequence[Knot] = (),
     on_line: Sequence[tuple[fmpq, fmpq]] = (),
+    robust: Sequence[Robust] = (),
 ) -> list[Finding]:
     """What the audit found wrong with ``task``, in report order: the path on the singular
     line, the inverse-kinematic singularities, each singular instant's broken principles
@@ -56,18 +58,89 @@ def findings(
     ``checks.torque_limit`` over [0, t_f], ``envelope.limit_violations``; ``peak``: the
     certified max |T1|, max |T2|, ``envelope.torque_peak``). A piecewise motion adds
     its ``knots`` (velocity and torque jumps) and ``on_line``, the pieces [start, end]
-    that lie on y = 0 (then RPR104 names each)."""
+    that lie on y = 0 (then RPR104 names each). With ``task.uncertainty``, ``robust``
+    holds each instant's robust analysis: RPR205 fails a window longer than the period,
+    and RPR201 is a warning that says what the window is (``docs/robust.md``)."""
     at = instant_text(a)
     e = of(task.robot).words
     out = path_on_singular_line(a) if not on_line else pieces_on_singular_line(on_line)
     out += [f for k in knots for f in knot(k, e)]
     out += [kinematic(k, at) for k in a.kinematic]
     accepted = task.checks.unbounded_torque == "warn"
+    u = task.uncertainty
     for i, s in enumerate(a.instants):
-        made = slope(s, at) + velocity(s, at) + unbounded(s, at, accepted, e)
-        out += [replace(f, instant=i) for f in made]
+        pole = unbounded(s, at, accepted or u is not None, e)
+        r = robust[i] if u is not None and i < len(robust) else None
+        if u is not None and r is not None:
+            pole = [replace(f, message=f.message + robust_note(r, u)) for f in pole]
+            pole += window(s, r, task, at, e)
+        out += [replace(f, instant=i) for f in slope(s, at) + velocity(s, at) + pole]
     out += torque_limit(task, a, peak, limit, at)
     return out
+
+
+PRECISION = 1e-12  # [s] a window below this is the rounding of the input, not a saturation
+
+
+def robust_note(r: Robust, u: Uncertainty) -> str:
+    """What RPR201's warning adds with declared uncertainty: the window decides."""
+    w = number(r.window)
+    lo, hi = (number(v) for v in r.residual)
+    if r.window < PRECISION:
+        return (
+            f"; consistent to the input's precision: residual {lo} .. {hi} N,"
+            f" window < {_one_digit_up(r.window)} s"
+            if lo != hi
+            else f"; consistent to the input's precision: residual {lo} N,"
+            f" window < {_one_digit_up(r.window)} s"
+        )
+    return f"; with the declared uncertainty the saturation window is {w} s (RPR205 decides)"
+
+
+def _one_digit_up(v: float) -> str:
+    """``v`` rounded up to one significant digit: 7.3e-16 -> 8e-16, 0 -> 1e-300."""
+    if v <= 0:
+        return "1e-300"
+    e = math.floor(math.log10(v))
+    d = math.ceil(v / 10.0**e)
+    if d == 10:
+        d, e = 1, e + 1
+    return f"{d}e{e:+03d}" if e < -4 or e > 4 else number(d * 10.0**e)
+
+
+def box_text(u: Uncertainty) -> str:
+    """The declared box in words: "every mass, inertia and r within ±5 % and tracking
+    error ≤ 0.01 m/s²"."""
+    parts = []
+    rel = {v for t in u.links.values() for v in t}
+    if rel == {fmpq(0)}:
+        parts.append("the nominal masses")
+    elif len(rel) == 1:
+        parts.append(f"every mass, inertia and r within ±{number(to_float(rel.pop()) * 100)} %")
+    else:
+        parts.append("every link parameter within its declared half-width")
+    if u.acceleration != 0:
+        parts.append(f"tracking error ≤ {number(to_float(u.acceleration))} m/s²")
+    return " and ".join(parts)
+
+
+def window(s: SingularInstant, r: Robust, task: Task, at: At, e: Scheme) -> list[Finding]:
+    """RPR205: the proven saturation window around ``s`` exceeds ``uncertainty.period``."""
+    u = task.uncertainty
+    limit = task.checks.torque_limit
+    if u is None or limit is None or r.window <= float(u.period) or r.joint is None:
+        return []
+    j = r.joint
+    span = ""
+    if r.span is not None:
+        t0, t1 = distinct(list(r.span))
+        span = f" (t = {t0} .. {t1} s)"
+    message = (
+        f"for {box_text(u)}, |{e.letter}{j}| > {number(to_float(limit[j - 1]))} {e.unit}"
+        f" for at most {with_unit(r.window, 's')} around {at(s.t)}{span}: longer than the"
+        f" {with_unit(float(u.period), 's')} period"
+    )
+    return [Finding("RPR205", message, s.t)]
 
 
 def instant_text(a: SingularAnalysis) -> At:

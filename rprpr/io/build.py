@@ -13,11 +13,11 @@ from typing import TYPE_CHECKING, Any
 from flint import fmpq, fmpq_poly
 
 from ..model.rules import rule_id
-from ..model.task import Checks, Link, Piece, Robot, Task
+from ..model.task import Checks, Link, Piece, Robot, Task, Uncertainty
 from ..model.timing import timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
-from .schema import TASK, TRAPEZOIDAL
+from .schema import LINK_QUANTITIES, TASK, TRAPEZOIDAL
 
 if TYPE_CHECKING:
     from .walk import Walk
@@ -49,6 +49,31 @@ def task(w: Walk, file: str) -> Task:
         lines=dict(w.lines),
         source=file,
         pieces=tuple(pieces),
+        uncertainty=_uncertainty(w) if "uncertainty" in w.nodes else None,
+    )
+
+
+def _uncertainty(w: Walk) -> Uncertainty:
+    """The task's ``uncertainty``: a link or quantity not named is exact, and so is an
+    acceleration or period not given (the schema states no default: "not given: 0").
+    It needs a torque limit, the task's or the configuration's: checked once the
+    configuration is applied (``cli.uncertainty.needs_limit``)."""
+    v = w.values
+    mark = w.nodes["uncertainty"].start_mark
+    zero = fmpq(0)
+    links: dict[int, tuple[fmpq, fmpq, fmpq]] = {}
+    every = v.get("uncertainty.links", zero)
+    for i in (2, 3, 4, 5):
+        if every == "per link":
+            m, j, r = (v.get(f"uncertainty.links.{i}.{n}", zero) for n in LINK_QUANTITIES)
+            links[i] = (m, j, r)
+        else:
+            links[i] = (every, every, every)
+    return Uncertainty(
+        links,
+        v.get("uncertainty.acceleration", zero),
+        v.get("uncertainty.period", zero),
+        where=(mark.line + 1, mark.column + 1),
     )
 
 

@@ -78,6 +78,9 @@ def too_large(cap: int, size: int | None = None) -> str:
     return f"file too large: {held}, the cap is {cap} bytes" + (f" ({words})" if words else "")
 
 
+PERCENT_EXPECTED = "a percentage such as 5% (0% <= value < 100%)"
+
+
 def expected(spec: Spec, key: str) -> str:
     """What a key of ``spec`` takes, for "expected ..." in messages."""
     if spec.kind == "mapping":
@@ -110,6 +113,8 @@ def expected(spec: Spec, key: str) -> str:
         return "text (a name for reports)"
     if spec.kind == "bool":
         return "true or false"
+    if spec.kind in ("percent", "relative"):
+        return PERCENT_EXPECTED
     return f"one of {', '.join(spec.choices)}"  # enum
 
 

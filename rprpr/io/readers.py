@@ -20,7 +20,7 @@ from ..model.errors import ExpressionError, TaskFileError
 from ..model.numbers import rational as _q
 from ..model.waypoints import Waypoint
 from .expression import parse_decimal, parse_fraction, parse_polynomial
-from .messages import expected, near, shorten, where
+from .messages import PERCENT_EXPECTED, expected, near, shorten, where
 from .scalars import (
     ESCAPED_CONTROL,
     FRACTION,
@@ -37,7 +37,7 @@ from .scalars import (
     number_value,
     simple_decimal,
 )
-from .schema import CSV_PATTERN, Spec
+from .schema import CSV_PATTERN, RELATIVE_LINKS, Spec
 from .walk import Reader, Recorded, Walk
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
@@ -284,6 +284,49 @@ def enum(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
     return v
 
 
+_PERCENT = re.compile(r"^\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*%\s*$")
+
+
+def percent(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
+    """A percentage, as a fraction (``5%`` -> 1/20): 0 % <= value < 100 %."""
+    text = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
+    m = _PERCENT.fullmatch(text) if node.tag.endswith(":str") else None
+    if m is None:
+        if isinstance(node, yaml.ScalarNode) and text.strip() in ("0", "0.0"):
+            return fmpq(0)
+        found = f"{text.strip()!r}" if isinstance(node, yaml.ScalarNode) else "a mapping or list"
+        hint = " (write the percentage with %: 5% for 0.05)" if _is_number(text) else ""
+        raise w.error(
+            f"expected {PERCENT_EXPECTED} ({spec.description}), found {found}{hint}", node, key
+        )
+    value = parse_decimal(m.group(1) + (m.group(2) or "")) / 100
+    if value >= 1:
+        raise w.error(
+            f"expected {PERCENT_EXPECTED} ({spec.description}), found {text.strip()}: a"
+            " half-width of 100% or more leaves the mass or length unbounded below",
+            node,
+            key,
+        )
+    return value
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def relative(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> Any:
+    """``uncertainty.links``: one percentage for every link, or per link and quantity
+    (read as the mapping ``RELATIVE_LINKS``: its values land under ``key``.i.quantity)."""
+    if isinstance(node, yaml.MappingNode):
+        w.mapping(node, RELATIVE_LINKS, key, depth)
+        return "per link"
+    return percent(w, node, spec, key, depth)
+
+
 READERS: dict[str, Reader] = {
     "number": number,
     "pair": pair,
@@ -296,6 +339,8 @@ READERS: dict[str, Reader] = {
     "string": string,
     "bool": boolean,
     "enum": enum,
+    "percent": percent,
+    "relative": relative,
 }
 
 

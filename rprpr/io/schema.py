@@ -147,10 +147,47 @@ _WAYPOINT = Spec(
 )
 WAYPOINT_COLUMNS = ("t", "x", "y", "vx", "vy", "ax", "ay")  # a waypoint CSV's header
 
+_PERCENT_PATTERN = r"^\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*%\s*$"
 _FRACTION_SCHEMA = {"type": "string", "pattern": FRACTION_PATTERN}
 _COORDINATE = {"oneOf": [{"type": "number"}, _FRACTION_SCHEMA]}
 # a waypoint CSV: a relative path without "..", ending in .csv
 CSV_PATTERN = r"^(?!/)(?!.*(^|/)\.\.(/|$))[^\\\x00-\x1f]*\.[cC][sS][vV]$"
+
+LINK_QUANTITIES = ("mass", "inertia", "r")  # uncertainty.links.<i>: in Uncertainty's order
+RELATIVE_LINKS = Spec(
+    "mapping",
+    "Per link 2..5: the relative half-width of each quantity (a quantity not named: 0%).",
+    children={
+        str(i): Spec(
+            "mapping",
+            f"Link {i}'s relative half-widths.",
+            children={q: Spec("percent", f"{q} of link {i}") for q in LINK_QUANTITIES},
+        )
+        for i in (2, 3, 4, 5)
+    },
+)
+UNCERTAINTY = Spec(
+    "mapping",
+    "What the real robot may differ by from the model (docs/robust.md): a window around"
+    " each singular instant in which some effort may exceed checks.torque_limit (required"
+    " with it), failing (RPR205) when longer than period. Absent: the exact verdicts.",
+    children={
+        "links": Spec(
+            "relative",
+            "every link's mass, inertia and r; or per link and quantity: {3: {mass: 2%}};"
+            " not given: 0%",
+        ),
+        "acceleration": _num(
+            "Bound on the end point's acceleration tracking error, each axis [m/s^2]; not given: 0",
+            minimum=0,
+        ),
+        "period": _num(
+            "The controller's sample period [s]: a saturation window no longer is tolerated;"
+            " not given: 0",
+            minimum=0,
+        ),
+    },
+)
 
 TASK = Spec(
     "mapping",
@@ -290,6 +327,7 @@ TASK = Spec(
                 "warn": _reasons("Rules downgraded to warnings for this task, each with why."),
             },
         ),
+        "uncertainty": UNCERTAINTY,
     },
 )
 
@@ -385,6 +423,10 @@ def _json(s: Spec) -> dict[str, Any]:
                 "additionalProperties": False,
             },
         ]
+    elif s.kind == "percent":
+        out.update(type="string", pattern=_PERCENT_PATTERN)
+    elif s.kind == "relative":
+        out["oneOf"] = [{"type": "string", "pattern": _PERCENT_PATTERN}, _json(RELATIVE_LINKS)]
     elif s.kind == "pair":
         item: dict[str, Any] = {"type": "number"}
         if s.minimum is not None:

@@ -9,9 +9,12 @@ it without numpy or flint.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 from .defaults import DEFAULT_SAMPLES
+
+if TYPE_CHECKING:
+    from .task import Uncertainty
 
 
 @dataclass(frozen=True)
@@ -23,13 +26,16 @@ class AuditOptions:
     ``strict``: the strict mode over the task's ``checks.strict`` (None: the task's).
     ``peak``: the certified torque peak asked for (None: the task's ``checks.peak``); no
     verdict needs it, but the reports show it. ``warn_unbounded``: unbounded torques
-    (RPR201) a warning, over the task's own level of the rule.
+    (RPR201) a warning, over the task's own level of the rule. ``uncertainty``: what the
+    real robot may differ by from the model (``docs/robust.md``), over the task's own
+    (None: the task's); each singular instant then has its robust analysis.
     """
 
     samples: int = DEFAULT_SAMPLES
     strict: bool | None = None
     peak: bool | None = None
     warn_unbounded: bool = False
+    uncertainty: Uncertainty | None = None
 
     def __post_init__(self) -> None:
         if self.samples < 2:
@@ -49,3 +55,4 @@ class AuditKeywords(TypedDict, total=False):
     strict: bool | None
     peak: bool | None
     warn_unbounded: bool
+    uncertainty: Uncertainty | None

@@ -132,6 +132,21 @@ RULES: dict[str, Rule] = {
             "A torque step excites the structure and the current loops; it is executable, "
             "so it is a warning (it fails only in strict mode).",
         ),
+        Rule(
+            "RPR205", "saturation-window", False, "uncertainty",
+            "With uncertainty declared: around a Type II singular instant, for some link "
+            "parameters within the declared box and some acceleration tracking error within "
+            "its bound, an effort may exceed checks.torque_limit for longer than the "
+            "controller's period (docs/robust.md).",
+            "Make the crossing consistent for the nominal model (rprpr repair), cross faster "
+            "(|dy/dt| larger) or with a steeper path, track the acceleration more closely, or "
+            "identify the masses better; a window no longer than uncertainty.period passes.",
+            "eqs. (30)-(34): near t_s, λ = μ/δ with μ(t_s) the residual of eq. (34) over "
+            "the box and δ ≈ -a1 ẏ (t - t_s)/(s1 s2)",
+            "No real crossing is exact: masses are known to a few per cent and a controller "
+            "tracks with error, so the residual is never exactly zero; what decides is how "
+            "long the actuators saturate, against the controller's sample period.",
+        ),
     )
 }  # fmt: skip
 

@@ -12,6 +12,7 @@ one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property
 from typing import Any, overload
 
@@ -92,6 +93,43 @@ class _Absolute:
 
 
 @dataclass(frozen=True)
+class Uncertainty:
+    """What the real robot may differ by from the task's model (``docs/robust.md``):
+    ``links`` maps a link i = 2..5 to the relative half-widths (mass, inertia, r) of its
+    parameters (0 <= each < 1; a link not named is exact); ``acceleration`` bounds the
+    end point's acceleration tracking error on each axis [m/s^2]; ``period`` is the
+    controller's sample period [s]: a saturation window no longer than it is tolerated."""
+
+    links: dict[int, tuple[fmpq, fmpq, fmpq]]
+    acceleration: fmpq
+    period: fmpq
+    # where it is declared, for messages: the task file's (line, column) of the key's
+    # value, or ``origin``, the configuration's ``file:line`` when it comes from there
+    where: tuple[int, int] = field(default=(0, 0), compare=False, repr=False)
+    origin: str = field(default="", compare=False, repr=False)
+
+    def exact(self) -> Uncertainty:
+        """The same with every number an exact rational (``fmpq``): a ``Fraction``, an int
+        or a float (its binary value) given from Python is converted."""
+
+        def q(v: object) -> fmpq:
+            if isinstance(v, fmpq):
+                return v
+            n, d = Fraction(v).as_integer_ratio()  # type: ignore[call-overload]
+            return fmpq(n, d)
+
+        links = {int(i): (q(m), q(j), q(r)) for i, (m, j, r) in self.links.items()}
+        return Uncertainty(
+            links, q(self.acceleration), q(self.period), where=self.where, origin=self.origin
+        )
+
+    @property
+    def zero(self) -> bool:
+        """No uncertainty at all (a box of radius zero)."""
+        return self.acceleration == 0 and all(v == 0 for t in self.links.values() for v in t)
+
+
+@dataclass(frozen=True)
 class Piece:
     """One piece of a piecewise-polynomial motion: for ``start`` <= t <= ``end`` the end
     point is at (``x``(t), ``y``(t)), polynomials in *absolute* time t (exact rationals).
@@ -155,6 +193,7 @@ class Task:
     lines: dict[str, int] = field(default_factory=dict)
     source: str = ""
     pieces: tuple[Piece, ...] = ()
+    uncertainty: Uncertainty | None = None  # None: the exact model (today's verdicts)
 
     def __repr__(self) -> str:
         """One line: ``<Task 'name': y(x) = ..., x(t) = ..., 0 <= t <= 5 s (quintic),

@@ -56,18 +56,24 @@ UNITS = {
     "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m", "F1": "N", "F2": "N",
     "x_ddot": "m/s^2", "y_ddot": "m/s^2", "theta1_ddot": "rad/s^2", "s1_ddot": "m/s^2",
     "theta2_ddot": "rad/s^2", "s2_ddot": "m/s^2", "reason": "code",
+    "T1_worst": "N m", "T2_worst": "N m", "F1_worst": "N", "F2_worst": "N",
 }  # fmt: skip
 
 EXPORTED = (*COLUMNS, "reason")  # the columns of a row, in order
 FORCES = {"T1": "F1", "T2": "F2"}  # a prismatic robot's efforts: the legs' forces [N]
 
 
+WORST = ("T1_worst", "T2_worst")  # with uncertainty: max |T_i| over the box, proven
+
+
 def exported(result: AuditResult) -> tuple[str, ...]:
     """The columns of a row for ``result``'s robot: ``EXPORTED``, with F1, F2 [N] in the
-    place of T1, T2 when the legs' prismatic joints are actuated."""
+    place of T1, T2 when the legs' prismatic joints are actuated; with declared
+    uncertainty, ``WORST`` before ``reason`` (F1_worst, F2_worst for forces)."""
+    names = (*COLUMNS, *WORST, "reason") if result.task.uncertainty is not None else EXPORTED
     if result.task.robot.actuation == REVOLUTE:
-        return EXPORTED
-    return tuple(FORCES.get(c, c) for c in EXPORTED)
+        return names
+    return tuple(FORCES.get(c[:2], c[:2]) + c[2:] if c[:2] in FORCES else c for c in names)
 
 
 CERTIFIED = f"every value certified to |err| <= {number(TOL)} (1 + |value|)"
@@ -87,9 +93,17 @@ def reasons(actuation: str = REVOLUTE) -> dict[int, str]:
 
 
 def rows(result: AuditResult) -> np.ndarray:
-    """The exported values: one row per sample, the columns of ``COLUMNS`` in order (the
-    ``reason`` codes are ``result.samples.reason``)."""
-    return result.samples.rows()
+    """The exported values: one row per sample, the columns of ``COLUMNS`` in order, then
+    with declared uncertainty the proven worst case of each effort over the box
+    (``engine.worst``: an upper bound of max |E_i| at the row's time; NaN at a pole). The
+    ``reason`` codes are ``result.samples.reason``."""
+    values = result.samples.rows()
+    if result.task.uncertainty is None:
+        return values
+    from ..engine.worst import worst_efforts
+
+    w1, w2 = worst_efforts(result.task, result.parts, result.samples.t)
+    return np.column_stack([values, w1, w2])
 
 
 def _rows(result: AuditResult) -> Iterable[tuple[list[float], int]]:
@@ -124,10 +138,21 @@ def comment(result: AuditResult, source: str) -> str:
     return inert(
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
-        f"{CERTIFIED}, or nan; reason codes: "
+        f"{CERTIFIED}, or nan;{_worst_note(result)} reason codes: "
         + "; ".join(
             f"{code} = {text}" for code, text in reasons(result.task.robot.actuation).items()
         )
+    )
+
+
+def _worst_note(result: AuditResult) -> str:
+    """The worst-case columns in words ('' without declared uncertainty)."""
+    if result.task.uncertainty is None:
+        return ""
+    w1, w2 = exported(result)[-3:-1]
+    return (
+        f" {w1}, {w2}: proven upper bounds of the largest |effort| over the declared"
+        " uncertainty's box at the row's time (nan at a pole);"
     )
 
 

@@ -30,6 +30,9 @@ from .github import annotation_path
 
 SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 RULE_IDS = list(RULES)
+# rules only a declared ``uncertainty`` can raise (docs/robust.md): listed among the tool's
+# rules when a task of the run declares it (they are the last rules: no index moves)
+OPT_IN = ("RPR205",)
 
 
 def uri(path: str, root: str | None = None) -> str:
@@ -119,7 +122,11 @@ def document(run: Run, root: str | None = None) -> dict[str, Any]:
                         "name": "rprpr",
                         "version": __version__,
                         "semanticVersion": __version__,
-                        "rules": [rule_descriptor(r) for r in RULES.values()],
+                        "rules": [
+                            rule_descriptor(r)
+                            for r in RULES.values()
+                            if r.id not in OPT_IN or _uncertain(run)
+                        ],
                     }
                 },
                 "invocations": [invocation],
@@ -128,6 +135,12 @@ def document(run: Run, root: str | None = None) -> dict[str, Any]:
             }
         ],
     }
+
+
+def _uncertain(run: Run) -> bool:
+    """Whether a task of ``run`` declares uncertainty (then the ``OPT_IN`` rules are
+    listed)."""
+    return any(kind == REPORT and "uncertainty" in item for kind, item, _ in run.entries())
 
 
 def render(run: Run, root: str | None = None) -> str:

@@ -45,6 +45,7 @@ from ..model.task import Task
 from .account import account
 from .bumps import apply, blended, bump, smoothstep
 from .consistency import consistent_acceleration, consistent_ydd
+from .effort import effort_warning
 from .plan import plan_at
 from .records import Change, NoRepair, Repair
 from .snap import snap_plans
@@ -85,7 +86,26 @@ def repair(
     touch [m] (default w ẋ(t_s) slope / 2, at least 1/100); ``blend``: first smooth the
     knots whose velocity or acceleration jump fails (``_smooth_knots``); ``snap``: move
     failing instants at irrational times to rational ones (``_snap_instants``). Raises
-    ``NoRepair``."""
+    ``NoRepair``. The repaired motion's efforts far above the original's are a warning
+    (``Repair.warnings``, ``effort.effort_warning``)."""
+    r = _repair(task, keep, window, slope, clearance, blend, snap)
+    if not r.changed:
+        return r
+    windows = [(float(c.t), float(c.window)) for c in r.changes]
+    warning = effort_warning(r.before, r.after, windows)
+    return replace(r, warnings=(warning,)) if warning is not None else r
+
+
+def _repair(
+    task: Task,
+    keep: str | None,
+    window: fmpq | None,
+    slope: fmpq | None,
+    clearance: fmpq | None,
+    blend: bool,
+    snap: bool,
+) -> Repair:
+    """``repair``, but the warnings."""
     if keep not in (None, *KEEPS):
         raise ValueError(f"keep is 'path', 'timing' or None, not {keep!r}")
     before = audit(task, STRICT)

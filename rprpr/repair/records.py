@@ -50,6 +50,8 @@ class Repair:
     timing_change: tuple[float, float] | None = None
     path_kept: bool = True
     notes: tuple[str, ...] = field(default=())
+    # what the user must weigh before running it (``effort.effort_warning``)
+    warnings: tuple[str, ...] = field(default=())
 
     @property
     def changed(self) -> bool:

@@ -14,11 +14,13 @@ from ..engine.audit import AuditResult, Saturation
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
 from ..engine.exact.knots import Knot
 from ..engine.exact.singular import SingularInstant
+from ..engine.robust import Robust
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.names import file_name
-from ..model.numbers import labels, number
+from ..model.numbers import labels, number, to_float
 from ..model.rules import RULES
+from ..model.task import Task
 
 INVALID_TASK = "RPR001"  # the rule of every input error
 
@@ -186,6 +188,8 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
     task = result.task
     saturation = _saturations(result)
     sings = [singularity_record(s, saturation.get(id(s))) for s in result.singularities]
+    for rec, r in zip(sings, result.robust, strict=False):
+        rec["robust"] = robust_record(r)  # only with declared uncertainty (docs/robust.md)
     findings = []
     for f in result.findings:
         rule = RULES[f.rule]
@@ -219,6 +223,44 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "closest_approach": approach_record(result.closest_approach),
         "findings": findings,
         "beyond_double_range": beyond_double_range(result),
+        **uncertainty_fields(task, result.robust_peak),
+    }
+
+
+def robust_record(r: Robust) -> dict[str, Any]:
+    """An instant's robust analysis (``docs/robust.md``): the residual's bounds over the
+    box [N], the proven window [s] (and a lower bound), the effort that reaches furthest
+    (1 or 2) and the window's proven ends [s] (both null when the window is 0)."""
+    return {
+        "residual": [r.residual[0], r.residual[1]],
+        "window": r.window,
+        "window_lo": r.window_lo,
+        "joint": r.joint,
+        "span": list(r.span) if r.span is not None else None,
+    }
+
+
+def uncertainty_fields(
+    task: Task, peak: tuple[tuple[float, float], tuple[float, float]] | None = None
+) -> dict[str, Any]:
+    """The declared uncertainty echoed (nothing without it: reports stay as before):
+    per link the half-widths of mass, inertia and r as fractions, acceleration [m/s²],
+    period [s]; with the peak asked for, ``peak``: the certified [lower, upper] of the
+    largest |T1|, |T2| over the box outside the proven windows (``engine.worst_peak``)."""
+    u = task.uncertainty
+    if u is None:
+        return {}
+    links = {
+        str(i): {"mass": to_float(m), "inertia": to_float(i_), "r": to_float(r)}
+        for i, (m, i_, r) in sorted(u.links.items())
+    }
+    return {
+        "uncertainty": {
+            "links": links,
+            "acceleration": to_float(u.acceleration),
+            "period": to_float(u.period),
+            **({"peak": [list(peak[0]), list(peak[1])]} if peak is not None else {}),
+        }
     }
 
 

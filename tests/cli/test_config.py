@@ -85,7 +85,7 @@ def test_selectors_resolve_as_ruff_does() -> None:
     assert "RPR101" not in levels(select=["RPR101"], ignore=["RPR1"])  # the longer wins
     assert levels(select=["RPR1"], ignore=["RPR1"])["RPR101"] == "ignore"  # a tie: ignore
     assert levels(warn=["RPR2"], error=["RPR202"]) == {
-        "RPR201": "warn", "RPR202": "error", "RPR203": "warn", "RPR204": "warn",
+        "RPR201": "warn", "RPR202": "error", "RPR203": "warn", "RPR204": "warn", "RPR205": "warn",
     }  # fmt: skip
     with pytest.raises(SelectorError, match="both in warn and in error"):
         levels(warn=["RPR202"], error=["RPR202"])

@@ -50,6 +50,8 @@ del FULL_MOTION["path"], FULL_MOTION["timing"]
 FULL_MOTION["motion"] = {"pieces": [{"until": 5, "x": "2 + 2*t/5", "y": "-1 + 2*t/5"}]}
 FULL_WAYPOINTS = copy.deepcopy(FULL_MOTION)  # ... and as waypoints
 FULL_WAYPOINTS["motion"] = {"waypoints": [{"t": 0, "p": [2, -1]}, {"t": 5, "p": [4, 1]}]}
+FULL_UNCERTAINTY = copy.deepcopy(FULL)  # ... with declared uncertainty (docs/robust.md)
+FULL_UNCERTAINTY["uncertainty"] = {"links": "5%", "acceleration": 0.01, "period": 0.001}
 
 
 def _specs(spec: Spec = TASK, key: str = "") -> Iterator[tuple[str, Spec]]:
@@ -78,6 +80,7 @@ def _base(key: str) -> dict[str, Any]:
         ("timing.cruise_speed", FULL_TRAPEZOIDAL),
         ("motion.waypoints", FULL_WAYPOINTS),
         ("motion", FULL_MOTION),
+        ("uncertainty", FULL_UNCERTAINTY),
     ):
         if key.startswith(prefix):
             return copy.deepcopy(doc)
@@ -231,7 +234,7 @@ def test_a_mapping_key_given_a_list_is_a_kind_error(key: str) -> None:
     assert e.key == key
 
 
-@pytest.mark.parametrize("key", [k for k in LEAVES if SPECS[k].kind != "point"])
+@pytest.mark.parametrize("key", [k for k in LEAVES if SPECS[k].kind not in ("point", "relative")])
 def test_a_value_given_a_mapping_is_a_kind_error(key: str) -> None:
     e = _error(_edit(key, {"a": 1}))
     assert e.message.startswith("expected ") and e.message.endswith(", found a mapping")
@@ -271,6 +274,8 @@ def test_every_bounded_number_is_tested_at_its_bound() -> None:
         "checks.min_slope",
         "checks.min_speed",
         "checks.torque_limit",
+        "uncertainty.acceleration",
+        "uncertainty.period",
     }
 
 

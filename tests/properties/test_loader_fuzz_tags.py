@@ -73,6 +73,8 @@ BASE: dict[str, str] = {
     "checks.strict": "true",
     "checks.unbounded_torque": "warn",
     **{f"checks.{level}.{r}": f"why {r}" for level in ("ignore", "warn") for r in AUDIT_RULES},
+    "uncertainty.acceleration": "0.01",
+    "uncertainty.period": "0.001",
 }
 EXPLICIT_X = "2 + 2*t/5"  # x(0) = 2, x(5) = 4: the same ends as the law
 
@@ -135,6 +137,11 @@ def document(
         out += [
             f"    {k(f'checks.{level}.{r}')}: {values[f'checks.{level}.{r}']}" for r in AUDIT_RULES
         ]
+    out += [m("uncertainty")]
+    out += [
+        f"  {k(f'uncertainty.{f}')}: {values[f'uncertainty.{f}']}"
+        for f in ("acceleration", "period")
+    ]
     return "\n".join(out) + "\n"
 
 

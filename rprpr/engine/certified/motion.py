@@ -383,6 +383,23 @@ class CertifiedMotion(AtInstants, Refinement):
         """Every quantity at the times ``t`` as balls (no refinement; call within
         ``balls.quiet()``). ``t`` may also be a ``Ball`` (intervals of time)."""
         tb = t if isinstance(t, Ball) else Ball.exact(t)
+        x, xd, xdd, y, yd, ydd = self._end_point(tb)
+        if isinstance(t, Ball):
+            return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
+        x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)
+        out = self.formulas(x, xd, xdd, y, yd, ydd)
+        out["theta1"] = self.theta(1, t, x, y)
+        out["theta2"] = self.theta(2, t, x - self.a1, y)
+        return out
+
+    def end_point(self, t: np.ndarray | Ball) -> tuple[Ball, ...]:
+        """x, ẋ, ẍ, y, ẏ, ÿ at the float times ``t`` (or over the intervals of the ``Ball``
+        ``t``) as balls (within ``balls.quiet()``), as ``ball_pass`` has them."""
+        if isinstance(t, Ball):
+            return self._end_point(t)
+        return self._locally(t, *self._end_point(Ball.exact(t)))
+
+    def _end_point(self, tb: Ball) -> tuple[Ball, ...]:
         xc, xdc, xddc = self.x3
         x = horner(xc, tb)
         xd = horner(xdc, tb)
@@ -398,13 +415,7 @@ class CertifiedMotion(AtInstants, Refinement):
         else:
             wt = tb - self.t_center
             y, yd, ydd = (horner(c, wt) for c in self.y3)
-        if isinstance(t, Ball):
-            return self.formulas(x, xd, xdd, y, yd, ydd)  # over intervals: no angles
-        x, xd, xdd, y, yd, ydd = self._locally(t, x, xd, xdd, y, yd, ydd)
-        out = self.formulas(x, xd, xdd, y, yd, ydd)
-        out["theta1"] = self.theta(1, t, x, y)
-        out["theta2"] = self.theta(2, t, x - self.a1, y)
-        return out
+        return x, xd, xdd, y, yd, ydd
 
     def _locally(self, t: np.ndarray, *v: Ball) -> tuple[Ball, ...]:
         """x and y (with derivatives) from the Taylor polynomials about the nearest exact

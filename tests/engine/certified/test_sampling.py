@@ -30,7 +30,7 @@ def test_singular_instant_holds_only_what_the_paper_and_the_reports_need() -> No
 def test_the_audit_result_stores_only_what_it_cannot_derive() -> None:
     assert [f.name for f in fields(AuditResult)] == [
         "task", "strict", "torque_peak", "torque_limit", "closest_approach", "findings",
-        "grid_size", "analysis", "parts", "knot_jumps", "peak_computed",
+        "grid_size", "analysis", "parts", "knot_jumps", "peak_computed", "robust", "robust_peak",
     ]  # fmt: skip
     r = audit(load_task(CONFIGS / "piecewise_timing.rprpr.yaml"), samples=11)
     assert r.singularities is r.analysis.instants

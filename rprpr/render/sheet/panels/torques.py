@@ -117,6 +117,7 @@ def _efforts(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float, scale: 
             ax.plot(m.s.t, finite(v), lw=1.5, gid=f"{q}-{i}", **kw)
     _limit_lines(sheet, ax, col, scale, lo, hi)
     _saturation(sheet, ax, col, lo, hi)
+    _robust(sheet, ax, col, lo, hi)
     _instants(sheet, ax, col, lo, hi)
     _jumps(ax, col, sheet)
 
@@ -203,6 +204,43 @@ def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> N
                 )
 
 
+def _robust(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
+    """With declared uncertainty, about each singular instant: the band every effort the
+    box allows lies in (``engine.worst``, proven), and the proven saturation window
+    shaded (gids ``torques-band-<task>-<k>-T1``, ``torques-window-<task>-<k>``)."""
+    from ....engine.worst import effort_bands
+
+    for i, m in col:
+        if m.task.uncertainty is None or not m.result.robust:
+            continue
+        for k, (s, r) in enumerate(zip(m.result.singularities, m.result.robust, strict=False)):
+            half = CLIP_WINDOW * m.duration
+            t = s.t + np.outer([-1, 1], half * np.logspace(0, -6, 120)).ravel()
+            t = np.sort(t[(t >= 0) & (t <= m.duration)])
+            bands = effort_bands(m.result.task, m.result.parts, t)
+            for j, (b_lo, b_hi) in enumerate(bands):
+                colour = look(sheet, i, TORQUES[j][0], j, pair=True)["color"]
+                ax.fill_between(
+                    t,
+                    np.clip(b_lo, lo, hi),
+                    np.clip(b_hi, lo, hi),
+                    color=colour,
+                    alpha=0.12,
+                    lw=0,
+                    zorder=0.7,
+                    gid=f"torques-band-{i}-{k}-{TORQUES[j][1]}",
+                )
+            if r.span is not None:
+                ax.axvspan(
+                    *r.span,
+                    color=STATUS_COLOUR["fail"],
+                    alpha=0.25,
+                    lw=0.6,
+                    zorder=0.75,
+                    gid=f"torques-window-{i}-{k}",
+                )
+
+
 def _window_times(m: Motion, w: Window) -> np.ndarray:
     """Times over a window, denser towards an unbounded instant inside it."""
     t = np.linspace(w.start_lo, w.end_hi, 240)
@@ -280,6 +318,11 @@ def _extra_handles(sheet: Sheet) -> list[Any]:
         letters = "|".join(dict.fromkeys(SCHEMES[m.task.robot.actuation].letter for m in over))
         label = f"|{letters}| > L (certified)"
         out.append(Line2D([], [], color="#999999", alpha=0.5, lw=6, label=label))
+    if any(m.result.robust for m in ms):
+        out.append(Line2D([], [], color="#999999", alpha=0.3, lw=6, label="over the box (proven)"))
+        window = Line2D([], [], color=STATUS_COLOUR["fail"], alpha=0.4, lw=6)
+        window.set_label("saturation window (proven)")
+        out.append(window)
     if any(s.torque_at_singularity is not None for m in ms for s in m.result.singularities):
         out.append(mark_handle("finite limit at t_s", "o", "white", "#555555", mew=1.6))
     if any(not s.torque_bounded for m in ms for s in m.result.singularities):
@@ -329,6 +372,13 @@ def notes(sheet: Sheet, scales: dict[int, float]) -> list[str]:
             far = all(float(v) > LIMIT_NEAR * scale for v in L)
             where = "beyond the axis, ▲\u00a0▼ at its right edge" if far else "dash-dot lines"
             out.append(f"-  {who}limits |{T}1|, |{T}2| ≤ {lim}: {where}")
+        for k, r in enumerate(m.result.robust):
+            if r.joint is not None and L is not None:
+                at = number(m.result.singularities[k].t, 4)
+                out.append(
+                    f"    over the box: |{T}{r.joint}| > {number(float(L[r.joint - 1]))} {u}"
+                    f" for at most {number(r.window * 1e3, 3)} ms around t = {at} s (shaded)"
+                )
         if m.result.torque_limit is not None:
             for j, check in enumerate(m.result.torque_limit):
                 for w in check.windows:

@@ -1,0 +1,508 @@
+"""Robust verdicts: the consistency residual and the saturation window at each singular
+instant over a box of link parameters and acceleration tracking errors (``docs/robust.md``).
+
+The perturbation model. The end point follows the planned position and velocity; its
+acceleration is the planned one plus a tracking error e(t) with |e_x(t)|, |e_y(t)| <= a,
+chosen anew at every instant; the links' masses m_i, inertias I_i and r_i lie each in
+its own relative interval. The inverse dynamics at one instant depends only on the state
+there, so the efforts that the box allows at time t are the set over (parameters, e) of
+the efforts of eq. (28) (revolute) or of the legs (prismatic) at that t.
+
+Both schemes' efforts are linear in the inertial parameters
+    π = (m2 r2, J2, m3, m3 r3, J3, m4 r4, J4, m5, m5 r5, J5),   J_i = m_i r_i² + I_i
+and affine in e (``equations``: every term is a mass-weighted product of the joint
+values; e enters the legs' s'', θ'' linearly). So at a time t, with the regressor Y(t, e)
+(T = Y π), the largest |T_i| over the box is
+
+    max over s = ±1 and the corners of e of  Σ_links  max over the link's (m, r, I) of
+    s (A m + B m r + C (m r² + I)),
+
+each link's maximum in closed form (linear in I and, for r fixed, in m; a quadratic in
+r). That is exact, not sampled. The residual of the consistency condition at t_s is such
+a linear form too. The saturation window around t_s is the connected set of times around
+t_s where that largest |T_i| exceeds the limit; its ends are found on double-precision
+evaluations about t_s (the motion's polynomials shifted exactly to t_s, so that times
+next to t_s lose nothing) and then proven in ball arithmetic: at the reported end the
+upper bound of the largest |T_i| is at most the limit, so the window cannot reach past it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from flint import arb, ctx, fmpq, fmpq_poly
+
+from ..model.numbers import to_float
+from ..model.task import Robot, Task, Uncertainty
+from .exact import equations as dyn
+from .exact.mechanism import of
+from .exact.series import taylor
+from .pieces import absolute
+from .regressor import (
+    BASIS,
+    LINKS,
+    Pair,
+    efforts_of,
+    form_max,
+    legs_about,
+    pair_max,
+    setting_params,
+    settings_array,
+    to_basis,
+)
+
+PREC = 160  # bits of the proofs at the window's ends
+
+
+@dataclass(frozen=True)
+class Robust:
+    """The robust analysis of one singular instant (``docs/robust.md``).
+
+    ``residual`` = [lo, hi]: the consistency residual [N] over the box (outward rounded;
+    the exact residual twice when the box has radius zero). ``window`` [s]: a proven
+    upper bound on the width of the time span around t_s in which some |T_i| may exceed
+    its limit (0 when it cannot, or when no limit is given); ``window_lo`` a lower bound
+    (shown exceeded at both ends, 0 when not shown); ``joint`` (1 or 2) the effort that
+    reaches furthest from t_s, ``span`` the span's proven outer ends [s] (absolute time);
+    ``window_lo`` <= the window's true width <= ``window``."""
+
+    residual: tuple[float, float]
+    window: float
+    window_lo: float = 0.0
+    joint: int | None = None
+    span: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class Box:
+    """The parameter box: for each link i, ([m_lo, m_hi], [r_lo, r_hi], [I_lo, I_hi]) as
+    exact rationals, and the acceleration bound a [m/s²]."""
+
+    links: dict[int, tuple[tuple[fmpq, fmpq], tuple[fmpq, fmpq], tuple[fmpq, fmpq]]]
+    a: fmpq
+
+    @staticmethod
+    def of(robot: Robot, u: Uncertainty) -> Box:
+        out = {}
+        for i, link in robot.links.items():
+            rm, ri, rr = u.links.get(i, (fmpq(0), fmpq(0), fmpq(0)))
+            out[i] = (_interval(link.mass, rm), _interval(link.r, rr), _interval(link.inertia, ri))
+        return Box(out, _q(u.acceleration))
+
+    def robot_links(self, values: dict[int, tuple[fmpq, fmpq, fmpq]]) -> list[arb]:
+        """``Params``' link fields (m2, I2, r2, ..., m5, I5, r5) from (m, r, I) per link."""
+        out = []
+        for i in (2, 3, 4, 5):
+            m, r, inertia = values[i]
+            out += [_ball(m), _ball(inertia), _ball(r)]
+        return out
+
+    @property
+    def zero(self) -> bool:
+        return self.a == 0 and all(lo == hi for b in self.links.values() for lo, hi in b)
+
+    def corners(self) -> list[tuple[fmpq, fmpq]]:
+        """The corners of the acceleration error's square (one point when a = 0)."""
+        a = self.a
+        return [(fmpq(0), fmpq(0))] if a == 0 else [(sx * a, sy * a) for sx in (-1, 1)
+                                                    for sy in (-1, 1)]  # fmt: skip
+
+
+def _q(v: Any) -> fmpq:
+    """An exact rational from an fmpq, a Fraction, an int or a float (its binary value)."""
+    if isinstance(v, fmpq):
+        return v
+    n, d = Fraction(v).as_integer_ratio()
+    return fmpq(n, d)
+
+
+def _interval(v: fmpq, rel: Any) -> tuple[fmpq, fmpq]:
+    w = abs(v) * _q(rel)
+    return (v - w, v + w)
+
+
+# -- one instant ---------------------------------------------------------------------------
+
+
+@dataclass
+class _About:
+    """The motion about one t_s on one piece: Taylor coefficients of x, x', x'', y, y',
+    y'' in h = t - t_s (exact rationals or balls; y(t_s) = 0 exactly), the span of h on
+    the piece, and the robot."""
+
+    coeffs: list[list[Any]]
+    h_min: float  # <= 0: how far back the piece reaches
+    h_max: float  # >= 0
+    robot: Robot
+    t_s: float  # absolute
+
+    def floats(self) -> list[list[float]]:
+        return [[float(arb(c).mid()) if not isinstance(c, float) else c for c in p]
+                for p in self.coeffs]  # fmt: skip
+
+
+def _shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) -> list[Any]:
+    """The Taylor coefficients of ``poly`` at t_s (exact when t_s is rational)."""
+    if t_s is not None:
+        return list(poly(fmpq_poly([t_s, 1])).coeffs()) or [fmpq(0)]
+    n = max(poly.degree() + 1, 1)
+    return [field.evaluate(c, PREC + 64) for c in taylor(poly, n)]
+
+
+def about(traj: Any, robot: Robot, t_local: fmpq | None, field: Any, t_abs: float) -> _About:
+    """The motion of the piece ``traj`` (local time) about its instant t_local (or the
+    root of ``field`` when irrational)."""
+    polys = (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)
+    coeffs = [_shifted(p, t_local, None, field) for p in polys]
+    coeffs[3][0] = fmpq(0)  # y(t_s) = 0 exactly
+    ts = (
+        float(t_local)
+        if t_local is not None
+        else float(field.evaluate(fmpq_poly([0, 1]), 64).mid())
+    )
+    lead = to_float(traj.lead)
+    return _About(coeffs, min(0.0, lead - ts), max(0.0, to_float(traj.duration) - ts), robot, t_abs)
+
+
+def _regressor_float(ab: _About, h: np.ndarray) -> np.ndarray:
+    """The regressor at the times t_s + h (doubles): (3, n, 2, 10) for the error parts
+    e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``."""
+    c = ab.floats()
+    robot = ab.robot
+    hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
+    ex = np.array([0.0, 1.0, 0.0])[None, :, None]
+    ey = np.array([0.0, 0.0, 1.0])[None, :, None]
+    params = settings_array(robot)
+    legs = legs_about(c, hh, params, ex, ey, np.hypot)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        T1, T2 = efforts_of(legs, params)  # (n, 3, 10)
+    Y = np.stack(np.broadcast_arrays(T1, T2), axis=2)  # (n, 3, 2, 10)
+    Y = np.moveaxis(Y, 1, 0)  # (3, n, 2, 10)
+    B = to_basis([Y[..., k] for k in range(len(BASIS))])
+    Y = np.stack(B, axis=-1)
+    return np.stack([Y[0], Y[1] - Y[0], Y[2] - Y[0]])
+
+
+def _phi_float(ab: _About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
+    """The largest |T_i| over the box at t_s + h, (n, 2), in doubles."""
+    Ys = _regressor_float(ab, h)
+    combos = [(s * float(ex), s * float(ey), s) for ex, ey in box.corners() for s in (1.0, -1.0)]
+    k = np.array(combos)  # (c, 3)
+    Y = (
+        k[:, 2, None, None, None] * Ys[0][None]
+        + k[:, 0, None, None, None] * Ys[1][None]
+        + (k[:, 1, None, None, None] * Ys[2][None])
+    )  # (c, n, 2, 10)
+    v = form_max([Y[..., j] for j in range(len(BASIS))], fbox, False)
+    return v.max(axis=0)
+
+
+def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[Any]]]:
+    """The regressor at t_s + h in ball arithmetic, for the error parts e = 0, per unit
+    e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
+    coefficients as the one "joint"."""
+    robot = ab.robot
+    c = [[_ball(v) for v in p] for p in ab.coeffs]
+    params = [setting_params(robot, k, _ball) for k in range(len(BASIS))]
+    out = []
+    for ex, ey in ((0, 0), (1, 0), (0, 1)):
+        legs = legs_about(c, h, params[0], arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        values: list[tuple[Any, ...]] = []
+        for p in params:
+            d = dyn.dynamics(legs[0], legs[1], p)
+            if at_ts:
+                num, den = dyn.consistency(d, _sigma(legs), lambda v: v)
+                values.append((num if den is None else num / den,))
+            else:
+                values.append(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta))
+        out.append([to_basis([v[j] for v in values]) for j in range(len(values[0]))])
+    return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
+             for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
+
+
+def _at_corner(Ys: list[list[list[Any]]], ex: fmpq, ey: fmpq, j: int, s: int) -> list[Any]:
+    """s (Y0 + ex Yx + ey Yy) for joint j."""
+    return [s * (a + b * ex + c * ey) for a, b, c in zip(Ys[0][j], Ys[1][j], Ys[2][j], strict=True)]
+
+
+def _sigma(legs: Any) -> int:
+    """σ = cos θ1 cos θ2 at t_s (Table 2): the sign of x (x - a1)."""
+    return 1 if (legs[0].cos * legs[1].cos) > 0 else -1
+
+
+def _ball(v: Any) -> arb:
+    if isinstance(v, arb):
+        return v
+    if isinstance(v, fmpq):
+        return arb(v)
+    return arb(v)
+
+
+def _phi_ball(ab: _About, h: float, box: Box, bbox: Any) -> tuple[Pair, Pair]:
+    """Bounds on the largest |T1|, |T2| over the box at t_s + h."""
+    old = ctx.prec
+    ctx.prec = PREC
+    try:
+        Ys = _regressor_ball(ab, arb(h))
+        best: list[list[Pair]] = [[], []]
+        for ex, ey in box.corners():
+            for j in (0, 1):
+                for s in (1, -1):
+                    best[j].append(form_max(_at_corner(Ys, ex, ey, j, s), bbox, True))
+        return pair_max(best[0]), pair_max(best[1])
+    finally:
+        ctx.prec = old
+
+
+def residual(ab: _About, box: Box) -> tuple[arb, arb]:
+    """A lower bound on the least and an upper bound on the largest consistency residual
+    over the box [N] (exact points)."""
+    old = ctx.prec
+    ctx.prec = PREC
+    try:
+        bbox = _ball_box(box)
+        lo: list[Pair] = []
+        hi: list[Pair] = []
+        Ys = _regressor_ball(ab, arb(0), at_ts=True)
+        for ex, ey in box.corners():
+            hi.append(form_max(_at_corner(Ys, ex, ey, 0, 1), bbox, True))
+            lo.append(form_max(_at_corner(Ys, ex, ey, 0, -1), bbox, True))  # -min
+        return -pair_max(lo)[1], pair_max(hi)[1]
+    finally:
+        ctx.prec = old
+
+
+def _ball_box(box: Box) -> dict[int, Any]:
+    return {i: tuple((arb(lo), arb(hi)) for lo, hi in b) for i, b in box.links.items()}
+
+
+def _float_box(box: Box) -> dict[int, Any]:
+    return {i: tuple((to_float(lo), to_float(hi)) for lo, hi in b) for i, b in box.links.items()}
+
+
+def _down(x: arb) -> float:
+    """The largest double <= the exact point ``x``."""
+    f = float(x.lower().mid())
+    return f if arb(f) <= x.lower() else math.nextafter(f, -math.inf)
+
+
+def _up(x: arb) -> float:
+    """The smallest double >= the exact point ``x``."""
+    f = float(x.upper().mid())
+    return f if arb(f) >= x.upper() else math.nextafter(f, math.inf)
+
+
+# -- the window on one side ----------------------------------------------------------------
+
+
+def side(ab: _About, box: Box, limits: tuple[float, float], direction: int
+         ) -> tuple[float, float, int]:  # fmt: skip
+    """The window on one side of t_s, as distances |h| [s]: (a proven outer end, an
+    inner end at which the limit is proven exceeded (0 when not shown), the joint (0, 1)
+    that reaches furthest). The doubles bracket each joint's first crossing of its limit
+    outward from t_s; when even the nearest time looked at (2^-159 of the piece's reach)
+    shows no excess, the window is too narrow for doubles (a residual of the order of
+    the input's rounding) and a proven outer end is found by halving in ball arithmetic
+    (``_halving``)."""
+    reach = ab.h_max if direction > 0 else -ab.h_min
+    if reach <= 0:
+        return 0.0, 0.0, 0
+    bbox = _ball_box(box)
+    fbox = _float_box(box)
+    lim = np.array(limits)
+    hs = reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]  # ascending, to reach
+    phi = _phi_float(ab, direction * hs, box, fbox)  # (n, 2)
+    if not (phi[0] > lim).any():
+        return _halving(ab, box, bbox, limits, direction, reach), 0.0, 0
+    brackets = []
+    for j in (0, 1):
+        below = np.nonzero(phi[:, j] <= lim[j])[0]
+        if len(below) == 0:
+            brackets.append((reach, reach))  # beyond the limit up to the piece's end
+        else:
+            k = int(below[0])
+            brackets.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
+    for _ in range(4):  # the first crossing of each joint, 64 points at a time
+        grids = [np.linspace(lo, hi, 65)[1:] for lo, hi in brackets]
+        p = _phi_float(ab, direction * np.concatenate(grids), box, fbox)
+        new = []
+        for j, (lo, hi) in enumerate(brackets):
+            if lo == hi:
+                new.append((lo, hi))
+                continue
+            idx = np.nonzero(p[64 * j : 64 * (j + 1), j] <= lim[j])[0]
+            i = int(idx[0]) if len(idx) else 63
+            grid = np.concatenate([[lo], grids[j]])
+            new.append((float(grid[i]), float(grid[i + 1])))
+        brackets = new
+    j = 0 if brackets[0][1] >= brackets[1][1] else 1
+    outer = _prove_out(ab, box, bbox, limits, direction, brackets[j][1], reach)
+    inner = _prove_in(ab, box, bbox, limits[j], j, direction, brackets[j][0])
+    return outer, inner, j
+
+
+def _prove_out(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
+               reach: float) -> float:  # fmt: skip
+    """The nearest of h, h (1 + 1e-12), h (1 + 1e-10), ... at which both max |T_j| <=
+    their limits are proven (reach when none is): the window cannot reach past it."""
+    step = 1e-12
+    while h < reach:
+        phi = _phi_ball(ab, d * h, box, bbox)
+        if phi[0][1] <= limits[0] and phi[1][1] <= limits[1]:
+            return h
+        h, step = min(h * (1 + step), reach), step * 100
+    return reach
+
+
+def _prove_in(ab: _About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
+    """h, or a little nearer t_s, at which max |T_j| > lim is proven (0 when none is):
+    |T_j| at the box's worst point there (found in doubles), in ball arithmetic."""
+    for shrink in (0.0, 1e-12, 1e-9, 1e-6):
+        g = h * (1 - shrink)
+        if g > 0 and _worst_ball(ab, d * g, box, j) > lim:
+            return g
+    return 0.0
+
+
+def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
+    """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
+    corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
+    fbox = _float_box(box)
+    Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
+    best, arg = -math.inf, None
+    for ex, ey in box.corners():
+        for s in (1.0, -1.0):
+            Y = s * (Ys[0] + float(ex) * Ys[1] + float(ey) * Ys[2])
+            v = float(form_max(list(Y), fbox, False))
+            if v > best:
+                best, arg = v, (ex, ey, s, Y)
+    assert arg is not None
+    ex, ey, s, Y = arg
+    values = {}
+    for link, km, kmr, kj in LINKS:
+        A = Y[km] if km is not None else 0.0
+        values[link] = _argmax(A, Y[kmr], Y[kj], box.links[link])
+    L = box.robot_links(values)
+    old = ctx.prec
+    ctx.prec = PREC
+    try:
+        c = [[_ball(v) for v in p] for p in ab.coeffs]
+        p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
+        legs = legs_about(c, arb(h), p, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        d = dyn.dynamics(legs[0], legs[1], p)
+        return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
+    finally:
+        ctx.prec = old
+
+
+def _argmax(A: float, B: float, C: float, box: Any) -> tuple[fmpq, fmpq, fmpq]:
+    """A point (m, r, I) of the link's box at which A m + B m r + C (m r² + I) is largest
+    (in doubles; r exact at an end, or the rational nearest the interior maximiser)."""
+    (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
+    cands = [rlo, rhi]
+    if C < 0:
+        rs = -B / (2 * C)
+        if to_float(rlo) < rs < to_float(rhi):
+            cands.append(fmpq(*rs.as_integer_ratio()))
+    r = max(cands, key=lambda v: A + B * to_float(v) + C * to_float(v) ** 2)
+    g = A + B * to_float(r) + C * to_float(r) ** 2
+    return (mhi if g >= 0 else mlo), r, (ihi if C >= 0 else ilo)
+
+
+def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: int,
+             reach: float) -> float:  # fmt: skip
+    """A proven outer end for a window too narrow for doubles: from the piece's end
+    towards t_s by factors of 16, then of 2, the nearest h at which both max |T_j| <=
+    their limits are proven (down to 1e-30 of the piece's reach: a window narrower
+    is reported as that bound)."""
+
+    def below(h: float) -> bool:
+        phi = _phi_ball(ab, d * h, box, bbox)
+        return bool(phi[0][1] <= limits[0] and phi[1][1] <= limits[1])
+
+    best, h = reach, reach / 2
+    for factor in (16.0, 2.0):
+        while h > reach * 1e-30 and below(h):  # (a window under 1e-30 of the piece: 0)
+            best, h = h, h / factor
+        h = best / 2
+    return best
+
+
+# -- the audit's entry ----------------------------------------------------------------------
+
+
+def analyse(ab_sides: Sequence[tuple[_About, int]], box: Box, limits: tuple[float, float] | None,
+            nominal: Any) -> Robust:  # fmt: skip
+    """The robust analysis of one instant from its pieces (``ab_sides``: the motion about
+    t_s and the sides, -1, +1 or 0 for both, that this piece covers); ``nominal`` the
+    instant's exact analysis (``singular.SingularInstant``)."""
+    if box.zero:
+        r = nominal.consistency_residual
+        res = (r, r)
+        lo_b = hi_b = None
+    else:
+        balls = [residual(ab, box) for ab, _ in ab_sides]
+        lo_b = min((b[0] for b in balls), key=lambda v: float(v.mid()))
+        hi_b = max((b[1] for b in balls), key=lambda v: float(v.mid()))
+        res = (_down(lo_b), _up(hi_b))
+    pole = not (box.zero and nominal.torque_bounded)
+    if limits is None or not pole:
+        return Robust(res, 0.0)
+    ends = {-1: (0.0, 0.0, 0), 1: (0.0, 0.0, 0)}
+    for ab, which in ab_sides:
+        for d in (-1, 1):
+            if which in (0, d):
+                ends[d] = side(ab, box, limits, d)
+    left, right = ends[-1][0], ends[1][0]
+    window = left + right
+    if window == 0:
+        return Robust(res, 0.0)
+    joint = 1 + (ends[-1][2] if left >= right else ends[1][2])
+    t = ab_sides[0][0].t_s
+    span = (math.nextafter(t - left, -math.inf), math.nextafter(t + right, math.inf))
+    inner = ends[-1][1] + ends[1][1] if ends[-1][1] and ends[1][1] else 0.0
+    return Robust(res, _sum_up(left, right), inner, joint, span)
+
+
+def _sum_up(a: float, b: float) -> float:
+    s = a + b
+    return (
+        s
+        if fmpq(*s.as_integer_ratio()) >= fmpq(*a.as_integer_ratio()) + fmpq(*b.as_integer_ratio())
+        else math.nextafter(s, math.inf)
+    )
+
+
+def robust(task: Task, parts: Sequence[Any], instants: Sequence[Any]) -> list[Robust]:
+    """The robust analysis of each singular instant of the audited ``task``
+    (``instants``: the joined analysis, absolute times; ``parts``: the pieces with
+    their local analyses)."""
+    u = task.uncertainty
+    assert u is not None
+    box = Box.of(task.robot, u)
+    limit = task.checks.torque_limit
+    limits = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
+    out = []
+    for s in instants:
+        ab_sides = []
+        for p in parts:
+            for loc in p.analysis.instants:
+                if absolute(p, loc).t != s.t:
+                    continue
+                field = p.analysis.hints(loc).field
+                ab = about(p.traj, task.robot, loc.t_rational, field, s.t)
+                which = 0
+                if s.knot and len(task.motion) > 1:
+                    which = 1 if ab.h_min == 0 else (-1 if ab.h_max == 0 else 0)
+                ab_sides.append((ab, which))
+        if not ab_sides:
+            out.append(Robust((s.consistency_residual, s.consistency_residual), 0.0))
+            continue
+        nominal = s
+        out.append(analyse(ab_sides, box, limits, nominal))
+    return out

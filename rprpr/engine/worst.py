@@ -1,0 +1,150 @@
+"""The worst case of each effort over the box of ``docs/robust.md``, at given times,
+proven: per time t, an upper bound of max |E_i(t)| over every link parameter in the box
+and every acceleration tracking error within the bound (``rprpr export``'s ``T1_worst``,
+``T2_worst`` columns, ``F1_worst``, ``F2_worst`` under linear actuators).
+
+The closed form of ``engine.robust`` (its module docstring), evaluated in ball arithmetic
+(``balls.Ball``, every sample at once): the efforts are linear in the inertial parameters
+π (``robust.BASIS``) and affine in the error e, so with the regressor Y(t, e) (E = Y π)
+
+    max |E_i(t)| = max over s = ±1 and the corners of e of Σ_links max over the link's
+                   (m, r, I) of s (A m + B m r + C (m r² + I)),
+
+each link's maximum in closed form: at an end of r's interval, or (C < 0) at the
+parabola's vertex -B/(2C) when it may lie inside; then the larger of m's ends, and of I's.
+Every candidate is an upper bound of a value the box reaches (or, where the sign of C is
+not decided, of r's whole interval), so the result is a proven upper bound and, where the
+candidates are decided, within the balls' rounding of the true maximum. Not sampled: the
+maximum over the box at each t is exact; the times are the caller's grid.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..model.numbers import to_float
+from ..model.task import Task
+from .certified.balls import Ball, hypot, quiet
+from .regressor import BASIS, LINKS, setting_params, to_basis
+from .robust import Box
+
+ERRORS = ((0, 0), (1, 0), (0, 1))  # the error parts of the regressor: e = 0, unit e_x, e_y
+
+
+def worst_efforts(task: Task, parts: Sequence[Any], t: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Per time of ``t`` [s] (absolute), proven upper bounds of max |E1|, max |E2| over
+    ``task.uncertainty``'s box (+inf where unbounded: at a pole). ``parts``: the audit's
+    pieces (``AuditResult.parts``)."""
+    (lo1, hi1), (lo2, hi2) = effort_bands(task, parts, t)
+    return np.maximum(hi1, -lo1), np.maximum(hi2, -lo2)
+
+
+def effort_bands(
+    task: Task, parts: Sequence[Any], t: np.ndarray
+) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """Per time of ``t`` [s] (absolute), for E1 and E2 a proven (lower, upper) bound of
+    the effort over ``task.uncertainty``'s box: every effort the box allows at that time
+    lies in [lower, upper] (∓inf where unbounded: at a pole)."""
+    from .pieces import which
+
+    u = task.uncertainty
+    assert u is not None
+    box = Box.of(task.robot, u)
+    t = np.asarray(t, dtype=float)
+    out = np.full((2, 2, len(t)), np.inf)
+    out[:, 0] = -np.inf
+    idx = which(list(parts), t) if len(parts) > 1 else np.zeros(len(t), dtype=int)
+    with quiet():
+        for i in np.unique(idx):
+            p = parts[int(i)]
+            sel = np.nonzero(idx == i)[0]
+            kin = p.motion.end_point(t[sel] - to_float(p.origin))
+            for j, (lo, hi) in enumerate(_bands(task, kin, box)):
+                out[j, 0, sel], out[j, 1, sel] = lo, hi
+    return (out[0, 0], out[0, 1]), (out[1, 0], out[1, 1])
+
+
+def _bands(
+    task: Task, kin: Sequence[Ball], box: Box, lower: bool = False
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:
+    the upper bound of max s E_j for s = +1, and minus it for s = -1. With ``lower``,
+    the same from lower bounds of the maxima (a band inside the true one)."""
+    Y = _regressor(task, kin)
+    corners = [(Ball.of_rational(ex), Ball.of_rational(ey)) for ex, ey in box.corners()]
+    links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
+    out = []
+    for j in (0, 1):
+        ends = []
+        for s in (1.0, -1.0):
+            best = np.full(kin[0].mid.shape, -np.inf)
+            for ex, ey in corners:
+                form = [
+                    (a + b * ex + c * ey) * s
+                    for a, b, c in zip(Y[0][j], Y[1][j], Y[2][j], strict=True)
+                ]
+                best = np.maximum(best, _form_bound(form, links, lower))
+            ends.append(np.where(np.isnan(best), -np.inf if lower else np.inf, best))
+        out.append((-ends[1], ends[0]))
+    return out
+
+
+def _regressor(task: Task, kin: Sequence[Ball]) -> list[list[list[Ball]]]:
+    """[error part][effort][``BASIS``]: the efforts' coefficients of π for e = 0, and
+    their change per unit e_x, per unit e_y."""
+    x, xd, xdd, y, yd, ydd = kin
+    params = [setting_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
+    mech = params[0].mechanism
+    out = []
+    for ex, ey in ERRORS:
+        leg1, leg2 = mech.legs(params[0], x, xd, xdd + float(ex), y, yd, ydd + float(ey), hypot)
+        delta = mech.delta(params[0], y, leg1, leg2)  # the product form (no cancellation)
+        values = []
+        for p in params:
+            d = mech.dynamics(leg1, leg2, p)
+            values.append(mech.efforts(d, d.mu1 / delta, d.mu2 / delta))
+        out.append([to_basis([v[j] for v in values]) for j in (0, 1)])
+    return [out[0]] + [
+        [[a - b for a, b in zip(out[i][j], out[0][j], strict=True)] for j in (0, 1)] for i in (1, 2)
+    ]
+
+
+def _form_bound(
+    form: Sequence[Ball], links: dict[int, list[list[Ball]]], lower: bool
+) -> np.ndarray:
+    """An upper bound (``lower``: a lower bound) of max over the box of Σ_k form_k π_k
+    (``BASIS`` order)."""
+    total = Ball.exact(0.0)
+    for link, km, kmr, kj in LINKS:
+        A = form[km] if km is not None else form[kmr] * 0.0
+        total = total + Ball.exact(_link_bound(A, form[kmr], form[kj], links[link], lower))
+    return total.lower() if lower else total.upper()
+
+
+def _link_bound(A: Ball, B: Ball, C: Ball, box: list[list[Ball]], lower: bool) -> np.ndarray:
+    """An upper bound of max over the link's (m, r, I) of A m + B m r + C (m r² + I); with
+    ``lower``, a lower bound of it (only the candidates the balls decide)."""
+    (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
+
+    def end(b: Ball) -> np.ndarray:
+        return b.lower() if lower else b.upper()
+
+    G = np.maximum(end(A + B * rlo + C * rlo * rlo), end(A + B * rhi + C * rhi * rhi))
+    concave = C.upper() < 0
+    vertex = -B / (C * 2.0)
+    if lower:  # the vertex only where it surely lies inside
+        inside = concave & (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
+    else:
+        inside = concave & (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
+    G = np.where(inside, np.maximum(G, end(A - B * B / (C * 4.0))), G)
+    if not lower:
+        r = Ball.hull(rlo.lower(), rhi.upper())
+        undecided = ~concave & (C.lower() < 0)  # the sign of C unknown: r's whole interval
+        G = np.where(undecided, np.maximum(G, (A + B * r + C * r * r).upper()), G)
+    g = Ball.exact(G)
+    m_part = np.maximum(end(g * mlo), end(g * mhi))  # m > 0: linear in m
+    i_part = np.maximum(end(C * ilo), end(C * ihi))
+    return end(Ball.exact(m_part) + Ball.exact(i_part))

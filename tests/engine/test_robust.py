@@ -1,0 +1,294 @@
+"""Robust verdicts (docs/robust.md) against an independent reference.
+
+The reference is ``tests/reference.py`` (mpmath, the paper's equations, nothing from
+``rprpr.engine``) at 50 digits, with the link parameters and the acceleration tracking
+error set by hand: the residual of eq. (34) (revolute) or of the legs' moment balance
+(prismatic) at every corner of the box, and the efforts at every corner on both sides of
+t_s, whose largest |T| gives the brute-force window by bisection.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+from fractions import Fraction
+from typing import Any
+
+import mpmath
+import pytest
+from flint import fmpq, fmpq_poly
+
+from rprpr import Motion, audit, load_task, with_motion
+from rprpr.model.task import Link, Task, Uncertainty
+from tests import reference as ref
+
+P2 = "configs/paper_path2.rprpr.yaml"
+PRISMATIC = "configs/prismatic_crossing.rprpr.yaml"
+ZERO_SPEED = "configs/zero_speed_crossing.rprpr.yaml"
+DPS = 50
+Q = Fraction
+
+
+ZERO, MS = Q(0), Q(1, 1000)
+
+
+def _u(links: dict[int, tuple[Q, Q, Q]], a: Q = ZERO, period: Q = MS) -> Uncertainty:
+    full = {i: links.get(i, (Q(0), Q(0), Q(0))) for i in (2, 3, 4, 5)}
+    return Uncertainty(full, a, period)  # type: ignore[arg-type]
+
+
+def _every(rel: Q) -> dict[int, tuple[Q, Q, Q]]:
+    return dict.fromkeys((2, 3, 4, 5), (rel, rel, rel))
+
+
+def _limited(task: Task, limit: int = 300) -> Task:
+    checks = dataclasses.replace(task.checks, torque_limit=(fmpq(limit), fmpq(limit)))
+    return dataclasses.replace(task, checks=checks)
+
+
+# -- the reference --------------------------------------------------------------------------
+
+
+def _corners(task: Task, u: Uncertainty) -> list[tuple[dict[int, Link], tuple[Q, Q]]]:
+    """Every corner of the box: each link's (mass, inertia, r) at its ends, and (e_x, e_y)."""
+    axes = []
+    for i in (2, 3, 4, 5):
+        link = task.robot.links[i]
+        rel = u.links[i]
+        ends = []
+        for v, w in zip((link.mass, link.inertia, link.r), rel, strict=True):
+            v = Q(int(v.p), int(v.q))
+            ends.append(sorted({v - abs(v) * w, v + abs(v) * w}))
+        axes.append([(i, m, j, r) for m in ends[0] for j in ends[1] for r in ends[2]])
+    a = u.acceleration
+    errors = sorted({(sx * a, sy * a) for sx in (-1, 1) for sy in (-1, 1)})
+    out = []
+    for combo in itertools.product(*axes):
+        links = {i: Link(_q(m), _q(j), _q(r)) for i, m, j, r in combo}
+        out += [(links, e) for e in errors]
+    return out
+
+
+def _q(v: Q) -> fmpq:
+    return fmpq(v.numerator, v.denominator)
+
+
+def _task_with(task: Task, links: dict[int, Link]) -> Task:
+    return dataclasses.replace(task, robot=dataclasses.replace(task.robot, links=links))
+
+
+def _evaluate(task: Task, t: Q, e: tuple[Q, Q]) -> dict[str, Any]:
+    x, xd, xdd, y, yd, ydd = ref._motion(task, t)
+    with mpmath.workdps(DPS):
+        return ref._evaluate(task, (x, xd, xdd + e[0], y, yd, ydd + e[1]))
+
+
+def _residual(task: Task, t_s: Q, e: tuple[Q, Q]) -> Any:
+    """The consistency residual at t_s from the reference's joint values (eqs. 7-14):
+    σ(M22 s1'' + N2) + M44 s2'' + N4 (revolute), U1/s1 + σ U2/s2 (prismatic)."""
+    v = _evaluate(task, t_s, e)
+    L = task.robot.links
+    with mpmath.workdps(DPS):
+        g = ref._mpf(task.robot.gravity)
+        m = {i: ref._mpf(L[i].mass) for i in L}
+        inertia = {i: ref._mpf(L[i].inertia) for i in L}
+        r = {i: ref._mpf(L[i].r) for i in L}
+        s1, s2 = v["s1"], v["s2"]
+        c1, c2 = mpmath.cos(v["theta1"]), mpmath.cos(v["theta2"])
+        sigma = 1 if c1 * c2 > 0 else -1
+        if task.robot.actuation == "prismatic":
+            M11 = m[2] * r[2] ** 2 + inertia[2] + m[3] * (s1 - r[3]) ** 2 + inertia[3]
+            M33 = m[4] * r[4] ** 2 + inertia[4] + m[5] * (s2 - r[5]) ** 2 + inertia[5]
+            N1 = (
+                2 * m[3] * v["s1_dot"] * v["theta1_dot"] * (s1 - r[3])
+                + (m[2] * r[2] + m[3] * (s1 - r[3])) * g * c1
+            )
+            N3 = (
+                2 * m[5] * v["s2_dot"] * v["theta2_dot"] * (s2 - r[5])
+                + (m[4] * r[4] + m[5] * (s2 - r[5])) * g * c2
+            )
+            U1 = M11 * v["theta1_ddot"] + N1
+            U2 = M33 * v["theta2_ddot"] + N3
+            return U1 / s1 + sigma * U2 / s2
+        N2 = -m[3] * (s1 - r[3]) * v["theta1_dot"] ** 2  # sin θ1 = 0 at t_s
+        N4 = -m[5] * (s2 - r[5]) * v["theta2_dot"] ** 2
+        return sigma * (m[3] * v["s1_ddot"] + N2) + m[5] * v["s2_ddot"] + N4
+
+
+def _worst(task: Task, corners: list[Any], t: Q, j: int) -> Any:
+    """max over the box's corners of |T_j(t)| (the reference's efforts)."""
+    return max(abs(_evaluate(_task_with(task, links), t, e)[f"T{j}"]) for links, e in corners)
+
+
+def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q) -> tuple[Q, Q]:
+    """Where on side d (±1) the largest |T| over the corners falls to the limit: times
+    (above, at or below) 1e-9 s apart, bisected from t_s + d near (above) and t_s + d far
+    (below)."""
+    limit = Q(int(task.checks.torque_limit[0].p), int(task.checks.torque_limit[0].q))
+
+    def above(h: Q) -> bool:
+        t = t_s + d * h
+        return any(_worst(task, corners, t, j) > limit for j in (1, 2))
+
+    assert above(near) and not above(far)
+    while far - near > Q(1, 10**9):
+        mid = Q((near + far) / 2).limit_denominator(10**14)
+        near, far = (mid, far) if above(mid) else (near, mid)
+    return t_s + d * near, t_s + d * far
+
+
+# -- the residual over the box -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("path", "u"),
+    [
+        (P2, _u({3: (Q(1, 20),) * 3, 5: (Q(1, 20),) * 3}, Q(1, 100))),
+        (P2, _u({3: (Q(1, 50), Q(0), Q(1, 100)), 5: (Q(1, 50), Q(0), Q(0))}, Q(1, 10))),
+        (PRISMATIC, _u({3: (Q(1, 20),) * 3, 5: (Q(1, 20),) * 3}, Q(1, 100))),
+        (PRISMATIC, _u({2: (Q(1, 10),) * 3, 4: (Q(1, 10),) * 3}, Q(1, 100))),
+    ],
+)
+def test_the_residual_interval_holds_every_corner_and_is_tight(path: str, u: Uncertainty) -> None:
+    task = _limited(load_task(path))
+    result = audit(task, uncertainty=u)
+    (s,) = result.singularities
+    lo, hi = result.robust[0].residual
+    t_s = Q(s.t_exact)
+    values = [_residual(_task_with(task, links), t_s, e) for links, e in _corners(task, u)]
+    assert lo <= min(values) and max(values) <= hi
+    assert abs(lo - min(values)) < 1e-9 and abs(hi - max(values)) < 1e-9
+
+
+def test_revolute_residual_moves_only_with_m3_r3_m5_r5_and_ex() -> None:
+    task = _limited(load_task(P2))
+    # e_y and every other link parameter leave it where it is (0: path 2 is consistent)
+    u = _u({2: (Q(1, 10),) * 3, 4: (Q(1, 10),) * 3, 3: (Q(0), Q(1, 10), Q(0))})
+    u = dataclasses.replace(u, acceleration=Q(0))
+    lo, hi = audit(task, uncertainty=u).robust[0].residual
+    assert -1e-40 < lo <= 0 <= hi < 1e-40  # zero, within the balls' rounding
+    with_ey = audit(task, uncertainty=dataclasses.replace(u, acceleration=Q(1, 100)))
+    # e_x moves it by σ m3 cos θ1 e_x + m5 cos θ2 e_x = (-1 + (-1)) ... at (3, 0): |2 * 0.01|
+    assert with_ey.robust[0].residual == pytest.approx((-0.02, 0.02), abs=1e-15)
+
+
+def test_a_zero_box_reports_the_exact_residual() -> None:
+    for path in (P2, "configs/case1_crossing.rprpr.yaml", PRISMATIC):
+        task = _limited(load_task(path))
+        plain = audit(task)
+        zero = audit(task, uncertainty=_u({}))
+        for s, r in zip(plain.singularities, zero.robust, strict=True):
+            assert r.residual == (s.consistency_residual, s.consistency_residual)
+
+
+# -- the window -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("path", "links", "a"),
+    [
+        (P2, {3: (Q(1, 20), Q(0), Q(1, 20)), 5: (Q(1, 20), Q(0), Q(1, 20))}, Q(1, 100)),
+        pytest.param(
+            PRISMATIC,
+            {3: (Q(1, 20), Q(0), Q(1, 20)), 5: (Q(1, 20), Q(0), Q(1, 20))},
+            Q(1, 100),
+            marks=pytest.mark.slow,  # the reference solves eq. (4) at 64 corners: ~20 s
+        ),
+    ],
+)
+def test_the_window_holds_the_brute_force_window_and_is_within_a_microsecond(
+    path: str, links: dict[int, tuple[Q, Q, Q]], a: Q
+) -> None:
+    task = _limited(load_task(path))
+    u = _u(links, a)
+    r = audit(task, uncertainty=u).robust[0]
+    assert r.span is not None
+    (s,) = audit(task).singularities
+    t_s = Q(s.t_exact)
+    corners = _corners(task, u)
+    w = r.window
+    left, left_out = _window_end(task, corners, t_s, -1, Q(w) / 4, Q(w) * 2)
+    right, right_out = _window_end(task, corners, t_s, 1, Q(w) / 4, Q(w) * 2)
+    assert r.span[0] <= left and right <= r.span[1]  # the proven span holds the brute force
+    assert float(right - left) <= r.window < float(right_out - left_out) + 1e-6
+
+
+def test_path2_numbers_of_the_issue() -> None:
+    """±5 % on every link and 0.01 m/s²: 5.44 ms (the union of the errors at each instant);
+    the leading-order formula 2 s_i |R| s1 s2/(a1 |ẏ| T_lim) gives 4.0 ms for the error alone
+    (R = 0.02 N, s1 = s2 = 3, a1 = 6, ẏ = 0.2 ẋ): the engine's ends lie within 30 % of it."""
+    task = _limited(load_task(P2))
+    both = audit(task, uncertainty=_u(_every(Q(1, 20)), Q(1, 100))).robust[0]
+    assert both.window == pytest.approx(5.44e-3, abs=5e-6)
+    assert both.residual == pytest.approx((-0.02113125, 0.02113125), abs=1e-12)
+    assert both.joint == 1
+    err = audit(task, uncertainty=_u({}, Q(1, 100))).robust[0]
+    (s,) = audit(task).singularities
+    ydot = 0.2 * s.speed / (1 + 0.2**2) ** 0.5
+    leading = 2 * 3 * 0.02 * 3 * 3 / (6 * ydot * 300)
+    assert leading == pytest.approx(4.0e-3, rel=0.02)
+    assert 0.7 * leading < err.window < 1.3 * leading
+    masses = audit(task, uncertainty=_u(_every(Q(1, 20)))).robust[0]
+    assert 0 < masses.window < 1e-4  # the masses alone: tens of microseconds
+    assert masses.window < err.window < both.window
+
+
+def test_no_uncertainty_changes_nothing_and_a_zero_box_only_adds_its_records() -> None:
+    task = _limited(load_task(P2))
+    plain = audit(task).to_dict()
+    zero = audit(task, uncertainty=_u({})).to_dict()
+    assert "uncertainty" not in plain and "robust" not in plain["singularities"][0]
+    assert zero["singularities"][0].pop("robust")["window"] == 0.0
+    zero.pop("uncertainty")
+    assert zero == plain
+
+
+# -- verdicts ---------------------------------------------------------------------------------
+
+
+def _float_planner_task() -> Task:
+    """Path 2 written as a planner does: x(t) and y(t) = p(x(t)) as polynomials in t whose
+    coefficients are rounded to doubles (one piece from 0 to 5 s)."""
+    task = load_task(P2)
+    x = task.x_of_t
+    y = task.path(x)
+
+    def rounded(p: fmpq_poly, n: int) -> list[float]:
+        c = [float(v) for v in p.coeffs()] + [0.0] * (n - p.degree() - 1)
+        return c[::-1]  # highest first
+
+    n = y.degree() + 1
+    xc, yc = rounded(x, n), rounded(y, n)
+    motion = Motion.from_pieces([0.0, 5.0], [[v] for v in xc], [[v] for v in yc], local=False)
+    return _limited(with_motion(task, motion))
+
+
+def test_float_planner_output_passes_with_declared_uncertainty() -> None:
+    task = _float_planner_task()
+    exact = audit(task)
+    (s,) = exact.singularities
+    assert not s.consistent and abs(s.consistency_residual) < 1e-12  # rounding only
+    assert "RPR201" in [f.rule for f in exact.findings] and exact.verdict == "fail"
+    zero = audit(task, uncertainty=_u({}))
+    assert zero.verdict == "pass"
+    (pole,) = [f for f in zero.findings if f.rule == "RPR201"]
+    assert pole.severity == "warning" and "consistent to the input's precision" in pole.message
+    assert zero.robust[0].window < 1e-12
+    masses = audit(task, uncertainty=_u(_every(Q(1, 20))))
+    assert masses.verdict == "pass" and 0 < masses.robust[0].window < 1e-3
+
+
+def test_a_crossing_at_zero_vertical_speed_fails_on_a_long_window() -> None:
+    task = _limited(load_task(ZERO_SPEED))
+    result = audit(task, uncertainty=_u(_every(Q(1, 20)), Q(1, 100)))
+    assert result.verdict == "fail"
+    (f,) = [f for f in result.findings if f.rule == "RPR205"]
+    assert "longer than the 1 ms period" in f.message
+    assert result.robust[0].window > 0.5
+
+
+def test_prismatic_window_fails_and_names_the_force() -> None:
+    task = _limited(load_task(PRISMATIC))
+    result = audit(task, uncertainty=_u(_every(Q(1, 20)), Q(1, 100)))
+    (f,) = [f for f in result.findings if f.rule == "RPR205"]
+    assert "|F2| > 300 N for at most" in f.message

@@ -1,0 +1,84 @@
+"""A repair whose efforts far exceed the original's is a warning; with declared
+uncertainty, the repaired motion's worst case is reported.
+
+Path 2 under linear actuators, without a limit: the legs' moment balance needs
+ÿ(t_s) = -14.9 m/s², which the repair gives, and the legs' forces reach 64.6 kN where the
+original stays within a few kN away from its pole. The numbers are the independent mpmath
+reference's (``tests/reference.py``) at the repaired motion's peak time and on the
+original's samples outside the changed window.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import pytest
+
+from rprpr import parse_task
+from rprpr.model.task import Task
+from rprpr.repair import repair
+from rprpr.repair.effort import RATIO
+from tests import reference as R
+from tests.conftest import CONFIGS, run_cli
+
+P2 = (CONFIGS / "paper_path2.rprpr.yaml").read_text(encoding="utf-8")
+PRISMATIC_NO_LIMIT = P2.replace("robot:\n", "robot:\n  actuation: prismatic\n", 1).replace(
+    "checks:\n  torque_limit: [300, 300]   # [N m]\n", ""
+)
+
+
+def _effort(task: Task, t: Fraction, name: str) -> float:
+    """The reference's effort at t, the motion's piece holding t evaluated exactly."""
+    piece = next(
+        p
+        for p in task.motion
+        if R._fractions(p.x)
+        and Fraction(int(p.start.p), int(p.start.q)) <= t <= Fraction(int(p.end.p), int(p.end.q))
+    )
+    x, xd, xdd = R._poly(R._fractions(piece.x), t)
+    y, yd, ydd = R._poly(R._fractions(piece.y), t)
+    with mpmath.workdps(50):
+        return float(R._evaluate(task, (x, xd, xdd, y, yd, ydd))[name])
+
+
+def test_path_2_on_linear_actuators_is_repaired_with_a_warning_naming_the_forces() -> None:
+    old = parse_task(PRISMATIC_NO_LIMIT)
+    r = repair(old)
+    (w,) = r.warnings
+    (c,) = r.changes
+    peak = r.after.torque_peak
+    assert peak is not None
+    j = 0 if peak[0].value >= peak[1].value else 1
+    at = _effort(r.task, Fraction(peak[j].t), f"T{j + 1}")  # the legs' force there
+    assert abs(at) == pytest.approx(peak[j].value, rel=1e-9)
+    assert 6.4e4 < peak[j].value < 6.5e4  # the issue's 64.6 kN
+    s = r.before.samples
+    outside = np.abs(s.t - float(c.t)) > float(c.window)
+    ref = max(
+        abs(float(R.reference(old, Fraction(t))[k])) for t in s.t[outside] for k in ("T1", "T2")
+    )
+    (shown,) = [float(x) for x in w.split("outside the changed windows (")[1].split()[:1]]
+    assert shown == pytest.approx(ref, rel=1e-5)  # the same samples: the same largest (6 digits)
+    assert peak[j].value > RATIO * shown
+    assert f"|F{j + 1}| = {peak[j].value:.6g} N" in w and "wider --window" in w
+
+
+def test_a_gentle_repair_warns_of_nothing() -> None:
+    r = repair(parse_task((CONFIGS / "paper_path1.rprpr.yaml").read_text(encoding="utf-8")))
+    assert r.changed and r.warnings == ()
+
+
+def test_the_command_prints_the_warning_and_the_worst_case(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    f = tmp_path / "p.rprpr.yaml"
+    f.write_text(PRISMATIC_NO_LIMIT, encoding="utf-8")
+    code, out, err = run_cli("repair", str(f), "-o", str(tmp_path / "out.rprpr.yaml"))
+    assert code == 0 and "warning: the repaired motion's forces reach |F" in out + err
+    heavier = P2.replace("3: {mass: 1.0,", "3: {mass: 1.5,").replace(
+        "timing:", "uncertainty: {links: 5%, acceleration: 0.01, period: 0.01}\ntiming:"
+    )
+    g = tmp_path / "h.rprpr.yaml"
+    g.write_text(heavier, encoding="utf-8")
+    code, out, err = run_cli("repair", str(g), "-o", str(tmp_path / "h2.rprpr.yaml"))
+    assert "over the box at t = 2.5 s: residual [" in out + err
