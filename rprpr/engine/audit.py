@@ -43,7 +43,7 @@ from .findings import findings
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs a pass
     from .certified.motion import CertifiedMotion
     from .certified.sampling import Samples
-    from .robust import Robust
+    from .robust.windows import Robust
 
 ENVELOPE = "the torque envelope"
 FINDINGS = "the findings"
@@ -206,13 +206,7 @@ def audit(
         o = replace(o, **keywords)
     strict = task.checks.strict if o.strict is None else o.strict
     asked = task.checks.peak if o.peak is None else o.peak
-    if o.uncertainty is not None:
-        task = replace(task, uncertainty=o.uncertainty.exact())
-    if task.uncertainty is not None and task.checks.torque_limit is None:
-        raise ValueError(
-            "uncertainty needs checks.torque_limit: the saturation window around each"
-            " singular instant is measured against the actuators' limits"
-        )
+    task = _uncertain(task, o)
     tell = on_stage or _quiet
     parts, batch = P.parts(task, tell)
     tell(ENVELOPE)
@@ -251,7 +245,7 @@ def _robust_peak(
     """The worst-case peak over the box between the instants (with uncertainty only)."""
     if task.uncertainty is None:
         return None
-    from .worst_peak import worst_peak
+    from .robust.worst_peak import worst_peak
 
     return worst_peak(task, parts, robust)
 
@@ -260,9 +254,22 @@ def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list
     """The robust analysis of each instant when the task declares uncertainty."""
     if task.uncertainty is None or not analysis.instants:
         return []
-    from .robust import robust
+    from .robust.windows import robust
 
     return robust(task, parts, analysis.instants)
+
+
+def _uncertain(task: Task, o: AuditOptions) -> Task:
+    """The task with the options' uncertainty in place of its own (when given); a
+    ValueError when an uncertainty is declared without a torque limit to measure it by."""
+    if o.uncertainty is not None:
+        task = replace(task, uncertainty=o.uncertainty.exact())
+    if task.uncertainty is not None and task.checks.torque_limit is None:
+        raise ValueError(
+            "uncertainty needs checks.torque_limit: the saturation window around each"
+            " singular instant is measured against the actuators' limits"
+        )
+    return task
 
 
 def _joined(task: Task, parts: list[P.Part]) -> SingularAnalysis:

@@ -24,7 +24,7 @@ from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact.knots import Knot
 from .exact.mechanism import of
 from .exact.singular import KinematicSingularity, SingularAnalysis, SingularInstant
-from .robust import Robust
+from .robust.windows import Robust
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 

@@ -374,6 +374,18 @@ def json_schema() -> dict[str, Any]:
     return doc
 
 
+_POINT_FORMS = [  # a point: one coordinate (x), [x, y] or {x:, y:}
+    _COORDINATE,
+    {"type": "array", "items": _COORDINATE, "minItems": 2, "maxItems": 2},
+    {
+        "type": "object",
+        "properties": {"x": _COORDINATE, "y": _COORDINATE},
+        "required": ["x"],
+        "additionalProperties": False,
+    },
+]
+
+
 def _json(s: Spec) -> dict[str, Any]:
     out: dict[str, Any] = {"description": s.description}
     if s.kind == "mapping":
@@ -412,17 +424,7 @@ def _json(s: Spec) -> dict[str, Any]:
     elif s.kind == "enum":
         out["enum"] = list(s.choices)
     elif s.kind == "point":
-        coordinate = _COORDINATE
-        out["oneOf"] = [
-            coordinate,
-            {"type": "array", "items": coordinate, "minItems": 2, "maxItems": 2},
-            {
-                "type": "object",
-                "properties": {"x": coordinate, "y": coordinate},
-                "required": ["x"],
-                "additionalProperties": False,
-            },
-        ]
+        out["oneOf"] = _POINT_FORMS
     elif s.kind == "percent":
         out.update(type="string", pattern=_PERCENT_PATTERN)
     elif s.kind == "relative":

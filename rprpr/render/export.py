@@ -100,7 +100,7 @@ def rows(result: AuditResult) -> np.ndarray:
     values = result.samples.rows()
     if result.task.uncertainty is None:
         return values
-    from ..engine.worst import worst_efforts
+    from ..engine.robust.worst import worst_efforts
 
     w1, w2 = worst_efforts(result.task, result.parts, result.samples.t)
     return np.column_stack([values, w1, w2])

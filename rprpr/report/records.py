@@ -14,7 +14,7 @@ from ..engine.audit import AuditResult, Saturation
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
 from ..engine.exact.knots import Knot
 from ..engine.exact.singular import SingularInstant
-from ..engine.robust import Robust
+from ..engine.robust.windows import Robust
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.names import file_name

@@ -3,7 +3,7 @@ uncertainty needs a torque limit, the task's or the configuration's, checked onc
 configuration is applied.
 
 The numbers: path 2 with ±5 % on every link and 0.01 m/s² has a 5.44 ms window
-(``tests/engine/test_robust.py``: against the mpmath reference), longer than a 1 ms period.
+(``tests/engine/robust/test_windows.py``: against the mpmath reference), longer than a 1 ms period.
 """
 
 from __future__ import annotations

@@ -15,8 +15,8 @@ import pytest
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
-from tests.engine.test_robust import P2, _evaluate, _task_with, _u
-from tests.engine.test_worst import _links
+from tests.engine.robust.test_windows import P2, _evaluate, _task_with, _u
+from tests.engine.robust.test_worst import _links
 
 Q = Fraction
 
@@ -63,7 +63,7 @@ def test_the_band_holds_every_corner_and_the_window_is_shaded() -> None:
             assert min(values) == pytest.approx(b_lo, rel=1e-9)
     keys = "\n".join(t.get_text() for t in fig.texts).replace("\n    ", " ")
     shown = f"over the box: |T1| > 300 N m for at most {r.window * 1e3:.3g} ms around t = 2.5 s"
-    assert shown + " (shaded)" in keys  # the audit's window (tests/engine/test_robust.py)
+    assert shown + " (shaded)" in keys  # the audit's window (tests/engine/robust/test_windows.py)
     assert checked >= 2 * len(corners)
 
 

@@ -211,7 +211,7 @@ def test_a_third_implementation_drives_the_certified_values(tripled: Tripled) ->
 LAYERS = (
     "exact/singular", "exact/knots", "certified/motion", "certified/zones", "certified/discs",
     "certified/taylor_forms", "certified/pointwise", "bounds/envelope",
-    "bounds/batch", "findings", "robust", "regressor", "worst",
+    "bounds/batch", "findings", "robust/windows", "robust/regressor", "robust/worst",
 )  # fmt: skip
 
 

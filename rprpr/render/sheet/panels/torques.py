@@ -208,7 +208,7 @@ def _robust(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
     """With declared uncertainty, about each singular instant: the band every effort the
     box allows lies in (``engine.worst``, proven), and the proven saturation window
     shaded (gids ``torques-band-<task>-<k>-T1``, ``torques-window-<task>-<k>``)."""
-    from ....engine.worst import effort_bands
+    from ....engine.robust.worst import effort_bands
 
     for i, m in col:
         if m.task.uncertainty is None or not m.result.robust:

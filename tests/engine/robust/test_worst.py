@@ -22,10 +22,10 @@ import pytest
 from flint import fmpq
 
 from rprpr import audit, load_task
-from rprpr.engine.worst import worst_efforts
+from rprpr.engine.robust.worst import worst_efforts
 from rprpr.model.task import Link, Task, Uncertainty
 from rprpr.render.export import write_csv
-from tests.engine.test_robust import P2, PRISMATIC, _evaluate, _limited, _task_with, _u
+from tests.engine.robust.test_windows import P2, PRISMATIC, _evaluate, _limited, _task_with, _u
 
 Q = Fraction
 TIMES = (Q(1), Q(2), Q(19, 8), Q(13, 4))  # each a double exactly, none the instant 2.5 s

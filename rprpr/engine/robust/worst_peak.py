@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from ..model.numbers import to_float
-from ..model.task import Task
-from .certified.balls import Ball, quiet
-from .robust import Box, Robust
+from ...model.numbers import to_float
+from ...model.task import Task
+from ..certified.balls import Ball, quiet
+from .windows import Box, Robust
 from .worst import _bands
 
 REL = 1e-6  # the peak's bounds meet within this relative width

@@ -37,12 +37,12 @@ from typing import Any
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
-from ..model.numbers import to_float
-from ..model.task import Robot, Task, Uncertainty
-from .exact import equations as dyn
-from .exact.mechanism import of
-from .exact.series import taylor
-from .pieces import absolute
+from ...model.numbers import to_float
+from ...model.task import Robot, Task, Uncertainty
+from ..exact import equations as dyn
+from ..exact.mechanism import of
+from ..exact.series import taylor
+from ..pieces import absolute
 from .regressor import (
     BASIS,
     LINKS,

@@ -15,8 +15,8 @@ from fractions import Fraction
 import pytest
 
 from rprpr import audit, load_task
-from tests.engine.test_robust import P2, _evaluate, _task_with, _u
-from tests.engine.test_worst import _links
+from tests.engine.robust.test_windows import P2, _evaluate, _task_with, _u
+from tests.engine.robust.test_worst import _links
 
 Q = Fraction
 

@@ -25,11 +25,11 @@ from typing import Any
 
 import numpy as np
 
-from ..model.numbers import to_float
-from ..model.task import Task
-from .certified.balls import Ball, hypot, quiet
+from ...model.numbers import to_float
+from ...model.task import Task
+from ..certified.balls import Ball, hypot, quiet
 from .regressor import BASIS, LINKS, setting_params, to_basis
-from .robust import Box
+from .windows import Box
 
 ERRORS = ((0, 0), (1, 0), (0, 1))  # the error parts of the regressor: e = 0, unit e_x, e_y
 
@@ -48,7 +48,7 @@ def effort_bands(
     """Per time of ``t`` [s] (absolute), for E1 and E2 a proven (lower, upper) bound of
     the effort over ``task.uncertainty``'s box: every effort the box allows at that time
     lies in [lower, upper] (∓inf where unbounded: at a pole)."""
-    from .pieces import which
+    from ..pieces import which
 
     u = task.uncertainty
     assert u is not None

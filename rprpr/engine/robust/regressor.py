@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 from flint import arb
 
-from ..model.task import Robot
-from .exact import equations as dyn
-from .exact.mechanism import of
+from ...model.task import Robot
+from ..exact import equations as dyn
+from ..exact.mechanism import of
 
 # the links' inertial parameters (π above): (link, what), what one of m, mr, J
 BASIS = ((2, "mr"), (2, "J"), (3, "m"), (3, "mr"), (3, "J"),
