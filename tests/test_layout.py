@@ -486,3 +486,22 @@ def test_the_size_rule_catches_a_long_module_function_or_class() -> None:
         "m.n:2: g of 61 lines (at most 60)",
     ]
     assert too_long(long, {"m.c:C": "", "m.f:f": "", "m.m": "", "m.n:g": ""}) == []
+
+
+def private_imports(sources: Mapping[str, str]) -> list[str]:
+    """Every ``from <rprpr module> import _name``: a private name read from another
+    module (what another module reads is public, or it stays in its module)."""
+    bad = []
+    for name, source in sorted(sources.items()):
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom) and (
+                node.level or (node.module or "").startswith("rprpr")
+            ):
+                bad += [f"{name}: {a.name}" for a in node.names if a.name.startswith("_")]
+    return bad
+
+
+def test_no_private_name_is_imported_across_modules() -> None:
+    sources = {n: p.read_text(encoding="utf-8") for n, p in modules().items()}
+    assert private_imports(sources) == []
+    assert private_imports({"rprpr.x": "from .y import _z, w\n"}) == ["rprpr.x: _z"]

@@ -62,12 +62,12 @@ def effort_bands(
             p = parts[int(i)]
             sel = np.nonzero(idx == i)[0]
             kin = p.motion.end_point(t[sel] - to_float(p.origin))
-            for j, (lo, hi) in enumerate(_bands(task, kin, box)):
+            for j, (lo, hi) in enumerate(bands_at(task, kin, box)):
                 out[j, 0, sel], out[j, 1, sel] = lo, hi
     return (out[0, 0], out[0, 1]), (out[1, 0], out[1, 1])
 
 
-def _bands(
+def bands_at(
     task: Task, kin: Sequence[Ball], box: Box, lower: bool = False
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:

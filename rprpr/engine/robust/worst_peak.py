@@ -23,7 +23,7 @@ from ...model.numbers import to_float
 from ...model.task import Task
 from ..certified.balls import Ball, quiet
 from .windows import Box, Robust
-from .worst import _bands
+from .worst import bands_at
 
 REL = 1e-6  # the peak's bounds meet within this relative width
 ROUNDS = 48  # halvings at most
@@ -100,7 +100,7 @@ def _at(
         sel = np.nonzero(k == i)[0]
         p = parts[int(i)]
         kin = p.motion.end_point(t[sel] - to_float(p.origin))
-        for j, (lo, hi) in enumerate(_bands(task, kin, box, lower)):
+        for j, (lo, hi) in enumerate(bands_at(task, kin, box, lower)):
             out[j][sel] = np.maximum(hi, -lo)
     return out
 
@@ -117,6 +117,6 @@ def _over(
         pad = 4 * np.spacing(np.maximum(np.abs(b[sel]), abs(o)) + 1.0)  # o and a - o rounded
         lo, hi = a[sel] - o - pad, b[sel] - o + pad
         kin = p.motion.end_point(Ball.hull(lo, hi))
-        for j, (l_, h_) in enumerate(_bands(task, kin, box)):
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box)):
             out[j][sel] = np.maximum(h_, -l_)
     return out
