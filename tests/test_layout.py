@@ -497,7 +497,11 @@ def private_imports(sources: Mapping[str, str]) -> list[str]:
             if isinstance(node, ast.ImportFrom) and (
                 node.level or (node.module or "").startswith("rprpr")
             ):
-                bad += [f"{name}: {a.name}" for a in node.names if a.name.startswith("_")]
+                bad += [
+                    f"{name}: {a.name}"
+                    for a in node.names
+                    if a.name.startswith("_") and not a.name.endswith("__")  # dunders are public
+                ]
     return bad
 
 
