@@ -128,7 +128,8 @@ def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q)
 
     def above(h: Q) -> bool:
         t = t_s + d * h
-        return any(_worst(task, corners, t, j) > limit for j in (1, 2))
+        bound = mpmath.mpf(limit.numerator) / limit.denominator  # mpmath 1.3 compares no Fraction
+        return any(_worst(task, corners, t, j) > bound for j in (1, 2))
 
     assert above(near) and not above(far)
     while far - near > Q(1, 10**9):
