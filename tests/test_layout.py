@@ -458,7 +458,9 @@ def too_long(sources: Mapping[str, str], allowed: Mapping[str, str] = LONG_ALLOW
 def test_no_module_function_or_class_is_too_long() -> None:
     sources = {name: path.read_text(encoding="utf-8") for name, path in modules().items()}
     assert too_long(sources) == []
-    assert all(name in sources for name in LONG_ALLOWED)  # no excuse outlives its module
+    assert all(
+        name.split(":")[0] in sources for name in LONG_ALLOWED
+    )  # no excuse outlives its module
 
 
 def _lines(n: int, indent: str = "    ") -> str:

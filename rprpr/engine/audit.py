@@ -137,13 +137,6 @@ class AuditResult:
         the exact analysis already made (no new analysis)."""
         return P.sample(list(self.parts), np.asarray(t, dtype=float))
 
-    def robust_of(self, s: SingularInstant) -> Robust | None:
-        """The robust analysis of the instant ``s`` (None without declared uncertainty)."""
-        for i, r in zip(self.singularities, self.robust, strict=False):
-            if i is s or i.t == s.t:
-                return r
-        return None
-
     def findings_at(self, s: SingularInstant) -> list[Finding]:
         """The findings the audit made at the singular instant ``s`` (one of
         ``singularities``), tied to it by its index: two instants whose times round to one

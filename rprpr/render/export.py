@@ -95,7 +95,7 @@ def reasons(actuation: str = REVOLUTE) -> dict[int, str]:
 def rows(result: AuditResult) -> np.ndarray:
     """The exported values: one row per sample, the columns of ``COLUMNS`` in order, then
     with declared uncertainty the proven worst case of each effort over the box
-    (``engine.worst``: an upper bound of max |E_i| at the row's time; NaN at a pole). The
+    (``engine.robust.worst``: an upper bound of max |E_i| at the row's time; NaN at a pole). The
     ``reason`` codes are ``result.samples.reason``."""
     values = result.samples.rows()
     if result.task.uncertainty is None:

@@ -246,7 +246,7 @@ def uncertainty_fields(
     """The declared uncertainty echoed (nothing without it: reports stay as before):
     per link the half-widths of mass, inertia and r as fractions, acceleration [m/s²],
     period [s]; with the peak asked for, ``peak``: the certified [lower, upper] of the
-    largest |T1|, |T2| over the box outside the proven windows (``engine.worst_peak``)."""
+    largest |T1|, |T2| over the box outside the proven windows (``engine.robust.worst_peak``)."""
     u = task.uncertainty
     if u is None:
         return {}

@@ -474,15 +474,7 @@ def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:
         ctx.prec = old
 
 
-def certify(
-    traj: Trajectory, robot: Robot, analysis: SingularAnalysis, t: np.ndarray
-) -> CertifiedSamples:
-    """Certified values at the times ``t`` (a one-off ``CertifiedMotion(...).sample``)."""
-    return CertifiedMotion(traj, robot, analysis).sample(t)
-
-
 __all__ = [  # what a certified value is (``pointwise``) stays importable from here
     "AT_A", "AT_B", "BEYOND_DOUBLE", "DBL_MAX", "FIELDS", "MAX_PREC", "OK", "ON_LINE", "POLE",
     "REASONS", "START_PREC", "TOL", "UNCERTIFIED", "CertifiedMotion", "CertifiedSamples",
-    "certify",
 ]  # fmt: skip

@@ -1,5 +1,5 @@
-"""The regressor of the efforts over the box of ``docs/robust.md`` (``engine.robust``,
-``engine.worst``): both schemes' efforts are linear forms in the links' inertial
+"""The regressor of the efforts over the box of ``docs/robust.md`` (``robust.windows``,
+``robust.worst``): both schemes' efforts are linear forms in the links' inertial
 parameters π (``BASIS``) and affine in the acceleration error e; each link's largest
 value over its box in closed form, in doubles (``link_max_float``) and proven in balls
 (``link_max_ball``)."""

@@ -3,7 +3,7 @@ proven: per time t, an upper bound of max |E_i(t)| over every link parameter in 
 and every acceleration tracking error within the bound (``rprpr export``'s ``T1_worst``,
 ``T2_worst`` columns, ``F1_worst``, ``F2_worst`` under linear actuators).
 
-The closed form of ``engine.robust`` (its module docstring), evaluated in ball arithmetic
+The closed form of ``robust.windows`` (its module docstring), evaluated in ball arithmetic
 (``balls.Ball``, every sample at once): the efforts are linear in the inertial parameters
 π (``robust.BASIS``) and affine in the error e, so with the regressor Y(t, e) (E = Y π)
 

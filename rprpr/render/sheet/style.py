@@ -89,11 +89,3 @@ def style(i: int) -> Any:
 def task_colour(i: int) -> str:
     """The colour of the i-th task (distinct for the at most 8 tasks of a sheet)."""
     return TASK_COLOURS[i % len(TASK_COLOURS)]
-
-
-def curve(i: int, quantity: str, leg: int, overlay: bool) -> dict[str, Any]:
-    """Colour and line style of task i's curve of leg ``leg`` (0: leg 1 or a single
-    quantity, 1: leg 2) whose one-task colour is ``quantity``."""
-    if not overlay:
-        return {"color": quantity, "ls": "-"}
-    return {"color": task_colour(i), "ls": QUANTITY_STYLES[leg]}

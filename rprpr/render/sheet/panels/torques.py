@@ -206,7 +206,7 @@ def _saturation(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> N
 
 def _robust(sheet: Sheet, ax: Axes, col: Indexed, lo: float, hi: float) -> None:
     """With declared uncertainty, about each singular instant: the band every effort the
-    box allows lies in (``engine.worst``, proven), and the proven saturation window
+    box allows lies in (``engine.robust.worst``, proven), and the proven saturation window
     shaded (gids ``torques-band-<task>-<k>-T1``, ``torques-window-<task>-<k>``)."""
     from ....engine.robust.worst import effort_bands
 
