@@ -36,6 +36,7 @@ import numpy as np
 from flint import arb, fmpq, fmpq_poly
 
 from ...model.numbers import to_float
+from ..exact.equations import hypot as hypot  # its one home, read here by the layer
 
 U = 2.0**-53  # unit roundoff of binary64, round to nearest
 ETA = 2.0**-1074  # smallest positive subnormal
@@ -337,13 +338,6 @@ def _unbounded_where(b: Ball, where: Array) -> Ball:
     if not where.any():
         return b
     return Ball._of(np.where(where, np.nan, b.mid), np.where(where, np.inf, b.rad))
-
-
-def hypot(u: Any, v: Any) -> Any:
-    """√(u² + v²) for balls, first-order jets of balls and arb balls alike (what
-    ``equations.leg`` takes): for balls every operation rounded, IEEE's correctly rounded
-    square root; for arb, arb's own enclosure."""
-    return (u * u + v * v).sqrt()
 
 
 def where(cond: Array, a: Ball, b: Ball) -> Ball:

@@ -218,8 +218,7 @@ class Refinement(Angles):
             out: dict[str, Any] = {"x": x, "x_dot": xd, "x_ddot": xdd, "y": y,
                                    "y_dot": yd, "y_ddot": ydd}  # fmt: skip
             u2 = x - a1
-            s1 = (x * x + y * y).sqrt()
-            s2 = (u2 * u2 + y * y).sqrt()
+            s1, s2 = hypot(x, y), hypot(u2, y)
             out["s1"], out["s2"] = s1, s2
             if not (s1 > 0 and s2 > 0):
                 return {n: Ball.of_arb(v) for n, v in out.items()}, out

@@ -32,6 +32,13 @@ from ...model.task import Robot
 Num = Any  # numpy array, float, or Series
 
 
+def hypot(u: Num, v: Num) -> Num:
+    """√(u² + v²) for any number type with a ``sqrt`` method: numpy balls and their jets
+    (every operation rounded outward, IEEE's correctly rounded square root), arb balls
+    (arb's own enclosure), series. What ``leg`` takes; its one home."""
+    return (u * u + v * v).sqrt()
+
+
 @dataclass(frozen=True)
 class Leg:
     """Joint values of one leg: s, cos θ, sin θ, s', θ', s'', θ''."""

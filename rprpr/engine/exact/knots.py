@@ -19,6 +19,7 @@ from flint import arb, ctx, fmpq
 
 from ...model.numbers import to_float
 from ...model.task import Piece, Robot
+from . import equations as dyn
 from .mechanism import of
 
 PREC = 128  # bits of the one-sided torques
@@ -76,16 +77,12 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
     try:
         X, Xd, Xdd, Y, Yd, Ydd = (arb(v) for v in values)
         a1 = arb(robot.a1)
-
-        def hyp(u: Any, v: Any) -> Any:
-            return (u * u + v * v).sqrt()
-
-        s1, s2 = hyp(X, Y), hyp(X - a1, Y)
+        s1, s2 = dyn.hypot(X, Y), dyn.hypot(X - a1, Y)
         if not (s1 > 0 and s2 > 0):
             return None
         mech = of(robot)
         p = mech.params(robot, arb)
-        leg1, leg2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hyp)
+        leg1, leg2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, dyn.hypot)
         d = mech.dynamics(leg1, leg2, p)
         delta = mech.delta(p, Y, leg1, leg2)
         if not (delta > 0 or delta < 0):

@@ -211,7 +211,7 @@ def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[A
     params = [setting_params(robot, k, _ball) for k in range(len(BASIS))]
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
-        legs = legs_about(c, h, params[0], arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        legs = legs_about(c, h, params[0], arb(ex), arb(ey), dyn.hypot)
         values: list[tuple[Any, ...]] = []
         for p in params:
             d = dyn.dynamics(legs[0], legs[1], p)
@@ -393,7 +393,7 @@ def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
     try:
         c = [[_ball(v) for v in p] for p in ab.coeffs]
         p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
-        legs = legs_about(c, arb(h), p, arb(ex), arb(ey), lambda u, v: (u * u + v * v).sqrt())
+        legs = legs_about(c, arb(h), p, arb(ex), arb(ey), dyn.hypot)
         d = dyn.dynamics(legs[0], legs[1], p)
         return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
     finally:
