@@ -54,14 +54,16 @@ def worst_peak(
     box = Box.of(task.robot, u)
     spans = [r.span for r in robust if r.span is not None]
     a, b, k = _domain(parts, spans)
+    pts, at = np.concatenate([a, b]), np.concatenate([k, k])  # lower bounds at the ends
+    best = np.full(2, -np.inf)
+    dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
+    top = np.full(2, np.inf)
     with quiet():
-        best = _lower(task, parts, box, np.concatenate([a, b]), np.concatenate([k, k]))
-        dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
-        top = np.full(2, np.inf)
         for _ in range(ROUNDS):
             if not len(a):
                 break
-            ups = _over(task, parts, box, a, b, k)
+            ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at))
+            best = np.maximum(best, lows)
             top = np.maximum(ups.max(axis=1), dropped)
             goal = best * (1 + REL) + ABS
             if np.all(top <= goal):
@@ -71,8 +73,7 @@ def worst_peak(
             a, b, k = a[live], b[live], k[live]
             if len(a) > CAP:
                 break
-            a, b, k, cuts, at = _split(a, b, k)
-            best = np.maximum(best, _lower(task, parts, box, cuts, at))
+            a, b, k, pts, at = _split(a, b, k)
     return (float(best[0]), float(max(top[0], best[0]))), (
         float(best[1]),
         float(max(top[1], best[1])),
@@ -132,27 +133,28 @@ def _split(
     return g[:, :-1].ravel(), g[:, 1:].ravel(), kk, g[:, 1:-1].ravel(), np.repeat(k, fan - 1)
 
 
-def _lower(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """Lower bounds of max |E_j| over the box at the local times ``h`` (pieces ``k``):
-    their largest, per effort."""
-    out = np.full(2, -np.inf)
-    for i in np.unique(k):
-        kin = parts[int(i)].motion.end_point(h[k == i])
-        for j, (lo, hi) in enumerate(bands_at(task, kin, box, True)):
-            out[j] = max(out[j], np.max(np.maximum(hi, -lo)))
-    return out
-
-
-def _over(
-    task: Task, parts: Sequence[Any], box: Box, a: np.ndarray, b: np.ndarray, k: np.ndarray
-) -> np.ndarray:
-    """Upper bounds of max |E_j| over the box and the local intervals [a, b] (pieces
-    ``k``): [effort, interval]."""
-    out = np.full((2, len(a)), np.inf)
-    for i in np.unique(k):
-        sel = np.nonzero(k == i)[0]
+def _bounds(
+    task: Task,
+    parts: Sequence[Any],
+    box: Box,
+    spans: tuple[np.ndarray, np.ndarray, np.ndarray],
+    points: tuple[np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
+    """Upper bounds of max |E_j| over the box and the local intervals [a, b] (``spans``:
+    a, b and their pieces), [effort, interval]; and lower bounds of it at the local
+    times ``points`` (times, pieces), their largest per effort. One evaluation a piece."""
+    a, b, k = spans
+    h, hk = points
+    ups = np.full((2, len(a)), np.inf)
+    lows = np.full(2, -np.inf)
+    for i in np.unique(np.concatenate([k, hk])):
+        sel, at = np.nonzero(k == i)[0], h[hk == i]
         pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
-        kin = parts[int(i)].motion.end_point(Ball.hull(a[sel] - pad, b[sel] + pad))
-        for j, (lo, hi) in enumerate(bands_at(task, kin, box)):
-            out[j, sel] = np.maximum(hi, -lo)
-    return out
+        lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
+        kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
+        lower = np.arange(len(lo)) < len(at)
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+            v = np.maximum(h_, -l_)
+            ups[j, sel] = v[len(at) :]
+            lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
+    return ups, lows
