@@ -68,11 +68,12 @@ def effort_bands(
 
 
 def bands_at(
-    task: Task, kin: Sequence[Ball], box: Box, lower: bool = False
+    task: Task, kin: Sequence[Ball], box: Box, lower: bool | np.ndarray = False
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:
     the upper bound of max s E_j for s = +1, and minus it for s = -1. With ``lower``,
-    the same from lower bounds of the maxima (a band inside the true one)."""
+    the same from lower bounds of the maxima (a band inside the true one); an array:
+    per ball of ``kin``."""
     Y = _regressor(task, kin)
     corners = [(Ball.of_rational(ex), Ball.of_rational(ey)) for ex, ey in box.corners()]
     links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
@@ -87,7 +88,7 @@ def bands_at(
                     for a, b, c in zip(Y[0][j], Y[1][j], Y[2][j], strict=True)
                 ]
                 best = np.maximum(best, _form_bound(form, links, lower))
-            ends.append(np.where(np.isnan(best), -np.inf if lower else np.inf, best))
+            ends.append(np.where(np.isnan(best), np.where(lower, -np.inf, np.inf), best))
         out.append((-ends[1], ends[0]))
     return out
 
@@ -113,7 +114,7 @@ def _regressor(task: Task, kin: Sequence[Ball]) -> list[list[list[Ball]]]:
 
 
 def _form_bound(
-    form: Sequence[Ball], links: dict[int, list[list[Ball]]], lower: bool
+    form: Sequence[Ball], links: dict[int, list[list[Ball]]], lower: bool | np.ndarray
 ) -> np.ndarray:
     """An upper bound (``lower``: a lower bound) of max over the box of Σ_k form_k π_k
     (``BASIS`` order)."""
@@ -121,28 +122,30 @@ def _form_bound(
     for link, km, kmr, kj in LINKS:
         A = form[km] if km is not None else form[kmr] * 0.0
         total = total + Ball.exact(_link_bound(A, form[kmr], form[kj], links[link], lower))
-    return total.lower() if lower else total.upper()
+    return np.where(lower, total.lower(), total.upper())
 
 
-def _link_bound(A: Ball, B: Ball, C: Ball, box: list[list[Ball]], lower: bool) -> np.ndarray:
+def _link_bound(
+    A: Ball, B: Ball, C: Ball, box: list[list[Ball]], lower: bool | np.ndarray
+) -> np.ndarray:
     """An upper bound of max over the link's (m, r, I) of A m + B m r + C (m r² + I); with
-    ``lower``, a lower bound of it (only the candidates the balls decide)."""
+    ``lower`` (per element where an array), a lower bound of it (only the candidates the
+    balls decide)."""
     (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
 
     def end(b: Ball) -> np.ndarray:
-        return b.lower() if lower else b.upper()
+        return np.where(lower, b.lower(), b.upper())
 
     G = np.maximum(end(A + B * rlo + C * rlo * rlo), end(A + B * rhi + C * rhi * rhi))
     concave = C.upper() < 0
     vertex = -B / (C * 2.0)
-    if lower:  # the vertex only where it surely lies inside
-        inside = concave & (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
-    else:
-        inside = concave & (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
+    surely = (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
+    maybe = (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
+    inside = concave & np.where(lower, surely, maybe)  # lower: only where surely inside
     G = np.where(inside, np.maximum(G, end(A - B * B / (C * 4.0))), G)
-    if not lower:
+    if not np.all(lower):
         r = Ball.hull(rlo.lower(), rhi.upper())
-        undecided = ~concave & (C.lower() < 0)  # the sign of C unknown: r's whole interval
+        undecided = ~concave & (C.lower() < 0) & ~np.asarray(lower)  # C's sign unknown
         G = np.where(undecided, np.maximum(G, (A + B * r + C * r * r).upper()), G)
     g = Ball.exact(G)
     m_part = np.maximum(end(g * mlo), end(g * mhi))  # m > 0: linear in m

@@ -4,31 +4,42 @@ parameter in the box, every tracking error within the bound, and every time t of
 motion outside the proven saturation windows (``Robust.span``; within them some |E_i|
 may exceed the limit, and near a possible pole it is unbounded).
 
-Branch and bound on time intervals, every interval at once (``balls.Ball`` arrays): an
-interval's upper bound is ``worst``'s closed form evaluated over it (the end point's balls
-over the interval), a lower bound of the peak is the closed form's lower bound at
-interval midpoints; intervals whose upper bound cannot beat the best lower bound are
-dropped, the others halved, until the two meet within ``REL`` or ``ROUNDS`` rounds.
+Branch and bound on time intervals in each piece's local time, every interval at once
+(``balls.Ball`` arrays): an interval's upper bound is ``worst``'s closed form evaluated
+over it (the end point's balls over the interval); a lower bound of the peak is the
+closed form's lower bound at the intervals' ends (the windows' edges among them, where
+the peak sits when the window is the limit's). Intervals whose upper bound cannot beat
+the best lower bound are dropped (their bound kept for the final upper), the others cut
+in ``fan`` (few live intervals: many cuts each, as ``bounds.search`` does, so a round
+costs about one evaluation whatever its width), until the two meet within ``REL`` (the
+nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or ``CAP`` live intervals (an
+uncertified bracket, still proven).
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Sequence
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
 from ...model.numbers import to_float
 from ...model.task import Task
+from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, quiet
 from .windows import Box, Robust
 from .worst import bands_at
 
-REL = 1e-6  # the peak's bounds meet within this relative width
-ROUNDS = 48  # halvings at most
-START = 256  # intervals per piece at the start
-CAP = 1 << 15  # intervals kept at most per round
+REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal peak's) ...
+ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
+ROUNDS = 48  # refining rounds at most
+START = 64  # intervals per piece at the start
+BUDGET = 1024  # intervals per refining round, about (live intervals times their fan)
+MAX_FAN = 512  # a live interval is cut into at most this many
+CAP = 1 << 15  # live intervals kept at most
 
 
 def worst_peak(
@@ -43,25 +54,26 @@ def worst_peak(
     box = Box.of(task.robot, u)
     spans = [r.span for r in robust if r.span is not None]
     a, b, k = _domain(parts, spans)
+    pts, at = np.concatenate([a, b]), np.concatenate([k, k])  # lower bounds at the ends
     best = np.full(2, -np.inf)
+    dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
     top = np.full(2, np.inf)
     with quiet():
         for _ in range(ROUNDS):
             if not len(a):
-                top = best.copy()
                 break
-            mid = 0.5 * a + 0.5 * b
-            best = np.maximum(best, [lo.max() for lo in _at(task, parts, box, mid, k, True)])
-            ups = _over(task, parts, box, a, b, k)
-            top = np.array([up.max() for up in ups])
-            if np.all(top <= best * (1 + REL) + 1e-12):
+            ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at))
+            best = np.maximum(best, lows)
+            top = np.maximum(ups.max(axis=1), dropped)
+            goal = best * (1 + REL) + ABS
+            if np.all(top <= goal):
                 break
-            live = (ups[0] > best[0] * (1 + REL)) | (ups[1] > best[1] * (1 + REL))
+            live = np.any(ups > goal[:, None], axis=0)
+            dropped = np.maximum(dropped, ups[:, ~live].max(axis=1, initial=-np.inf))
             a, b, k = a[live], b[live], k[live]
             if len(a) > CAP:
                 break
-            m = 0.5 * a + 0.5 * b
-            a, b, k = np.concatenate([a, m]), np.concatenate([m, b]), np.concatenate([k, k])
+            a, b, k, pts, at = _split(a, b, k)
     return (float(best[0]), float(max(top[0], best[0]))), (
         float(best[1]),
         float(max(top[1], best[1])),
@@ -71,11 +83,14 @@ def worst_peak(
 def _domain(
     parts: Sequence[Any], spans: Sequence[tuple[float, float]]
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The starting intervals [a, b] (absolute [s]) and their pieces: each piece cut in
-    ``START``, less the spans."""
-    edges: list[tuple[float, float, int]] = []
+    """The starting intervals [a, b] and their pieces: each piece cut in ``START``, less
+    the spans; in the piece's local time (t - origin), each end rounded into its
+    interval."""
+    a: list[np.ndarray] = []
+    b: list[np.ndarray] = []
+    k: list[np.ndarray] = []
     for i, p in enumerate(parts):
-        lo, hi = to_float(p.start), to_float(p.end)
+        lo, hi, o = to_float(p.start), to_float(p.end), to_float(p.origin)
         cuts = [lo, hi]
         for s0, s1 in spans:
             cuts += [c for c in (s0, s1) if lo < c < hi]
@@ -84,39 +99,62 @@ def _domain(
             if any(s0 <= c0 and c1 <= s1 for s0, s1 in spans) or c1 <= c0:
                 continue  # inside a window
             n = max(1, int(START * (c1 - c0) / max(hi - lo, 1e-300)))
-            grid = np.linspace(c0, c1, n + 1)
-            edges += [(x, y, i) for x, y in itertools.pairwise(grid)]
-    a = np.array([e[0] for e in edges])
-    b = np.array([e[1] for e in edges])
-    return a, b, np.array([e[2] for e in edges], dtype=int)
+            h0, h1 = _local(c0, o, up=True), _local(c1, o, up=False)
+            if h1 < h0:
+                continue
+            grid = np.clip(np.linspace(h0, h1, n + 1), h0, h1)
+            a.append(grid[:-1])
+            b.append(grid[1:])
+            k.append(np.full(n, i))
+    if not a:
+        return np.zeros(0), np.zeros(0), np.zeros(0, dtype=int)
+    return np.concatenate(a), np.concatenate(b), np.concatenate(k)
 
 
-def _at(
-    task: Task, parts: Sequence[Any], box: Box, t: np.ndarray, k: np.ndarray, lower: bool
-) -> list[np.ndarray]:
-    """max |E_j| over the box at the times ``t`` (pieces ``k``): lower bounds."""
-    out = [np.full(len(t), -np.inf), np.full(len(t), -np.inf)]
-    for i in np.unique(k):
-        sel = np.nonzero(k == i)[0]
-        p = parts[int(i)]
-        kin = p.motion.end_point(t[sel] - to_float(p.origin))
-        for j, (lo, hi) in enumerate(bands_at(task, kin, box, lower)):
-            out[j][sel] = np.maximum(hi, -lo)
-    return out
+def _local(t: float, o: float, up: bool) -> float:
+    """A double h with o + h >= t (``up``) or <= t, exactly, next to t - o (``o``: the
+    piece's origin, a double)."""
+    h = t - o
+    while (Fraction(o) + Fraction(h) < t) if up else (Fraction(o) + Fraction(h) > t):
+        h = math.nextafter(h, math.inf if up else -math.inf)
+    return h
 
 
-def _over(
-    task: Task, parts: Sequence[Any], box: Box, a: np.ndarray, b: np.ndarray, k: np.ndarray
-) -> list[np.ndarray]:
-    """Upper bounds of max |E_j| over the box and the intervals [a, b] (pieces ``k``)."""
-    out = [np.full(len(a), np.inf), np.full(len(a), np.inf)]
-    for i in np.unique(k):
-        sel = np.nonzero(k == i)[0]
-        p = parts[int(i)]
-        o = to_float(p.origin)
-        pad = 4 * np.spacing(np.maximum(np.abs(b[sel]), abs(o)) + 1.0)  # o and a - o rounded
-        lo, hi = a[sel] - o - pad, b[sel] - o + pad
-        kin = p.motion.end_point(Ball.hull(lo, hi))
-        for j, (l_, h_) in enumerate(bands_at(task, kin, box)):
-            out[j][sel] = np.maximum(h_, -l_)
-    return out
+def _split(
+    a: np.ndarray, b: np.ndarray, k: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each interval [a, b] cut in ``fan`` (more when few are live): the new intervals,
+    their pieces, and the new cut points with their pieces."""
+    fan = int(min(MAX_FAN, max(2, BUDGET // max(len(a), 1))))
+    g = a[:, None] + (b - a)[:, None] * (np.arange(fan + 1) / fan)
+    g[:, 0], g[:, -1] = a, b
+    g = np.maximum.accumulate(np.clip(g, a[:, None], b[:, None]), axis=1)
+    kk = np.repeat(k, fan)
+    return g[:, :-1].ravel(), g[:, 1:].ravel(), kk, g[:, 1:-1].ravel(), np.repeat(k, fan - 1)
+
+
+def _bounds(
+    task: Task,
+    parts: Sequence[Any],
+    box: Box,
+    spans: tuple[np.ndarray, np.ndarray, np.ndarray],
+    points: tuple[np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
+    """Upper bounds of max |E_j| over the box and the local intervals [a, b] (``spans``:
+    a, b and their pieces), [effort, interval]; and lower bounds of it at the local
+    times ``points`` (times, pieces), their largest per effort. One evaluation a piece."""
+    a, b, k = spans
+    h, hk = points
+    ups = np.full((2, len(a)), np.inf)
+    lows = np.full(2, -np.inf)
+    for i in np.unique(np.concatenate([k, hk])):
+        sel, at = np.nonzero(k == i)[0], h[hk == i]
+        pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
+        lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
+        kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
+        lower = np.arange(len(lo)) < len(at)
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+            v = np.maximum(h_, -l_)
+            ups[j, sel] = v[len(at) :]
+            lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
+    return ups, lows
