@@ -21,14 +21,15 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
+from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS, PERCENT
 from .errors import InputError
 
 if TYPE_CHECKING:
     from ..model.task import Task
 
-QUANTITIES = ("mass", "inertia", "r")  # as ``io.schema.LINK_QUANTITIES``
-LINKS = (2, 3, 4, 5)
-_PERCENT = re.compile(r"^\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*%\s*$")
+QUANTITIES = LINK_QUANTITIES
+LINKS = MOVING_LINKS
+_PERCENT = re.compile(PERCENT)
 _EXPECTED = 'a percentage such as "5%" (0% <= value < 100%)'
 
 

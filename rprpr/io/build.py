@@ -12,12 +12,13 @@ from typing import TYPE_CHECKING, Any
 
 from flint import fmpq, fmpq_poly
 
+from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS
 from ..model.rules import rule_id
 from ..model.task import Checks, Link, Piece, Robot, Task, Uncertainty
 from ..model.timing import timing_law, trapezoidal
 from ..model.waypoints import Waypoint
 from ..model.waypoints import pieces as waypoint_pieces
-from .schema import LINK_QUANTITIES, TASK, TRAPEZOIDAL
+from .schema import TASK, TRAPEZOIDAL
 
 if TYPE_CHECKING:
     from .walk import Walk
@@ -63,7 +64,7 @@ def _uncertainty(w: Walk) -> Uncertainty:
     zero = fmpq(0)
     links: dict[int, tuple[fmpq, fmpq, fmpq]] = {}
     every = v.get("uncertainty.links", zero)
-    for i in (2, 3, 4, 5):
+    for i in MOVING_LINKS:
         if every == "per link":
             m, j, r = (v.get(f"uncertainty.links.{i}.{n}", zero) for n in LINK_QUANTITIES)
             links[i] = (m, j, r)

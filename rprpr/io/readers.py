@@ -16,6 +16,7 @@ from typing import Any
 import yaml
 from flint import fmpq, fmpq_poly
 
+from ..model.defaults import PERCENT
 from ..model.errors import ExpressionError, TaskFileError
 from ..model.numbers import rational as _q
 from ..model.waypoints import Waypoint
@@ -284,7 +285,7 @@ def enum(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
     return v
 
 
-_PERCENT = re.compile(r"^\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*%\s*$")
+_PERCENT = re.compile(PERCENT)
 
 
 def percent(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:

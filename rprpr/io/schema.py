@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..model.actuation import ACTUATIONS, REVOLUTE
-from ..model.defaults import SCHEMA_URL
+from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS, PERCENT, SCHEMA_URL
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
@@ -147,13 +147,11 @@ _WAYPOINT = Spec(
 )
 WAYPOINT_COLUMNS = ("t", "x", "y", "vx", "vy", "ax", "ay")  # a waypoint CSV's header
 
-_PERCENT_PATTERN = r"^\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*%\s*$"
 _FRACTION_SCHEMA = {"type": "string", "pattern": FRACTION_PATTERN}
 _COORDINATE = {"oneOf": [{"type": "number"}, _FRACTION_SCHEMA]}
 # a waypoint CSV: a relative path without "..", ending in .csv
 CSV_PATTERN = r"^(?!/)(?!.*(^|/)\.\.(/|$))[^\\\x00-\x1f]*\.[cC][sS][vV]$"
 
-LINK_QUANTITIES = ("mass", "inertia", "r")  # uncertainty.links.<i>: in Uncertainty's order
 RELATIVE_LINKS = Spec(
     "mapping",
     "Per link 2..5: the relative half-width of each quantity (a quantity not named: 0%).",
@@ -163,7 +161,7 @@ RELATIVE_LINKS = Spec(
             f"Link {i}'s relative half-widths.",
             children={q: Spec("percent", f"{q} of link {i}") for q in LINK_QUANTITIES},
         )
-        for i in (2, 3, 4, 5)
+        for i in MOVING_LINKS
     },
 )
 UNCERTAINTY = Spec(
@@ -426,9 +424,9 @@ def _json(s: Spec) -> dict[str, Any]:
     elif s.kind == "point":
         out["oneOf"] = _POINT_FORMS
     elif s.kind == "percent":
-        out.update(type="string", pattern=_PERCENT_PATTERN)
+        out.update(type="string", pattern=PERCENT)
     elif s.kind == "relative":
-        out["oneOf"] = [{"type": "string", "pattern": _PERCENT_PATTERN}, _json(RELATIVE_LINKS)]
+        out["oneOf"] = [{"type": "string", "pattern": PERCENT}, _json(RELATIVE_LINKS)]
     elif s.kind == "pair":
         item: dict[str, Any] = {"type": "number"}
         if s.minimum is not None:

@@ -1,23 +1,8 @@
 """Repair of a failing motion: the smallest local, exact change that makes it pass (pure).
 
-At a first-order crossing (ẏ(t_s) != 0) eq. (34) (``consistency``) is the only condition
-for bounded torques (one condition for order 1). So a failing instant is repaired by local
-bumps of half-width w about t_s, u = (t - t_s)/w, W = (1 - u²)³ on |u| <= 1 (zero
-outside; W and its first two derivatives vanish at u = ±1, so the motion stays C2 and its
-torques continuous):
-
-* timing, Δx = (t - t_s)(b1 + a (t - t_s)) W: keeps x(t_s), changes ẋ(t_s) by b1 (a zero
-  speed made nonzero) and ẍ(t_s) by 2a (to the consistent value);
-* path, Δy = b (t - t_s) W: keeps the crossing point, changes ẏ(t_s) by b (a zero slope
-  made b/ẋ); a touch (even order) is lifted clear of AB instead, Δy = h W.
-
-A knot where the velocity or the acceleration jumps (RPR203, RPR204: impulsive or
-jumping torques) is smoothed by blending the two pieces over [t_k - w, t_k + w]:
-x_B = x_L + (x_R - x_L) S(σ), σ = (t - t_k + w)/(2w), S = 10σ³ - 15σ⁴ + 6σ⁵ (the
-quintic smoothstep: S and its first two derivatives are 0 at σ = 0 and match 1, 0, 0 at
-σ = 1), so x_B continues x_L and x_R with two derivatives at the window's ends; y alike
-(or y = p(x_B) when the task gives its path). At a C1 knot x_R - x_L = O((t - t_k)²),
-so the change is of order Δẍ w².
+A failing instant is repaired by local bumps about t_s (a first-order crossing: eq. (34),
+``consistency``, is its only condition) and a knot where the velocity or the acceleration
+jumps by a quintic blend of its two pieces; ``bumps`` states both, with their formulas.
 
 Every bump is a polynomial with rational coefficients in rational windows, so the
 repaired motion is exact and its audit is exact; every candidate is audited (strict)

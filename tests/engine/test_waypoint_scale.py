@@ -20,20 +20,10 @@ from rprpr.engine.audit import audit
 from rprpr.engine.exact import knots as K
 from rprpr.io.loader import load_task
 from rprpr.model.waypoints import Waypoint, pieces
+from tests.conftest import LINKS_ALIKE
 
 q = fmpq
-ROBOT = """\
-name: planned
-robot:
-  a1: 6
-  links:
-    2: {mass: 2.0, inertia: 0.10, r: 0.5}
-    3: {mass: 1.0, inertia: 0.05, r: 0.5}
-    4: {mass: 2.0, inertia: 0.10, r: 0.5}
-    5: {mass: 1.0, inertia: 0.05, r: 0.5}
-motion:
-  waypoints: planned.csv
-"""
+ROBOT = f"name: planned\nrobot:\n  a1: 6\n{LINKS_ALIKE}motion:\n  waypoints: planned.csv\n"
 
 
 def _points(rng: random.Random, n: int, fields: int, digits: int = 17) -> list[Waypoint]:

@@ -11,19 +11,13 @@ from flint import fmpq
 
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
-from tests.conftest import run_cli
+from tests.conftest import LINKS_ALIKE, run_cli
 
-BASE = """\
-robot:
-  a1: 6
-  links:
-    2: {mass: 2.0, inertia: 0.10, r: 0.5}
-    3: {mass: 1.0, inertia: 0.05, r: 0.5}
-    4: {mass: 2.0, inertia: 0.10, r: 0.5}
-    5: {mass: 1.0, inertia: 0.05, r: 0.5}
-path: {y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2, from: [2, -1], to: [4, 1]}
-timing: {duration: 5, law: quintic}
-"""
+BASE = (
+    f"robot:\n  a1: 6\n{LINKS_ALIKE}"
+    "path: {y: 0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2, from: [2, -1], to: [4, 1]}\n"
+    "timing: {duration: 5, law: quintic}\n"
+)
 LIMIT = "checks: {torque_limit: [300, 300]}\n"
 
 
