@@ -347,7 +347,7 @@ def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
 # machinery on demand: above): repair, the plots and the HTML sheet, the schema validator
 NOT_FOR_CHECK = (
     "jsonschema", "matplotlib", "scipy", "sympy", "mpmath", "rprpr.repair", "rprpr.cli.repair",
-    "rprpr.engine.certified", "rprpr.render.html", "rprpr.render.sheet",
+    "rprpr.engine.certified", "rprpr.engine.robust", "rprpr.render.html", "rprpr.render.sheet",
     *(f"rprpr.engine.bounds.{m}" for m in ("approach", "batch", "boxes", "envelope", "ladders",
                                            "limits", "near", "search")),
     "rprpr.render.json", "rprpr.cli.plot", "rprpr.cli.export",

@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from decimal import Decimal
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from flint import fmpq
 
@@ -24,7 +25,9 @@ from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact.knots import Knot
 from .exact.mechanism import of
 from .exact.singular import KinematicSingularity, SingularAnalysis, SingularInstant
-from .robust.windows import Robust
+
+if TYPE_CHECKING:  # the robust machinery loads only for a task that declares uncertainty
+    from .robust.windows import Robust
 
 At = Callable[[float], str]  # an instant's time -> "t = ... s"
 

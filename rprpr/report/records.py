@@ -8,19 +8,21 @@ from __future__ import annotations
 
 import math
 import traceback
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..engine.audit import AuditResult, Saturation
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
 from ..engine.exact.knots import Knot
 from ..engine.exact.singular import SingularInstant
-from ..engine.robust.windows import Robust
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
 from ..model.names import file_name
 from ..model.numbers import labels, number, to_float
 from ..model.rules import RULES
 from ..model.task import Task
+
+if TYPE_CHECKING:  # the robust machinery loads only for a task that declares uncertainty
+    from ..engine.robust.windows import Robust
 
 INVALID_TASK = "RPR001"  # the rule of every input error
 
