@@ -34,6 +34,8 @@ IMPLIED = {".csv": "csv", ".json": "json"}  # the format an output file's extens
 def export(task: str, output_file: str | None, fmt: str | None, samples: int) -> ExitCode:
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
+    if output_file == "-":  # "-": standard output, as for check
+        output_file = None
     fmt = _format(output_file, fmt)
     refuse_overwriting_inputs([output_file], [task])  # before any work
     loaded = load(task)

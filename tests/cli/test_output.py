@@ -253,6 +253,18 @@ def test_export_onto_its_own_task_is_refused(
     assert task.read_bytes() == before
 
 
+def test_export_o_dash_is_standard_output_and_writes_no_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    task = _task(tmp_path, "plan.json")
+    code, out, _ = run_cli("export", "plan.json", "--samples", "3", "--format", "csv", "-o", "-")
+    assert code == 0 and listing(tmp_path) == ["plan.json"]  # no file named "-"
+    code, same, _ = run_cli("export", "plan.json", "--samples", "3", "--format", "csv")
+    assert out == same and len(out.splitlines()) == 2 + 3  # the comment, the columns, 3 rows
+    assert task.exists()
+
+
 def test_plot_whose_default_sheet_is_its_own_task_is_refused(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
