@@ -249,7 +249,8 @@ def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list
         return []
     from .robust.windows import robust
 
-    return robust(task, parts, analysis.instants)
+    sources = analysis._sources or tuple(((0, s),) for s in analysis.instants)
+    return robust(task, parts, analysis.instants, sources)
 
 
 def _uncertain(task: Task, o: AuditOptions) -> Task:
@@ -273,30 +274,34 @@ def _joined(task: Task, parts: list[P.Part]) -> SingularAnalysis:
         return parts[0].analysis
     sides: dict[Fraction, dict[str, SingularInstant]] = {}
     hints: dict[Fraction, object] = {}
-    plain: list[tuple[SingularInstant, object]] = []
+    origins: dict[Fraction, list[tuple[int, SingularInstant]]] = {}
+    plain: list[tuple[SingularInstant, object, tuple[tuple[int, SingularInstant], ...]]] = []
     kinematic: dict[tuple[float, int], tuple[KinematicSingularity, int]] = {}
-    for p in parts:
+    for j, p in enumerate(parts):
         a = p.analysis
-        for s, h in zip(a.instants, a._hints, strict=True):
-            s = P.absolute(p, s)
+        for local, h in zip(a.instants, a._hints, strict=True):
+            s = P.absolute(p, local)
             e = s.t_exact
             if e is not None and e in (_fraction(p.start), _fraction(p.end)):
                 sides.setdefault(e, {})["after" if e == _fraction(p.start) else "before"] = s
                 hints.setdefault(e, h)
+                origins.setdefault(e, []).append((j, local))
             else:
-                plain.append((s, h))
+                plain.append((s, h, ((j, local),)))
         for k, g in zip(a.kinematic, a._kinematic_signs, strict=True):
             k = P.absolute_kinematic(p, k)
             kinematic.setdefault((k.t, k.leg), (k, g))
     for e, pair in sides.items():
-        plain.append((P.at_knot(pair.get("before"), pair.get("after")), hints[e]))
+        knot = P.at_knot(pair.get("before"), pair.get("after"))
+        plain.append((knot, hints[e], tuple(origins[e])))
     plain.sort(key=lambda sh: sh[0].t)
     kin = sorted(kinematic.values(), key=lambda kg: kg[0].t)
     return SingularAnalysis(
-        [s for s, _ in plain], [k for k, _ in kin],
+        [s for s, _, _ in plain], [k for k, _ in kin],
         all(p.analysis.on_singular_line for p in parts),
-        tuple(h for _, h in plain),  # type: ignore[misc]
+        tuple(h for _, h, _ in plain),  # type: ignore[misc]
         tuple(g for _, g in kin),
+        tuple(o for _, _, o in plain),
     )  # fmt: skip
 
 

@@ -677,6 +677,19 @@ def test_findings_are_tied_to_their_instant_not_to_its_rounded_time() -> None:
     assert r.findings_at(bounded) == [] and r.status_of(bounded) == "ok"  # by time: "fail"
 
 
+def test_the_robust_records_are_tied_to_their_instant_not_to_its_rounded_time() -> None:
+    # the two instants above, one double apart, with a box of radius zero: each robust
+    # record is made from its own instant's local analysis (the joined analysis names its
+    # sources by index), so its residual is that instant's exact residual
+    text = task_text("(x-3)*(x-3.00000000000000000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
+    text += "checks:\n  torque_limit: [300, 300]\nuncertainty:\n  links: 0%\n"
+    r = audit(parse_task(text))
+    for s, rob in zip(r.singularities, r.robust, strict=True):
+        assert rob.residual == (s.consistency_residual, s.consistency_residual)
+    residuals = sorted(abs(s.consistency_residual) for s in r.singularities)
+    assert residuals[0] == 0 and residuals[1] > 0
+
+
 def test_the_saturation_record_is_the_unbounded_instants_alone() -> None:
     # the two instants above, one double apart, under a torque limit: only the pole has
     # windows above the limit; the bounded instant beside it has none

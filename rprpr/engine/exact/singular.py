@@ -170,6 +170,11 @@ class SingularAnalysis:
     on_singular_line: bool  # y(t) is identically zero: the whole motion is singular
     _hints: tuple[_SamplerHints, ...] = field(repr=False, compare=False)
     _kinematic_signs: tuple[int, ...] = field(repr=False, compare=False)
+    # a motion of several pieces: for each instant, the pieces' own (index, local instant)
+    # it was joined from (two at a knot); empty for one piece: the instants are its own
+    _sources: tuple[tuple[tuple[int, SingularInstant], ...], ...] = field(
+        default=(), repr=False, compare=False
+    )
 
     def hints(self, s: SingularInstant) -> _SamplerHints:
         """The engine's private record of the instant ``s`` (one of ``instants``)."""

@@ -42,7 +42,6 @@ from ...model.task import Robot, Task, Uncertainty
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 from ..exact.series import taylor
-from ..pieces import absolute
 from .regressor import (
     BASIS,
     LINKS,
@@ -478,28 +477,32 @@ def _sum_up(a: float, b: float) -> float:
     )
 
 
-def robust(task: Task, parts: Sequence[Any], instants: Sequence[Any]) -> list[Robust]:
+def robust(
+    task: Task,
+    parts: Sequence[Any],
+    instants: Sequence[Any],
+    sources: Sequence[Sequence[tuple[int, Any]]],
+) -> list[Robust]:
     """The robust analysis of each singular instant of the audited ``task``
     (``instants``: the joined analysis, absolute times; ``parts``: the pieces with
-    their local analyses)."""
+    their local analyses; ``sources[i]``: the (piece index, local instant) pairs
+    ``instants[i]`` was joined from, two at a knot)."""
     u = task.uncertainty
     assert u is not None
     box = Box.of(task.robot, u)
     limit = task.checks.torque_limit
     limits = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
     out = []
-    for s in instants:
+    for s, origin in zip(instants, sources, strict=True):
         ab_sides = []
-        for p in parts:
-            for loc in p.analysis.instants:
-                if absolute(p, loc).t != s.t:
-                    continue
-                field = p.analysis.hints(loc).field
-                ab = about(p.traj, task.robot, loc.t_rational, field, s.t)
-                which = 0
-                if s.knot and len(task.motion) > 1:
-                    which = 1 if ab.h_min == 0 else (-1 if ab.h_max == 0 else 0)
-                ab_sides.append((ab, which))
+        for j, loc in origin:
+            p = parts[j]
+            field = p.analysis.hints(loc).field
+            ab = about(p.traj, task.robot, loc.t_rational, field, s.t)
+            which = 0
+            if s.knot and len(task.motion) > 1:
+                which = 1 if ab.h_min == 0 else (-1 if ab.h_max == 0 else 0)
+            ab_sides.append((ab, which))
         if not ab_sides:
             out.append(Robust((s.consistency_residual, s.consistency_residual), 0.0))
             continue
