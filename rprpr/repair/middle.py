@@ -5,8 +5,9 @@ crossing is aimed where the consistency residual's interval over the box is cent
 The residual at t_s is affine in the acceleration z that the repair sets (ẍ under the
 paper's scheme, ÿ under the prismatic one): R(z) = K(π) z + B(π, e) for parameters π in
 the box and errors e within the bound, with K of one sign over the box (K = ±(m3 + m5)
-at a revolute crossing). Its bounds lo(z), hi(z) over the box are then increasing in z,
-and max |R| = max(hi, -lo) is least where lo(z) + hi(z) = 0: the interval centred on 0.
+at a revolute crossing). Its bounds lo(z), hi(z) over the box then move alike with z
+(both up when K > 0), and max |R| = max(hi, -lo) is least where lo(z) + hi(z) = 0:
+the interval centred on 0.
 The nominal consistent value z0 (``consistency``) centres it when the box is symmetric
 about the nominal residual (an acceleration error alone, or masses alone: m ranges over
 m(1 ± ρ)); the products m r and m r² are not (m r over m r (1 ± ρ)², centred on
@@ -67,7 +68,7 @@ def middle(task: Task, x: fmpq, xd: fmpq, yd: fmpq, z0: fmpq, other: fmpq, axis:
 
 
 def _centre(g: Callable[[float], float], z0: float, g0: float, slope: float) -> float | None:
-    """The root of g (lo + hi, increasing, piecewise linear) by secant steps from z0,
+    """The root of g (lo + hi: monotone, piecewise linear) by secant steps from z0,
     the first step by the nominal slope (g's is about twice it); None when it fails."""
     za, ga = z0, g0
     zb = z0 - g0 / (2 * slope)
