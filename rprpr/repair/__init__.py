@@ -75,7 +75,10 @@ def repair(
     knots whose velocity or acceleration jump fails (``_smooth_knots``); ``snap``: move
     failing instants at irrational times to rational ones (``_snap_instants``). Raises
     ``NoRepair``. The repaired motion's efforts far above the original's are a warning
-    (``Repair.warnings``, ``effort.effort_warning``)."""
+    (``Repair.warnings``, ``effort.effort_warning``). With ``task.uncertainty`` the
+    acceleration set at a crossing is the box's middle (``middle``), a candidate passes
+    as ``passes`` says (the nominal pole left to RPR205), and ``Repair.after.robust``
+    holds the repaired motion's worst case at each instant (``docs/robust.md``)."""
     r = _repair(task, keep, window, slope, clearance, blend, snap)
     if not r.changed:
         return r
