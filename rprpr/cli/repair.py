@@ -124,7 +124,7 @@ def repair(
             say(f"rprpr: {task}: no repair: {why}; nothing written")
             return ExitCode.FAILED
     if not r.changed:
-        line = f"{task}: passes the strict check: nothing to repair, nothing written"
+        line = f"{task}: passes the {_strict(old)} check: nothing to repair, nothing written"
         if show_diff:
             say(f"rprpr: {line}")
         else:
@@ -159,7 +159,7 @@ def _write(r: Repair, task: str, text: str, out: str, plot_file: str | None) -> 
     write_atomic(out, write, "the task")
     for line in summary(r):
         echo(line)
-    echo(f"checked {out} (strict): pass")
+    echo(f"checked {out} ({_strict(r.task)}): pass")
     say(f"rprpr: wrote {out}")
     if plot_file is not None:
         _plot(r, task, out, plot_file)
@@ -212,6 +212,7 @@ def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool)
     from ..io.edit import edit, same_motion
     from ..io.loader import parse_task
     from ..io.writer import task_text
+    from ..repair import passes
 
     comment = f"{r.before.task.name}, repaired by rprpr repair from {file_name(Path(task).name)}"
     folder = os.path.dirname(os.path.abspath(task)) if task != STDIN else os.getcwd()
@@ -233,7 +234,7 @@ def _repaired_text(r: Repair, task: str, data: str, out: str, *, new_file: bool)
             return None
         if not same_motion(back, r.task):
             continue  # an edit that reads back otherwise: the task written whole instead
-        if not audit(back, AuditOptions(strict=True)).passed:  # never write a failing task
+        if not passes(audit(back, AuditOptions(strict=True))):  # never write a failing task
             say(
                 f"rprpr: {task}: the repaired task read back fails the strict check;"
                 " nothing written"
@@ -335,6 +336,12 @@ def robust_lines(r: Repair) -> list[str]:
             f" window {window} (period {float(u.period) * 1e3:.3g} ms)"
         )
     return out
+
+
+def _strict(task: Task) -> str:
+    """The check a repair passes: strict, but with uncertainty RPR201 is RPR205's to
+    decide (``repair.passes``)."""
+    return "strict" if task.uncertainty is None else "strict, RPR201 left to RPR205"
 
 
 def _f(q: fmpq) -> str:

@@ -12,6 +12,7 @@ from ..engine.exact.singular import SingularInstant
 from ..model.actuation import PRISMATIC
 from ..model.task import Piece, Robot, Task
 from .consistency import consistent_acceleration, consistent_ydd, leg_term
+from .middle import middle
 from .records import Change, NoRepair
 from .windows import short, window_about
 
@@ -76,6 +77,8 @@ def plan_at(
         if leg_term(task.robot, x_s) != 0:
             raise NoRepair(f"m3 + m5 = 0: ẍ(t_s) does not enter eq. (34) at {xs}")
         c = acc0
+    elif keep != "timing":  # with uncertainty: the box's middle (ẏ's route stays nominal)
+        c = middle(task, x_s, v, ydot, c, y.derivative().derivative()(t), "x")
     if c != acc0:
         if keep == "timing":
             b = slope_for(task.robot, x_s, acc0, ydot, b, xs)
@@ -134,6 +137,8 @@ def prismatic_plan(task: Task, piece: Piece, t: fmpq, w: fmpq, b: fmpq, v0: fmpq
     Δy = ay (t - t_s)² W adds 2 ay to ÿ (timing kept)."""
     x_s = piece.x(t)
     want = consistent_ydd(task.robot, x_s, v, ydot)
+    if want is not None:  # with uncertainty: the box's middle
+        want = middle(task, x_s, v, ydot, want, acc0, "y")
     path = task.path if task.path is not None and piece.path is not None else None
     if path is not None:
         p1, p2 = path.derivative()(x_s), path.derivative().derivative()(x_s)

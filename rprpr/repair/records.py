@@ -38,7 +38,8 @@ class Repair:
     instant; ``path_deviation`` = (max |Δy| at equal x [m], the x where) or None when the
     path is kept; ``timing_change`` = (max |Δx(t)| [m], the t where) or None; both are
     exact maxima of the polynomial differences (upper bounds within about 1e-15).
-    ``before``/``after``: the strict audits.
+    ``before``/``after``: the strict audits (with uncertainty, ``after.robust`` is the
+    repaired motion's residual over the box and proven window at each instant).
     ``changed`` is False for a task that already passes (then ``task is before.task``).
     """
 

@@ -276,6 +276,14 @@ def residual(ab: _About, box: Box) -> tuple[arb, arb]:
         ctx.prec = old
 
 
+def residual_at(robot: Robot, u: Uncertainty, state: Sequence[fmpq]) -> tuple[arb, arb]:
+    """``residual`` at a Type II state given directly: ``state`` = (x, ẋ, ẍ, ẏ, ÿ) at
+    y = 0, exact (the repair's aim, ``repair.middle``), over the box of ``u``."""
+    x, xd, xdd, yd, ydd = state
+    ab = _About([[x], [xd], [xdd], [fmpq(0)], [yd], [ydd]], 0.0, 0.0, robot, 0.0)
+    return residual(ab, Box.of(robot, u))
+
+
 def _ball_box(box: Box) -> dict[int, Any]:
     return {i: tuple((arb(lo), arb(hi)) for lo, hi in b) for i, b in box.links.items()}
 

@@ -21,6 +21,7 @@ from flint import fmpq, fmpq_poly
 from rprpr import Motion, audit, load_task, with_motion
 from rprpr.model.task import Link, Task, Uncertainty
 from tests import reference as ref
+from tests.engine.robust import box_reference
 
 P2 = "configs/paper_path2.rprpr.yaml"
 PRISMATIC = "configs/prismatic_crossing.rprpr.yaml"
@@ -86,33 +87,7 @@ def _evaluate(task: Task, t: Q, e: tuple[Q, Q]) -> dict[str, Any]:
 def _residual(task: Task, t_s: Q, e: tuple[Q, Q]) -> Any:
     """The consistency residual at t_s from the reference's joint values (eqs. 7-14):
     σ(M22 s1'' + N2) + M44 s2'' + N4 (revolute), U1/s1 + σ U2/s2 (prismatic)."""
-    v = _evaluate(task, t_s, e)
-    L = task.robot.links
-    with mpmath.workdps(DPS):
-        g = ref._mpf(task.robot.gravity)
-        m = {i: ref._mpf(L[i].mass) for i in L}
-        inertia = {i: ref._mpf(L[i].inertia) for i in L}
-        r = {i: ref._mpf(L[i].r) for i in L}
-        s1, s2 = v["s1"], v["s2"]
-        c1, c2 = mpmath.cos(v["theta1"]), mpmath.cos(v["theta2"])
-        sigma = 1 if c1 * c2 > 0 else -1
-        if task.robot.actuation == "prismatic":
-            M11 = m[2] * r[2] ** 2 + inertia[2] + m[3] * (s1 - r[3]) ** 2 + inertia[3]
-            M33 = m[4] * r[4] ** 2 + inertia[4] + m[5] * (s2 - r[5]) ** 2 + inertia[5]
-            N1 = (
-                2 * m[3] * v["s1_dot"] * v["theta1_dot"] * (s1 - r[3])
-                + (m[2] * r[2] + m[3] * (s1 - r[3])) * g * c1
-            )
-            N3 = (
-                2 * m[5] * v["s2_dot"] * v["theta2_dot"] * (s2 - r[5])
-                + (m[4] * r[4] + m[5] * (s2 - r[5])) * g * c2
-            )
-            U1 = M11 * v["theta1_ddot"] + N1
-            U2 = M33 * v["theta2_ddot"] + N3
-            return U1 / s1 + sigma * U2 / s2
-        N2 = -m[3] * (s1 - r[3]) * v["theta1_dot"] ** 2  # sin θ1 = 0 at t_s
-        N4 = -m[5] * (s2 - r[5]) * v["theta2_dot"] ** 2
-        return sigma * (m[3] * v["s1_ddot"] + N2) + m[5] * v["s2_ddot"] + N4
+    return box_reference.residual_of(task, task.robot.links, _evaluate(task, t_s, e))
 
 
 def _worst(task: Task, corners: list[Any], t: Q, j: int) -> Any:
