@@ -88,10 +88,17 @@ class Derived:
         with mpmath.workdps(DPS):
             return self._torques()
 
-    def _torques(self) -> tuple[Any, Any]:
+    def limit(self, k: int) -> tuple[Any, Any]:
+        """The torques' limit at an instant where δ has a zero of order k and ν one of
+        order ≥ k: λ's axial part ν/δ → ν^(k)/δ^(k) (l'Hôpital, as the paper's eqs. 37-38)."""
+        with mpmath.workdps(DPS):
+            return self._torques(self.nu.c[k] / self.delta.c[k])
+
+    def _torques(self, alpha: Any = None) -> tuple[Any, Any]:
         l3 = self.rb.l[2]
         u = ((self.E[0] - self.C[0]) / l3, (self.E[1] - self.C[1]) / l3)
-        alpha = self.nu / self.delta
+        if alpha is None:
+            alpha = self.nu / self.delta
         beta = self.legs[0].h / l3
         lam = (alpha * u[0] - beta * u[1], alpha * u[1] + beta * u[0])
         C, D, a = self.C, self.D, self.rb.a
