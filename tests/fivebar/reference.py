@@ -42,7 +42,8 @@ import mpmath
 DPS = 60  # working digits of mpmath for everything not exact
 
 
-def _mp(v: Any) -> Any:
+def mp(v: Any) -> Any:
+    """v as an mpf (Fractions exactly rounded at the current precision)."""
     if isinstance(v, Fraction):
         return mpmath.mpf(v.numerator) / v.denominator
     return mpmath.mpf(v)
@@ -54,7 +55,7 @@ def _sqrt(v: Any) -> Any:
         p, q = isqrt(v.numerator), isqrt(v.denominator)
         if p * p == v.numerator and q * q == v.denominator:
             return Fraction(p, q)
-    return mpmath.sqrt(_mp(v))
+    return mpmath.sqrt(mp(v))
 
 
 def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
@@ -62,9 +63,9 @@ def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
     if isinstance(a, Fraction | int) and isinstance(b, Fraction | int):
         return a, b
     if isinstance(a, Fraction | int):
-        a = _mp(a)
+        a = mp(a)
     if isinstance(b, Fraction | int):
-        b = _mp(b)
+        b = mp(b)
     return a, b
 
 
@@ -144,8 +145,9 @@ class Jet:
         return Jet([k * self.c[k] for k in range(1, len(self.c))])
 
     def d(self, k: int) -> Any:
-        """The k-th time derivative at t0."""
-        return factorial(k) * self.c[k]
+        """The k-th time derivative at t0 (exact, or at ``DPS`` digits)."""
+        with mpmath.workdps(DPS):
+            return factorial(k) * self.c[k]
 
 
 def _add(p: Any, q: Any) -> Any:
@@ -203,7 +205,7 @@ def _binom(j: int, k: int) -> int:
 
 
 def _pow(t: Any, k: int) -> Any:
-    return t**k if isinstance(t, Fraction) else _mp(t) ** k
+    return t**k if isinstance(t, Fraction) else mp(t) ** k
 
 
 @dataclass(frozen=True)
@@ -220,22 +222,21 @@ class Motion:
 def elbows(rb: FiveBar, E: tuple[Any, Any], modes: tuple[int, int]) -> tuple[Vec, Vec]:
     """The elbows C and D of the working modes (e1, e2) at the end point E (any numbers or
     jets): C = (K1 E + e1 √D1 E⊥)/|E|², D = B + (K2 W + e2 √D2 W⊥)/|W|², W = E - B."""
+    if not isinstance(E[0], Jet):
+        C, D = elbows(rb, (Jet.lift(E[0], 1), Jet.lift(E[1], 1)), modes)
+        return (C[0].c[0], C[1].c[0]), (D[0].c[0], D[1].c[0])
     l1, l2, l3, l4 = rb.l
     x, y = E
     R1 = x * x + y * y
     K1 = (R1 + l1 * l1 - l3 * l3) * Fraction(1, 2)
-    s1 = _root(l1 * l1 * R1 - K1 * K1)
+    s1 = (l1 * l1 * R1 - K1 * K1).sqrt()
     C = ((K1 * x - modes[0] * s1 * y) / R1, (K1 * y + modes[0] * s1 * x) / R1)
     wx, wy = x - rb.a, y
     R2 = wx * wx + wy * wy
     K2 = (R2 + l2 * l2 - l4 * l4) * Fraction(1, 2)
-    s2 = _root(l2 * l2 * R2 - K2 * K2)
+    s2 = (l2 * l2 * R2 - K2 * K2).sqrt()
     D = (rb.a + (K2 * wx - modes[1] * s2 * wy) / R2, (K2 * wy + modes[1] * s2 * wx) / R2)
     return C, D
-
-
-def _root(v: Any) -> Any:
-    return v.sqrt() if isinstance(v, Jet) else _sqrt(v)
 
 
 def delta(C: Vec, D: Vec, E: Vec) -> Any:
@@ -285,7 +286,7 @@ def _links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int)
 
 
 def _val(j: Any) -> Any:
-    return _mp(j.c[0]) if isinstance(j, Jet) else _mp(j)
+    return mp(j.c[0]) if isinstance(j, Jet) else mp(j)
 
 
 def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
@@ -311,7 +312,7 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
             gx, gy = _val(G[0]), _val(G[1])
             ax, ay = G[0].d(2), G[1].d(2)
             alpha = lk.omega[i].d(1)
-            m, I = _mp(rb.m[i]), _mp(rb.I[i])
+            m, I = mp(rb.m[i]), mp(rb.I[i])
             for name, sign, point in forces:
                 P = lk.joints[point]
                 px, py = _val(P[0]) - gx, _val(P[1]) - gy
@@ -322,9 +323,9 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
                 M[3 * i + 2, k + 1] += sign * px
             if torque is not None:
                 M[3 * i + 2, col[torque]] = 1
-            rhs[3 * i] = m * _mp(ax)
-            rhs[3 * i + 1] = m * _mp(ay) + m * _mp(rb.g)
-            rhs[3 * i + 2] = I * _mp(alpha)
+            rhs[3 * i] = m * mp(ax)
+            rhs[3 * i + 1] = m * mp(ay) + m * mp(rb.g)
+            rhs[3 * i + 2] = I * mp(alpha)
         sol = mpmath.lu_solve(M, rhs)
         out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
         out["T1"], out["T2"] = sol[10], sol[11]
@@ -355,3 +356,28 @@ def torques(
     out = newton_euler(rb, links(rb, motion, t, modes, n=3))
     return out["T1"], out["T2"]
 
+
+
+def rational_unit(s: Fraction) -> tuple[Fraction, Fraction]:
+    """The rational point ((1 - s²)/(1 + s²), 2s/(1 + s²)) of the unit circle."""
+    return ((1 - s * s) / (1 + s * s), 2 * s / (1 + s * s))
+
+
+def lined_up(
+    sigma: int, s: tuple[Fraction, Fraction, Fraction], l1: Fraction, l3: Fraction, l4: Fraction
+) -> tuple[Fraction, Fraction, Vec, Vec, Vec, tuple[int, int]]:
+    """A rational Type II pose built from the geometry: C = l1 c, E = C + l3 u,
+    D = E - σ l4 u (so E - D = σ (l4/l3)(E - C)), D = B + l2 v with B on the x-axis, for the
+    rational unit vectors c, u, v of ``s``. Returns (a, l2, C, D, E, (e1, e2))."""
+    c, u, v = (rational_unit(p) for p in s)
+    C = (l1 * c[0], l1 * c[1])
+    E = (C[0] + l3 * u[0], C[1] + l3 * u[1])
+    D = (E[0] - sigma * l4 * u[0], E[1] - sigma * l4 * u[1])
+    if D[1] / v[1] < 0:
+        v = (-v[0], -v[1])
+    l2 = D[1] / v[1]
+    a = D[0] - l2 * v[0]
+    e1 = 1 if cross(E, C) > 0 else -1  # C to the left of AE
+    W = (E[0] - a, E[1])
+    e2 = 1 if cross(W, (D[0] - a, D[1])) > 0 else -1  # D to the left of BE
+    return a, l2, C, D, E, (e1, e2)

@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 from .locus import curve, norm, x, y
-from .reference import FiveBar, Jet, Motion, delta, elbows
+from .reference import FiveBar, Jet, Motion, delta, elbows, lined_up
 from .theory import derive
 
 R1 = x**2 + y**2
@@ -96,35 +96,24 @@ def test_the_rational_singular_pose_of_the_a_14_13_robot() -> None:
         assert delta(C, D, E_14) != 0
 
 
-def _unit(s: Q) -> tuple[Q, Q]:
-    return ((1 - s * s) / (1 + s * s), 2 * s / (1 + s * s))
-
-
 @pytest.mark.parametrize("sigma", [1, -1])
 @pytest.mark.parametrize("s", [(Q(1, 3), Q(2, 7), Q(3, 4)), (Q(-1, 2), Q(5, 3), Q(1, 5))])
 def test_every_lined_up_pose_lies_on_its_curve_and_its_mode_is_the_singular_one(sigma, s) -> None:  # type: ignore[no-untyped-def]
     """Singular poses built from the geometry (C on its circle, the distal links along u,
     E - D = σ l4 u), on robots whose lengths make them rational."""
     l1, l3, l4 = Q(1), Q(3, 2), Q(5, 4)
-    c, u, v = _unit(s[0]), _unit(s[1]), _unit(s[2])
-    C = (l1 * c[0], l1 * c[1])
-    E = (C[0] + l3 * u[0], C[1] + l3 * u[1])
-    D = (E[0] - sigma * l4 * u[0], E[1] - sigma * l4 * u[1])
-    l2 = abs(D[1] / v[1])
-    a = D[0] - l2 * v[0] * (1 if D[1] / v[1] > 0 else -1)
-    B = (a, Q(0))
-    assert (D[0] - B[0]) ** 2 + (D[1] - B[1]) ** 2 == l2 * l2
+    a, l2, C, D, E, modes = lined_up(sigma, s, l1, l3, l4)
+    assert (D[0] - a) ** 2 + D[1] ** 2 == l2 * l2 and l2 > 0
     at = {x: sp.Rational(E[0].numerator, E[0].denominator),
           y: sp.Rational(E[1].numerator, E[1].denominator)}  # fmt: skip
     params = [sp.Rational(p.numerator, p.denominator) for p in (a, l1, l2, l3, l4)]
     assert curve(sigma, *params).subs(at) == 0
     assert curve(-sigma, *params).subs(at) != 0
     rb = FiveBar(a, (l1, l2, l3, l4), (Q(1),) * 4, (Q(1),) * 4, (Q(1, 2),) * 4, Q(0))
-    e1 = 1 if (E[0] * C[1] - E[1] * C[0]) > 0 else -1  # e1 = sign(E × C)
-    W = (E[0] - a, E[1])
-    e2 = 1 if (W[0] * (D[1] - B[1]) - W[1] * (D[0] - B[0])) > 0 else -1
-    assert elbows(rb, E, (e1, e2)) == (C, D)
+    assert elbows(rb, E, modes) == (C, D)
     assert delta(C, D, E) == 0
+    others = [m for m in ((1, 1), (1, -1), (-1, 1), (-1, -1)) if m != modes]
+    assert all(delta(*elbows(rb, E, m), E) != 0 for m in others)
 
 
 def test_transversality_is_the_gradient_of_the_curve_times_the_velocity() -> None:

@@ -76,7 +76,7 @@ class Derived:
     legs: tuple[Leg, Leg]
     delta: Any  # δ = (E - C) × (E - D) = l3 l4 sin(φ2 - φ1)
     cos: Any  # cos(φ2 - φ1) = (E - C)·(E - D)/(l3 l4)
-    nu: Any  # ν = cos(φ2 - φ1) h1 + (l3/l4) h2, the numerator of λ's axial part
+    nu: Any  # ν = l4 cos(φ2 - φ1) h1 + l3 h2, the numerator of λ's axial part
 
     def w(self, sigma: int) -> Any:
         """The reciprocity residual h1/l3 + σ h2/l4 with σ frozen (±1)."""
@@ -128,7 +128,7 @@ def _derive(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int
     u2 = (E[0] - D[0], E[1] - D[1])
     l3, l4 = rb.l[2], rb.l[3]
     cos_ = dot(u1, u2) / (l3 * l4)
-    nu = cos_ * legs[0].h + legs[1].h * (l3 / l4)
+    nu = cos_ * legs[0].h * l4 + legs[1].h * l3
     return Derived(rb, C, D, E, legs, cross(u1, u2), cos_, nu)
 
 
