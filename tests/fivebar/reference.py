@@ -171,9 +171,9 @@ class FiveBar:
     centres of mass r (from each link's inner joint), gravity g (along -y)."""
 
     a: Fraction
-    l: tuple[Fraction, Fraction, Fraction, Fraction]
-    m: tuple[Fraction, Fraction, Fraction, Fraction]
-    I: tuple[Fraction, Fraction, Fraction, Fraction]
+    length: tuple[Fraction, Fraction, Fraction, Fraction]
+    mass: tuple[Fraction, Fraction, Fraction, Fraction]
+    inertia: tuple[Fraction, Fraction, Fraction, Fraction]
     r: tuple[Fraction, Fraction, Fraction, Fraction]
     g: Fraction
 
@@ -225,7 +225,7 @@ def elbows(rb: FiveBar, E: tuple[Any, Any], modes: tuple[int, int]) -> tuple[Vec
     if not isinstance(E[0], Jet):
         C, D = elbows(rb, (Jet.lift(E[0], 1), Jet.lift(E[1], 1)), modes)
         return (C[0].c[0], C[1].c[0]), (D[0].c[0], D[1].c[0])
-    l1, l2, l3, l4 = rb.l
+    l1, l2, l3, l4 = rb.length
     x, y = E
     R1 = x * x + y * y
     K1 = (R1 + l1 * l1 - l3 * l3) * Fraction(1, 2)
@@ -278,8 +278,8 @@ def _links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int)
         p, q = J[inner[i]], J[outer[i]]
         r = (q[0] - p[0], q[1] - p[1])
         rdot = (r[0].dt(), r[1].dt())
-        omega.append(cross(r, rdot) / (rb.l[i] * rb.l[i]))
-        rho = rb.r[i] / rb.l[i]
+        omega.append(cross(r, rdot) / (rb.length[i] * rb.length[i]))
+        rho = rb.r[i] / rb.length[i]
         com.append((p[0] + r[0] * rho, p[1] + r[1] * rho))
         vec.append(r)
     return Links(J, inner, tuple(vec), tuple(omega), tuple(com))  # type: ignore[arg-type]
@@ -312,7 +312,7 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
             gx, gy = _val(G[0]), _val(G[1])
             ax, ay = G[0].d(2), G[1].d(2)
             alpha = lk.omega[i].d(1)
-            m, I = mp(rb.m[i]), mp(rb.I[i])
+            mass, inertia = mp(rb.mass[i]), mp(rb.inertia[i])
             for name, sign, point in forces:
                 P = lk.joints[point]
                 px, py = _val(P[0]) - gx, _val(P[1]) - gy
@@ -323,9 +323,9 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
                 M[3 * i + 2, k + 1] += sign * px
             if torque is not None:
                 M[3 * i + 2, col[torque]] = 1
-            rhs[3 * i] = m * mp(ax)
-            rhs[3 * i + 1] = m * mp(ay) + m * mp(rb.g)
-            rhs[3 * i + 2] = I * mp(alpha)
+            rhs[3 * i] = mass * mp(ax)
+            rhs[3 * i + 1] = mass * mp(ay) + mass * mp(rb.g)
+            rhs[3 * i + 2] = inertia * mp(alpha)
         sol = mpmath.lu_solve(M, rhs)
         out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
         out["T1"], out["T2"] = sol[10], sol[11]
@@ -344,18 +344,15 @@ def _energy(rb: FiveBar, lk: Links) -> Jet:
         G = lk.com[i]
         vx, vy = G[0].dt(), G[1].dt()
         w = lk.omega[i]
-        kin = (vx * vx + vy * vy) * (rb.m[i] / 2) + w * w * (rb.I[i] / 2)
-        total = kin + G[1] * (rb.m[i] * rb.g) + total
+        kin = (vx * vx + vy * vy) * (rb.mass[i] / 2) + w * w * (rb.inertia[i] / 2)
+        total = kin + G[1] * (rb.mass[i] * rb.g) + total
     return total
 
 
-def torques(
-    rb: FiveBar, motion: Motion, t: Any, modes: tuple[int, int]
-) -> tuple[Any, Any]:
+def torques(rb: FiveBar, motion: Motion, t: Any, modes: tuple[int, int]) -> tuple[Any, Any]:
     """(T1, T2) at time t by Newton-Euler."""
     out = newton_euler(rb, links(rb, motion, t, modes, n=3))
     return out["T1"], out["T2"]
-
 
 
 def rational_unit(s: Fraction) -> tuple[Fraction, Fraction]:

@@ -18,7 +18,17 @@ import mpmath
 import pytest
 
 from .reference import (
-    DPS, FiveBar, Jet, Motion, elbows, energy, lined_up, links, mp, newton_euler, torques,
+    DPS,
+    FiveBar,
+    Jet,
+    Motion,
+    elbows,
+    energy,
+    lined_up,
+    links,
+    mp,
+    newton_euler,
+    torques,
 )
 from .theory import Derived, derive, value
 
@@ -99,7 +109,7 @@ def test_derived_torques_and_rates_equal_newton_euler_away_from_singularities(
         assert close(value(lg.wd), lk.omega[i].d(1), 1e-50)
         assert close(value(lg.Wd), lk.omega[i + 2].d(1), 1e-50)
     # the multiplier λ is the pin force of link 4 on link 3 at E (Newton-Euler's F_E)
-    l3 = rb.l[2]
+    l3 = rb.length[2]
     FE = ref["FE"]
     with mpmath.workdps(DPS):
         E, C = [(mp(value(p[0])), mp(value(p[1]))) for p in (dv.E, dv.C)]
@@ -147,7 +157,7 @@ def _scaled(m: Motion, h: Q, power: int) -> tuple[Any, Any]:
 
 
 def test_the_consistent_acceleration_is_rational_and_the_crossing_transversal() -> None:
-    assert AY == Q(-1205665402623859, 82769172571890)
+    assert Q(-1205665402623859, 82769172571890) == AY
     dv = series(CONSISTENT, 5)
     assert dv.delta.c[0] == 0 and dv.delta.c[1] == Q(2249, 1071)
     assert dv.cos.c[0] == -1  # σ = -1: E between the elbows
@@ -176,7 +186,10 @@ def test_inconsistent_crossing_diverges_like_one_over_t_with_the_derived_residue
     C, D, E = [(value(p[0]), value(p[1])) for p in (dv.C, dv.D, dv.E)]  # exact here
     u = (E[0] - C[0], E[1] - C[1])  # l3 = 1
     alpha = dv.nu.c[0] / dv.delta.c[1]
-    residue = (-(C[0] * u[1] - C[1] * u[0]) * alpha, ((D[0] - ROBOT.a) * u[1] - D[1] * u[0]) * alpha)
+    residue = (
+        -(C[0] * u[1] - C[1] * u[0]) * alpha,
+        ((D[0] - ROBOT.a) * u[1] - D[1] * u[0]) * alpha,
+    )
     assert residue[0] != 0 and residue[1] != 0
     for k in (5, 8):
         got = _scaled(INCONSISTENT, Q(side, 10**k), 1)
@@ -260,21 +273,65 @@ def test_a_stop_on_the_curve_is_of_order_two_with_two_conditions(jerk: Q, power:
 
 # -- special robots -------------------------------------------------------------------------
 def test_with_massless_distal_links_every_crossing_is_consistent() -> None:
-    rb = FiveBar(ROBOT.a, ROBOT.l, (Q(3), Q(2), Z, Z), (Q(1, 10), Q(1, 12), Z, Z), ROBOT.r, ROBOT.g)
+    rb = FiveBar(
+        ROBOT.a, ROBOT.length, (Q(3), Q(2), Z, Z), (Q(1, 10), Q(1, 12), Z, Z), ROBOT.r, ROBOT.g
+    )
     m = motion(V, (Q(5), Q(-7)), (Q(1), Q(2)))
     assert w_at(m, 0, rb) == 0
     T = ne(m, Q(1, 10**8), rb)
     assert abs(T[0]) < 100 and abs(T[1]) < 100
 
 
-def test_a_point_mass_at_E_is_consistent_iff_its_acceleration_plus_gravity_runs_along_the_links() -> (
+def test_a_point_mass_at_E_is_consistent_iff_its_acceleration_plus_gravity_is_along_the_links() -> (
     None
 ):
     """Only link 3 has mass, all of it at E (r3 = l3, I3 = 0): h1/l3 = m u1 × (E'' + g ĵ)."""
-    rb = FiveBar(ROBOT.a, ROBOT.l, (Z, Z, Q(2), Z), (Z,) * 4, (Z, Z, Q(1), Z), ROBOT.g)
+    rb = FiveBar(ROBOT.a, ROBOT.length, (Z, Z, Q(2), Z), (Z,) * 4, (Z, Z, Q(1), Z), ROBOT.g)
     A = (Q(1), solve(lambda s: w_at(motion(V, (Q(1), s)), 0, rb)))
     C = (Z, Q(1))
     u = (E0[0] - C[0], E0[1] - C[1])
     assert u[0] * (A[1] + rb.g) - u[1] * A[0] == 0
     T = ne(motion(V, A), Q(1, 10**8), rb)
     assert abs(T[0]) < 100 and abs(T[1]) < 100
+
+
+# -- unequal links, both line-ups: the weights 1/l3, 1/l4 and the sign σ are the right ones ----
+def _unequal(sigma: int, s: tuple[Q, Q, Q]) -> tuple[FiveBar, tuple[int, int], tuple[Q, Q]]:
+    a, l2, _, _, E, modes = lined_up(sigma, s, Q(1), Q(3, 2), Q(5, 4))
+    rb = FiveBar(
+        a, (Q(1), l2, Q(3, 2), Q(5, 4)),
+        (Q(3), Q(2), Q(3, 2), Q(5, 4)), (Q(1, 10), Q(1, 12), Q(1, 6), Q(1, 9)),
+        (Q(1, 2), Q(2, 5), Q(2, 3), Q(1, 2)), Q(981, 100),
+    )  # fmt: skip
+    return rb, modes, E
+
+
+@pytest.mark.parametrize("sigma", [1, -1])
+@pytest.mark.parametrize("s", [(Q(1, 3), Q(2, 7), Q(3, 4)), (Q(-1, 2), Q(5, 3), Q(1, 5))])
+def test_only_the_condition_with_weights_one_over_l_and_sign_sigma_bounds_the_torques(
+    sigma: int, s: tuple[Q, Q, Q]
+) -> None:
+    rb, modes, E = _unequal(sigma, s)
+    v = (Q(1), Q(1, 2))
+
+    def residual(A: tuple[Q, Q], form: Callable[[Any, Any], Any]) -> Q:
+        dv = derive(rb, motion(v, A, E=E), Z, modes, 3)
+        assert dv.delta.c[0] == 0 and dv.delta.c[1] != 0  # a transversal crossing
+        assert dv.cos.c[0] == sigma
+        return form(dv.legs[0].h, dv.legs[1].h).c[0]  # type: ignore[no-any-return]
+
+    l3, l4 = rb.length[2], rb.length[3]
+    forms = {
+        "h1/l3 + σ h2/l4": lambda h1, h2: h1 / l3 + h2 * sigma / l4,
+        "h1/l3 - σ h2/l4": lambda h1, h2: h1 / l3 - h2 * sigma / l4,
+        "h1 + σ h2": lambda h1, h2: h1 + h2 * sigma,
+    }
+    for name, form in forms.items():
+        A = (Q(1), solve(lambda q, f=form: residual((Q(1), q), f)))  # type: ignore[misc]
+        m = motion(v, A, E=E)
+        near, nearer = torques(rb, m, Q(1, 10**7), modes), torques(rb, m, Q(1, 10**9), modes)
+        growth = [abs(nearer[i] / near[i]) for i in (0, 1)]  # ~1 bounded, ~100 like 1/t
+        if name == "h1/l3 + σ h2/l4":
+            assert max(growth) < 1.01, name
+        else:
+            assert min(growth) > 99, name

@@ -38,9 +38,9 @@ class Leg:
 
 def leg(rb: FiveBar, i: int, base: Vec, elbow: Vec, E: Vec, v: Vec, acc: Vec) -> Leg:
     """Leg i (0: links 1 and 3 from A; 1: links 2 and 4 from B)."""
-    lp, ld = rb.l[i], rb.l[i + 2]
-    mp_, md = rb.m[i], rb.m[i + 2]
-    Ip, Id = rb.I[i], rb.I[i + 2]
+    lp, ld = rb.length[i], rb.length[i + 2]
+    mp_, md = rb.mass[i], rb.mass[i + 2]
+    Ip, Id = rb.inertia[i], rb.inertia[i + 2]
     rp, rd = rb.r[i], rb.r[i + 2]
     g = rb.g
     c = (elbow[0] - base[0], elbow[1] - base[1])  # proximal vector
@@ -54,8 +54,10 @@ def leg(rb: FiveBar, i: int, base: Vec, elbow: Vec, E: Vec, v: Vec, acc: Vec) ->
     Wd = -dot(c, b) / k
     cos_ = dot(c, u) / (lp * ld)
     sin_ = cross(c, u) / (lp * ld)
-    h = (Id + md * rd * rd) * Wd + md * lp * rd * (cos_ * wd + sin_ * w * w) + md * g * u[0] * (
-        rd / ld
+    h = (
+        (Id + md * rd * rd) * Wd
+        + md * lp * rd * (cos_ * wd + sin_ * w * w)
+        + md * g * u[0] * (rd / ld)
     )
     R = (
         (Ip + mp_ * rp * rp + md * lp * lp) * wd
@@ -81,7 +83,7 @@ class Derived:
     def w(self, sigma: int) -> Any:
         """The reciprocity residual h1/l3 + σ h2/l4 with σ frozen (±1)."""
         with mpmath.workdps(DPS):
-            return self.legs[0].h / self.rb.l[2] + self.legs[1].h * sigma / self.rb.l[3]
+            return self.legs[0].h / self.rb.length[2] + self.legs[1].h * sigma / self.rb.length[3]
 
     def torques(self) -> tuple[Any, Any]:
         """T1 = R1 - C⊥·λ, T2 = R2 + (D - B)⊥·λ, λ = (ν/δ) u1 + (h1/l3) u1⊥ (δ ≠ 0)."""
@@ -95,7 +97,7 @@ class Derived:
             return self._torques(self.nu.c[k] / self.delta.c[k])
 
     def _torques(self, alpha: Any = None) -> tuple[Any, Any]:
-        l3 = self.rb.l[2]
+        l3 = self.rb.length[2]
         u = ((self.E[0] - self.C[0]) / l3, (self.E[1] - self.C[1]) / l3)
         if alpha is None:
             alpha = self.nu / self.delta
@@ -126,7 +128,7 @@ def _derive(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int
     )
     u1 = (E[0] - C[0], E[1] - C[1])
     u2 = (E[0] - D[0], E[1] - D[1])
-    l3, l4 = rb.l[2], rb.l[3]
+    l3, l4 = rb.length[2], rb.length[3]
     cos_ = dot(u1, u2) / (l3 * l4)
     nu = cos_ * legs[0].h * l4 + legs[1].h * l3
     return Derived(rb, C, D, E, legs, cross(u1, u2), cos_, nu)
