@@ -335,3 +335,19 @@ def test_only_the_condition_with_weights_one_over_l_and_sign_sigma_bounds_the_to
             assert max(growth) < 1.01, name
         else:
             assert min(growth) > 99, name
+
+
+@pytest.mark.parametrize(("m", "k"), [(CONSISTENT, 1), (TANGENT, 2)], ids=["order 1", "order 2"])
+def test_the_axial_force_at_the_instant_is_w_k_over_the_distal_angle_k(m: Motion, k: int) -> None:
+    """λ·u1 → ν^(k)/δ^(k) = w^(k)(t_s)/(φ2 - φ1)^(k)(t_s) (δ = σ l3 l4 sin ψ, ψ → 0)."""
+    dv = series(m, 3 + k + 1)
+    gap = dv.legs[1].W - dv.legs[0].W  # (φ2 - φ1)'
+    assert dv.nu.c[k] / dv.delta.c[k] == dv.w(-1).d(k) / gap.d(k - 1)
+
+
+def test_at_a_stop_the_second_condition_is_the_first_ones_form_on_the_jerk() -> None:
+    """At E' = 0: w' = κ·E''' (κ the coefficient of E'' in w): the jerk (0, 0) satisfies it."""
+    assert STOP_J == 0
+    kappa = [w_at(motion((Z, Z), (Z, Z), J), 1) for J in ((Q(1), Z), (Z, Q(1)))]
+    assert kappa == [w_at(motion((Z, Z), A), 0) - w_at(motion((Z, Z), (Z, Z)), 0)
+                     for A in ((Q(1), Z), (Z, Q(1)))]  # fmt: skip

@@ -136,3 +136,29 @@ def test_transversality_is_the_gradient_of_the_curve_times_the_velocity() -> Non
     tangent = (-g[1], g[0])
     assert ddelta(tangent) == 0
     assert ddelta((Q(1), Q(1, 2))) == Q(2249, 1071)
+
+
+def test_the_equal_link_line_up_curve_has_a_node_where_two_modes_are_singular_at_once() -> None:
+    """E = (a/2, 0) on S₋ of the a = 14/13 unit-link robot: ∇S₋ = 0, and the mirror modes
+    (+1, +1) and (-1, -1) are both singular there, so the multiplicity of S₋(E(t)) counts
+    both arcs and the order of one mode must be read from its own δ."""
+    import mpmath
+
+    a = sp.Rational(14, 13)
+    S = curve(-1, a, 1, 1, 1, 1)
+    at = {x: a / 2, y: 0}
+    assert S.subs(at) == 0 and sp.diff(S, x).subs(at) == 0 and sp.diff(S, y).subs(at) == 0
+    E = (Q(7, 13), Q(0))
+    with mpmath.workdps(60):
+        Em = (mpmath.mpf(7) / 13, mpmath.mpf(0))
+        small = [abs(delta(*elbows(ROBOT_14, E, m), Em)) for m in ((1, 1), (-1, -1))]
+        large = [abs(delta(*elbows(ROBOT_14, E, m), Em)) for m in ((1, -1), (-1, 1))]
+    assert max(small) < 1e-50 and min(large) > 0.1
+    # a transversal path through the node: S₋(E(t)) has a double root, each δ a simple one
+    m = Motion((E[0], Q(1)), (E[1], Q(1)))
+    t = sp.Symbol("t")
+    St = sp.Poly(S.subs({x: a / 2 + t, y: t}), t)
+    assert St.eval(0) == 0 and St.diff(t).eval(0) == 0 and St.diff(t).diff(t).eval(0) != 0
+    for modes in ((1, 1), (-1, -1)):
+        dv = derive(ROBOT_14, m, Q(0), modes, 3)
+        assert abs(dv.delta.c[0]) < 1e-50 and abs(dv.delta.c[1]) > 0.1
