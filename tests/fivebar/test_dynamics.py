@@ -351,3 +351,25 @@ def test_at_a_stop_the_second_condition_is_the_first_ones_form_on_the_jerk() -> 
     kappa = [w_at(motion((Z, Z), (Z, Z), J), 1) for J in ((Q(1), Z), (Z, Q(1)))]
     assert kappa == [w_at(motion((Z, Z), A), 0) - w_at(motion((Z, Z), (Z, Z)), 0)
                      for A in ((Q(1), Z), (Z, Q(1)))]  # fmt: skip
+
+
+def test_the_coefficient_of_the_acceleration_in_the_condition_is_kappa() -> None:
+    """w = κ·E'' + w0 with κ = [-(I3 + m3 r3²) C + (m3 r3/l3)(C·(E - C))(E - C)]/(l3 k1)
+    + σ [-(I4 + m4 r4²)(D - B) + (m4 r4/l4)((D - B)·(E - D))(E - D)]/(l4 k2)."""
+    C, D, E, B = (Z, Q(1)), (Q(126, 65), Q(33, 65)), E0, (ROBOT.a, Z)
+    m, inertia, r, length, sigma = ROBOT.mass, ROBOT.inertia, ROBOT.r, ROBOT.length, -1
+
+    def part(i: int, c: tuple[Q, Q], e: tuple[Q, Q], base: tuple[Q, Q]) -> tuple[Q, Q]:
+        p = (c[0] - base[0], c[1] - base[1])  # the proximal vector
+        u = (e[0] - c[0], e[1] - c[1])  # the distal vector
+        k = p[0] * (e[1] - base[1]) - p[1] * (e[0] - base[0])
+        j = i + 2
+        big, small = inertia[j] + m[j] * r[j] ** 2, m[j] * r[j] / length[j]
+        dot_ = p[0] * u[0] + p[1] * u[1]
+        return tuple((-big * p[n] + small * dot_ * u[n]) / (length[j] * k) for n in (0, 1))  # type: ignore[return-value]
+
+    k1, k2 = part(0, C, E, (Z, Z)), part(1, D, E, B)
+    kappa = (k1[0] + sigma * k2[0], k1[1] + sigma * k2[1])
+    v = (Q(1), Q(1, 2))
+    base = w_at(motion(v, (Z, Z)), 0)
+    assert [w_at(motion(v, A), 0) - base for A in ((Q(1), Z), (Z, Q(1)))] == list(kappa)
