@@ -373,3 +373,44 @@ def test_the_coefficient_of_the_acceleration_in_the_condition_is_kappa() -> None
     v = (Q(1), Q(1, 2))
     base = w_at(motion(v, (Z, Z)), 0)
     assert [w_at(motion(v, A), 0) - base for A in ((Q(1), Z), (Z, Q(1)))] == list(kappa)
+
+
+# -- order three: tangent with the curve's curvature (an inflection-like crossing) ------------
+def motion4(A: tuple[Q, Q], J: tuple[Q, Q], K: tuple[Q, Q]) -> Motion:
+    return Motion(
+        (E0[0], VT[0], A[0] / 2, J[0] / 6, K[0] / 24), (E0[1], VT[1], A[1] / 2, J[1] / 6, K[1] / 24)
+    )
+
+
+def _order_three_acceleration() -> tuple[Q, Q]:
+    """E'' with δ''(0) = 0 (order ≥ 3 along the tangent) and w(0) = 0: two affine equations."""
+
+    def both(A: tuple[Q, Q]) -> tuple[Q, Q]:
+        dv = series(motion4(A, (Z, Z), (Z, Z)), 5)
+        return dv.delta.d(2), dv.w(-1).d(0)
+
+    f0, fx, fy = both((Z, Z)), both((Q(1), Z)), both((Z, Q(1)))
+    a11, a12, a21, a22 = fx[0] - f0[0], fy[0] - f0[0], fx[1] - f0[1], fy[1] - f0[1]
+    det = a11 * a22 - a12 * a21
+    return ((a12 * f0[1] - a22 * f0[0]) / det, (a21 * f0[0] - a11 * f0[1]) / det)
+
+
+A3 = _order_three_acceleration()
+J3 = (Z, solve(lambda s: series(motion4(A3, (Z, s), (Z, Z)), 6).w(-1).d(1)))
+K3 = (Z, solve(lambda s: series(motion4(A3, J3, (Z, s)), 7).w(-1).d(2)))
+
+
+@pytest.mark.parametrize(("snap", "power"), [(K3[1], 0), (K3[1] + 1, 1)], ids=["C1-C3", "C1-C2"])
+def test_order_three_needs_three_conditions(snap: Q, power: int) -> None:
+    m = motion4(A3, J3, (Z, snap))
+    dv = series(m, 8)
+    assert dv.delta.c[:3] == [0, 0, 0] and dv.delta.c[3] != 0  # order 3: a crossing
+    assert dv.w(-1).c[:2] == [0, 0]
+    values = [_scaled(m, Q(s, 10**k), power) for s in (1, -1) for k in (8, 10)]
+    for i in (0, 1):
+        assert close(values[1][i], values[3][i], 1e-7)  # settled from both sides
+        assert abs(values[3][i]) > 1e-3
+    if power == 0:
+        limit = dv.limit(3)
+        assert close(values[1][0], value(limit[0]), 1e-7)
+        assert close(values[1][1], value(limit[1]), 1e-7)
