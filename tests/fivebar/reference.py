@@ -43,7 +43,7 @@ DPS = 60  # working digits of mpmath for everything not exact
 
 
 def mp(v: Any) -> Any:
-    """v as an mpf (Fractions exactly rounded at the current precision)."""
+    """v as an mpf (a Fraction rounded correctly at the current precision)."""
     if isinstance(v, Fraction):
         return mpmath.mpf(v.numerator) / v.denominator
     return mpmath.mpf(v)
