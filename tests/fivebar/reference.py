@@ -51,7 +51,9 @@ def mp(v: Any) -> Any:
 
 def _sqrt(v: Any) -> Any:
     """√v: exact for a Fraction that is a rational square, else an mpf."""
-    if isinstance(v, Fraction) and v >= 0:
+    if v < 0:
+        raise ValueError("E is out of a leg's reach (D1 or D2 < 0): no elbow")
+    if isinstance(v, Fraction):
         p, q = isqrt(v.numerator), isqrt(v.denominator)
         if p * p == v.numerator and q * q == v.denominator:
             return Fraction(p, q)

@@ -162,3 +162,49 @@ def test_the_equal_link_line_up_curve_has_a_node_where_two_modes_are_singular_at
     for modes in ((1, 1), (-1, -1)):
         dv = derive(ROBOT_14, m, Q(0), modes, 3)
         assert abs(dv.delta.c[0]) < 1e-50 and abs(dv.delta.c[1]) > 0.1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("robot", "owners"),
+    [
+        ((1, 1, 1, 1, 1), (3, 3)),
+        ((3, 2, sp.Rational(5, 2), sp.Rational(3, 2), sp.Rational(7, 3)), (4, 4)),
+    ],
+)
+def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owners) -> None:  # type: ignore[no-untyped-def]
+    """Points of S_σ (y > 0) on vertical lines: exactly one mode is singular at each (apart
+    from Type I points, where a leg's two modes meet), and the modes met are 3 or 4."""
+    import mpmath
+
+    rb = FiveBar(*(Q(str(p)) for p in robot[:1]), tuple(Q(str(p)) for p in robot[1:]),  # type: ignore[arg-type]
+                 (Q(1),) * 4, (Q(1),) * 4, (Q(1, 2),) * 4, Q(0))  # fmt: skip
+    modes = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+    for sigma, expected in zip((1, -1), owners, strict=True):
+        S = curve(sigma, *robot)
+        seen = set()
+        for i in range(-40, 80):
+            xv = sp.Rational(i, 16)
+            py = sp.Poly(S.subs(x, xv), y)
+            if py.degree() <= 0:
+                continue
+            for r in py.nroots(n=40, maxsteps=500):
+                if not r.is_real or r <= 0:
+                    continue
+                with mpmath.workdps(60):
+                    E = (mpmath.mpf(xv.p) / xv.q, mpmath.mpf(str(r)))
+                    sizes = []
+                    for m in modes:
+                        try:
+                            C, D = elbows(rb, E, m)
+                        except ValueError:
+                            sizes.append(mpmath.inf)
+                            continue
+                        sizes.append(abs(delta(C, D, E)))
+                if all(d == mpmath.inf for d in sizes):
+                    continue  # on a reach circle, rounded out of it (a Type I point)
+                zero = [m for m, d in zip(modes, sizes, strict=True) if d < 1e-15]  # √ near Type I
+                assert len(zero) >= 1, (sigma, xv, r, [mpmath.nstr(d, 5) for d in sizes])
+                if len(zero) == 1:
+                    seen.add(zero[0])
+        assert len(seen) == expected
