@@ -34,7 +34,6 @@ def test_the_norm_is_a_sixteenth_of_R1_squared_R2_squared_S_plus_S_minus_for_eve
 ROBOTS = [
     (sp.Rational(14, 13), 1, 1, 1, 1),
     (3, 2, sp.Rational(5, 2), sp.Rational(3, 2), sp.Rational(7, 3)),
-    (2, 1, 1, sp.Rational(3, 2), sp.Rational(3, 2)),  # l3 = l4, l1 = l2
 ]
 
 
