@@ -4,7 +4,8 @@ Imports only the power series, the robot's data and the elbows from ``reference.
 geometry both share); the dynamics here are the derivation's: the Lagrange rows of the
 four angles (θ1, φ1, θ2, φ2) with φ_i the absolute angle of distal link 3 or 4, the
 multiplier λ (the force leg 2 applies on leg 1 at E) split along the distal link 3,
-λ = (ν/δ) u1 + (h1/l3) u1⊥, and the torques T1 = R1 - C⊥·λ, T2 = R2 + (D - B)⊥·λ.
+λ = (ν/δ) u1 + (h1/l3) u1⊥, and the torques T1 = Θ1 - C⊥·λ, T2 = Θ2 + (D - B)⊥·λ (Θ the
+proximal rows, ``Leg.R``).
 
 Everything is written without angles: cos(φ1 - θ1) = C·(E - C)/(l1 l3),
 sin(φ1 - θ1) = C × (E - C)/(l1 l3), cos θ1 = C_x/l1, cos φ1 = (E - C)_x/l3 (leg 2 the same
