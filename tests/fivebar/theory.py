@@ -87,7 +87,7 @@ class Derived:
             return self.legs[0].h / self.rb.length[2] + self.legs[1].h * sigma / self.rb.length[3]
 
     def torques(self) -> tuple[Any, Any]:
-        """T1 = R1 - C⊥·λ, T2 = R2 + (D - B)⊥·λ, λ = (ν/δ) u1 + (h1/l3) u1⊥ (δ ≠ 0)."""
+        """T1 = Θ1 - C⊥·λ, T2 = Θ2 + (D - B)⊥·λ, λ = (ν/δ) u1 + (h1/l3) u1⊥ (δ ≠ 0)."""
         with mpmath.workdps(DPS):
             return self._torques()
 
