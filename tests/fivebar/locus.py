@@ -1,4 +1,4 @@
-"""The 5R's Type II locus in sympy, from the elbows' closed form (docs/fivebar.md §2).
+"""The 5R's Type II locus in sympy, from the elbows' closed form (docs/five-bar.md §2).
 
 δ·|E|²·|E - B|² = P0 + e1 P1 √D1 + e2 P2 √D2 + e1 e2 P3 √(D1 D2), with
 R1 = |E|², R2 = |E - B|², K1 = (l1² + R1 - l3²)/2, K2 = (l2² + R2 - l4²)/2,

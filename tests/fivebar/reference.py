@@ -1,7 +1,7 @@
 """An independent reference for the 5R five-bar: kinematics and dynamics by brute force.
 
 Written apart from rprpr's engine (it imports nothing from ``rprpr``) and apart from the
-derived formulas of ``docs/fivebar.md`` (``theory.py`` holds those; this module does not
+derived formulas of ``docs/five-bar.md`` (``theory.py`` holds those; this module does not
 import it), so that a test comparing the two checks the derivation.
 
 The robot: A = (0, 0), B = (a, 0); link 1 (A to the elbow C, length l1) and link 2 (B to the

@@ -1,4 +1,4 @@
-"""The 5R's dynamics: the derivation (theory.py, docs/fivebar.md §4-5) against the
+"""The 5R's dynamics: the derivation (theory.py, docs/five-bar.md §4-5) against the
 brute-force reference (reference.py: Newton-Euler of the four bodies at 60 digits).
 
 Motions through the rational singular pose of the a = 14/13 robot (C = (0, 1),

@@ -1,4 +1,4 @@
-"""The 5R's dynamics as derived in ``docs/fivebar.md``, the formulas under test.
+"""The 5R's dynamics as derived in ``docs/five-bar.md``, the formulas under test.
 
 Imports only the power series, the robot's data and the elbows from ``reference.py`` (the
 geometry both share); the dynamics here are the derivation's: the Lagrange rows of the
