@@ -1,0 +1,382 @@
+"""An independent reference for the 5R five-bar: kinematics and dynamics by brute force.
+
+Written apart from rprpr's engine (it imports nothing from ``rprpr``) and apart from the
+derived formulas of ``docs/five-bar.md`` (``theory.py`` holds those; this module does not
+import it), so that a test comparing the two checks the derivation.
+
+The robot: A = (0, 0), B = (a, 0); link 1 (A to the elbow C, length l1) and link 2 (B to the
+elbow D, length l2) are driven by the motors at A and B; link 3 (C to E, length l3) and
+link 4 (D to E, length l4) meet at the end point E. Link i has mass m_i, centroidal inertia
+I_i and its centre of mass G_i on the link at distance r_i from its inner joint (A, B, C, D).
+Gravity g points along -y. The torques T1, T2 act on links 1 and 2 (counterclockwise
+positive), their reactions on the ground.
+
+* The motion: x(t), y(t) polynomials with rational coefficients, expanded about an instant
+  t0 as truncated power series (``Jet``) with exact rational coefficients when t0 is
+  rational, so every time derivative is exact Taylor arithmetic (no finite differences).
+* The elbows: C = (K1 E + e1 √D1 E⊥)/|E|², K1 = (l1² + |E|² - l3²)/2,
+  D1 = l1²|E|² - K1², E⊥ = (-y, x); D = B + (K2 W + e2 √D2 W⊥)/|W|² with W = E - B
+  (e1 = +1 puts C to the left of AE, e2 = +1 puts D to the left of BE). The series of √D
+  is exact when D's value at t0 is a rational square, else mpmath at ``DPS`` digits.
+* Each link's angular velocity is ω = (r × ṙ)/|r|² for its vector r (C - A, D - B, E - C,
+  E - D), its angular acceleration the series' derivative; each centre of mass
+  G = inner + (r_i/l_i) r, its acceleration the series' second derivative.
+* The torques by Newton-Euler: the twelve equations of the four bodies (force and moment
+  about G for each) in the twelve unknowns (the pin forces at A, B, C, D, E and T1, T2),
+  solved by mpmath's LU at ``DPS`` digits. At a Type II instant this system is singular;
+  near one it is ill conditioned, which the working precision absorbs.
+* ``energy``: kinetic plus potential energy of the four links, a series in t, for the
+  power balance T1 θ1' + T2 θ2' = dE/dt.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from math import factorial, isqrt
+from typing import Any
+
+import mpmath
+
+DPS = 60  # working digits of mpmath for everything not exact
+
+
+def mp(v: Any) -> Any:
+    """v as an mpf (a Fraction rounded correctly at the current precision)."""
+    if isinstance(v, Fraction):
+        return mpmath.mpf(v.numerator) / v.denominator
+    return mpmath.mpf(v)
+
+
+def _sqrt(v: Any) -> Any:
+    """√v: exact for a Fraction that is a rational square, else an mpf."""
+    if v < 0:
+        raise ValueError("E is out of a leg's reach (D1 or D2 < 0): no elbow")
+    if isinstance(v, Fraction):
+        p, q = isqrt(v.numerator), isqrt(v.denominator)
+        if p * p == v.numerator and q * q == v.denominator:
+            return Fraction(p, q)
+    return mpmath.sqrt(mp(v))
+
+
+def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
+    """Fractions meet mpf as mpf; two Fractions stay exact."""
+    if isinstance(a, Fraction | int) and isinstance(b, Fraction | int):
+        return a, b
+    if isinstance(a, Fraction | int):
+        a = mp(a)
+    if isinstance(b, Fraction | int):
+        b = mp(b)
+    return a, b
+
+
+class Jet:
+    """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0."""
+
+    __slots__ = ("c",)
+
+    def __init__(self, c: Sequence[Any]) -> None:
+        self.c = list(c)
+
+    @staticmethod
+    def lift(v: Any, n: int) -> Jet:
+        return v if isinstance(v, Jet) else Jet([v] + [Fraction(0)] * (n - 1))
+
+    def _pair(self, o: Any) -> tuple[Jet, Jet]:
+        o = Jet.lift(o, len(self.c))
+        n = min(len(self.c), len(o.c))
+        return Jet(self.c[:n]), Jet(o.c[:n])
+
+    def __add__(self, o: Any) -> Jet:
+        a, b = self._pair(o)
+        return Jet([_add(p, q) for p, q in zip(a.c, b.c, strict=True)])
+
+    __radd__ = __add__
+
+    def __neg__(self) -> Jet:
+        return Jet([-p for p in self.c])
+
+    def __sub__(self, o: Any) -> Jet:
+        return self + (-Jet.lift(o, len(self.c)))
+
+    def __rsub__(self, o: Any) -> Jet:
+        return Jet.lift(o, len(self.c)) - self
+
+    def __mul__(self, o: Any) -> Jet:
+        if not isinstance(o, Jet):
+            return Jet([_mul(p, o) for p in self.c])
+        a, b = self._pair(o)
+        n = len(a.c)
+        out = []
+        for k in range(n):
+            s: Any = Fraction(0)
+            for i in range(k + 1):
+                s = _add(s, _mul(a.c[i], b.c[k - i]))
+            out.append(s)
+        return Jet(out)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o: Any) -> Jet:
+        if not isinstance(o, Jet):
+            return self * _inv(o)
+        a, b = self._pair(o)
+        q: list[Any] = []
+        for k in range(len(a.c)):
+            s = a.c[k]
+            for i in range(k):
+                s = _add(s, -_mul(q[i], b.c[k - i]))
+            q.append(_mul(s, _inv(b.c[0])))
+        return Jet(q)
+
+    def __rtruediv__(self, o: Any) -> Jet:
+        return Jet.lift(o, len(self.c)) / self
+
+    def sqrt(self) -> Jet:
+        s = [_sqrt(self.c[0])]
+        for k in range(1, len(self.c)):
+            acc = self.c[k]
+            for i in range(1, k):
+                acc = _add(acc, -_mul(s[i], s[k - i]))
+            s.append(_mul(acc, _inv(2 * s[0])))
+        return Jet(s)
+
+    def dt(self) -> Jet:
+        """d/dt, one order shorter."""
+        return Jet([k * self.c[k] for k in range(1, len(self.c))])
+
+    def d(self, k: int) -> Any:
+        """The k-th time derivative at t0 (exact, or at ``DPS`` digits)."""
+        with mpmath.workdps(DPS):
+            return factorial(k) * self.c[k]
+
+
+def _add(p: Any, q: Any) -> Any:
+    p, q = _coerce(p, q)
+    return p + q
+
+
+def _mul(p: Any, q: Any) -> Any:
+    p, q = _coerce(p, q)
+    return p * q
+
+
+def _inv(p: Any) -> Any:
+    return Fraction(1) / p if isinstance(p, Fraction | int) else 1 / p
+
+
+# -- the robot and the motion ---------------------------------------------------------------
+@dataclass(frozen=True)
+class FiveBar:
+    """Base a = |AB|, link lengths l = (l1, l2, l3, l4), masses m, centroidal inertias I,
+    centres of mass r (from each link's inner joint), gravity g (along -y)."""
+
+    a: Fraction
+    length: tuple[Fraction, Fraction, Fraction, Fraction]
+    mass: tuple[Fraction, Fraction, Fraction, Fraction]
+    inertia: tuple[Fraction, Fraction, Fraction, Fraction]
+    r: tuple[Fraction, Fraction, Fraction, Fraction]
+    g: Fraction
+
+
+Vec = tuple[Any, Any]
+
+
+def cross(u: Vec, v: Vec) -> Any:
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def dot(u: Vec, v: Vec) -> Any:
+    return u[0] * v[0] + u[1] * v[1]
+
+
+def _poly_jet(coeffs: Sequence[Fraction], t0: Any, n: int) -> Jet:
+    """The polynomial Σ coeffs[k] t^k expanded about t0: n Taylor coefficients."""
+    out = []
+    for k in range(n):
+        s: Any = Fraction(0)
+        for j in range(k, len(coeffs)):
+            s = _add(s, _mul(coeffs[j] * _binom(j, k), _pow(t0, j - k)))
+        out.append(s)
+    return Jet(out)
+
+
+def _binom(j: int, k: int) -> int:
+    return factorial(j) // (factorial(k) * factorial(j - k))
+
+
+def _pow(t: Any, k: int) -> Any:
+    return t**k if isinstance(t, Fraction) else mp(t) ** k
+
+
+@dataclass(frozen=True)
+class Motion:
+    """E(t) = (x(t), y(t)), polynomials in t (coefficients from the constant up)."""
+
+    x: tuple[Fraction, ...]
+    y: tuple[Fraction, ...]
+
+    def at(self, t0: Any, n: int) -> tuple[Jet, Jet]:
+        return _poly_jet(self.x, t0, n), _poly_jet(self.y, t0, n)
+
+
+def elbows(rb: FiveBar, E: tuple[Any, Any], modes: tuple[int, int]) -> tuple[Vec, Vec]:
+    """The elbows C and D of the working modes (e1, e2) at the end point E (any numbers or
+    jets): C = (K1 E + e1 √D1 E⊥)/|E|², D = B + (K2 W + e2 √D2 W⊥)/|W|², W = E - B."""
+    if not isinstance(E[0], Jet):
+        C, D = elbows(rb, (Jet.lift(E[0], 1), Jet.lift(E[1], 1)), modes)
+        return (C[0].c[0], C[1].c[0]), (D[0].c[0], D[1].c[0])
+    l1, l2, l3, l4 = rb.length
+    x, y = E
+    R1 = x * x + y * y
+    K1 = (R1 + l1 * l1 - l3 * l3) * Fraction(1, 2)
+    s1 = (l1 * l1 * R1 - K1 * K1).sqrt()
+    C = ((K1 * x - modes[0] * s1 * y) / R1, (K1 * y + modes[0] * s1 * x) / R1)
+    wx, wy = x - rb.a, y
+    R2 = wx * wx + wy * wy
+    K2 = (R2 + l2 * l2 - l4 * l4) * Fraction(1, 2)
+    s2 = (l2 * l2 * R2 - K2 * K2).sqrt()
+    D = (rb.a + (K2 * wx - modes[1] * s2 * wy) / R2, (K2 * wy + modes[1] * s2 * wx) / R2)
+    return C, D
+
+
+def delta(C: Vec, D: Vec, E: Vec) -> Any:
+    """δ = (E - C) × (E - D): zero at a Type II (parallel) singularity."""
+    return cross((E[0] - C[0], E[1] - C[1]), (E[0] - D[0], E[1] - D[1]))
+
+
+# -- the state of the four links at an instant ------------------------------------------------
+@dataclass(frozen=True)
+class Links:
+    """Series of the joints A, B, C, D, E and, per link i = 1..4, its inner joint, its
+    vector r_i (inner to outer joint), its angular velocity ω_i and its centre G_i."""
+
+    joints: dict[str, tuple[Jet, Jet]]
+    inner: tuple[str, str, str, str]
+    vec: tuple[Vec, Vec, Vec, Vec]
+    omega: tuple[Jet, Jet, Jet, Jet]
+    com: tuple[Vec, Vec, Vec, Vec]
+
+
+def links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int = 5) -> Links:
+    """The links' series about t0 (n terms of E; ω one term fewer)."""
+    with mpmath.workdps(DPS):
+        return _links(rb, motion, t0, modes, n)
+
+
+def _links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int) -> Links:
+    x, y = motion.at(t0, n)
+    C, D = elbows(rb, (x, y), modes)
+    zero = Jet.lift(Fraction(0), n)
+    A = (zero, zero)
+    B = (zero + rb.a, zero)
+    E = (x, y)
+    J = {"A": A, "B": B, "C": C, "D": D, "E": E}
+    inner = ("A", "B", "C", "D")
+    outer = ("C", "D", "E", "E")
+    vec, omega, com = [], [], []
+    for i in range(4):
+        p, q = J[inner[i]], J[outer[i]]
+        r = (q[0] - p[0], q[1] - p[1])
+        rdot = (r[0].dt(), r[1].dt())
+        omega.append(cross(r, rdot) / (rb.length[i] * rb.length[i]))
+        rho = rb.r[i] / rb.length[i]
+        com.append((p[0] + r[0] * rho, p[1] + r[1] * rho))
+        vec.append(r)
+    return Links(J, inner, tuple(vec), tuple(omega), tuple(com))  # type: ignore[arg-type]
+
+
+def _val(j: Any) -> Any:
+    return mp(j.c[0]) if isinstance(j, Jet) else mp(j)
+
+
+def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
+    """T1, T2 and the pin forces by the Newton-Euler equations of the four bodies.
+
+    Unknowns (12): F_A, F_B (ground on links 1, 2), F_C (link 1 on link 3), F_D (link 2 on
+    link 4), F_E (link 4 on link 3), T1, T2. Per body: m a_G = Σ F - m g ĵ and
+    I α = Σ (P - G) × F + T.
+    """
+    with mpmath.workdps(DPS):
+        col = {"FA": 0, "FB": 2, "FC": 4, "FD": 6, "FE": 8, "T1": 10, "T2": 11}
+        # body i: [(force name, sign, point)], torque name
+        bodies = (
+            ([("FA", 1, "A"), ("FC", -1, "C")], "T1"),
+            ([("FB", 1, "B"), ("FD", -1, "D")], "T2"),
+            ([("FC", 1, "C"), ("FE", 1, "E")], None),
+            ([("FD", 1, "D"), ("FE", -1, "E")], None),
+        )
+        M = mpmath.zeros(12, 12)
+        rhs = mpmath.zeros(12, 1)
+        for i, (forces, torque) in enumerate(bodies):
+            G = lk.com[i]
+            gx, gy = _val(G[0]), _val(G[1])
+            ax, ay = G[0].d(2), G[1].d(2)
+            alpha = lk.omega[i].d(1)
+            mass, inertia = mp(rb.mass[i]), mp(rb.inertia[i])
+            for name, sign, point in forces:
+                P = lk.joints[point]
+                px, py = _val(P[0]) - gx, _val(P[1]) - gy
+                k = col[name]
+                M[3 * i, k] += sign
+                M[3 * i + 1, k + 1] += sign
+                M[3 * i + 2, k] += -sign * py  # (P - G) × F = px Fy - py Fx
+                M[3 * i + 2, k + 1] += sign * px
+            if torque is not None:
+                M[3 * i + 2, col[torque]] = 1
+            rhs[3 * i] = mass * mp(ax)
+            rhs[3 * i + 1] = mass * mp(ay) + mass * mp(rb.g)
+            rhs[3 * i + 2] = inertia * mp(alpha)
+        sol = mpmath.lu_solve(M, rhs)
+        out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
+        out["T1"], out["T2"] = sol[10], sol[11]
+        return out
+
+
+def energy(rb: FiveBar, lk: Links) -> Jet:
+    """Kinetic plus potential energy of the four links, a series in t."""
+    with mpmath.workdps(DPS):
+        return _energy(rb, lk)
+
+
+def _energy(rb: FiveBar, lk: Links) -> Jet:
+    total: Any = Fraction(0)
+    for i in range(4):
+        G = lk.com[i]
+        vx, vy = G[0].dt(), G[1].dt()
+        w = lk.omega[i]
+        kin = (vx * vx + vy * vy) * (rb.mass[i] / 2) + w * w * (rb.inertia[i] / 2)
+        total = kin + G[1] * (rb.mass[i] * rb.g) + total
+    return total
+
+
+def torques(rb: FiveBar, motion: Motion, t: Any, modes: tuple[int, int]) -> tuple[Any, Any]:
+    """(T1, T2) at time t by Newton-Euler."""
+    out = newton_euler(rb, links(rb, motion, t, modes, n=3))
+    return out["T1"], out["T2"]
+
+
+def rational_unit(s: Fraction) -> tuple[Fraction, Fraction]:
+    """The rational point ((1 - s²)/(1 + s²), 2s/(1 + s²)) of the unit circle."""
+    return ((1 - s * s) / (1 + s * s), 2 * s / (1 + s * s))
+
+
+def lined_up(
+    sigma: int, s: tuple[Fraction, Fraction, Fraction], l1: Fraction, l3: Fraction, l4: Fraction
+) -> tuple[Fraction, Fraction, Vec, Vec, Vec, tuple[int, int]]:
+    """A rational Type II pose built from the geometry: C = l1 c, E = C + l3 u,
+    D = E - σ l4 u (so E - D = σ (l4/l3)(E - C)), D = B + l2 v with B on the x-axis, for the
+    rational unit vectors c, u, v of ``s``. Returns (a, l2, C, D, E, (e1, e2))."""
+    c, u, v = (rational_unit(p) for p in s)
+    C = (l1 * c[0], l1 * c[1])
+    E = (C[0] + l3 * u[0], C[1] + l3 * u[1])
+    D = (E[0] - sigma * l4 * u[0], E[1] - sigma * l4 * u[1])
+    if D[1] / v[1] < 0:
+        v = (-v[0], -v[1])
+    l2 = D[1] / v[1]
+    a = D[0] - l2 * v[0]
+    e1 = 1 if cross(E, C) > 0 else -1  # C to the left of AE
+    W = (E[0] - a, E[1])
+    e2 = 1 if cross(W, (D[0] - a, D[1])) > 0 else -1  # D to the left of BE
+    return a, l2, C, D, E, (e1, e2)
