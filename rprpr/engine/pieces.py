@@ -86,9 +86,11 @@ class Part:
     @property
     def plain(self) -> bool:
         """Whether the batch can enclose the piece (``batch.plain``)."""
+        if self.apart:
+            return True
         from .bounds.batch import plain
 
-        return self.apart or plain(self.motion)
+        return plain(self.motion)
 
 
 NOTHING = SingularAnalysis([], [], False, (), ())  # of every piece proven apart (read only)
