@@ -8,6 +8,7 @@ composition for the recentring, and the exact rationals for the balls' containme
 
 from __future__ import annotations
 
+import itertools
 import math
 import random
 from fractions import Fraction
@@ -114,7 +115,7 @@ def test_the_batch_rounds_the_exact_coefficients_of_each_segment(fields: int) ->
     points = _points(random.Random(70 + fields), 40, fields, digits=(3, 10, 17)[fields - 1])
     got = pieces(points)
     batch = Batch(got, _robot())
-    for j, (w0, w1) in enumerate(zip(points, points[1:], strict=False)):
+    for j, (w0, w1) in enumerate(itertools.pairwise(points)):
         T = w1.t - w0.t
         polys = []
         for i in (0, 1):
