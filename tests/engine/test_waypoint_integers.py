@@ -20,12 +20,19 @@ from flint import fmpq, fmpq_poly
 from rprpr.engine.bounds.batch import Batch
 from rprpr.engine.certified.balls import Ball
 from rprpr.engine.certified.motion import dyadic_middle
+from rprpr.io.loader import load_task
 from rprpr.io.waypoint_csv import parse_waypoints
 from rprpr.model.numbers import to_float
+from rprpr.model.task import Robot
 from rprpr.model.waypoints import Segment, Waypoint, pieces, segment
-from tests.engine.test_waypoint_scale import _points, _robot
+from tests.conftest import PATH2_FILE
+from tests.engine.test_waypoint_scale import _points
 
 HEADER = "t,x,y,vx,vy,ax,ay"
+
+
+def _robot() -> Robot:
+    return load_task(PATH2_FILE).robot
 
 
 def _cell(rng: random.Random) -> str:
