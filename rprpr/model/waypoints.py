@@ -20,7 +20,15 @@ from flint import fmpq, fmpq_poly
 
 from .task import Piece
 
-_UNREAD = object()  # a pair of a row (``Waypoint.row``) not yet made from its numbers
+class _Unread:
+    """A pair of a row (``Waypoint.row``) not yet made from its numbers (one object,
+    itself again when unpickled)."""
+
+    def __reduce__(self) -> str:
+        return "_UNREAD"
+
+
+_UNREAD = _Unread()
 
 
 class _Pair:

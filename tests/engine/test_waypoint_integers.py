@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import pickle
 import random
 from fractions import Fraction
 
@@ -77,6 +78,8 @@ def test_a_row_read_on_integers_equals_the_same_point_given_as_rationals() -> No
     eager = Waypoint(fmpq(0), (fmpq(3, 2), fmpq(-2, 1000)), (fmpq(1, 4), fmpq(3)),
                      (fmpq(100), fmpq(0)), line=2)  # fmt: skip
     assert w == eager and repr(w) == repr(eager)
+    copied = pickle.loads(pickle.dumps(w1))  # its pairs not made yet
+    assert (copied.p, copied.v, copied.a) == ((2, 3), (4, 5), (6, 7))
     plain = Waypoint(w1.t, w1.p, w1.v, w1.a, line=w1.line)  # rationals only
     assert pieces([w, w1])[0].local == pieces([eager, plain])[0].local
 
