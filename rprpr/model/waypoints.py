@@ -20,6 +20,7 @@ from flint import fmpq, fmpq_poly
 
 from .task import Piece
 
+
 class _Unread:
     """A pair of a row (``Waypoint.row``) not yet made from its numbers (one object,
     itself again when unpickled)."""
