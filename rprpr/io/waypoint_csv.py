@@ -105,24 +105,24 @@ def _row(row: int, cells: tuple[Any, ...]) -> Waypoint | None:
     part, fraction and exponent), its numbers on integers (``Waypoint.numbers``: t, and
     the others over one power of ten); None for an exponent beyond MAX_EXP10 (then the
     row is read cell by cell, and the cell's problem named)."""
-    numbers: list[int] = []
-    scales: list[int] = []
-    for k in range(0, len(cells), 3):
-        whole, frac, exp = cells[k], cells[k + 1], cells[k + 2]
-        scale = len(frac) if frac else 0  # the value is n / 10^scale
-        if exp:
-            e = int(exp)
-            if e > MAX_EXP10 or e < -MAX_EXP10:
-                return None
-            scale -= e
-        numbers.append(int(whole + frac) if frac else int(whole))
-        scales.append(scale)
+    wholes, fracs, exps = cells[0::3], cells[1::3], cells[2::3]
+    numbers = [int(w + f) if f else int(w) for w, f in zip(wholes, fracs, strict=True)]
+    scales = [len(f) if f else 0 for f in fracs]  # the value is n / 10^scale
+    if any(exps):
+        for k, exp in enumerate(exps):
+            if exp:
+                e = int(exp)
+                if e > MAX_EXP10 or e < -MAX_EXP10:
+                    return None
+                scales[k] -= e
     tn, ts = numbers[0], scales[0]
-    t = fmpq(tn, _POW10[ts]) if ts >= 0 else fmpq(tn * _POW10[-ts])
+    if ts >= 0:
+        t, td = fmpq(tn, _POW10[ts]), _POW10[ts]
+    else:
+        tn, td = tn * _POW10[-ts], 1
+        t = fmpq(tn)
     K = max(0, *scales[1:])
     rest = [n * _POW10[K - s] for n, s in zip(numbers[1:], scales[1:], strict=True)]
-    td = _POW10[ts] if ts >= 0 else 1
-    tn = tn if ts >= 0 else tn * _POW10[-ts]
     return Waypoint.row(t, (tn, td, _POW10[K], *rest), row)
 
 

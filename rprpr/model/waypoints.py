@@ -43,16 +43,16 @@ class _Pair:
         self.name, self.slot = name, "_" + name
 
     def value(self, obj: Waypoint) -> tuple[fmpq, fmpq] | None:
-        got = obj.__dict__[self.slot]
+        got = getattr(obj, self.slot)
         if got is _UNREAD:
             n, k = obj.numbers, 3 + 2 * self.index
             assert n is not None
             got = (fmpq(n[k], n[2]), fmpq(n[k + 1], n[2])) if len(n) > k else None
-            obj.__dict__[self.slot] = got
+            object.__setattr__(obj, self.slot, got)
         return got
 
     def __set__(self, obj: Waypoint, value: tuple[fmpq, fmpq] | None) -> None:
-        obj.__dict__[self.slot] = None if isinstance(value, _Pair) else value
+        object.__setattr__(obj, self.slot, None if isinstance(value, _Pair) else value)
 
 
 class _Position(_Pair):
@@ -97,9 +97,9 @@ class Waypoint:
         """A reader's point from its ``numbers`` alone (and t, as a rational): p, v and a
         are made from them where read."""
         w = object.__new__(cls)
-        w.__dict__.update(
-            t=t, _p=_UNREAD, _v=_UNREAD, _a=_UNREAD, line=line, numbers=numbers
-        )  # fmt: skip
+        for name, value in (("t", t), ("_p", _UNREAD), ("_v", _UNREAD), ("_a", _UNREAD),
+                            ("line", line), ("numbers", numbers)):  # fmt: skip
+            object.__setattr__(w, name, value)  # no __dict__ made: one object a point
         return w
 
     @property
@@ -166,8 +166,11 @@ def _ratios(w: Waypoint) -> tuple[tuple[int, int], tuple[int, ...]]:
 def _difference(b: tuple[int, int], a: tuple[int, int]) -> tuple[int, int]:
     """b - a for (numerator, denominator) pairs, in lowest terms: a segment's T, the
     shortest integers its powers are formed on."""
-    d = math.lcm(a[1], b[1])
-    n = b[0] * (d // b[1]) - a[0] * (d // a[1])
+    if a[1] == b[1]:  # a planner's times: one power of ten, most often
+        n, d = b[0] - a[0], a[1]
+    else:
+        d = math.lcm(a[1], b[1])
+        n = b[0] * (d // b[1]) - a[0] * (d // a[1])
     g = math.gcd(n, d)
     return n // g, d // g
 
