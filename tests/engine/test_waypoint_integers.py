@@ -23,6 +23,7 @@ from rprpr.engine.certified.balls import Ball
 from rprpr.engine.certified.motion import dyadic_middle
 from rprpr.io.loader import load_task
 from rprpr.io.waypoint_csv import parse_waypoints
+from rprpr.model.motion import Motion
 from rprpr.model.numbers import to_float
 from rprpr.model.task import Robot
 from rprpr.model.waypoints import Segment, Waypoint, pieces, segment
@@ -161,3 +162,20 @@ def test_a_batch_taken_shares_its_coefficients_and_reads_its_own_pieces() -> Non
     same = batch.jets(box, np.array([ids[k] for k in idx]))
     for a, b in zip(got, same, strict=True):
         assert (a.v.mid == b.v.mid).all() and (a.v.rad == b.v.rad).all()
+
+
+def test_a_motion_from_waypoints_checks_its_knots_without_absolute_polynomials() -> None:
+    """Consecutive segments share their waypoint: continuous by construction. Segments
+    that do not (two runs of waypoints put together) are still checked, exactly."""
+    t = [k / 1000 for k in range(2001)]
+    p = [(2 + k * 1e-5, -1 + k * 2e-5) for k in range(2001)]
+    m = Motion.from_waypoints(t, p, [(0.01, 0.02)] * 2001, [(0.0, 0.0)] * 2001)
+    assert len(m.pieces) == 2000
+    assert all(piece.__dict__["_x"] is None for piece in m.pieces)
+    first = pieces([Waypoint(fmpq(0), (fmpq(0), fmpq(0))), Waypoint(fmpq(1), (fmpq(1), fmpq(0)))])
+    second = pieces([Waypoint(fmpq(1), (fmpq(1), fmpq(1, 10**9))),
+                     Waypoint(fmpq(2), (fmpq(2), fmpq(0)))])  # fmt: skip
+    with pytest.raises(ValueError, match="the position jumps at the knot t = 1"):
+        Motion((*first, *second))
+    Motion((*first, *pieces([Waypoint(fmpq(1), (fmpq(1), fmpq(0))),
+                             Waypoint(fmpq(2), (fmpq(2), fmpq(0)))])))  # fmt: skip
