@@ -269,7 +269,9 @@ class Batch:
     own local time v = t - start (``local_form``: exact, and short when the piece comes
     in that form, as waypoint segments do); the times the batch reports are local to
     their piece's start. ``apart`` says which pieces are proven plain before any exact
-    analysis; ``take`` keeps the plain ones."""
+    analysis; ``take`` keeps the plain ones. A planner's segments (``waypoints.Segment``)
+    are rounded from their integers, their polynomials never made (``_of_segments``),
+    and x's coefficients only when a pass reads them (``x``): the same balls."""
 
     def __init__(self, pieces: list[Piece], robot: Robot) -> None:
         self.robot = robot
