@@ -54,9 +54,13 @@ class Part:
         self.apart = apart  # proven never to meet y = 0 (``Batch.apart``)
         self.start: fmpq = piece.start
         self.end: fmpq = piece.end
-        self.origin: fmpq = origin_of(piece.start, piece.end)
         self.theta_offset: tuple[float, float] = (0.0, 0.0)  # 2πk per leg
         self.offsets_known = False  # (on the first part) ``theta_offsets`` made
+
+    @cached_property
+    def origin(self) -> fmpq:
+        """Where the piece's local time starts (``trajectory.origin_of``)."""
+        return origin_of(self.start, self.end)
 
     @cached_property
     def traj(self) -> Trajectory:
@@ -82,9 +86,14 @@ class Part:
     @property
     def plain(self) -> bool:
         """Whether the batch can enclose the piece (``batch.plain``)."""
+        if self.apart:
+            return True
         from .bounds.batch import plain
 
-        return self.apart or plain(self.motion)
+        return plain(self.motion)
+
+
+NOTHING = SingularAnalysis([], [], False, (), ())  # of every piece proven apart (read only)
 
 
 def part(piece: Piece, robot: Robot, checks: Checks, tell: OnStage) -> Part:
@@ -107,9 +116,9 @@ def parts(task: Task, tell: OnStage) -> tuple[list[Part], Batch | None]:
         batch = Batch(motion, task.robot)
     apart = batch.apart() if batch is not None else np.zeros(len(motion), dtype=bool)
     out = []
-    for piece, free in zip(motion, apart, strict=True):
+    for piece, free in zip(motion, apart.tolist(), strict=True):
         if free:
-            out.append(Part(piece, task.robot, SingularAnalysis([], [], False, (), ()), True))
+            out.append(Part(piece, task.robot, NOTHING, True))
         else:
             out.append(part(piece, task.robot, task.checks, tell))
     return out, batch

@@ -305,7 +305,7 @@ def _waypoints_in_order(w: Walk, key: str) -> None:
 
 
 def _fields(point: Waypoint) -> str:
-    return ", ".join(k for k, v in (("p", 1), ("v", point.v), ("a", point.a)) if v is not None)
+    return point.given
 
 
 def _motion_alone(w: Walk, key: str) -> None:

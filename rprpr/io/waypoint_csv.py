@@ -11,6 +11,7 @@ the row 1-based in the file as an editor counts lines; the caller names the file
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from flint import fmpq
 
@@ -29,7 +30,10 @@ HEADERS = tuple(WAYPOINT_COLUMNS[:n] for n in (3, 5, 7))
 # most MAX_DIGITS digits and an exponent within MAX_EXP10; anything else goes through
 # parse_fraction, which reads fractions and names what is wrong
 _PLAIN = re.compile(r"(-?)([0-9]{1,20})(?:\.([0-9]{0,20}))?(?:[eE]([-+]?[0-9]{1,2}))?")
-_POW10 = [10**k for k in range(21)]
+_POW10 = [10**k for k in range(21 + 2 * 99)]
+# a row of such decimals alone, read by one match: (signed whole, fraction, exponent) a cell
+_CELL = r"\s*(-?[0-9]{1,20})(?:\.([0-9]{0,20}))?(?:[eE]([-+]?[0-9]{1,2}))?\s*"
+_ROWS = {n: re.compile(",".join([_CELL] * n)) for n in (3, 5, 7)}
 
 
 class CsvProblem(Exception):
@@ -79,7 +83,13 @@ def parse_waypoints(data: bytes) -> tuple[list[Waypoint], list[tuple[int, str]]]
         raise CsvProblem(f"{len(body)} waypoints, the cap is {MAX_CSV_ROWS}")
     points: list[Waypoint] = []
     problems: list[tuple[int, str]] = []
+    whole = _ROWS[len(names)].fullmatch
     for row, line in body:
+        plain = whole(line)
+        point = _row(row, plain.groups()) if plain is not None else None
+        if point is not None:
+            points.append(point)
+            continue
         try:
             points.append(_waypoint(row, line, names))
         except CsvProblem as e:
@@ -88,6 +98,32 @@ def parse_waypoints(data: bytes) -> tuple[list[Waypoint], list[tuple[int, str]]]
         rest = len(problems) - MAX_CSV_ERRORS
         problems = [*problems[:MAX_CSV_ERRORS], (problems[MAX_CSV_ERRORS][0], f"{rest} more")]
     return points, problems
+
+
+def _row(row: int, cells: tuple[Any, ...]) -> Waypoint | None:
+    """The waypoint of a row of plain decimals (``_ROWS``: each cell's signed whole
+    part, fraction and exponent), its numbers on integers (``Waypoint.numbers``: t, and
+    the others over one power of ten); None for an exponent beyond MAX_EXP10 (then the
+    row is read cell by cell, and the cell's problem named)."""
+    wholes, fracs, exps = cells[0::3], cells[1::3], cells[2::3]
+    numbers = [int(w + f) if f else int(w) for w, f in zip(wholes, fracs, strict=True)]
+    scales = [len(f) if f else 0 for f in fracs]  # the value is n / 10^scale
+    if any(exps):
+        for k, exp in enumerate(exps):
+            if exp:
+                e = int(exp)
+                if e > MAX_EXP10 or e < -MAX_EXP10:
+                    return None
+                scales[k] -= e
+    tn, ts = numbers[0], scales[0]
+    if ts >= 0:
+        t, td = fmpq(tn, _POW10[ts]), _POW10[ts]
+    else:
+        tn, td = tn * _POW10[-ts], 1
+        t = fmpq(tn)
+    K = max(0, *scales[1:])
+    rest = [n * _POW10[K - s] for n, s in zip(numbers[1:], scales[1:], strict=True)]
+    return Waypoint.row(t, (tn, td, _POW10[K], *rest), row)
 
 
 def _waypoint(row: int, line: str, names: tuple[str, ...]) -> Waypoint:

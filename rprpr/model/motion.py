@@ -20,7 +20,7 @@ from typing import Any
 from flint import fmpq, fmpq_poly
 
 from .task import Piece, Task
-from .waypoints import Waypoint
+from .waypoints import Segment, Waypoint
 from .waypoints import pieces as waypoint_pieces
 
 
@@ -81,6 +81,8 @@ class Motion:
         for i, (a, b) in enumerate(zip(self.pieces, self.pieces[1:], strict=False)):
             if a.end != b.start:
                 raise ValueError(f"piece {i + 1} starts at t = {b.start}, not at {a.end}")
+            if _shared_waypoint(a, b):
+                continue
             jump = position_jump((a.x, a.y), (b.x, b.y), a.end)
             if jump is not None and max(abs(u - v) for u, v in zip(*jump, strict=True)) > (
                 self.tolerance
@@ -191,6 +193,15 @@ class Motion:
                 raise ValueError(f"waypoint {i + 1}: t = {w1.t} does not follow t = {w0.t}")
         pieces = tuple(waypoint_pieces(points))
         return cls(pieces)
+
+
+def _shared_waypoint(a: Piece, b: Piece) -> bool:
+    """Whether ``b`` is the waypoint segment that starts at the waypoint where the
+    segment ``a`` ends (``waypoints.pieces``: both hold that waypoint's numbers): then
+    the position is continuous there by construction (a segment ends at its end
+    point's p exactly), without evaluating x(t), y(t) in absolute time."""
+    fa, fb = a.form, b.form
+    return isinstance(fa, Segment) and isinstance(fb, Segment) and fa.r1 is fb.r0
 
 
 def _closed(

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
-from typing import Any, overload
+from typing import Any, Protocol, overload
 
 from flint import fmpq, fmpq_poly
 
@@ -81,15 +81,42 @@ class _Absolute:
     def __get__(self, obj: Piece | None, owner: Any = None) -> fmpq_poly | _Absolute:
         if obj is None:
             raise AttributeError(self.name)  # no default: the field is required
-        value = obj.__dict__[self.slot]
+        value: fmpq_poly | None = getattr(obj, self.slot)
         if value is None:
             assert obj.local is not None, f"a piece needs {self.name} or its local form"
             value = obj.local[self.index](fmpq_poly([-obj.start, 1]))
-            obj.__dict__[self.slot] = value
+            object.__setattr__(obj, self.slot, value)
         return value
 
     def __set__(self, obj: Piece, value: fmpq_poly | None) -> None:
-        obj.__dict__[self.slot] = value
+        object.__setattr__(obj, self.slot, value)  # not through __dict__: none is made
+
+
+class LocalForm(Protocol):
+    """A piece's local form held otherwise than as polynomials (a planner's segment on
+    integers: ``waypoints.Segment``): its polynomials are made when first read."""
+
+    def polys(self) -> tuple[fmpq_poly, fmpq_poly]: ...
+
+
+class _Local:
+    """``Piece.local``: the pair of polynomials given, or None, or a ``LocalForm`` whose
+    polynomials are made when first read (``Piece.form`` keeps it)."""
+
+    def __get__(self, obj: Piece | None, owner: Any = None) -> tuple[fmpq_poly, fmpq_poly] | None:
+        if obj is None:
+            return None
+        value: tuple[fmpq_poly, fmpq_poly] | None = getattr(obj, "_local")  # noqa: B009
+        if value is None and obj.form is not None:
+            value = obj.form.polys()
+            object.__setattr__(obj, "_local", value)
+        return value
+
+    def __set__(self, obj: Piece, value: tuple[fmpq_poly, fmpq_poly] | LocalForm | None) -> None:
+        given = value is not None and not isinstance(value, _Local)
+        form = given and not isinstance(value, tuple)
+        object.__setattr__(obj, "_local", value if given and not form else None)
+        object.__setattr__(obj, "_form", value if form else None)
 
 
 @dataclass(frozen=True)
@@ -142,7 +169,9 @@ class Piece:
     polynomials in the local time t - ``start`` (the same motion, exactly: what a planner's
     segment is written in, with shorter coefficients), which the engine uses where it works
     in local time; it takes no part in comparisons. With ``local`` given, ``x`` and ``y``
-    may be given as None: they are then made from it when first read (``_Absolute``).
+    may be given as None: they are then made from it when first read (``_Absolute``);
+    ``local`` may itself be given as a ``LocalForm`` (``form``), its polynomials then
+    made when first read.
     ``smooth`` is how many derivatives of (x, y) (1: velocity, 2: and acceleration) the
     piece continues, by its construction, from the piece before at ``start`` (a waypoint
     segment ends at its waypoint's p, v, a exactly, where the next one starts): the knot
@@ -156,8 +185,14 @@ class Piece:
     path: fmpq_poly | None = None
     line: int = 0
     file: str = ""
-    local: tuple[fmpq_poly, fmpq_poly] | None = field(default=None, compare=False, repr=False)
+    local: _Local = field(default=_Local(), compare=False, repr=False)
     smooth: int = field(default=0, compare=False, repr=False)
+
+    @property
+    def form(self) -> LocalForm | None:
+        """The ``LocalForm`` the piece's ``local`` was given as, or None."""
+        form: LocalForm | None = getattr(self, "_form")  # noqa: B009  (set by ``_Local``)
+        return form
 
     def __repr__(self) -> str:
         """``<Piece 0 <= t <= 5/2: x(t) = ..., y(t) = ...>`` (polynomials in t, exact)."""

@@ -153,9 +153,9 @@ def test_a_plain_planner_output_is_audited_without_absolute_polynomials(tmp_path
 
 
 def test_memory_per_waypoint_row(tmp_path: Path) -> None:
-    """Loading and auditing a 2,000-row quintic CSV holds at most 3,000 bytes per row at
+    """Loading and auditing a 2,000-row quintic CSV holds at most 2,300 bytes per row at
     its peak (tracemalloc: Python's own allocations, flint's integers not counted;
-    measured ~2,400)."""
+    measured ~1,850)."""
     path = _folder(tmp_path, 2000)
     tracemalloc.start()
     try:
@@ -164,4 +164,4 @@ def test_memory_per_waypoint_row(tmp_path: Path) -> None:
     finally:
         tracemalloc.stop()
     assert result.passed
-    assert peak / 2001 <= 3000, peak / 2001
+    assert peak / 2001 <= 2300, peak / 2001

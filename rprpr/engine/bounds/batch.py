@@ -22,12 +22,14 @@ from __future__ import annotations
 
 import math
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from flint import fmpq, fmpq_poly
 
 from ...model.numbers import to_float
 from ...model.task import Piece, Robot
+from ...model.waypoints import Segment
 from ..certified.balls import ETA, Ball, U, horner, quiet, round_up
 from ..certified.jets import Jet
 from ..certified.motion import CertifiedMotion, dyadic_middle, per_robot
@@ -71,47 +73,83 @@ def _balls(qs: list[fmpq]) -> tuple[np.ndarray, np.ndarray]:
 
 def _poly_balls(polys: list[fmpq_poly]) -> tuple[np.ndarray, np.ndarray]:
     """``_balls`` of the coefficients of ``polys``, as (mid, rad) arrays of shape
-    (degree + 1, pieces) padded with exact zeros: each polynomial
-    read as integers over its one denominator (flint's form), each coefficient n/d
-    rounded to the nearest double m by Python's exact division, radius 0 exactly when
-    m = n/d (then its reduced denominator is a power of 2, as ``_balls`` asks)."""
-    n = max(max(p.degree() + 1 for p in polys), 1)
-    mids: list[float] = []
-    exacts: list[bool] = []
-    for p in polys:
-        d = int(p.denom())
-        odd = d >> ((d & -d).bit_length() - 1)  # n/d is dyadic only if odd divides n
-        coeffs = p.numer().coeffs()
-        for c in coeffs:
-            num = int(c)
+    (degree + 1, pieces) padded with exact zeros: each polynomial read as integers over
+    its one denominator (flint's form; ``_integer_balls``)."""
+    return _integer_balls([([int(c) for c in p.numer().coeffs()], int(p.denom())) for p in polys])
+
+
+def _integer_balls(polys: list[tuple[list[int], int]]) -> tuple[np.ndarray, np.ndarray]:
+    """``_balls`` of the coefficients of polynomials given as the integer numerators of
+    their ascending powers over one denominator each (``_Rounded``)."""
+    r = _Rounded()
+    for nums, den in polys:
+        r.add(nums, den)
+    return r.balls()
+
+
+class _Rounded:
+    """``_balls`` of the coefficients of polynomials given one by one (``add``) as the
+    integer numerators of their ascending powers over one denominator each (any, not
+    only lowest terms), as (mid, rad) arrays of shape (degree + 1, pieces) padded with
+    exact zeros (``balls``): each n/d rounded to the nearest double m by Python's exact
+    division, radius 0 exactly when m = n/d (then n/d is dyadic, which it is exactly
+    when d's odd part divides n, as ``_balls`` asks). The degree is that of the
+    polynomial: zero numerators at the top are dropped. Only floats are kept: a long
+    motion's integers are not held."""
+
+    def __init__(self) -> None:
+        self.mids: list[float] = []
+        self.exact: list[bool] = []
+        self.sizes: list[int] = []
+
+    def add(self, nums: list[int], den: int) -> None:
+        k = len(nums)
+        while k and not nums[k - 1]:
+            k -= 1
+        odd = den >> ((den & -den).bit_length() - 1)  # n/d is dyadic only if odd divides n
+        mids, exact = self.mids, self.exact
+        for i in range(k):
+            num = nums[i]
             try:
-                m = num / d
+                m = num / den
             except OverflowError:
                 m = math.inf
             mids.append(m)
             if num % odd or not math.isfinite(m):
-                exacts.append(False)
+                exact.append(False)
             else:
                 a, b = m.as_integer_ratio()
-                exacts.append(a * d == num * b)
-        pad = n - len(coeffs)
-        mids += [0.0] * pad
-        exacts += [True] * pad
-    mid = np.array(mids).reshape(len(polys), n).T.copy()
-    exact = np.array(exacts, dtype=bool).reshape(len(polys), n).T.copy()
-    bad = ~np.isfinite(mid)
-    with quiet():
-        rad = np.where(exact, 0.0, round_up(U * np.abs(mid) + ETA))
-    return np.where(bad, np.nan, mid), np.where(bad, np.inf, rad)
+                exact.append(a * den == num * b)
+        self.sizes.append(k)
+
+    def balls(self) -> tuple[np.ndarray, np.ndarray]:
+        sizes = np.array(self.sizes, dtype=np.intp)
+        n = max(int(sizes.max(initial=0)), 1)
+        col = np.repeat(np.arange(len(sizes)), sizes)
+        row = np.arange(len(col)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+        mid = np.zeros((n, len(sizes)))
+        exact = np.ones((n, len(sizes)), dtype=bool)
+        mid[row, col] = self.mids
+        exact[row, col] = self.exact
+        bad = ~np.isfinite(mid)
+        with quiet():
+            rad = np.where(exact, 0.0, round_up(U * np.abs(mid) + ETA))
+        return np.where(bad, np.nan, mid), np.where(bad, np.inf, rad)
 
 
 def _levels(polys: list[fmpq_poly]) -> list[tuple[np.ndarray, np.ndarray]]:
     """Ball coefficients, low to high, of the polynomials ``polys`` (one per piece) and
     of their first LEVELS - 1 derivatives, as (mid, rad) arrays of shape
     (degree + 1, pieces) padded with exact zeros: the polynomials' own coefficients
-    rounded (``_poly_balls``), each derivative's from the one before times the exact
-    integers k in ball arithmetic (a ball that contains k c_k)."""
-    b = Ball._of(*_poly_balls(polys))
+    rounded (``_poly_balls``), each derivative's from the one before (``_derived``)."""
+    return _derived(_poly_balls(polys))
+
+
+def _derived(balls: tuple[np.ndarray, np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The ball coefficients ``balls`` (of a polynomial per piece) and those of its first
+    LEVELS - 1 derivatives, each from the one before times the exact integers k in ball
+    arithmetic (a ball that contains k c_k)."""
+    b = Ball._of(*balls)
     out = [(b.mid, b.rad)]
     with quiet():
         for _ in range(LEVELS - 1):
@@ -149,35 +187,139 @@ def _ends(duration: fmpq) -> tuple[float, float]:
     return (math.nextafter(f, -math.inf), f) if g > duration else (f, math.nextafter(f, math.inf))
 
 
+def _int_ends(Tn: int, Td: int) -> tuple[float, float] | None:
+    """``_ends`` of T = Tn/Td (Td > 0) on its integers; None beyond the double range."""
+    try:
+        f = Tn / Td
+    except OverflowError:
+        return None
+    a, b = f.as_integer_ratio()
+    above, below = a * Td, Tn * b
+    if above == below:
+        return f, f
+    return (math.nextafter(f, -math.inf), f) if above > below else (f, math.nextafter(f, math.inf))
+
+
+def _half(t: float) -> tuple[int, int]:
+    """``dyadic_middle(0.0, t)`` as (M, e): the centre M 2^e."""
+    m = 0.5 * (0.0 + t)
+    if m == 0 or not math.isfinite(m):
+        return 0, 0
+    e = math.frexp(m)[1] - 12
+    return (round(m / 2.0**e), e) if e >= 0 else (round(m * 2.0**-e), e)
+
+
+def _shifted(nums: list[int], den: int, M: int, e: int) -> tuple[list[int], int]:
+    """The polynomial sum(nums[j] u^j)/den at u + c, c = M 2^e (exact, on integers):
+    the Taylor shift by M of the coefficients scaled by 2^(s(n - j)), s = -e, the k-th
+    then scaled by 2^(sk), over den 2^(sn)."""
+    if M == 0 or not nums:
+        return nums, den
+    n = len(nums) - 1
+    s = max(-e, 0)
+    M <<= max(e, 0)
+    b = [v << (s * (n - j)) for j, v in enumerate(nums)]
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            b[j] += M * b[j + 1]
+    return [v << (s * k) for k, v in enumerate(b)], den << (s * n)
+
+
+def _segments(pieces: list[Piece]) -> list[Segment] | None:
+    """The pieces' ``waypoints.Segment`` forms when every piece is one, else None."""
+    forms = [p.form for p in pieces]
+    return forms if all(type(f) is Segment for f in forms) else None  # type: ignore[return-value]
+
+
+def _of_segments(
+    segments: list[Segment],
+) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray, np.ndarray, np.ndarray] | None:
+    """What ``Batch`` makes of y in the pieces' exact local forms, made from the
+    integers of their ``waypoints.Segment``: the ball coefficients of y recentred on c
+    (``_shifted``, ``_Rounded``), the ends (``_ends``) and the centres c (exact
+    doubles); the very numbers the exact forms give. None for a piece beyond the double
+    range (then the forms)."""
+    q = _Rounded()
+    last, end, centre = [], [], []
+    for seg in segments:
+        ends = _int_ends(*seg.T)
+        if ends is None:
+            return None
+        M, e = _half(ends[0])
+        if e < -1000:  # the centre's double not exact: the general path says what it is
+            return None
+        q.add(*_shifted(*seg.integers(1), M, e))
+        last.append(ends[0])
+        end.append(ends[1])
+        centre.append(math.ldexp(M, e))
+    return q.balls(), np.array(last), np.array(end), np.array(centre)
+
+
+def _x_of_segments(segments: list[Segment]) -> tuple[np.ndarray, np.ndarray]:
+    """The ball coefficients of x of the pieces' ``waypoints.Segment`` forms."""
+    x = _Rounded()
+    for seg in segments:
+        x.add(*seg.integers(0))
+    return x.balls()
+
+
 class Batch:
     """The direct torque and δ enclosures of many pieces, one pass for all their boxes;
     the pieces share one robot and one form (a path, or y(t)). Each piece is taken in its
     own local time v = t - start (``local_form``: exact, and short when the piece comes
     in that form, as waypoint segments do); the times the batch reports are local to
     their piece's start. ``apart`` says which pieces are proven plain before any exact
-    analysis; ``take`` keeps the plain ones."""
+    analysis; ``take`` keeps the plain ones. A planner's segments (``waypoints.Segment``)
+    are rounded from their integers, their polynomials never made (``_of_segments``),
+    and x's coefficients only when a pass reads them (``x``): the same balls."""
 
     def __init__(self, pieces: list[Piece], robot: Robot) -> None:
         self.robot = robot
-        self.starts = [p.start for p in pieces]
-        self.durations = [p.end - p.start for p in pieces]
+        self.pieces = pieces
         self.path = pieces[0].path
         self.direct = self.path is None
         assert all((p.path is None) == self.direct for p in pieces)
-        self.forms = [local_form(p) for p in pieces]
-        self.x = _levels([x for x, _ in self.forms])
+        self.cols: np.ndarray | None = None  # a batch taken: its pieces' columns in x, q
+        self.stacked = per_robot(robot, stacked_form)
+        self._shared: dict[str, Any] = {}  # x, made when first read; shared by ``take``
+        segments = _segments(pieces) if self.direct else None
+        made = _of_segments(segments) if segments is not None else None
+        if segments is not None and made is not None:  # a planner's segments, integers
+            q, self.t_last, self.t_end, centre = made
+            self.q = _derived(q)
+            self.center = Ball._of(centre, np.zeros_like(centre))
+            self._shared["segments"] = segments
+            return
+        forms = [local_form(p) for p in pieces]
+        self._shared["x"] = _levels([x for x, _ in forms])
         ends = [_ends(d) for d in self.durations]
         self.t_last = np.array([e[0] for e in ends])
         self.t_end = np.array([e[1] for e in ends])
         if self.path is None:
             centres = [dyadic_middle(0.0, t) for t in self.t_last]
-            qs = [y(fmpq_poly([c, 1])) for (_, y), c in zip(self.forms, centres, strict=True)]
+            qs = [y(fmpq_poly([c, 1])) for (_, y), c in zip(forms, centres, strict=True)]
         else:  # y = q(x - c), q the path recentred on the middle of the piece's x range
             centres = self._x_centres()
             qs = [self.path(fmpq_poly([c, 1])) for c in centres]
         self.q = _levels(qs)
         self.center = Ball._of(*_balls(centres))
-        self.stacked = per_robot(robot, stacked_form)
+
+    @property
+    def x(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The ball coefficients of x and its derivatives (``_levels``), of every piece of
+        the batch this one was taken from: made when first read (no pass over y alone
+        reads them)."""
+        if "x" not in self._shared:
+            self._shared["x"] = _derived(_x_of_segments(self._shared["segments"]))
+        return self._shared["x"]
+
+    @cached_property
+    def durations(self) -> list[fmpq]:
+        return [p.end - p.start for p in self.pieces]
+
+    def form(self, j: int) -> tuple[fmpq_poly, fmpq_poly]:
+        """The exact local form of piece j (``local_form``)."""
+        return local_form(self.pieces[j])
 
     def _x_centres(self) -> list[fmpq]:
         """A short dyadic number in the middle of each piece's x range, from 17 float
@@ -194,20 +336,18 @@ class Batch:
                 else fmpq(0) for a, b in zip(lo, hi, strict=True)]  # fmt: skip
 
     def __len__(self) -> int:
-        return len(self.starts)
+        return len(self.pieces)
 
     def take(self, ids: list[int]) -> Batch:
-        """The batch of the pieces ``ids`` (indices into this one), in that order."""
+        """The batch of the pieces ``ids`` (indices into this one), in that order: the
+        ball coefficients shared, not copied (``cols``)."""
         sel = np.array(ids, dtype=int)
         b = object.__new__(Batch)
         b.__dict__.update(self.__dict__)
-        for name in ("_start", "_y_span"):
+        for name in ("_start", "_y_span", "durations"):
             b.__dict__.pop(name, None)
-        b.starts = [self.starts[j] for j in ids]
-        b.durations = [self.durations[j] for j in ids]
-        b.forms = [self.forms[j] for j in ids]
-        b.x = [(m[:, sel], r[:, sel]) for m, r in self.x]
-        b.q = [(m[:, sel], r[:, sel]) for m, r in self.q]
+        b.pieces = [self.pieces[j] for j in ids]
+        b.cols = sel if self.cols is None else self.cols[sel]
         b.center = Ball._of(self.center.mid[sel], self.center.rad[sel])
         b.t_last, b.t_end = self.t_last[sel], self.t_end[sel]
         if "_y_span" in self.__dict__:
@@ -222,8 +362,8 @@ class Batch:
         n = len(self)
         idx = np.arange(n)
         with quiet():
-            y = full(self.jets(Ball.hull(np.zeros(n), self.t_end), idx)[3].v, n, 0)
-            y0 = full(self.jets(Ball.exact(np.zeros(n)), idx)[3].v, n, 0)
+            y = full(self._y(Ball.hull(np.zeros(n), self.t_end), idx), n, 0)
+            y0 = full(self._y(Ball.exact(np.zeros(n)), idx), n, 0)
             low, up = y.lower_abs(), y0.upper_abs()
         return np.where(np.isnan(low), 0.0, low), np.where(np.isnan(up), np.inf, up)
 
@@ -241,7 +381,7 @@ class Batch:
         bound = float(at_start.min())
         got = []
         for j in (int(k) for k in np.nonzero(low <= bound)[0]):
-            x, y = self.forms[j]
+            x, y = self.form(j)
             if self.path is not None:
                 y = self.path(x)
             d = self.durations[j]
@@ -250,11 +390,22 @@ class Batch:
         return jy, best
 
     # -- one pass ---------------------------------------------------------------------------
+    def _y(self, box: Ball, idx: np.ndarray) -> Ball:
+        """y over boxes of many pieces (``jets``' y, alone where it needs no x)."""
+        if not self.direct:
+            return self.jets(box, idx)[3].v
+        col = idx if self.cols is None else self.cols[idx]
+        c = Ball._of(self.center.mid[idx], self.center.rad[idx])
+        mid, rad = self.q[0][0][:, col], self.q[0][1][:, col]
+        return horner([Ball._of(mid[k], rad[k]) for k in range(len(mid))], box - c)
+
     def jets(self, box: Ball, idx: np.ndarray) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """``Polys.jets`` over boxes of many pieces (box j of piece idx[j])."""
 
+        col = idx if self.cols is None else self.cols[idx]
+
         def at(pm: tuple[np.ndarray, np.ndarray], x: Ball) -> Ball:
-            mid, rad = pm[0][:, idx], pm[1][:, idx]
+            mid, rad = pm[0][:, col], pm[1][:, col]
             return horner([Ball._of(mid[k], rad[k]) for k in range(len(mid))], x)
 
         xv = [at(c, box) for c in self.x]

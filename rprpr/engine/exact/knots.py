@@ -13,7 +13,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import Any, overload
 
 from flint import arb, ctx, fmpq
 
@@ -23,6 +23,25 @@ from . import equations as dyn
 from .mechanism import of
 
 PREC = 128  # bits of the one-sided torques
+
+
+class _Exact:
+    """``Knot.t_exact``: a Fraction, given as one or as an exact rational (``fmpq``, made
+    into a Fraction where read: a long motion's knots hold no second copy of their
+    times)."""
+
+    @overload
+    def __get__(self, obj: None, owner: Any = None) -> _Exact: ...
+    @overload
+    def __get__(self, obj: Knot, owner: Any = None) -> Fraction: ...
+    def __get__(self, obj: Knot | None, owner: Any = None) -> Fraction | _Exact:
+        if obj is None:
+            raise AttributeError("t_exact")  # no default: the field is required
+        t = getattr(obj, "_t_exact")  # noqa: B009
+        return t if isinstance(t, Fraction) else Fraction(int(t.p), int(t.q))
+
+    def __set__(self, obj: Knot, value: Fraction | fmpq) -> None:
+        object.__setattr__(obj, "_t_exact", value)
 
 
 @dataclass(frozen=True)
@@ -35,7 +54,7 @@ class Knot:
     are undefined or unbounded)."""
 
     t: float
-    t_exact: Fraction
+    t_exact: Fraction  # ``_Exact``, set on the class below
     before: int
     velocity_jump: tuple[float, float] | None
     acceleration_jump: tuple[float, float] | None
@@ -47,6 +66,9 @@ class Knot:
     def torque_jump(self) -> tuple[float, float] | None:
         a, b = self.torques
         return None if a is None or b is None else (b[0] - a[0], b[1] - a[1])
+
+
+setattr(Knot, "t_exact", _Exact())  # noqa: B010  (after the dataclass: a field with no default)
 
 
 def _jump(p: Any, up: fmpq, q: Any, uq: fmpq) -> tuple[float, float] | None:
@@ -98,11 +120,11 @@ def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
     where the acceleration jumps and the velocity does not. A jump a piece rules out by
     its construction (``Piece.smooth``) is not evaluated: it is zero exactly."""
     out = []
+    none = (None, None)
     for i, (p, q) in enumerate(itertools.pairwise(pieces)):
-        t = p.end
+        t = p.end  # also t_exact, as it is (``_Exact``)
         if q.smooth >= 2:  # continuous in velocity and acceleration by construction
-            out.append(Knot(to_float(t), Fraction(int(t.p), int(t.q)), i, None, None,
-                            (None, None), p.line, p.file))  # fmt: skip
+            out.append(Knot(to_float(t), t, i, None, None, none, p.line, p.file))
             continue
         (px, py), up = _local(p, t)
         (qx, qy), uq = _local(q, t)
@@ -114,5 +136,5 @@ def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
         sides: tuple[Any, Any] = (None, None)
         if v is None and a is not None:
             sides = (torques_at(p, t, robot), torques_at(q, t, robot))
-        out.append(Knot(to_float(t), Fraction(int(t.p), int(t.q)), i, v, a, sides, p.line, p.file))
+        out.append(Knot(to_float(t), t, i, v, a, sides, p.line, p.file))
     return out
