@@ -25,6 +25,7 @@ from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
+POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.25  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 
 
@@ -273,12 +274,22 @@ class LimitChecks:
         lo, hi = partition(self.duration, START_BOXES)
         if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
             return self.bounds(lo, hi, need=float(L.min()))
-        lo, hi, _ = self._refine(lo, hi, np.ones(len(lo), dtype=bool), 1, res)
+        reach = POLE_REACH * float(hi[0] - lo[0])
+        ends = np.concatenate([lo, hi[-1:]])
+        inner = np.zeros(len(ends), dtype=bool)
+        for s, e in self.motion.instants:
+            if not s.torque_bounded:
+                inner |= np.abs(ends - e.hi) < reach
+        inner[0] = inner[-1] = False
+        ends = ends[~inner]  # the boxes about each pole merged: cut about it below
+        lo, hi, _ = self._refine(ends[:-1], ends[1:], np.ones(len(ends) - 1, dtype=bool), 1, res,
+                                 float(hi[0] - lo[0]))  # fmt: skip
         return self.bounds(lo, hi, need=float(L.min()))
 
     def _refine(
-        self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float,
+        cap: float = math.inf,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
         """The boxes ``which`` cut for the next pass, each into k (k = 1: kept), or,
         holding a pole, into pieces about it (``_around_pole``); with the index of the
         box each new box comes from. The others are dropped."""
@@ -287,7 +298,7 @@ class LimitChecks:
         los, his = split(lo[plain], hi[plain], k)
         parts = [(los, his, np.repeat(plain, k))]
         for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
-            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res)
+            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res, cap)
             parts.append((plo, phi, np.full(len(plo), j)))
         return tuple(np.concatenate([p[q] for p in parts]) for q in range(3))  # type: ignore[return-value]
 
@@ -367,7 +378,9 @@ class LimitChecks:
                 out |= (lo <= e.hi + e.err + abs(e.lo)) & (hi >= e.hi - e.err - abs(e.lo))
         return out
 
-    def _around_pole(self, lo: float, hi: float, res: float) -> tuple[np.ndarray, np.ndarray]:
+    def _around_pole(
+        self, lo: float, hi: float, res: float, cap: float = math.inf
+    ) -> tuple[np.ndarray, np.ndarray]:
         """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
         nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
         pole (left undecided), and pieces whose widths grow with their distance to it,
@@ -378,8 +391,13 @@ class LimitChecks:
                    key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
         q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
         d = 0.45 * res
-        n = math.ceil(math.log(max(hi - lo, d) / d) / math.log(q)) + 1
+        width = max(hi - lo, d)
+        n = math.ceil(math.log(width / d) / math.log(q)) + 1
         steps = d * q ** np.arange(n + 1)
+        if cap < width:  # no piece wider than cap: beyond, steps of cap
+            steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
+            more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
+            steps = np.concatenate([steps, more])
         cuts = np.concatenate([c - steps, c + steps])
         ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
         return ends[:-1], ends[1:]

@@ -294,10 +294,10 @@ def test_the_first_partition_is_cut_finer_where_the_reference_peaks() -> None:
 # the table on purpose.
 PASSES = {
     "case1_crossing": (0, 0, 6),
-    "case2_crossing": (0, 0, 6),
+    "case2_crossing": (0, 0, 5),
     "example1_repaired": (0, 9, 7),
     "motion_pieces": (6, 20, 6),
-    "paper_path1": (0, 0, 8),
+    "paper_path1": (0, 0, 6),
     "paper_path2": (3, 5, 3),
     "piecewise_timing": (7, 11, 7),
     "prismatic_crossing": (3, 3, 3),
@@ -305,7 +305,7 @@ PASSES = {
     "trapezoidal": (7, 11, 7),
     "waypoints": (6, 20, 6),
     "waypoints_csv": (10, 18, 10),
-    "zero_speed_crossing": (0, 0, 17),
+    "zero_speed_crossing": (0, 0, 7),
 }
 
 
