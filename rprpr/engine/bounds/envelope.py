@@ -133,8 +133,8 @@ class Envelope(LimitChecks, NearForms, Ladders):
         if not len(r) + len(l_):
             return V, D
         cols = np.concatenate([r, l_])  # the balls of ε: right sides, then left ones
-        e = Ball.hull(np.concatenate([np.maximum(el[r], 0.0), np.minimum(el[l_], 0.0)]),
-                      np.concatenate([np.maximum(eh[r], 0.0), np.minimum(eh[l_], 0.0)]))  # fmt: skip
+        e_lo = np.concatenate([np.maximum(el[r], 0.0), np.minimum(el[l_], 0.0)])
+        e = Ball.hull(e_lo, np.concatenate([np.maximum(eh[r], 0.0), np.minimum(eh[l_], 0.0)]))
         sigma = np.concatenate([np.ones(len(r)), np.full(len(l_), (-1.0) ** th.k)])
         assert isinstance(self.stacked, Stacked)  # E at A or B: the RPRPR's Type I form
         T, _ = th.torques(self.stacked, e, sigma, jets)
