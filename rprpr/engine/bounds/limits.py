@@ -26,7 +26,7 @@ from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
-POLE_GROWTH = 0.25  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
+POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 
 
 def loose(c: LimitCheck) -> bool:
