@@ -97,16 +97,28 @@ class Envelope(LimitChecks, NearForms, Ladders):
                 V, D = self._through(th, t, V, D, poor_columns(V) | poor_columns(D))
         return V, D
 
-    def _values(self, t: np.ndarray) -> Ball:
-        """T (stacked rows) at the float times ``t``: the values of ``_pass`` without the
-        derivatives (the factored form near t_A, on jets, where the direct one is poor)."""
+    def _values(self, t: np.ndarray | Ball) -> Ball:
+        """T (stacked rows) at the float times ``t``, or over the balls of time ``t``: the
+        values of ``_pass`` without the derivatives (the factored form near t_A where the
+        direct one is poor)."""
+        tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
         with quiet():
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, Ball.exact(t)))
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, tb))
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-            V = full(T, len(t))
+            V = full(T, len(tb.mid))
             for th in self.throughs:  # rare
-                V, _ = self._through(th, Ball(t, np.zeros_like(t)), V, V, poor_columns(V), False)
+                V, _ = self._through(th, tb, V, V, poor_columns(V), False)
         return V
+
+    def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball:
+        """T (stacked rows) over the boxes [lo, hi] by their values alone (no derivative,
+        no point: a third of ``bounds``' cost), with the forms near singular instants
+        where the direct enclosure is poor and the bound matters (> need)."""
+        box = Ball.hull(lo, hi)
+        B = self._values(box)
+        none = np.zeros(0)
+        _, B = self._near(none, lo, hi, Ball._of(np.zeros((2, 0)), np.zeros((2, 0))), B, need)
+        return B
 
     def _through(
         self, th: Through, t: Ball, V: Ball, D: Ball, poor: np.ndarray, jets: bool = True

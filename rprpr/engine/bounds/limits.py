@@ -135,6 +135,7 @@ class LimitChecks:
     tf: float
     t_last: float
     poles: list[SingularInstant]
+    box_models: int
     _first: Bounds | None
     _peak: tuple[Peak, Peak] | None
 
@@ -147,6 +148,8 @@ class LimitChecks:
         def _pass(self, t: Ball) -> tuple[Ball, Ball]: ...
 
         def _values(self, t: np.ndarray) -> Ball: ...
+
+        def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball: ...
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
         """Branch and bound on the states of boxes (below, above, open): the open boxes
@@ -273,6 +276,13 @@ class LimitChecks:
             return self._first
         lo, hi = partition(self.duration, START_BOXES)
         if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
+            models = self.box_models
+            B = self.coarse(lo, hi, float(L.min()))
+            up = B.upper_abs()
+            if (up <= L[:, None]).all():  # far below the limit: decided by the values alone
+                zero = np.zeros_like(up)
+                return Bounds(lo, hi, zero, np.broadcast_to(lo, up.shape), up, zero)
+            self.box_models = models  # the full pass as if no coarse one had been made
             return self.bounds(lo, hi, need=float(L.min()))
         reach = POLE_REACH * float(hi[0] - lo[0])
         ends = np.concatenate([lo, hi[-1:]])
