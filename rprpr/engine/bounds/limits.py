@@ -126,6 +126,16 @@ def _record(
     return x0[back], x1[back], act
 
 
+def _joined(a: Bounds, b: Bounds) -> Bounds:
+    """The boxes of a and of b as one ``Bounds`` (both with their ends)."""
+    assert a.ends is not None and b.ends is not None
+    assert a.monotone is not None and b.monotone is not None
+    row = [np.concatenate([p, q], axis=-1) for p, q in
+           zip((a.lo, a.hi, a.low, a.low_t, a.up, a.floor), (b.lo, b.hi, b.low, b.low_t, b.up, b.floor), strict=True)]  # fmt: skip
+    ends = tuple(np.concatenate([p, q], axis=1) for p, q in zip(a.ends, b.ends, strict=True))
+    return Bounds(*row, ends, np.concatenate([a.monotone, b.monotone], axis=1))  # type: ignore[arg-type]
+
+
 class LimitChecks:
     """Whether |T_i| <= L_i over [0, t_f], with the windows above it, for ``Envelope``
     (a part of it: what it reads of the envelope is declared here)."""
@@ -275,15 +285,8 @@ class LimitChecks:
         if self._first is not None:
             return self._first
         lo, hi = partition(self.duration, START_BOXES)
-        if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
-            models = self.box_models
-            B = self.coarse(lo, hi, float(L.min()))
-            up = B.upper_abs()
-            if (up <= L[:, None]).all():  # far below the limit: decided by the values alone
-                zero = np.zeros_like(up)
-                return Bounds(lo, hi, zero, np.broadcast_to(lo, up.shape), up, zero)
-            self.box_models = models  # the full pass as if no coarse one had been made
-            return self.bounds(lo, hi, need=float(L.min()))
+        if not self.poles:  # the uniform boxes, no guess of where |T| peaks
+            return self._coarse_start(lo, hi, L, res)
         reach = POLE_REACH * float(hi[0] - lo[0])
         ends = np.concatenate([lo, hi[-1:]])
         inner = np.zeros(len(ends), dtype=bool)
@@ -295,6 +298,25 @@ class LimitChecks:
         lo, hi, _ = self._refine(ends[:-1], ends[1:], np.ones(len(ends) - 1, dtype=bool), 1, res,
                                  float(hi[0] - lo[0]))  # fmt: skip
         return self.bounds(lo, hi, need=float(L.min()))
+
+    def _coarse_start(self, lo: np.ndarray, hi: np.ndarray, L: np.ndarray, res: float) -> Bounds:
+        """The first pass without a pole: the values over the boxes alone (``coarse``:
+        no derivative, no point), which decide a limit far above or below the torques;
+        the boxes it leaves open are cut (``fan`` each) and given the full pass
+        (``bounds``) at once, the others kept as the coarse pass decided them."""
+        B = self.coarse(lo, hi, float(L.min()))
+        up, floor = B.upper_abs(), B.lower_abs()
+        up = np.where(np.isnan(up), np.inf, up)
+        floor = np.where(floor > L[:, None], floor, 0.0)  # a bound at every time of the box
+        open_ = (up > L[:, None]) & (floor == 0.0)
+        keep = ~open_.any(axis=0)
+        first = Bounds(lo[keep], hi[keep], floor[:, keep], np.broadcast_to(lo[keep], up[:, keep].shape),
+                       up[:, keep], floor[:, keep], (up[:, keep], up[:, keep], *[floor[:, keep]] * 4),
+                       np.zeros(up[:, keep].shape, dtype=bool))  # fmt: skip
+        if keep.all():
+            return first
+        plo, phi, _ = self._refine(lo, hi, ~keep, fan(int((~keep).sum())), res)
+        return _joined(first, self.bounds(plo, phi, need=float(L.min())))
 
     def _refine(
         self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float,
