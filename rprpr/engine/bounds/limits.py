@@ -130,10 +130,13 @@ def _joined(a: Bounds, b: Bounds) -> Bounds:
     """The boxes of a and of b as one ``Bounds`` (both with their ends)."""
     assert a.ends is not None and b.ends is not None
     assert a.monotone is not None and b.monotone is not None
-    row = [np.concatenate([p, q], axis=-1) for p, q in
-           zip((a.lo, a.hi, a.low, a.low_t, a.up, a.floor), (b.lo, b.hi, b.low, b.low_t, b.up, b.floor), strict=True)]  # fmt: skip
+    lo, hi = np.concatenate([a.lo, b.lo]), np.concatenate([a.hi, b.hi])
+    pairs = ((a.low, b.low), (a.low_t, b.low_t), (a.up, b.up), (a.floor, b.floor))
+    low, low_t, up, floor = (np.concatenate([p, q], axis=1) for p, q in pairs)
     ends = tuple(np.concatenate([p, q], axis=1) for p, q in zip(a.ends, b.ends, strict=True))
-    return Bounds(*row, ends, np.concatenate([a.monotone, b.monotone], axis=1))  # type: ignore[arg-type]
+    return Bounds(
+        lo, hi, low, low_t, up, floor, ends, np.concatenate([a.monotone, b.monotone], axis=1)
+    )
 
 
 class LimitChecks:
@@ -310,9 +313,9 @@ class LimitChecks:
         floor = np.where(floor > L[:, None], floor, 0.0)  # a bound at every time of the box
         open_ = (up > L[:, None]) & (floor == 0.0)
         keep = ~open_.any(axis=0)
-        first = Bounds(lo[keep], hi[keep], floor[:, keep], np.broadcast_to(lo[keep], up[:, keep].shape),
-                       up[:, keep], floor[:, keep], (up[:, keep], up[:, keep], *[floor[:, keep]] * 4),
-                       np.zeros(up[:, keep].shape, dtype=bool))  # fmt: skip
+        u, f = up[:, keep], floor[:, keep]  # f: a value at every time of the box (low)
+        first = Bounds(lo[keep], hi[keep], f, np.broadcast_to(lo[keep], u.shape), u, f,
+                       (u, u, f, f, f, f), np.zeros(u.shape, dtype=bool))  # fmt: skip
         if keep.all():
             return first
         plo, phi, _ = self._refine(lo, hi, ~keep, fan(int((~keep).sum())), res)
