@@ -139,6 +139,25 @@ def _joined(a: Bounds, b: Bounds) -> Bounds:
     )
 
 
+def _windows(L: np.ndarray, H: np.ndarray, S: np.ndarray, pole_times: list[float]) -> list[Window]:
+    """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
+    the run's open boxes at its ends bracket the crossings."""
+    edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
+    starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
+    ones = np.nonzero(S == 1)[0]
+    out = []
+    for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
+        inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
+        has_pole = any(L[j] <= t <= H[k] for t in pole_times)
+        if len(inner) or has_pole:
+            first = int(inner[0]) if len(inner) else j
+            last = int(inner[-1]) if len(inner) else k
+            out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
+                              float(H[last] if len(inner) else L[k]), float(H[k]),
+                              has_pole))  # fmt: skip
+    return out
+
+
 class LimitChecks:
     """Whether |T_i| <= L_i over [0, t_f], with the windows above it, for ``Envelope``
     (a part of it: what it reads of the envelope is declared here)."""
@@ -234,7 +253,7 @@ class LimitChecks:
         Ss = np.concatenate([p[2] for p in parts]).astype(int)
         order = np.argsort(Ls, kind="stable")
         Ls, Hs, Ss = self._sharpen(i, float(L[i]), res, Ls[order], Hs[order], Ss[order])
-        windows = self._windows(Ls, Hs, Ss)
+        windows = _windows(Ls, Hs, Ss, [s.t for s in self.poles])
         above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
         passed: bool | None = False if above else (True if (Ss == -1).all() else None)
         return LimitCheck(float(L[i]), passed, tuple(windows), res)
@@ -436,22 +455,3 @@ class LimitChecks:
         cuts = np.concatenate([c - steps, c + steps])
         ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
         return ends[:-1], ends[1:]
-
-    def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
-        """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
-        the run's open boxes at its ends bracket the crossings."""
-        edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
-        starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
-        ones = np.nonzero(S == 1)[0]
-        pole_times = [s.t for s in self.poles]
-        out = []
-        for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
-            inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
-            has_pole = any(L[j] <= t <= H[k] for t in pole_times)
-            if len(inner) or has_pole:
-                first = int(inner[0]) if len(inner) else j
-                last = int(inner[-1]) if len(inner) else k
-                out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
-                                  float(H[last] if len(inner) else L[k]), float(H[k]),
-                                  has_pole))  # fmt: skip
-        return out
