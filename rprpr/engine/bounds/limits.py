@@ -20,13 +20,21 @@ from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
 from .boxes import START_BOXES, Bounds, partition, split
-from .search import MAX_LIVE, MAX_ROUNDS, fan
+from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
 from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
+LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
+
+
+def fan(n_live: int) -> int:
+    """How many boxes each open box is cut into: fewer than the peak's (``search.fan``),
+    the open boxes of a limit check being few and near its crossings, and a pass of
+    1,000 boxes costing a third more than one of 250."""
+    return int(min(MAX_FAN, max(2, LIMIT_BUDGET // max(n_live, 1))))
 
 
 def loose(c: LimitCheck) -> bool:
