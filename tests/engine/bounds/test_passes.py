@@ -115,3 +115,31 @@ def test_the_ball_passes_of_each_hard_corpus_task_are_pinned(
 ) -> None:
     task = parse_task(HARD[name].text, f"{name}.yaml")
     assert _passes(task, monkeypatch) == CORPUS[name]
+
+
+def test_a_limit_far_above_the_torques_is_decided_in_one_coarse_pass(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # paper path 2's torques peak at 66.1 and 60.6 N m (tests/engine/bounds/test_envelope.py,
+    # against the mpmath reference): a [300, 300] limit is proven by the values over the
+    # first partition's boxes alone, no derivative, no point value, no second pass
+    from tests.engine.certified.test_motion import _config, _motion
+
+    calls: list[str] = []
+    for name in ("_pass", "_values"):
+        f = getattr(envelope.Envelope, name)
+
+        def counted(self: Any, *a: Any, _f: Any = f, _n: str = name, **k: Any) -> Any:
+            calls.append(_n)
+            return _f(self, *a, **k)
+
+        monkeypatch.setattr(envelope.Envelope, name, counted)
+    env = envelope.Envelope(_motion(_config("paper_path2.rprpr.yaml")))
+    checks = env.limit_violations((300, 300))
+    assert all(c.passed is True and c.windows == () for c in checks)
+    assert calls == ["_values"]
+    # just below the peak of T1 the same first pass cannot decide: the full pass follows
+    calls.clear()
+    t1, t2 = env.limit_violations((66, 300))
+    assert t1.passed is False and t2.passed is True
+    assert calls[:2] == ["_values", "_pass"]
