@@ -308,10 +308,11 @@ class LimitChecks:
 
     def _limit_start(self, L: np.ndarray, res: float) -> Bounds:
         """The limit check's first pass: the first partition's (``_start``, shared with
-        the peak) when the peak made it; else the uniform partition (a limit needs no
-        guess of where |T| peaks, and no Taylor form where the direct bound is below it:
-        a limit far above the torques is decided in this one pass), with the boxes
-        holding a pole cut about it already (``_around_pole``)."""
+        the peak) when the peak made it; else, without a pole, the coarse pass over the
+        uniform partition (``_coarse_start``: a limit far above the torques is decided
+        there); with poles, the uniform partition with the boxes within POLE_REACH boxes
+        of a pole merged and cut about it (``_around_pole``, no piece wider than the
+        partition's), so that the boxes beside a pole are decided in this pass."""
         if self._first is not None:
             return self._first
         lo, hi = partition(self.duration, START_BOXES)
