@@ -97,25 +97,38 @@ class Envelope(LimitChecks, NearForms, Ladders):
                 V, D = self._through(th, t, V, D, poor_columns(V) | poor_columns(D))
         return V, D
 
-    def _values(self, t: np.ndarray) -> Ball:
-        """T (stacked rows) at the float times ``t``: the values of ``_pass`` without the
-        derivatives (the factored form near t_A, on jets, where the direct one is poor)."""
+    def _values(self, t: np.ndarray | Ball) -> Ball:
+        """T (stacked rows) at the float times ``t``, or over the balls of time ``t``: the
+        values of ``_pass`` without the derivatives (the factored form near t_A where the
+        direct one is poor)."""
+        tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
         with quiet():
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, Ball.exact(t)))
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, tb))
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
-            V = full(T, len(t))
+            V = full(T, len(tb.mid))
             for th in self.throughs:  # rare
-                zero = Ball._of(np.zeros_like(V.mid), np.zeros_like(V.rad))
-                V, _ = self._through(th, Ball(t, np.zeros_like(t)), V, zero, poor_columns(V))
+                V, _ = self._through(th, tb, V, V, poor_columns(V), False)
         return V
 
+    def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball:
+        """T (stacked rows) over the boxes [lo, hi] by their values alone (no derivative,
+        no point: a third of ``bounds``' cost), with the forms near singular instants
+        where the direct enclosure is poor and the bound matters (> need)."""
+        box = Ball.hull(lo, hi)
+        B = self._values(box)
+        none = np.zeros(0)
+        _, B = self._near(none, lo, hi, Ball._of(np.zeros((2, 0)), np.zeros((2, 0))), B, need)
+        return B
+
     def _through(
-        self, th: Through, t: Ball, V: Ball, D: Ball, poor: np.ndarray
+        self, th: Through, t: Ball, V: Ball, D: Ball, poor: np.ndarray, jets: bool = True
     ) -> tuple[Ball, Ball]:
         """V (T) and D (T') made narrower near t_A by the factored form (``Through``) on
         each side of t_A that the balls of time reach within [0, t_f] (the hull of both
         sides where a ball holds t_A: T is then bounded by either side's values), for the
-        columns ``poor`` (where the direct form is poor: elsewhere it is kept)."""
+        columns ``poor`` (where the direct form is poor: elsewhere it is kept); both sides
+        in one evaluation (a ball each, its own sign of φ). Without ``jets``, V alone (the
+        values at points: D is returned as it came)."""
         idx = np.nonzero(poor & (np.abs(t.mid - th.e.hi) <= self.tf / 4))[0]
         if not len(idx):
             return V, D
@@ -128,27 +141,22 @@ class Envelope(LimitChecks, NearForms, Ladders):
             left[:] = False  # no time of [0, t_f] before t_A
         if th.e.exact is not None and th.e.exact >= self.duration:
             right[:] = False
-        m = len(idx)
-        bounds = [np.full((2, m), np.inf * sign) for sign in (1, -1, 1, -1)]  # V, D: lo, hi
-        for sel, side in ((right, 1), (left, -1)):
-            j = np.nonzero(sel)[0]
-            if not len(j):
-                continue
-            if side > 0:
-                e = Ball.hull(np.maximum(el[j], 0.0), np.maximum(eh[j], 0.0))
-            else:
-                e = Ball.hull(np.minimum(el[j], 0.0), np.minimum(eh[j], 0.0))
-            sigma = 1.0 if side > 0 else (-1.0) ** th.k
-            assert isinstance(self.stacked, Stacked)  # E at A or B: the RPRPR's Type I form
-            T, _ = th.torques(self.stacked, e, sigma)
-            for q, B in enumerate((T.v, T.d)):
-                lo_q, hi_q = bounds[2 * q], bounds[2 * q + 1]
-                lo_q[:, j] = np.minimum(lo_q[:, j], np.broadcast_to(B.lower(), (2, len(j))))
-                hi_q[:, j] = np.maximum(hi_q[:, j], np.broadcast_to(B.upper(), (2, len(j))))
+        r, l_ = np.nonzero(right)[0], np.nonzero(left)[0]
+        if not len(r) + len(l_):
+            return V, D
+        cols = np.concatenate([r, l_])  # the balls of ε: right sides, then left ones
+        e_lo = np.concatenate([np.maximum(el[r], 0.0), np.minimum(el[l_], 0.0)])
+        e = Ball.hull(e_lo, np.concatenate([np.maximum(eh[r], 0.0), np.minimum(eh[l_], 0.0)]))
+        sigma = np.concatenate([np.ones(len(r)), np.full(len(l_), (-1.0) ** th.k)])
+        assert isinstance(self.stacked, Stacked)  # E at A or B: the RPRPR's Type I form
+        T, _ = th.torques(self.stacked, e, sigma, jets)
         some = left | right
         k = idx[some]
-        for q in (0, 1):
-            lo_q, hi_q = bounds[2 * q][:, some], bounds[2 * q + 1][:, some]
+        where = np.cumsum(some) - 1  # the position of each column of idx among ``some``
+        for q, B in enumerate((T.v, T.d) if jets else (T,)):
+            lo_q, hi_q = np.full((2, len(k)), np.inf), np.full((2, len(k)), -np.inf)
+            np.minimum.at(lo_q.T, where[cols], np.broadcast_to(B.lower(), (2, len(cols))).T)
+            np.maximum.at(hi_q.T, where[cols], np.broadcast_to(B.upper(), (2, len(cols))).T)
             ok = np.isfinite(lo_q) & np.isfinite(hi_q)
             B = Ball.hull(np.where(ok, lo_q, 0.0), np.where(ok, hi_q, 0.0))
             B = Ball._of(np.where(ok, B.mid, np.nan), np.where(ok, B.rad, np.inf))

@@ -20,12 +20,21 @@ from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
 from .boxes import START_BOXES, Bounds, partition, split
-from .search import MAX_LIVE, MAX_ROUNDS, fan
+from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
 from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 
 CROSSING_STEPS = 12  # point passes that bracket the crossings in monotone boxes, at most
 PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPREAD^j
-POLE_GROWTH = 0.25  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
+POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
+POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
+LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
+
+
+def fan(n_live: int) -> int:
+    """How many boxes each open box is cut into: fewer than the peak's (``search.fan``),
+    the open boxes of a limit check being few and near its crossings, and a pass of
+    1,000 boxes costing a third more than one of 250."""
+    return int(min(MAX_FAN, max(2, LIMIT_BUDGET // max(n_live, 1))))
 
 
 def loose(c: LimitCheck) -> bool:
@@ -125,6 +134,38 @@ def _record(
     return x0[back], x1[back], act
 
 
+def _joined(a: Bounds, b: Bounds) -> Bounds:
+    """The boxes of a and of b as one ``Bounds`` (both with their ends)."""
+    assert a.ends is not None and b.ends is not None
+    assert a.monotone is not None and b.monotone is not None
+    lo, hi = np.concatenate([a.lo, b.lo]), np.concatenate([a.hi, b.hi])
+    pairs = ((a.low, b.low), (a.low_t, b.low_t), (a.up, b.up), (a.floor, b.floor))
+    low, low_t, up, floor = (np.concatenate([p, q], axis=1) for p, q in pairs)
+    ends = tuple(np.concatenate([p, q], axis=1) for p, q in zip(a.ends, b.ends, strict=True))
+    return Bounds(
+        lo, hi, low, low_t, up, floor, ends, np.concatenate([a.monotone, b.monotone], axis=1)
+    )
+
+
+def _windows(L: np.ndarray, H: np.ndarray, S: np.ndarray, pole_times: list[float]) -> list[Window]:
+    """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
+    the run's open boxes at its ends bracket the crossings."""
+    edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
+    starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
+    ones = np.nonzero(S == 1)[0]
+    out = []
+    for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
+        inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
+        has_pole = any(L[j] <= t <= H[k] for t in pole_times)
+        if len(inner) or has_pole:
+            first = int(inner[0]) if len(inner) else j
+            last = int(inner[-1]) if len(inner) else k
+            out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
+                              float(H[last] if len(inner) else L[k]), float(H[k]),
+                              has_pole))  # fmt: skip
+    return out
+
+
 class LimitChecks:
     """Whether |T_i| <= L_i over [0, t_f], with the windows above it, for ``Envelope``
     (a part of it: what it reads of the envelope is declared here)."""
@@ -134,6 +175,7 @@ class LimitChecks:
     tf: float
     t_last: float
     poles: list[SingularInstant]
+    box_models: int
     _first: Bounds | None
     _peak: tuple[Peak, Peak] | None
 
@@ -146,6 +188,8 @@ class LimitChecks:
         def _pass(self, t: Ball) -> tuple[Ball, Ball]: ...
 
         def _values(self, t: np.ndarray) -> Ball: ...
+
+        def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball: ...
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
         """Branch and bound on the states of boxes (below, above, open): the open boxes
@@ -217,7 +261,7 @@ class LimitChecks:
         Ss = np.concatenate([p[2] for p in parts]).astype(int)
         order = np.argsort(Ls, kind="stable")
         Ls, Hs, Ss = self._sharpen(i, float(L[i]), res, Ls[order], Hs[order], Ss[order])
-        windows = self._windows(Ls, Hs, Ss)
+        windows = _windows(Ls, Hs, Ss, [s.t for s in self.poles])
         above = bool(seen_above[i]) or bool((Ss == 1).any()) or bool(self.poles)
         passed: bool | None = False if above else (True if (Ss == -1).all() else None)
         return LimitCheck(float(L[i]), passed, tuple(windows), res)
@@ -264,21 +308,51 @@ class LimitChecks:
 
     def _limit_start(self, L: np.ndarray, res: float) -> Bounds:
         """The limit check's first pass: the first partition's (``_start``, shared with
-        the peak) when the peak made it; else the uniform partition (a limit needs no
-        guess of where |T| peaks, and no Taylor form where the direct bound is below it:
-        a limit far above the torques is decided in this one pass), with the boxes
-        holding a pole cut about it already (``_around_pole``)."""
+        the peak) when the peak made it; else, without a pole, the coarse pass over the
+        uniform partition (``_coarse_start``: a limit far above the torques is decided
+        there); with poles, the uniform partition with the boxes within POLE_REACH boxes
+        of a pole merged and cut about it (``_around_pole``, no piece wider than the
+        partition's), so that the boxes beside a pole are decided in this pass."""
         if self._first is not None:
             return self._first
         lo, hi = partition(self.duration, START_BOXES)
-        if not self.poles:  # no peak asked for: the uniform boxes, no guess of its maxima
-            return self.bounds(lo, hi, need=float(L.min()))
-        lo, hi, _ = self._refine(lo, hi, np.ones(len(lo), dtype=bool), 1, res)
+        if not self.poles:  # the uniform boxes, no guess of where |T| peaks
+            return self._coarse_start(lo, hi, L, res)
+        reach = POLE_REACH * float(hi[0] - lo[0])
+        ends = np.concatenate([lo, hi[-1:]])
+        inner = np.zeros(len(ends), dtype=bool)
+        for s, e in self.motion.instants:
+            if not s.torque_bounded:
+                inner |= np.abs(ends - e.hi) < reach
+        inner[0] = inner[-1] = False
+        ends = ends[~inner]  # the boxes about each pole merged: cut about it below
+        lo, hi, _ = self._refine(ends[:-1], ends[1:], np.ones(len(ends) - 1, dtype=bool), 1, res,
+                                 float(hi[0] - lo[0]))  # fmt: skip
         return self.bounds(lo, hi, need=float(L.min()))
 
+    def _coarse_start(self, lo: np.ndarray, hi: np.ndarray, L: np.ndarray, res: float) -> Bounds:
+        """The first pass without a pole: the values over the boxes alone (``coarse``:
+        no derivative, no point), which decide a limit far above or below the torques;
+        the boxes it leaves open are cut (``fan`` each) and given the full pass
+        (``bounds``) at once, the others kept as the coarse pass decided them."""
+        B = self.coarse(lo, hi, float(L.min()))
+        up, floor = B.upper_abs(), B.lower_abs()
+        up = np.where(np.isnan(up), np.inf, up)
+        floor = np.where(floor > L[:, None], floor, 0.0)  # a bound at every time of the box
+        open_ = (up > L[:, None]) & (floor == 0.0)
+        keep = ~open_.any(axis=0)
+        u, f = up[:, keep], floor[:, keep]  # f: a value at every time of the box (low)
+        first = Bounds(lo[keep], hi[keep], f, np.broadcast_to(lo[keep], u.shape), u, f,
+                       (u, u, f, f, f, f), np.zeros(u.shape, dtype=bool))  # fmt: skip
+        if keep.all():
+            return first
+        plo, phi, _ = self._refine(lo, hi, ~keep, fan(int((~keep).sum())), res)
+        return _joined(first, self.bounds(plo, phi, need=float(L.min())))
+
     def _refine(
-        self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float,
+        cap: float = math.inf,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
         """The boxes ``which`` cut for the next pass, each into k (k = 1: kept), or,
         holding a pole, into pieces about it (``_around_pole``); with the index of the
         box each new box comes from. The others are dropped."""
@@ -287,7 +361,7 @@ class LimitChecks:
         los, his = split(lo[plain], hi[plain], k)
         parts = [(los, his, np.repeat(plain, k))]
         for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
-            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res)
+            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res, cap)
             parts.append((plo, phi, np.full(len(plo), j)))
         return tuple(np.concatenate([p[q] for p in parts]) for q in range(3))  # type: ignore[return-value]
 
@@ -367,7 +441,9 @@ class LimitChecks:
                 out |= (lo <= e.hi + e.err + abs(e.lo)) & (hi >= e.hi - e.err - abs(e.lo))
         return out
 
-    def _around_pole(self, lo: float, hi: float, res: float) -> tuple[np.ndarray, np.ndarray]:
+    def _around_pole(
+        self, lo: float, hi: float, res: float, cap: float = math.inf
+    ) -> tuple[np.ndarray, np.ndarray]:
         """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
         nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
         pole (left undecided), and pieces whose widths grow with their distance to it,
@@ -378,27 +454,13 @@ class LimitChecks:
                    key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
         q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
         d = 0.45 * res
-        n = math.ceil(math.log(max(hi - lo, d) / d) / math.log(q)) + 1
+        width = max(hi - lo, d)
+        n = math.ceil(math.log(width / d) / math.log(q)) + 1
         steps = d * q ** np.arange(n + 1)
+        if cap < width:  # no piece wider than cap: beyond, steps of cap
+            steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
+            more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
+            steps = np.concatenate([steps, more])
         cuts = np.concatenate([c - steps, c + steps])
         ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
         return ends[:-1], ends[1:]
-
-    def _windows(self, L: np.ndarray, H: np.ndarray, S: np.ndarray) -> list[Window]:
-        """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
-        the run's open boxes at its ends bracket the crossings."""
-        edges = np.diff(np.concatenate([[0], (S != -1).astype(int), [0]]))
-        starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
-        ones = np.nonzero(S == 1)[0]
-        pole_times = [s.t for s in self.poles]
-        out = []
-        for j, k in zip(starts.tolist(), ends.tolist(), strict=True):
-            inner = ones[np.searchsorted(ones, j) : np.searchsorted(ones, k, side="right")]
-            has_pole = any(L[j] <= t <= H[k] for t in pole_times)
-            if len(inner) or has_pole:
-                first = int(inner[0]) if len(inner) else j
-                last = int(inner[-1]) if len(inner) else k
-                out.append(Window(float(L[j]), float(L[first] if len(inner) else H[j]),
-                                  float(H[last] if len(inner) else L[k]), float(H[k]),
-                                  has_pole))  # fmt: skip
-        return out

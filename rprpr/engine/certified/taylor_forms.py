@@ -41,8 +41,14 @@ class CertifiedMotion(Protocol):
     robot: Any
     analysis: Any
     instants: Any
+    mech: Any  # the robot's formulas (``mechanism``)
+
+    @property
+    def params(self) -> Any: ...
 
     def ball_pass(self, t: Any) -> dict[str, Ball]: ...
+
+    def end_point(self, t: Any) -> tuple[Ball, ...]: ...
 
 
 TAYLOR_PREC = 128  # bits of the Taylor forms, to start with

@@ -29,10 +29,13 @@ def _derivatives(c: list[Ball]) -> tuple[list[Ball], ...]:
     return tuple(out)
 
 
-def _jets3(ds: tuple[list[Ball], ...], eps: Ball) -> tuple[Jet, Jet, Jet]:
+def _jets3(ds: tuple[list[Ball], ...], eps: Ball, jets: bool = True) -> tuple[Any, Any, Any]:
     """f, f', f'' as jets in ε (value, derivative) over the balls ``eps``, from the
     coefficients of f and its first three derivatives (``_derivatives``): Horner's rule
-    on each, every derivative made once."""
+    on each, every derivative made once; without ``jets``, f, f', f'' as balls (the
+    third derivative not evaluated)."""
+    if not jets:
+        return horner(ds[0], eps), horner(ds[1], eps), horner(ds[2], eps)
     v = [horner(c, eps) for c in ds]
     return Jet(v[0], v[1]), Jet(v[1], v[2]), Jet(v[2], v[3])
 
@@ -64,12 +67,16 @@ class Through:
             self.dx, self.dy = _derivatives(_taylor_balls(traj.x, e)), _derivatives(cy)
             self.da, self.db, self.dphi = _derivatives(a), _derivatives(b), _derivatives(phi)
 
-    def torques(self, st: Stacked, eps: Ball, sigma: float) -> tuple[Jet, Jet]:
-        """T (stacked) and δ as jets over balls of ε on one side (sign of φ: sigma)."""
-        x = _jets3(self.dx, eps)
-        y = _jets3(self.dy, eps)
+    def torques(
+        self, st: Stacked, eps: Ball, sigma: float | np.ndarray, jets: bool = True
+    ) -> tuple[Any, Any]:
+        """T (stacked) and δ as jets over balls of ε, each ball on one side (the sign of φ
+        there: ``sigma``, one for all or one per ball); without ``jets``, as balls (the
+        values alone: points need no derivative)."""
+        x = _jets3(self.dx, eps, jets)
+        y = _jets3(self.dy, eps, jets)
         reg = st.legs(x[0], x[1], x[2], y[0], y[1], y[2])
-        a, b, phi = _jets3(self.da, eps), _jets3(self.db, eps), _jets3(self.dphi, eps)
+        a, b, phi = (_jets3(d, eps, jets) for d in (self.da, self.db, self.dphi))
         f = dyn.leg(a[0], a[1], a[2], b[0], b[1], b[2], hypot)
         r, r1, r2 = f.s, f.s_d, f.s_dd
         own = dyn.Leg(
@@ -93,17 +100,19 @@ class Through:
         return T, delta
 
 
-def _jet_rows(reg: Jet, own: Jet, i: int, n: int) -> Jet:
-    """The stacked jet ``reg`` (2 rows of n) with its row i replaced by ``own``."""
-    out = []
-    for part in ("v", "d"):
-        R, Own = getattr(reg, part), getattr(own, part)
-        mid = np.array(np.broadcast_to(R.mid, (2, n)), dtype=float)
-        rad = np.array(np.broadcast_to(R.rad, (2, n)), dtype=float)
-        mid[i] = np.broadcast_to(Own.mid, (n,))
-        rad[i] = np.broadcast_to(Own.rad, (n,))
-        out.append(Ball._of(mid, rad))
-    return Jet(out[0], out[1])
+def _jet_rows(reg: Any, own: Any, i: int, n: int) -> Any:
+    """The stacked jet (or ball) ``reg`` (2 rows of n) with its row i replaced by ``own``."""
+    if isinstance(reg, Ball):
+        return _rows(reg, own, i, n)
+    return Jet(_rows(reg.v, own.v, i, n), _rows(reg.d, own.d, i, n))
+
+
+def _rows(R: Ball, Own: Ball, i: int, n: int) -> Ball:
+    mid = np.array(np.broadcast_to(R.mid, (2, n)), dtype=float)
+    rad = np.array(np.broadcast_to(R.rad, (2, n)), dtype=float)
+    mid[i] = np.broadcast_to(Own.mid, (n,))
+    rad[i] = np.broadcast_to(Own.rad, (n,))
+    return Ball._of(mid, rad)
 
 
 def _taylor_balls(p: fmpq_poly, e: Any) -> list[Ball]:

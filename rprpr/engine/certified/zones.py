@@ -21,7 +21,7 @@ from flint import arb, ctx, fmpq, fmpq_poly
 from ...model.numbers import to_float
 from ..exact.roots import real_roots_in
 from ..exact.singular import SingularInstant
-from .balls import ETA, Ball, U, horner, quiet, two_sum
+from .balls import ETA, Ball, U, horner, hypot, quiet, two_sum
 from .discs import CIRCLE_BALLS, analytic_on_disc, disc_bound
 from .taylor_forms import (
     TAYLOR_PREC,
@@ -236,9 +236,13 @@ def _needed(motion: CertifiedMotion, e: ExactTime, rho: float) -> float:
     tf = to_float(motion.traj.duration)
     t = np.concatenate([e.hi + d, e.hi - d])
     inside = (t >= 0) & (t <= tf)
-    with quiet():
-        b = motion.ball_pass(t)
-    good = b["lambda1"].certified(DIRECT_REL) & b["lambda2"].certified(DIRECT_REL)
+    with quiet():  # λ alone, as ``ball_pass`` has it (no angle, no torque)
+        x, xd, xdd, y, yd, ydd = motion.end_point(t)
+        p, mech = motion.params, motion.mech
+        leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
+        dyn, delta = mech.dynamics(leg1, leg2, p), mech.delta(p, y, leg1, leg2)
+        lam1, lam2 = dyn.mu1 / delta, dyn.mu2 / delta
+    good = lam1.certified(DIRECT_REL) & lam2.certified(DIRECT_REL)
     poor = np.concatenate([d, d])[inside & ~good]
     return 1.1 * float(poor.max()) if len(poor) else 0.0
 

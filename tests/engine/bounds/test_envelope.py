@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from functools import cache
-from typing import Any
 
 import mpmath
 import numpy as np
@@ -283,68 +282,3 @@ def test_the_first_partition_is_cut_finer_where_the_reference_peaks() -> None:
         assert np.abs(cuts - t_ref).min() <= 5e-5
         near = cuts[np.abs(cuts - t_ref) <= h / 2 - h / 64]  # the core: 32 boxes a side
         assert len(near) >= 32 and np.diff(near).max() <= h / 64 * (1 + 1e-9)
-
-
-# -- the work: ball passes per task, pinned ----------------------------------------------------
-
-# per shipped config: the vectorised ball passes of an audit (Envelope._pass over boxes,
-# Envelope._values and CertifiedMotion.ball_pass at points, Batch._pass and Batch._values),
-# by default (the task's own checks: no peak), with --peak, and under a [300, 300] limit
-# without the peak. A change that costs passes shows here; one that saves them updates
-# the table on purpose.
-PASSES = {
-    "case1_crossing": (0, 0, 6),
-    "case2_crossing": (0, 0, 6),
-    "example1_repaired": (0, 9, 7),
-    "motion_pieces": (6, 20, 6),
-    "paper_path1": (0, 0, 8),
-    "paper_path2": (3, 5, 3),
-    "piecewise_timing": (7, 11, 7),
-    "prismatic_crossing": (3, 3, 3),
-    "touch": (0, 0, 6),
-    "trapezoidal": (7, 11, 7),
-    "waypoints": (6, 20, 6),
-    "waypoints_csv": (10, 18, 10),
-    "zero_speed_crossing": (0, 0, 17),
-}
-
-
-@pytest.mark.parametrize("name", sorted(PASSES))
-def test_the_ball_passes_of_each_shipped_config_are_pinned(
-    name: str, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    import dataclasses
-
-    from flint import fmpq
-
-    from rprpr.engine.audit import audit
-    from rprpr.engine.bounds import batch, envelope
-    from rprpr.engine.certified import motion as certified
-    from rprpr.io.loader import load_task
-    from tests.conftest import CONFIGS
-
-    count = [0]
-
-    def counting(f: Any) -> Any:
-        def counted(self: Any, *a: Any, **k: Any) -> Any:
-            count[0] += 1
-            return f(self, *a, **k)
-
-        return counted
-
-    for cls, method in (
-        (envelope.Envelope, "_pass"),
-        (envelope.Envelope, "_values"),
-        (certified.CertifiedMotion, "ball_pass"),
-        (batch.Batch, "_pass"),
-        (batch.Batch, "_values"),
-    ):
-        monkeypatch.setattr(cls, method, counting(getattr(cls, method)))
-    task = load_task(CONFIGS / f"{name}.rprpr.yaml")
-    checks = dataclasses.replace(task.checks, torque_limit=(fmpq(300), fmpq(300)))
-    got = []
-    for t, peak in ((task, False), (task, True), (dataclasses.replace(task, checks=checks), False)):
-        count[0] = 0
-        audit(t, samples=11, peak=peak)
-        got.append(count[0])
-    assert tuple(got) == PASSES[name]
