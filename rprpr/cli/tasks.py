@@ -10,7 +10,6 @@ import os
 import traceback
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from pathlib import PurePath
 from typing import TYPE_CHECKING
 
 import click
@@ -77,6 +76,8 @@ def _excluded_on_the_way(path: str, select: FileSelection) -> bool:
         rel = os.pardir
     if rel.startswith(os.pardir):  # outside the project: the file alone
         return select.excluded(path)
+    from pathlib import PurePath
+
     parts = PurePath(rel).parts
     root = select.root
     return any(select.excluded(os.path.join(root, *parts[: i + 1])) for i in range(len(parts)))
@@ -126,6 +127,8 @@ def _stays_in(path: str, folder: str) -> bool:
 def _parts(path: str, folder: str) -> tuple[str, ...]:
     """The components of ``path`` below ``folder`` (lexically: no working directory
     needed, so a deleted one does not matter)."""
+    from pathlib import PurePath
+
     try:
         return PurePath(path).relative_to(folder).parts
     except ValueError:
