@@ -538,6 +538,8 @@ def configure(task: Task, d: TaskDefaults) -> Task:
     configuration's ``uncertainty`` applies to a task that declares none; a task then
     audited with an uncertainty and no torque limit is a ``TaskFileError``
     (``uncertainty.needs_limit``)."""
+    if d.uncertainty is None and task.uncertainty is None:  # the common case, at once
+        return _checks(task, d)
     from .uncertainty import apply, needs_limit
 
     task = _checks(apply(task, d.uncertainty), d)

@@ -13,7 +13,6 @@ from __future__ import annotations
 import importlib
 import os
 import sys
-import traceback
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
@@ -162,4 +161,6 @@ def _say(error: BaseException) -> None:
     elif isinstance(error, Exception) and not isinstance(error, click.exceptions.Exit):
         say(f"rprpr: internal error ({type(error).__name__}: {error}); please report it")
         if os.environ.get("RPRPR_DEBUG"):
+            import traceback
+
             traceback.print_exception(error)

@@ -7,7 +7,6 @@ The loader (and with it YAML, numpy and flint) is imported only when a task is l
 from __future__ import annotations
 
 import os
-import traceback
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
@@ -230,6 +229,8 @@ def task_named(path: str) -> Iterator[None]:
         raise
     except Exception as e:
         if os.environ.get("RPRPR_DEBUG"):
+            import traceback
+
             traceback.print_exc()
         raise InternalError(
             f"{path}: internal error ({type(e).__name__}: {e}); please report it to the"
