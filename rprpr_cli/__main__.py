@@ -1,5 +1,5 @@
 """``python -m rprpr_cli``: the former name of ``python -m rprpr``."""
 
-from rprpr.cli.main import main
+from rprpr.cli.main import run
 
-main()
+run()

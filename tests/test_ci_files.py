@@ -58,7 +58,7 @@ def test_pre_commit_hook_has_the_required_keys(hook: dict[str, Any]) -> None:
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"][
         "scripts"
     ]
-    assert scripts["rprpr"] == "rprpr.cli.main:main"  # what `language: python` installs
+    assert scripts["rprpr"] == "rprpr.cli.main:run"  # what `language: python` installs
     assert hook.get("pass_filenames", True) is True
 
 

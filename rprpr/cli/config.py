@@ -26,7 +26,6 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..model.defaults import DEFAULT_SAMPLES
@@ -147,8 +146,10 @@ class FileSelection:
         try:
             rel = os.path.relpath(os.path.abspath(path), os.path.abspath(self.root))
         except (OSError, ValueError):  # no working directory, another drive
-            rel = path
-        return Path(rel).as_posix()
+            from pathlib import PurePath
+
+            return PurePath(path).as_posix()
+        return rel.replace(os.sep, "/")  # normal already (relpath): pathlib's as_posix
 
 
 def _matches(rel: str, name: str, globs: Sequence[str]) -> bool:
@@ -174,20 +175,23 @@ def find_config(start: str | None = None) -> str | None:
     A folder on the way that cannot be searched (no permission) is an ``InputError``:
     a configuration there can neither be read nor ruled out."""
     try:
-        here = Path(start or os.getcwd()).resolve()
+        folder = os.path.realpath(start or os.getcwd())
     except OSError:
         return None
-    for folder in (here, *here.parents):
+    while True:  # the folder, then each parent up to the root
         for name in CONFIG_FILES:
-            candidate = folder / name
+            candidate = os.path.join(folder, name)
             if not _is_file(candidate):
                 continue
             if name != "pyproject.toml" or _has_table(candidate):
-                return str(candidate)
-    return None
+                return candidate
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
 
 
-def _is_file(path: Path) -> bool:
+def _is_file(path: str) -> bool:
     """Whether ``path`` is a regular file (after links); an ``InputError`` when that
     cannot be told (a folder on the way without search permission)."""
     import errno
@@ -198,7 +202,7 @@ def _is_file(path: Path) -> bool:
     except OSError as e:
         if e.errno in (errno.EACCES, errno.EPERM):
             raise InputError(
-                f"{path.parent}: cannot look for a configuration file there"
+                f"{os.path.dirname(path)}: cannot look for a configuration file there"
                 f" ({e.strerror or e}); give --config FILE or --isolated"
             ) from None
         return False  # none there (ENOENT, ENOTDIR, ELOOP, a name too long ...)
@@ -206,9 +210,9 @@ def _is_file(path: Path) -> bool:
         return False
 
 
-def _has_table(pyproject: Path) -> bool:
+def _has_table(pyproject: str) -> bool:
     try:
-        doc = _parsed(str(pyproject), _read(str(pyproject)))
+        doc = _parsed(pyproject, _read(pyproject))
     except InputError:
         return False  # a broken pyproject.toml that may not be rprpr's: not this one
     return isinstance(doc.get("tool"), dict) and "rprpr" in doc["tool"]
@@ -274,12 +278,17 @@ def _line_matching(text: str, pattern: str) -> str:
     return f":{text.count(chr(10), 0, found.start()) + 1}" if found else ""
 
 
+def _is_pyproject(file: str) -> bool:
+    """Whether the configuration ``file`` is a pyproject.toml (its last component)."""
+    return os.path.basename(os.path.normpath(file)) == "pyproject.toml"
+
+
 def _table(file: str) -> tuple[dict[str, Any], str]:
     """The rprpr keys of ``file`` (``[tool.rprpr]`` of a pyproject.toml, else the top
     level) and its text."""
     text = _read(file)
     doc = _parsed(file, text)
-    if Path(file).name == "pyproject.toml":
+    if _is_pyproject(file):
         tool = doc.get("tool", {})
         table = tool.get("rprpr", {}) if isinstance(tool, dict) else {}
         if not isinstance(table, dict):
@@ -320,7 +329,7 @@ def load_settings(
     sources = dict.fromkeys(KEYS, DEFAULT)
     root = _root(file, cwd)
     if file is not None:
-        pyproject = Path(file).name == "pyproject.toml"
+        pyproject = _is_pyproject(file)
         where = "[tool.rprpr]" if pyproject else "the configuration"
         table, text = _table(file)
         for key, raw in table.items():
@@ -529,6 +538,8 @@ def configure(task: Task, d: TaskDefaults) -> Task:
     configuration's ``uncertainty`` applies to a task that declares none; a task then
     audited with an uncertainty and no torque limit is a ``TaskFileError``
     (``uncertainty.needs_limit``)."""
+    if d.uncertainty is None and task.uncertainty is None:  # the common case, at once
+        return _checks(task, d)
     from .uncertainty import apply, needs_limit
 
     task = _checks(apply(task, d.uncertainty), d)

@@ -13,7 +13,6 @@ from __future__ import annotations
 import importlib
 import os
 import sys
-import traceback
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
@@ -106,6 +105,30 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
     sys.exit(returned_status(returned))
 
 
+def run() -> NoReturn:
+    """The ``rprpr`` program (its console script, ``python -m rprpr``): ``main``, then the
+    end of the process as soon as its output is out. With the standard streams flushed
+    nothing is left to do but free memory, and the interpreter's teardown (every object
+    of numpy, flint and the engine freed one by one) costs more CPU than the audit of a
+    task: ``os._exit`` skips it (files are written in ``with`` blocks, workers are reaped
+    in theirs). Where the flush fails (a closed pipe, a full disk) the ordinary exit
+    reports it as before; ``main`` itself, called in a process that goes on, never ends
+    it this way."""
+    try:
+        main()
+    except SystemExit as done:
+        code = done.code
+        if code is not None and not isinstance(code, int):
+            raise
+        try:
+            for stream in (sys.stdout, sys.stderr):
+                if stream is not None:
+                    stream.flush()
+        except Exception:
+            raise done from None
+        os._exit(code or 0)
+
+
 def _say(error: BaseException) -> None:
     """The one line on standard error about what stopped the command (control characters
     escaped: a file name or a value quoted in it may hold any)."""
@@ -138,4 +161,6 @@ def _say(error: BaseException) -> None:
     elif isinstance(error, Exception) and not isinstance(error, click.exceptions.Exit):
         say(f"rprpr: internal error ({type(error).__name__}: {error}); please report it")
         if os.environ.get("RPRPR_DEBUG"):
+            import traceback
+
             traceback.print_exception(error)

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, TypeVar
 
 import click
@@ -115,6 +114,8 @@ def color_option() -> Callable[[F], F]:
 def suffix_choice(path: str, allowed: Sequence[str], what: str, param: str) -> str:
     """The lower-case extension of ``path``, one of ``allowed``; else a usage error naming
     ``what`` the file holds and the option ``param`` that named it."""
+    from pathlib import Path
+
     suffix = Path(path).suffix.lower()
     if suffix not in allowed:
         raise click.BadParameter(

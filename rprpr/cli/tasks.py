@@ -7,10 +7,8 @@ The loader (and with it YAML, numpy and flint) is imported only when a task is l
 from __future__ import annotations
 
 import os
-import traceback
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from pathlib import PurePath
 from typing import TYPE_CHECKING
 
 import click
@@ -77,6 +75,8 @@ def _excluded_on_the_way(path: str, select: FileSelection) -> bool:
         rel = os.pardir
     if rel.startswith(os.pardir):  # outside the project: the file alone
         return select.excluded(path)
+    from pathlib import PurePath
+
     parts = PurePath(rel).parts
     root = select.root
     return any(select.excluded(os.path.join(root, *parts[: i + 1])) for i in range(len(parts)))
@@ -126,6 +126,8 @@ def _stays_in(path: str, folder: str) -> bool:
 def _parts(path: str, folder: str) -> tuple[str, ...]:
     """The components of ``path`` below ``folder`` (lexically: no working directory
     needed, so a deleted one does not matter)."""
+    from pathlib import PurePath
+
     try:
         return PurePath(path).relative_to(folder).parts
     except ValueError:
@@ -227,6 +229,8 @@ def task_named(path: str) -> Iterator[None]:
         raise
     except Exception as e:
         if os.environ.get("RPRPR_DEBUG"):
+            import traceback
+
             traceback.print_exc()
         raise InternalError(
             f"{path}: internal error ({type(e).__name__}: {e}); please report it to the"

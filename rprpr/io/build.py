@@ -7,7 +7,7 @@ checks.warn and checks.ignore; the file's stem as the name when the file gives n
 
 from __future__ import annotations
 
-from pathlib import Path
+import os
 from typing import TYPE_CHECKING, Any
 
 from flint import fmpq, fmpq_poly
@@ -26,13 +26,25 @@ if TYPE_CHECKING:
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
 
 
+def stem(file: str) -> str:
+    """``pathlib.PurePath(file).stem``, the task's name when its file gives none (pathlib
+    itself is not imported for it: start-up)."""
+    path = os.path.splitdrive(file)[1]
+    if os.altsep:
+        path = path.replace(os.altsep, os.sep)
+    parts = [p for p in path.split(os.sep) if p and p != "."]
+    name = parts[-1] if parts else ""
+    i = name.rfind(".")
+    return name[:i] if 0 < i < len(name) - 1 else name
+
+
 def task(w: Walk, file: str) -> Task:
     """The ``Task`` of a walk over the whole file (defaults applied); the file's stem
     names it when the file does not."""
     v = w.values
     law, x_of_t, pieces = _motion(w)
     return Task(
-        name=v["name"] if "name" in v else Path(file).stem,
+        name=v["name"] if "name" in v else stem(file),
         robot=_robot(v),
         path=v.get("path.y"),
         x_of_t=x_of_t,

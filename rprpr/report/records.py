@@ -7,7 +7,6 @@ Floats that are not finite become None (JSON null).
 from __future__ import annotations
 
 import math
-import traceback
 from typing import TYPE_CHECKING, Any
 
 from ..engine.audit import AuditResult, Saturation
@@ -352,7 +351,7 @@ def internal_error(e: BaseException, task_path: str) -> dict[str, Any]:
             f"{task_path}: internal error ({type(e).__name__}: {e}); please report it to"
             " the rprpr maintainers with this task file"
         ),
-        "traceback": file_name("".join(traceback.format_exception(e))),
+        "traceback": file_name("".join(_traceback(e))),
     }
 
 
@@ -382,3 +381,10 @@ def _key_line(lines: dict[str, int], key: str) -> int:
         if k in lines:
             return lines[k]
     return 1
+
+
+def _traceback(e: BaseException) -> list[str]:
+    """The lines of ``e``'s traceback (traceback is imported only for a bug met)."""
+    import traceback
+
+    return traceback.format_exception(e)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -13,7 +14,7 @@ import click
 import pytest
 
 from rprpr._version import __version__
-from rprpr.cli.main import COMMANDS, main_group
+from rprpr.cli.main import COMMANDS, main_group, run
 from rprpr.cli.rule import explain
 from rprpr.model.rules import RULES
 from tests.conftest import PATH2_FILE, ROOT, run_cli
@@ -117,3 +118,54 @@ def test_a_missing_library_is_named_not_an_internal_error(
     assert code == 2 and out == ""
     assert err.startswith("rprpr: python-flint not installed for ")
     assert "internal error" not in err
+
+
+PROGRAM = "import atexit, sys\natexit.register(lambda: print('teardown ran', file=sys.stderr))\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "status"),
+    [
+        (
+            [
+                "check",
+                "--format",
+                "json",
+                PATH2_FILE,
+                str(ROOT / "configs/case1_crossing.rprpr.yaml"),
+            ],
+            1,
+        ),
+        (["check", "--format", "github", PATH2_FILE], 0),
+        (["rule", "RPR9"], 2),
+    ],
+)
+def test_the_program_ends_once_its_output_is_out_with_mains_status_and_bytes(
+    args: list[str], status: int
+) -> None:
+    """``run`` (the console script, ``python -m rprpr``) flushes the standard streams and
+    ends the process without the interpreter's teardown (an atexit hook never runs);
+    what it wrote and its status are ``main``'s in this process."""
+    probe = PROGRAM + f"from rprpr.cli.main import run\nsys.argv = ['rprpr', *{args!r}]\nrun()\n"
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
+    assert (done.returncode, done.stdout, done.stderr) == run_cli(*args)
+    assert "teardown ran" not in done.stderr
+
+
+def test_a_failed_flush_at_the_end_takes_the_ordinary_exit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Standard output that cannot be flushed when the command is done: ``run`` leaves the
+    process to the ordinary exit (which reports the failed flush), with main's status."""
+
+    class Full(io.StringIO):
+        def flush(self) -> None:
+            raise OSError(28, "No space left on device")
+
+    ended: list[int] = []
+    monkeypatch.setattr(os, "_exit", ended.append)
+    monkeypatch.setattr(sys, "argv", ["rprpr", "rule", "RPR101"])
+    monkeypatch.setattr(sys, "stdout", Full())
+    with pytest.raises(SystemExit) as e:
+        run()
+    assert ended == [] and e.value.code == 2

@@ -4,9 +4,13 @@ one error only where it makes the rest meaningless (YAML syntax, encoding)."""
 from __future__ import annotations
 
 import json
+from pathlib import PurePath
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from rprpr.io.build import stem
 from rprpr.io.loader import parse_task
 from rprpr.model.errors import TaskFileError
 from tests.conftest import run_cli
@@ -75,3 +79,10 @@ def test_a_missing_timing_law_names_every_law_and_x() -> None:
         " or x (a polynomial in t, or pieces {until, x})"
     )
     assert all(law in info.value.message for law in LAWS)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet="ab./\\:-_ ", max_size=12))
+def test_a_task_without_a_name_is_named_by_its_files_stem_as_pathlib_says(file: str) -> None:
+    assert stem(file) == PurePath(file).stem
+    assert stem("configs/paper_path2.rprpr.yaml") == "paper_path2.rprpr"

@@ -9,6 +9,7 @@ import numpy as np
 from flint import fmpq_poly
 
 from ...model.numbers import to_float
+from ..certified.balls import polyval
 from ..certified.motion import CertifiedMotion
 from ..certified.through import Through
 from ..exact import equations as dyn
@@ -77,7 +78,7 @@ class Ladders:
 
         def values(p: fmpq_poly, at: np.ndarray) -> list[np.ndarray]:
             d1 = p.derivative()
-            return [np.polynomial.polynomial.polyval(at, [to_float(c) for c in q.coeffs()] or [0.0])
+            return [polyval(at, [to_float(c) for c in q.coeffs()] or [0.0])
                     for q in (p, d1, d1.derivative())]  # fmt: skip
 
         x, xd, xdd = values(traj.x, t)

@@ -377,6 +377,16 @@ def horner(c: list[Ball], x: Ball) -> Ball:
     return acc
 
 
+def polyval(at: Array, c: list[float]) -> Array:
+    """The polynomial with double coefficients ``c`` (low to high) at the times ``at``, in
+    double precision: numpy.polynomial.polynomial.polyval's operations in its order (so
+    the same doubles), without importing numpy.polynomial at start-up."""
+    acc = c[-1] + at * 0
+    for ck in c[-2::-1]:
+        acc = ck + acc * at
+    return acc
+
+
 def intersect(a: Ball, b: Ball) -> Ball:
     """A ball containing the members common to ``a`` and ``b`` (both enclose the same
     quantity): the hull of [max of the lower bounds, min of the upper bounds]."""

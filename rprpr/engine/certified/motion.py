@@ -58,7 +58,7 @@ from ..exact.mechanism import of
 from ..exact.series import taylor
 from ..exact.singular import SingularAnalysis, SingularInstant
 from ..exact.trajectory import Trajectory
-from .balls import Ball, horner, hypot, poly_balls, quiet
+from .balls import Ball, horner, hypot, poly_balls, polyval, quiet
 from .pointwise import (
     AT_A,
     AT_B,
@@ -239,7 +239,7 @@ class CertifiedMotion(AtInstants, Refinement):
         tf = to_float(self.traj.duration)
         ts = np.linspace(0.0, tf, 65)
         with quiet():  # coefficients beyond the double range: inf, and inf * 0 = NaN
-            xs = np.polynomial.polynomial.polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
+            xs = polyval(ts, [to_float(c) for c in self.traj.x.coeffs()])
         xs = xs[np.isfinite(xs)]
         return dyadic_middle(float(xs.min()), float(xs.max())) if len(xs) else fmpq(0)
 

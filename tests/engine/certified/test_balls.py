@@ -13,7 +13,7 @@ from flint import fmpq
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rprpr.engine.certified.balls import Ball, hypot, quiet, two_sum
+from rprpr.engine.certified.balls import Ball, hypot, polyval, quiet, two_sum
 from rprpr.engine.exact import equations as dyn
 
 # floats over the whole range, subnormals and huge values included
@@ -164,3 +164,19 @@ def test_the_centred_form_encloses_a_polynomial_and_its_derivatives_tightly() ->
                 v = Fraction(str(p(fmpq(*float(a).as_integer_ratio()) + fmpq(int(f * 4), 128))))
                 assert Fraction(enc[k].lower()[j]) <= v <= Fraction(enc[k].upper()[j]), (k, j, f)
     assert float(np.max(enc[0].rad)) * 10 < float(np.max(plain[0].rad))
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.floats(allow_nan=False, width=64), min_size=1, max_size=9),
+    st.lists(st.floats(allow_nan=False, width=64), min_size=1, max_size=5),
+)
+def test_polyval_gives_numpys_polyval_bit_for_bit(c: list[float], ts: list[float]) -> None:
+    """The double-precision guide (sampling the motion's x, the torques' ladders) keeps
+    numpy.polynomial's Horner order, so its doubles are numpy's own, infinities and NaN
+    included."""
+    at = np.array(ts)
+    with quiet():
+        want = np.polynomial.polynomial.polyval(at, c)
+        got = polyval(at, c)
+    assert got.tobytes() == want.tobytes()

@@ -1,0 +1,65 @@
+"""The worker processes of ``check`` (``cli.workers``), on both ways of starting them: forked
+(Linux, ``os.fork`` and two pipes) and spawned (multiprocessing, elsewhere): the results
+come back in task order, a task over its budget is stopped at its stage, a worker that dies
+is reported with its exit code and replaced, and none outlives the ``with`` block."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from typing import Any
+
+import pytest
+
+from rprpr.cli.workers import Died, Done, OverBudget, Workers
+
+STAGES = ("begun", "sleeping")
+
+needs_fork = pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork")
+WAYS = [pytest.param(True, marks=needs_fork, id="forked"), pytest.param(False, id="spawned")]
+
+
+def work(task: Any, on_stage: Any) -> Any:
+    """Square a number; "die" kills its own process; "hang" waits in its second stage."""
+    if task == "die":
+        os.kill(os.getpid(), signal.SIGKILL)
+    if task == "hang":
+        on_stage("sleeping")
+        import time
+
+        time.sleep(60)
+    if task == "pid":
+        return os.getpid()
+    if task == "big":
+        return b"x" * (3 << 20)  # several pipe buffers
+    return task * task
+
+
+@pytest.mark.parametrize("fork", WAYS)
+def test_results_in_task_order_whatever_the_workers(fork: bool) -> None:
+    with Workers(work, 2, STAGES, fork=fork) as pool:
+        got = list(pool.run([3, 1, 2, "big", 5], None))
+    assert [t for t, _ in got] == [3, 1, 2, "big", 5]
+    assert all(isinstance(r, Done) for _, r in got)
+    assert [r.value for t, r in got if t != "big"] == [9, 1, 4, 25]  # type: ignore[union-attr]
+    assert got[3][1].value == b"x" * (3 << 20)  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize("fork", WAYS)
+def test_a_dead_worker_and_a_task_over_budget_are_reported_and_replaced(fork: bool) -> None:
+    with Workers(work, 1, STAGES, fork=fork) as pool:
+        got = dict(pool.run(["die", 4, "hang", 6], 2.0 if fork else 6.0))
+    died, over = got["die"], got["hang"]
+    assert isinstance(died, Died) and died.exitcode == -signal.SIGKILL
+    assert isinstance(over, OverBudget) and over.stage == "sleeping"
+    assert [got[4].value, got[6].value] == [16, 36]  # type: ignore[union-attr]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc")
+@pytest.mark.parametrize("fork", WAYS)
+def test_no_worker_outlives_the_block(fork: bool) -> None:
+    with Workers(work, 2, STAGES, fork=fork) as pool:
+        pids = [r.value for _, r in pool.run(["pid", "pid"], None)]  # type: ignore[union-attr]
+    assert pids and all(pid != os.getpid() for pid in pids)
+    assert not any(os.path.exists(f"/proc/{pid}") for pid in pids)
