@@ -10,6 +10,7 @@ motions drawn in it. Each is read back from the figure the command draws."""
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -52,6 +53,22 @@ def repair_sheet(
     return fig, ms, out
 
 
+@pytest.fixture(scope="module")
+def sheets(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> Callable[[str], tuple[Figure, list[P.Motion], str]]:
+    """``repair_sheet`` of a task, drawn once per test module (the tests only read it)."""
+    done: dict[str, tuple[Figure, list[P.Motion], str]] = {}
+
+    def sheet(task: str) -> tuple[Figure, list[P.Motion], str]:
+        if task not in done:
+            with pytest.MonkeyPatch.context() as mp:
+                done[task] = repair_sheet(tmp_path_factory.mktemp("repair"), mp, task)
+        return done[task]
+
+    return sheet
+
+
 def axes(fig: Figure, gid: str) -> Axes:
     (ax,) = [a for a in fig.get_axes() if a.get_gid() == gid][:1]
     return ax
@@ -63,9 +80,9 @@ def inset(fig: Figure, gid: str) -> Axes:
 
 
 def test_the_legends_tell_before_from_after(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    sheets: Callable[[str], tuple[Figure, list[P.Motion], str]],
 ) -> None:
-    fig, ms, _ = repair_sheet(tmp_path, monkeypatch, TRAPEZOIDAL)
+    fig, ms, _ = sheets(TRAPEZOIDAL)
     assert [m.label for m in ms] == ["before", "after"]
     labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
     assert labels.count("before") >= 4 and labels.count("after") >= 4, labels
@@ -76,9 +93,9 @@ def test_the_legends_tell_before_from_after(
 
 
 def test_a_small_timing_change_is_drawn_in_mm_and_zoomed_at_its_largest(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    sheets: Callable[[str], tuple[Figure, list[P.Motion], str]],
 ) -> None:
-    fig, ms, out = repair_sheet(tmp_path, monkeypatch, TRAPEZOIDAL)
+    fig, ms, out = sheets(TRAPEZOIDAL)
     found = re.search(r"timing: max \|Δx\(t\)\| ([\d.e-]+) m at t = ([\d.]+) s", out)
     assert found is not None, out
     size, t0 = float(found.group(1)), float(found.group(2))
@@ -113,9 +130,9 @@ def test_a_small_timing_change_is_drawn_in_mm_and_zoomed_at_its_largest(
 
 
 def test_a_path_change_is_zoomed_on_the_workspace(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    sheets: Callable[[str], tuple[Figure, list[P.Motion], str]],
 ) -> None:
-    fig, ms, _ = repair_sheet(tmp_path, monkeypatch, PATH1)
+    fig, ms, _ = sheets(PATH1)
     r = repair(load_task(PATH1))
     assert r.path_deviation is not None and r.timing_change is None
     size, x0 = r.path_deviation
