@@ -151,6 +151,32 @@ def run_cli_encoded(encoding: str, *args: str) -> tuple[int, bytes, bytes]:
     )
 
 
+def stdout_on(fd: int) -> io.TextIOWrapper:
+    """The standard output Python makes for the descriptor ``fd`` (a file, a device, a
+    pipe; not a terminal): UTF-8, strict, block-buffered. The stream owns ``fd``."""
+    return io.TextIOWrapper(io.BufferedWriter(io.FileIO(fd, "w")), encoding="utf-8")
+
+
+def run_cli_to(stdout: io.TextIOWrapper | None, *args: str) -> tuple[int, str]:
+    """``rprpr ARGS`` in this process writing to ``stdout`` (from ``stdout_on``; None: as
+    Python starts with its standard output closed): (exit status, stderr). The stream is
+    then flushed and closed as the interpreter does at exit, and a failure there is what
+    the interpreter would show: status 120 and a line on standard error."""
+    from rprpr.cli.main import main
+
+    err = _stream()
+    with redirect_stdout(stdout), redirect_stderr(err), pytest.raises(SystemExit) as e:  # type: ignore[arg-type]
+        main(list(args))
+    code = exit_status(e.value)
+    if stdout is not None:
+        try:
+            stdout.close()
+        except OSError as exc:
+            code = 120
+            err.write(f"Exception ignored on flushing sys.stdout: {exc!r}\n")
+    return code, _text(err)
+
+
 def _bytes(stream: io.TextIOWrapper) -> bytes:
     buffer = stream.buffer
     assert isinstance(buffer, io.BytesIO)

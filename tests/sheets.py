@@ -7,7 +7,10 @@ every reader of a shared figure takes as it finds it)."""
 from __future__ import annotations
 
 import functools
+import tempfile
 from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -18,7 +21,7 @@ from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 
-from .conftest import CONFIGS
+from .conftest import CONFIGS, run_cli
 
 PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
 PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
@@ -85,3 +88,40 @@ def drawn(fig: Figure, dpi: int = DPI) -> Any:
     with renderer._draw_disabled():
         fig.draw(renderer)
     return renderer
+
+
+@dataclass(frozen=True)
+class Repaired:
+    """What ``rprpr repair TASK -o FILE --plot SHEET`` left: its exit status, standard
+    output and error, whether it wrote the sheet file, and the figure it drew with its
+    motions."""
+
+    code: int
+    out: str
+    err: str
+    sheet_written: bool
+    fig: Figure
+    motions: list[P.Motion]
+
+
+@functools.cache
+def repaired(task: str) -> Repaired:
+    """``rprpr repair TASK --plot`` run once per test process (in a temporary folder, its
+    PNG at SMALL_DPI), the figure it drew laid out by ``drawn``; read, never changed."""
+    seen: list[tuple[Figure, list[P.Motion]]] = []
+    render = P.render
+
+    def spy(ms: list[P.Motion], *a: object, **kw: object) -> Figure:
+        fig = render(ms, *a, **kw)  # type: ignore[arg-type]
+        seen.append((fig, list(ms)))
+        return fig
+
+    with tempfile.TemporaryDirectory() as tmp, pytest.MonkeyPatch.context() as mp:
+        mp.setattr(P, "render", spy)
+        small_pictures(mp)
+        sheet_file = Path(tmp) / "r.png"
+        code, out, err = run_cli("repair", task, "-o", f"{tmp}/r.yaml", "--plot", str(sheet_file))
+        written = sheet_file.exists()
+    ((fig, ms),) = seen
+    drawn(fig)
+    return Repaired(code, out, err, written, fig, ms)

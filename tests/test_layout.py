@@ -24,6 +24,7 @@ over 60, no class over 300 (``too_long``).
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from collections.abc import Iterator, Mapping
@@ -61,11 +62,18 @@ def modules(root: Path = PACKAGE) -> dict[str, Path]:
     return out
 
 
+@functools.cache
+def _nodes(source: str) -> tuple[ast.AST, ...]:
+    """Every node of the syntax tree of ``source``, parsed once per test process (the
+    rules below read the package's modules many times, and only read them)."""
+    return tuple(ast.walk(ast.parse(source)))
+
+
 def imported(name: str, source: str, is_package: bool, known: set[str]) -> Iterator[str]:
     """The modules of ``known`` that the module ``name`` imports anywhere in ``source``
     (``from . import x`` names the submodule ``x`` when there is one)."""
     package = name if is_package else name.rpartition(".")[0]
-    for node in ast.walk(ast.parse(source)):
+    for node in _nodes(source):
         if isinstance(node, ast.Import):
             yield from (a.name for a in node.names if a.name in known)
         elif isinstance(node, ast.ImportFrom):
@@ -452,7 +460,7 @@ def too_long(sources: Mapping[str, str], allowed: Mapping[str, str] = LONG_ALLOW
         lines = len(text.splitlines())
         if lines > MAX_MODULE and name not in allowed:
             bad.append(f"{name}: module of {lines} lines (at most {MAX_MODULE})")
-        for node in ast.walk(ast.parse(text)):
+        for node in _nodes(text):
             if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                 continue
             most = MAX_CLASS if isinstance(node, ast.ClassDef) else MAX_FUNCTION
@@ -502,7 +510,7 @@ def private_imports(sources: Mapping[str, str]) -> list[str]:
     module (what another module reads is public, or it stays in its module)."""
     bad = []
     for name, source in sorted(sources.items()):
-        for node in ast.walk(ast.parse(source)):
+        for node in _nodes(source):
             if isinstance(node, ast.ImportFrom) and (
                 node.level or (node.module or "").startswith("rprpr")
             ):

@@ -9,6 +9,7 @@ The same run, in a virtual environment really without matplotlib, is stated in R
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -38,6 +39,41 @@ def light(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
     )
 
 
+# several commands in one such Python, each on its own UTF-8 pipe-like streams: (exit
+# status, stdout, stderr) of each, as JSON on the real standard output
+LIGHT_BATCH = (
+    "import io, json, sys\n"
+    "sys.modules['matplotlib'] = None\n"
+    "sys.modules['PIL'] = None\n"
+    "from contextlib import redirect_stderr, redirect_stdout\n"
+    "from rprpr.cli.main import main\n"
+    "done = []\n"
+    "for argv in json.loads(sys.argv[1]):\n"
+    "    out, err = (io.TextIOWrapper(io.BytesIO(), encoding='utf-8', newline='',\n"
+    "                                 write_through=True) for _ in 'oe')\n"
+    "    with redirect_stdout(out), redirect_stderr(err):\n"
+    "        try:\n"
+    "            main(argv)\n"
+    "        except SystemExit as e:\n"
+    "            code = e.code if isinstance(e.code, int) else int(e.code is not None)\n"
+    "    done.append([code, *(s.buffer.getvalue().decode() for s in (out, err))])\n"
+    "print(json.dumps(done))\n"
+)
+
+
+def light_batch(*commands: list[str]) -> list[subprocess.CompletedProcess[str]]:
+    """Each of ``commands`` (``rprpr ARGS``) in turn in one Python where matplotlib and
+    Pillow cannot be imported: one start-up for all."""
+    ran = subprocess.run(
+        [sys.executable, "-c", LIGHT_BATCH, json.dumps(commands)],
+        capture_output=True, text=True, timeout=300, cwd=ROOT, check=True,
+    )  # fmt: skip
+    return [
+        subprocess.CompletedProcess(c, *r)
+        for c, r in zip(commands, json.loads(ran.stdout), strict=True)
+    ]
+
+
 def test_the_shim_really_hides_matplotlib() -> None:
     probe = "import sys\nsys.modules['matplotlib'] = None\nimport matplotlib.pyplot\n"
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
@@ -48,31 +84,37 @@ def test_the_shim_really_hides_matplotlib() -> None:
 def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(
     tmp_path: Path,
 ) -> None:
-    done = light("check", "--samples", "101", PATH2_FILE, PATH1_FILE)
+    csv, out, new = tmp_path / "m.csv", tmp_path / "fixed.rprpr.yaml", tmp_path / "new.rprpr.yaml"
+    checked, exported, repaired, initialised, ruled, schema = light_batch(
+        ["check", "--samples", "101", PATH2_FILE, PATH1_FILE],
+        ["export", "--samples", "11", "-o", str(csv), PATH2_FILE],
+        ["repair", PATH1_FILE, "-o", str(out)],
+        ["init", str(new)],
+        ["rule", "RPR101"],
+        ["schema"],
+    )
+    done = checked
     assert done.returncode == 1, done.stderr  # path 1 fails: the audit ran
     assert "RPR101" in done.stdout and "PASS" in done.stdout and "FAIL" in done.stdout
     assert done.stderr == ""
 
-    csv = tmp_path / "m.csv"
-    done = light("export", "--samples", "11", "-o", str(csv), PATH2_FILE)
+    done = exported
     assert done.returncode == 0, done.stderr
     rows = [r for r in csv.read_text().splitlines() if not r.startswith("#")]
     assert len(rows) == 12  # the column names and 11 samples
 
-    out = tmp_path / "fixed.rprpr.yaml"
-    done = light("repair", PATH1_FILE, "-o", str(out))
+    done = repaired
     assert done.returncode == 0, done.stderr
     assert "checked" in done.stdout and out.is_file()
 
-    new = tmp_path / "new.rprpr.yaml"
-    done = light("init", str(new))
+    done = initialised
     assert done.returncode == 0, done.stderr
     assert new.is_file()
 
-    done = light("rule", "RPR101")
+    done = ruled
     assert (done.returncode, done.stdout.splitlines()[0]) == (0, "RPR101 slope-principle")
 
-    done = light("schema")
+    done = schema
     assert done.returncode == 0 and '"$schema"' in done.stdout
 
 

@@ -30,7 +30,7 @@ from rprpr.render import export as E
 from rprpr.render.json import render as json_report
 from rprpr.report.records import task_report
 from rprpr.report.run import Run
-from tests.conftest import CONFIGS, PATH2_FILE, run_cli, task_text
+from tests.conftest import CONFIGS, PATH2_FILE, run_cli, run_cli_to, stdout_on, task_text
 
 RPRPR = [sys.executable, "-m", "rprpr"]
 FULL = Path("/dev/full")
@@ -161,19 +161,42 @@ def test_a_disk_that_fills_while_writing_is_exit_2_and_keeps_the_old_file(
     ],
 )
 def test_standard_output_on_a_full_disk_is_exit_2_and_one_line(args: list[str], what: str) -> None:
-    with FULL.open("w") as full:
-        done = subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
+    done = on_full_stdout(args, real=args[:3] == ["check", "--format", "text"])
     assert done.returncode == 2
     assert done.stderr.splitlines() == [
         f"rprpr: cannot write the {what} to standard output: No space left on device"
     ]
 
 
+def on_full_stdout(args: list[str], real: bool) -> subprocess.CompletedProcess[str]:
+    """``rprpr ARGS`` with standard output on /dev/full: in a real process (``real``: the
+    interpreter's last flush at exit included), else in this process on the stream
+    Python would make for it (``run_cli_to``)."""
+    if real:
+        with FULL.open("w") as full:
+            return subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
+    code, err = run_cli_to(stdout_on(os.open(FULL, os.O_WRONLY)), *args)
+    return subprocess.CompletedProcess(args, code, None, err)
+
+
+def with_closed_stdout(
+    args: list[str], real: bool, cwd: Path | None = None
+) -> subprocess.CompletedProcess[str]:
+    """``rprpr ARGS`` started with standard output closed (``>&-``): in a real process
+    (``real``), else in this process as Python starts then (``sys.stdout`` is None)."""
+    if real:
+        return subprocess.run(
+            ["sh", "-c", 'exec "$@" >&-', "sh", *RPRPR, *args], capture_output=True, text=True,
+            cwd=cwd,
+        )  # fmt: skip
+    code, err = run_cli_to(None, *args)
+    return subprocess.CompletedProcess(args, code, None, err)
+
+
 @needs_full
 @pytest.mark.parametrize("args", [["--help"], ["--version"], ["plot", "--help"]])
 def test_help_and_version_on_a_full_disk_are_exit_2(args: list[str]) -> None:
-    with FULL.open("w") as full:
-        done = subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
+    done = on_full_stdout(args, real=args == ["--help"])
     assert (done.returncode, done.stderr) == (
         2,
         "rprpr: cannot write the output: No space left on device\n",
@@ -212,9 +235,7 @@ def test_an_output_file_linked_to_a_full_device_is_exit_2(
 def test_a_closed_standard_output_is_a_failed_write(args: list[str], what: str) -> None:
     """Started with standard output closed (``>&-``): exit 2, never a crash, never a
     silent success."""
-    done = subprocess.run(
-        ["sh", "-c", 'exec "$@" >&-', "sh", *RPRPR, *args], capture_output=True, text=True
-    )
+    done = with_closed_stdout(args, real=args[0] == "check")
     assert (done.returncode, done.stderr) == (
         2,
         f"rprpr: cannot write the {what} to standard output: standard output is closed\n",

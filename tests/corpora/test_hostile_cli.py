@@ -225,7 +225,7 @@ def test_machine_formats_on_a_non_utf8_stream(env: dict[str, str], fmt: str) -> 
 )  # fmt: skip
 @pytest.mark.parametrize("command", ["plot", "export", "check"])
 def test_help_on_a_non_utf8_stream(env: dict[str, str], command: str) -> None:
-    done = rprpr_in(env, command, "--help")
+    done = rprpr_encoded(env, command, "--help")
     assert done.returncode == 0 and done.stderr == b""
     assert b"Usage: rprpr " + command.encode() in done.stdout
 
@@ -239,15 +239,33 @@ def test_export_json_on_a_non_utf8_stream_is_the_same_document(tmp_path: Path) -
 
 
 # -- 12. a working directory deleted under the run -----------------------------------------
-@pytest.mark.parametrize("fmt", ["github", "text", "json", "junit"])
-def test_a_deleted_working_directory_still_gives_the_report(fmt: str, tmp_path: Path) -> None:
+def _check_in_a_deleted_directory(
+    fmt: str, gone: Path, real: bool, monkeypatch: pytest.MonkeyPatch
+) -> subprocess.CompletedProcess[str]:
+    """``rprpr check --format FMT`` on path 1 with ``gone`` as the working directory,
+    deleted before the run: in a real process started there (``real``: Python's start-up
+    meets the missing directory too), else in this process."""
+    if real:
+        return subprocess.run(
+            ["sh", "-c", 'cd "$1" && rmdir "$1" && shift && exec "$@"', "sh", str(gone), *RPRPR,
+             "check", "--format", fmt, PATH1_FILE],
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+    monkeypatch.chdir(gone)
+    gone.rmdir()
+    code, out, err = run_cli("check", "--format", fmt, PATH1_FILE)
+    return subprocess.CompletedProcess([], code, out, err)
+
+
+@pytest.mark.parametrize(
+    ("fmt", "real"), [("github", True), ("text", False), ("json", False), ("junit", False)]
+)
+def test_a_deleted_working_directory_still_gives_the_report(
+    fmt: str, real: bool, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     gone = tmp_path / "gone"
     gone.mkdir()
-    done = subprocess.run(
-        ["sh", "-c", 'cd "$1" && rmdir "$1" && shift && exec "$@"', "sh", str(gone), *RPRPR,
-         "check", "--format", fmt, PATH1_FILE],
-        capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+    done = _check_in_a_deleted_directory(fmt, gone, real, monkeypatch)
     assert done.returncode == 1, done.stderr
     assert done.stderr == ""
     if fmt == "github":

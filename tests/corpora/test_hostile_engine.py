@@ -38,7 +38,7 @@ from rprpr.io.loader import parse_task
 from rprpr.model.options import AuditOptions
 from rprpr.report.exit import ExitCode, run_status
 from rprpr.report.records import task_report
-from tests.conftest import CONFIGS
+from tests.conftest import CONFIGS, reused_runs
 
 LINKS = "".join(
     f"    {i}: {{mass: {m}, inertia: {j}, r: 0.5}}\n"
@@ -273,11 +273,12 @@ def test_budget_exceeded_is_reported_in_every_format_with_exit_4(
     common = ["check", "--peak", "--budget", "1", path1]  # far above the exact analysis
     message = "the exact analysis exceeded its budget of 1 s at the torque envelope"
     outputs = {}
-    for fmt in ("json", "junit", "github", "text"):
-        with pytest.raises(SystemExit) as e:
-            main([*common, "--format", fmt])
-        assert e.value.code == 4
-        outputs[fmt] = capsys.readouterr()
+    with reused_runs():  # one audit stopped by its budget, rendered in every format
+        for fmt in ("json", "junit", "github", "text"):
+            with pytest.raises(SystemExit) as e:
+                main([*common, "--format", fmt])
+            assert e.value.code == 4
+            outputs[fmt] = capsys.readouterr()
     doc = json.loads(outputs["json"].out)
     assert doc["summary"] == {"tasks": 1, "passed": 0, "failed": 0, "errors": 1}
     assert [(b["task"], b["stage"], b["message"]) for b in doc["budget_errors"]] == [

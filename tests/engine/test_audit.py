@@ -566,6 +566,11 @@ motion:
 """
 
 
+# degree-60 tasks of the hard corpus, audited as given only: under a limit their certified
+# windows cost a third of the comparison and break no rule that another task leaves unbroken
+AS_GIVEN_ONLY = frozenset({"multiplicity_60", "degree_60_with_17_digit_coefficients"})
+
+
 def _with_limit(task: Task, limit: tuple[int, int]) -> Task:
     checks = dataclasses.replace(task.checks, torque_limit=(fmpq(limit[0]), fmpq(limit[1])))
     return dataclasses.replace(task, checks=checks)
@@ -573,9 +578,9 @@ def _with_limit(task: Task, limit: tuple[int, int]) -> Task:
 
 @pytest.fixture(scope="module")
 def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
-    """Every shipped config and every task of the hard corpus, each as given and under
-    limits far above, about and far below its torques, audited with and without the
-    certified peak."""
+    """Every shipped config, each as given and under limits far above, about and far below
+    its torques, and every task of the hard corpus, as given and (but AS_GIVEN_ONLY) under
+    a limit, audited with and without the certified peak."""
     from tests.corpora.test_hard_input import HARD
 
     tasks = []
@@ -587,7 +592,9 @@ def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
     tasks += [("corner", corner), ("corner (20, 20)", _with_limit(corner, (20, 20)))]
     for name, hard in HARD.items():
         task = parse_task(hard.text, f"{name}.yaml")
-        tasks += [(name, task), (f"{name} (50, 50)", _with_limit(task, (50, 50)))]
+        tasks.append((name, task))
+        if name not in AS_GIVEN_ONLY:
+            tasks.append((f"{name} (50, 50)", _with_limit(task, (50, 50))))
     return [(name, audit(t, samples=11), audit(t, samples=11, peak=True)) for name, t in tasks]
 
 

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,8 +19,8 @@ from matplotlib.lines import Line2D
 
 from rprpr.render import animation as A
 from rprpr.render import sheet as P
-from tests.conftest import CONFIGS, run_cli
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, sheet, small_pictures
+from tests.conftest import CONFIGS
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, repaired, sheet
 
 MARK = re.compile(r"^(path|x|y|delta|gif-path|gif-delta)-singular-(\d+)-(\d+)$")
 
@@ -136,25 +135,11 @@ def test_same_shaped_marks_at_one_point_nest_by_size() -> None:
     assert len({k.get_position() for k in keys}) == 2  # the key numbers stand apart
 
 
-def test_the_repair_sheet_marks_before_and_after_at_their_data(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_the_repair_sheet_marks_before_and_after_at_their_data() -> None:
     """``rprpr repair --plot``: the old and the new motion, each mark at its instant."""
-    seen: list[tuple[Figure, list[P.Motion]]] = []
-    render = P.render
-
-    def spy(ms: list[P.Motion], *a: object, **kw: object) -> Figure:
-        fig = render(ms, *a, **kw)  # type: ignore[arg-type]
-        seen.append((fig, list(ms)))
-        return fig
-
-    monkeypatch.setattr(P, "render", spy)
-    small_pictures(monkeypatch)  # the PNG is only checked to exist
-    out = tmp_path / "r.yaml"
-    sheet_file = tmp_path / "r.png"
-    code, _, err = run_cli("repair", PATH1, "-o", str(out), "--plot", str(sheet_file))
-    assert code == 0 and sheet_file.exists(), err
-    ((fig, ms),) = seen
+    done = repaired(PATH1)  # the command's figure, drawn once per test process
+    code, err, fig, ms = done.code, done.err, done.fig, done.motions
+    assert code == 0 and done.sheet_written, err
     assert len(ms) == 2
     drawn(fig)
     assert check_at_data(fig, ms, SHEET_PANELS) >= 8

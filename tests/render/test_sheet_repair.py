@@ -10,7 +10,6 @@ motions drawn in it. Each is read back from the figure the command draws."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,36 +19,20 @@ from matplotlib.figure import Figure
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 from rprpr.repair import repair
-from tests.conftest import CONFIGS, run_cli
+from tests.conftest import CONFIGS
 from tests.render.test_sheet_layout import check_texts
-from tests.sheets import drawn, small_pictures
+from tests.sheets import drawn, repaired
 
 TRAPEZOIDAL = str(CONFIGS / "trapezoidal.rprpr.yaml")  # timing: 0.768 mm at t = 3.51 s
 PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")  # path: 35.7 mm at x = 3.28 m
 
 
-def repair_sheet(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, task: str
-) -> tuple[Figure, list[P.Motion], str]:
-    """The figure ``rprpr repair TASK --plot`` draws, its motions, and its account."""
-    seen: list[tuple[Figure, list[P.Motion]]] = []
-    render = P.render
-
-    def spy(ms: list[P.Motion], *a: object, **kw: object) -> Figure:
-        fig = render(ms, *a, **kw)  # type: ignore[arg-type]
-        seen.append((fig, list(ms)))
-        return fig
-
-    monkeypatch.setattr(P, "render", spy)
-    small_pictures(monkeypatch)  # the PNG is only checked to exist
-    sheet_file = tmp_path / "r.png"
-    code, out, err = run_cli(
-        "repair", task, "-o", str(tmp_path / "r.rprpr.yaml"), "--plot", str(sheet_file)
-    )
-    assert code == 0 and sheet_file.exists(), err
-    ((fig, ms),) = seen
-    drawn(fig)
-    return fig, ms, out
+def repair_sheet(task: str) -> tuple[Figure, list[P.Motion], str]:
+    """The figure ``rprpr repair TASK --plot`` draws, its motions, and its account (drawn
+    once per test process: ``tests.sheets.repaired``)."""
+    done = repaired(task)
+    assert done.code == 0 and done.sheet_written, done.err
+    return done.fig, done.motions, done.out
 
 
 def axes(fig: Figure, gid: str) -> Axes:
@@ -62,10 +45,8 @@ def inset(fig: Figure, gid: str) -> Axes:
     return small
 
 
-def test_the_legends_tell_before_from_after(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    fig, ms, _ = repair_sheet(tmp_path, monkeypatch, TRAPEZOIDAL)
+def test_the_legends_tell_before_from_after() -> None:
+    fig, ms, _ = repair_sheet(TRAPEZOIDAL)
     assert [m.label for m in ms] == ["before", "after"]
     labels = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
     assert labels.count("before") >= 4 and labels.count("after") >= 4, labels
@@ -75,10 +56,8 @@ def test_the_legends_tell_before_from_after(
     check_texts(fig)  # the change panel and its lane overlap nothing
 
 
-def test_a_small_timing_change_is_drawn_in_mm_and_zoomed_at_its_largest(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    fig, ms, out = repair_sheet(tmp_path, monkeypatch, TRAPEZOIDAL)
+def test_a_small_timing_change_is_drawn_in_mm_and_zoomed_at_its_largest() -> None:
+    fig, ms, out = repair_sheet(TRAPEZOIDAL)
     found = re.search(r"timing: max \|Δx\(t\)\| ([\d.e-]+) m at t = ([\d.]+) s", out)
     assert found is not None, out
     size, t0 = float(found.group(1)), float(found.group(2))
@@ -112,10 +91,8 @@ def test_a_small_timing_change_is_drawn_in_mm_and_zoomed_at_its_largest(
     assert parent.x0 <= box.x0 and box.x1 <= parent.x1 and parent.y0 <= box.y0 <= parent.y1
 
 
-def test_a_path_change_is_zoomed_on_the_workspace(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    fig, ms, _ = repair_sheet(tmp_path, monkeypatch, PATH1)
+def test_a_path_change_is_zoomed_on_the_workspace() -> None:
+    fig, ms, _ = repair_sheet(PATH1)
     r = repair(load_task(PATH1))
     assert r.path_deviation is not None and r.timing_change is None
     size, x0 = r.path_deviation

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 import errno
 import inspect
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -21,7 +22,7 @@ from rprpr.model.defaults import DEFAULT_SAMPLES
 from rprpr.model.options import AuditOptions
 from rprpr.report.exit import ExitCode, exception_status, returned_status, run_status
 from rprpr.report.run import Run
-from tests.conftest import PATH2_FILE, run_cli
+from tests.conftest import PATH2_FILE, run_cli, run_cli_to, stdout_on
 
 RPRPR = [sys.executable, "-m", "rprpr"]
 
@@ -86,21 +87,23 @@ def test_returned_status() -> None:
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 def test_a_full_disk_on_standard_output_is_one_line_and_exit_2(command: str, what: str) -> None:
     args = [command] if command == "schema" else [command, PATH2_FILE, "--samples", "5"]
-    with open("/dev/full", "w", encoding="utf-8") as full:
-        done = subprocess.run([*RPRPR, *args], stdout=full, stderr=subprocess.PIPE, text=True)
-    assert done.returncode == 2
-    assert done.stderr.splitlines() == [
+    # in this process on the stream Python makes for /dev/full (a real process writes there
+    # in tests/cli/test_output.py)
+    returncode, stderr = run_cli_to(stdout_on(os.open("/dev/full", os.O_WRONLY)), *args)
+    assert returncode == 2
+    assert stderr.splitlines() == [
         f"rprpr: cannot write the {what} to standard output: No space left on device"
     ]
 
 
 def test_export_into_a_closed_pipe_exits_0() -> None:
-    cmd = [*RPRPR, "export", PATH2_FILE, "--samples", "5"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    assert proc.stdout is not None
-    proc.stdout.close()
-    _, err = proc.communicate()
-    assert proc.returncode == 0 and err == b""
+    # in this process on the stream Python makes for the pipe (a real process writes into
+    # one in tests/cli/test_output_robustness.py)
+    read, write = os.pipe()
+    os.close(read)
+    returncode, err = run_cli_to(stdout_on(write), "export", PATH2_FILE, "--samples", "5")
+    assert returncode == 0, err
+    assert err == ""
 
 
 def test_a_bug_outside_any_task_is_one_line_and_exit_3(monkeypatch: pytest.MonkeyPatch) -> None:
