@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import os
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import replace
@@ -16,6 +17,14 @@ from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
+
+# -- byte code: cached even where the environment says not to (PYTHONDONTWRITEBYTECODE) ----
+# The suite starts many Python processes (xdist's workers, rprpr as a real process where
+# the process is what a test is about); without caches each compiles rprpr, and pytest
+# rewrites every test module, again (collection alone: ~7 CPU-s a process against ~3.5).
+# The caches go to __pycache__ folders, which git ignores.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 # -- hypothesis: random locally, derandomized in CI ---------------------------------------
 # CI (which sets CI=true) draws the same examples on every run and keeps no example database,
