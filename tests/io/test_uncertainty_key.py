@@ -88,3 +88,23 @@ def test_the_check_command_exits_2_with_located_lines(tmp_path: Path) -> None:
     lines = [ln for ln in (out + err).splitlines() if ln.startswith(str(f))]
     # the missing limit is told once the file reads (the configuration may give it)
     assert len(lines) == 1 and all(ln.split(":")[1].isdigit() for ln in lines)
+
+
+@pytest.mark.parametrize(
+    ("links", "key"),
+    [("1e-400%", "uncertainty.links"), ("{3: {mass: 1e-31%}}", "uncertainty.links.3.mass")],
+)
+def test_a_percentage_out_of_the_number_rules_is_a_located_line(
+    tmp_path: Path, links: str, key: str
+) -> None:
+    text = BASE + LIMIT + f"uncertainty: {{links: {links}, period: 0.001}}\n"
+    (e,) = _errors(text)
+    line = text.count("\n")  # the uncertainty key's, the last
+    assert (e.key, e.line) == (key, line) and e.column > 0
+    assert "exponent" in e.message and e.message.startswith("expected a percentage")
+    path = tmp_path / "t.yaml"
+    path.write_text(text, encoding="utf-8")
+    code, out, err = run_cli("check", str(path))
+    assert code == 2 and "internal error" not in out + err
+    (shown,) = [v for v in (out + err).splitlines() if v.startswith(f"{path}:")]
+    assert shown.startswith(f"{path}:{line}:") and key in shown
