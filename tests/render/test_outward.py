@@ -11,7 +11,7 @@ from rprpr.engine.findings import robust_note
 from rprpr.engine.robust.windows import Robust
 from rprpr.model.numbers import number, outward, with_unit
 from rprpr.model.task import Uncertainty
-from rprpr.render.text import robust_lines
+from rprpr.render.phrases import robust_lines
 
 UNITS = {
     "": 1,
