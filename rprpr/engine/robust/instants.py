@@ -127,14 +127,20 @@ def analyse(ab_sides: Sequence[tuple[About, int]], box: Box, limits: tuple[float
     if limits is None or not pole:
         return Robust(res, 0.0)
     ends = {-1: (0.0, 0.0, 0), 1: (0.0, 0.0, 0)}
+    covered = set()
     for k, (ab, which) in enumerate(ab_sides):
         for d in (-1, 1):
             if which in (0, d):
+                covered.add(d)
                 ends[d] = side(ab, box, limits, d)
                 reach = ab.h_max if d > 0 else -ab.h_min
-                if onward is not None and reach > 0 and ends[d][0] >= reach:
+                if onward is not None and ends[d][0] >= reach:
                     far, near, j = onward(k, d)  # the window reaches the knot: it goes on
                     ends[d] = (max(far, ends[d][0]), max(near, ends[d][1]), j)
+    for d in {-1, 1} - covered:  # t_s on a knot, the piece beyond without a record
+        edge = [k for k, (ab, _) in enumerate(ab_sides) if (ab.h_max if d > 0 else -ab.h_min) == 0]
+        if onward is not None and edge:
+            ends[d] = onward(edge[0], d)
     left, right = ends[-1][0], ends[1][0]
     window = left + right
     if window == 0:
