@@ -34,6 +34,7 @@ from ..model.actuation import SCHEMES
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.errors import TaskFileError
 from ..model.names import file_name
+from ..model.numbers import number, outward
 from ..model.options import AuditOptions
 from ..report.exit import ExitCode
 from .errors import InputError
@@ -329,10 +330,10 @@ def robust_lines(r: Repair) -> list[str]:
         return []
     out = []
     for s, b in zip(r.after.singularities, r.after.robust, strict=False):
-        lo, hi = b.residual
-        window = f"{b.window * 1e3:.3g} ms" if b.window > 0 else "none"
+        lo, hi = outward(*b.residual)
+        window = f"{number(b.window, 3, 1, 3)} ms" if b.window > 0 else "none"
         out.append(
-            f"  over the box at t = {s.t:.6g} s: residual [{lo:.6g}, {hi:.6g}] N, saturation"
+            f"  over the box at t = {s.t:.6g} s: residual [{lo}, {hi}] N, saturation"
             f" window {window} (period {float(u.period) * 1e3:.3g} ms)"
         )
     return out

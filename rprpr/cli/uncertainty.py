@@ -69,7 +69,12 @@ def read(raw: Any, where: str, number: Any, toml: Any) -> UncertaintyDefault:
         if "acceleration" in raw
         else zero
     )
-    period = number(raw["period"], f"{where}.period", positive=False) if "period" in raw else zero
+    if "period" not in raw:
+        raise InputError(
+            f"{where}: missing required key 'period' (the controller's sample period [s]:"
+            " every saturation window is judged against it; period = 0 fails every window)"
+        )
+    period = number(raw["period"], f"{where}.period", positive=False)
     origin = where.rsplit(": ", 1)[0]
     return UncertaintyDefault(links, a, period, origin, toml(raw))
 

@@ -247,7 +247,7 @@ def _robust(task: Task, parts: list[P.Part], analysis: SingularAnalysis) -> list
     """The robust analysis of each instant when the task declares uncertainty."""
     if task.uncertainty is None or not analysis.instants:
         return []
-    from .robust.windows import robust
+    from .robust.instants import robust
 
     sources = analysis._sources or tuple(((0, s),) for s in analysis.instants)
     return robust(task, parts, analysis.instants, sources)

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from flint import fmpq
 
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
-from ..model.numbers import apart, distinct, labels, number, to_float, with_unit
+from ..model.numbers import apart, distinct, labels, number, outward, to_float, with_unit
 from ..model.rules import Finding
 from ..model.task import Task, Uncertainty
 from .bounds.verdicts import LimitCheck, Peak, Window
@@ -87,8 +87,8 @@ PRECISION = 1e-12  # [s] a window below this is the rounding of the input, not a
 
 def robust_note(r: Robust, u: Uncertainty) -> str:
     """What RPR201's warning adds with declared uncertainty: the window decides."""
-    w = number(r.window)
-    lo, hi = (number(v) for v in r.residual)
+    w = number(r.window, toward=1)
+    lo, hi = outward(*r.residual)
     if r.window < PRECISION:
         return (
             f"; consistent to the input's precision: residual {lo} .. {hi} N,"
@@ -136,11 +136,11 @@ def window(s: SingularInstant, r: Robust, task: Task, at: At, e: Scheme) -> list
     j = r.joint
     span = ""
     if r.span is not None:
-        t0, t1 = distinct(list(r.span))
+        t0, t1 = outward(*r.span)
         span = f" (t = {t0} .. {t1} s)"
     message = (
         f"for {box_text(u)}, |{e.letter}{j}| > {number(to_float(limit[j - 1]))} {e.unit}"
-        f" for at most {with_unit(r.window, 's')} around {at(s.t)}{span}: longer than the"
+        f" for at most {with_unit(r.window, 's', toward=1)} around {at(s.t)}{span}: longer than the"
         f" {with_unit(float(u.period), 's')} period"
     )
     return [Finding("RPR205", message, s.t)]

@@ -300,7 +300,12 @@ def percent(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> fmpq:
         raise w.error(
             f"expected {PERCENT_EXPECTED} ({spec.description}), found {found}{hint}", node, key
         )
-    value = parse_decimal(m.group(1) + (m.group(2) or "")) / 100
+    try:
+        value = parse_decimal(m.group(1) + (m.group(2) or "")) / 100
+    except ExpressionError as e:  # too many digits, an exponent out of range
+        raise w.error(
+            f"expected {PERCENT_EXPECTED} ({spec.description}): {e.message}", node, key
+        ) from None
     if value >= 1:
         raise w.error(
             f"expected {PERCENT_EXPECTED} ({spec.description}), found {text.strip()}: a"

@@ -181,7 +181,8 @@ UNCERTAINTY = Spec(
         ),
         "period": _num(
             "The controller's sample period [s]: a saturation window no longer is tolerated;"
-            " not given: 0",
+            " required: every window is judged against it (period: 0 fails every window)",
+            required=True,
             minimum=0,
         ),
     },

@@ -40,9 +40,26 @@ def to_float(q: fmpq) -> float:
         return math.inf if q > 0 else -math.inf
 
 
-def number(v: float, digits: int = DIGITS) -> str:
-    """``v`` with ``digits`` significant digits (Python's ``g`` format)."""
-    return f"{v:.{digits}g}"
+def number(v: float, digits: int = DIGITS, toward: int = 0, shift: int = 0) -> str:
+    """``v`` with ``digits`` significant digits (Python's ``g`` format): the nearest, or
+    rounded outward, up (``toward`` = 1: a printed upper bound never below the bound's
+    exact value) or down (-1); with ``shift``, of v·10^shift (exactly: 1.5e-3 s in ms)."""
+    return _rounded(v, shift, digits, toward)
+
+
+def _rounded(v: float, shift: int, digits: int, toward: int) -> str:
+    """``v`` · 10^``shift`` with ``digits`` significant digits: nearest (``toward`` 0),
+    up (1) or down (-1), from the exact binary value of ``v``."""
+    if not toward or not math.isfinite(v) or v == 0:
+        return f"{(v * 10.0**shift if shift else v):.{digits}g}"
+    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
+
+    with localcontext() as c:
+        c.prec = 1000
+        exact = Decimal(v).scaleb(shift)
+        step = Decimal(1).scaleb(exact.adjusted() - digits + 1)
+        r = exact.quantize(step, rounding=ROUND_CEILING if toward > 0 else ROUND_FLOOR)
+    return f"{float(r):.{digits}g}"
 
 
 def distinct(values: Sequence[float], digits: int = DIGITS) -> list[str]:
@@ -55,6 +72,16 @@ def distinct(values: Sequence[float], digits: int = DIGITS) -> list[str]:
         if len(set(texts)) == len(set(values)):
             break
     return texts
+
+
+def outward(lo: float, hi: float, digits: int = DIGITS) -> tuple[str, str]:
+    """A proven interval [lo, hi] as text: ``lo`` rounded down, ``hi`` up, with ``digits``
+    significant digits or more (10, then 17) where the two would otherwise read alike."""
+    for wider in (digits, *(d for d in _WIDER if d > digits)):
+        a, b = number(lo, wider, -1), number(hi, wider, 1)
+        if a != b or lo == hi:
+            break
+    return a, b
 
 
 def labels(values: Iterable[float]) -> dict[float, str]:
@@ -72,15 +99,16 @@ def fixed(v: float, places: int = 3) -> str:
 _PREFIXES = ((1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"))
 
 
-def with_unit(v: float, unit: str, digits: int = CELL) -> str:
+def with_unit(v: float, unit: str, digits: int = CELL, toward: int = 0) -> str:
     """``v`` [``unit``] with ``digits`` significant digits and the SI prefix (none, m, µ,
     n, p) that brings it to 1 or more: ``with_unit(0.0023, "s")`` is ``2.3 ms``; 0, a
-    value of 1 or more, and one below a pico-unit keep the plain unit."""
-    for scale, prefix in _PREFIXES:
-        text = number(v / scale, digits)
+    value of 1 or more, and one below a pico-unit keep the plain unit. ``toward`` as
+    ``number``'s (an upper bound printed up)."""
+    for k, (scale, prefix) in enumerate(_PREFIXES):
+        text = _rounded(v, 3 * k, digits, toward) if toward else number(v / scale, digits)
         if abs(float(text)) >= 1:  # as printed: 0.9999999 s is "1 s", not "1000 ms"
             return f"{text} {prefix}{unit}"
-    return f"{number(v, digits)} {unit}"
+    return f"{number(v, digits, toward)} {unit}"
 
 
 def round_trip(v: float) -> str:

@@ -11,6 +11,7 @@ one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
@@ -135,6 +136,30 @@ class Uncertainty:
     where: tuple[int, int] = field(default=(0, 0), compare=False, repr=False)
     origin: str = field(default="", compare=False, repr=False)
 
+    def __post_init__(self) -> None:
+        """A ValueError naming the first value out of its range (the task file's reader
+        checks the same, each on its own located line)."""
+        if not isinstance(self.links, dict):
+            raise ValueError(f"Uncertainty: links must be a dict, not {type(self.links).__name__}")
+        for i, rel in self.links.items():
+            if isinstance(i, bool) or i not in (2, 3, 4, 5):
+                raise ValueError(f"Uncertainty: links[{i!r}]: expected a link 2, 3, 4 or 5")
+            if not isinstance(rel, tuple | list) or len(rel) != 3:
+                raise ValueError(
+                    f"Uncertainty: links[{i}]: expected (mass, inertia, r) half-widths,"
+                    f" found {rel!r}"
+                )
+            for name, v in zip(("mass", "inertia", "r"), rel, strict=True):
+                q = _fraction(v, f"links[{i}] {name}")
+                if not 0 <= q < 1:
+                    raise ValueError(
+                        f"Uncertainty: links[{i}] {name}: expected a relative half-width"
+                        f" >= 0 and < 1 (0 % to 100 %), found {v}"
+                    )
+        for name, v in (("acceleration", self.acceleration), ("period", self.period)):
+            if _fraction(v, name) < 0:
+                raise ValueError(f"Uncertainty: {name}: expected a number >= 0, found {v}")
+
     def exact(self) -> Uncertainty:
         """The same with every number an exact rational (``fmpq``): a ``Fraction``, an int
         or a float (its binary value) given from Python is converted."""
@@ -154,6 +179,18 @@ class Uncertainty:
     def zero(self) -> bool:
         """No uncertainty at all (a box of radius zero)."""
         return self.acceleration == 0 and all(v == 0 for t in self.links.values() for v in t)
+
+
+def _fraction(v: object, what: str) -> Fraction:
+    """``v`` (an fmpq, a Fraction, an int or a finite float) as a Fraction; else a
+    ValueError naming ``what``."""
+    if isinstance(v, fmpq):
+        return Fraction(int(v.p), int(v.q))
+    if isinstance(v, bool) or not isinstance(v, int | float | Fraction):
+        raise ValueError(f"Uncertainty: {what}: expected a number, found {v!r}")
+    if isinstance(v, float) and not math.isfinite(v):
+        raise ValueError(f"Uncertainty: {what}: expected a finite number, found {v}")
+    return Fraction(v)
 
 
 @dataclass(frozen=True)

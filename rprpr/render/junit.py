@@ -16,7 +16,8 @@ One ``testsuite`` per run (inside a ``testsuites`` root), one ``testcase`` per t
   line, column and key; an ``error`` of type ``internal-error`` for a bug, with the
   traceback; an ``error`` of type ``budget-exceeded`` for a task stopped at its work
   budget;
-* ``system-out``: one line per singular instant, then the strict-mode-only findings that
+* ``system-out``: one line per singular instant (and with declared uncertainty its
+  robust line, as the text report's), then the strict-mode-only findings that
   do not fail the task (RPR202, and RPR201 accepted with ``checks.unbounded_torque:
   warn`` or ``--warn-unbounded``, when not strict), marked ``warning``, the closest
   approach to AB of a motion that never meets it, and the verdict with the certified
@@ -88,6 +89,7 @@ def _report_case(case: ET.Element, rep: dict[str, Any]) -> bool:
     times = instant_times(rep)
     effort = scheme(rep).noun[:-1]  # torque, force
     out = [_instant_line(s, times[s["t"]], effort) for s in rep["singularities"]]
+    out += [line.strip() for line in phrases.robust_lines(rep)]  # with uncertainty only
     for f in rep["findings"]:
         title = RULES[f["rule"]].title
         where = _where(rep["task"], f["line"], f["key"])

@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..model.actuation import REVOLUTE
-from ..model.numbers import CELL, number, with_unit
+from ..model.numbers import CELL, number, outward, with_unit
 from ..report.records import instant_times, scheme
 
 
@@ -81,4 +81,38 @@ def details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
     near = approach(rep)
     if near:
         out.append(near)
+    return out
+
+
+def robust_lines(rep: dict[str, Any]) -> list[str]:
+    """One line per singular instant with declared uncertainty: ``  robust t = 2.5 s:
+    residual [-0.0211, 0.0211] N, window 5.44 ms (|T1|, t = 2.49728 .. 2.50273 s),
+    period 1 ms``."""
+    u = rep.get("uncertainty")
+    if u is None:
+        return []
+    e = scheme(rep)
+    times = instant_times(rep)
+    out = []
+    for s in rep["singularities"]:
+        r = s.get("robust")
+        if r is None:
+            continue
+        lo, hi = r["residual"]
+        residual = "[{}, {}]".format(*outward(lo, hi)) if lo != hi else number(lo)
+        where = ""
+        if r["joint"] is not None and r["span"] is not None:
+            t0, t1 = outward(*r["span"])
+            where = f" (|{e.letter}{r['joint']}|, t = {t0} .. {t1} s)"
+        out.append(
+            f"  robust t = {times[s['t']]} s: residual {residual} N,"
+            f" window {with_unit(r['window'], 's', toward=1)}{where},"
+            f" period {with_unit(u['period'], 's')}"
+        )
+    if "peak" in u:
+        (_, h1), (_, h2) = u["peak"]
+        out.append(
+            f"  robust peak outside the windows: |{e.letter}1| <= {number(h1, toward=1)}"
+            f" {e.unit}, |{e.letter}2| <= {number(h2, toward=1)} {e.unit} (over the box)"
+        )
     return out

@@ -33,7 +33,7 @@ from rich.style import Style
 from rich.text import Text
 
 from ..model.actuation import REVOLUTE
-from ..model.numbers import CELL, distinct, number, with_unit
+from ..model.numbers import CELL, number
 from ..report.records import instant_times, scheme
 from ..report.run import Run
 from . import phrases
@@ -309,46 +309,12 @@ def _task(rep: dict[str, Any], console: Console, layout: str = "auto") -> None:
         fits = layout == "table" or (layout == "auto" and natural <= width)
         for line in singularity_table(rep, rows) if fits else stacked(rep, rows, width):
             out.line(line)
-    for text in robust_lines(rep):  # with declared uncertainty only (docs/robust.md)
+    for text in phrases.robust_lines(rep):  # with declared uncertainty only (docs/robust.md)
         for part in _wrapped([(text, "")], width):
             out.line(part)
     for part in _wrapped(_verdict(rep), width):
         out.line(part)
     console.print(out, crop=False)
-
-
-def robust_lines(rep: dict[str, Any]) -> list[str]:
-    """One line per singular instant with declared uncertainty: ``  robust t = 2.5 s:
-    residual [-0.0211, 0.0211] N, window 5.44 ms (|T1|, t = 2.49729 .. 2.50273 s),
-    period 1 ms``."""
-    u = rep.get("uncertainty")
-    if u is None:
-        return []
-    e = scheme(rep)
-    times = instant_times(rep)
-    out = []
-    for s in rep["singularities"]:
-        r = s.get("robust")
-        if r is None:
-            continue
-        lo, hi = r["residual"]
-        residual = f"[{number(lo)}, {number(hi)}]" if lo != hi else number(lo)
-        where = ""
-        if r["joint"] is not None and r["span"] is not None:
-            t0, t1 = distinct(r["span"])
-            where = f" (|{e.letter}{r['joint']}|, t = {t0} .. {t1} s)"
-        out.append(
-            f"  robust t = {times[s['t']]} s: residual {residual} N,"
-            f" window {with_unit(r['window'], 's')}{where},"
-            f" period {with_unit(u['period'], 's')}"
-        )
-    if "peak" in u:
-        (_, h1), (_, h2) = u["peak"]
-        out.append(
-            f"  robust peak outside the windows: |{e.letter}1| <= {number(h1)} {e.unit},"
-            f" |{e.letter}2| <= {number(h2)} {e.unit} (over the box)"
-        )
-    return out
 
 
 def _verdict(rep: dict[str, Any]) -> Runs:

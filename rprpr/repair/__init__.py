@@ -131,8 +131,8 @@ def _repair(
         if passes(after):
             return account(task, new, before, after, plans)
         left = blocking(after.findings, task)
-        if all(f.rule == "RPR205" for f in left):
-            raise NoRepair(_window_only(left))
+        if _spread_only(left, after, failing):
+            raise NoRepair(_window_only(left, task))
         last = "; ".join(f.message for f in left)[:400]
         if window is not None:
             break
@@ -219,14 +219,45 @@ def _nominal_pole(f: Finding) -> bool:
     return f.rule == "RPR201" or (f.rule == "RPR202" and f.instant is not None)
 
 
-def _window_only(left: list[Finding]) -> str:
+CENTRED = fmpq(1, 10**5)  # |lo + hi| <= this (hi - lo): the residual's interval centred on 0
+
+
+def _spread_only(left: list[Finding], after: AuditResult, failing: list[SingularInstant]) -> bool:
+    """Whether what still fails is only RPR205 at the task's own failing instants, each
+    with its residual aimed (the nominal model consistent, or the interval over the box
+    centred on 0): then the window comes from the box's spread, which no acceleration at
+    t_s removes. An RPR205 at an instant the candidate made, or at one whose residual is
+    off centre, is the candidate's to fix (another window)."""
+    if not left or any(f.rule != "RPR205" or f.instant is None for f in left):
+        return False
+    times = [s.t for s in failing]
+    for f in left:
+        assert f.instant is not None
+        s, r = after.singularities[f.instant], after.robust[f.instant]
+        if not any(abs(s.t - t) <= 1e-9 * max(1.0, abs(t)) for t in times):
+            return False
+        lo, hi = (fmpq(*v.as_integer_ratio()) for v in r.residual)
+        if not (s.consistent or abs(lo + hi) <= CENTRED * (hi - lo)):
+            return False
+    return True
+
+
+def _window_only(left: list[Finding], task: Task) -> str:
     """Why a crossing whose only failure is its saturation window is not repaired."""
+    u = task.uncertainty
+    error = u is not None and u.acceleration != 0
+    masses = u is not None and any(v != 0 for t in u.links.values() for v in t)
+    part = " (the tracking error's part at least)" if error and masses else ""
+    advice = [
+        *(["track the acceleration more closely"] if error else []),
+        *(["identify the masses better"] if masses else []),
+        "cross AB faster (the window shrinks as 1/|ẏ|)",
+    ]
     return (
         "with the consistency aimed at the box's middle, what still fails is the saturation"
         f" window (RPR205: {'; '.join(f.message for f in left)[:400]}); it comes from the"
-        " residual's spread over the declared box (the tracking error's part at least),"
-        " which no acceleration at t_s removes: track the acceleration more closely,"
-        " identify the masses better, or cross AB faster (the window shrinks as 1/|ẏ|)"
+        f" residual's spread over the declared box{part}, which no acceleration at t_s"
+        f" removes: {', '.join(advice[:-1])}{', or ' if len(advice) > 1 else ''}{advice[-1]}"
     )
 
 

@@ -112,6 +112,7 @@ def test_other_commands_need_the_tasks_own_limit(tmp_path: Path) -> None:
         ("uncertainty = {acceleration = -1}", "uncertainty.acceleration: expected a number >= 0"),
         ('uncertainty = {window = "1"}', "unknown key 'window'"),
         ('uncertainty = "5%"', "expected a table {links, acceleration, period}"),
+        ('uncertainty = {links = "5%"}', "missing required key 'period' (the controller's"),
     ],
 )
 def test_a_bad_configured_uncertainty_names_the_file_line_and_key(
@@ -127,7 +128,11 @@ def test_a_bad_configured_uncertainty_names_the_file_line_and_key(
 def test_per_link_values_exactly_and_show_settings(tmp_path: Path) -> None:
     from fractions import Fraction as F
 
-    _write(tmp_path, "rprpr.toml", 'uncertainty = {links = {3 = {mass = "2%", r = "1.5%"}}}\n')
+    _write(
+        tmp_path,
+        "rprpr.toml",
+        'uncertainty = {links = {3 = {mass = "2%", r = "1.5%"}}, period = 0}\n',
+    )
     u = load_settings(cwd=str(tmp_path))["uncertainty"]
     assert u.links[3] == (F(1, 50), F(0), F(3, 200)) and u.links[2] == (0, 0, 0)
     assert u.acceleration == 0 and u.period == 0

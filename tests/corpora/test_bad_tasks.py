@@ -292,6 +292,25 @@ CASES: dict[str, tuple[str, int, int, tuple[str, ...]]] = {
     "law_without_from_to": ("timing.law", 15, 8, ("law quintic needs path.from and path.to",)),
     "law_and_x": ("timing", 16, 3, ("give either law or x, not both",)),
     "no_law_no_x": ("timing", 16, 3, ("missing timing law",)),
+    # uncertainty (docs/robust.md): a percentage out of the number rules, no period
+    "uncertainty_percent_exponent": (
+        "uncertainty.links",
+        21,
+        10,
+        ("expected a percentage", "exponent beyond ±30"),
+    ),
+    "uncertainty_link_percent_exponent": (
+        "uncertainty.links.3.mass",
+        21,
+        21,
+        ("expected a percentage", "exponent beyond ±30"),
+    ),
+    "uncertainty_no_period": (
+        "uncertainty.period",
+        21,
+        3,
+        ("missing required key 'period'", "every window"),
+    ),
 }
 
 

@@ -689,7 +689,7 @@ def test_the_robust_records_are_tied_to_their_instant_not_to_its_rounded_time() 
     # record is made from its own instant's local analysis (the joined analysis names its
     # sources by index), so its residual is that instant's exact residual
     text = task_text("(x-3)*(x-3.00000000000000000001)", "timing:\n  duration: 2\n  x: 2 + t\n")
-    text += "checks:\n  torque_limit: [300, 300]\nuncertainty:\n  links: 0%\n"
+    text += "checks:\n  torque_limit: [300, 300]\nuncertainty:\n  links: 0%\n  period: 0\n"
     r = audit(parse_task(text))
     for s, rob in zip(r.singularities, r.robust, strict=True):
         assert rob.residual == (s.consistency_residual, s.consistency_residual)

@@ -43,6 +43,23 @@ def _effort(task: Task, t: Fraction, name: str) -> float:
         return float(R._evaluate(task, (x, xd, xdd, y, yd, ydd))[name])
 
 
+def _regular_reference(task: Task, t: np.ndarray, t_s: float, half: float) -> float:
+    """The original's largest regular |effort| (``repair.effort``, docs/robust.md) from the
+    reference's efforts: on the samples outside the changed window, each effort less its
+    pole's leading term c±/(t - t_s), c± = E (t - t_s) at the sample nearest t_s on each
+    side."""
+    out = 0.0
+    for k in ("T1", "T2"):
+        values = {v: float(R.reference(task, Fraction(v))[k]) for v in t if v != t_s}
+        right = min((v for v in values if v > t_s), key=lambda v: v - t_s)
+        left = max(v for v in values if v < t_s)
+        c = {1: values[right] * (right - t_s), -1: values[left] * (left - t_s)}
+        for v, e in values.items():
+            if abs(v - t_s) > half:
+                out = max(out, abs(e - c[1 if v > t_s else -1] / (v - t_s)))
+    return out
+
+
 def test_path_2_on_linear_actuators_is_repaired_with_a_warning_naming_the_forces() -> None:
     old = parse_task(PRISMATIC_NO_LIMIT)
     r = repair(old)
@@ -55,10 +72,7 @@ def test_path_2_on_linear_actuators_is_repaired_with_a_warning_naming_the_forces
     assert abs(at) == pytest.approx(peak[j].value, rel=1e-9)
     assert 6.4e4 < peak[j].value < 6.5e4  # the issue's 64.6 kN
     s = r.before.samples
-    outside = np.abs(s.t - float(c.t)) > float(c.window)
-    ref = max(
-        abs(float(R.reference(old, Fraction(t))[k])) for t in s.t[outside] for k in ("T1", "T2")
-    )
+    ref = _regular_reference(old, s.t, float(c.t), float(c.window))
     (shown,) = [float(x) for x in w.split("outside the changed windows (")[1].split()[:1]]
     assert shown == pytest.approx(ref, rel=1e-5)  # the same samples: the same largest (6 digits)
     assert peak[j].value > RATIO * shown
@@ -83,3 +97,30 @@ def test_the_command_prints_the_warning_and_the_worst_case(tmp_path) -> None:  #
     code, out, err = run_cli("repair", str(g), "-o", str(tmp_path / "h2.rprpr.yaml"))
     assert code == 0 and "over the box at t = 2.5 s: residual [" in out + err
     assert "(strict, RPR201 left to RPR205): pass" in out  # docs/robust.md, *Repair*
+
+
+@pytest.mark.parametrize(
+    ("uncertainty", "keep", "near"),
+    [
+        # the nominal pole kept at the box's middle: the certified peak is infinite
+        ("uncertainty: {links: 1%, acceleration: 0, period: 0.003}\n", None, 4.96e4),
+        # the original's pole tail outside a narrow changed window: 3.5 kN, not regular
+        ("", "path", 5.06e4),
+    ],
+)
+def test_a_kept_pole_or_the_originals_pole_tail_does_not_silence_the_warning(
+    uncertainty: str, keep: str | None, near: float
+) -> None:
+    text = PRISMATIC_NO_LIMIT
+    if uncertainty:
+        text = text.replace("timing:", "checks: {torque_limit: [100000, 100000]}\ntiming:")
+        text += uncertainty
+    r = repair(parse_task(text), keep=keep)
+    (w,) = r.warnings
+    value = float(w.split("| = ")[1].split()[0])
+    at = float(w.split(" at t = ")[1].split()[0])
+    assert value == pytest.approx(near, rel=0.01)
+    name = w.split("reach |")[1][:2].replace("F", "T")
+    assert abs(_effort(r.task, Fraction(at), name)) == pytest.approx(value, rel=1e-5)
+    (shown,) = [float(x) for x in w.split("outside the changed windows (")[1].split()[:1]]
+    assert 100 < shown < 200 and value > RATIO * shown  # path 2's legs: ~170 N regular

@@ -38,7 +38,7 @@ import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
 from ...model.numbers import to_float
-from ...model.task import Robot, Task, Uncertainty
+from ...model.task import Robot, Uncertainty
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 from ..exact.series import taylor
@@ -129,7 +129,7 @@ def _interval(v: fmpq, rel: Any) -> tuple[fmpq, fmpq]:
 
 
 @dataclass
-class _About:
+class About:
     """The motion about one t_s on one piece: Taylor coefficients of x, x', x'', y, y',
     y'' in h = t - t_s (exact rationals or balls; y(t_s) = 0 exactly), the span of h on
     the piece, and the robot."""
@@ -145,7 +145,7 @@ class _About:
                 for p in self.coeffs]  # fmt: skip
 
 
-def _shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) -> list[Any]:
+def shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) -> list[Any]:
     """The Taylor coefficients of ``poly`` at t_s (exact when t_s is rational)."""
     if t_s is not None:
         return list(poly(fmpq_poly([t_s, 1])).coeffs()) or [fmpq(0)]
@@ -153,11 +153,11 @@ def _shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) ->
     return [field.evaluate(c, PREC + 64) for c in taylor(poly, n)]
 
 
-def about(traj: Any, robot: Robot, t_local: fmpq | None, field: Any, t_abs: float) -> _About:
+def about(traj: Any, robot: Robot, t_local: fmpq | None, field: Any, t_abs: float) -> About:
     """The motion of the piece ``traj`` (local time) about its instant t_local (or the
     root of ``field`` when irrational)."""
     polys = (traj.x, traj.xd, traj.xdd, traj.y, traj.yd, traj.ydd)
-    coeffs = [_shifted(p, t_local, None, field) for p in polys]
+    coeffs = [shifted(p, t_local, None, field) for p in polys]
     coeffs[3][0] = fmpq(0)  # y(t_s) = 0 exactly
     ts = (
         float(t_local)
@@ -165,10 +165,10 @@ def about(traj: Any, robot: Robot, t_local: fmpq | None, field: Any, t_abs: floa
         else float(field.evaluate(fmpq_poly([0, 1]), 64).mid())
     )
     lead = to_float(traj.lead)
-    return _About(coeffs, min(0.0, lead - ts), max(0.0, to_float(traj.duration) - ts), robot, t_abs)
+    return About(coeffs, min(0.0, lead - ts), max(0.0, to_float(traj.duration) - ts), robot, t_abs)
 
 
-def _regressor_float(ab: _About, h: np.ndarray) -> np.ndarray:
+def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     """The regressor at the times t_s + h (doubles): (3, n, 2, 10) for the error parts
     e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``."""
     c = ab.floats()
@@ -187,7 +187,7 @@ def _regressor_float(ab: _About, h: np.ndarray) -> np.ndarray:
     return np.stack([Y[0], Y[1] - Y[0], Y[2] - Y[0]])
 
 
-def _phi_float(ab: _About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
+def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     """The largest |T_i| over the box at t_s + h, (n, 2), in doubles."""
     Ys = _regressor_float(ab, h)
     combos = [(s * float(ex), s * float(ey), s) for ex, ey in box.corners() for s in (1.0, -1.0)]
@@ -201,7 +201,7 @@ def _phi_float(ab: _About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     return v.max(axis=0)
 
 
-def _regressor_ball(ab: _About, h: arb, at_ts: bool = False) -> list[list[list[Any]]]:
+def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[Any]]]:
     """The regressor at t_s + h in ball arithmetic, for the error parts e = 0, per unit
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
@@ -242,12 +242,14 @@ def _ball(v: Any) -> arb:
     return arb(v)
 
 
-def _phi_ball(ab: _About, h: float, box: Box, bbox: Any) -> tuple[Pair, Pair]:
-    """Bounds on the largest |T1|, |T2| over the box at t_s + h."""
+def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0
+              ) -> tuple[Pair, Pair]:  # fmt: skip
+    """Bounds on the largest |T1|, |T2| over the box at t_s + h (with ``width``: over
+    every time between t_s + h and t_s + h + ``width``)."""
     old = ctx.prec
     ctx.prec = PREC
     try:
-        Ys = _regressor_ball(ab, arb(h))
+        Ys = _regressor_ball(ab, arb(h) if not width else arb(h).union(arb(h) + arb(width)))
         best: list[list[Pair]] = [[], []]
         for ex, ey in box.corners():
             for j in (0, 1):
@@ -258,13 +260,13 @@ def _phi_ball(ab: _About, h: float, box: Box, bbox: Any) -> tuple[Pair, Pair]:
         ctx.prec = old
 
 
-def residual(ab: _About, box: Box) -> tuple[arb, arb]:
+def residual(ab: About, box: Box) -> tuple[arb, arb]:
     """A lower bound on the least and an upper bound on the largest consistency residual
     over the box [N] (exact points)."""
     old = ctx.prec
     ctx.prec = PREC
     try:
-        bbox = _ball_box(box)
+        bbox = ball_box(box)
         lo: list[Pair] = []
         hi: list[Pair] = []
         Ys = _regressor_ball(ab, arb(0), at_ts=True)
@@ -280,25 +282,25 @@ def residual_at(robot: Robot, u: Uncertainty, state: Sequence[fmpq]) -> tuple[ar
     """``residual`` at a Type II state given directly: ``state`` = (x, ẋ, ẍ, ẏ, ÿ) at
     y = 0, exact (the repair's aim, ``repair.middle``), over the box of ``u``."""
     x, xd, xdd, yd, ydd = state
-    ab = _About([[x], [xd], [xdd], [fmpq(0)], [yd], [ydd]], 0.0, 0.0, robot, 0.0)
+    ab = About([[x], [xd], [xdd], [fmpq(0)], [yd], [ydd]], 0.0, 0.0, robot, 0.0)
     return residual(ab, Box.of(robot, u))
 
 
-def _ball_box(box: Box) -> dict[int, Any]:
+def ball_box(box: Box) -> dict[int, Any]:
     return {i: tuple((arb(lo), arb(hi)) for lo, hi in b) for i, b in box.links.items()}
 
 
-def _float_box(box: Box) -> dict[int, Any]:
+def float_box(box: Box) -> dict[int, Any]:
     return {i: tuple((to_float(lo), to_float(hi)) for lo, hi in b) for i, b in box.links.items()}
 
 
-def _down(x: arb) -> float:
+def round_down(x: arb) -> float:
     """The largest double <= the exact point ``x``."""
     f = float(x.lower().mid())
     return f if arb(f) <= x.lower() else math.nextafter(f, -math.inf)
 
 
-def _up(x: arb) -> float:
+def round_up(x: arb) -> float:
     """The smallest double >= the exact point ``x``."""
     f = float(x.upper().mid())
     return f if arb(f) >= x.upper() else math.nextafter(f, math.inf)
@@ -307,7 +309,7 @@ def _up(x: arb) -> float:
 # -- the window on one side ----------------------------------------------------------------
 
 
-def side(ab: _About, box: Box, limits: tuple[float, float], direction: int
+def side(ab: About, box: Box, limits: tuple[float, float], direction: int
          ) -> tuple[float, float, int]:  # fmt: skip
     """The window on one side of t_s, as distances |h| [s]: (a proven outer end, an
     inner end at which the limit is proven exceeded (0 when not shown), the joint (0, 1)
@@ -319,11 +321,11 @@ def side(ab: _About, box: Box, limits: tuple[float, float], direction: int
     reach = ab.h_max if direction > 0 else -ab.h_min
     if reach <= 0:
         return 0.0, 0.0, 0
-    bbox = _ball_box(box)
-    fbox = _float_box(box)
+    bbox = ball_box(box)
+    fbox = float_box(box)
     lim = np.array(limits)
     hs = reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]  # ascending, to reach
-    phi = _phi_float(ab, direction * hs, box, fbox)  # (n, 2)
+    phi = phi_float(ab, direction * hs, box, fbox)  # (n, 2)
     if not (phi[0] > lim).any():
         return _halving(ab, box, bbox, limits, direction, reach), 0.0, 0
     brackets = []
@@ -336,7 +338,7 @@ def side(ab: _About, box: Box, limits: tuple[float, float], direction: int
             brackets.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
     for _ in range(4):  # the first crossing of each joint, 64 points at a time
         grids = [np.linspace(lo, hi, 65)[1:] for lo, hi in brackets]
-        p = _phi_float(ab, direction * np.concatenate(grids), box, fbox)
+        p = phi_float(ab, direction * np.concatenate(grids), box, fbox)
         new = []
         for j, (lo, hi) in enumerate(brackets):
             if lo == hi:
@@ -349,24 +351,24 @@ def side(ab: _About, box: Box, limits: tuple[float, float], direction: int
         brackets = new
     j = 0 if brackets[0][1] >= brackets[1][1] else 1
     outer = _prove_out(ab, box, bbox, limits, direction, brackets[j][1], reach)
-    inner = _prove_in(ab, box, bbox, limits[j], j, direction, brackets[j][0])
+    inner = prove_in(ab, box, bbox, limits[j], j, direction, brackets[j][0])
     return outer, inner, j
 
 
-def _prove_out(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
+def _prove_out(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
                reach: float) -> float:  # fmt: skip
     """The nearest of h, h (1 + 1e-12), h (1 + 1e-10), ... at which both max |T_j| <=
     their limits are proven (reach when none is): the window cannot reach past it."""
     step = 1e-12
     while h < reach:
-        phi = _phi_ball(ab, d * h, box, bbox)
+        phi = phi_ball(ab, d * h, box, bbox)
         if phi[0][1] <= limits[0] and phi[1][1] <= limits[1]:
             return h
         h, step = min(h * (1 + step), reach), step * 100
     return reach
 
 
-def _prove_in(ab: _About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
+def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
     """h, or a little nearer t_s, at which max |T_j| > lim is proven (0 when none is):
     |T_j| at the box's worst point there (found in doubles), in ball arithmetic."""
     for shrink in (0.0, 1e-12, 1e-9, 1e-6):
@@ -376,10 +378,10 @@ def _prove_in(ab: _About, box: Box, bbox: Any, lim: float, j: int, d: int, h: fl
     return 0.0
 
 
-def _worst_ball(ab: _About, h: float, box: Box, j: int) -> arb:
+def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
     corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
-    fbox = _float_box(box)
+    fbox = float_box(box)
     Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
     best, arg = -math.inf, None
     for ex, ey in box.corners():
@@ -421,7 +423,7 @@ def _argmax(A: float, B: float, C: float, box: Any) -> tuple[fmpq, fmpq, fmpq]:
     return (mhi if g >= 0 else mlo), r, (ihi if C >= 0 else ilo)
 
 
-def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: int,
+def _halving(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int,
              reach: float) -> float:  # fmt: skip
     """A proven outer end for a window too narrow for doubles: from the piece's end
     towards t_s by factors of 16, then of 2, the nearest h at which both max |T_j| <=
@@ -429,7 +431,7 @@ def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: in
     is reported as that bound)."""
 
     def below(h: float) -> bool:
-        phi = _phi_ball(ab, d * h, box, bbox)
+        phi = phi_ball(ab, d * h, box, bbox)
         return bool(phi[0][1] <= limits[0] and phi[1][1] <= limits[1])
 
     best, h = reach, reach / 2
@@ -438,82 +440,3 @@ def _halving(ab: _About, box: Box, bbox: Any, limits: tuple[float, float], d: in
             best, h = h, h / factor
         h = best / 2
     return best
-
-
-# -- the audit's entry ----------------------------------------------------------------------
-
-
-def analyse(ab_sides: Sequence[tuple[_About, int]], box: Box, limits: tuple[float, float] | None,
-            nominal: Any) -> Robust:  # fmt: skip
-    """The robust analysis of one instant from its pieces (``ab_sides``: the motion about
-    t_s and the sides, -1, +1 or 0 for both, that this piece covers); ``nominal`` the
-    instant's exact analysis (``singular.SingularInstant``)."""
-    if box.zero:
-        r = nominal.consistency_residual
-        res = (r, r)
-        lo_b = hi_b = None
-    else:
-        balls = [residual(ab, box) for ab, _ in ab_sides]
-        lo_b = min((b[0] for b in balls), key=lambda v: float(v.mid()))
-        hi_b = max((b[1] for b in balls), key=lambda v: float(v.mid()))
-        res = (_down(lo_b), _up(hi_b))
-    pole = not (box.zero and nominal.torque_bounded)
-    if limits is None or not pole:
-        return Robust(res, 0.0)
-    ends = {-1: (0.0, 0.0, 0), 1: (0.0, 0.0, 0)}
-    for ab, which in ab_sides:
-        for d in (-1, 1):
-            if which in (0, d):
-                ends[d] = side(ab, box, limits, d)
-    left, right = ends[-1][0], ends[1][0]
-    window = left + right
-    if window == 0:
-        return Robust(res, 0.0)
-    joint = 1 + (ends[-1][2] if left >= right else ends[1][2])
-    t = ab_sides[0][0].t_s
-    span = (math.nextafter(t - left, -math.inf), math.nextafter(t + right, math.inf))
-    inner = ends[-1][1] + ends[1][1] if ends[-1][1] and ends[1][1] else 0.0
-    return Robust(res, _sum_up(left, right), inner, joint, span)
-
-
-def _sum_up(a: float, b: float) -> float:
-    s = a + b
-    return (
-        s
-        if fmpq(*s.as_integer_ratio()) >= fmpq(*a.as_integer_ratio()) + fmpq(*b.as_integer_ratio())
-        else math.nextafter(s, math.inf)
-    )
-
-
-def robust(
-    task: Task,
-    parts: Sequence[Any],
-    instants: Sequence[Any],
-    sources: Sequence[Sequence[tuple[int, Any]]],
-) -> list[Robust]:
-    """The robust analysis of each singular instant of the audited ``task``
-    (``instants``: the joined analysis, absolute times; ``parts``: the pieces with
-    their local analyses; ``sources[i]``: the (piece index, local instant) pairs
-    ``instants[i]`` was joined from, two at a knot)."""
-    u = task.uncertainty
-    assert u is not None
-    box = Box.of(task.robot, u)
-    limit = task.checks.torque_limit
-    limits = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
-    out = []
-    for s, origin in zip(instants, sources, strict=True):
-        ab_sides = []
-        for j, loc in origin:
-            p = parts[j]
-            field = p.analysis.hints(loc).field
-            ab = about(p.traj, task.robot, loc.t_rational, field, s.t)
-            which = 0
-            if s.knot and len(task.motion) > 1:
-                which = 1 if ab.h_min == 0 else (-1 if ab.h_max == 0 else 0)
-            ab_sides.append((ab, which))
-        if not ab_sides:
-            out.append(Robust((s.consistency_residual, s.consistency_residual), 0.0))
-            continue
-        nominal = s
-        out.append(analyse(ab_sides, box, limits, nominal))
-    return out

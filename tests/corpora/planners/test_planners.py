@@ -177,4 +177,23 @@ def test_the_zero_vertical_velocity_plan_fails_on_its_window() -> None:
         assert result.verdict == "fail"
         (f,) = [f for f in result.findings if f.rule == "RPR205"]
         assert f.severity == "error" and "longer than the 1 ms period" in f.message
-        assert result.robust[0].window > 0.4  # hundreds of ms: the velocity principle
+        assert result.robust[0].window > 0.9  # hundreds of ms: the velocity principle
+
+
+def test_the_flat_plans_window_goes_on_across_its_knots() -> None:
+    """The crossing is 7.5 µs after a knot (3.3722813 s) and the nominal |T1| exceeds the
+    limit from 2.95 s to 3.85 s, across that knot and the one at 3.8722813 s: the robust
+    window of the nominal model (no box) is that span, found by the robust analysis on its
+    own (root finding and ball proofs over the pieces) and by the certified limit check
+    (``engine/bounds``) apart; the box's is wider still."""
+    point = _audit(FLAT, "point")
+    (r,) = point.robust
+    (sat,) = point.saturation
+    w1 = sat[1]  # |T1|'s window (``Window``: each end bracketed)
+    assert r.span is not None and r.joint == 1
+    assert r.span[0] <= w1.start_hi and w1.end_lo <= r.span[1]
+    assert r.window <= (w1.end_hi - w1.start_lo) + 1e-6
+    assert r.span[0] < 3.3722813 < sat[0].t < r.span[1]  # past the knot before t_s
+    assert 0.901 < r.window < 0.9011  # 901 ms, as RPR202 says
+    boxed = _audit(FLAT, "box").robust[0]
+    assert boxed.span is not None and boxed.span[0] < r.span[0] and r.span[1] < boxed.span[1]

@@ -12,13 +12,14 @@ from __future__ import annotations
 import dataclasses
 import itertools
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 import mpmath
 import pytest
 from flint import fmpq, fmpq_poly
 
-from rprpr import Motion, audit, load_task, with_motion
+from rprpr import Motion, audit, load_task, parse_task, with_motion
 from rprpr.model.task import Link, Task, Uncertainty
 from tests import reference as ref
 from tests.engine.robust import box_reference
@@ -268,3 +269,23 @@ def test_prismatic_window_fails_and_names_the_force() -> None:
     result = audit(task, uncertainty=_u(_every(Q(1, 20)), Q(1, 100)))
     (f,) = [f for f in result.findings if f.rule == "RPR205"]
     assert "|F2| > 300 N for at most" in f.message
+
+
+@pytest.mark.parametrize("knot", ["2.501", "2.5"])
+def test_a_knot_inside_the_window_does_not_cut_it_short(knot: str) -> None:
+    """Path 2's quintic written as two pieces with a knot at t = 2.501 s, 1 ms after t_s and
+    inside the 5.44 ms window of ±5 % and 0.01 m/s²: the window goes on past the knot into
+    the second piece, as wide as the one-piece motion's (which the brute force above
+    holds), and RPR205 fails it against a 4 ms period."""
+    u = _u(_every(Q(1, 20)), Q(1, 100), Q(4, 1000))
+    one = audit(_limited(load_task(P2)), uncertainty=u)
+    text = (Path(__file__).parent / "path2_split.rprpr.yaml").read_text(encoding="utf-8")
+    split = audit(parse_task(text.replace("until: 2.501", f"until: {knot}")))  # or at t_s
+    a, b = one.robust[0], split.robust[0]
+    assert a.span is not None and b.span is not None
+    assert b.window == pytest.approx(a.window, abs=1e-6)
+    assert b.window == pytest.approx(5.44e-3, abs=5e-6)
+    assert b.span == pytest.approx(a.span, abs=1e-6) and b.span[1] > 2.502
+    assert b.window_lo == pytest.approx(a.window_lo, abs=1e-6)
+    for result in (one, split):
+        assert result.verdict == "fail" and "RPR205" in [f.rule for f in result.findings]

@@ -377,7 +377,7 @@ def notes(sheet: Sheet, scales: dict[int, float]) -> list[str]:
                 at = number(m.result.singularities[k].t, 4)
                 out.append(
                     f"    over the box: |{T}{r.joint}| > {number(float(L[r.joint - 1]))} {u}"
-                    f" for at most {number(r.window * 1e3, 3)} ms around t = {at} s (shaded)"
+                    f" for at most {number(r.window, 3, 1, 3)} ms around t = {at} s (shaded)"
                 )
         if m.result.torque_limit is not None:
             for j, check in enumerate(m.result.torque_limit):
