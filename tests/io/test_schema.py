@@ -37,6 +37,7 @@ VALIDATOR = jsonschema.Draft202012Validator(json_schema())
 _GRAMMAR = "the exact polynomial grammar (the schema's pattern admits only the right characters)"
 _DEGREE = "the degree cap of 60 on a polynomial and on y(x(t))"
 _GEOMETRY = "from/to lying on the path and agreeing with x(t) at 0 and t_f"
+_EXPONENT = "the ±30 cap on a percentage's exponent (the schema's pattern admits any)"
 LOADER_ONLY: dict[str, str] = {
     "duplicate_key": "duplicate keys: a YAML loader keeps the last before the schema sees them",
     "duplicate_top_key": "duplicate keys: a YAML loader keeps the last before the schema sees them",
@@ -46,6 +47,8 @@ LOADER_ONLY: dict[str, str] = {
     "a1_nan_tagged": "finite numbers: JSON has no NaN, so JSON Schema has no rule against it",
     "a1_inf": "finite numbers: JSON has no infinity (and inf > 0 holds)",
     "from_nan": "finite numbers: JSON has no NaN, so JSON Schema has no rule against it",
+    "uncertainty_percent_exponent": _EXPONENT,
+    "uncertainty_link_percent_exponent": _EXPONENT,
     "octal_ambiguous": "010 is 8 in YAML 1.1 and 10 in YAML 1.2: a question of YAML, not of JSON",
     "sexagesimal": "1:30 is the number 90 in YAML 1.1: a question of YAML, not of JSON",
     "number_too_long": "the loader's cap on digits in one number (exact arithmetic stays fast)",
