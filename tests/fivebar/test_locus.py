@@ -21,7 +21,6 @@ def _R2(a: object) -> object:
     return (x - a) ** 2 + y**2
 
 
-@pytest.mark.slow
 def test_the_norm_is_a_sixteenth_of_R1_squared_R2_squared_S_plus_S_minus_for_every_robot() -> None:
     gens = sp.symbols("a l1 l2 l3 l4")
     a, l1, l2, l3, l4 = gens
@@ -163,7 +162,6 @@ def test_the_equal_link_line_up_curve_has_a_node_where_two_modes_are_singular_at
         assert abs(dv.delta.c[0]) < 1e-50 and abs(dv.delta.c[1]) > 0.1
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize(
     ("robot", "owners"),
     [

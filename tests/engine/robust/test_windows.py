@@ -165,12 +165,7 @@ def test_a_zero_box_reports_the_exact_residual() -> None:
     ("path", "links", "a"),
     [
         (P2, {3: (Q(1, 20), Q(0), Q(1, 20)), 5: (Q(1, 20), Q(0), Q(1, 20))}, Q(1, 100)),
-        pytest.param(
-            PRISMATIC,
-            {3: (Q(1, 20), Q(0), Q(1, 20)), 5: (Q(1, 20), Q(0), Q(1, 20))},
-            Q(1, 100),
-            marks=pytest.mark.slow,  # the reference solves eq. (4) at 64 corners: ~20 s
-        ),
+        (PRISMATIC, {3: (Q(1, 20), Q(0), Q(1, 20)), 5: (Q(1, 20), Q(0), Q(1, 20))}, Q(1, 100)),
     ],
 )
 def test_the_window_holds_the_brute_force_window_and_is_within_a_microsecond(

@@ -13,8 +13,6 @@ import functools
 import math
 from fractions import Fraction
 
-import pytest
-
 from rprpr import audit, load_task
 from tests.engine.robust.test_windows import P2, _evaluate, _task_with, _u
 from tests.engine.robust.test_worst import _links
@@ -22,7 +20,6 @@ from tests.engine.robust.test_worst import _links
 Q = Fraction
 
 
-@pytest.mark.slow  # about 15 s: a few thousand reference evaluations
 def test_the_peak_between_the_instants_holds_the_references_supremum() -> None:
     task = load_task(P2)  # its own limit: 300 N m
     u = _u({3: (Q(1, 20), Q(1, 20), Q(0))}, Q(1, 100))
