@@ -299,14 +299,16 @@ def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
 ) -> None:
     # check_one is what a worker runs per task (the parent imports the audit before forking;
     # these modules a task loads on demand)
-    probe_in = (
-        "import sys\n"
+    probe_in = (  # what rprpr adds to its dependencies' own imports (an older numpy
+        # imports numpy.polynomial itself)
+        "import sys, numpy, flint, yaml, click\n"
+        "floor = set(sys.modules)\n"
         "from rprpr.cli.check import check_one\n"
         "from rprpr.cli.options import CheckOptions\n"
         f"kind, *_ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
         f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
         " and m.startswith(('rprpr.engine', 'rprpr.repair')))\n"
-        "got += sorted(m for m in sys.modules if m.startswith(('numpy.polynomial',"
+        "got += sorted(m for m in set(sys.modules) - floor if m.startswith(('numpy.polynomial',"
         " 'multiprocessing')))\n"
         "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
     )
@@ -372,8 +374,10 @@ NOT_FOR_CHECK = (
 def test_check_of_a_shipped_config_imports_no_repair_plot_schema_or_balls_before_forking(
     config: str,
 ) -> None:
-    probe = (  # what the check adds (an editable install's finder may bring pathlib)
-        "import sys\n"
+    probe = (  # what the check adds to its dependencies' own imports (an editable
+        # install's finder may bring pathlib; an older numpy imports numpy.polynomial, an
+        # older click or rich traceback)
+        "import sys, numpy, flint, yaml, click, rich.console, rich.table\n"
         "before = set(sys.modules)\n"
         "from rprpr.cli.main import main\n"
         "try:\n"
