@@ -126,6 +126,8 @@ def run() -> NoReturn:
                     stream.flush()
         except Exception:
             raise done from None
+        if "multiprocessing" in sys.modules:  # its workers' shared memory (off Linux)
+            raise done from None  # lives in a folder its exit handler removes
         os._exit(code or 0)
 
 

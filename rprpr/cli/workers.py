@@ -108,7 +108,9 @@ class Workers(Generic[T, R]):
         self._hard_stop = killed_on_signal(self._kill_now)
         self._hard_stop.__enter__()
         try:
-            self.workers = [self._start() for _ in range(self.jobs)]
+            self.workers = []
+            for _ in range(self.jobs):  # one by one: each closes the earlier ones' pipes
+                self.workers.append(self._start())
         except BaseException:
             self.__exit__()
             raise
@@ -261,10 +263,18 @@ class _Forked(_Worker):
             with contextlib.suppress(Exception):
                 stream.flush()
         parent = os.getpid()
+        # a stop signal between the fork and the worker's own handlers would run the
+        # parent's handler in the worker: held back until each side has its own
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
         pid = os.fork()
         if pid == 0:  # the worker: it never returns into the caller's code
             code = 1
             try:
+                for signum in STOPPING:
+                    signal.signal(
+                        signum, signal.SIG_IGN if signum == signal.SIGINT else signal.SIG_DFL
+                    )
+                signal.pthread_sigmask(signal.SIG_SETMASK, held)
                 for fd in (tasks_w, answers_r, *others):
                     os.close(fd)
                 _quiet_stdin()
@@ -277,6 +287,7 @@ class _Forked(_Worker):
                     traceback.print_exc()
             finally:
                 os._exit(code)
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
         os.close(tasks_r)  # the worker's ends: the pipes then end when the worker does
         os.close(answers_w)
         self.pid, self.tasks, self.answers = pid, tasks_w, answers_r

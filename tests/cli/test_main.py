@@ -152,6 +152,19 @@ def test_the_program_ends_once_its_output_is_out_with_mains_status_and_bytes(
     assert "teardown ran" not in done.stderr
 
 
+def test_with_multiprocessing_loaded_the_program_takes_the_ordinary_exit() -> None:
+    """Where the workers are spawned by multiprocessing (off Linux), its shared memory may
+    live in a temporary folder that its exit handler removes: ``run`` then leaves the
+    process to the ordinary exit, and the handlers run."""
+    probe = PROGRAM + (
+        "import multiprocessing\nfrom rprpr.cli.main import run\n"
+        "sys.argv = ['rprpr', 'rule', 'RPR101']\nrun()\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
+    assert (done.returncode, done.stdout) == run_cli("rule", "RPR101")[:2]
+    assert "teardown ran" in done.stderr
+
+
 def test_a_failed_flush_at_the_end_takes_the_ordinary_exit(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

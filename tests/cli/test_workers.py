@@ -33,6 +33,12 @@ def work(task: Any, on_stage: Any) -> Any:
         return os.getpid()
     if task == "big":
         return b"x" * (3 << 20)  # several pipe buffers
+    if task == "signals":  # what this process does with a stop signal, and what it holds back
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+        return signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM), sorted(held)
+    if task == "pipes":  # the pipes this process holds open, by their inode
+        fds = (os.path.join("/proc/self/fd", fd) for fd in os.listdir("/proc/self/fd"))
+        return os.getpid(), sorted({os.readlink(f) for f in fds if os.path.exists(f)})
     return task * task
 
 
@@ -63,3 +69,28 @@ def test_no_worker_outlives_the_block(fork: bool) -> None:
         pids = [r.value for _, r in pool.run(["pid", "pid"], None)]  # type: ignore[union-attr]
     assert pids and all(pid != os.getpid() for pid in pids)
     assert not any(os.path.exists(f"/proc/{pid}") for pid in pids)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc")
+@needs_fork
+def test_a_forked_worker_holds_no_other_workers_pipes() -> None:
+    # were a sibling's ends open in a worker, that sibling's task pipe would never end
+    with Workers(work, 3, STAGES, fork=True) as pool:
+        mine = {w.pid: {os.readlink(f"/proc/self/fd/{fd}") for fd in w.fds()} for w in pool.workers}  # type: ignore[attr-defined]
+        got = list(pool.run(["pipes"] * 3, None))
+    held = dict(r.value for _, r in got)  # type: ignore[union-attr]
+    assert len(held) == 3  # each worker answered once
+    for pid, pipes in held.items():
+        others = set().union(*(ends for p, ends in mine.items() if p != pid))
+        assert mine[pid] <= set(pipes) and not others & set(pipes), pid
+
+
+@needs_fork
+def test_a_forked_worker_ignores_sigint_dies_on_sigterm_and_holds_no_signal_back() -> None:
+    # the stop signals are held back across the fork (so the parent's handler never runs
+    # in a worker) and released in both once each has its own handlers
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    with Workers(work, 1, STAGES, fork=True) as pool:
+        ((_, r),) = list(pool.run(["signals"], None))
+    assert r.value == (signal.SIG_IGN, signal.SIG_DFL, [])  # type: ignore[union-attr]
+    assert signal.pthread_sigmask(signal.SIG_BLOCK, []) == before
