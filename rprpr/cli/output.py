@@ -221,12 +221,15 @@ class AtomicFile:
 
     def __init__(self, path: str) -> None:
         self.path = path
-        self.target = os.path.realpath(path) if os.path.islink(path) else path
         try:
-            st = os.stat(self.target)
+            st: os.stat_result | None = os.stat(path)  # through links, as open() goes
         except OSError:
             st = None
         self.in_place = st is not None and not stat.S_ISREG(st.st_mode)
+        # written in place through the name given (/dev/stdout's link ends in a "pipe:[n]"
+        # no path reaches); a regular file through a link: beside the file it points to
+        linked = not self.in_place and os.path.islink(path)
+        self.target = os.path.realpath(path) if linked else path
         self.mode = stat.S_IMODE(st.st_mode) if st is not None else None
         self.temporary: str | None = None
 

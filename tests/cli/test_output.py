@@ -105,6 +105,16 @@ def test_dev_null_as_output_is_written_in_place_never_replaced() -> None:
     )
 
 
+@pytest.mark.skipif(not Path("/dev/stdout").exists(), reason="needs /dev/stdout")
+def test_dev_stdout_on_a_pipe_is_written_in_place() -> None:
+    # /dev/stdout links to /proc/self/fd/1, whose target on a pipe ("pipe:[n]") no path
+    # reaches: the report goes through the name given, as to any device
+    args = ["check", "--format", "json", PATH2_FILE]
+    done = subprocess.run([*RPRPR, *args, "-o", "/dev/stdout"], capture_output=True, text=True)
+    assert done.returncode == 0 and done.stdout == run_cli(*args)[1]
+    assert done.stderr.endswith("json report written to /dev/stdout\n")
+
+
 def test_atomic_file_removes_its_temporary_on_a_failed_write(tmp_path: Path) -> None:
     target = tmp_path / "out.csv"
     target.write_text("previous\n")
