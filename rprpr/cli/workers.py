@@ -270,15 +270,12 @@ class _Forked(_Worker):
         if pid == 0:  # the worker: it never returns into the caller's code
             code = 1
             try:
-                for signum in STOPPING:
-                    signal.signal(
-                        signum, signal.SIG_IGN if signum == signal.SIGINT else signal.SIG_DFL
-                    )
+                start_worker(parent)  # its own handlers, then the signals held back
                 signal.pthread_sigmask(signal.SIG_SETMASK, held)
                 for fd in (tasks_w, answers_r, *others):
                     os.close(fd)
                 _quiet_stdin()
-                _serve_pipes(tasks_r, answers_w, self.stage, work, self.stages, parent)
+                _serve_pipes(tasks_r, answers_w, self.stage, work, self.stages)
                 code = 0
             except BaseException:
                 with contextlib.suppress(BaseException):
@@ -373,11 +370,10 @@ def _read_message(fd: int) -> Any:
 
 
 def _serve_pipes(
-    tasks: int, answers: int, stage: Any, work: Callable[..., Any], stages: Sequence[str],
-    parent: int,
+    tasks: int, answers: int, stage: Any, work: Callable[..., Any], stages: Sequence[str]
 ) -> None:  # fmt: skip
-    """A forked worker's life: do each task that comes down the pipe, send back the result."""
-    start_worker(parent)
+    """A forked worker's life (started by ``start_worker``): do each task that comes down
+    the pipe, send back the result."""
     number = {name: i for i, name in enumerate(stages)}
 
     def on_stage(name: str) -> None:

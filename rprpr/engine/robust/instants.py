@@ -14,6 +14,7 @@ from flint import arb, ctx, fmpq, fmpq_poly
 
 from ...model.numbers import to_float
 from ...model.task import Robot, Task
+from ..pieces import shift
 from .windows import (
     PREC,
     About,
@@ -149,16 +150,7 @@ def analyse(ab_sides: Sequence[tuple[About, int]], box: Box, limits: tuple[float
     t = ab_sides[0][0].t_s
     span = (math.nextafter(t - left, -math.inf), math.nextafter(t + right, math.inf))
     inner = ends[-1][1] + ends[1][1] if ends[-1][1] and ends[1][1] else 0.0
-    return Robust(res, _sum_up(left, right), inner, joint, span)
-
-
-def _sum_up(a: float, b: float) -> float:
-    s = a + b
-    return (
-        s
-        if fmpq(*s.as_integer_ratio()) >= fmpq(*a.as_integer_ratio()) + fmpq(*b.as_integer_ratio())
-        else math.nextafter(s, math.inf)
-    )
+    return Robust(res, shift(fmpq(*left.as_integer_ratio()), right, up=True), inner, joint, span)
 
 
 def robust(
@@ -190,7 +182,6 @@ def robust(
         if not ab_sides:
             out.append(Robust((s.consistency_residual, s.consistency_residual), 0.0))
             continue
-        nominal = s
         pieces = [j for j, _ in origin]
         ts = [_absolute(parts[j], loc) for j, loc in origin]
 
@@ -198,7 +189,7 @@ def robust(
             assert limits is not None
             return _onward(task, parts, pieces[k], d, ts[k], box, limits)
 
-        out.append(analyse(ab_sides, box, limits, nominal, onward))
+        out.append(analyse(ab_sides, box, limits, s, onward))
     return out
 
 
