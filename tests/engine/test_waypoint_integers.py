@@ -12,6 +12,7 @@ import itertools
 import math
 import pickle
 import random
+from typing import Any
 from fractions import Fraction
 
 import numpy as np
@@ -99,14 +100,19 @@ def test_a_segment_is_the_controllers_polynomial_made_where_read(fields: int) ->
     for piece, w0, w1 in zip(pieces(points), points, points[1:], strict=False):
         assert isinstance(piece.form, Segment)
         assert piece.__dict__["_local"] is None  # not made yet
-        T = w1.t - w0.t
         for i in (0, 1):
-            ends = [w0.p[i], w1.p[i]]
-            if fields > 1:
-                ends += [w0.v[i], w1.v[i]]  # type: ignore[index]
-            if fields > 2:
-                ends += [w0.a[i], w1.a[i]]  # type: ignore[index]
-            assert piece.local[i] == fmpq_poly(segment(T, *ends))  # type: ignore[index]
+            assert piece.local[i] == _reference_segment(w0, w1, i, fields)  # type: ignore[index]
+
+
+def _reference_segment(w0: Any, w1: Any, i: int, fields: int) -> fmpq_poly:
+    """Coordinate i of the segment from w0 to w1 by the controller's formulas (``segment``:
+    written apart from the loader), from the p (v, a) the rows give."""
+    ends = [w0.p[i], w1.p[i]]
+    if fields > 1:
+        ends += [w0.v[i], w1.v[i]]
+    if fields > 2:
+        ends += [w0.a[i], w1.a[i]]
+    return fmpq_poly(segment(w1.t - w0.t, *ends))
 
 
 def _ball_ok(q: fmpq, mid: float, rad: float) -> None:
@@ -127,15 +133,7 @@ def test_the_batch_rounds_the_exact_coefficients_of_each_segment(fields: int) ->
     got = pieces(points)
     batch = Batch(got, _robot())
     for j, (w0, w1) in enumerate(itertools.pairwise(points)):
-        T = w1.t - w0.t
-        polys = []
-        for i in (0, 1):
-            ends = [w0.p[i], w1.p[i]]
-            if fields > 1:
-                ends += [w0.v[i], w1.v[i]]  # type: ignore[index]
-            if fields > 2:
-                ends += [w0.a[i], w1.a[i]]  # type: ignore[index]
-            polys.append(fmpq_poly(segment(T, *ends)))
+        polys = [_reference_segment(w0, w1, i, fields) for i in (0, 1)]
         c = dyadic_middle(0.0, float(batch.t_last[j]))
         assert batch.center.mid[j] == to_float(c) and batch.center.rad[j] == 0
         y = polys[1](fmpq_poly([c, 1]))
@@ -145,6 +143,7 @@ def test_the_batch_rounds_the_exact_coefficients_of_each_segment(fields: int) ->
             for k in range(len(mid)):
                 _ball_ok(coeffs[k] if k < len(coeffs) else fmpq(0), mid[k, j], rad[k, j])
         lo, hi = float(batch.t_last[j]), float(batch.t_end[j])  # the floats about T
+        T = w1.t - w0.t
         assert fmpq(*lo.as_integer_ratio()) <= T <= fmpq(*hi.as_integer_ratio())
         assert hi in (lo, math.nextafter(lo, math.inf))
 
