@@ -12,8 +12,8 @@ import itertools
 import math
 import pickle
 import random
-from typing import Any
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import pytest
