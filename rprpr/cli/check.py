@@ -71,7 +71,9 @@ SHEET_MARGIN = 0.5  # seconds of the budget kept back for sending the outcome ho
     "Quality) or html (one self-contained page: verdicts, findings with their lines, the "
     "instants and each task's audit sheet).  [default: text]",
 )
-@output_file_option("Write the report to this file instead of standard output.")
+@output_file_option(
+    "Write the report to this file instead of standard output.", dash_is_stdout=True
+)
 @click.option(
     "--strict",
     is_flag=True,
@@ -251,7 +253,7 @@ def resolve(params: dict[str, Any]) -> tuple[Settings, CheckOptions]:
     options = CheckOptions(
         audit=verdicts,
         format=settings["format"],
-        output_file=None if output_file == "-" else output_file,  # "-": standard output
+        output_file=output_file,
         jobs=settings["jobs"] or _cpus(),
         quiet=params["quiet"],
         layout=params["layout"],

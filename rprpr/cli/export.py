@@ -22,7 +22,8 @@ IMPLIED = {".csv": "csv", ".json": "json"}  # the format an output file's extens
 @click.command()
 @click.argument("task", type=click.Path(readable=False))
 @output_file_option(
-    "Write here, as .csv or .json (format from the extension); standard output when omitted."
+    "Write here, as .csv or .json (format from the extension); standard output when omitted or -.",
+    dash_is_stdout=True,
 )
 @click.option(
     "--format",
@@ -34,8 +35,6 @@ IMPLIED = {".csv": "csv", ".json": "json"}  # the format an output file's extens
 def export(task: str, output_file: str | None, fmt: str | None, samples: int) -> ExitCode:
     """Write the sampled motion of TASK: t, the end point, the joints, δ, λ and the torques,
     one row per sample (SI units, angles in radians)."""
-    if output_file == "-":  # "-": standard output, as for check
-        output_file = None
     fmt = _format(output_file, fmt)
     refuse_overwriting_inputs([output_file], [task])  # before any work
     loaded = load(task)

@@ -81,10 +81,19 @@ def tasks_argument(name: str = "tasks") -> Callable[[F], F]:
     return click.argument(name, nargs=-1, required=True, type=click.Path(readable=False))
 
 
-def output_file_option(help: str) -> Callable[[F], F]:
-    """``-o/--output-file FILE``."""
+def output_file_option(help: str, dash_is_stdout: bool = False) -> Callable[[F], F]:
+    """``-o/--output-file FILE``; with ``dash_is_stdout``, ``-o -`` is standard output
+    (the value None, as without ``-o``)."""
+
+    def dash(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+        return None if dash_is_stdout and value == "-" else value
+
     return click.option(
-        "-o", "--output-file", type=click.Path(dir_okay=False, readable=False), help=help
+        "-o",
+        "--output-file",
+        type=click.Path(dir_okay=False, readable=False),
+        callback=dash,
+        help=help,
     )
 
 
