@@ -234,7 +234,7 @@ class Walk:
             if type(k) is yaml.ScalarNode and k.tag not in NOT_KEYS and k.value == spec.select
         ]
         if not values:
-            return spec
+            return self.unnamed(node, spec, key)
         chosen = values[0]
         if len(values) == 1 and type(chosen) is yaml.ScalarNode and chosen.tag == TAG + "str":
             if chosen.value in spec.variants:
@@ -248,6 +248,29 @@ class Walk:
             full = f"{key}.{spec.select}" if key else spec.select
             self.read(given[spec.select], spec.children[spec.select], full, depth + 1)
         raise Recorded
+
+    def unnamed(self, node: yaml.MappingNode, spec: Spec, key: str) -> Spec:
+        """``spec`` itself, its ``select`` key left out; but a mapping given keys of one
+        other form only (base, lengths, modes and no a1: a 5R without ``mechanism: 5R``)
+        is that one error, and none of its values is read."""
+        given = [str(k.value) for k, _ in node.value if type(k) is yaml.ScalarNode]
+        for name, form in spec.variants.items():
+            theirs = [k for k in given if k in form.children and k not in spec.children]
+            ours = [k for k in given if k in spec.children and k not in form.children]
+            if theirs and not ours:
+                first = next(k for k, _ in node.value if str(k.value) == theirs[0])
+                where = f" in {key}" if key else ""
+                self.errors.append(
+                    self.error(
+                        f"{', '.join(theirs)} {'is' if len(theirs) == 1 else 'are'} for"
+                        f" {spec.select}: {name}: add {spec.select}: {name}{where} (the default"
+                        f" is {spec.children[spec.select].default})",
+                        first,
+                        f"{key}.{theirs[0]}" if key else theirs[0],
+                    )
+                )
+                raise Recorded
+        return spec
 
     def keys(
         self, node: yaml.MappingNode, spec: Spec, key: str, depth: int
