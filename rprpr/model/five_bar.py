@@ -15,12 +15,10 @@ two working modes coincide (a Type I singularity).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from flint import fmpq
 
-if TYPE_CHECKING:
-    from .task import Link
+from .link import Link
 
 RPRPR = "rprpr"  # robot.mechanism: the paper's RPRPR (the default)
 FIVE_BAR = "5R"  # robot.mechanism: the all-revolute five-bar

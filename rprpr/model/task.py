@@ -21,17 +21,8 @@ from flint import fmpq, fmpq_poly
 
 from .actuation import REVOLUTE
 from .five_bar import RPRPR, FiveBar
+from .link import Link as Link  # (its home is link.py, shared with five_bar.py)
 from .numbers import polynomial, rational_text
-
-
-@dataclass(frozen=True)
-class Link:
-    """One moving link i = 2..5 (of a 5R: 1..4): mass m_i, centroidal inertia I_i, and
-    r_i (Section 2; of a 5R: from the link's inner joint)."""
-
-    mass: fmpq
-    inertia: fmpq
-    r: fmpq
 
 
 @dataclass(frozen=True)

@@ -9,22 +9,24 @@ compared exactly on squares with Python's ``Fraction``.
 
 from __future__ import annotations
 
+import json
 import re
 from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
 from flint import fmpq, fmpq_poly
 
 from rprpr.io.loader import load_task, parse_task
-from rprpr.io.schema import FIVE_BAR_ROBOT
+from rprpr.io.schema import FIVE_BAR_ROBOT, Spec
 from rprpr.io.writer import task_text
 from rprpr.model.errors import TaskFileError
 from rprpr.model.five_bar import FiveBar
 from rprpr.model.task import Link
 from tests.conftest import run_cli
-from tests.io.test_schema import VALIDATOR, _jsonish, schema_accepts
+from tests.io.test_schema import VALIDATOR, schema_accepts
 
 DATA = Path(__file__).resolve().parent / "data"
 DEXTAR = DATA / "five_bar_dextar.rprpr.yaml"
@@ -50,6 +52,11 @@ timing:
   duration: 1
   law: quintic
 """
+
+
+def _jsonish(text: str) -> object:
+    """A task file as JSON sees it (mapping keys as strings: ``1:`` is the key "1")."""
+    return json.loads(json.dumps(yaml.safe_load(text)))
 
 
 def _q(text: str) -> fmpq:
@@ -455,7 +462,7 @@ LOADER_ONLY = {
 
 def test_the_schema_accepts_the_5r_examples() -> None:
     for text in (GOOD, DEXTAR.read_text(encoding="utf-8")):
-        assert schema_accepts(text), list(VALIDATOR.iter_errors(_jsonish(yaml.safe_load(text))))
+        assert schema_accepts(text), list(VALIDATOR.iter_errors(_jsonish(text)))
 
 
 @pytest.mark.parametrize("name", sorted(set(BAD) - LOADER_ONLY))
@@ -469,11 +476,11 @@ def test_what_only_the_loader_rejects_is_listed_honestly(name: str) -> None:
 
 
 def test_the_schema_keeps_each_mechanism_to_its_keys() -> None:
-    doc = _jsonish(yaml.safe_load(GOOD))
+    doc: Any = _jsonish(GOOD)
     assert VALIDATOR.is_valid(doc)
     doc["robot"]["mechanism"] = "rprpr"
     assert not VALIDATOR.is_valid(doc)  # base, lengths, modes and links 1..4 are a 5R's
-    rprpr = _jsonish(yaml.safe_load(_rprpr_text()))
+    rprpr: Any = _jsonish(_rprpr_text())
     rprpr["robot"]["mechanism"] = "rprpr"
     assert VALIDATOR.is_valid(rprpr)
     rprpr["robot"]["mechanism"] = "5R"
@@ -532,3 +539,28 @@ def test_a_5r_given_rprpr_keys_as_well_is_told_key_by_key() -> None:
     text = _variant("  base: 0.2\n", "  base: 0.2\n  a1: 0.2\n  actuation: prismatic\n")
     e = _error(text)
     assert [x.key for x in e.errors] == ["robot.a1", "robot.actuation"]
+
+
+def _numbers(spec: Spec = FIVE_BAR_ROBOT, key: str = "robot") -> list[tuple[str, Spec]]:
+    """Every number key of the 5R's robot, with its Spec."""
+    out = []
+    for k, child in spec.children.items():
+        if child.kind == "number":
+            out.append((f"{key}.{k}", child))
+        out.extend(_numbers(child, f"{key}.{k}"))
+    return out
+
+
+@pytest.mark.parametrize(("key", "spec"), _numbers(), ids=[k for k, _ in _numbers()])
+def test_every_5r_number_below_its_bound_is_one_located_error(key: str, spec: Spec) -> None:
+    doc: Any = yaml.safe_load(GOOD)
+    *parent, last = key.split(".")
+    mapping = doc
+    for p in parent:
+        mapping = mapping[int(p) if p.isdigit() else p]
+    mapping[int(last) if last.isdigit() else last] = -1
+    text = yaml.safe_dump(doc, sort_keys=False)
+    e = _error(text)
+    op = ">" if spec.exclusive else ">="
+    assert (e.key, e.message) == (key, f"expected a number {op} 0 ({spec.description}), found -1")
+    assert len(e.errors) == 1
