@@ -382,11 +382,9 @@ def _rprpr_uncertainty(w: Walk, key: str) -> None:
 def _start(w: Walk, task: Task) -> tuple[fmpq, fmpq, str]:
     """The motion's start point E(0), and the key of the file that gives it."""
     first = task.motion[0]
-    for key in ("path.from", "timing.x", "timing.law", "motion.pieces[0].x"):
-        if key in w.nodes:
-            break
-    else:
-        key = "motion.waypoints[0].p" if "motion.waypoints[0].p" in w.nodes else "motion"
+    given = ("path.from", "timing.x", "timing.law", "motion.pieces[0].x")
+    waypoints = ("motion.waypoints[0].p", "motion.waypoints")  # inline, or a CSV file's name
+    key = next((k for k in (*given, *waypoints) if k in w.nodes), "motion")
     return first.x(first.start), first.y(first.start), key
 
 

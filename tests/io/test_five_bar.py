@@ -388,18 +388,24 @@ def test_every_error_of_a_bad_5r_is_listed() -> None:
     assert [x.key for x in e.errors] == ["robot.a1", "robot.modes[1]"]
 
 
-def test_the_command_line_says_it_in_one_line_and_exits_2(tmp_path: Path) -> None:
-    text, key, fragment, message = BAD["start_where_leg_1_is_stretched"]
-    task = tmp_path / "stretched.rprpr.yaml"
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_the_command_line_says_it_in_one_line_and_exits_2(name: str, tmp_path: Path) -> None:
+    text, key, _, message = BAD[name]
+    task = tmp_path / f"{name}.rprpr.yaml"
     task.write_text(text, encoding="utf-8")
     code, out, _ = run_cli("check", "--format", "concise", str(task))
     assert code == 2
+    e = _error(text)
+    assert out == f"{task}:{e.line}:{e.column}: RPR001 [error] {key}: {message}\n"
+
+
+def test_a_mode_that_does_not_exist_points_at_the_sign() -> None:
+    text, _, fragment, _ = BAD["start_where_leg_1_is_stretched"]
     e = _error(text)
     assert (e.line, e.column) == (
         _line(text, fragment),
         text.splitlines()[e.line - 1].index("+1") + 1,
     )
-    assert out == f"{task}:{e.line}:{e.column}: RPR001 [error] {key}: {message}\n"
 
 
 @pytest.mark.parametrize("key", ["base", "lengths", "modes", "links", "links.1", "links.4.r"])
@@ -564,3 +570,14 @@ def test_every_5r_number_below_its_bound_is_one_located_error(key: str, spec: Sp
     op = ">" if spec.exclusive else ">="
     assert (e.key, e.message) == (key, f"expected a number {op} 0 ({spec.description}), found -1")
     assert len(e.errors) == 1
+
+
+def test_a_waypoint_csv_start_out_of_reach_points_at_the_csv(tmp_path: Path) -> None:
+    (tmp_path / "plan.csv").write_text("t,x,y\n0,0.45,0.3\n1,0.1,0.3\n", encoding="utf-8")
+    task = tmp_path / "t.rprpr.yaml"
+    task.write_text(GOOD.split("path:")[0] + "motion:\n  waypoints: plan.csv\n", encoding="utf-8")
+    with pytest.raises(TaskFileError) as info:
+        load_task(task)
+    e = info.value
+    assert (e.key, e.line) == ("motion.waypoints", _line(task.read_text(), "waypoints:"))
+    assert e.message.startswith("the start point E(0) = (0.45, 0.3) is out of reach of leg 1")
