@@ -39,7 +39,7 @@ from .scalars import (
     simple_decimal,
 )
 from .schema import CSV_PATTERN, RELATIVE_LINKS, Spec
-from .walk import Reader, Recorded, Walk
+from .walk import Reader, Recorded, Stop, Walk
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
 _POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
@@ -115,8 +115,8 @@ def signs(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[i
         at = f"{key}[{i}]"
         try:
             value = _item(w, v, _SIGN, what, at, depth + 1)
-        except TaskFileError as e:
-            if "YAML tag" in e.message:
+        except TaskFileError as e:  # said as a sign's; any other error (a tag, caps) as is
+            if isinstance(e, Stop) or not e.message.startswith("expected a number"):
                 raise
             raise w.error(f"expected +1 or -1 ({what}), found {kind_of(v)}", v, at) from None
         if value not in (1, -1):

@@ -581,3 +581,17 @@ def test_a_waypoint_csv_start_out_of_reach_points_at_the_csv(tmp_path: Path) -> 
     e = info.value
     assert (e.key, e.line) == ("motion.waypoints", _line(task.read_text(), "waypoints:"))
     assert e.message.startswith("the start point E(0) = (0.45, 0.3) is out of reach of leg 1")
+
+
+@pytest.mark.parametrize(
+    ("modes", "message"),
+    [
+        ("[!metres 1, -1]", "YAML tag !metres is not allowed"),
+        ("[.nan, -1]", "expected a finite number (e1 (the elbow C)), found NaN"),
+        ("[[1], -1]", "expected +1 or -1 (e1 (the elbow C)), found a list of 1"),
+        ("[true, -1]", "expected +1 or -1 (e1 (the elbow C)), found a boolean (true)"),
+    ],
+)
+def test_a_mode_that_is_no_number_is_said_as_a_sign(modes: str, message: str) -> None:
+    e = _error(_variant("modes: [+1, -1]", f"modes: {modes}"))
+    assert e.key == "robot.modes[0]" and e.message.startswith(message)
