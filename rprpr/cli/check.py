@@ -329,6 +329,8 @@ def check_one(
         if on_stage is not None:
             on_stage(REPORTING)
         report = task_report(result, path)
+    except TaskFileError as e:  # a task the audit refuses (a mechanism it cannot audit)
+        return INPUT, input_error(e.naming(path), path), time.perf_counter() - start, None
     except Exception as e:
         return INTERNAL, internal_error(e, path), time.perf_counter() - start, None
     if html and on_stage is not None and options.sheets:

@@ -227,6 +227,8 @@ def task_named(path: str) -> Iterator[None]:
         yield
     except click.ClickException:
         raise
+    except TaskFileError as e:  # a task the audit refuses (a mechanism it cannot audit)
+        raise InputError(str(e.naming(path))) from None
     except Exception as e:
         if os.environ.get("RPRPR_DEBUG"):
             import traceback

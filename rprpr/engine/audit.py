@@ -21,6 +21,8 @@ from typing import TYPE_CHECKING, Unpack
 import numpy as np
 from flint import fmpq
 
+from ..model.errors import TaskFileError
+from ..model.five_bar import RPRPR
 from ..model.numbers import to_float
 from ..model.options import AuditKeywords, AuditOptions
 from ..model.rules import Finding, with_levels
@@ -193,7 +195,9 @@ def audit(
     (``docs/robust.md``): each instant then has its robust analysis (``robust``).
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
-    polynomial, at each knot from both sides."""
+    polynomial, at each knot from both sides. A task of another mechanism than the
+    RPRPR's is refused (``refuse_unaudited``)."""
+    refuse_unaudited(task)
     o = options or DEFAULT
     if keywords:
         o = replace(o, **keywords)
@@ -230,6 +234,21 @@ def audit(
         robust=tuple(robust),
         robust_peak=_robust_peak(task, parts, robust) if asked else None,
     )
+
+
+def refuse_unaudited(task: Task) -> None:
+    """A task whose mechanism this build cannot audit yet (the 5R: read, validated, not
+    audited) is refused here, the audit's one door, rather than audited as an RPRPR: a
+    ``TaskFileError`` at ``robot.mechanism`` (the command line: a bad input, exit 2)."""
+    mechanism = task.robot.mechanism
+    if mechanism != RPRPR:
+        raise TaskFileError(
+            f"the {mechanism} audit is not available in this build (it audits mechanism:"
+            f" {RPRPR} only)",
+            file=task.source,
+            line=task.lines.get("robot.mechanism", 0),
+            key="robot.mechanism",
+        )
 
 
 def _robust_peak(

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 from flint import fmpq, fmpq_poly
 
 from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS
+from ..model.five_bar import FIVE_BAR, FIVE_BAR_LINKS, FiveBar
 from ..model.rules import rule_id
 from ..model.task import Checks, Link, Piece, Robot, Task, Uncertainty
 from ..model.timing import timing_law, trapezoidal
@@ -105,9 +106,30 @@ def _levels(w: Walk) -> dict[str, str]:
 
 
 def _robot(v: dict[str, Any]) -> Robot:
+    if v["robot.mechanism"] == FIVE_BAR:
+        return _five_bar(v)
     links = {int(i): _link(v, f"robot.links.{i}") for i in _LINKS.children}
     return Robot(
-        a1=v["robot.a1"], links=links, gravity=v["robot.gravity"], actuation=v["robot.actuation"]
+        a1=v["robot.a1"],
+        links=links,
+        gravity=v["robot.gravity"],
+        actuation=v["robot.actuation"],
+        mechanism=v["robot.mechanism"],
+    )
+
+
+def _five_bar(v: dict[str, Any]) -> Robot:
+    """A 5R's ``Robot``: its ``FiveBar``, whose |AB| and links are also the robot's."""
+    links = {i: _link(v, f"robot.links.{i}") for i in FIVE_BAR_LINKS}
+    l1, l2, l3, l4 = v["robot.lengths"]
+    e1, e2 = v["robot.modes"]
+    five_bar = FiveBar(a=v["robot.base"], lengths=(l1, l2, l3, l4), modes=(e1, e2), links=links)
+    return Robot(
+        a1=five_bar.a,
+        links=links,
+        gravity=v["robot.gravity"],
+        mechanism=FIVE_BAR,
+        five_bar=five_bar,
     )
 
 

@@ -9,12 +9,17 @@ reported once, by its own reader.
 from __future__ import annotations
 
 import itertools
+import math
+from collections.abc import Callable
 
 from flint import fmpq, fmpq_poly
 
 from ..model.errors import TaskFileError
+from ..model.five_bar import RPRPR
 from ..model.motion import position_jump
+from ..model.numbers import number, to_float
 from ..model.numbers import rational as _q
+from ..model.task import Task
 from ..model.timing import LAWS
 from ..model.waypoints import Waypoint
 from .build import timing
@@ -331,6 +336,106 @@ def _motion_alone(w: Walk, key: str) -> None:
         )
 
 
+def _five_bar_lengths(w: Walk, key: str) -> None:
+    """A 5R's lengths make a five-bar: some point is reached by both legs. Leg i reaches
+    the annulus m_i <= |E - base_i| <= M_i (m = |l_p - l_d|, M = l_p + l_d) about its
+    base, and two annuli whose centres are a apart meet iff radii r1, r2 in them have
+    |r1 - r2| <= a <= r1 + r2: iff M1 + M2 >= a, m1 <= M2 + a and m2 <= M1 + a."""
+    a = w.values["robot.base"]
+    l1, l2, l3, l4 = w.values[key]
+    (m1, big1), (m2, big2) = (abs(l1 - l3), l1 + l3), (abs(l2 - l4), l2 + l4)
+    if big1 + big2 < a:
+        why = (
+            f"the legs cannot meet: l1 + l3 + l2 + l4 = {_q(big1 + big2)} m is shorter than"
+            f" base = {_q(a)} m"
+        )
+    elif m1 > big2 + a or m2 > big1 + a:
+        i, j, hole, out = (1, 2, m1, big2 + a) if m1 > big2 + a else (2, 1, m2, big1 + a)
+        p, d = (1, 3) if i == 1 else (2, 4)
+        why = (
+            f"leg {j} cannot reach out of leg {i}'s hole: leg {i} reaches no point nearer its"
+            f" base than |l{p} - l{d}| = {_q(hole)} m, leg {j} none farther from it than"
+            f" {_q(out)} m"
+        )
+    else:
+        return
+    raise w.error(
+        f"these lengths make no five-bar: {why} (expected lengths for which some point is"
+        " within reach of both legs)",
+        w.nodes[key],
+        key,
+    )
+
+
+def _rprpr_uncertainty(w: Walk, key: str) -> None:
+    """uncertainty names the RPRPR's links 2..5: it is for mechanism rprpr only."""
+    mechanism = w.values["robot.mechanism"]
+    if mechanism != RPRPR:
+        raise w.error(
+            f"uncertainty is for mechanism: rprpr (its links 2..5); the robust audit of a"
+            f" {mechanism} is not available in this build",
+            w.nodes[key],
+            key,
+        )
+
+
+def _start(w: Walk, task: Task) -> tuple[fmpq, fmpq, str]:
+    """The motion's start point E(0), and the key of the file that gives it."""
+    first = task.motion[0]
+    given = ("path.from", "timing.x", "timing.law", "motion.pieces[0].x")
+    waypoints = ("motion.waypoints[0].p", "motion.waypoints")  # inline, or a CSV file's name
+    key = next((k for k in (*given, *waypoints) if k in w.nodes), "motion")
+    return first.x(first.start), first.y(first.start), key
+
+
+def _five_bar_start(w: Walk, task: Task) -> None:
+    """A 5R's start point is within reach of both legs (D1, D2 >= 0, docs/five-bar.md §2),
+    and neither leg is stretched or folded there (D_i = 0), where its working modes
+    coincide and robot.modes cannot choose one. Exact (rational D_i)."""
+    fb = task.robot.five_bar
+    if fb is None:
+        return
+    x, y, key = _start(w, task)
+    at = f"the start point E(0) = ({_q(x)}, {_q(y)})"
+    for i, name in ((1, "A"), (2, "B")):
+        d = fb.discriminant(i, x, y)
+        if d > 0:
+            continue
+        base = fb.leg(i)[0]
+        p, q = (1, 3) if i == 1 else (2, 4)
+        lo, hi = fb.annulus(i)
+        r2 = (x - base) ** 2 + y**2
+        reach = f"[|l{p} - l{q}|, l{p} + l{q}] = [{_q(lo)}, {_q(hi)}] m"
+        if d < 0:
+            found = f"|E - {name}| = {number(math.sqrt(to_float(r2)), 6)} m"
+            w.errors.append(
+                w.error(
+                    f"{at} is out of reach of leg {i} (at {name}): expected |E - {name}| in"
+                    f" {reach}, found {found}",
+                    w.nodes[key],
+                    key,
+                )
+            )
+            continue
+        how = "stretched" if r2 == hi**2 else "folded"
+        side = f"l{p} + l{q}" if how == "stretched" else f"|l{p} - l{q}|"
+        modes = w.nodes["robot.modes"]  # a list of two: its reader said so
+        w.errors.append(
+            w.error(
+                f"working mode e{i} = {fb.modes[i - 1]:+d} does not exist at {at}: leg {i} is"
+                f" {how} there (|E - {name}| = {side} = {_q(hi if how == 'stretched' else lo)}"
+                f" m), where its two working modes coincide; expected a start point where"
+                f" leg {i} is neither stretched nor folded",
+                modes.value[i - 1],
+                f"robot.modes[{i - 1}]",
+            )
+        )
+
+
+# the rules on the whole task, once it is built (every key read without error)
+TASK_RULES: tuple[Callable[[Walk, Task], None], ...] = (_five_bar_start,)
+
+
 # key -> (its rule, the values the rule needs besides the key's own): a rule runs only
 # when they were all read, so that a bad value is reported once, by its own reader
 RULES: Rules = {
@@ -344,4 +449,6 @@ RULES: Rules = {
     "motion.pieces": (_motion_pieces_meet, ()),
     "motion.waypoints": (_waypoints_in_order, ()),
     "motion": (_motion_alone, ()),
+    "robot.lengths": (_five_bar_lengths, ("robot.base",)),
+    "uncertainty": (_rprpr_uncertainty, ("robot.mechanism",)),
 }

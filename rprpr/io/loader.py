@@ -30,7 +30,7 @@ import yaml
 from ..model.errors import TaskFileError
 from ..model.task import Task
 from . import build
-from .cross_rules import RULES
+from .cross_rules import RULES, TASK_RULES
 from .messages import one_line
 from .readers import READERS
 from .reading import ReadProblem, read_file, read_stream
@@ -92,11 +92,15 @@ def _parse(data: bytes | str, file: str, directory: str) -> Task:
     escapes = "\\" in text or ESCAPED_CONTROL.search(text) is not None
     walk = Walk(explicit, directory, escapes=escapes, readers=READERS, rules=RULES)
     walk.read(root, TASK, "", 0)
+    if not walk.errors:
+        task = build.task(walk, file)
+        for rule in TASK_RULES:  # what needs the whole task (a 5R's start point)
+            rule(walk, task)
     if walk.errors:  # in the order of the file, as a linter lists them; missing keys last
         errors = sorted(walk.errors, key=lambda e: (isinstance(e, Missing), e.line, e.column))
         errors[0].errors = tuple(errors)
         raise errors[0]
-    return build.task(walk, file)
+    return task
 
 
 def read_stdin(name: str = "-") -> bytes:

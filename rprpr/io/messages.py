@@ -78,6 +78,7 @@ def too_large(cap: int, size: int | None = None) -> str:
     return f"file too large: {held}, the cap is {cap} bytes" + (f" ({words})" if words else "")
 
 
+_COUNT = {2: "two", 3: "three", 4: "four"}
 PERCENT_EXPECTED = "a percentage such as 5% (0% <= value < 100%)"
 
 
@@ -92,6 +93,13 @@ def expected(spec: Spec, key: str) -> str:
         return f"a number ({spec.description.rstrip('.')})"
     if spec.kind == "pair":
         return f"a list of two numbers [{', '.join(spec.items)}]"
+    if spec.kind == "numbers":
+        bound = ""
+        if spec.minimum is not None:
+            bound = f", each {'>' if spec.exclusive else '>='} {spec.minimum:g}"
+        return f"a list of {_COUNT[len(spec.items)]} numbers [{', '.join(spec.items)}]{bound}"
+    if spec.kind == "signs":
+        return f"a list of {_COUNT[len(spec.items)]} signs [{', '.join(spec.items)}], each +1 or -1"
     if spec.kind == "point":
         return "a point: x alone, [x, y] or {x: ..., y: ...} (numbers, or fractions such as -2/3)"
     if spec.kind == "polynomial":

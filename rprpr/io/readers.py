@@ -39,7 +39,7 @@ from .scalars import (
     simple_decimal,
 )
 from .schema import CSV_PATTERN, RELATIVE_LINKS, Spec
-from .walk import Reader, Recorded, Walk
+from .walk import Reader, Recorded, Stop, Walk
 from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
 
 _POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
@@ -93,6 +93,39 @@ def pair(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fm
         for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
     )
     return a, b
+
+
+def numbers(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, ...]:
+    """``len(spec.items)`` numbers, ``spec.items`` saying what each is, each bounded as
+    ``spec`` says (a 5R's ``robot.lengths``)."""
+    if not isinstance(node, yaml.SequenceNode) or len(node.value) != len(spec.items):
+        raise w.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
+    return tuple(
+        _item(w, v, spec, what, f"{key}[{i}]", depth + 1)
+        for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True))
+    )
+
+
+def signs(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[int, ...]:
+    """``len(spec.items)`` signs, each +1 or -1 (a 5R's ``robot.modes``)."""
+    if not isinstance(node, yaml.SequenceNode) or len(node.value) != len(spec.items):
+        raise w.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
+    out = []
+    for i, (v, what) in enumerate(zip(node.value, spec.items, strict=True)):
+        at = f"{key}[{i}]"
+        try:
+            value = _item(w, v, _SIGN, what, at, depth + 1)
+        except TaskFileError as e:  # said as a sign's; any other error (a tag, caps) as is
+            if isinstance(e, Stop) or not e.message.startswith("expected a number"):
+                raise
+            raise w.error(f"expected +1 or -1 ({what}), found {kind_of(v)}", v, at) from None
+        if value not in (1, -1):
+            raise w.error(f"expected +1 or -1 ({what}), found {shorten(str(v.value))}", v, at)
+        out.append(int(value))
+    return tuple(out)
+
+
+_SIGN = Spec("signs", "a sign")
 
 
 def point(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> tuple[fmpq, fmpq | None]:
@@ -279,8 +312,9 @@ def boolean(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> bool:
 def enum(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> str:
     v = str(node.value) if isinstance(node, yaml.ScalarNode) else ""
     if v not in spec.choices or node.tag != TAG + "str":
-        meant = near(v.lower(), list(spec.choices))
-        hint = f"; did you mean {meant[0]!r}?" if meant else ""
+        lower = {c.lower(): c for c in spec.choices}  # 5r: did you mean 5R?
+        meant = near(v.lower(), list(lower))
+        hint = f"; did you mean {lower[meant[0]]!r}?" if meant else ""
         raise w.error(f"expected {expected(spec, key)}, found {kind_of(node)}{hint}", node, key)
     return v
 
@@ -336,6 +370,8 @@ def relative(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> Any:
 READERS: dict[str, Reader] = {
     "number": number,
     "pair": pair,
+    "numbers": numbers,
+    "signs": signs,
     "point": point,
     "polynomial": polynomial,
     "time": time,

@@ -8,11 +8,12 @@ the degree of y(x(t))) is the loader's, as small named rules.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ..model.actuation import ACTUATIONS, REVOLUTE
 from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS, PERCENT, SCHEMA_URL
+from ..model.five_bar import FIVE_BAR, MECHANISMS, RPRPR
 from ..model.rules import INVALID_TASK, RULES
 from ..model.timing import LAWS
 
@@ -40,6 +41,13 @@ class Spec:
     list of pieces, each read with ``item``. A key ``required`` ``unless`` its sibling
     key ``unless`` is given (``path`` and ``timing``, unless ``motion``) is only required
     without it.
+
+    The 5R adds: "numbers" (a list of ``len(items)`` numbers, each bounded as "pair"'s)
+    and "signs" (a list of ``len(items)`` signs, each +1 or -1). A mapping whose keys
+    depend on the value of one of them (``robot``, by ``mechanism``) names that key
+    ``select`` and its other forms ``variants`` (the value -> the mapping read instead;
+    the key's default reads the mapping itself); ``elsewhere`` maps a key of another
+    form to (what to say when it is given here, the key of this form it stands for).
     """
 
     kind: str
@@ -54,6 +62,9 @@ class Spec:
     items: tuple[str, ...] = ()  # of a pair: what each number is, for messages
     item: Spec | None = None  # of a list: the mapping each element is
     unless: str = ""  # a required key is not required when this sibling key is given
+    select: str = ""  # of a mapping: the key whose value chooses among ``variants``
+    variants: dict[str, Spec] = field(default_factory=dict)
+    elsewhere: dict[str, tuple[str, str]] = field(default_factory=dict)
 
 
 def _num(
@@ -188,40 +199,108 @@ UNCERTAINTY = Spec(
     },
 )
 
+_MECHANISM = Spec(
+    "enum",
+    "The robot's mechanism: rprpr (the paper's RPRPR, the default) or 5R (the all-revolute"
+    " five-bar, docs/five-bar.md); the robot's other keys depend on it.",
+    default=RPRPR,
+    choices=MECHANISMS,
+)
+_GRAVITY = _num("g [m/s^2], along -y", minimum=0, default="9.81")
+_FIVE_BAR_KEY = "is for mechanism: 5R (the all-revolute five-bar)"
+FIVE_BAR_ROBOT = Spec(
+    "mapping",
+    "The 5R five-bar (docs/five-bar.md): motors at A = (0, 0) and B = (base, 0) drive the"
+    " proximal links 1 (A to the elbow C) and 2 (B to the elbow D), torques T1, T2 [N m];"
+    " the distal links 3 (C to E) and 4 (D to E) meet at the end point E.",
+    required=True,
+    children={
+        "mechanism": _MECHANISM,
+        "base": _num(
+            "|AB| [m], between the motors' axes", required=True, minimum=0, exclusive=True
+        ),
+        "lengths": Spec(
+            "numbers",
+            "[l1, l2, l3, l4] [m], each > 0: the proximal links |AC| and |BD|, then the"
+            " distal links |CE| and |DE|.",
+            required=True,
+            minimum=0,
+            exclusive=True,
+            items=("l1 = |AC| [m]", "l2 = |BD| [m]", "l3 = |CE| [m]", "l4 = |DE| [m]"),
+        ),
+        "modes": Spec(
+            "signs",
+            "[e1, e2], each +1 or -1: the working modes at t = 0 (e1 = +1: the elbow C to the"
+            " left of AE, seen from A towards E; e2 = +1: D to the left of BE).",
+            required=True,
+            items=("e1 (the elbow C)", "e2 (the elbow D)"),
+        ),
+        "gravity": _GRAVITY,
+        "links": Spec(
+            "mapping",
+            "The moving links 1..4: 1 and 2 proximal (at A and B), 3 and 4 distal (at E).",
+            required=True,
+            children={
+                "1": _link(1, "|AG1|"),
+                "2": _link(2, "|BG2|"),
+                "3": _link(3, "|CG3|"),
+                "4": _link(4, "|DG4|"),
+            },
+        ),
+    },
+    elsewhere={
+        "a1": ("a1 is for mechanism: rprpr; a 5R takes base (|AB| [m]) instead", "base"),
+        "actuation": (
+            "actuation is for mechanism: rprpr; a 5R is driven by its motors at A and B"
+            " (revolute), with nothing to choose",
+            "",
+        ),
+    },
+)
+ROBOT = Spec(
+    "mapping",
+    "The robot: A at the origin, B at (a1, 0); actuated revolute joints at A and B"
+    " (torques T1, T2 [N m]) or actuated prismatic joints in the legs (forces"
+    " F1, F2 [N]).",
+    required=True,
+    children={
+        "mechanism": _MECHANISM,
+        "a1": _num("|AB| [m]", required=True, minimum=0, exclusive=True),
+        "gravity": _GRAVITY,
+        "actuation": Spec(
+            "enum",
+            "The actuated joints: revolute (at A and B, torques T1, T2 [N m], the"
+            " paper) or prismatic (the legs' s1, s2, forces F1, F2 [N]).",
+            default=REVOLUTE,
+            choices=ACTUATIONS,
+        ),
+        "links": Spec(
+            "mapping",
+            "The paper's moving links 2..5.",
+            required=True,
+            children={
+                "2": _link(2, "|AG2|"),
+                "3": _link(3, "|EG3|"),
+                "4": _link(4, "|BG4|"),
+                "5": _link(5, "|EG5|"),
+            },
+        ),
+    },
+    select="mechanism",
+    variants={FIVE_BAR: FIVE_BAR_ROBOT},
+    elsewhere={
+        "base": (f"base {_FIVE_BAR_KEY}; the rprpr takes a1 (|AB| [m]) instead", "a1"),
+        "lengths": (f"lengths {_FIVE_BAR_KEY}; the rprpr's legs have no fixed length", ""),
+        "modes": (f"modes {_FIVE_BAR_KEY}: the working modes of its elbows", ""),
+    },
+)
+
 TASK = Spec(
     "mapping",
     "An rprpr task: an RPRPR planar parallel robot and a planned end-point motion.",
     children={
         "name": Spec("string", "A name for reports (default: the file's stem)."),
-        "robot": Spec(
-            "mapping",
-            "The robot: A at the origin, B at (a1, 0); actuated revolute joints at A and B"
-            " (torques T1, T2 [N m]) or actuated prismatic joints in the legs (forces"
-            " F1, F2 [N]).",
-            required=True,
-            children={
-                "a1": _num("|AB| [m]", required=True, minimum=0, exclusive=True),
-                "gravity": _num("g [m/s^2], along -y", minimum=0, default="9.81"),
-                "actuation": Spec(
-                    "enum",
-                    "The actuated joints: revolute (at A and B, torques T1, T2 [N m], the"
-                    " paper) or prismatic (the legs' s1, s2, forces F1, F2 [N]).",
-                    default=REVOLUTE,
-                    choices=ACTUATIONS,
-                ),
-                "links": Spec(
-                    "mapping",
-                    "The paper's moving links 2..5.",
-                    required=True,
-                    children={
-                        "2": _link(2, "|AG2|"),
-                        "3": _link(3, "|EG3|"),
-                        "4": _link(4, "|BG4|"),
-                        "5": _link(5, "|EG5|"),
-                    },
-                ),
-            },
-        ),
+        "robot": ROBOT,
         "path": Spec(
             "mapping",
             "The end-point path y = p(x).",
@@ -386,6 +465,8 @@ _POINT_FORMS = [  # a point: one coordinate (x), [x, y] or {x:, y:}
 
 
 def _json(s: Spec) -> dict[str, Any]:
+    if s.variants:
+        return _variants(s)
     out: dict[str, Any] = {"description": s.description}
     if s.kind == "mapping":
         out["type"] = "object"
@@ -428,12 +509,29 @@ def _json(s: Spec) -> dict[str, Any]:
         out.update(type="string", pattern=PERCENT)
     elif s.kind == "relative":
         out["oneOf"] = [{"type": "string", "pattern": PERCENT}, _json(RELATIVE_LINKS)]
-    elif s.kind == "pair":
+    elif s.kind in ("pair", "numbers"):
         item: dict[str, Any] = {"type": "number"}
         if s.minimum is not None:
             item["exclusiveMinimum" if s.exclusive else "minimum"] = s.minimum
-        out.update(type="array", items=item, minItems=2, maxItems=2)
+        n = 2 if s.kind == "pair" else len(s.items)
+        out.update(type="array", items=item, minItems=n, maxItems=n)
+    elif s.kind == "signs":
+        n = len(s.items)
+        out.update(type="array", items={"enum": [1, -1]}, minItems=n, maxItems=n)
     if s.default is not None:
         number = s.kind == "number" and isinstance(s.default, str)  # a decimal's text
         out["default"] = float(s.default) if number else s.default
     return out
+
+
+def _variants(s: Spec) -> dict[str, Any]:
+    """A mapping with variants: each variant's schema when its ``select`` key names it,
+    else the mapping's own (the key's default, or the key left out)."""
+    chosen: dict[str, Any] = _json(replace(s, select="", variants={}))
+    for name, variant in reversed(s.variants.items()):
+        chosen = {
+            "if": {"properties": {s.select: {"const": name}}, "required": [s.select]},
+            "then": _json(variant),
+            "else": chosen,
+        }
+    return {"description": s.children[s.select].description, "type": "object", **chosen}

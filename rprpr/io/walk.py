@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from typing import Any
 
 import yaml
@@ -212,6 +213,8 @@ class Walk:
         """Read the keys ``spec`` knows, in the schema's order; default the rest."""
         if not isinstance(node, yaml.MappingNode):
             raise self.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
+        if spec.variants:
+            spec = self.variant(node, spec, key, depth)
         given = self.keys(node, spec, key, depth)
         for k, child in spec.children.items():
             full = f"{key}.{k}" if key else k
@@ -219,6 +222,55 @@ class Walk:
                 self.read(given[k], child, full, depth + 1)
             else:
                 self.omitted(child, full)
+
+    def variant(self, node: yaml.MappingNode, spec: Spec, key: str, depth: int) -> Spec:
+        """The form of the mapping ``spec`` its ``select`` key names (``spec`` itself when
+        the key is left out or gives its default). A ``select`` that names no form, or is
+        given twice, is reported; the mapping's keys are then checked against every form's
+        and none of their values is read."""
+        values = [
+            v
+            for k, v in node.value
+            if type(k) is yaml.ScalarNode and k.tag not in NOT_KEYS and k.value == spec.select
+        ]
+        if not values:
+            return self.unnamed(node, spec, key)
+        chosen = values[0]
+        if len(values) == 1 and type(chosen) is yaml.ScalarNode and chosen.tag == TAG + "str":
+            if chosen.value in spec.variants:
+                return spec.variants[chosen.value]
+            if chosen.value == spec.children[spec.select].default:
+                return spec
+        every = {k: replace(c, required=False) for v in (spec, *spec.variants.values())
+                 for k, c in v.children.items()}  # fmt: skip
+        given = self.keys(node, replace(spec, children=every, elsewhere={}), key, depth)
+        if spec.select in given:
+            full = f"{key}.{spec.select}" if key else spec.select
+            self.read(given[spec.select], spec.children[spec.select], full, depth + 1)
+        raise Recorded
+
+    def unnamed(self, node: yaml.MappingNode, spec: Spec, key: str) -> Spec:
+        """``spec`` itself, its ``select`` key left out; but a mapping given keys of one
+        other form only (base, lengths, modes and no a1: a 5R without ``mechanism: 5R``)
+        is that one error, and none of its values is read."""
+        given = [str(k.value) for k, _ in node.value if type(k) is yaml.ScalarNode]
+        for name, form in spec.variants.items():
+            theirs = [k for k in given if k in form.children and k not in spec.children]
+            ours = [k for k in given if k in spec.children and k not in form.children]
+            if theirs and not ours:
+                first = next(k for k, _ in node.value if str(k.value) == theirs[0])
+                where = f" in {key}" if key else ""
+                self.errors.append(
+                    self.error(
+                        f"{', '.join(theirs)} {'is' if len(theirs) == 1 else 'are'} for"
+                        f" {spec.select}: {name}: add {spec.select}: {name}{where} (the default"
+                        f" is {spec.children[spec.select].default})",
+                        first,
+                        f"{key}.{theirs[0]}" if key else theirs[0],
+                    )
+                )
+                raise Recorded
+        return spec
 
     def keys(
         self, node: yaml.MappingNode, spec: Spec, key: str, depth: int
@@ -236,7 +288,8 @@ class Walk:
             except TaskFileError as e:
                 self.errors.append(e)
                 if isinstance(knode, yaml.ScalarNode):  # a misspelt key: not also "missing"
-                    meant = near(str(knode.value), list(spec.children))
+                    stands = spec.elsewhere.get(str(knode.value), ("", ""))[1]  # a1 for base
+                    meant = [stands] if stands else near(str(knode.value), list(spec.children))
                     bad.update(meant)
                     self.misspelt.update(f"{key}.{k}" if key else k for k in meant)
                 continue
@@ -282,9 +335,11 @@ class Walk:
         k = str(knode.value)
         shown = k if _PLAIN_KEY.fullmatch(k) else repr(shorten(k))
         full = f"{key}.{shown}" if key else shown
+        if k in spec.elsewhere:  # a key of the mapping's other form (a1 on a 5R)
+            raise self.error(spec.elsewhere[k][0], knode, full)
         if k not in spec.children:
-            allowed = list(spec.children)
-            meant = near(k, allowed)
+            meant = near(k, list(spec.children))
+            allowed = [c for c in spec.children if c != spec.select]  # (said apart)
             hint = (
                 f"; did you mean {meant[0]!r}?"
                 if meant

@@ -17,25 +17,12 @@ from ..model.actuation import REVOLUTE
 from ..model.defaults import SCHEMA_MODELINE
 from ..model.numbers import polynomial
 from ..model.numbers import rational_text as number
-from ..model.task import Task
+from ..model.task import Robot, Task
 
 
 def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
     """The task file's mapping of ``task`` (its name, robot, motion and checks)."""
-    r = task.robot
-    out: dict[str, Any] = {
-        "name": task.name,
-        "robot": {
-            "a1": _D(r.a1),
-            "gravity": _D(r.gravity),
-            "links": {
-                i: {"mass": _D(k.mass), "inertia": _D(k.inertia), "r": _D(k.r)}
-                for i, k in sorted(r.links.items())
-            },
-        },
-    }
-    if r.actuation != REVOLUTE:  # the default is not written (as the user's file had it)
-        out["robot"] = {"actuation": r.actuation, **out["robot"]}
+    out: dict[str, Any] = {"name": task.name, "robot": _robot(task.robot)}
     pieces = task.motion
     if task.path is not None:
         x0, xf = pieces[0].x(fmpq(0)), pieces[-1].x(task.duration)
@@ -71,6 +58,29 @@ def task_mapping(task: Task, comment: str = "") -> dict[str, Any]:
         checks["unbounded_torque"] = c.unbounded_torque
     if checks:
         out["checks"] = checks
+    return out
+
+
+def _robot(r: Robot) -> dict[str, Any]:
+    """The task file's ``robot``: the RPRPR's (its actuation when not the default), or a
+    5R's (``mechanism: 5R``, base, lengths, modes)."""
+    links = {
+        i: {"mass": _D(k.mass), "inertia": _D(k.inertia), "r": _D(k.r)}
+        for i, k in sorted(r.links.items())
+    }
+    if r.five_bar is not None:
+        fb = r.five_bar
+        return {
+            "mechanism": r.mechanism,
+            "base": _D(fb.a),
+            "lengths": [_D(length) for length in fb.lengths],
+            "modes": list(fb.modes),
+            "gravity": _D(r.gravity),
+            "links": links,
+        }
+    out: dict[str, Any] = {"a1": _D(r.a1), "gravity": _D(r.gravity), "links": links}
+    if r.actuation != REVOLUTE:  # the default is not written (as the user's file had it)
+        out = {"actuation": r.actuation, **out}
     return out
 
 

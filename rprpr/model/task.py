@@ -20,16 +20,9 @@ from typing import Any, Protocol, overload
 from flint import fmpq, fmpq_poly
 
 from .actuation import REVOLUTE
+from .five_bar import RPRPR, FiveBar
+from .link import Link as Link  # (its home is link.py, shared with five_bar.py)
 from .numbers import polynomial, rational_text
-
-
-@dataclass(frozen=True)
-class Link:
-    """One moving link i = 2..5: mass m_i, centroidal inertia I_i, and r_i (Section 2)."""
-
-    mass: fmpq
-    inertia: fmpq
-    r: fmpq
 
 
 @dataclass(frozen=True)
@@ -37,12 +30,19 @@ class Robot:
     """Fixed link length a1 = |AB| (A at the origin, B at (a1, 0)), gravity g along -y,
     the moving links 2 (leg A, revolute side), 3 (leg A, at E), 4 and 5 (leg B), and the
     actuation scheme: ``"revolute"`` (the paper: torques T1, T2 [N m] at A and B) or
-    ``"prismatic"`` (forces F1, F2 [N] in the legs' prismatic joints s1, s2)."""
+    ``"prismatic"`` (forces F1, F2 [N] in the legs' prismatic joints s1, s2).
+
+    ``mechanism`` is ``"rprpr"`` (all of the above) or ``"5R"``, the all-revolute
+    five-bar, whose parameters are ``five_bar`` (``model.five_bar.FiveBar``); a 5R's
+    ``a1`` is its |AB| and its ``links`` are its links 1..4, the same as ``five_bar``'s,
+    and its ``actuation`` is revolute (motors at A and B)."""
 
     a1: fmpq
     links: dict[int, Link]
     gravity: fmpq
     actuation: str = REVOLUTE
+    mechanism: str = RPRPR
+    five_bar: FiveBar | None = None
 
 
 @dataclass(frozen=True)
