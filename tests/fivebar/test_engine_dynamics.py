@@ -24,6 +24,7 @@ from .reference import DPS, FiveBar, Motion, delta, links, mp, newton_euler, rat
 from .standin import polys, q, robot
 from .test_dynamics import (
     A3,
+    AT,
     CONSISTENT,
     GENERIC,
     INCONSISTENT,
@@ -35,7 +36,6 @@ from .test_dynamics import (
     STOP_A,
     STOP_J,
     TANGENT,
-    AT,
     VT,
     _unequal,
     motion,
@@ -65,7 +65,14 @@ def _posed_motions() -> list[tuple[FiveBar, tuple[int, int], Motion, Q]]:
     out = []
     for (sigma, _), s in POSES.items():
         rb, modes, E = _posed(sigma, s)
-        out.append((rb, modes, motion((Q(1, 2), Q(1, 3)), (Q(-1, 3), Q(1, 4)), (Q(1), Q(2)), E=E), Q(1, 40)))
+        out.append(
+            (
+                rb,
+                modes,
+                motion((Q(1, 2), Q(1, 3)), (Q(-1, 3), Q(1, 4)), (Q(1), Q(2)), E=E),
+                Q(1, 40),
+            )
+        )
     return out
 
 
@@ -151,7 +158,9 @@ def _ne_near(rb: FiveBar, m: Motion, modes: tuple[int, int], ts: Any, h: Any) ->
         return [torques(rb, m, ts + s * h, modes) for s in (1, -1)]
 
 
-def _limit_matches(s: Any, rb: FiveBar, m: Motion, modes: tuple[int, int], h: Q, rel: float) -> None:
+def _limit_matches(
+    s: Any, rb: FiveBar, m: Motion, modes: tuple[int, int], h: Q, rel: float
+) -> None:
     assert s.torque_at_singularity is not None
     for T in _ne_near(rb, m, modes, Z, h):
         for i in (0, 1):

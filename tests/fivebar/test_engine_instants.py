@@ -69,7 +69,10 @@ def _posed(sigma: int, s: tuple[Q, Q, Q]) -> tuple[FiveBar, tuple[int, int], tup
 def _tangent(rb: FiveBar, E: tuple[Q, Q], sigma: int) -> tuple[Q, Q]:
     """The curve's tangent at E, from the sympy curve (∇S_σ turned by 90°)."""
     S = curve(sigma, *(sp.Rational(v.numerator, v.denominator) for v in (rb.a, *rb.length)))
-    at = {x: sp.Rational(E[0].numerator, E[0].denominator), y: sp.Rational(E[1].numerator, E[1].denominator)}
+    at = {
+        x: sp.Rational(E[0].numerator, E[0].denominator),
+        y: sp.Rational(E[1].numerator, E[1].denominator),
+    }
     gx, gy = (sp.diff(S, v).subs(at) for v in (x, y))
     scale = max(abs(gx), abs(gy))  # a unit of the larger coordinate
     gx, gy = gx / scale, gy / scale
@@ -146,7 +149,7 @@ def test_the_instants_orders_and_line_ups_are_the_references(i: int) -> None:
 
 def test_the_cases_cover_every_kind_and_mode() -> None:
     seen = set()
-    for i, case in enumerate(CASES):
+    for i in range(len(CASES)):
         for s in _engine(i).instants:
             kind = "rational" if s.t_exact is not None else "irrational"
             seen.add((s.modes, s.sigma, s.order, kind, s.degenerate))

@@ -86,10 +86,10 @@ def params(
     links = [five_bar.links[i] for i in (1, 2, 3, 4)]
     return FiveBarParams(
         convert(five_bar.a),
-        tuple(convert(v) for v in five_bar.lengths),  # type: ignore[arg-type]
-        tuple(convert(k.mass) for k in links),  # type: ignore[arg-type]
-        tuple(convert(k.inertia) for k in links),  # type: ignore[arg-type]
-        tuple(convert(k.r) for k in links),  # type: ignore[arg-type]
+        tuple(convert(v) for v in five_bar.lengths),
+        tuple(convert(k.mass) for k in links),
+        tuple(convert(k.inertia) for k in links),
+        tuple(convert(k.r) for k in links),
         convert(gravity),
     )
 
@@ -210,7 +210,10 @@ def leg(
     Delta = c[0] * y - c[1] * u
     th_d = (d[0] * xd + d[1] * yd) / Delta
     ph_d = -(c[0] * xd + c[1] * yd) / Delta
-    b = (xdd + th_d * th_d * c[0] + ph_d * ph_d * d[0], ydd + th_d * th_d * c[1] + ph_d * ph_d * d[1])
+    b = (
+        xdd + th_d * th_d * c[0] + ph_d * ph_d * d[0],
+        ydd + th_d * th_d * c[1] + ph_d * ph_d * d[1],
+    )
     th_dd = (d[0] * b[0] + d[1] * b[1]) / Delta
     ph_dd = -(c[0] * b[0] + c[1] * b[1]) / Delta
     return FiveBarLeg(c, d, Delta, th_d, ph_d, th_dd, ph_dd)

@@ -65,9 +65,7 @@ def deltas(point: Point, conj: fb.Conjugates, tw: Tower) -> dict[tuple[int, int]
     return {e: Rad(tw, (P[0], P[1] * e[0], P[2] * e[1], P[3] * (e[0] * e[1]))) for e in MODES}
 
 
-def singular_modes(
-    conj: dict[tuple[int, int], Rad], modes: tuple[int, int]
-) -> tuple[bool, bool]:
+def singular_modes(conj: dict[tuple[int, int], Rad], modes: tuple[int, int]) -> tuple[bool, bool]:
     """(the robot's δ vanishes, another mode's does too) at a root of S₊ S₋, where the
     product of the four vanishes: by ball evaluation (the robot's ball excludes zero: not
     singular; the three others exclude it: singular alone), else exactly."""

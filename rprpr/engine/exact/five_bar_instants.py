@@ -28,6 +28,7 @@ For a motion E(t) = (x(t), y(t)) with rational polynomial coordinates on [t0, t1
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,6 +39,8 @@ from . import five_bar as fb
 from . import five_bar_expansion as xp
 from .roots import RootAt, real_roots_in
 from .singular import Principle
+
+ZERO = fmpq(0)
 
 
 class FiveBarError(ValueError):
@@ -112,7 +115,7 @@ class FiveBarAnalysis:
 
 def analyse(
     five_bar: fb.FiveBarRobot, gravity: fmpq, x: fmpq_poly, y: fmpq_poly, t0: fmpq, t1: fmpq,
-    min_slope: fmpq = fmpq(0), min_speed: fmpq = fmpq(0),
+    min_slope: fmpq = ZERO, min_speed: fmpq = ZERO,
 ) -> FiveBarAnalysis:  # fmt: skip
     """Every Type II instant of the motion (x(t), y(t)), t0 <= t <= t1, of ``five_bar``
     in its working modes (those at t0), exactly (module docstring)."""
@@ -272,48 +275,43 @@ def _slope(
     """(tan α, the transversality principle, ∇S_σ·E'): the crossing angle α between the
     path (its velocity, or at rest the first nonzero derivative of E) and the curve."""
     gx, gy = (point.val(g) for g in fb.curve_gradient(p, sigma, X, Y))
-    vx, vy = point.val(X.derivative()), point.val(Y.derivative())
-    rate = gx * vx + gy * vy
+    rate = gx * point.val(X.derivative()) + gy * point.val(Y.derivative())
     if _zero(gx) and _zero(gy):
-        return fmpq(0), Principle(
-            False, "the path passes a singular point of the Type II curve (∇S = 0): "
-            "a high-order singularity",
-        ), rate  # fmt: skip
-    dx, dy, px, py = vx, vy, X.derivative(), Y.derivative()
+        return ZERO, Principle(False, SINGULAR_POINT), rate
+    dx, dy = _direction(point, X, Y)
+    dot, cross = gx * dx + gy * dy, gx * dy - gy * dx
+    if _zero(dot):
+        return ZERO, Principle(False, TANGENT), rate
+    if _zero(cross):
+        return math.inf, Principle(True, NORMAL), rate
+    shown = abs(_exact(point, dot / cross))
+    if min_slope == 0:
+        return shown, Principle(True, f"tan α = {exact_number(shown)} is nonzero"), rate
+    a, b = exact_apart(shown, min_slope)
+    if _sign(dot * dot - cross * cross * min_slope * min_slope) > 0:
+        return shown, Principle(True, f"tan α = {a} exceeds checks.min_slope = {b}"), rate
+    return shown, Principle(False, f"tan α = {a} does not exceed checks.min_slope = {b}"), rate
+
+
+SINGULAR_POINT = "the path passes a singular point of the Type II curve (∇S = 0): high order"
+TANGENT = "the path is tangent to the Type II curve here (∇S·E' = 0): a high-order singularity"
+NORMAL = "the path crosses the Type II curve along its normal (tan α infinite)"
+
+
+def _direction(point: xp.Point, X: fmpq_poly, Y: fmpq_poly) -> tuple[Any, Any]:
+    """The path's direction at the point: E', or at rest the first nonzero derivative."""
+    px, py = X.derivative(), Y.derivative()
+    dx, dy = point.val(px), point.val(py)
     while _zero(dx) and _zero(dy) and not (px.is_zero() and py.is_zero()):
         px, py = px.derivative(), py.derivative()
         dx, dy = point.val(px), point.val(py)
-    dot, cross = gx * dx + gy * dy, gx * dy - gy * dx
-    if _zero(dot):
-        return fmpq(0), Principle(
-            False, "the path is tangent to the Type II curve here (∇S·E' = 0): "
-            "a high-order singularity",
-        ), rate  # fmt: skip
-    if _zero(cross):
-        return math_inf(), Principle(True, "the path crosses the Type II curve along its normal"), rate
-    tan = dot / cross
-    shown = abs(_exact(point, tan))
-    if min_slope == 0 or _sign(dot * dot - cross * cross * min_slope * min_slope) > 0:
-        if min_slope == 0:
-            return shown, Principle(True, f"the crossing angle's tan α = {exact_number(shown)} is nonzero"), rate
-        a, b = exact_apart(shown, min_slope)
-        return shown, Principle(True, f"tan α = {a} exceeds checks.min_slope = {b}"), rate
-    a, b = exact_apart(shown, min_slope)
-    return shown, Principle(
-        False, f"tan α = {a} does not exceed the margin checks.min_slope = {b}"
-    ), rate  # fmt: skip
-
-
-def math_inf() -> float:
-    return float("inf")
+    return dx, dy
 
 
 def _velocity(point: xp.Point, speed2: Any, min_speed: fmpq) -> Principle:
     """|E'| > min_speed, decided exactly on |E'|²."""
     if _zero(speed2):
-        return Principle(
-            False, "the end point is at rest here (speed 0): a high-order singularity"
-        )
+        return Principle(False, "the end point is at rest here (speed 0): a high-order singularity")
     speed = _exact(point, speed2)
     shown = (arb(speed) if isinstance(speed, fmpq) else speed).sqrt()
     if min_speed == 0:

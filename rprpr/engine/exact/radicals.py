@@ -70,12 +70,12 @@ class Rad:
 
     def __add__(self, o: Any) -> Rad:
         b = self._lift(o)
-        return Rad(self.tower, tuple(x + y for x, y in zip(self.a, b, strict=True)))  # type: ignore[arg-type]
+        return Rad(self.tower, tuple(x + y for x, y in zip(self.a, b, strict=True)))
 
     __radd__ = __add__
 
     def __neg__(self) -> Rad:
-        return Rad(self.tower, tuple(-x for x in self.a))  # type: ignore[arg-type]
+        return Rad(self.tower, tuple(-x for x in self.a))
 
     def __sub__(self, o: Any) -> Rad:
         return self + (-Rad(self.tower, self._lift(o)))
@@ -85,7 +85,7 @@ class Rad:
 
     def __mul__(self, o: Any) -> Rad:
         if not isinstance(o, Rad):
-            return Rad(self.tower, tuple(x * o for x in self.a))  # type: ignore[arg-type]
+            return Rad(self.tower, tuple(x * o for x in self.a))
         D1, D2 = self.tower.D
         a0, a1, a2, a3 = self.a
         b0, b1, b2, b3 = o.a
@@ -117,7 +117,7 @@ class Rad:
     def __truediv__(self, o: Any) -> Rad:
         if isinstance(o, Rad):
             return self * o.inverse()
-        return Rad(self.tower, tuple(x / o for x in self.a))  # type: ignore[arg-type]
+        return Rad(self.tower, tuple(x / o for x in self.a))
 
     def __rtruediv__(self, o: Any) -> Rad:
         return self.inverse() * o
