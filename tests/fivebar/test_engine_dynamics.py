@@ -269,3 +269,18 @@ def test_unequal_links_both_line_ups_consistent_by_the_derivation_bounded_by_the
     sb = _instant(rb, bad, modes, Q(-1, 50), Q(1, 50))
     wb = sb.consistency_residual
     assert _close(_pole_residual(rb, bad, modes, Z, sigma), Q(int(wb.p), int(wb.q)), 1e-12)
+
+
+def test_torques_on_numpy_arrays_of_times_equal_newton_euler() -> None:
+    """The same formulas on float arrays (a grid of times at once)."""
+    import numpy as np
+
+    rb, modes, m = GENERIC[2]
+    ts = [Q(1, 10), Q(-1, 9), Q(1, 20), Q(-1, 30)]
+    cols = [_jets(m, t) for t in ts]
+    E = [np.array([float(c[k]) for c in cols]) for k in range(6)]
+    p = fb.params(robot(rb, modes), q(rb.g), float)
+    T = fb.torques(fb.dynamics(*fb.legs(p, modes, *E, lambda D, i: np.sqrt(D)), p))
+    for j, t in enumerate(ts):
+        ref = torques(rb, m, t, modes)
+        assert _close(T[0][j], ref[0], 1e-12) and _close(T[1][j], ref[1], 1e-12)

@@ -36,8 +36,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from .mechanism import Root
+
 Num = Any
-Root = Callable[[Num, int], Num]  # (D_i, leg i = 1 or 2) -> √D_i in the caller's type
 
 
 class _Link(Protocol):

@@ -86,18 +86,24 @@ class Rad:
     def __mul__(self, o: Any) -> Rad:
         if not isinstance(o, Rad):
             return Rad(self.tower, tuple(x * o for x in self.a))
-        D1, D2 = self.tower.D
-        a0, a1, a2, a3 = self.a
-        b0, b1, b2, b3 = o.a
-        return Rad(
-            self.tower,
-            (
-                a0 * b0 + (a1 * b1) * D1 + (a2 * b2 + (a3 * b3) * D1) * D2,
-                a0 * b1 + a1 * b0 + (a2 * b3 + a3 * b2) * D2,
-                a0 * b2 + a2 * b0 + (a1 * b3 + a3 * b1) * D1,
-                a0 * b3 + a3 * b0 + a1 * b2 + a2 * b1,
-            ),
-        )
+        # r_i r_j by the basis index bits (bit 0: r1, bit 1: r2): r_i r_j = D^(i & j) r^(i ^ j)
+        out: list[Any] = [None, None, None, None]
+        for i, x in enumerate(self.a):
+            if _zero(x):
+                continue
+            for j, y in enumerate(o.a):
+                if _zero(y):
+                    continue
+                v = x * y
+                both = i & j
+                if both & 1:
+                    v = v * self.tower.D[0]
+                if both & 2:
+                    v = v * self.tower.D[1]
+                k = i ^ j
+                out[k] = v if out[k] is None else out[k] + v
+        z = self.a[0] * 0
+        return Rad(self.tower, tuple(z if v is None else v for v in out))
 
     __rmul__ = __mul__
 
