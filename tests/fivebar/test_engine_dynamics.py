@@ -284,3 +284,23 @@ def test_torques_on_numpy_arrays_of_times_equal_newton_euler() -> None:
     for j, t in enumerate(ts):
         ref = torques(rb, m, t, modes)
         assert _close(T[0][j], ref[0], 1e-12) and _close(T[1][j], ref[1], 1e-12)
+
+
+def test_massless_distal_links_make_an_irrational_instant_consistent_with_the_reference_limit() -> (
+    None
+):
+    """m3 = m4 = I3 = I4 = 0: w vanishes identically (docs/five-bar.md §6), so the crossing
+    at an irrational instant is consistent, exactly; the limit the engine gives there (in
+    K(√D1, √D2), one ball division) is what Newton-Euler tends to on both sides."""
+    rb = FiveBar(
+        ROBOT.a, ROBOT.length, (Q(3), Q(2), Z, Z), (Q(1, 10), Q(1, 12), Z, Z), ROBOT.r, ROBOT.g
+    )
+    m = Motion((Q(1, 5), Q(1)), (Q(3, 5),))
+    a = analyse(robot(rb, MODES), q(rb.g), *polys(m), q(Z), q(Q(1)))
+    (s,) = a.instants
+    assert s.t_exact is None and s.residuals == (0,) and s.bounded
+    with mpmath.workdps(DPS):
+        ts = mpmath.mpf(s.t_ball.mid().str(45, radius=False))
+        for T in _ne_near(rb, m, MODES, ts, mpmath.mpf(10) ** -12):
+            for i in (0, 1):
+                assert _close(T[i], _arb_float(s.torque_at_singularity[i]), 1e-9)

@@ -222,8 +222,14 @@ def _limit(e: Expansion, k: int) -> tuple[Any, Any]:
     A = fb.efforts(d, 0)
     B = fb.efforts(d, 1)
     out = []
-    for a, b in zip(A, B, strict=True):
-        a0 = a.c[0]
-        numerator = a0 * D + (b.c[0] - a0) * N
-        out.append(value(numerator) / value(D) if not is_zero(numerator) else arb(0))
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        for a, b in zip(A, B, strict=True):
+            a0 = a.c[0]
+            numerator = a0 * D + (b.c[0] - a0) * N
+            zero = is_zero(numerator)
+            out.append(arb(0) if zero else arb(value(numerator)) / arb(value(D)))
+    finally:
+        ctx.prec = old
     return out[0], out[1]
