@@ -100,3 +100,13 @@ def test_the_locus_along_a_motion_is_the_curve_composed_with_it(rb: FiveBar) -> 
     for got, sigma in ((plus, 1), (minus, -1)):
         want = sp.Poly(curve(sigma, *_ref(rb)).subs({x: xt, y: yt}, simultaneous=True), t)
         assert [sp.Rational(int(c.p), int(c.q)) for c in got.coeffs()] == want.all_coeffs()[::-1]
+
+
+def test_the_polynomials_in_x_and_y_are_the_derivations() -> None:
+    for rb in (EQUAL, UNEQUAL):
+        got = fb.polynomials(_params(rb))
+        ref = conjugates(*_ref(rb))
+        for sigma, name in ((1, "S+"), (-1, "S-")):
+            assert sp.expand(_sym(got[name]) - curve(sigma, *_ref(rb))) == 0
+        for name in ("D1", "D2", "R1", "R2"):
+            assert sp.expand(_sym(got[name]) - ref[name]) == 0

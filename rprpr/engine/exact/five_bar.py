@@ -36,6 +36,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from flint import fmpq_mpoly_ctx
+
 from .mechanism import Root
 
 Num = Any
@@ -179,6 +181,18 @@ def reach(p: FiveBarParams, leg: int, x: Num, y: Num) -> tuple[Num, Num]:
     u = x if leg == 1 else x - p.a
     R = u * u + y * y
     return R - (lp + ld) * (lp + ld), R - (lp - ld) * (lp - ld)
+
+
+def polynomials(p: FiveBarParams) -> dict[str, Any]:
+    """The locus and the Type I factors as exact polynomials in x, y (``fmpq_mpoly``):
+    "S+", "S-" (``curve``), "D1", "D2" (the legs' discriminants), "R1", "R2" (|E|²,
+    |E - B|²), for drawing the curves or composing them with a path."""
+    x, y = fmpq_mpoly_ctx.get(("x", "y"), "lex").gens()
+    c = conjugates(p, x, y)
+    return {
+        "S+": curve(p, 1, x, y), "S-": curve(p, -1, x, y),
+        "D1": c.D1, "D2": c.D2, "R1": c.R1, "R2": c.R2,
+    }  # fmt: skip
 
 
 # -- inverse kinematics and dynamics (§2, §5) --------------------------------------------------
