@@ -76,7 +76,7 @@ class FiveBarInstant:
     order: int  # of δ at t_s
     multiplicity: int  # of t_s in S₊ S₋(E(t))
     degenerate: bool  # another working mode is singular at t_s too
-    delta_k: Any  # d^k δ/dt^k at t_s, k = order [1/s^k]
+    delta_k: Any  # d^k δ/dt^k at t_s, k = order, δ = (E - C) × (E - D) [m²/s^k]
     normal_rate: Any  # ∇S_σ·E' at t_s (zero: tangent or at rest)
     slope: Any  # tan α (``math.inf``: the path crosses along the normal)
     speed2: Any  # |E'(t_s)|²
