@@ -115,8 +115,8 @@ def expansion(
             return Series([tw.of(v) for v in c])
 
         def root(D: Any, i: int) -> Any:
-            head = [v.a[0] for v in D.c]
-            g = (Series(head) * (1 / head[0])).sqrt_with(point.one())  # √(D/D(t_s))
+            head = [v.a[0] for v in D.c]  # D(t_s) = D_i
+            g = (Series(head) * tw.inverse_D(i)).sqrt_with(point.one())  # √(D/D(t_s))
             return Series([tw.root(i, v) for v in g.c])
 
     series = []

@@ -260,6 +260,18 @@ def _exact(point: xp.Point, v: Any) -> fmpq | arb:
     return point.field.accurate(v.p, 64)
 
 
+def _quotient(point: xp.Point, a: Any, b: Any) -> fmpq | arb:
+    """a/b exactly at a rational point, else a ball (no inverse taken in K)."""
+    if point.field is None:
+        return fmpq(a) / fmpq(b)
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        return _exact(point, a) / _exact(point, b)
+    finally:
+        ctx.prec = old
+
+
 def _sign(v: Any) -> int:
     return v.sign() if hasattr(v, "sign") and not isinstance(v, fmpq) else (v > 0) - (v < 0)
 
@@ -284,7 +296,7 @@ def _slope(
         return ZERO, Principle(False, TANGENT), rate
     if _zero(cross):
         return math.inf, Principle(True, NORMAL), rate
-    shown = abs(_exact(point, dot / cross))
+    shown = abs(_quotient(point, dot, cross))
     if min_slope == 0:
         return shown, Principle(True, f"tan α = {exact_number(shown)} is nonzero"), rate
     a, b = exact_apart(shown, min_slope)

@@ -35,6 +35,14 @@ class Tower:
     def __init__(self, D1: Scalar, D2: Scalar, value: Callable[[Scalar, int], arb]) -> None:
         self.D = (D1, D2)
         self.value = value  # (element of K, precision) -> ball
+        self._inverse: list[Scalar | None] = [None, None]
+
+    def inverse_D(self, i: int) -> Scalar:
+        """1/D_i, made once (an inverse in K costs an extended gcd)."""
+        v = self._inverse[i - 1]
+        if v is None:
+            v = self._inverse[i - 1] = 1 / self.D[i - 1]
+        return v
 
     def roots(self, prec: int) -> tuple[arb, arb]:
         return self.value(self.D[0], prec).sqrt(), self.value(self.D[1], prec).sqrt()
@@ -116,6 +124,9 @@ class Rad:
         a0, a1, a2, a3 = self.a
         if _zero(a1) and _zero(a2) and _zero(a3):
             return self.tower.of(1 / a0)
+        for i, k in ((1, a1), (2, a2)):  # k r_i: r_i/(k D_i)
+            if _zero(a0) and _zero(a3) and _zero(a1 if i == 2 else a2):
+                return self.tower.root(i, self.tower.inverse_D(i) * (1 / k))
         n2 = self * self._conjugate(2)  # in K(r1)
         n = n2 * n2._conjugate(1)  # in K
         return self._conjugate(2) * n2._conjugate(1) * (1 / n.a[0])
