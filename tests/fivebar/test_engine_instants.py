@@ -215,3 +215,17 @@ def test_a_start_out_of_reach_is_an_error() -> None:
     m = Motion((Q(3),), (Q(3), Q(1)))
     with pytest.raises(FiveBarError, match="out of leg 1's reach"):
         analyse(robot(ROBOT, MODES), q(ROBOT.g), *polys(m), q(Z), q(Q(1)))
+
+
+def test_a_task_s_robot_is_read_through_its_five_bar_and_gravity() -> None:
+    """The task side's ``Robot`` carries ``five_bar`` and ``gravity`` (a stand-in here)."""
+    from types import SimpleNamespace
+
+    from rprpr.engine.exact.five_bar import FIVE_BAR
+    from rprpr.engine.exact.five_bar_instants import analyse_robot
+
+    rb = SimpleNamespace(mechanism="5R", five_bar=robot(ROBOT, MODES), gravity=q(ROBOT.g))
+    a = analyse_robot(rb, *polys(CONSISTENT), q(-H), q(H))
+    assert [(s.t_exact, s.order) for s in a.instants if s.t_exact is not None] == [(0, 1)]
+    p = FIVE_BAR.robot_params(rb)
+    assert (p.a, p.g, p.m[2], p.r[3]) == (q(ROBOT.a), q(ROBOT.g), q(ROBOT.mass[2]), q(ROBOT.r[3]))

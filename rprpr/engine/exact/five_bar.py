@@ -347,6 +347,13 @@ class FiveBarMechanism:
     consistency = staticmethod(consistency)
     delta_rate = staticmethod(delta_rate)
 
+    def robot_params(
+        self, robot: Any, convert: Callable[[Any], Any] = lambda v: v
+    ) -> FiveBarParams:
+        """``params`` of a task's robot (``Robot.five_bar``, ``Robot.gravity``), as the
+        seam's ``params(robot, convert)``."""
+        return params(robot.five_bar, robot.gravity, convert)
+
     def locus(self, p: FiveBarParams, x: Any, y: Any) -> tuple[Any, Any]:
         """(S₊(x(t), y(t)), S₋(x(t), y(t))): polynomials in t whose real roots hold the
         Type II instants (``five_bar_instants`` decides which are the robot's)."""

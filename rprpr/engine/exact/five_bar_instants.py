@@ -138,6 +138,14 @@ def analyse(
     return FiveBarAnalysis(tuple(found), (), locus)
 
 
+def analyse_robot(
+    robot: Any, x: fmpq_poly, y: fmpq_poly, t0: fmpq, t1: fmpq,
+    min_slope: fmpq = ZERO, min_speed: fmpq = ZERO,
+) -> FiveBarAnalysis:  # fmt: skip
+    """``analyse`` for a task's robot (``Robot.five_bar`` and ``Robot.gravity``)."""
+    return analyse(robot.five_bar, robot.gravity, x, y, t0, t1, min_slope, min_speed)
+
+
 def _start(p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly) -> None:
     c = fb.conjugates(p, X, Y)
     for i, D in ((1, c.D1), (2, c.D2)):
