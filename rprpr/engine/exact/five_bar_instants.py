@@ -38,6 +38,7 @@ from ...model.numbers import exact_apart, exact_number
 from . import five_bar as fb
 from . import five_bar_expansion as xp
 from .roots import RootAt, real_roots_in
+from .series import is_zero, sign
 from .singular import Principle
 
 ZERO = fmpq(0)
@@ -280,14 +281,6 @@ def _quotient(point: xp.Point, a: Any, b: Any) -> fmpq | arb:
         ctx.prec = old
 
 
-def _sign(v: Any) -> int:
-    return v.sign() if hasattr(v, "sign") and not isinstance(v, fmpq) else (v > 0) - (v < 0)
-
-
-def _zero(v: Any) -> bool:
-    return v.is_zero() if not isinstance(v, fmpq) else v == 0
-
-
 def _slope(
     p: fb.FiveBarParams, sigma: int, point: xp.Point, X: fmpq_poly, Y: fmpq_poly,
     min_slope: fmpq,
@@ -296,19 +289,19 @@ def _slope(
     path (its velocity, or at rest the first nonzero derivative of E) and the curve."""
     gx, gy = (point.val(g) for g in fb.curve_gradient(p, sigma, X, Y))
     rate = gx * point.val(X.derivative()) + gy * point.val(Y.derivative())
-    if _zero(gx) and _zero(gy):
+    if is_zero(gx) and is_zero(gy):
         return ZERO, Principle(False, SINGULAR_POINT), rate
     dx, dy = _direction(point, X, Y)
     dot, cross = gx * dx + gy * dy, gx * dy - gy * dx
-    if _zero(dot):
+    if is_zero(dot):
         return ZERO, Principle(False, TANGENT), rate
-    if _zero(cross):
+    if is_zero(cross):
         return math.inf, Principle(True, NORMAL), rate
     shown = abs(_quotient(point, dot, cross))
     if min_slope == 0:
         return shown, Principle(True, f"tan α = {exact_number(shown)} is nonzero"), rate
     a, b = exact_apart(shown, min_slope)
-    if _sign(dot * dot - cross * cross * min_slope * min_slope) > 0:
+    if sign(dot * dot - cross * cross * min_slope * min_slope) > 0:
         return shown, Principle(True, f"tan α = {a} exceeds checks.min_slope = {b}"), rate
     return shown, Principle(False, f"tan α = {a} does not exceed checks.min_slope = {b}"), rate
 
@@ -322,7 +315,7 @@ def _direction(point: xp.Point, X: fmpq_poly, Y: fmpq_poly) -> tuple[Any, Any]:
     """The path's direction at the point: E', or at rest the first nonzero derivative."""
     px, py = X.derivative(), Y.derivative()
     dx, dy = point.val(px), point.val(py)
-    while _zero(dx) and _zero(dy) and not (px.is_zero() and py.is_zero()):
+    while is_zero(dx) and is_zero(dy) and not (px.is_zero() and py.is_zero()):
         px, py = px.derivative(), py.derivative()
         dx, dy = point.val(px), point.val(py)
     return dx, dy
@@ -330,13 +323,13 @@ def _direction(point: xp.Point, X: fmpq_poly, Y: fmpq_poly) -> tuple[Any, Any]:
 
 def _velocity(point: xp.Point, speed2: Any, min_speed: fmpq) -> Principle:
     """|E'| > min_speed, decided exactly on |E'|²."""
-    if _zero(speed2):
+    if is_zero(speed2):
         return Principle(False, "the end point is at rest here (speed 0): a high-order singularity")
     speed = _exact(point, speed2)
     shown = (arb(speed) if isinstance(speed, fmpq) else speed).sqrt()
     if min_speed == 0:
         return Principle(True, f"speed {exact_number(shown)} m/s is nonzero")
     a, b = exact_apart(shown, min_speed)
-    if _sign(speed2 - min_speed * min_speed) > 0:
+    if sign(speed2 - min_speed * min_speed) > 0:
         return Principle(True, f"speed {a} m/s exceeds checks.min_speed = {b} m/s")
     return Principle(False, f"speed {a} m/s does not exceed the margin checks.min_speed = {b} m/s")
