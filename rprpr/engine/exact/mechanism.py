@@ -41,6 +41,11 @@ the type it is given, computed by the same operations in the same order for ever
   at a Type II instant [N] as numerator/denominator (None: 1) from the values ``at(v)``
   of the series' terms at t_s, exactly when they are exact; σ is the case's cos θ1 cos θ2
   (Table 2). A zero numerator means consistent (eq. 34 for the revolute scheme).
+
+A mechanism whose legs need a square root other than a distance takes a ``Root``,
+``root(D, i)``: the caller's √D of leg i's discriminant D (a polynomial in x, y) in its
+number type, where the RPRPR's take ``hypot``. The 5R five-bar (``five_bar``: elbows
+from √D1, √D2, the working modes multiplying them) is written on it.
 """
 
 from __future__ import annotations
@@ -53,6 +58,7 @@ from ...model.task import Robot
 from .equations import MECHANISMS, Dynamics, Leg, Params
 
 Num = Any
+Root = Callable[[Num, int], Num]  # (D_i, leg i = 1 or 2) -> √D_i in the caller's type
 
 
 class Mechanism(Protocol):
@@ -90,4 +96,4 @@ def register(mechanism: Mechanism) -> Mechanism:
     return mechanism
 
 
-__all__ = ["MECHANISMS", "Mechanism", "of", "register"]
+__all__ = ["MECHANISMS", "Mechanism", "Root", "of", "register"]
