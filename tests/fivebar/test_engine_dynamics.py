@@ -245,7 +245,9 @@ def test_order_two_with_only_the_first_condition_meets_one() -> None:
 
 
 @pytest.mark.parametrize("sigma", [1, -1])
-@pytest.mark.parametrize("s", [(Q(1, 3), Q(2, 7), Q(3, 4)), (Q(-1, 2), Q(5, 3), Q(1, 5))])
+# the second pose in the other working modes ((-1, -1) and (-1, 1)), with B on the positive
+# x-axis in both line-ups (a task's base is positive)
+@pytest.mark.parametrize("s", [(Q(1, 3), Q(2, 7), Q(3, 4)), (Q(-5, 2), Q(-1), Q(2, 7))])
 def test_unequal_links_both_line_ups_consistent_by_the_derivation_bounded_by_the_reference(
     sigma: int, s: tuple[Q, Q, Q]
 ) -> None:
