@@ -27,8 +27,9 @@ import numpy as np
 
 from ...model.numbers import to_float
 from ...model.task import Task
-from ..certified.balls import Ball, hypot, quiet
-from .regressor import BASIS, LINKS, setting_params, to_basis
+from ..certified.balls import Ball, hypot, quiet, stack
+from ..exact import equations as dyn
+from .regressor import BASIS, LINKS, setting_params
 from .windows import Box
 
 ERRORS = ((0, 0), (1, 0), (0, 1))  # the error parts of the regressor: e = 0, unit e_x, e_y
@@ -73,55 +74,88 @@ def bands_at(
     """(lower, upper) of E_j over the box, j = 1, 2, from the end point's balls ``kin``:
     the upper bound of max s E_j for s = +1, and minus it for s = -1. With ``lower``,
     the same from lower bounds of the maxima (a band inside the true one); an array:
-    per ball of ``kin``."""
-    Y = _regressor(task, kin)
-    corners = [(Ball.of_rational(ex), Ball.of_rational(ey)) for ex, ey in box.corners()]
+    per ball of ``kin``.
+
+    Every effort, basis parameter, error part, corner and sign at once: the balls carry
+    them as leading axes [effort, ``BASIS``, corner, sign, time] (a ball operation costs
+    its call more than its length), each element the operations it would have alone."""
+    Y = _regressor(task, kin)  # [effort, BASIS, error part, time]
+    corners = box.corners()
+    ex = _column([c[0] for c in corners], 3)  # [corner, sign, time]
+    ey = _column([c[1] for c in corners], 3)
+    sign = Ball.exact(np.array([1.0, -1.0])[:, None])
+    a, b, c = (Ball._of(Y.mid[:, :, i, None, None], Y.rad[:, :, i, None, None]) for i in range(3))
+    form = (a + b * ex + c * ey) * sign  # [effort, BASIS, corner, sign, time]
     links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
-    out = []
-    for j in (0, 1):
-        ends = []
-        for s in (1.0, -1.0):
-            best = np.full(kin[0].mid.shape, -np.inf)
-            for ex, ey in corners:
-                form = [
-                    (a + b * ex + c * ey) * s
-                    for a, b, c in zip(Y[0][j], Y[1][j], Y[2][j], strict=True)
-                ]
-                best = np.maximum(best, _form_bound(form, links, lower))
-            ends.append(np.where(np.isnan(best), np.where(lower, -np.inf, np.inf), best))
-        out.append((-ends[1], ends[0]))
-    return out
+    bound = _form_bound(form, links, lower)  # [effort, corner, sign, time]
+    best = np.full(bound.shape[:1] + bound.shape[2:], -np.inf)
+    for k in range(len(corners)):  # the corners in order (np.maximum keeps NaN)
+        best = np.maximum(best, bound[:, k])
+    ends = np.where(np.isnan(best), np.where(lower, -np.inf, np.inf), best)  # [effort, sign]
+    return [(-ends[j, 1], ends[j, 0]) for j in (0, 1)]
 
 
-def _regressor(task: Task, kin: Sequence[Ball]) -> list[list[list[Ball]]]:
-    """[error part][effort][``BASIS``]: the efforts' coefficients of π for e = 0, and
-    their change per unit e_x, per unit e_y."""
+def _column(values: Sequence[Any], dims: int) -> Ball:
+    """The exact rationals ``values`` as one ball array along the first of ``dims`` axes."""
+    parts = [Ball.of_rational(v) for v in values]
+    shape = (len(parts),) + (1,) * (dims - 1)
+    return Ball._of(np.array([p.mid for p in parts]).reshape(shape),
+                    np.array([p.rad for p in parts]).reshape(shape))  # fmt: skip
+
+
+def _regressor(task: Task, kin: Sequence[Ball]) -> Ball:
+    """[effort, ``BASIS``, error part, time]: the efforts' coefficients of π for e = 0,
+    and their change per unit e_x, per unit e_y. The settings ([``BASIS``] leading the
+    parameters' balls) and the error parts ([e = 0, unit e_x, unit e_y] leading the
+    accelerations) in one evaluation."""
     x, xd, xdd, y, yd, ydd = kin
-    params = [setting_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
-    mech = params[0].mechanism
-    out = []
-    for ex, ey in ERRORS:
-        leg1, leg2 = mech.legs(params[0], x, xd, xdd + float(ex), y, yd, ydd + float(ey), hypot)
-        delta = mech.delta(params[0], y, leg1, leg2)  # the product form (no cancellation)
-        values = []
-        for p in params:
-            d = mech.dynamics(leg1, leg2, p)
-            values.append(mech.efforts(d, d.mu1 / delta, d.mu2 / delta))
-        out.append([to_basis([v[j] for v in values]) for j in (0, 1)])
-    return [out[0]] + [
-        [[a - b for a, b in zip(out[i][j], out[0][j], strict=True)] for j in (0, 1)] for i in (1, 2)
-    ]
+    cols = [setting_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
+    names = ("m2", "I2", "r2", "m3", "I3", "r3", "m4", "I4", "r4", "m5", "I5", "r5")
+    p = dyn.Params(cols[0].a1, cols[0].g, mechanism=cols[0].mechanism,
+                   **{n: _stacked([getattr(c, n) for c in cols]) for n in names})  # fmt: skip
+    mech = p.mechanism
+    ex = Ball.exact(np.array([float(e) for e, _ in ERRORS])[:, None])
+    ey = Ball.exact(np.array([float(e) for _, e in ERRORS])[:, None])
+    leg1, leg2 = mech.legs(p, x, xd, xdd + ex, y, yd, ydd + ey, hypot)
+    delta = mech.delta(p, y, leg1, leg2)  # the product form (no cancellation)
+    d = mech.dynamics(leg1, leg2, p)
+    shape = (len(BASIS), len(ERRORS), *np.broadcast_shapes(*(np.shape(b.mid) for b in kin)))
+    E = stack([full(v, shape) for v in mech.efforts(d, d.mu1 / delta, d.mu2 / delta)])
+    for k, (link, what) in enumerate(BASIS):  # ``to_basis``: the "mr" setting less the "m"
+        if what == "mr" and (link, "m") in BASIS:
+            m = BASIS.index((link, "m"))
+            diff = Ball._of(E.mid[:, k], E.rad[:, k]) - Ball._of(E.mid[:, m], E.rad[:, m])
+            E.mid[:, k], E.rad[:, k] = diff.mid, diff.rad
+    e0 = Ball._of(E.mid[:, :, :1], E.rad[:, :, :1])
+    per = Ball._of(E.mid[:, :, 1:], E.rad[:, :, 1:]) - e0  # per unit e_x, e_y
+    return Ball._of(np.concatenate([e0.mid, per.mid], axis=2),
+                    np.concatenate([e0.rad, per.rad], axis=2))  # fmt: skip
+
+
+def _stacked(balls: Sequence[Ball]) -> Ball:
+    """Scalar balls as one ball array along a leading axis (then two unit axes)."""
+    return Ball._of(np.array([b.mid for b in balls]).reshape(-1, 1, 1),
+                    np.array([b.rad for b in balls]).reshape(-1, 1, 1))  # fmt: skip
+
+
+def full(b: Ball, shape: tuple[int, ...]) -> Ball:
+    """The ball ``b`` broadcast to ``shape`` (a new array)."""
+    return Ball._of(np.array(np.broadcast_to(b.mid, shape)), np.array(np.broadcast_to(b.rad, shape)))
 
 
 def _form_bound(
-    form: Sequence[Ball], links: dict[int, list[list[Ball]]], lower: bool | np.ndarray
+    form: Ball, links: dict[int, list[list[Ball]]], lower: bool | np.ndarray
 ) -> np.ndarray:
     """An upper bound (``lower``: a lower bound) of max over the box of Σ_k form_k π_k
-    (``BASIS`` order)."""
+    (``BASIS`` on the form's second axis)."""
+
+    def at(k: int) -> Ball:
+        return Ball._of(form.mid[:, k], form.rad[:, k])
+
     total = Ball.exact(0.0)
     for link, km, kmr, kj in LINKS:
-        A = form[km] if km is not None else form[kmr] * 0.0
-        total = total + Ball.exact(_link_bound(A, form[kmr], form[kj], links[link], lower))
+        A = at(km) if km is not None else at(kmr) * 0.0
+        total = total + Ball.exact(_link_bound(A, at(kmr), at(kj), links[link], lower))
     return np.where(lower, total.lower(), total.upper())
 
 
