@@ -176,11 +176,17 @@ def _link_bound(
     surely = (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
     maybe = (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
     inside = concave & np.where(lower, surely, maybe)  # lower: only where surely inside
-    G = np.where(inside, np.maximum(G, end(A - B * B / (C * 4.0))), G)
+    top = end(A - B * B / (C * 4.0))
     if not np.all(lower):
         r = Ball.hull(rlo.lower(), rhi.upper())
+        over = (A + B * r + C * r * r).upper()  # the quadratic over r's whole interval
+        # an upper bound of the vertex's value too where the vertex lies in r's interval:
+        # the narrower of the two (a vertex ball too wide to place, C near 0, makes
+        # A - B²/4C a vast bound where the quadratic itself is small)
+        top = np.where(lower, top, np.minimum(top, over))
         undecided = ~concave & (C.lower() < 0) & ~np.asarray(lower)  # C's sign unknown
-        G = np.where(undecided, np.maximum(G, (A + B * r + C * r * r).upper()), G)
+        G = np.where(undecided, np.maximum(G, over), G)
+    G = np.where(inside, np.maximum(G, top), G)
     g = Ball.exact(G)
     m_part = np.maximum(end(g * mlo), end(g * mhi))  # m > 0: linear in m
     i_part = np.maximum(end(C * ilo), end(C * ihi))

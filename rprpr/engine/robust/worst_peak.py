@@ -37,6 +37,7 @@ REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
+LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
 BUDGET = 1024  # intervals per refining round, about (live intervals times their fan)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
@@ -102,7 +103,14 @@ def _domain(
             h0, h1 = _local(c0, o, up=True), _local(c1, o, up=False)
             if h1 < h0:
                 continue
-            grid = np.clip(np.linspace(h0, h1, n + 1), h0, h1)
+            grid = np.linspace(h0, h1, n + 1)
+            steps = (h1 - h0) * 2.0 ** -np.arange(1, LADDER + 1)
+            if any(c0 == s1 for _, s1 in spans):  # a window's edge: the ladder from it
+                grid = np.concatenate([grid, h0 + steps])
+            if any(c1 == s0 for s0, _ in spans):
+                grid = np.concatenate([grid, h1 - steps])
+            grid = np.unique(np.clip(grid, h0, h1))
+            n = len(grid) - 1
             a.append(grid[:-1])
             b.append(grid[1:])
             k.append(np.full(n, i))
