@@ -5,7 +5,10 @@ motion outside the proven saturation windows (``Robust.span``; within them some 
 may exceed the limit, and near a possible pole it is unbounded).
 
 Branch and bound on time intervals in each piece's local time, every interval at once
-(``balls.Ball`` arrays): an interval's upper bound is ``worst``'s closed form evaluated
+(``balls.Ball`` arrays), from a uniform partition cut finer towards each window's edge
+(intervals of 2^-k of the span, k = 1..``LADDER``: beside the edge the worst case is
+about the limit and steep, so the upper bounds there need narrow intervals, and a
+ladder gives them in the first round): an interval's upper bound is ``worst``'s closed form evaluated
 over it (the end point's balls over the interval); a lower bound of the peak is the
 closed form's lower bound at the intervals' ends (the windows' edges among them, where
 the peak sits when the window is the limit's). Intervals whose upper bound cannot beat
@@ -38,7 +41,7 @@ ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
-BUDGET = 1024  # intervals per refining round, about (live intervals times their fan)
+BUDGET = 512  # intervals per refining round, about (live intervals times their fan)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
 
