@@ -152,6 +152,15 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid + o.mid
+        ar, br = self.rad, o.rad
+        if ar.shape == br.shape == c.shape and c.ndim:  # in place: ``_sum_radius``'s
+            t = ar + br  # operations in its order, and no conversion of fresh arrays
+            u = np.abs(c)
+            u *= U
+            t += u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
         return _finish(c, _sum_radius(self, o, c))
 
     __radd__ = __add__
@@ -162,6 +171,15 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid - o.mid
+        ar, br = self.rad, o.rad
+        if ar.shape == br.shape == c.shape and c.ndim:  # as in ``__add__``
+            t = ar + br
+            u = np.abs(c)
+            u *= U
+            t += u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
         return _finish(c, _sum_radius(self, o, c))
 
     def __rsub__(self, o: Any) -> Ball:
@@ -190,7 +208,7 @@ class Ball:
             t += u
             t *= _GROW
             t += _PAD
-            return Ball._of(c, t)  # the same operations, in the same order, as below
+            return _new(c, t)  # the same operations, in the same order, as below
         prop = (np.abs(am) + ar) * br + ar * np.abs(bm)
         return _finish(c, _up(prop + (U * np.abs(c) + ETA)))
 
@@ -222,7 +240,7 @@ class Ball:
             t += u
             t *= _GROW
             t += _PAD  # the same operations, in the same order, as below
-            return _unbounded_where(Ball._of(c, t), ~ok)
+            return _unbounded_where(_new(c, t), ~ok)
         num = (self.rad * b + np.abs(self.mid) * o.rad) + TINY
         prop = ((num / b) + TINY) / (b - o.rad)
         out = _finish(c, _up(prop + (U * np.abs(c) + ETA)))
@@ -312,6 +330,17 @@ class Ball:
 
 
 _OPERANDS = (*_OPERANDS, Ball)  # the operand types a Ball operation accepts
+
+
+def _new(mid: Array, rad: Array) -> Ball:
+    """``Ball._of`` without the class method's call (the operations' results)."""
+    b = _object_new(Ball)
+    b.mid = mid
+    b.rad = rad
+    return b
+
+
+_object_new = object.__new__
 
 
 def _finish(mid: Array, rad: Array) -> Ball:
