@@ -161,6 +161,8 @@ class Ball:
             t *= _GROW
             t += _PAD
             return _new(c, t)
+        if c.ndim:
+            return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))
 
     __radd__ = __add__
@@ -180,6 +182,8 @@ class Ball:
             t *= _GROW
             t += _PAD
             return _new(c, t)
+        if c.ndim:
+            return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))
 
     def __rsub__(self, o: Any) -> Ball:
@@ -352,11 +356,14 @@ def _finish(mid: Array, rad: Array) -> Ball:
 def _sum_radius(a: Ball, b: Ball, c: Array) -> Array:
     """The radius of c = a ± b: _up((r_a + r_b) + u|c|), in place where the shapes agree
     (the same operations in the same order)."""
-    if a.rad.shape == b.rad.shape == c.shape and c.ndim:
+    if c.ndim:  # an array: the result's own buffers
         t = a.rad + b.rad
         u = np.abs(c)
         u *= U
-        t += u
+        if t.shape == c.shape:
+            t += u
+        else:  # radii of fewer dimensions than the midpoints
+            t = t + u
         t *= _GROW
         t += _PAD
         return t
