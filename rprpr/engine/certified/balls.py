@@ -214,6 +214,14 @@ class Ball:
             t += _PAD
             return _new(c, t)  # the same operations, in the same order, as below
         prop = (np.abs(am) + ar) * br + ar * np.abs(bm)
+        if c.ndim:  # an array: the last steps in place, no conversion
+            u = np.abs(c)
+            u *= U
+            u += ETA
+            t = prop + u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
         return _finish(c, _up(prop + (U * np.abs(c) + ETA)))
 
     __rmul__ = __mul__
