@@ -76,23 +76,23 @@ def bands_at(
     the same from lower bounds of the maxima (a band inside the true one); an array:
     per ball of ``kin``.
 
-    Every effort, basis parameter, error part, corner and sign at once: the balls carry
-    them as leading axes [effort, ``BASIS``, corner, sign, time] (a ball operation costs
-    its call more than its length), each element the operations it would have alone."""
+    Every effort, basis parameter, error part and corner at once: the balls carry them
+    as leading axes [effort, ``BASIS``, corner, time] (a ball operation costs its call
+    more than its length), each element the operations it would have alone; both signs
+    from the same balls (``_link_bounds``)."""
     Y = _regressor(task, kin)  # [effort, BASIS, error part, time]
     corners = box.corners()
-    ex = _column([c[0] for c in corners], 3)  # [corner, sign, time]
-    ey = _column([c[1] for c in corners], 3)
-    sign = Ball.exact(np.array([1.0, -1.0])[:, None])
-    a, b, c = (Ball._of(Y.mid[:, :, i, None, None], Y.rad[:, :, i, None, None]) for i in range(3))
-    form = (a + b * ex + c * ey) * sign  # [effort, BASIS, corner, sign, time]
+    ex = _column([c[0] for c in corners], 2)  # [corner, time]
+    ey = _column([c[1] for c in corners], 2)
+    a, b, c = (Ball._of(Y.mid[:, :, i, None], Y.rad[:, :, i, None]) for i in range(3))
+    form = (a + b * ex + c * ey) * 1.0  # [effort, BASIS, corner, time]; s = +1 (s E: * s)
     links = {i: [[Ball.of_rational(v) for v in pair] for pair in b] for i, b in box.links.items()}
-    bound = _form_bound(form, links, lower)  # [effort, corner, sign, time]
-    best = np.full(bound.shape[:1] + bound.shape[2:], -np.inf)
+    bound = _form_bound(form, links, lower)  # [sign, effort, corner, time]
+    best = np.full(bound.shape[:2] + bound.shape[3:], -np.inf)
     for k in range(len(corners)):  # the corners in order (np.maximum keeps NaN)
-        best = np.maximum(best, bound[:, k])
-    ends = np.where(np.isnan(best), np.where(lower, -np.inf, np.inf), best)  # [effort, sign]
-    return [(-ends[j, 1], ends[j, 0]) for j in (0, 1)]
+        best = np.maximum(best, bound[:, :, k])
+    ends = np.where(np.isnan(best), np.where(lower, -np.inf, np.inf), best)  # [sign, effort]
+    return [(-ends[1, j], ends[0, j]) for j in (0, 1)]
 
 
 def _column(values: Sequence[Any], dims: int) -> Ball:
@@ -146,8 +146,8 @@ def full(b: Ball, shape: tuple[int, ...]) -> Ball:
 def _form_bound(
     form: Ball, links: dict[int, list[list[Ball]]], lower: bool | np.ndarray
 ) -> np.ndarray:
-    """An upper bound (``lower``: a lower bound) of max over the box of Σ_k form_k π_k
-    (``BASIS`` on the form's second axis)."""
+    """[sign s = +1, -1, ...]: an upper bound (``lower``: a lower bound) of max over the
+    box of s Σ_k form_k π_k (``BASIS`` on the form's second axis)."""
 
     def at(k: int) -> Ball:
         return Ball._of(form.mid[:, k], form.rad[:, k])
@@ -155,39 +155,59 @@ def _form_bound(
     total = Ball.exact(0.0)
     for link, km, kmr, kj in LINKS:
         A = at(km) if km is not None else at(kmr) * 0.0
-        total = total + Ball.exact(_link_bound(A, at(kmr), at(kj), links[link], lower))
+        total = total + Ball.exact(_link_bounds(A, at(kmr), at(kj), links[link], lower))
     return np.where(lower, total.lower(), total.upper())
 
 
-def _link_bound(
+def _link_bounds(
     A: Ball, B: Ball, C: Ball, box: list[list[Ball]], lower: bool | np.ndarray
 ) -> np.ndarray:
-    """An upper bound of max over the link's (m, r, I) of A m + B m r + C (m r² + I); with
-    ``lower`` (per element where an array), a lower bound of it (only the candidates the
-    balls decide)."""
+    """[sign s = +1, -1, ...]: an upper bound of max over the link's (m, r, I) of
+    s (A m + B m r + C (m r² + I)); with ``lower`` (per element where an array), a lower
+    bound of it (only the candidates the balls decide).
+
+    Both signs from one set of ball operations: every operation below, given -A, -B, -C,
+    gives the negated ball exactly (midpoints negated, the same radii: rounding to nearest
+    is symmetric), whose upper end is minus the lower end (``Ball.upper``, ``lower``);
+    so s = -1 reads the other end of each ball, the concavity from C's other end, and
+    the vertex -B/2C is the same."""
     (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
+    low = np.asarray(lower)
+
+    def ends(b: Ball) -> tuple[np.ndarray, np.ndarray]:
+        """The bound each sign reads of the ball b (of s b for s = -1)."""
+        lo, hi = b.lower(), b.upper()
+        return np.where(lower, lo, hi), -np.where(lower, hi, lo)
 
     def end(b: Ball) -> np.ndarray:
         return np.where(lower, b.lower(), b.upper())
 
-    G = np.maximum(end(A + B * rlo + C * rlo * rlo), end(A + B * rhi + C * rhi * rhi))
-    concave = C.upper() < 0
+    e_lo = ends(A + B * rlo + C * rlo * rlo)
+    e_hi = ends(A + B * rhi + C * rhi * rhi)
+    G = [np.maximum(e_lo[s], e_hi[s]) for s in (0, 1)]
+    c_lo, c_hi = C.lower(), C.upper()
+    concave = (c_hi < 0, -c_lo < 0)  # s C's upper end below 0
     vertex = -B / (C * 2.0)
     surely = (vertex.lower() > rlo.upper()) & (vertex.upper() < rhi.lower())
     maybe = (vertex.upper() > rlo.lower()) & (vertex.lower() < rhi.upper())
-    inside = concave & np.where(lower, surely, maybe)  # lower: only where surely inside
-    top = end(A - B * B / (C * 4.0))
+    placed = np.where(lower, surely, maybe)  # lower: only where surely inside
+    top = list(ends(A - B * B / (C * 4.0)))
     if not np.all(lower):
         r = Ball.hull(rlo.lower(), rhi.upper())
-        over = (A + B * r + C * r * r).upper()  # the quadratic over r's whole interval
-        # an upper bound of the vertex's value too where the vertex lies in r's interval:
-        # the narrower of the two (a vertex ball too wide to place, C near 0, makes
-        # A - B²/4C a vast bound where the quadratic itself is small)
-        top = np.where(lower, top, np.minimum(top, over))
-        undecided = ~concave & (C.lower() < 0) & ~np.asarray(lower)  # C's sign unknown
-        G = np.where(undecided, np.maximum(G, over), G)
-    G = np.where(inside, np.maximum(G, top), G)
-    g = Ball.exact(G)
+        q = A + B * r + C * r * r  # the quadratic over r's whole interval
+        over = (q.upper(), -q.lower())
+        negative = (c_lo < 0, -c_hi < 0)  # s C's lower end below 0
+        for s in (0, 1):
+            # an upper bound of the vertex's value too where the vertex lies in r's
+            # interval: the narrower of the two (a vertex ball too wide to place, C near
+            # 0, makes A - B²/4C a vast bound where the quadratic itself is small)
+            top[s] = np.where(lower, top[s], np.minimum(top[s], over[s]))
+            undecided = ~concave[s] & negative[s] & ~low  # C's sign unknown
+            G[s] = np.where(undecided, np.maximum(G[s], over[s]), G[s])
+    for s in (0, 1):
+        G[s] = np.where(concave[s] & placed, np.maximum(G[s], top[s]), G[s])
+    g = Ball.exact(np.stack(G))  # [sign, ...]
     m_part = np.maximum(end(g * mlo), end(g * mhi))  # m > 0: linear in m
-    i_part = np.maximum(end(C * ilo), end(C * ihi))
+    i_lo, i_hi = ends(C * ilo), ends(C * ihi)
+    i_part = np.stack([np.maximum(i_lo[s], i_hi[s]) for s in (0, 1)])
     return end(Ball.exact(m_part) + Ball.exact(i_part))
