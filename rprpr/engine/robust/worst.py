@@ -140,7 +140,8 @@ def _stacked(balls: Sequence[Ball]) -> Ball:
 
 def full(b: Ball, shape: tuple[int, ...]) -> Ball:
     """The ball ``b`` broadcast to ``shape`` (a new array)."""
-    return Ball._of(np.array(np.broadcast_to(b.mid, shape)), np.array(np.broadcast_to(b.rad, shape)))
+    mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
+    return Ball._of(np.array(mid), np.array(rad))
 
 
 def _form_bound(

@@ -8,15 +8,15 @@ Branch and bound on time intervals in each piece's local time, every interval at
 (``balls.Ball`` arrays), from a uniform partition cut finer towards each window's edge
 (intervals of 2^-k of the span, k = 1..``LADDER``: beside the edge the worst case is
 about the limit and steep, so the upper bounds there need narrow intervals, and a
-ladder gives them in the first round): an interval's upper bound is ``worst``'s closed form evaluated
-over it (the end point's balls over the interval); a lower bound of the peak is the
-closed form's lower bound at the intervals' ends (the windows' edges among them, where
-the peak sits when the window is the limit's). Intervals whose upper bound cannot beat
-the best lower bound are dropped (their bound kept for the final upper), the others cut
-in ``fan`` (few live intervals: many cuts each, as ``bounds.search`` does, so a round
-costs about one evaluation whatever its width), until the two meet within ``REL`` (the
-nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or ``CAP`` live intervals (an
-uncertified bracket, still proven).
+ladder gives them in the first round): an interval's upper bound is ``worst``'s
+closed form evaluated over it (the end point's balls over the interval); a lower bound
+of the peak is the closed form's lower bound at the intervals' ends (the windows' edges
+among them, where the peak sits when the window is the limit's). Intervals whose upper
+bound cannot beat the best lower bound are dropped (their bound kept for the final
+upper), the others cut in ``fan`` (few live intervals: many cuts each, as
+``bounds.search`` does, so a round costs about one evaluation whatever its width), until
+the two meet within ``REL`` (the nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or
+``CAP`` live intervals (an uncertified bracket, still proven).
 """
 
 from __future__ import annotations
