@@ -113,6 +113,8 @@ def _domain(
             if any(c1 == s0 for s0, _ in spans):
                 grid = np.concatenate([grid, h1 - steps])
             grid = np.unique(np.clip(grid, h0, h1))
+            if len(grid) == 1:  # a single double: the interval [h0, h0], as before
+                grid = np.repeat(grid, 2)
             n = len(grid) - 1
             a.append(grid[:-1])
             b.append(grid[1:])
