@@ -108,6 +108,19 @@ def partition(duration: fmpq, n: int) -> tuple[np.ndarray, np.ndarray]:
     return ends[:-1], ends[1:]
 
 
+def unique_ends(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The boxes' ends, each once and sorted, and where each of lo then hi is among them:
+    ``np.unique(np.concatenate([lo, hi]), return_inverse=True)`` (finite floats) at a
+    third of its cost."""
+    ends = np.concatenate([lo, hi])
+    t = np.sort(ends)
+    keep = np.empty(len(t), dtype=bool)
+    keep[:1] = True
+    np.not_equal(t[1:], t[:-1], out=keep[1:])
+    t = t[keep]
+    return t, np.searchsorted(t, ends)
+
+
 def split(lo: np.ndarray, hi: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
     """Each box [lo_j, hi_j] cut into k boxes that share their float ends (rounding is
     monotone, so they cover it)."""

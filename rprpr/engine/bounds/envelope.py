@@ -50,6 +50,7 @@ from .boxes import (
     partition,
     poor_columns,
     put_narrower,
+    unique_ends,
 )
 from .ladders import Ladders
 from .limits import LimitChecks, loose
@@ -172,7 +173,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """One vectorised pass over the boxes and their ends (``Bounds``), with the zone
         and Taylor forms near singular instants where the direct form is poor."""
         n = len(lo)
-        times, where = np.unique(np.concatenate([lo, hi]), return_inverse=True)
+        times, where = unique_ends(lo, hi)
         with quiet():
             box = Ball.hull(lo, hi)
             B, D = self._pass(box)  # T and T' over the boxes

@@ -152,6 +152,17 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid + o.mid
+        ar, br = self.rad, o.rad
+        if ar.shape == br.shape == c.shape and c.ndim:  # in place: ``_sum_radius``'s
+            t = ar + br  # operations in its order, and no conversion of fresh arrays
+            u = np.abs(c)
+            u *= U
+            t += u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
+        if c.ndim:
+            return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))
 
     __radd__ = __add__
@@ -162,6 +173,17 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid - o.mid
+        ar, br = self.rad, o.rad
+        if ar.shape == br.shape == c.shape and c.ndim:  # as in ``__add__``
+            t = ar + br
+            u = np.abs(c)
+            u *= U
+            t += u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
+        if c.ndim:
+            return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))
 
     def __rsub__(self, o: Any) -> Ball:
@@ -190,8 +212,16 @@ class Ball:
             t += u
             t *= _GROW
             t += _PAD
-            return Ball._of(c, t)  # the same operations, in the same order, as below
+            return _new(c, t)  # the same operations, in the same order, as below
         prop = (np.abs(am) + ar) * br + ar * np.abs(bm)
+        if c.ndim:  # an array: the last steps in place, no conversion
+            u = np.abs(c)
+            u *= U
+            u += ETA
+            t = prop + u
+            t *= _GROW
+            t += _PAD
+            return _new(c, t)
         return _finish(c, _up(prop + (U * np.abs(c) + ETA)))
 
     __rmul__ = __mul__
@@ -222,7 +252,7 @@ class Ball:
             t += u
             t *= _GROW
             t += _PAD  # the same operations, in the same order, as below
-            return _unbounded_where(Ball._of(c, t), ~ok)
+            return _unbounded_where(_new(c, t), ~ok)
         num = (self.rad * b + np.abs(self.mid) * o.rad) + TINY
         prop = ((num / b) + TINY) / (b - o.rad)
         out = _finish(c, _up(prop + (U * np.abs(c) + ETA)))
@@ -314,6 +344,17 @@ class Ball:
 _OPERANDS = (*_OPERANDS, Ball)  # the operand types a Ball operation accepts
 
 
+def _new(mid: Array, rad: Array) -> Ball:
+    """``Ball._of`` without the class method's call (the operations' results)."""
+    b = _object_new(Ball)
+    b.mid = mid
+    b.rad = rad
+    return b
+
+
+_object_new = object.__new__
+
+
 def _finish(mid: Array, rad: Array) -> Ball:
     """The ball mid ± rad. A non-finite midpoint always makes the radius non-finite
     (rad includes u|mid|), so ``rad`` alone tells a bounded ball (``bounded``)."""
@@ -323,11 +364,14 @@ def _finish(mid: Array, rad: Array) -> Ball:
 def _sum_radius(a: Ball, b: Ball, c: Array) -> Array:
     """The radius of c = a ± b: _up((r_a + r_b) + u|c|), in place where the shapes agree
     (the same operations in the same order)."""
-    if a.rad.shape == b.rad.shape == c.shape and c.ndim:
+    if c.ndim:  # an array: the result's own buffers
         t = a.rad + b.rad
         u = np.abs(c)
         u *= U
-        t += u
+        if t.shape == c.shape:
+            t += u
+        else:  # radii of fewer dimensions than the midpoints
+            t = t + u
         t *= _GROW
         t += _PAD
         return t

@@ -5,15 +5,18 @@ motion outside the proven saturation windows (``Robust.span``; within them some 
 may exceed the limit, and near a possible pole it is unbounded).
 
 Branch and bound on time intervals in each piece's local time, every interval at once
-(``balls.Ball`` arrays): an interval's upper bound is ``worst``'s closed form evaluated
-over it (the end point's balls over the interval); a lower bound of the peak is the
-closed form's lower bound at the intervals' ends (the windows' edges among them, where
-the peak sits when the window is the limit's). Intervals whose upper bound cannot beat
-the best lower bound are dropped (their bound kept for the final upper), the others cut
-in ``fan`` (few live intervals: many cuts each, as ``bounds.search`` does, so a round
-costs about one evaluation whatever its width), until the two meet within ``REL`` (the
-nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or ``CAP`` live intervals (an
-uncertified bracket, still proven).
+(``balls.Ball`` arrays), from a uniform partition cut finer towards each window's edge
+(intervals of 2^-k of the span, k = 1..``LADDER``: beside the edge the worst case is
+about the limit and steep, so the upper bounds there need narrow intervals, and a
+ladder gives them in the first round): an interval's upper bound is ``worst``'s
+closed form evaluated over it (the end point's balls over the interval); a lower bound
+of the peak is the closed form's lower bound at the intervals' ends (the windows' edges
+among them, where the peak sits when the window is the limit's). Intervals whose upper
+bound cannot beat the best lower bound are dropped (their bound kept for the final
+upper), the others cut in ``fan`` (few live intervals: many cuts each, as
+``bounds.search`` does, so a round costs about one evaluation whatever its width), until
+the two meet within ``REL`` (the nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or
+``CAP`` live intervals (an uncertified bracket, still proven).
 """
 
 from __future__ import annotations
@@ -37,7 +40,8 @@ REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
-BUDGET = 1024  # intervals per refining round, about (live intervals times their fan)
+LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
+BUDGET = 512  # intervals per refining round, about (live intervals times their fan)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
 
@@ -102,7 +106,16 @@ def _domain(
             h0, h1 = _local(c0, o, up=True), _local(c1, o, up=False)
             if h1 < h0:
                 continue
-            grid = np.clip(np.linspace(h0, h1, n + 1), h0, h1)
+            grid = np.linspace(h0, h1, n + 1)
+            steps = (h1 - h0) * 2.0 ** -np.arange(1, LADDER + 1)
+            if any(c0 == s1 for _, s1 in spans):  # a window's edge: the ladder from it
+                grid = np.concatenate([grid, h0 + steps])
+            if any(c1 == s0 for s0, _ in spans):
+                grid = np.concatenate([grid, h1 - steps])
+            grid = np.unique(np.clip(grid, h0, h1))
+            if len(grid) == 1:  # a single double: the interval [h0, h0], as before
+                grid = np.repeat(grid, 2)
+            n = len(grid) - 1
             a.append(grid[:-1])
             b.append(grid[1:])
             k.append(np.full(n, i))

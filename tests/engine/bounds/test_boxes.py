@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import numpy as np
 from flint import fmpq
 
-from rprpr.engine.bounds.boxes import partition
+from rprpr.engine.bounds.boxes import partition, split, unique_ends
 
 
 def test_the_first_partition_has_the_nearest_doubles_to_its_exact_ends() -> None:
@@ -15,3 +16,20 @@ def test_the_first_partition_has_the_nearest_doubles_to_its_exact_ends() -> None
         nearest = [int(q.p) / int(q.q) for q in exact]
         assert list(lo) == nearest[:-1] and list(hi[:-1]) == nearest[1:-1]
         assert hi[-1] >= nearest[-1] and fmpq(*float(hi[-1]).as_integer_ratio()) >= d
+
+
+def test_the_ends_of_boxes_are_each_once_sorted_with_where_each_end_is() -> None:
+    # ``unique_ends`` against numpy's own np.unique (sorted, each once, the inverse map):
+    # boxes sharing ends, zero-width boxes, ends a few ulps apart, bisections of boxes
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        n = int(rng.integers(1, 40))
+        lo = np.sort(rng.choice(rng.random(n) * 10.0, n))
+        width = rng.choice([0.0, 1e-3, 5e-16, 1.0], n)
+        hi = np.maximum(lo + width, lo)
+        a, b = split(lo, hi, int(rng.integers(1, 5)))
+        for los, his in ((lo, hi), (a, b)):
+            t, where = unique_ends(los, his)
+            ref, inv = np.unique(np.concatenate([los, his]), return_inverse=True)
+            assert np.array_equal(t, ref) and np.array_equal(where, inv)
+            assert np.array_equal(t[where], np.concatenate([los, his]))
