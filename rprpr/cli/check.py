@@ -441,7 +441,7 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
     from ..io import loader  # noqa: F401  (imported before forking: workers inherit them)
     from ..report import records  # noqa: F401
     from ..report.run import Run
-    from . import workers
+    from . import collector, workers
 
     run = Run()
     if not files:
@@ -453,6 +453,7 @@ def run_checks(files: Sequence[str], options: CheckOptions, progress: Any = None
         with contextlib.suppress(Exception):  # a broken matplotlib: each task's note says so
             from ..render import sheet  # noqa: F401
     stages = (LOADING, *auditing.STAGES, REPORTING, SHEET)
+    collector.release(freeze=True)  # the start-up is over (``collector``)
     with workers.Workers(work, min(options.jobs, len(files)), stages) as pool:
         results = pool.run(files, options.budget)
         _collect(run, _outcomes(results, options), len(files), progress)

@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import TYPE_CHECKING, Any
 
+from ..model.dataclass import dataclass
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.rules import ALL, RULES, SelectorError, levels
 from .errors import InputError

@@ -64,6 +64,10 @@ class _LazyGroup(click.Group):
                 " pip (pip install .), or run the rprpr of the environment it was installed in"
             )
         command: click.Command = getattr(importlib.import_module(f".{name}", __package__), name)
+        if name != "check":  # check releases it itself, once the audit is imported
+            from . import collector
+
+            collector.release()
         return command
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
@@ -114,6 +118,9 @@ def run() -> NoReturn:
     in theirs). Where the flush fails (a closed pipe, a full disk) the ordinary exit
     reports it as before; ``main`` itself, called in a process that goes on, never ends
     it this way."""
+    from . import collector
+
+    collector.hold()  # until the command's imports are done
     try:
         main()
     except SystemExit as done:

@@ -9,11 +9,12 @@ rest is the command line's plumbing.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, TypeVar
 
 import click
 
+from ..model.dataclass import dataclass
 from ..model.defaults import DEFAULT_SAMPLES
 from ..model.options import AuditOptions
 from .config import DEFAULT_BUDGET, FORMATS, TaskDefaults

@@ -9,12 +9,12 @@ once written, whatever the audit's verdict (``rprpr check`` is the gate).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
 
+from ..model.dataclass import dataclass
 from ..report.exit import ExitCode
 from .options import (
     SHEET_FORMATS,
@@ -159,6 +159,9 @@ class Look:
     font_scale: float = 1.0
 
 
+PLAIN = Look()  # the sheet as drawn by default
+
+
 def size_of(spec: str | None) -> tuple[float, float] | None:
     """``--size W,H`` in inches (a usage error unless two positive numbers up to 50)."""
     if spec is None:
@@ -213,7 +216,7 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
 
 
 def _write_sheet(
-    motions: list[Motion], panels: list[str], out: str, dpi: int, look: Look = Look()
+    motions: list[Motion], panels: list[str], out: str, dpi: int, look: Look = PLAIN
 ) -> None:
     """Draw the sheet headless and write it to ``out`` (format from its extension)."""
     from ..render import sheet as P
@@ -249,7 +252,7 @@ def _show(
     output_file: str | None,
     default: str,
     dpi: int,
-    look: Look = Look(),
+    look: Look = PLAIN,
 ) -> list[str]:
     """Open the sheet with pyplot where a window can open; write it when -o is given, or
     when no window can open (then to the default file, and say so)."""

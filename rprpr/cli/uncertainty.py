@@ -17,10 +17,10 @@ Plain Python (fractions, re): reading the configuration imports neither numpy no
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
+from ..model.dataclass import dataclass
 from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS, PERCENT
 from .errors import InputError
 

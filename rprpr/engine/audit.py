@@ -13,7 +13,7 @@ command line's business.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import TYPE_CHECKING, Unpack
@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Unpack
 import numpy as np
 from flint import fmpq
 
+from ..model.dataclass import dataclass
 from ..model.errors import TaskFileError
 from ..model.five_bar import RPRPR
 from ..model.numbers import to_float

@@ -17,11 +17,10 @@ from ..model.five_bar import FIVE_BAR, FIVE_BAR_LINKS, FiveBar
 from ..model.rules import rule_id
 from ..model.task import Checks, Link, Piece, Robot, Task, Uncertainty
 from ..model.timing import timing_law, trapezoidal
-from ..model.waypoints import Waypoint
-from ..model.waypoints import pieces as waypoint_pieces
 from .schema import TASK, TRAPEZOIDAL
 
 if TYPE_CHECKING:
+    from ..model.waypoints import Waypoint
     from .walk import Walk
 
 _LINKS = TASK.children["robot"].children["links"]  # the paper's moving links 2..5
@@ -201,4 +200,6 @@ def _motion_pieces(items: list[dict[str, Any]]) -> list[Piece]:
 def _waypoint_pieces(points: list[Waypoint], file: str) -> list[Piece]:
     """The joint_trajectory_controller's pieces through the waypoints; ``file`` is the
     CSV file they were read from ('' when inline: their lines are the task file's)."""
+    from ..model.waypoints import pieces as waypoint_pieces  # a task of waypoints only
+
     return waypoint_pieces(points, file)

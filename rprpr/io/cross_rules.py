@@ -11,21 +11,23 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from flint import fmpq, fmpq_poly
 
 from ..model.errors import TaskFileError
 from ..model.five_bar import RPRPR
-from ..model.motion import position_jump
 from ..model.numbers import number, to_float
 from ..model.numbers import rational as _q
 from ..model.task import Task
 from ..model.timing import LAWS
-from ..model.waypoints import Waypoint
 from .build import timing
 from .expression import MAX_DEGREE, height
 from .schema import TRAPEZOIDAL
 from .walk import Rules, Walk
+
+if TYPE_CHECKING:
+    from ..model.waypoints import Waypoint
 
 MAX_COMPOSED_BITS = 1 << 16  # bound on the coefficients of y(x(t)), see _composition_within_caps
 
@@ -160,6 +162,8 @@ def _pieces_meet(w: Walk, key: str, coords: tuple[str, ...], t_f: fmpq | None) -
         prev = max(prev, it["until"])
     if len(w.errors) > before:
         return False
+    from ..model.motion import position_jump  # a task of pieces only
+
     for a, b in itertools.pairwise(items):
         t = a["until"]
         jump = position_jump([a[c] for c in coords], [b[c] for c in coords], t)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 import os
 import re
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 from flint import fmpq, fmpq_poly
@@ -19,7 +19,6 @@ from flint import fmpq, fmpq_poly
 from ..model.defaults import PERCENT
 from ..model.errors import ExpressionError, TaskFileError
 from ..model.numbers import rational as _q
-from ..model.waypoints import Waypoint
 from .expression import parse_decimal, parse_fraction, parse_polynomial
 from .messages import PERCENT_EXPECTED, expected, near, shorten, where
 from .scalars import (
@@ -40,7 +39,9 @@ from .scalars import (
 )
 from .schema import CSV_PATTERN, RELATIVE_LINKS, Spec
 from .walk import Reader, Recorded, Stop, Walk
-from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes
+
+if TYPE_CHECKING:
+    from ..model.waypoints import Waypoint
 
 _POINT_KEYS = Spec(  # a point written as a mapping: {x: 1, y: -2/3}
     "mapping",
@@ -259,6 +260,8 @@ def waypoints(w: Walk, node: yaml.Node, spec: Spec, key: str, depth: int) -> lis
         return _csv(w, node, key)
     if not isinstance(node, yaml.SequenceNode):
         raise w.error(f"expected {expected(spec, key)}, found {kind_of(node)}", node, key)
+    from ..model.waypoints import Waypoint  # a task of waypoints only
+
     points = []
     for it in items(w, node, spec, key, depth):
         if "a" in it and "v" not in it:
@@ -284,6 +287,8 @@ def _csv(w: Walk, node: yaml.ScalarNode, key: str) -> list[Waypoint]:
             key,
         )
     path = os.path.normpath(os.path.join(w.directory, name))
+    from .waypoint_csv import CsvProblem, parse_waypoints, read_bytes  # a CSV's task only
+
     try:
         points, problems = parse_waypoints(read_bytes(path, inside=w.directory))
     except CsvProblem as e:

@@ -8,10 +8,11 @@ the degree of y(x(t))) is the loader's, as small named rules.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any
 
 from ..model.actuation import ACTUATIONS, REVOLUTE
+from ..model.dataclass import dataclass
 from ..model.defaults import LINK_QUANTITIES, MOVING_LINKS, PERCENT, SCHEMA_URL
 from ..model.five_bar import FIVE_BAR, MECHANISMS, RPRPR
 from ..model.rules import INVALID_TASK, RULES

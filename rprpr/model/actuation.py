@@ -13,7 +13,7 @@ The engine and the report keep the efforts under the paper's names (``T1``, ``T2
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from .dataclass import dataclass
 
 REVOLUTE = "revolute"
 PRISMATIC = "prismatic"

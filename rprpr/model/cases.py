@@ -16,7 +16,7 @@ the angles σ = cos θ1 cos θ2 and ψ = cos θ1.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from .dataclass import dataclass
 
 
 @dataclass(frozen=True)

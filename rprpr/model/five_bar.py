@@ -14,10 +14,9 @@ two working modes coincide (a Type I singularity).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from flint import fmpq
 
+from .dataclass import dataclass
 from .link import Link
 
 RPRPR = "rprpr"  # robot.mechanism: the paper's RPRPR (the default)

@@ -3,9 +3,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from flint import fmpq
+
+from .dataclass import dataclass
 
 
 @dataclass(frozen=True)

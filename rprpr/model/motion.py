@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 from typing import Any
 
 from flint import fmpq, fmpq_poly
 
+from .dataclass import dataclass
 from .task import Piece, Task
 from .waypoints import Segment, Waypoint
 from .waypoints import pieces as waypoint_pieces

@@ -8,9 +8,9 @@ it without numpy or flint.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, TypedDict
 
+from .dataclass import dataclass
 from .defaults import DEFAULT_SAMPLES
 
 if TYPE_CHECKING:

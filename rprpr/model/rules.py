@@ -17,7 +17,9 @@ rule, ``with_levels`` applies them to findings.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
+
+from .dataclass import dataclass
 
 INVALID_TASK = "RPR001"  # a task file that cannot be read: never audited, never silenced
 LEVELS = ("error", "warn", "ignore")

@@ -12,7 +12,7 @@ one home is ``io.schema.TASK`` (``Spec.default``), which the loader applies.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 from functools import cached_property
 from typing import Any, Protocol, overload
@@ -20,6 +20,7 @@ from typing import Any, Protocol, overload
 from flint import fmpq, fmpq_poly
 
 from .actuation import REVOLUTE
+from .dataclass import dataclass
 from .five_bar import RPRPR, FiveBar
 from .link import Link as Link  # (its home is link.py, shared with five_bar.py)
 from .numbers import polynomial, rational_text

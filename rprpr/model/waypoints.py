@@ -13,11 +13,12 @@ keeps the controller's polynomials too (``Piece.local``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, overload
 
 from flint import fmpq, fmpq_poly
 
+from .dataclass import dataclass
 from .task import Piece
 
 

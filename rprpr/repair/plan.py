@@ -3,13 +3,14 @@ give it a speed, a slope across AB and the scheme's consistency (exactly)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from flint import fmpq, fmpq_poly, fmpz
 
 from ..engine.audit import AuditResult
 from ..engine.exact.singular import SingularInstant
 from ..model.actuation import PRISMATIC
+from ..model.dataclass import dataclass
 from ..model.task import Piece, Robot, Task
 from .consistency import consistent_acceleration, consistent_ydd, leg_term
 from .middle import middle

@@ -3,11 +3,12 @@ per repaired instant; ``NoRepair`` when none exists within the constraints."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from flint import fmpq
 
 from ..engine.audit import AuditResult
+from ..model.dataclass import dataclass
 from ..model.task import Task
 
 

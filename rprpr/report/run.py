@@ -5,8 +5,10 @@ is ``render.json``)."""
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
+
+from ..model.dataclass import dataclass
 
 # the kinds of a task's outcome: audited, a bad task file, a bug, over its work budget
 REPORT, INPUT, INTERNAL, BUDGET = "report", "input", "internal", "budget"

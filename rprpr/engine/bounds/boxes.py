@@ -5,11 +5,11 @@ columns, and ``Bounds``, what one pass proves per box."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from flint import fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ..certified.balls import Ball, centred, horner, poly_balls
 from ..certified.jets import Jet

@@ -10,12 +10,12 @@ points); the runs of boxes not below the limit that hold a box above it are the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from flint import fmpq
 
+from ...model.dataclass import dataclass
 from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant

@@ -9,8 +9,8 @@ imports none of the ball machinery.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 
+from ...model.dataclass import dataclass
 from ..exact.singular import SingularInstant
 
 CROSSING_REL = 1e-9  # limit crossings bracketed to this fraction of t_f

@@ -44,13 +44,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, TypeVar
 
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot
 from ..exact import equations as dyn

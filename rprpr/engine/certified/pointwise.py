@@ -9,12 +9,12 @@ is (``motion.CertifiedMotion`` is made of the parts: each declares what it reads
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from flint import arb, ctx, fmpq
 
+from ...model.dataclass import dataclass
 from ...model.numbers import number
 from ...model.task import Robot
 from ..exact.mechanism import Mechanism

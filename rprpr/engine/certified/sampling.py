@@ -9,11 +9,10 @@ at t depends on t alone, never on the other times of the grid.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from flint import fmpq
 
+from ...model.dataclass import dataclass
 from .motion import REASONS, CertifiedMotion
 
 # the export columns, in order (SI units, angles in radians, θ continuous); the

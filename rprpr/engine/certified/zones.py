@@ -12,12 +12,13 @@ gives ε = t - t_s as a tight ball for every float t.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ..exact.roots import real_roots_in
 from ..exact.singular import SingularInstant

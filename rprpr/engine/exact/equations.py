@@ -23,10 +23,10 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from ...model.actuation import PRISMATIC, REVOLUTE, SCHEMES, Scheme
+from ...model.dataclass import dataclass
 from ...model.task import Robot
 
 Num = Any  # numpy array, float, or Series

@@ -33,11 +33,11 @@ The consistency residual at a Type II instant is w = h1/l3 + σ h2/l4 (§6, eq. 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, Protocol
 
 from flint import fmpq_mpoly_ctx
 
+from ...model.dataclass import dataclass
 from .mechanism import Root
 
 Num = Any

@@ -12,11 +12,11 @@ exactly and values are reported as certified balls.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 from flint import arb, ctx, fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from . import five_bar as fb
 from .radicals import Rad, Tower
 from .roots import RootAt

@@ -29,11 +29,11 @@ For a motion E(t) = (x(t), y(t)) with rational polynomial coordinates on [t0, t1
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 from flint import arb, ctx, fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import exact_apart, exact_number
 from . import five_bar as fb
 from . import five_bar_expansion as xp

@@ -11,12 +11,12 @@ limit when t_k is a singular instant (``torque_at_singularity`` of that side).
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, overload
 
 from flint import arb, ctx, fmpq
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Piece, Robot
 from . import equations as dyn

@@ -23,13 +23,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 from typing import Any
 
 from flint import arb, fmpq, fmpq_poly
 
 from ...model.cases import Case, case_of
+from ...model.dataclass import dataclass
 from ...model.numbers import exact_apart, exact_number, faithful, number
 from ...model.task import Checks, Robot
 from . import equations as dyn

@@ -15,10 +15,10 @@ found in that sliver belong to the previous piece and are dropped by the audit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from flint import fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Piece, Task
 

@@ -30,13 +30,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
+from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
 from ..exact import equations as dyn

@@ -14,7 +14,6 @@ largest change, both motions drawn.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 from flint import fmpq_poly
@@ -22,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from ...model.dataclass import dataclass
 from ...model.numbers import number
 from ...model.task import Task
 from .motion import Motion

@@ -4,13 +4,13 @@ high order, a diamond when of first order, filled with the colour of its status.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ...engine.exact.singular import SingularInstant
+from ...model.dataclass import dataclass
 from .motion import Motion
 from .page import Sheet
 from .style import MARK_EDGE, STATUS_COLOUR, STATUS_WORD, pt, task_colour

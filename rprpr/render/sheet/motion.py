@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ...engine.audit import AuditResult, audit
 from ...engine.certified.sampling import Samples, grid
+from ...model.dataclass import dataclass
 from ...model.names import file_name
 from ...model.task import Task
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import textwrap
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from matplotlib.axes import Axes
@@ -32,6 +32,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from ...engine.exact.singular import SingularInstant
+from ...model.dataclass import dataclass
 from .heads import Heads
 from .labels import MAX_LABELS
 from .measures import (
