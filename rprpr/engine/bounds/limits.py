@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from flint import fmpq
@@ -20,6 +21,7 @@ from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
 from .boxes import START_BOXES, Bounds, partition, split
+from .scalars import Scalars
 from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
 from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 
@@ -28,6 +30,8 @@ PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPR
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
+ARB_CROSSINGS = 4  # crossings bracketed by arb scalars at points, at most (``_bracket``)
+ARB_STEPS = 40  # Newton steps of a bracketing by arb scalars, at most
 
 
 def fan(n_live: int) -> int:
@@ -147,6 +151,17 @@ def _joined(a: Bounds, b: Bounds) -> Bounds:
     )
 
 
+def _moved(t: float, v: Ball, limit: float, a: float, z: float) -> tuple[float, float]:
+    """The bracket (a below the limit, z above it) moved to t where t lies strictly
+    between them and the certified value v = T_i(t) decides its side."""
+    if (t - a) * (z - t) > 0:
+        if float(v.upper_abs()) <= limit:
+            return t, z
+        if float(v.lower_abs()) > limit:
+            return a, t
+    return a, z
+
+
 def _windows(L: np.ndarray, H: np.ndarray, S: np.ndarray, pole_times: list[float]) -> list[Window]:
     """Maximal runs of boxes not below the limit that hold a box above it (or a pole):
     the run's open boxes at its ends bracket the crossings."""
@@ -176,6 +191,7 @@ class LimitChecks:
     t_last: float
     poles: list[SingularInstant]
     box_models: int
+    throughs: list[Any]
     _first: Bounds | None
     _peak: tuple[Peak, Peak] | None
 
@@ -190,6 +206,11 @@ class LimitChecks:
         def _values(self, t: np.ndarray) -> Ball: ...
 
         def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball: ...
+
+    @cached_property
+    def scalars(self) -> Scalars:
+        """T1, T2 in arb scalars at a few points and over a few boxes (``scalars``)."""
+        return Scalars(self.motion)
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
         """Branch and bound on the states of boxes (below, above, open): the open boxes
@@ -413,6 +434,12 @@ class LimitChecks:
         reach = float(np.max(hi - lo)) / near
         spread = near * PROBE_SPREAD ** np.arange(max(1, math.ceil(math.log(reach, PROBE_SPREAD))))
         offsets = np.concatenate([-spread[::-1], [0.0], spread])
+        if k <= ARB_CROSSINGS and not self.throughs:  # a few points each: arb scalars
+            est0 = _estimate(a, fa, z, fz, c, fc, np.minimum(a, z), np.maximum(a, z))
+            for q in range(k):
+                a[q], z[q] = self._newton(int(rows[q]), float(lim[q]), float(a[q]),
+                                          float(z[q]), res, float(est0[q]))  # fmt: skip
+            return _record(rows, lo, hi, up, a, z, res, done)
         for _ in range(CROSSING_STEPS):
             j = np.nonzero(np.abs(z - a) > res)[0]
             if not len(j):
@@ -432,6 +459,44 @@ class LimitChecks:
                 probe, f, inside & below, inside & above, a[j], fa[j], z[j], fz[j], c[j], fc[j]
             )
         return _record(rows, lo, hi, up, a, z, res, done)
+
+    def _newton(
+        self, i: int, limit: float, a: float, z: float, res: float, t: float
+    ) -> tuple[float, float]:
+        """A crossing of |T_i| = limit in the box between a (|T_i| <= limit there) and z
+        (> limit), |T_i| monotone between, bracketed by arb scalars: Newton's method on
+        f = |T_i| - limit (T_i and T_i' at a point, ``Scalars.slope``) chooses the points,
+        each point's certified value moves a or z to it (on the side it proves); once a
+        step is shorter than ``res``, the two points 0.45 res either side of the estimate
+        close the bracket. A step outside (a, z), or a failed evaluation, bisects. From
+        the estimate t; returns (a, z), within ``res`` of each other unless ARB_STEPS did
+        not suffice."""
+        S = self.scalars
+        for _ in range(ARB_STEPS):
+            if abs(z - a) <= res:
+                break
+            got = S.slope(t)
+            est = 0.5 * a + 0.5 * z
+            if got is not None:
+                v = Ball.of_arb(got[0][i])
+                d = float(got[1][i].mid())
+                a, z = _moved(t, v, limit, a, z)
+                f = abs(float(v.mid)) - limit
+                step = -f / (math.copysign(1.0, float(v.mid)) * d) if d != 0.0 else math.inf
+                if math.isfinite(step) and (t + step - a) * (z - t - step) > 0:
+                    est = t + step
+                if abs(step) < res:  # close: the two points either side decide
+                    sign = math.copysign(1.0, z - a)
+                    for p in (est - 0.45 * res * sign, est + 0.45 * res * sign):
+                        if (p - a) * (z - p) > 0:
+                            w = S.point(p)
+                            if w is not None:
+                                a, z = _moved(p, Ball.of_arb(w[i]), limit, a, z)
+                    est = 0.5 * a + 0.5 * z
+            if not (est - a) * (z - est) > 0:
+                break
+            t = est
+        return a, z
 
     def _holds_pole(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The boxes [lo, hi] that may hold an instant with unbounded torques."""
