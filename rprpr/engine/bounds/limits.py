@@ -30,7 +30,7 @@ PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPR
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
-ARB_CROSSINGS = 4  # crossings bracketed by arb scalars at points, at most (``_bracket``)
+ARB_CROSSINGS = 10  # crossings bracketed by arb scalars (``_newton``), at most; more: point passes
 ARB_STEPS = 40  # Newton steps of a bracketing by arb scalars, at most
 
 
