@@ -30,8 +30,7 @@ PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPR
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
-ARB_CROSSINGS = 10  # crossings bracketed by arb scalars (``_newton``), at most; more: point passes
-ARB_STEPS = 40  # Newton steps of a bracketing by arb scalars, at most
+ARB_CROSSINGS = 10  # crossings bracketed by arb scalars (``Scalars.bracket``), at most
 
 
 def fan(n_live: int) -> int:
@@ -149,17 +148,6 @@ def _joined(a: Bounds, b: Bounds) -> Bounds:
     return Bounds(
         lo, hi, low, low_t, up, floor, ends, np.concatenate([a.monotone, b.monotone], axis=1)
     )
-
-
-def _moved(t: float, v: Ball, limit: float, a: float, z: float) -> tuple[float, float]:
-    """The bracket (a below the limit, z above it) moved to t where t lies strictly
-    between them and the certified value v = T_i(t) decides its side."""
-    if (t - a) * (z - t) > 0:
-        if float(v.upper_abs()) <= limit:
-            return t, z
-        if float(v.lower_abs()) > limit:
-            return a, t
-    return a, z
 
 
 def _windows(L: np.ndarray, H: np.ndarray, S: np.ndarray, pole_times: list[float]) -> list[Window]:
@@ -382,7 +370,7 @@ class LimitChecks:
         los, his = split(lo[plain], hi[plain], k)
         parts = [(los, his, np.repeat(plain, k))]
         for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
-            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res, cap)
+            plo, phi = _around_pole(self.motion.instants, float(lo[j]), float(hi[j]), res, cap)
             parts.append((plo, phi, np.full(len(plo), j)))
         return tuple(np.concatenate([p[q] for p in parts]) for q in range(3))  # type: ignore[return-value]
 
@@ -437,8 +425,8 @@ class LimitChecks:
         if k <= ARB_CROSSINGS and not self.throughs:  # a few points each: arb scalars
             est0 = _estimate(a, fa, z, fz, c, fc, np.minimum(a, z), np.maximum(a, z))
             for q in range(k):
-                a[q], z[q] = self._newton(int(rows[q]), float(lim[q]), float(a[q]),
-                                          float(z[q]), res, float(est0[q]))  # fmt: skip
+                a[q], z[q] = self.scalars.bracket(int(rows[q]), float(lim[q]), float(a[q]),
+                                                  float(z[q]), res, float(est0[q]))  # fmt: skip
             return _record(rows, lo, hi, up, a, z, res, done)
         for _ in range(CROSSING_STEPS):
             j = np.nonzero(np.abs(z - a) > res)[0]
@@ -460,44 +448,6 @@ class LimitChecks:
             )
         return _record(rows, lo, hi, up, a, z, res, done)
 
-    def _newton(
-        self, i: int, limit: float, a: float, z: float, res: float, t: float
-    ) -> tuple[float, float]:
-        """A crossing of |T_i| = limit in the box between a (|T_i| <= limit there) and z
-        (> limit), |T_i| monotone between, bracketed by arb scalars: Newton's method on
-        f = |T_i| - limit (T_i and T_i' at a point, ``Scalars.slope``) chooses the points,
-        each point's certified value moves a or z to it (on the side it proves); once a
-        step is shorter than ``res``, the two points 0.45 res either side of the estimate
-        close the bracket. A step outside (a, z), or a failed evaluation, bisects. From
-        the estimate t; returns (a, z), within ``res`` of each other unless ARB_STEPS did
-        not suffice."""
-        S = self.scalars
-        for _ in range(ARB_STEPS):
-            if abs(z - a) <= res:
-                break
-            got = S.slope(t)
-            est = 0.5 * a + 0.5 * z
-            if got is not None:
-                v = Ball.of_arb(got[0][i])
-                d = float(got[1][i].mid())
-                a, z = _moved(t, v, limit, a, z)
-                f = abs(float(v.mid)) - limit
-                step = -f / (math.copysign(1.0, float(v.mid)) * d) if d != 0.0 else math.inf
-                if math.isfinite(step) and (t + step - a) * (z - t - step) > 0:
-                    est = t + step
-                if abs(step) < res:  # close: the two points either side decide
-                    sign = math.copysign(1.0, z - a)
-                    for p in (est - 0.45 * res * sign, est + 0.45 * res * sign):
-                        if (p - a) * (z - p) > 0:
-                            w = S.point(p)
-                            if w is not None:
-                                a, z = _moved(p, Ball.of_arb(w[i]), limit, a, z)
-                    est = 0.5 * a + 0.5 * z
-            if not (est - a) * (z - est) > 0:
-                break
-            t = est
-        return a, z
-
     def _holds_pole(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The boxes [lo, hi] that may hold an instant with unbounded torques."""
         out = np.zeros(len(lo), dtype=bool)
@@ -506,26 +456,28 @@ class LimitChecks:
                 out |= (lo <= e.hi + e.err + abs(e.lo)) & (hi >= e.hi - e.err - abs(e.lo))
         return out
 
-    def _around_pole(
-        self, lo: float, hi: float, res: float, cap: float = math.inf
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
-        nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
-        pole (left undecided), and pieces whose widths grow with their distance to it,
-        on which |T| ~ C/|t - t_s|^k changes by a factor of about e^POLE_GROWTH at most,
-        so that one pass decides most of them (a uniform cut would spend most pieces far
-        from the pole, and a coarser one leaves them open for another pass)."""
-        s, c = min(((s, e.hi) for s, e in self.motion.instants if not s.torque_bounded),
-                   key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
-        q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
-        d = 0.45 * res
-        width = max(hi - lo, d)
-        n = math.ceil(math.log(width / d) / math.log(q)) + 1
-        steps = d * q ** np.arange(n + 1)
-        if cap < width:  # no piece wider than cap: beyond, steps of cap
-            steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
-            more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
-            steps = np.concatenate([steps, more])
-        cuts = np.concatenate([c - steps, c + steps])
-        ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
-        return ends[:-1], ends[1:]
+
+def _around_pole(
+    instants: list[tuple[SingularInstant, Any]], lo: float, hi: float, res: float,
+    cap: float = math.inf,
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
+    nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
+    pole (left undecided), and pieces whose widths grow with their distance to it,
+    on which |T| ~ C/|t - t_s|^k changes by a factor of about e^POLE_GROWTH at most,
+    so that one pass decides most of them (a uniform cut would spend most pieces far
+    from the pole, and a coarser one leaves them open for another pass)."""
+    s, c = min(((s, e.hi) for s, e in instants if not s.torque_bounded),
+               key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
+    q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
+    d = 0.45 * res
+    width = max(hi - lo, d)
+    n = math.ceil(math.log(width / d) / math.log(q)) + 1
+    steps = d * q ** np.arange(n + 1)
+    if cap < width:  # no piece wider than cap: beyond, steps of cap
+        steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
+        more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
+        steps = np.concatenate([steps, more])
+    cuts = np.concatenate([c - steps, c + steps])
+    ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
+    return ends[:-1], ends[1:]

@@ -1,5 +1,5 @@
 """T1, T2 and their time derivatives in arb scalars at a handful of times: the points
-that bracket a crossing of |T_i| = L_i in the limit check (``limits._newton``).
+that bracket a crossing of |T_i| = L_i in the limit check (``Scalars.bracket``).
 
 A ball pass over vectors costs its numpy calls (~2-3 ms for the values at points,
 whatever their number); one arb evaluation of the formulas at a point costs ~0.06-0.1 ms.
@@ -18,16 +18,18 @@ ball is too wide to tell, the point decides nothing and the bracket is bisected.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from flint import arb, ctx
 
-from ..certified.balls import hypot
+from ..certified.balls import Ball, hypot
 from ..certified.motion import CertifiedMotion
 from ..certified.taylor_forms import TAYLOR_PREC, coef, series_at, taylor_at_instant
 from ..exact.series import taylor
 
 Pair = tuple[arb, arb]
+STEPS = 40  # Newton steps of a bracketing (``Scalars.bracket``), at most
 
 
 class Scalars:
@@ -96,3 +98,51 @@ class Scalars:
         v = (coef(got[0], 0), coef(got[1], 0))
         d = (coef(got[0], 1), coef(got[1], 1)) if n > 1 else v
         return (v, d) if all(x.is_finite() for x in (*v, *d)) else None
+
+    def bracket(
+        self, i: int, limit: float, a: float, z: float, res: float, t: float
+    ) -> tuple[float, float]:
+        """A crossing of |T_i| = limit in the box between a (|T_i| <= limit there) and z
+        (> limit), |T_i| monotone between, bracketed by arb scalars: Newton's method on
+        f = |T_i| - limit (T_i and T_i' at a point, ``slope``) chooses the points,
+        each point's certified value moves a or z to it (on the side it proves); once a
+        step is shorter than ``res``, the two points 0.45 res either side of the estimate
+        close the bracket. A step outside (a, z), or a failed evaluation, bisects. From
+        the estimate t; returns (a, z), within ``res`` of each other unless STEPS did
+        not suffice."""
+        for _ in range(STEPS):
+            if abs(z - a) <= res:
+                break
+            got = self.slope(t)
+            est = 0.5 * a + 0.5 * z
+            if got is not None:
+                v = Ball.of_arb(got[0][i])
+                d = float(got[1][i].mid())
+                a, z = _moved(t, v, limit, a, z)
+                f = abs(float(v.mid)) - limit
+                step = -f / (math.copysign(1.0, float(v.mid)) * d) if d != 0.0 else math.inf
+                if math.isfinite(step) and (t + step - a) * (z - t - step) > 0:
+                    est = t + step
+                if abs(step) < res:  # close: the two points either side decide
+                    sign = math.copysign(1.0, z - a)
+                    for p in (est - 0.45 * res * sign, est + 0.45 * res * sign):
+                        if (p - a) * (z - p) > 0:
+                            w = self.point(p)
+                            if w is not None:
+                                a, z = _moved(p, Ball.of_arb(w[i]), limit, a, z)
+                    est = 0.5 * a + 0.5 * z
+            if not (est - a) * (z - est) > 0:
+                break
+            t = est
+        return a, z
+
+
+def _moved(t: float, v: Ball, limit: float, a: float, z: float) -> tuple[float, float]:
+    """The bracket (a below the limit, z above it) moved to t where t lies strictly
+    between them and the certified value v = T_i(t) decides its side."""
+    if (t - a) * (z - t) > 0:
+        if float(v.upper_abs()) <= limit:
+            return t, z
+        if float(v.lower_abs()) > limit:
+            return a, t
+    return a, z

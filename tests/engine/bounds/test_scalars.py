@@ -4,7 +4,7 @@ reference (``tests.reference``: mpmath at 60 digits and more, no engine code).
 * ``Scalars.slope`` at a float time: the balls of T1, T2 hold the reference values, and
   the balls of T1', T2' hold the reference's central difference quotient (step 1e-25 s:
   its error, ~1e-50 |T'''|, far below the balls' radii).
-* The windows of a limit check bracketed by Newton's method in arb (``limits._newton``):
+* The windows of a limit check bracketed by Newton's method in arb (``Scalars.bracket``):
   each end [lo, hi] is at most the resolution wide and holds the root of |T_i| = limit
   found by bisection on the reference values alone, from a bracket a thousand times
   wider.
