@@ -122,3 +122,19 @@ def test_newton_brackets_hold_the_reference_crossings(name: str, limit: float) -
                 assert lo <= root <= hi, (key, lo, hi, root)
                 ends += 1
     assert 2 <= ends <= 2 * ARB_CROSSINGS  # the crossings Newton's method bracketed
+
+
+@pytest.mark.parametrize("name", CONFIGS[:2])
+def test_at_a_pole_the_arb_scalars_give_nothing_and_beside_it_the_reference(name: str) -> None:
+    task = _config(name)
+    motion = _motion(task)
+    S = Scalars(motion)
+    for s, e in motion.instants:
+        assert not s.torque_bounded and float(e.exact) == e.hi  # a pole at a float time
+        assert S.point(e.hi) is None  # T undefined there: no ball, nothing decided
+        t = e.hi + 1e-7
+        got = S.point(t)
+        assert got is not None
+        ref = reference(task, t)
+        assert abs(ref["T2"]) > 1e4 or abs(ref["T1"]) > 1e4  # beside the pole
+        assert _contains(got[0], ref["T1"]) and _contains(got[1], ref["T2"])
