@@ -180,6 +180,7 @@ class LimitChecks:
     poles: list[SingularInstant]
     box_models: int
     throughs: list[Any]
+    _hull_first: bool
     _first: Bounds | None
     _peak: tuple[Peak, Peak] | None
 
@@ -344,7 +345,11 @@ class LimitChecks:
         no derivative, no point), which decide a limit far above or below the torques;
         the boxes it leaves open are cut (``fan`` each) and given the full pass
         (``bounds``) at once, the others kept as the coarse pass decided them."""
-        B = self.coarse(lo, hi, float(L.min()))
+        self._hull_first = True  # no zone about a bounded instant where one form will do
+        try:
+            B = self.coarse(lo, hi, float(L.min()))
+        finally:
+            self._hull_first = False
         up, floor = B.upper_abs(), B.lower_abs()
         up = np.where(np.isnan(up), np.inf, up)
         floor = np.where(floor > L[:, None], floor, 0.0)  # a bound at every time of the box
