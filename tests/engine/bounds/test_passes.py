@@ -3,11 +3,13 @@
 A pass is one evaluation of the formulas on a vector of balls: ``Envelope._pass`` (over
 boxes, with derivatives), ``Envelope._values`` (at points, or over boxes without
 derivatives), ``CertifiedMotion.ball_pass``, ``Batch._pass`` and ``Batch._values``, and
-the probes that choose a zone's width (``zones._needed``). A pass costs its calls, not
-its length, so the count is the cost of a verdict in a form that does not depend on the
-machine. Each task is audited three ways: by default (its own checks: no peak), with the
-peak (``--peak``), and under a [300, 300] torque limit without the peak. A change that
-costs passes shows here; one that saves them updates the tables on purpose.
+the probes that choose a zone's width (``zones._needed``); the single points at which
+arb scalars bracket a crossing (``scalars.Scalars``, ~0.1 ms each) are not passes. A
+pass costs its calls, not its length, so the count is the cost of a verdict in a form
+that does not depend on the machine. Each task is audited three ways: by default (its
+own checks: no peak), with the peak (``--peak``), and under a [300, 300] torque limit
+without the peak. A change that costs passes shows here; one that saves them updates
+the tables on purpose.
 """
 
 from __future__ import annotations
