@@ -10,7 +10,8 @@ points); the runs of boxes not below the limit that hold a box above it are the 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from flint import fmpq
@@ -20,6 +21,7 @@ from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
 from .boxes import START_BOXES, Bounds, partition, split
+from .scalars import Scalars
 from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
 from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
 
@@ -28,6 +30,7 @@ PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPR
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
+ARB_CROSSINGS = 10  # crossings bracketed by arb scalars (``Scalars.bracket``), at most
 
 
 def fan(n_live: int) -> int:
@@ -176,6 +179,8 @@ class LimitChecks:
     t_last: float
     poles: list[SingularInstant]
     box_models: int
+    throughs: list[Any]
+    _hull_first: bool
     _first: Bounds | None
     _peak: tuple[Peak, Peak] | None
 
@@ -190,6 +195,11 @@ class LimitChecks:
         def _values(self, t: np.ndarray) -> Ball: ...
 
         def coarse(self, lo: np.ndarray, hi: np.ndarray, need: float) -> Ball: ...
+
+    @cached_property
+    def scalars(self) -> Scalars:
+        """T1, T2 in arb scalars at a few points and over a few boxes (``scalars``)."""
+        return Scalars(self.motion)
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
         """Branch and bound on the states of boxes (below, above, open): the open boxes
@@ -335,7 +345,11 @@ class LimitChecks:
         no derivative, no point), which decide a limit far above or below the torques;
         the boxes it leaves open are cut (``fan`` each) and given the full pass
         (``bounds``) at once, the others kept as the coarse pass decided them."""
-        B = self.coarse(lo, hi, float(L.min()))
+        self._hull_first = True  # no zone about a bounded instant where one form will do
+        try:
+            B = self.coarse(lo, hi, float(L.min()))
+        finally:
+            self._hull_first = False
         up, floor = B.upper_abs(), B.lower_abs()
         up = np.where(np.isnan(up), np.inf, up)
         floor = np.where(floor > L[:, None], floor, 0.0)  # a bound at every time of the box
@@ -361,7 +375,7 @@ class LimitChecks:
         los, his = split(lo[plain], hi[plain], k)
         parts = [(los, his, np.repeat(plain, k))]
         for j in np.nonzero(pole)[0]:  # pieces growing away from the pole
-            plo, phi = self._around_pole(float(lo[j]), float(hi[j]), res, cap)
+            plo, phi = _around_pole(self.motion.instants, float(lo[j]), float(hi[j]), res, cap)
             parts.append((plo, phi, np.full(len(plo), j)))
         return tuple(np.concatenate([p[q] for p in parts]) for q in range(3))  # type: ignore[return-value]
 
@@ -413,6 +427,12 @@ class LimitChecks:
         reach = float(np.max(hi - lo)) / near
         spread = near * PROBE_SPREAD ** np.arange(max(1, math.ceil(math.log(reach, PROBE_SPREAD))))
         offsets = np.concatenate([-spread[::-1], [0.0], spread])
+        if k <= ARB_CROSSINGS and not self.throughs:  # a few points each: arb scalars
+            est0 = _estimate(a, fa, z, fz, c, fc, np.minimum(a, z), np.maximum(a, z))
+            for q in range(k):
+                a[q], z[q] = self.scalars.bracket(int(rows[q]), float(lim[q]), float(a[q]),
+                                                  float(z[q]), res, float(est0[q]))  # fmt: skip
+            return _record(rows, lo, hi, up, a, z, res, done)
         for _ in range(CROSSING_STEPS):
             j = np.nonzero(np.abs(z - a) > res)[0]
             if not len(j):
@@ -441,26 +461,28 @@ class LimitChecks:
                 out |= (lo <= e.hi + e.err + abs(e.lo)) & (hi >= e.hi - e.err - abs(e.lo))
         return out
 
-    def _around_pole(
-        self, lo: float, hi: float, res: float, cap: float = math.inf
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
-        nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
-        pole (left undecided), and pieces whose widths grow with their distance to it,
-        on which |T| ~ C/|t - t_s|^k changes by a factor of about e^POLE_GROWTH at most,
-        so that one pass decides most of them (a uniform cut would spend most pieces far
-        from the pole, and a coarser one leaves them open for another pass)."""
-        s, c = min(((s, e.hi) for s, e in self.motion.instants if not s.torque_bounded),
-                   key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
-        q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
-        d = 0.45 * res
-        width = max(hi - lo, d)
-        n = math.ceil(math.log(width / d) / math.log(q)) + 1
-        steps = d * q ** np.arange(n + 1)
-        if cap < width:  # no piece wider than cap: beyond, steps of cap
-            steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
-            more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
-            steps = np.concatenate([steps, more])
-        cuts = np.concatenate([c - steps, c + steps])
-        ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
-        return ends[:-1], ends[1:]
+
+def _around_pole(
+    instants: list[tuple[SingularInstant, Any]], lo: float, hi: float, res: float,
+    cap: float = math.inf,
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """[lo, hi] (holding a pole of order k) cut at t_p ± d q^j (d = 0.45 res, t_p the
+    nearest float to the pole, q = 1 + POLE_GROWTH/k): a piece of width 2d about the
+    pole (left undecided), and pieces whose widths grow with their distance to it,
+    on which |T| ~ C/|t - t_s|^k changes by a factor of about e^POLE_GROWTH at most,
+    so that one pass decides most of them (a uniform cut would spend most pieces far
+    from the pole, and a coarser one leaves them open for another pass)."""
+    s, c = min(((s, e.hi) for s, e in instants if not s.torque_bounded),
+               key=lambda p: abs(p[1] - 0.5 * (lo + hi)))  # fmt: skip
+    q = 1.0 + POLE_GROWTH / max(s.pole_order, 1)
+    d = 0.45 * res
+    width = max(hi - lo, d)
+    n = math.ceil(math.log(width / d) / math.log(q)) + 1
+    steps = d * q ** np.arange(n + 1)
+    if cap < width:  # no piece wider than cap: beyond, steps of cap
+        steps = steps[: int(np.searchsorted(steps * (q - 1), cap)) + 1]
+        more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
+        steps = np.concatenate([steps, more])
+    cuts = np.concatenate([c - steps, c + steps])
+    ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
+    return ends[:-1], ends[1:]

@@ -1,7 +1,10 @@
 """The torques near singular instants, where the direct enclosure is poor (λ = μ/δ
 cancels): the zone form inside a zone about an instant (``zones.Zone``), else a Taylor
 form per box: the Lagrange form about a bounded t_s in the box (``taylor_lambda``), or
-the box's own Taylor model (``taylor_box``), at most MAX_BOX_MODELS per task.
+the box's own Taylor model (``taylor_box``), at most MAX_BOX_MODELS per task. In the
+limit check's coarse pass, a bounded instant without a zone yet is first tried with one
+Lagrange form over the hull of the poor boxes about it (``_over_hull``): where that
+bounds T below the limit, no zone is made.
 ``NearForms`` is a part of ``envelope.Envelope``."""
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ class NearForms:
     _coeffs: dict[int, list[list[arb]]]  # Taylor coefficients about instants
     _zones: dict[int, Zone | None]  # about the instants (``zone``)
     _pole_zones: bool  # zones about poles too, not only where points are poor
+    _hull_first = False  # about a bounded instant, one Lagrange form first (``_over_hull``)
 
     if TYPE_CHECKING:
 
@@ -65,6 +69,12 @@ class NearForms:
         for k, (s, e) in enumerate(self.motion.instants):
             if not (s.torque_bounded or self._pole_zones or self._poor_beside(e, pts, poor_p)):
                 continue  # beside a pole the direct form is good: no zone needed (yet)
+            if self._hull_first and s.torque_bounded and k not in self._zones and not len(pts):
+                hull = self._over_hull(k, lo, hi, poor_b, need)
+                if hull is not None:  # every poor box about it proven below ``need``
+                    B = put_narrower(B, hull[0], hull[1])
+                    covered[hull[0]] = True
+                    continue
             zone = self.zone(k)
             if zone is None:
                 continue
@@ -95,6 +105,36 @@ class NearForms:
                     np.array([[float(np.ravel(g.mid)[0])] for g in col]),
                     np.array([[float(np.ravel(g.rad)[0])] for g in col])))  # fmt: skip
         return P, B
+
+    def _over_hull(
+        self, k: int, lo: np.ndarray, hi: np.ndarray, poor: np.ndarray, need: float
+    ) -> tuple[np.ndarray, Ball] | None:
+        """The boxes ``poor`` within t_f/8 of the k-th instant (bounded) and T over their
+        hull H, which holds t_s: λ by the Lagrange form about t_s over H
+        (``taylor_lambda``), the rest by one evaluation over H; returned only when
+        |T_i| <= ``need`` over H for both torques (then no zone is needed for a bound of
+        ``need``: a zone costs a ball pass and series of 20-50 terms). T over H bounds T
+        over each of its boxes."""
+        s, e = self.motion.instants[k]
+        idx = np.nonzero(poor & (np.abs(0.5 * lo + 0.5 * hi - e.hi) <= self.tf / 8))[0]
+        if not len(idx):
+            return None
+        h0, h1 = float(lo[idx].min()), float(hi[idx].max())
+        if not (e.compare(np.array([h0]))[0] <= 0 <= e.compare(np.array([h1]))[0]):
+            return None
+        lam = taylor_lambda(self.motion, s, h0, h1, self._taylor(k))
+        if lam is None:
+            return None
+        with quiet():
+            t = Ball.hull(np.array([h0]), np.array([h1]))
+            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+        T = T.normal()
+        if not bool((T.upper_abs() <= need).all()):
+            return None
+        cols = np.broadcast_to(T.mid.reshape(2, 1), (2, len(idx)))
+        rads = np.broadcast_to(T.rad.reshape(2, 1), (2, len(idx)))
+        return idx, Ball._of(cols.copy(), rads.copy())
 
     def _zone_torques(self, zone: Zone, mid: np.ndarray, rad: np.ndarray) -> Ball:
         """T (stacked) over the balls mid ± rad of time inside a zone, λ from its form."""
