@@ -91,9 +91,15 @@ def _residual(task: Task, t_s: Q, e: tuple[Q, Q]) -> Any:
     return box_reference.residual_of(task, task.robot.links, _evaluate(task, t_s, e))
 
 
-def _worst(task: Task, corners: list[Any], t: Q, j: int) -> Any:
-    """max over the box's corners of |T_j(t)| (the reference's efforts)."""
-    return max(abs(_evaluate(_task_with(task, links), t, e)[f"T{j}"]) for links, e in corners)
+def _above(task: Task, corners: list[Any], t: Q, bound: Any) -> bool:
+    """Whether |T_1(t)| or |T_2(t)| exceeds ``bound`` at some corner of the box (the
+    reference's efforts): max over the corners of max(|T1|, |T2|) > bound, each corner
+    evaluated once and the search stopped at the first corner above."""
+    for links, e in corners:
+        v = _evaluate(_task_with(task, links), t, e)
+        if abs(v["T1"]) > bound or abs(v["T2"]) > bound:
+            return True
+    return False
 
 
 def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q) -> tuple[Q, Q]:
@@ -102,10 +108,10 @@ def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q)
     (below)."""
     limit = Q(int(task.checks.torque_limit[0].p), int(task.checks.torque_limit[0].q))
 
+    bound = mpmath.mpf(limit.numerator) / limit.denominator  # mpmath 1.3 compares no Fraction
+
     def above(h: Q) -> bool:
-        t = t_s + d * h
-        bound = mpmath.mpf(limit.numerator) / limit.denominator  # mpmath 1.3 compares no Fraction
-        return any(_worst(task, corners, t, j) > bound for j in (1, 2))
+        return _above(task, corners, t_s + d * h, bound)
 
     assert above(near) and not above(far)
     while far - near > Q(1, 10**9):
