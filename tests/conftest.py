@@ -237,34 +237,40 @@ def reused_runs() -> Iterator[None]:
         check.run_checks = real
 
 
-# -- one test process per costly shared fixture ------------------------------------------------
-def _group(item: pytest.Item) -> str | None:
-    """The group of a test that uses a module- or session-scoped fixture of this test tree
-    (an audit of a corpus, README's session, a saved sheet): the first such fixture's
-    place and name."""
-    info = getattr(item, "_fixtureinfo", None)
-    for name in getattr(item, "fixturenames", ()):
-        defs = info.name2fixturedefs.get(name) if info is not None else None
-        if defs and defs[-1].scope in ("module", "session") and defs[-1].baseid.startswith("tests"):
-            return f"{Path(defs[-1].baseid).stem}.{name}"
-    return None
+# -- one test process per costly shared result ---------------------------------------------
+# Helper modules whose results (functools caches) several test modules read: each module
+# that imports one runs in the same test process as the others, so the result is computed
+# once. tests/sheets.py: each config audited and each sheet drawn (~20 CPU-s in all).
+SHARED_HELPERS = {"tests.sheets": "sheets"}
+
+
+def _group(item: pytest.Item) -> str:
+    """The group a test runs in under ``--dist loadgroup``: its module's shared helper
+    (SHARED_HELPERS), else its module (the module's fixtures, caches and imports: one
+    process pays for them)."""
+    module = getattr(item, "module", None)
+    for value in vars(module).values() if module is not None else ():
+        helper = SHARED_HELPERS.get(getattr(value, "__module__", None) or "")
+        if helper is not None:
+            return helper
+    return item.nodeid.split("::", 1)[0]
 
 
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under ``--dist loadgroup`` (pyproject.toml) every test of a group runs in one test
-    process, so that a costly shared fixture is computed once, not once per process: the
-    tests of a module- or session-scoped fixture (``_group``) are marked
-    ``xdist_group(GROUP)``. pytest-xdist schedules by a ``@GROUP`` suffix on the test's id,
+    process, so that what its tests share is computed once, not once per process: each
+    test is marked ``xdist_group(GROUP)`` (``_group``) unless it names its own group.
+    pytest-xdist hands the groups out most tests first, so the small groups even the two
+    processes out at the end. It schedules by a ``@GROUP`` suffix on the test's id,
     which its worker writes to ``item._nodeid`` before this hook has marked the test, and
     pytest 9.2 keeps the id in ``item._id``: the suffix is written here when it is missing
     (on any other layout the tests spread like the others: slower, never wrong)."""
     if not getattr(config.option, "loadgroup", False):
         return
     for item in items:
-        group = _group(item)
-        if group is not None and not item.get_closest_marker("xdist_group"):
-            item.add_marker(pytest.mark.xdist_group(group))
+        if not item.get_closest_marker("xdist_group"):
+            item.add_marker(pytest.mark.xdist_group(_group(item)))
         names = sorted({str(m.args[0] if m.args else m.kwargs.get("name", "default"))
                         for m in item.iter_markers("xdist_group")})  # fmt: skip
         if not names or "@" in item.nodeid:

@@ -61,7 +61,7 @@ def motions(paths: Sequence[str], samples: int = SAMPLES) -> list[P.Motion]:
 
 @functools.cache
 def _sheet(paths: tuple[str, ...]) -> Figure:
-    return P.render(motions(paths), pole_inset=True)
+    return _shared(P.render(motions(paths), pole_inset=True))
 
 
 def sheet(paths: Sequence[str]) -> Figure:
@@ -74,6 +74,26 @@ def _renderer(dpi: int) -> RendererAgg:
     return RendererAgg(1, 1, dpi)  # type: ignore[no-untyped-call]
 
 
+# The shared figures (``sheet``, ``repaired``; kept for the whole test process, so their ids
+# are theirs alone) -> the resolution ``drawn`` last laid them out at (None: since then
+# drawn otherwise, as by a save at another resolution). They are never changed, so a second
+# layout at the same resolution would place everything where it is: it is skipped.
+_LAID_OUT: dict[int, int | None] = {}
+
+
+def _shared(fig: Figure) -> Figure:
+    """``fig`` as a shared figure: any draw of it but ``drawn``'s forgets its layout."""
+    draw = fig.draw
+
+    def any_draw(renderer: Any) -> None:
+        _LAID_OUT[id(fig)] = None
+        draw(renderer)
+
+    fig.draw = any_draw  # type: ignore[method-assign]
+    _LAID_OUT[id(fig)] = None
+    return fig
+
+
 def drawn(fig: Figure, dpi: int = DPI) -> Any:
     """Lay ``fig`` out at ``dpi`` on an Agg canvas as a draw would (ticks, text, legends
     placed) without painting; returns the renderer to measure it with.
@@ -82,11 +102,15 @@ def drawn(fig: Figure, dpi: int = DPI) -> Any:
     figure: a renderer caches the size of each text (and each mathtext parse) it has
     measured, and the sheets share most of theirs. What a draw places depends on the
     renderer's resolution only, never on its canvas size (not painted: it stays 1 x 1)."""
+    renderer = _renderer(dpi)
+    if _LAID_OUT.get(id(fig), 0) == dpi:  # a shared figure, laid out at dpi already
+        return renderer
     fig.set_dpi(dpi)
     FigureCanvasAgg(fig)
-    renderer = _renderer(dpi)
     with renderer._draw_disabled():
         fig.draw(renderer)
+    if id(fig) in _LAID_OUT:
+        _LAID_OUT[id(fig)] = dpi
     return renderer
 
 
@@ -123,5 +147,5 @@ def repaired(task: str) -> Repaired:
         code, out, err = run_cli("repair", task, "-o", f"{tmp}/r.yaml", "--plot", str(sheet_file))
         written = sheet_file.exists()
     ((fig, ms),) = seen
-    drawn(fig)
+    drawn(_shared(fig))
     return Repaired(code, out, err, written, fig, ms)

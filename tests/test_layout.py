@@ -62,11 +62,16 @@ def modules(root: Path = PACKAGE) -> dict[str, Path]:
     return out
 
 
+# the nodes the rules below read: imports, and what a size is counted of
+_READ = (ast.Import, ast.ImportFrom, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)
+
+
 @functools.cache
 def _nodes(source: str) -> tuple[ast.AST, ...]:
-    """Every node of the syntax tree of ``source``, parsed once per test process (the
-    rules below read the package's modules many times, and only read them)."""
-    return tuple(ast.walk(ast.parse(source)))
+    """Every node of the syntax tree of ``source`` that a rule reads (``_READ``), in
+    ``ast.walk``'s order, parsed once per test process (the rules below read the
+    package's modules many times, and only read them)."""
+    return tuple(n for n in ast.walk(ast.parse(source)) if isinstance(n, _READ))
 
 
 def imported(name: str, source: str, is_package: bool, known: set[str]) -> Iterator[str]:

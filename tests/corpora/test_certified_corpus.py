@@ -340,6 +340,7 @@ def _recomputed_time(name: str) -> float:
     return min(times, key=lambda t: abs(t - float(CORPUS[name].instants[0])))
 
 
+@pytest.mark.slow  # the stored reference recomputed at 60 digits and more: it never changes
 @pytest.mark.parametrize("name", sorted(CORPUS))
 def test_the_stored_reference_is_the_reference_recomputed(name: str) -> None:
     """The stored values are tests/reference.py's, to the digits stored."""

@@ -11,9 +11,9 @@ original's samples outside the changed window.
 from __future__ import annotations
 
 from fractions import Fraction
+from pathlib import Path
 
 import mpmath
-import numpy as np
 import pytest
 
 from rprpr import parse_task
@@ -43,20 +43,43 @@ def _effort(task: Task, t: Fraction, name: str) -> float:
         return float(R._evaluate(task, (x, xd, xdd, y, yd, ydd))[name])
 
 
-def _regular_reference(task: Task, t: np.ndarray, t_s: float, half: float) -> float:
+# The reference's efforts (F1, F2) [N] of PRISMATIC_NO_LIMIT at each of its 1001 sample
+# times but the pole's (t = 2.5 s), stored beside this file: the reference's values never
+# change, and a thousand of them at 60 digits cost seconds. Computed by
+# ``_reference_efforts`` (tests/reference.py at each float sample time, taken exactly) and
+# written by ``python -m tests.repair.test_effort_warning``; a slow test recomputes them.
+EFFORTS = Path(__file__).with_name("path2_prismatic_efforts.csv")
+POLE = 2.5
+
+
+def _reference_efforts(task: Task, times: list[float]) -> dict[float, tuple[float, float]]:
+    """The reference's (T1, T2) at each of ``times`` (floats, taken exactly)."""
+    values = {}
+    for v in times:
+        q = R.reference(task, Fraction(v))
+        values[v] = (float(q["T1"]), float(q["T2"]))
+    return values
+
+
+def _stored_efforts() -> dict[float, tuple[float, float]]:
+    """EFFORTS as written: time -> (T1, T2), each float as its repr."""
+    rows = EFFORTS.read_text(encoding="utf-8").splitlines()[2:]
+    return {float(t): (float(a), float(b)) for t, a, b in (r.split(",") for r in rows)}
+
+
+def _regular_reference(values: dict[float, tuple[float, float]], t_s: float, half: float) -> float:
     """The original's largest regular |effort| (``repair.effort``, docs/robust.md) from the
-    reference's efforts: on the samples outside the changed window, each effort less its
-    pole's leading term c±/(t - t_s), c± = E (t - t_s) at the sample nearest t_s on each
-    side."""
+    reference's efforts ``values`` (time -> (T1, T2) on the samples but t_s): on the
+    samples outside the changed window, each effort less its pole's leading term
+    c±/(t - t_s), c± = E (t - t_s) at the sample nearest t_s on each side."""
     out = 0.0
-    for k in ("T1", "T2"):
-        values = {v: float(R.reference(task, Fraction(v))[k]) for v in t if v != t_s}
-        right = min((v for v in values if v > t_s), key=lambda v: v - t_s)
-        left = max(v for v in values if v < t_s)
-        c = {1: values[right] * (right - t_s), -1: values[left] * (left - t_s)}
+    right = min((v for v in values if v > t_s), key=lambda v: v - t_s)
+    left = max(v for v in values if v < t_s)
+    for k in (0, 1):
+        c = {1: values[right][k] * (right - t_s), -1: values[left][k] * (left - t_s)}
         for v, e in values.items():
             if abs(v - t_s) > half:
-                out = max(out, abs(e - c[1 if v > t_s else -1] / (v - t_s)))
+                out = max(out, abs(e[k] - c[1 if v > t_s else -1] / (v - t_s)))
     return out
 
 
@@ -72,11 +95,30 @@ def test_path_2_on_linear_actuators_is_repaired_with_a_warning_naming_the_forces
     assert abs(at) == pytest.approx(peak[j].value, rel=1e-9)
     assert 6.4e4 < peak[j].value < 6.5e4  # the issue's 64.6 kN
     s = r.before.samples
-    ref = _regular_reference(old, s.t, float(c.t), float(c.window))
+    values = _stored_efforts()  # the reference's, on the same samples
+    assert float(c.t) == POLE and list(values) == [float(v) for v in s.t if v != POLE]
+    ref = _regular_reference(values, float(c.t), float(c.window))
     (shown,) = [float(x) for x in w.split("outside the changed windows (")[1].split()[:1]]
     assert shown == pytest.approx(ref, rel=1e-5)  # the same samples: the same largest (6 digits)
     assert peak[j].value > RATIO * shown
     assert f"|F{j + 1}| = {peak[j].value:.6g} N" in w and "wider --window" in w
+
+
+@pytest.mark.slow  # a thousand reference evaluations at 60 digits and more
+def test_the_stored_efforts_are_the_references() -> None:
+    stored = _stored_efforts()
+    assert _reference_efforts(parse_task(PRISMATIC_NO_LIMIT), list(stored)) == stored
+
+
+def _write_efforts() -> None:
+    """EFFORTS from the reference, at the audit's sample times but the pole's."""
+    from rprpr import audit
+
+    task = parse_task(PRISMATIC_NO_LIMIT)
+    times = [float(v) for v in audit(task).samples.t if v != POLE]
+    lines = ["# the reference's efforts of PRISMATIC_NO_LIMIT (test_effort_warning.py)", "t,T1,T2"]
+    lines += [f"{t!r},{a!r},{b!r}" for t, (a, b) in _reference_efforts(task, times).items()]
+    EFFORTS.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
 def test_a_gentle_repair_warns_of_nothing() -> None:
@@ -124,3 +166,7 @@ def test_a_kept_pole_or_the_originals_pole_tail_does_not_silence_the_warning(
     assert abs(_effort(r.task, Fraction(at), name)) == pytest.approx(value, rel=1e-5)
     (shown,) = [float(x) for x in w.split("outside the changed windows (")[1].split()[:1]]
     assert 100 < shown < 200 and value > RATIO * shown  # path 2's legs: ~170 N regular
+
+
+if __name__ == "__main__":
+    _write_efforts()

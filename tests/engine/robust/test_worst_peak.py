@@ -31,10 +31,13 @@ def test_the_peak_between_the_instants_holds_the_references_supremum() -> None:
     corners = [(lk, (sx * a, sy * a)) for lk in _links(task, u) for sx in (-1, 1) for sy in (-1, 1)]
 
     @functools.cache
+    def both(t: float) -> tuple[float, float]:
+        """max over the corners of |T1(t)| and of |T2(t)|, each corner evaluated once."""
+        values = [_evaluate(_task_with(task, lk), Q(t), e) for lk, e in corners]
+        return max(abs(float(v["T1"])) for v in values), max(abs(float(v["T2"])) for v in values)
+
     def worst(t: float, j: int) -> float:
-        return max(
-            abs(float(_evaluate(_task_with(task, lk), Q(t), e)[f"T{j}"])) for lk, e in corners
-        )
+        return both(t)[j - 1]
 
     pieces = [(0.0, r.span[0]), (r.span[1], 5.0)]
     for j, (lo, hi) in ((1, result.robust_peak[0]), (2, result.robust_peak[1])):
