@@ -44,7 +44,10 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     from ..model.options import AuditOptions
     from ..render import export as E
 
+    from ..engine.five_bar_audit import refuse_command
+
     with task_named(task):
+        refuse_command(loaded, "export")
         result = audit(loaded, AuditOptions(samples))
     if output_file is None:
         with writing("the samples", None, ExitCode.PASSED):

@@ -208,9 +208,12 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     from ..model.options import AuditOptions
     from ..render import sheet as P
 
+    from ..engine.five_bar_audit import refuse_command
+
     motions = []
     for task, src in loaded:
         with task_named(src):
+            refuse_command(task, "plot")
             motions.append(P.motion(audit(task, AuditOptions(samples, peak=True)), src))
     return motions
 

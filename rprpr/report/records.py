@@ -185,7 +185,12 @@ def _saturations(result: AuditResult) -> dict[int, list[dict[str, Any] | None]]:
 
 
 def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
-    """The report of one audited task (the ``reports[]`` entries of ``--format json``)."""
+    """The report of one audited task (the ``reports[]`` entries of ``--format json``);
+    a 5R task's is ``five_bar_records.five_bar_report``."""
+    if not isinstance(result, AuditResult):
+        from .five_bar_records import five_bar_report
+
+        return five_bar_report(result, task_path)
     task = result.task
     saturation = _saturations(result)
     sings = [singularity_record(s, saturation.get(id(s))) for s in result.singularities]
