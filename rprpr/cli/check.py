@@ -347,9 +347,8 @@ def _attach(
     the sheet of ``result`` as SVG, drawn within what is left of the task's budget (a
     report format never turns a verdict into a budget error: out of time, or failing to
     draw, the task has a one-line note instead of its sheet)."""
-    from ..report.run import Attachment
-
     from ..engine.audit import AuditResult as Audited
+    from ..report.run import Attachment
 
     source = _source_lines(options.stdin if name == STDIN else None, name)
     if result is None or not options.sheets:

@@ -205,10 +205,9 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     """Each loaded task (with its file) audited on ``samples`` points and made ready to
     draw."""
     from ..engine.audit import audit
+    from ..engine.five_bar_audit import refuse_command
     from ..model.options import AuditOptions
     from ..render import sheet as P
-
-    from ..engine.five_bar_audit import refuse_command
 
     motions = []
     for task, src in loaded:

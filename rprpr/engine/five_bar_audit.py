@@ -98,6 +98,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     x, y = piece.x, piece.y
     tell(FACTORING)
     r = task.robot
+    assert r.five_bar is not None  # a 5R task's robot (``model.five_bar``)
     p = fb.params(r.five_bar, r.gravity)
     if any(fb.curve(p, s, x, y).is_zero() for s in (1, -1)):
         analysis = FiveBarAnalysis((), (), (fmpq_poly(), fmpq_poly()))
@@ -152,7 +153,9 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
             "checks.torque_limit",
         )
     if peak:
-        raise _error(task, f"the certified torque peak (--peak, checks.peak) is {YET}", "checks.peak")
+        raise _error(
+            task, f"the certified torque peak (--peak, checks.peak) is {YET}", "checks.peak"
+        )
 
 
 def refuse_command(task: Task, command: str) -> None:
@@ -219,8 +222,8 @@ def where_text(s: FiveBarInstant, t: str) -> str:
     """``t = 0.5 s, (x, y) = (0.969, 0.754), modes (+1, -1), σ = -1, order 1``."""
     e1, e2 = s.modes
     return (
-        f"t = {t} s, (x, y) = ({number(s.x)}, {number(s.y)}), modes ({e1:+d}, {e2:+d}), σ = {s.sigma:+d},"
-        f" order {s.order}"
+        f"t = {t} s, (x, y) = ({number(s.x)}, {number(s.y)}), modes ({e1:+d}, {e2:+d}),"
+        f" σ = {s.sigma:+d}, order {s.order}"
     )
 
 
@@ -232,7 +235,6 @@ def unbounded_text(s: FiveBarInstant, where: str) -> str:
         f"consistent (the reciprocity condition holds), but only {s.conditions_met} of"
         f" {s.order} boundedness conditions hold"
         if s.consistent
-        else "inconsistent: reciprocity residual"
-        f" {exact_number(s.consistency_residual)} N ≠ 0"
+        else f"inconsistent: reciprocity residual {exact_number(s.consistency_residual)} N ≠ 0"
     )
     return f"{where}: torques unbounded (pole of order {pole}): {why}"

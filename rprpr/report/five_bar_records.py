@@ -17,8 +17,8 @@ from typing import Any
 
 from flint import arb, fmpq
 
-from ..engine.five_bar_audit import FiveBarAuditResult
 from ..engine.exact.five_bar_instants import FiveBarInstant
+from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
 from ..model.rules import RULES
