@@ -102,24 +102,28 @@ def _poly(cs: tuple[Q, ...]) -> str:
     return " + ".join(f"({c.numerator}/{c.denominator})*t^{i}" for i, c in enumerate(cs))
 
 
-def task_file(folder: Path, name: str, m: Motion, extra: str = "") -> Path:
-    """A 5R task: ROBOT in working modes (+1, -1), the end point's x(t), y(t) as one piece
-    of motion.pieces, 0 <= t <= TF."""
+def robot_text() -> str:
+    """ROBOT in working modes (+1, -1) as a task file's robot section."""
     rb = ROBOT
     links = "\n".join(
         f"    {i + 1}: {{mass: {_decimal(rb.mass[i])}, inertia: {_decimal(rb.inertia[i])},"
         f" r: {_decimal(rb.r[i])}}}"
         for i in range(4)
     )
-    m = absolute(m)
-    text = (
-        f"name: {name}\nrobot:\n  mechanism: 5R\n  base: {_decimal(rb.a)}\n"
+    return (
+        f"robot:\n  mechanism: 5R\n  base: {_decimal(rb.a)}\n"
         f"  lengths: [13, 13, 13, 13]\n  modes: [+1, -1]\n  gravity: {_decimal(rb.g)}\n"
-        f"  links:\n{links}\nmotion:\n  pieces:\n    - until: 0.2\n"
-        f"      x: {_poly(m.x)}\n      y: {_poly(m.y)}\n{extra}"
+        f"  links:\n{links}\n"
     )
+
+
+def task_file(folder: Path, name: str, m: Motion, extra: str = "") -> Path:
+    """A 5R task: ROBOT, the end point's x(t), y(t) as one piece of motion.pieces,
+    0 <= t <= TF."""
+    m = absolute(m)
+    motion = f"motion:\n  pieces:\n    - until: 0.2\n      x: {_poly(m.x)}\n      y: {_poly(m.y)}\n"
     path = folder / f"{name}.rprpr.yaml"
-    path.write_text(text)
+    path.write_text(f"name: {name}\n{robot_text()}{motion}{extra}")
     return path
 
 
@@ -214,3 +218,61 @@ def test_warn_unbounded_downgrades_rpr201_as_for_the_rprpr(tmp_path: Path) -> No
     code, rep = check_json(path, "--warn-unbounded")
     assert code == 0 and rep["verdict"] == "pass"
     assert [(f["rule"], f["severity"]) for f in rep["findings"]] == [("RPR201", "warning")]
+
+
+def test_a_path_with_a_timing_law_has_the_references_instants(tmp_path: Path) -> None:
+    """y = 9.8 + (x - 12.6)/2 through the singular pose, x(t) the rest-to-rest quintic from
+    11.6 to 13.6 in 1 s (x = 11.6 + 2 (10 t³ - 15 t⁴ + 6 t⁵)): every instant the reference
+    finds (the pose at t = 1/2, and any other crossing of S₊ or S₋ in the robot's modes),
+    at its time, with its order and line-up."""
+    path = tmp_path / "line.rprpr.yaml"
+    path.write_text(
+        f"name: line\n{robot_text()}path:\n  y: 9.8 + 0.5*(x - 12.6)\n"
+        "  from: [11.6, 9.3]\n  to: [13.6, 10.3]\ntiming:\n  duration: 1\n  law: quintic\n"
+    )
+    x = (Q(58, 5), Z, Z, Q(20), Q(-30), Q(12))
+    y = (Q(93, 10), Z, Z, Q(10), Q(-15), Q(6))
+    ref = singular_instants(ROBOT, Motion(x, y), MODES, Z, Q(1))
+    assert any(i.t == sp.Rational(1, 2) for i in ref)
+    _, rep = check_json(path)
+    got = rep["singularities"]
+    assert len(got) == len(ref)
+    for s, r in zip(got, ref, strict=True):
+        assert abs(s["t"] - float(sp.N(r.t, 30))) <= 1e-15
+        assert s["t_exact"] == (str(r.t) if r.t.is_Rational else None)
+        assert (s["order"], s["sigma"]) == (r.order, r.sigma)
+    # at the pose, Newton-Euler says the torques diverge: RPR201 fails the task
+    t = sp.Symbol("t")
+    about = [
+        sp.Poly(sum(sp.Rational(c.numerator, c.denominator) * (t + sp.Rational(1, 2)) ** i
+                    for i, c in enumerate(cs)), t).all_coeffs()[::-1]
+        for cs in (x, y)
+    ]  # fmt: skip
+    local = Motion(*(tuple(Q(int(c.p), int(c.q)) for c in cs) for cs in about))
+    assert not bounded_by_newton_euler(local)
+    half = next(s for s in got if s["t_exact"] == "1/2")
+    assert not half["torque_bounded"] and not half["consistent"]
+    assert ("RPR201", 0.5) in [(f["rule"], f["t"]) for f in rep["findings"]]
+    assert rep["verdict"] == "fail"
+
+
+def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> None:
+    """E(t) = (12.6 + 12 t, 9.8): leg 1 is stretched (|E| = l1 + l3 = 26) where
+    (12.6 + 12 t)² + 9.8² = 26², t = (√579.96 - 12.6)/12; RPR103 fails the task there."""
+    m = Motion((Q(63, 5), Q(12)), (Q(49, 5),))
+    path = tmp_path / "stretch.rprpr.yaml"
+    path.write_text(
+        f"name: stretch\n{robot_text()}motion:\n  pieces:\n"
+        "    - until: 1\n      x: 12.6 + 12*t\n      y: 9.8\n"
+    )
+    t = sp.Symbol("t")
+    roots = [r for r in sp.real_roots(sp.Poly((sp.Rational(63, 5) + 12 * t) ** 2
+             + sp.Rational(49, 5) ** 2 - 26**2, t)) if 0 <= r <= 1]  # fmt: skip
+    assert len(roots) == 1 and m.x[1] == 12
+    code, rep = check_json(path)
+    assert code == 1 and rep["verdict"] == "fail"
+    (k,) = rep["kinematic_singularities"]
+    assert (k["leg"], k["kind"], k["t_exact"]) == (1, "stretched", None)
+    assert abs(k["t"] - float(sp.N(roots[0], 30))) <= 1e-15
+    assert [(f["rule"], f["t"]) for f in rep["findings"]] == [("RPR103", k["t"])]
+    assert rep["singularities"] == []
