@@ -21,8 +21,6 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
-from ..model.rules import RULES
-from .records import PEAK_FIELDS, _key_line
 
 
 def value(v: Any) -> float | None:
@@ -72,22 +70,16 @@ def instant_record(s: FiveBarInstant) -> dict[str, Any]:
     }
 
 
-def five_bar_report(result: FiveBarAuditResult, task_path: str) -> dict[str, Any]:
-    """The report of one audited 5R task (a ``reports[]`` entry of ``--format json``)."""
+def five_bar_report(
+    result: FiveBarAuditResult,
+    task_path: str,
+    findings: list[dict[str, Any]],
+    peak: dict[str, None],
+) -> dict[str, Any]:
+    """The report of one audited 5R task (a ``reports[]`` entry of ``--format json``):
+    ``findings`` its findings as records, ``peak`` the torque peak's fields (null)."""
     task = result.task
     piece = task.motion[0]
-    findings = [
-        {
-            "rule": f.rule,
-            "name": RULES[f.rule].name,
-            "severity": "error" if f.fails(result.strict) else "warning",
-            "message": f.message,
-            "t": f.t,
-            "key": f.key,
-            "line": f.line or _key_line(task.lines, f.key),
-        }
-        for f in result.findings
-    ]
     return {
         "task": file_name(task_path),
         "name": task.name,
@@ -108,7 +100,7 @@ def five_bar_report(result: FiveBarAuditResult, task_path: str) -> dict[str, Any
         ],
         "on_singular_line": result.on_singular_curve,
         "knots": [],
-        **dict.fromkeys(PEAK_FIELDS),
+        **peak,
         "torque_limit": None,
         "closest_approach": None,
         "findings": findings,
