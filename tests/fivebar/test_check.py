@@ -276,3 +276,20 @@ def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> Non
     assert abs(k["t"] - float(sp.N(roots[0], 30))) <= 1e-15
     assert [(f["rule"], f["t"]) for f in rep["findings"]] == [("RPR103", k["t"])]
     assert rep["singularities"] == []
+
+
+@pytest.mark.parametrize(("margin", "rules"), [("1.1", []), ("1.2", ["RPR102"])])
+def test_the_speed_margin_is_the_rprprs(tmp_path: Path, margin: str, rules: list[str]) -> None:
+    """The consistent crossing moves at |v| = |(1, 1/2)| = √5/2 = 1.1180 m/s through the
+    pose: checks.min_speed 1.1 passes, 1.2 fails RPR102 with both numbers in the message."""
+    m = motions()["consistent"]
+    assert (m.x[1], m.y[1]) == (1, Q(1, 2))
+    path = task_file(tmp_path, "consistent", m, f"checks:\n  min_speed: {margin}\n")
+    code, rep = check_json(path)
+    assert _rules(rep) == rules and code == (1 if rules else 0)
+    if rules:
+        message = rep["findings"][0]["message"]
+        assert message.endswith(
+            "velocity principle fails: speed 1.11803 m/s does not exceed the margin"
+            " checks.min_speed = 1.2 m/s"
+        )
