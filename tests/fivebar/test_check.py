@@ -220,42 +220,6 @@ def test_warn_unbounded_downgrades_rpr201_as_for_the_rprpr(tmp_path: Path) -> No
     assert [(f["rule"], f["severity"]) for f in rep["findings"]] == [("RPR201", "warning")]
 
 
-def test_a_path_with_a_timing_law_has_the_references_instants(tmp_path: Path) -> None:
-    """y = 9.8 + (x - 12.6)/2 through the singular pose, x(t) the rest-to-rest quintic from
-    11.6 to 13.6 in 1 s (x = 11.6 + 2 (10 t³ - 15 t⁴ + 6 t⁵)): every instant the reference
-    finds (the pose at t = 1/2, and any other crossing of S₊ or S₋ in the robot's modes),
-    at its time, with its order and line-up."""
-    path = tmp_path / "line.rprpr.yaml"
-    path.write_text(
-        f"name: line\n{robot_text()}path:\n  y: 9.8 + 0.5*(x - 12.6)\n"
-        "  from: [11.6, 9.3]\n  to: [13.6, 10.3]\ntiming:\n  duration: 1\n  law: quintic\n"
-    )
-    x = (Q(58, 5), Z, Z, Q(20), Q(-30), Q(12))
-    y = (Q(93, 10), Z, Z, Q(10), Q(-15), Q(6))
-    ref = singular_instants(ROBOT, Motion(x, y), MODES, Z, Q(1))
-    assert any(i.t == sp.Rational(1, 2) for i in ref)
-    _, rep = check_json(path)
-    got = rep["singularities"]
-    assert len(got) == len(ref)
-    for s, r in zip(got, ref, strict=True):
-        assert abs(s["t"] - float(sp.N(r.t, 30))) <= 1e-15
-        assert s["t_exact"] == (str(r.t) if r.t.is_Rational else None)
-        assert (s["order"], s["sigma"]) == (r.order, r.sigma)
-    # at the pose, Newton-Euler says the torques diverge: RPR201 fails the task
-    t = sp.Symbol("t")
-    about = [
-        sp.Poly(sum(sp.Rational(c.numerator, c.denominator) * (t + sp.Rational(1, 2)) ** i
-                    for i, c in enumerate(cs)), t).all_coeffs()[::-1]
-        for cs in (x, y)
-    ]  # fmt: skip
-    local = Motion(*(tuple(Q(int(c.p), int(c.q)) for c in cs) for cs in about))
-    assert not bounded_by_newton_euler(local)
-    half = next(s for s in got if s["t_exact"] == "1/2")
-    assert not half["torque_bounded"] and not half["consistent"]
-    assert ("RPR201", 0.5) in [(f["rule"], f["t"]) for f in rep["findings"]]
-    assert rep["verdict"] == "fail"
-
-
 def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> None:
     """E(t) = (12.6 + 12 t, 9.8): leg 1 is stretched (|E| = l1 + l3 = 26) where
     (12.6 + 12 t)² + 9.8² = 26², t = (√579.96 - 12.6)/12; RPR103 fails the task there."""
@@ -293,3 +257,61 @@ def test_the_speed_margin_is_the_rprprs(tmp_path: Path, margin: str, rules: list
             "velocity principle fails: speed 1.11803 m/s does not exceed the margin"
             " checks.min_speed = 1.2 m/s"
         )
+
+
+@pytest.mark.parametrize(
+    ("law", "x1", "rational"),
+    [("quintic", Q(68, 5), True), ("cubic", Q(14), False)],
+    ids=["symmetric-quintic", "asymmetric-cubic"],
+)
+def test_a_path_with_a_timing_law_has_the_references_instants(
+    tmp_path: Path, law: str, x1: Q, rational: bool
+) -> None:
+    """y = 9.8 + (x - 12.6)/2 through the singular pose, x(t) rest to rest from 11.6 to
+    ``x1`` in 1 s: the quintic to 13.6 passes the pose at t = 1/2 exactly, the cubic to 14
+    at an irrational time (a root of 3τ² - 2τ³ = 5/12). Every instant the reference finds,
+    at its time, with its order and line-up; at the pose Newton-Euler says the torques
+    diverge, and RPR201 fails the task."""
+    x0 = Q(58, 5)
+    path = tmp_path / "line.rprpr.yaml"
+    path.write_text(
+        f"name: line\n{robot_text()}path:\n  y: 9.8 + 0.5*(x - 12.6)\n"
+        f"  from: [11.6, 9.3]\n  to: [{_decimal(x1)}, {_decimal(Q(49, 5) + (x1 - Q(63, 5)) / 2)}]\n"
+        f"timing:\n  duration: 1\n  law: {law}\n"
+    )
+    shape = (Z, Z, Z, Q(10), Q(-15), Q(6)) if law == "quintic" else (Z, Z, Q(3), Q(-2))
+    x = tuple((x0 if i == 0 else Z) + (x1 - x0) * c for i, c in enumerate(shape))
+    y = tuple((Q(49, 5) - Q(63, 10) if i == 0 else Z) + c / 2 for i, c in enumerate(x))
+    ref = singular_instants(ROBOT, Motion(x, y), MODES, Z, Q(1))
+    _, rep = check_json(path)
+    got = rep["singularities"]
+    assert len(got) == len(ref) >= 1
+    for s, r in zip(got, ref, strict=True):
+        assert abs(s["t"] - float(sp.N(r.t, 30))) <= 1e-15
+        assert s["t_exact"] == (str(r.t) if r.t.is_Rational else None)
+        assert (s["order"], s["sigma"]) == (r.order, r.sigma)
+    pose = next((s, r) for s, r in zip(got, ref, strict=True) if (s["x"], s["y"]) == (12.6, 9.8))
+    assert pose[1].t.is_Rational == rational
+    # at the pose, Newton-Euler about the reference's t_s says the torques diverge
+    t = sp.Symbol("t")
+    ts = pose[1].t
+    about = [
+        sp.Poly(sum(sp.Rational(c.numerator, c.denominator) * (t + ts) ** i
+                    for i, c in enumerate(cs)), t).all_coeffs()[::-1]
+        for cs in (x, y)
+    ]  # fmt: skip
+    if rational:
+        local = Motion(*(tuple(Q(int(c.p), int(c.q)) for c in cs) for cs in about))
+        assert not bounded_by_newton_euler(local)
+    assert not pose[0]["torque_bounded"] and not pose[0]["consistent"]
+    assert ("RPR201", pose[0]["t"]) in [(f["rule"], f["t"]) for f in rep["findings"]]
+    assert rep["verdict"] == "fail"
+
+
+@pytest.mark.parametrize("form", ["concise", "github", "gitlab", "sarif", "junit", "html"])
+def test_every_format_reports_a_5r_finding(tmp_path: Path, form: str) -> None:
+    path = task_file(tmp_path, "inconsistent", motions()["inconsistent"])
+    code, out, err = run_cli("check", "--format", form, str(path))
+    assert (code, err) == (1, "")
+    assert "RPR201" in out and "internal" not in out
+    assert "t = 0.1 s, (x, y) = (12.6, 9.8), modes (+1, -1)" in out  # σ: escaped in JSON
