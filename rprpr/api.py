@@ -48,4 +48,6 @@ def audit(
     ``strict``, ``peak``, ``warn_unbounded``), its fields also taken as keywords
     (``audit(task, peak=True)``)."""
     result = _engine.audit(task, options, on_stage=on_stage, **keywords)
+    if not isinstance(result, _engine.AuditResult):  # a 5R task: its own result
+        return result
     return AuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})

@@ -205,12 +205,14 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     """Each loaded task (with its file) audited on ``samples`` points and made ready to
     draw."""
     from ..engine.audit import audit
+    from ..engine.five_bar_audit import refuse_command
     from ..model.options import AuditOptions
     from ..render import sheet as P
 
     motions = []
     for task, src in loaded:
         with task_named(src):
+            refuse_command(task, "plot")
             motions.append(P.motion(audit(task, AuditOptions(samples, peak=True)), src))
     return motions
 

@@ -118,7 +118,10 @@ def repair(
         refuse_overwriting_inputs(outputs, [task])  # before any work
     old, data = _read(task)
     refuse_overwriting_inputs(outputs, task_inputs(task, old))
+    from ..engine.five_bar_audit import refuse_command
+
     with task_named(task):
+        refuse_command(old, "repair")
         try:
             r = repaired(old, keep=keep, window=window_q, slope=slope_q)
         except NoRepair as why:

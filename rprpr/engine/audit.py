@@ -16,14 +16,14 @@ from __future__ import annotations
 from dataclasses import field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import TYPE_CHECKING, Unpack
+from typing import TYPE_CHECKING, Any, Unpack
 
 import numpy as np
 from flint import fmpq
 
 from ..model.dataclass import dataclass
 from ..model.errors import TaskFileError
-from ..model.five_bar import RPRPR
+from ..model.five_bar import FIVE_BAR, RPRPR
 from ..model.numbers import to_float
 from ..model.options import AuditKeywords, AuditOptions
 from ..model.rules import Finding, with_levels
@@ -197,11 +197,13 @@ def audit(
 
     A piecewise motion is audited piece by piece (``pieces``): between knots as one
     polynomial, at each knot from both sides. A task of another mechanism than the
-    RPRPR's is refused (``refuse_unaudited``)."""
-    refuse_unaudited(task)
+    RPRPR's is audited by its own module (``five_bar_audit``: a 5R task's exact
+    verdicts, a ``FiveBarAuditResult``)."""
     o = options or DEFAULT
     if keywords:
         o = replace(o, **keywords)
+    if task.robot.mechanism != RPRPR:
+        return _other(task, o, on_stage or _quiet)
     strict = task.checks.strict if o.strict is None else o.strict
     asked = task.checks.peak if o.peak is None else o.peak
     task = _uncertain(task, o)
@@ -237,19 +239,21 @@ def audit(
     )
 
 
-def refuse_unaudited(task: Task) -> None:
-    """A task whose mechanism this build cannot audit yet (the 5R: read, validated, not
-    audited) is refused here, the audit's one door, rather than audited as an RPRPR: a
-    ``TaskFileError`` at ``robot.mechanism`` (the command line: a bad input, exit 2)."""
-    mechanism = task.robot.mechanism
-    if mechanism != RPRPR:
-        raise TaskFileError(
-            f"the {mechanism} audit is not available in this build (it audits mechanism:"
-            f" {RPRPR} only)",
-            file=task.source,
-            line=task.lines.get("robot.mechanism", 0),
-            key="robot.mechanism",
-        )
+def _other(task: Task, o: AuditOptions, tell: OnStage) -> Any:
+    """The audit of a task of another mechanism than the RPRPR's: the 5R's
+    (``five_bar_audit``, loaded only for such a task); any other is refused here, the
+    audit's one door, rather than audited as an RPRPR: a ``TaskFileError`` at
+    ``robot.mechanism`` (the command line: a bad input, exit 2)."""
+    if task.robot.mechanism == FIVE_BAR:
+        from .five_bar_audit import audit_five_bar
+
+        return audit_five_bar(task, o, tell)
+    raise TaskFileError(
+        f"the {task.robot.mechanism} audit is not available in this build",
+        file=task.source,
+        line=task.lines.get("robot.mechanism", 0),
+        key="robot.mechanism",
+    )
 
 
 def _robust_peak(

@@ -77,8 +77,14 @@ def _instant_line(s: dict[str, Any], t: str, effort: str = "torque") -> str:
         if s["torque_bounded"]
         else f"{effort} unbounded (pole of order {s['pole_order']})"
     )
+    where = (
+        f"(x, y) = ({number(s['x'])}, {number(s['y'])}), modes"
+        f" ({s['modes'][0]:+d}, {s['modes'][1]:+d}), σ = {s['sigma']:+d}"
+        if "modes" in s  # a 5R's instant
+        else f"(x, y) = ({number(s['x'])}, 0), case {s['case']}"
+    )
     return (
-        f"t = {t} s: (x, y) = ({number(s['x'])}, 0), case {s['case']}, order {s['order']}"
+        f"t = {t} s: {where}, order {s['order']}"
         f" {s['kind']}; slope principle {s['slope_principle']}, velocity principle"
         f" {s['velocity_principle']}; {bounded}"
     )

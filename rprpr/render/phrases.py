@@ -69,11 +69,22 @@ def details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
     e = scheme(rep)
     if e.name != REVOLUTE:
         out.append(f"actuation: {e.name} (efforts: forces F1, F2 [{e.unit}] in the legs)")
+    five_bar = "mechanism" in rep  # a 5R: a Type II curve, legs stretched or folded
     if rep["on_singular_line"]:
-        out.append("the path lies on the singular line y = 0")
-    elif not rep["singularities"]:
+        out.append(
+            "the path runs along a Type II curve"
+            if five_bar
+            else "the path lies on the singular line y = 0"
+        )
+    elif not rep["singularities"] and not (five_bar and rep["kinematic_singularities"]):
         out.append("no Type II singular instant in [0, t_f]")
     for k in rep["kinematic_singularities"]:
+        if five_bar:
+            out.append(
+                f"Type I singularity at t = {times[k['t']]} s: leg {k['leg']} {k['kind']}"
+                ": no Type II instant is sought on this path"
+            )
+            continue
         joint = "A" if k["leg"] == 1 else "B"
         out.append(f"inverse-kinematic singularity at t = {times[k['t']]} s: E at {joint}")
     for b in rep["beyond_double_range"]:

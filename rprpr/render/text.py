@@ -55,9 +55,20 @@ def _pf(v: str) -> tuple[str, str]:
     return ("pass", "green") if v == "pass" else ("FAIL", "bold red")
 
 
+# a 5R's instant: its working modes and line-up σ, tan α of its crossing angle with the
+# Type II curve, the reciprocity residual w(t_s) (report.five_bar_records)
+FIVE_BAR_COLUMNS = tuple(
+    {"case σ ψ": ("modes σ", "left"), "dy/dx": ("tan α", "right"),
+     "eq.(34) [N]": ("w(t_s) [N]", "right")}.get(title, (title, just))
+    for title, just in COLUMNS
+)  # fmt: skip
+
+
 def columns(rep: dict[str, Any]) -> tuple[tuple[str, str], ...]:
     """``COLUMNS`` with the titles of the task's actuation scheme (prismatic: the
-    moment balance residual and F(t_s) [N])."""
+    moment balance residual and F(t_s) [N]), or of its mechanism (the 5R's)."""
+    if "mechanism" in rep:
+        return FIVE_BAR_COLUMNS
     e = scheme(rep)
     if e.name == REVOLUTE:
         return COLUMNS
@@ -77,10 +88,17 @@ def instant_cells(s: dict[str, Any], t: str) -> list[tuple[str, str]]:
         if s["torque_bounded"]
         else "unbounded"
     )
+    if "modes" in s:  # a 5R's instant (``FIVE_BAR_COLUMNS``)
+        e1, e2 = s["modes"]
+        where = (f"({_cell(s['x'])}, {_cell(s['y'])})", "")
+        case = (f"{e1:+d} {e2:+d}  {s['sigma']:+d}", "")
+    else:
+        where = (f"({_cell(s['x'])}, 0)", "")
+        case = (f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}", "")
     return [
         (t, ""),
-        (f"({_cell(s['x'])}, 0)", ""),
-        (f"{s['case']}  {s['sigma']:+d} {s['psi']:+d}", ""),
+        where,
+        case,
         (order, "bold red" if s["high_order"] else ""),
         (_cell(s["slope"]), ""),
         (_cell(s["speed"]), ""),

@@ -21,6 +21,7 @@ from ..model.rules import RULES
 from ..model.task import Task
 
 if TYPE_CHECKING:  # the robust machinery loads only for a task that declares uncertainty
+    from ..engine.five_bar_audit import FiveBarAuditResult
     from ..engine.robust.windows import Robust
 
 INVALID_TASK = "RPR001"  # the rule of every input error
@@ -184,27 +185,19 @@ def _saturations(result: AuditResult) -> dict[int, list[dict[str, Any] | None]]:
     return {id(s): saturation_record(limits, (w1, w2)) for s, w1, w2 in sat}
 
 
-def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
-    """The report of one audited task (the ``reports[]`` entries of ``--format json``)."""
+def task_report(result: AuditResult | FiveBarAuditResult, task_path: str) -> dict[str, Any]:
+    """The report of one audited task (the ``reports[]`` entries of ``--format json``);
+    a 5R task's is ``five_bar_records.five_bar_report``."""
+    if not isinstance(result, AuditResult):  # no peak: the certified layers are not there
+        from .five_bar_records import five_bar_report
+
+        return five_bar_report(result, task_path, _findings(result), dict.fromkeys(PEAK_FIELDS))
     task = result.task
     saturation = _saturations(result)
     sings = [singularity_record(s, saturation.get(id(s))) for s in result.singularities]
     for rec, r in zip(sings, result.robust, strict=False):
         rec["robust"] = robust_record(r)  # only with declared uncertainty (docs/robust.md)
-    findings = []
-    for f in result.findings:
-        rule = RULES[f.rule]
-        findings.append(
-            {
-                "rule": f.rule,
-                "name": rule.name,
-                "severity": "error" if f.fails(result.strict) else "warning",
-                "message": f.message,
-                "t": _f(f.t),
-                "key": f.key,
-                "line": f.line or _key_line(task.lines, f.key),
-            }
-        )
+    findings = _findings(result)
     return {
         "task": file_name(task_path),
         "name": task.name,
@@ -226,6 +219,22 @@ def task_report(result: AuditResult, task_path: str) -> dict[str, Any]:
         "beyond_double_range": beyond_double_range(result),
         **uncertainty_fields(task, result.robust_peak),
     }
+
+
+def _findings(result: Any) -> list[dict[str, Any]]:
+    """The findings of an audit (an ``AuditResult`` or a 5R's) as records."""
+    return [
+        {
+            "rule": f.rule,
+            "name": RULES[f.rule].name,
+            "severity": "error" if f.fails(result.strict) else "warning",
+            "message": f.message,
+            "t": _f(f.t),
+            "key": f.key,
+            "line": f.line or _key_line(result.task.lines, f.key),
+        }
+        for f in result.findings
+    ]
 
 
 def robust_record(r: Robust) -> dict[str, Any]:
