@@ -35,6 +35,10 @@ import os, signal, sys, time
 
 mode, argv = sys.argv[1], sys.argv[2:]
 
+# rprpr as started from a terminal: a test run under nohup (SIGHUP ignored, which rprpr
+# keeps ignored on purpose) must not turn the SIGHUP cases into hangs
+signal.signal(signal.SIGHUP, signal.SIG_DFL)
+
 def ready():
     os.write(2, f"READY {os.getpid()}\\n".encode())
 
