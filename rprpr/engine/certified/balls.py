@@ -213,7 +213,23 @@ class Ball:
             t *= _GROW
             t += _PAD
             return _new(c, t)  # the same operations, in the same order, as below
-        prop = (np.abs(am) + ar) * br + ar * np.abs(bm)
+        prop = np.abs(am) + ar
+        prop = prop * br  # as below, (|a| + r_a) r_b + r_a |b| in that order
+        if c.ndim and prop.shape == c.shape:  # broadcast operands: the rest in place
+            u = np.abs(bm)
+            u = np.multiply(ar, u)
+            prop += u
+            if u.shape == c.shape:
+                np.abs(c, out=u)
+            else:
+                u = np.abs(c)
+            u *= U
+            u += ETA
+            prop += u
+            prop *= _GROW
+            prop += _PAD
+            return _new(c, prop)
+        prop = prop + ar * np.abs(bm)
         if c.ndim:  # an array: the last steps in place, no conversion
             u = np.abs(c)
             u *= U
