@@ -268,8 +268,21 @@ class Ball:
             t += u
             t *= _GROW
             t += _PAD  # the same operations, in the same order, as below
-            return _unbounded_where(_new(c, t), ~ok)
-        num = (self.rad * b + np.abs(self.mid) * o.rad) + TINY
+            return _new(c, t) if ok.all() else _unbounded_where(_new(c, t), ~ok)
+        num = ar * b + np.abs(am) * br
+        if c.ndim and num.shape == c.shape:  # broadcast operands: the rest in place
+            num += TINY
+            num /= b
+            num += TINY
+            num /= b - br
+            u = np.abs(c)
+            u *= U
+            u += ETA
+            num += u
+            num *= _GROW
+            num += _PAD  # the same operations, in the same order, as below
+            return _new(c, num) if ok.all() else _unbounded_where(_new(c, num), ~ok)
+        num = num + TINY
         prop = ((num / b) + TINY) / (b - o.rad)
         out = _finish(c, _up(prop + (U * np.abs(c) + ETA)))
         return _unbounded_where(out, ~ok)
