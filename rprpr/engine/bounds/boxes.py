@@ -36,14 +36,15 @@ class Polys:
         self.q = [*q3, poly_balls(q3d), *_fourth(q3d)]
 
     @staticmethod
-    def _enclose(cs: list[list[Ball]], box: Ball) -> list[Ball]:
+    def _enclose(cs: list[list[Ball]], box: Ball, n: int = 4) -> list[Ball]:
         """The polynomial and its first three derivatives over the balls ``box``: by
         Horner's rule, or, where ``cs`` carries the fourth derivative (a degree over
         CENTRED_DEGREE), by the centred form on balls of some width (where cancellation
-        makes Horner's enclosure far too wide)."""
+        makes Horner's enclosure far too wide). By Horner's rule, only the first ``n``
+        (each is evaluated on its own); the centred form makes all four."""
         if len(cs) > 4 and bool(np.any(box.rad > 0)):
             return centred(cs, box)[:4]
-        return [horner(c, box) for c in cs[:4]]
+        return [horner(c, box) for c in cs[:n]]
 
     def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
@@ -58,6 +59,16 @@ class Polys:
         q2 = Jet(qv[2], qv[3] * xv[1])
         y = Jet(qv[0], qv[1] * xv[1])
         return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
+
+    def values(self, motion: CertifiedMotion, box: Ball) -> tuple[Ball, ...]:
+        """x, x', x'', y, y', y'' over the box: the values of ``jets`` (the same ball
+        operations in the same order, so the same balls), without the derivatives."""
+        xv = self._enclose(self.x, box, 3)
+        if self.direct:
+            yv = self._enclose(self.q, box - motion.t_center, 3)
+            return xv[0], xv[1], xv[2], yv[0], yv[1], yv[2]
+        qv = self._enclose(self.q, xv[0] - motion.center, 3)
+        return xv[0], xv[1], xv[2], qv[0], qv[1] * xv[1], qv[2] * xv[1] * xv[1] + qv[1] * xv[2]
 
 
 def _fourth(third: fmpq_poly) -> list[list[Ball]]:

@@ -104,7 +104,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         direct one is poor)."""
         tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
         with quiet():
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, tb))
+            x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, tb)
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
             V = full(T, len(tb.mid))
             for th in self.throughs:  # rare

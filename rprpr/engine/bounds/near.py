@@ -127,7 +127,7 @@ class NearForms:
             return None
         with quiet():
             t = Ball.hull(np.array([h0]), np.array([h1]))
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+            x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
         T = T.normal()
         if not bool((T.upper_abs() <= need).all()):
@@ -142,7 +142,7 @@ class NearForms:
             t = Ball._of(mid, rad)
             eps = zone.e.eps(mid) + Ball(0.0, rad)
             lam = zone.lam(eps)
-            x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+            x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
             T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
         return T
 
@@ -185,7 +185,7 @@ class NearForms:
                 return None
             with quiet():
                 t = Ball.hull(np.array([lo]), np.array([hi]))
-                x, xd, xdd, y, yd, ydd = (J.v for J in self.polys.jets(self.motion, t))
+                x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
                 T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
             return T[0], T[1]
         dist = min(abs(lo - e.hi), abs(hi - e.hi))

@@ -10,7 +10,7 @@ from flint import arb_poly, ctx, fmpq, fmpq_poly
 
 from ..exact import equations as dyn
 from ..exact.series import taylor
-from .balls import Ball, horner, hypot, quiet
+from .balls import Ball, full, horner, hypot, quiet
 from .jets import Jet
 from .motion import CertifiedMotion
 from .stacked import Stacked
@@ -108,10 +108,9 @@ def _jet_rows(reg: Any, own: Any, i: int, n: int) -> Any:
 
 
 def _rows(R: Ball, Own: Ball, i: int, n: int) -> Ball:
-    mid = np.array(np.broadcast_to(R.mid, (2, n)), dtype=float)
-    rad = np.array(np.broadcast_to(R.rad, (2, n)), dtype=float)
-    mid[i] = np.broadcast_to(Own.mid, (n,))
-    rad[i] = np.broadcast_to(Own.rad, (n,))
+    mid, rad = full(R.mid, (2, n)), full(R.rad, (2, n))
+    mid[i] = Own.mid  # broadcast to the row
+    rad[i] = Own.rad
     return Ball._of(mid, rad)
 
 
