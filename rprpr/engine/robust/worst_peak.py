@@ -80,7 +80,7 @@ def worst_peak(
         for n in range(ROUNDS):
             if not len(a):
                 break
-            form = centred if PLAIN <= n and len(a) <= MEAN_CAP else None
+            form = centred if n >= PLAIN and len(a) <= MEAN_CAP else None
             ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at), form)
             best = np.maximum(best, lows)
             top = np.maximum(ups.max(axis=1), dropped)
