@@ -180,41 +180,40 @@ def _bounds(
         sel, at = np.nonzero(k == i)[0], h[hk == i]
         pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
         lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
-        if centred is None:  # the efforts' enclosures over the intervals
-            kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
-            lower = np.arange(len(lo)) < len(at)
-            for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
-                v = np.maximum(h_, -l_)
+        if centred is not None:  # the points as the plain rounds have them, then the form
+            lo, hi = at, at
+        kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
+        lower = np.arange(len(lo)) < len(at)
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+            v = np.maximum(h_, -l_)
+            if centred is None:  # the efforts' enclosures over the intervals
                 ups[j, sel] = v[len(at) :]
-                lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
+            lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
+        if centred is None:
             continue
         a0, b0 = a[sel] - pad, b[sel] + pad
         if int(i) not in centred:
             centred[int(i)] = _centred(parts[int(i)].traj)
         m = 0.5 * a0 + 0.5 * b0
         hw = np.nextafter(np.maximum(m - a0, b0 - m), np.inf)  # |t - m| <= hw on [a0, b0]
-        n, q = len(at), len(m)
-        # one run of ball operations: the values at the points and the midpoints, the
-        # derivatives over the intervals (the points' derivatives are not read)
+        q = len(m)
+        # one run of ball operations: the values at the midpoints and over the intervals,
+        # the derivatives over the intervals (the midpoints' are not read)
         Y, Yd = regressor_jet(task, _jets(centred[int(i)], Ball.hull(
-            np.concatenate([at, m, a0]), np.concatenate([at, m, b0]))))  # fmt: skip
-        Yp = Ball._of(Y.mid[..., :n], Y.rad[..., :n])
-        Ym = Ball._of(Y.mid[..., n : n + q], Y.rad[..., n : n + q])
-        D = Ball._of(Yd.mid[..., n + q :], Yd.rad[..., n + q :])
+            np.concatenate([m, a0]), np.concatenate([m, b0]))))  # fmt: skip
+        Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
+        D = Ball._of(Yd.mid[..., q:], Yd.rad[..., q:])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
         # and the largest effort over the box is convex in t - m there: its ends bound it
-        YI = Ball._of(Y.mid[..., n + q :], Y.rad[..., n + q :])  # over the intervals
+        YI = Ball._of(Y.mid[..., q:], Y.rad[..., q:])  # over the intervals
         Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI]
-        Y3 = Ball._of(np.concatenate([Yp.mid] + [y.mid for y in Yt], axis=-1),
-                      np.concatenate([Yp.rad] + [y.rad for y in Yt], axis=-1))  # fmt: skip
-        lower = np.arange(n + 3 * q) < n
-        for j, (l_, h_) in enumerate(bands_of(Y3, box, lower)):
+        Y3 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
+                      np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
+        for j, (l_, h_) in enumerate(bands_of(Y3, box)):
             v = np.maximum(h_, -l_)
-            lows[j] = max(lows[j], np.max(v[:n], initial=-np.inf))
             # the narrower of the mean-value form's bound and the interval evaluation's
             # (wide intervals beside a pole: the derivative's enclosure is vast there)
-            ups[j, sel] = np.minimum(np.maximum(v[n : n + q], v[n + q : n + 2 * q]),
-                                     v[n + 2 * q :])  # fmt: skip
+            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q :])
     return ups, lows
 
 
