@@ -28,6 +28,7 @@ import numpy as np
 from ...model.numbers import to_float
 from ...model.task import Task
 from ..certified.balls import Ball, hypot, quiet, stack
+from ..certified.jets import Jet
 from ..exact import equations as dyn
 from .regressor import BASIS, LINKS, setting_params
 from .windows import Box
@@ -80,7 +81,14 @@ def bands_at(
     as leading axes [effort, ``BASIS``, corner, time] (a ball operation costs its call
     more than its length), each element the operations it would have alone; both signs
     from the same balls (``_link_bounds``)."""
-    Y = _regressor(task, kin)  # [effort, BASIS, error part, time]
+    return bands_of(_regressor(task, kin), box, lower)
+
+
+def bands_of(
+    Y: Ball, box: Box, lower: bool | np.ndarray = False
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``bands_at`` from the regressor's balls ``Y`` [effort, ``BASIS``, error part, time]:
+    every effort whose coefficients lie in ``Y``, over the box."""
     corners = box.corners()
     ex = _column([c[0] for c in corners], 2)  # [corner, time]
     ey = _column([c[1] for c in corners], 2)
@@ -108,6 +116,23 @@ def _regressor(task: Task, kin: Sequence[Ball]) -> Ball:
     and their change per unit e_x, per unit e_y. The settings ([``BASIS``] leading the
     parameters' balls) and the error parts ([e = 0, unit e_x, unit e_y] leading the
     accelerations) in one evaluation."""
+    values = _efforts(task, kin, hypot)
+    shape = (len(BASIS), len(ERRORS), *np.broadcast_shapes(*(np.shape(b.mid) for b in kin)))
+    return _to_regressor(stack([full(v, shape) for v in values]))
+
+
+def regressor_jet(task: Task, kin: Sequence[Jet]) -> tuple[Ball, Ball]:
+    """``_regressor`` and its time derivative over the boxes of time the jets ``kin`` (x,
+    ẋ, ẍ, y, ẏ, ÿ and their derivatives) are taken over: every coefficient, and its
+    derivative, at every time of its box lies in the ball."""
+    values = _efforts(task, kin, lambda u, v: (u * u + v * v).sqrt())
+    shape = (len(BASIS), len(ERRORS), *np.broadcast_shapes(*(np.shape(j.v.mid) for j in kin)))
+    return (_to_regressor(stack([full(v.v, shape) for v in values])),
+            _to_regressor(stack([full(v.d, shape) for v in values])))  # fmt: skip
+
+
+def _efforts(task: Task, kin: Sequence[Any], hyp: Any) -> tuple[Any, Any]:
+    """Both efforts at every setting of ``BASIS`` and error part (balls or jets)."""
     x, xd, xdd, y, yd, ydd = kin
     cols = [setting_params(task.robot, k, Ball.of_rational) for k in range(len(BASIS))]
     names = ("m2", "I2", "r2", "m3", "I3", "r3", "m4", "I4", "r4", "m5", "I5", "r5")
@@ -116,11 +141,15 @@ def _regressor(task: Task, kin: Sequence[Ball]) -> Ball:
     mech = p.mechanism
     ex = Ball.exact(np.array([float(e) for e, _ in ERRORS])[:, None])
     ey = Ball.exact(np.array([float(e) for _, e in ERRORS])[:, None])
-    leg1, leg2 = mech.legs(p, x, xd, xdd + ex, y, yd, ydd + ey, hypot)
+    leg1, leg2 = mech.legs(p, x, xd, xdd + ex, y, yd, ydd + ey, hyp)
     delta = mech.delta(p, y, leg1, leg2)  # the product form (no cancellation)
     d = mech.dynamics(leg1, leg2, p)
-    shape = (len(BASIS), len(ERRORS), *np.broadcast_shapes(*(np.shape(b.mid) for b in kin)))
-    E = stack([full(v, shape) for v in mech.efforts(d, d.mu1 / delta, d.mu2 / delta)])
+    return mech.efforts(d, d.mu1 / delta, d.mu2 / delta)
+
+
+def _to_regressor(E: Ball) -> Ball:
+    """From the efforts at the settings and error parts [effort, ``BASIS``, error part,
+    time] to the coefficients of π for e = 0, per unit e_x, per unit e_y (linear)."""
     for k, (link, what) in enumerate(BASIS):  # ``to_basis``: the "mr" setting less the "m"
         if what == "mr" and (link, "m") in BASIS:
             m = BASIS.index((link, "m"))

@@ -11,7 +11,14 @@ about the limit and steep, so the upper bounds there need narrow intervals, and 
 ladder gives them in the first round): an interval's upper bound is ``worst``'s
 closed form evaluated over it (the end point's balls over the interval); a lower bound
 of the peak is the closed form's lower bound at the intervals' ends (the windows' edges
-among them, where the peak sits when the window is the limit's). Intervals whose upper
+among them, where the peak sits when the window is the limit's). After ``PLAIN`` rounds
+an interval's upper bound is also the mean-value form's (the narrower of the two is
+kept): every coefficient of the efforts at t lies in Y(m) + (t - m) Y'(I) (m the
+interval's middle, Y'(I) the derivative's enclosure over it, by first-order jets of the
+piece's polynomials about its middle), and the largest effort over the box is convex in
+t - m there, so the closed form at the two ends t - m = ±w/2 bounds it. Its excess is
+of the order of w², where the interval evaluation's is of the order of w: about a
+smooth maximum the live intervals no longer multiply as they narrow. Intervals whose upper
 bound cannot beat the best lower bound are dropped (their bound kept for the final
 upper), the others cut in ``fan`` (few live intervals: many cuts each, as
 ``bounds.search`` does, so a round costs about one evaluation whatever its width), until
@@ -28,13 +35,16 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+from flint import fmpq_poly
 
 from ...model.numbers import to_float
 from ...model.task import Task
 from ..bounds.search import PEAK_ABS, PEAK_REL
-from ..certified.balls import Ball, quiet
+from ..certified.balls import Ball, horner, poly_balls, quiet
+from ..certified.jets import Jet
+from ..certified.motion import dyadic_middle
 from .windows import Box, Robust
-from .worst import bands_at
+from .worst import bands_at, bands_of, regressor_jet
 
 REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal peak's) ...
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
@@ -44,6 +54,9 @@ LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 
 BUDGET = 512  # intervals per refining round, about (live intervals times their fan)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
+PLAIN = 2  # rounds that bound an interval by evaluating over it; the mean-value form after
+MEAN_CAP = 1 << 12  # ... while the intervals are at most this many (past it, a bound that
+# does not narrow, +inf beside a pole the box allows, costs the form's three times a round)
 
 
 def worst_peak(
@@ -62,11 +75,13 @@ def worst_peak(
     best = np.full(2, -np.inf)
     dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
     top = np.full(2, np.inf)
+    centred: dict[int, Any] = {}  # per piece, made when first needed (``_centred``)
     with quiet():
-        for _ in range(ROUNDS):
+        for n in range(ROUNDS):
             if not len(a):
                 break
-            ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at))
+            form = centred if n >= PLAIN and len(a) <= MEAN_CAP else None
+            ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at), form)
             best = np.maximum(best, lows)
             top = np.maximum(ups.max(axis=1), dropped)
             goal = best * (1 + REL) + ABS
@@ -152,6 +167,7 @@ def _bounds(
     box: Box,
     spans: tuple[np.ndarray, np.ndarray, np.ndarray],
     points: tuple[np.ndarray, np.ndarray],
+    centred: dict[int, Any] | None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Upper bounds of max |E_j| over the box and the local intervals [a, b] (``spans``:
     a, b and their pieces), [effort, interval]; and lower bounds of it at the local
@@ -164,10 +180,63 @@ def _bounds(
         sel, at = np.nonzero(k == i)[0], h[hk == i]
         pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
         lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
+        if centred is not None:  # the points as the plain rounds have them, then the form
+            lo, hi = at, at
         kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
         lower = np.arange(len(lo)) < len(at)
         for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
             v = np.maximum(h_, -l_)
-            ups[j, sel] = v[len(at) :]
+            if centred is None:  # the efforts' enclosures over the intervals
+                ups[j, sel] = v[len(at) :]
             lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
+        if centred is None:
+            continue
+        a0, b0 = a[sel] - pad, b[sel] + pad
+        if int(i) not in centred:
+            centred[int(i)] = _centred(parts[int(i)].traj)
+        m = 0.5 * a0 + 0.5 * b0
+        hw = np.nextafter(np.maximum(m - a0, b0 - m), np.inf)  # |t - m| <= hw on [a0, b0]
+        q = len(m)
+        # one run of ball operations: the values at the midpoints and over the intervals,
+        # the derivatives over the intervals (the midpoints' are not read)
+        Y, Yd = regressor_jet(task, _jets(centred[int(i)], Ball.hull(
+            np.concatenate([m, a0]), np.concatenate([m, b0]))))  # fmt: skip
+        Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
+        D = Ball._of(Yd.mid[..., q:], Yd.rad[..., q:])
+        # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
+        # and the largest effort over the box is convex in t - m there: its ends bound it
+        YI = Ball._of(Y.mid[..., q:], Y.rad[..., q:])  # over the intervals
+        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI]
+        Y3 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
+                      np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
+        for j, (l_, h_) in enumerate(bands_of(Y3, box)):
+            v = np.maximum(h_, -l_)
+            # the narrower of the mean-value form's bound and the interval evaluation's
+            # (wide intervals beside a pole: the derivative's enclosure is vast there)
+            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q :])
     return ups, lows
+
+
+def _jets(about: tuple[list[list[Ball]], float], t: Ball) -> tuple[Jet, ...]:
+    """x, ẋ, ẍ, y, ẏ, ÿ of a piece over the boxes ``t`` (local time), as jets: the value's
+    and the derivative's enclosures over each box. ``about``: ``_centred``'s."""
+    coeffs, c = about
+    w = t - Ball.exact(c)
+    zero = Ball.exact(np.zeros(np.shape(t.mid)))
+    v = [horner(cs, w) + zero for cs in coeffs]
+    return (Jet(v[0], v[1]), Jet(v[1], v[2]), Jet(v[2], v[3]),
+            Jet(v[4], v[5]), Jet(v[5], v[6]), Jet(v[6], v[7]))  # fmt: skip
+
+
+def _centred(traj: Any) -> tuple[list[list[Ball]], float]:
+    """The coefficients of x and y and of their first three derivatives, of the piece
+    ``traj``, about a short dyadic c near its middle (shifted exactly, then rounded to
+    balls), and c: about c the polynomials lose few digits over the piece."""
+    c = dyadic_middle(to_float(traj.lead), to_float(traj.duration))
+    out = []
+    for p in (traj.x, traj.y):
+        ps = [p]
+        for _ in range(3):
+            ps.append(ps[-1].derivative())
+        out += [poly_balls(q(fmpq_poly([c, 1]))) for q in ps]
+    return out, to_float(c)
