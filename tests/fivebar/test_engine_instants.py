@@ -20,7 +20,7 @@ from rprpr.engine.exact.five_bar_instants import FiveBarError, analyse
 
 from .instants import singular_instants
 from .locus import curve, x, y
-from .reference import FiveBar, Motion, elbows, lined_up
+from .reference import FiveBar, Motion, elbows
 from .standin import polys, q, robot
 from .test_dynamics import (
     A3,
@@ -33,6 +33,7 @@ from .test_dynamics import (
     STOP_A,
     STOP_J,
     TANGENT,
+    _unequal,
     motion,
     motion4,
 )
@@ -54,16 +55,6 @@ POSES = {
     (1, (1, -1)): (Q(1, 2), Q(-1, 2), Q(3)),
     (1, (1, 1)): (Q(1, 2), Q(-1, 2), Q(3, 4)),
 }
-
-
-def _posed(sigma: int, s: tuple[Q, Q, Q]) -> tuple[FiveBar, tuple[int, int], tuple[Q, Q]]:
-    a, l2, _, _, E, modes = lined_up(sigma, s, Q(1), Q(3, 2), Q(5, 4))
-    rb = FiveBar(
-        a, (Q(1), l2, Q(3, 2), Q(5, 4)),
-        (Q(3), Q(2), Q(3, 2), Q(5, 4)), (Q(1, 10), Q(1, 12), Q(1, 6), Q(1, 9)),
-        (Q(1, 2), Q(2, 5), Q(2, 3), Q(1, 2)), Q(981, 100),
-    )  # fmt: skip
-    return rb, modes, E
 
 
 def _tangent(rb: FiveBar, E: tuple[Q, Q], sigma: int) -> tuple[Q, Q]:
@@ -96,7 +87,7 @@ def _cases() -> list[tuple[str, FiveBar, Motion, tuple[int, int], Q, Q]]:
     for modes in ((1, 1), (-1, -1)):
         out.append((f"node {modes}", ROBOT, node, modes, -H, H))
     for (sigma, modes), s in POSES.items():
-        rb, got, E = _posed(sigma, s)
+        rb, got, E = _unequal(sigma, s)
         assert got == modes
         v, A = (Q(1, 2), Q(1, 3)), (Q(-1, 3), Q(1, 4))
         crossing = motion(v, A, E=E)
