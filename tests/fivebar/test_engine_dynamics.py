@@ -60,11 +60,11 @@ def _arb_float(v: arb) -> Any:
 
 # -- away from singularities ------------------------------------------------------------------
 def _posed_motions() -> list[tuple[FiveBar, tuple[int, int], Motion, Q]]:
-    from .test_engine_instants import POSES, _posed
+    from .test_engine_instants import POSES
 
     out = []
     for (sigma, _), s in POSES.items():
-        rb, modes, E = _posed(sigma, s)
+        rb, modes, E = _unequal(sigma, s)
         out.append(
             (
                 rb,

@@ -34,7 +34,10 @@ def _params(rb: FiveBar) -> fb.FiveBarParams:
 def _sym(p: Any) -> sp.Expr:
     """An fmpq_mpoly in x, y as a sympy expression."""
     return sp.Add(
-        *(sp.Rational(int(c.p), int(c.q)) * x**i * y**j for (i, j), c in p.to_dict().items())
+        *(
+            sp.Rational(int(c.p), int(c.q)) * x ** int(i) * y ** int(j)
+            for (i, j), c in p.to_dict().items()
+        )
     )
 
 
