@@ -26,7 +26,7 @@ from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR, RPRPR
 from ..model.numbers import to_float
 from ..model.options import AuditKeywords, AuditOptions
-from ..model.rules import Finding, with_levels
+from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
 from . import pieces as P
 from .bounds.verdicts import Approach, LimitCheck, Peak, Window, around_poles
@@ -58,7 +58,7 @@ Saturation = tuple[SingularInstant, Window | None, Window | None]
 
 
 @dataclass(frozen=True)
-class AuditResult:
+class AuditResult(Judged):
     """Everything ``rprpr check`` reports for one task.
 
     ``torque_peak`` = (max |T1|, max |T2|) over [0, t_f], certified (``envelope.Peak``:
@@ -156,14 +156,6 @@ class AuditResult:
         if any(f.fails(self.strict) for f in hits):
             return "fail"
         return "warn" if hits else "ok"
-
-    @property
-    def verdict(self) -> str:
-        return "fail" if any(f.fails(self.strict) for f in self.findings) else "pass"
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "pass"
 
     def __repr__(self) -> str:
         """One short line: ``<AuditResult 'paper_path1': fail, 1 singular instant (1

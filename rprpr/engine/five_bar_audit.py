@@ -26,7 +26,7 @@ from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number
 from ..model.options import AuditOptions
-from ..model.rules import Finding, with_levels
+from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
 from .exact import five_bar as fb
 from .exact.five_bar_instants import (
@@ -43,7 +43,7 @@ FINDINGS = "the findings"
 
 
 @dataclass(frozen=True)
-class FiveBarAuditResult:
+class FiveBarAuditResult(Judged):
     """What ``rprpr check`` reports for a 5R task: its Type II instants (``analysis``:
     times, working modes, line-up σ, order, principles, residuals, limit torques), or the
     Type I instants that stop its inverse kinematics; the findings and the verdict. The
@@ -71,14 +71,6 @@ class FiveBarAuditResult:
         """The findings made at the Type II instant ``s`` (one of ``singularities``)."""
         i = next(i for i, x in enumerate(self.singularities) if x is s)
         return [f for f in self.findings if f.instant == i]
-
-    @property
-    def verdict(self) -> str:
-        return "fail" if any(f.fails(self.strict) for f in self.findings) else "pass"
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "pass"
 
     def __repr__(self) -> str:
         n = len(self.singularities)

@@ -191,6 +191,22 @@ class Finding:
         return "error" if self.fails(self.strict) else "warning"
 
 
+class Judged:
+    """The verdict of an audit's result from its ``findings`` and ``strict`` (what every
+    mechanism's result shares): "fail" if a finding fails under ``strict``, else "pass"."""
+
+    findings: Sequence[Finding]
+    strict: bool
+
+    @property
+    def verdict(self) -> str:
+        return "fail" if any(f.fails(self.strict) for f in self.findings) else "pass"
+
+    @property
+    def passed(self) -> bool:
+        return self.verdict == "pass"
+
+
 def with_levels(findings: Iterable[Finding], levels: Mapping[str, str]) -> list[Finding]:
     """``findings`` at the levels chosen for their rules (``levels``: rule id -> "error",
     "warn" or "ignore"; a rule not named keeps its own level): an ignored rule's findings
