@@ -164,16 +164,7 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid + o.mid
-        ar, br = self.rad, o.rad
-        if ar.shape == br.shape == c.shape and c.ndim:  # in place: ``_sum_radius``'s
-            t = ar + br  # operations in its order, and no conversion of fresh arrays
-            u = np.abs(c)
-            u *= _AU
-            t += u
-            t *= _AGROW
-            t += _APAD
-            return _new(c, t)
-        if c.ndim:
+        if c.ndim:  # in place where the shapes agree (``_sum_radius``)
             return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))
 
@@ -185,15 +176,6 @@ class Ball:
                 return NotImplemented
             o = Ball.coerce(o)
         c = self.mid - o.mid
-        ar, br = self.rad, o.rad
-        if ar.shape == br.shape == c.shape and c.ndim:  # as in ``__add__``
-            t = ar + br
-            u = np.abs(c)
-            u *= _AU
-            t += u
-            t *= _AGROW
-            t += _APAD
-            return _new(c, t)
         if c.ndim:
             return _new(c, _sum_radius(self, o, c))  # fresh float arrays
         return _finish(c, _sum_radius(self, o, c))

@@ -129,18 +129,24 @@ def conjugates(p: FiveBarParams, x: Num, y: Num) -> Conjugates:
     )  # fmt: skip
 
 
-def curve(p: FiveBarParams, sigma: int, x: Num, y: Num) -> Num:
-    """S_σ(x, y) = l4² k1² R2 - 2σ l3 l4 k1 k2 (E·W) + l3² k2² R1 - 4 l3² l4² a² y², with
-    k1 = R1 + l3² - l1², k2 = R2 + l4² - l2²: zero where the distal links can line up with
-    E - D = σ (l4/l3)(E - C) (σ = -1: E between the elbows). 16 Π_e δ_e = S₊ S₋ R1⁻² R2⁻²
-    (§3), so a path's Type II instants are roots of S_σ(x(t), y(t))."""
+def _curve_parts(p: FiveBarParams, x: Num, y: Num) -> tuple[Num, Num, Num, Num, Num, Num]:
+    """The parts ``curve`` and ``curve_gradient`` are made of: R1 = |E|², x - a,
+    R2 = |E - B|², E·W (W = E - B), k1 = R1 + l3² - l1², k2 = R2 + l4² - l2²."""
     l1, l2, l3, l4 = p.l
     R1 = x * x + y * y
     wx = x - p.a
     R2 = wx * wx + y * y
     EW = x * wx + y * y
-    k1 = R1 + (l3 * l3 - l1 * l1)
-    k2 = R2 + (l4 * l4 - l2 * l2)
+    return R1, wx, R2, EW, R1 + (l3 * l3 - l1 * l1), R2 + (l4 * l4 - l2 * l2)
+
+
+def curve(p: FiveBarParams, sigma: int, x: Num, y: Num) -> Num:
+    """S_σ(x, y) = l4² k1² R2 - 2σ l3 l4 k1 k2 (E·W) + l3² k2² R1 - 4 l3² l4² a² y², with
+    k1 = R1 + l3² - l1², k2 = R2 + l4² - l2²: zero where the distal links can line up with
+    E - D = σ (l4/l3)(E - C) (σ = -1: E between the elbows). 16 Π_e δ_e = S₊ S₋ R1⁻² R2⁻²
+    (§3), so a path's Type II instants are roots of S_σ(x(t), y(t))."""
+    l3, l4 = p.l[2], p.l[3]
+    R1, _, R2, EW, k1, k2 = _curve_parts(p, x, y)
     return (
         k1 * k1 * R2 * (l4 * l4)
         - k1 * k2 * EW * (2 * sigma * l3 * l4)
@@ -152,13 +158,8 @@ def curve(p: FiveBarParams, sigma: int, x: Num, y: Num) -> Num:
 def curve_gradient(p: FiveBarParams, sigma: int, x: Num, y: Num) -> tuple[Num, Num]:
     """∇S_σ = (∂S_σ/∂x, ∂S_σ/∂y) at (x, y) (the derivative of ``curve`` term by term:
     ∂R1 = 2(x, y), ∂R2 = 2(x - a, y), ∂(E·W) = (2x - a, 2y), ∂k_i = ∂R_i)."""
-    l1, l2, l3, l4 = p.l
-    R1 = x * x + y * y
-    wx = x - p.a
-    R2 = wx * wx + y * y
-    EW = x * wx + y * y
-    k1 = R1 + (l3 * l3 - l1 * l1)
-    k2 = R2 + (l4 * l4 - l2 * l2)
+    l3, l4 = p.l[2], p.l[3]
+    R1, wx, R2, EW, k1, k2 = _curve_parts(p, x, y)
     A, S, C = l4 * l4, 2 * sigma * l3 * l4, l3 * l3
     out = []
     for dR1, dR2, dEW, extra in (
