@@ -10,21 +10,28 @@ or B for the RPRPR), the path along the Type II curve RPR104 and unbounded torqu
 (the reciprocity condition and the high-order conditions, §6).
 
 What this build audits of a 5R: a motion of one piece (y = p(x) with a timing law, or the
-end point's x(t), y(t) as one piece), without declared uncertainty. The certified layers
-(torque peak, torque limit, samples, the sheet, export, repair) are not available for a
-5R yet: ``refuse`` says so in one located line (a ``TaskFileError``: exit status 2).
+end point's x(t), y(t) as one piece), without declared uncertainty; with its certified
+layers (``five_bar_certified``, loaded only for a task that asks for them): the torque
+peak, the torque limit check and its windows, the samples. What it does not audit of a 5R
+(the sheet, repair) ``refuse`` refuses in one located line (a ``TaskFileError``: exit
+status 2).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import field, replace
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import numpy as np
 
 from flint import fmpq_poly
 
 from ..model.dataclass import dataclass
 from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
-from ..model.numbers import exact_number, labels, number
+from ..model.numbers import exact_number, labels, number, to_float
 from ..model.options import AuditOptions
 from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
@@ -36,19 +43,29 @@ from .exact.five_bar_instants import (
     TypeOne,
     analyse_robot,
 )
+from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact.singular import FACTORING, OnStage
+
+if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it
+    from .certified.five_bar import FiveBarMotion
+    from .certified.five_bar_samples import FiveBarSamples
 
 YET = "not available for a 5R yet"
 FINDINGS = "the findings"
+ENVELOPE = "the torque envelope"
+GRID = 101  # ``samples``' default grid (``AuditOptions.samples``)
 
 
 @dataclass(frozen=True)
 class FiveBarAuditResult(Judged):
     """What ``rprpr check`` reports for a 5R task: its Type II instants (``analysis``:
     times, working modes, line-up σ, order, principles, residuals, limit torques), or the
-    Type I instants that stop its inverse kinematics; the findings and the verdict. The
-    certified layers of the RPRPR's ``AuditResult`` are absent: no torque peak, no torque
-    limit, no samples (``peak_computed`` is False)."""
+    Type I instants that stop its inverse kinematics; the findings and the verdict; and
+    the certified layers as the RPRPR's ``AuditResult`` has them: ``torque_peak`` (inf at
+    a pole; None when not asked for, then ``peak_computed`` is False, or undefined: a
+    Type I instant or the path on the curve), ``torque_limit`` (None without a limit),
+    ``saturation`` and ``samples`` (certified values on ``grid_size`` times, made when
+    first read; ``resample`` at any times)."""
 
     task: Task
     strict: bool
@@ -56,6 +73,46 @@ class FiveBarAuditResult(Judged):
     findings: list[Finding]
     on_singular_curve: bool = False  # the path runs along a Type II curve all along
     peak_computed: bool = False
+    torque_peak: tuple[Peak, Peak] | None = None
+    torque_limit: tuple[LimitCheck, LimitCheck] | None = None
+    grid_size: int = field(default=GRID, repr=False)
+    closest_approach: None = None  # the RPRPR's distance to the line AB: no 5R meaning
+
+    @cached_property
+    def motion(self) -> FiveBarMotion:
+        """The motion in balls (``certified.five_bar``), made when first read."""
+        return certified_motion(self.task, self.analysis)
+
+    @cached_property
+    def samples(self) -> FiveBarSamples:
+        """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
+        from .certified.sampling import grid
+
+        return self.resample(grid(self.task.duration, self.grid_size))
+
+    def resample(self, t: np.ndarray) -> FiveBarSamples:
+        """The motion, joints, δ, the axial force and the torques at the times ``t`` [s],
+        certified (``certified.five_bar_samples``)."""
+        from .certified.five_bar_samples import sample
+
+        return sample(self.motion, np.asarray(t, dtype=float))
+
+    @cached_property
+    def saturation(self) -> list[tuple[FiveBarInstant, Window | None, Window | None]]:
+        """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
+        their limits (empty without a limit)."""
+        if self.torque_limit is None:
+            return []
+        out = []
+        for s in self.singularities:
+            if s.bounded:
+                continue
+            pair = [
+                next((w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi), None)
+                for c in self.torque_limit
+            ]
+            out.append((s, pair[0], pair[1]))
+        return out
 
     @property
     def singularities(self) -> tuple[FiveBarInstant, ...]:
@@ -88,6 +145,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     refuse(task, peak=task.checks.peak if o.peak is None else o.peak, options=o)
     piece = task.motion[0]
     x, y = piece.x, piece.y
+    asked = task.checks.peak if o.peak is None else o.peak
     tell(FACTORING)
     r = task.robot
     assert r.five_bar is not None  # a 5R task's robot (``model.five_bar``)
@@ -106,6 +164,14 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
         tell(FINDINGS)
         found = findings(task, analysis, x, y)
         on_curve = False
+    peak, computed, checked = _certified(task, analysis, asked, on_curve, tell)
+    if checked is not None:
+        from .five_bar_certified import limit_findings
+
+        text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
+        found += limit_findings(
+            task, analysis.instants, peak, checked, lambda t: f"t = {text[t]} s"
+        )
     return FiveBarAuditResult(
         task=task,
         strict=strict,
@@ -114,7 +180,48 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
             replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
         ],
         on_singular_curve=on_curve,
+        peak_computed=computed,
+        torque_peak=peak,
+        torque_limit=checked,
+        grid_size=o.samples,
     )
+
+
+def _certified(
+    task: Task, analysis: FiveBarAnalysis, asked: bool, on_curve: bool, tell: OnStage
+) -> tuple[tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None]:
+    """The torque peak (when asked for, or free: infinite at a pole), whether it was
+    computed, and the limit check (with ``checks.torque_limit``); none of them where
+    the torques are undefined (a Type I instant, the path on a Type II curve)."""
+    limit = task.checks.torque_limit
+    if on_curve or analysis.refused:
+        return None, asked or limit is not None, None
+    poles = [s for s in analysis.instants if not s.bounded]
+    peak: tuple[Peak, Peak] | None = None
+    if poles:
+        t = poles[0].t
+        peak = (Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True))
+    if not asked and limit is None:
+        return peak, peak is not None, None
+    from .five_bar_certified import limit_check, torque_peak
+
+    tell(ENVELOPE)
+    motion = certified_motion(task, analysis)
+    if peak is None and asked:
+        peak = torque_peak(motion)
+    checked = None
+    if limit is not None:
+        checked = limit_check(motion, (to_float(limit[0]), to_float(limit[1])), peak)
+    return peak, peak is not None, checked
+
+
+def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
+    """The 5R task's motion in balls, with its Type II instants."""
+    from .certified.five_bar import FiveBarMotion
+
+    piece = task.motion[0]
+    r = task.robot
+    return FiveBarMotion(r.five_bar, r.gravity, piece.x, piece.y, task.duration, analysis.instants)
 
 
 ON_CURVE = (
@@ -126,7 +233,7 @@ ON_CURVE = (
 def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = None) -> None:
     """A 5R task asks for what this build cannot audit of a 5R: a ``TaskFileError``
     located at the key that asks for it (the first met): a motion of several pieces
-    (``timing``, ``motion``), declared uncertainty, a torque limit, the torque peak."""
+    (``timing``, ``motion``), declared uncertainty."""
     if task.robot.mechanism != FIVE_BAR:
         return
     if len(task.motion) != 1 or task.law == "waypoints":
@@ -138,16 +245,6 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
         )
     if task.uncertainty is not None or (options is not None and options.uncertainty):
         raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
-    if task.checks.torque_limit is not None:
-        raise _error(
-            task,
-            f"the certified torque limit check is {YET} (remove checks.torque_limit)",
-            "checks.torque_limit",
-        )
-    if peak:
-        raise _error(
-            task, f"the certified torque peak (--peak, checks.peak) is {YET}", "checks.peak"
-        )
 
 
 def refuse_command(task: Task, command: str) -> None:

@@ -107,10 +107,13 @@ class Evaluation:
 
 class Zone:
     """The Taylor form about one Type II instant (module docstring): ``a[i]`` the
-    coefficients k.. of A_i at t_s, ``q`` those m.. of δ, ``pole`` = m - k."""
+    coefficients k.. of A_i at t_s, ``q`` those m.. of δ, ``nu`` those m.. of ν, ``pole`` = m - k."""
 
-    def __init__(self, s: FiveBarInstant, t_s: arb, a: list[list[arb]], q: list[arb]):
+    def __init__(
+        self, s: FiveBarInstant, t_s: arb, a: list[list[arb]], q: list[arb], nu: list[arb]
+    ) -> None:
         self.s = s
+        self.nu = nu  # ν's coefficients m.. (α's limit at a bounded instant: ν_m/δ_m)
         self.t_s = t_s
         self.k = s.conditions_met
         self.m = s.order
@@ -216,7 +219,8 @@ class FiveBarMotion:
             q = _padded(e.d.delta.coeffs(), n)
             if any(not v.contains(0) for v in [*A[0][:k], *A[1][:k], *q[:m]]):
                 raise AssertionError("a coefficient the exact analysis proves zero is not")
-            self._zones[i] = Zone(s, t_s, [A[0][k:], A[1][k:]], q[m:])
+            nu = _padded(e.d.nu.coeffs(), n)[m:]
+            self._zones[i] = Zone(s, t_s, [A[0][k:], A[1][k:]], q[m:], nu)
         return self._zones[i]
 
     def zone_values(self, s: FiveBarInstant, t: arb, hull: arb) -> tuple[arb, arb]:
