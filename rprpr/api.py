@@ -62,5 +62,5 @@ def audit(
     (``audit(task, peak=True)``)."""
     result = _engine.audit(task, options, on_stage=on_stage, **keywords)
     if isinstance(result, _five_bar.FiveBarAuditResult):  # a 5R task: its own result
-        return FiveBarAuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})  # type: ignore[return-value]
+        return FiveBarAuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})
     return AuditResult(**{f.name: getattr(result, f.name) for f in fields(result)})

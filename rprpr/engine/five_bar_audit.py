@@ -25,7 +25,6 @@ from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
-
 from flint import fmpq_poly
 
 from ..model.dataclass import dataclass
@@ -35,6 +34,7 @@ from ..model.numbers import exact_number, labels, number, to_float
 from ..model.options import AuditOptions
 from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
+from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact import five_bar as fb
 from .exact.five_bar_instants import (
     FiveBarAnalysis,
@@ -43,7 +43,6 @@ from .exact.five_bar_instants import (
     TypeOne,
     analyse_robot,
 )
-from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact.singular import FACTORING, OnStage
 
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from itertools import pairwise
 from typing import Any
 
 from flint import arb, fmpq
@@ -41,7 +42,7 @@ Box = tuple[fmpq, fmpq]
 def partition(duration: fmpq, n: int = START_BOXES) -> list[Box]:
     """[0, t_f] cut into n equal boxes with exact ends."""
     ends = [duration * fmpq(j, n) for j in range(n + 1)]
-    return list(zip(ends[:-1], ends[1:], strict=True))
+    return list(pairwise(ends))
 
 
 def halves(b: Box) -> list[Box]:
@@ -78,24 +79,36 @@ def _inside(lo: fmpq, hi: fmpq) -> float:
     return t if lo <= q <= hi else to_float(lo)
 
 
-def torque_peak(fm: FiveBarMotion, rel: float = PEAK_REL) -> tuple[Peak, Peak]:
-    """max |T1| and max |T2| over [0, t_f], certified (module docstring)."""
-    poles = [s for s in fm.instants if not s.bounded]
+def torque_peak(
+    fm: FiveBarMotion, rel: float = PEAK_REL, span: Box | None = None
+) -> tuple[Peak, Peak]:
+    """max |T1| and max |T2| over [0, t_f], or over ``span`` (exact ends within it),
+    certified (module docstring)."""
+    lo, hi = span if span is not None else (fmpq(0), fm.duration)
+    poles = [s for s in fm.instants if not s.bounded and _holds(s, lo, hi)]
     if poles:
         t = poles[0].t
         return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
     with precision(PREC):
         best, best_t = [0.0, 0.0], [0.0, 0.0]
-        candidates = [(0.0, value_at(fm, 0.0))]
-        end = down(fm.duration)
-        candidates.append((end, value_at(fm, end)))
+        first, last = up(lo), down(hi)
+        candidates = [(first, value_at(fm, first)), (last, value_at(fm, last))]
         for s in fm.instants:  # the limits at bounded instants are values of T
-            if s.t_exact is not None:
+            if (
+                s.t_exact is not None
+                and lo <= s.t_exact <= hi
+                and fmpq(*s.t.as_integer_ratio()) == s.t_exact
+            ):
                 T = fm.limit_at(s)
                 candidates.append((s.t, (abs_bounds(T[0])[0], abs_bounds(T[1])[0])))
         for t, v in candidates:
             _raise(best, best_t, v, t)
-        return _maximise(fm, partition(fm.duration), best, best_t, rel)
+        boxes = partition(hi - lo)
+        return _maximise(fm, [(a + lo, b + lo) for a, b in boxes], best, best_t, rel)
+
+
+def _at_double(t: float, exact: fmpq) -> bool:
+    return fmpq(*t.as_integer_ratio()) == exact
 
 
 def _raise(best: list[float], best_t: list[float], v: Sequence[float], t: float) -> None:
@@ -142,7 +155,7 @@ def _maximise(
 BELOW, OPEN, ABOVE = -1, 0, 1
 
 
-def _holds(fm: FiveBarMotion, s: FiveBarInstant, lo: fmpq, hi: fmpq) -> bool:
+def _holds(s: FiveBarInstant, lo: fmpq, hi: fmpq) -> bool:
     """Whether the box [lo, hi] may hold the instant ``s``."""
     if s.t_exact is not None:
         return lo <= s.t_exact <= hi
@@ -152,7 +165,7 @@ def _holds(fm: FiveBarMotion, s: FiveBarInstant, lo: fmpq, hi: fmpq) -> bool:
 def _states(fm: FiveBarMotion, b: Box, L: Sequence[float]) -> tuple[int, int]:
     """The state of each torque over the box ``b`` against the limits ``L``."""
     lo, hi = b
-    poles = [s for s in fm.instants if not s.bounded and _holds(fm, s, lo, hi)]
+    poles = [s for s in fm.instants if not s.bounded and _holds(s, lo, hi)]
     if poles:
         low = fm.pole_lower(poles[0], arb(lo).union(arb(hi)))
         return ABOVE if low[0] > L[0] else OPEN, ABOVE if low[1] > L[1] else OPEN

@@ -78,7 +78,7 @@ def exported(result: AuditResult) -> tuple[str, ...]:
     uncertainty, ``WORST`` before ``reason`` (F1_worst, F2_worst for forces); a 5R's
     columns (``FiveBarSamples.COLUMNS``)."""
     if _five_bar(result):
-        return (*result.samples.COLUMNS, "reason")
+        return (*_any(result).samples.COLUMNS, "reason")
     names = (*COLUMNS, *WORST, "reason") if result.task.uncertainty is not None else EXPORTED
     if result.task.robot.actuation == REVOLUTE:
         return names
@@ -97,10 +97,15 @@ def _five_bar(result: AuditResult) -> bool:
     return not isinstance(result, AuditResult)
 
 
+def _any(result: AuditResult) -> Any:
+    """A 5R's result as what it is (its samples are ``FiveBarSamples``)."""
+    return result
+
+
 def _reasons(result: AuditResult) -> dict[int, str]:
     """``reasons`` of the task's robot (a 5R's samples carry theirs)."""
     if _five_bar(result):
-        return {c: t or "every value certified" for c, t in result.samples.REASONS.items()}
+        return {c: t or "every value certified" for c, t in _any(result).samples.REASONS.items()}
     return reasons(result.task.robot.actuation)
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from ..engine.audit import AuditResult, Saturation
+from ..engine.audit import AuditResult
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
 from ..engine.exact.knots import Knot
 from ..engine.exact.singular import SingularInstant

@@ -107,7 +107,8 @@ class Evaluation:
 
 class Zone:
     """The Taylor form about one Type II instant (module docstring): ``a[i]`` the
-    coefficients k.. of A_i at t_s, ``q`` those m.. of δ, ``nu`` those m.. of ν, ``pole`` = m - k."""
+    coefficients k.. of A_i at t_s, ``q`` those m.. of δ, ``nu`` those m.. of ν,
+    ``pole`` = m - k."""
 
     def __init__(
         self, s: FiveBarInstant, t_s: arb, a: list[list[arb]], q: list[arb], nu: list[arb]
@@ -164,7 +165,7 @@ class FiveBarMotion:
         Taylor form of the nearest instant (NaN balls where a pole or undecided)."""
         e = self.evaluate(t)
         if not e.d.delta.contains(0):
-            return e.torques()  # type: ignore[no-any-return]
+            return e.torques()
         s = self.nearest(t)
         if s is None:
             return _NAN, _NAN

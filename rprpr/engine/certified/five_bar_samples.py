@@ -78,7 +78,7 @@ class FiveBarSamples:
     REASONS = REASONS
 
     def column(self, name: str) -> np.ndarray:
-        return getattr(self, name)  # type: ignore[no-any-return]
+        return getattr(self, name)
 
     def rows(self) -> np.ndarray:
         """The export columns as a 2-D array, one row per sample."""
@@ -101,7 +101,8 @@ def at_time(motion: FiveBarMotion, t: float) -> tuple[dict[str, float], int]:
     """The certified values at the double ``t`` and the row's reason code."""
     tq = fmpq(*t.as_integer_ratio())
     exact = [p(tq) for p in motion.polys]
-    out = {n: _exact_float(v) for n, v in zip(PATH, [exact[i] for i in (0, 3, 1, 4, 2, 5)], strict=True)}  # noqa: E501
+    path = [exact[i] for i in (0, 3, 1, 4, 2, 5)]  # x, y, x', y', x'', y''
+    out = {n: _exact_float(v) for n, v in zip(PATH, path, strict=True)}
     c = fb.conjugates(motion.exact, exact[0], exact[3])
     if not (c.D1 > 0 and c.D2 > 0):
         return out, TYPE_ONE
