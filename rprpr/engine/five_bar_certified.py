@@ -68,7 +68,7 @@ def up(q: fmpq) -> float:
 
 def value_at(fm: FiveBarMotion, t: float) -> tuple[float, float]:
     """Certified lower bounds of |T1|, |T2| at the double t (0 where not decided)."""
-    T = fm.point(arb(fmpq(*t.as_integer_ratio())))
+    T = fm.point(fmpq(*t.as_integer_ratio()))
     return abs_bounds(T[0])[0], abs_bounds(T[1])[0]
 
 
@@ -167,7 +167,7 @@ def _states(fm: FiveBarMotion, b: Box, L: Sequence[float]) -> tuple[int, int]:
     lo, hi = b
     poles = [s for s in fm.instants if not s.bounded and _holds(s, lo, hi)]
     if poles:
-        low = fm.pole_lower(poles[0], arb(lo).union(arb(hi)))
+        low = fm.pole_lower(poles[0], lo, hi)
         return ABOVE if low[0] > L[0] else OPEN, ABOVE if low[1] > L[1] else OPEN
     T = fm.box(lo, hi)
     out = []

@@ -36,6 +36,7 @@ from ..exact.five_bar_instants import FiveBarInstant
 
 PREC = 96  # bits of the branch and bound's balls
 TERMS = 4  # Taylor terms kept about a Type II instant beyond the ones divided out
+NEAR = 0.02  # the instant's Taylor form is tried over boxes this close (a fraction of t_f)
 _NAN = arb("nan")
 
 
@@ -114,6 +115,7 @@ class Zone:
         self, s: FiveBarInstant, t_s: arb, a: list[list[arb]], q: list[arb], nu: list[arb]
     ) -> None:
         self.s = s
+        self.lo, self.hi = _ends(t_s)  # exact rationals about t_s
         self.nu = nu  # ν's coefficients m.. (α's limit at a bounded instant: ν_m/δ_m)
         self.t_s = t_s
         self.k = s.conditions_met
@@ -148,10 +150,12 @@ class FiveBarMotion:
             self._prec[bits] = (p, [[arb(c) for c in q.coeffs()] for q in self.polys])
         return self._prec[bits]
 
-    def evaluate(self, t: arb, terms: int = 0) -> Evaluation:
+    def evaluate(self, t: arb, terms: int = 0, cs: list[list[arb]] | None = None) -> Evaluation:
         """The formulas at the ball ``t`` (``terms`` 0: values; else ``terms`` Taylor
-        coefficients at ``t``, an ``arb_series``)."""
-        p, cs = self._at_prec()
+        coefficients at ``t``, an ``arb_series``); ``cs``: the path's coefficients in
+        the variable of ``t`` (by default in t itself)."""
+        p, own = self._at_prec()
+        cs = own if cs is None else cs
         u: Any = t if terms == 0 else arb_series([t, 1], prec=terms)
         x, xd, xdd, y, yd, ydd = (_horner(c, u) for c in cs)
         l1, l2 = fb.legs(p, self.modes, x, xd, xdd, y, yd, ydd, _root)
@@ -160,16 +164,26 @@ class FiveBarMotion:
         T1 = fb.efforts(d, 1)
         return Evaluation(d, T0, (T1[0] - T0[0], T1[1] - T0[1]))
 
-    def point(self, t: arb) -> tuple[arb, arb]:
-        """(T1, T2) at the time ``t`` (a ball): direct where δ(t) excludes 0, else by the
-        Taylor form of the nearest instant (NaN balls where a pole or undecided)."""
-        e = self.evaluate(t)
+    def evaluate_span(self, lo: fmpq, hi: fmpq, terms: int) -> Evaluation:
+        """The formulas over the box [lo, hi] (``terms`` Taylor coefficients): the path
+        taken about the box's exact midpoint c, in u = t - c over [-h, h] (a centred
+        form: the path's large coefficients do not widen the box's values)."""
+        c = (lo + hi) / 2
+        shift = fmpq_poly([c, 1])
+        cs = [[arb(v) for v in q(shift).coeffs()] for q in self.polys]
+        return self.evaluate(arb(0, upper(arb(hi - c))), terms, cs)
+
+    def point(self, t: fmpq) -> tuple[arb, arb]:
+        """(T1, T2) at the time ``t``: direct where δ(t) excludes 0, else by the Taylor
+        form of the nearest instant (NaN balls where a pole or undecided)."""
+        ball = exact_ball(t)
+        e = self.evaluate(ball)
         if not e.d.delta.contains(0):
             return e.torques()
-        s = self.nearest(t)
+        s = self.nearest(ball)
         if s is None:
             return _NAN, _NAN
-        return self.zone_values(s, t, t)
+        return self.zone_values(s, ball, (t, t))
 
     def box(self, lo: fmpq, hi: fmpq) -> tuple[arb, arb]:
         """(T1, T2) enclosed over the box [lo, hi] (module docstring): the Taylor form
@@ -180,26 +194,26 @@ class FiveBarMotion:
         h = upper(box - c)
         out = [_NAN, _NAN]
         try:
-            over = self.evaluate(box, 3)
+            over = self.evaluate_span(lo, hi, 3)
             at = self.evaluate(c, 2)
-            if not over.d.delta.coeffs()[0].contains(0) and not at.d.delta.coeffs()[0].contains(0):
-                T_over, T_at = over.torques(), at.torques()
-                U, U2 = arb(0, h), arb(h * h / 2, h * h / 2)
-                for i in (0, 1):
-                    v, dv = T_at[i].coeffs()[:2]
-                    taylor = v + dv * U + T_over[i].coeffs()[2] * U2
-                    out[i] = _narrower(taylor, T_over[i].coeffs()[0])
-        except (ValueError, ZeroDivisionError):
+            T_over = _centred(over, at, arb(0, h))
+            T_at = at.torques()
+            U2 = arb(h * h / 2, h * h / 2)
+            for i in (0, 1):
+                v, dv = T_at[i].coeffs()[:2]
+                taylor = v + dv * arb(0, h) + T_over[i].coeffs()[2] * U2
+                out[i] = _narrower(taylor, T_over[i].coeffs()[0])
+        except (ValueError, ZeroDivisionError):  # δ over the box not proven nonzero
             pass
         s = self.nearest(box)
         if s is not None and (self._near(s, box) or not all(v.is_finite() for v in out)):
-            zone = self.zone_values(s, box, box)
+            zone = self.zone_values(s, box, (lo, hi))
             out = [_narrower(out[i], zone[i]) for i in (0, 1)]
         return out[0], out[1]
 
     def _near(self, s: FiveBarInstant, box: arb) -> bool:
-        """The box lies within 2 % of the duration of the instant ``s``."""
-        return upper(abs(box - s.t_ball)) < 0.02 * float(self.duration)
+        """The box lies within NEAR of the duration of the instant ``s``."""
+        return upper(abs(box - s.t_ball)) < NEAR * float(self.duration)
 
     def nearest(self, t: arb) -> FiveBarInstant | None:
         """The Type II instant nearest the ball ``t`` (None without one)."""
@@ -224,14 +238,14 @@ class FiveBarMotion:
             self._zones[i] = Zone(s, t_s, [A[0][k:], A[1][k:]], q[m:], nu)
         return self._zones[i]
 
-    def zone_values(self, s: FiveBarInstant, t: arb, hull: arb) -> tuple[arb, arb]:
+    def zone_values(self, s: FiveBarInstant, t: arb, span: tuple[fmpq, fmpq]) -> tuple[arb, arb]:
         """(T1, T2) over the ball of time ``t`` by the instant's Taylor form, its remainder
-        taken over ``hull`` (a ball holding ``t``) joined with t_s. Where the box holds a
-        pole, no enclosure: NaN balls (``pole_lower`` bounds |T| from below there)."""
+        taken over ``span`` (exact ends, holding ``t``) joined with t_s. Where the box
+        holds a pole, no enclosure: NaN balls (``pole_lower`` bounds |T| below there)."""
         z = self.zone(s)
         u = t - z.t_s
         try:
-            g, q = self._forms(z, u, hull)
+            g, q = self._forms(z, u, span)
         except (ValueError, ZeroDivisionError):  # a leading term not proven nonzero
             return _NAN, _NAN
         if u.contains(0) and z.pole:
@@ -241,13 +255,13 @@ class FiveBarMotion:
             return _NAN, _NAN
         return g[0] / den, g[1] / den
 
-    def pole_lower(self, s: FiveBarInstant, t: arb) -> tuple[float, float]:
-        """Lower bounds of |T1|, |T2| over the ball of time ``t`` (t_s excluded) about an
+    def pole_lower(self, s: FiveBarInstant, lo: fmpq, hi: fmpq) -> tuple[float, float]:
+        """Lower bounds of |T1|, |T2| over the box [lo, hi] (t_s excluded) about an
         instant with a pole: |g| / (max |t - t_s|^p |q|) (0 where not proven)."""
         z = self.zone(s)
-        u = t - z.t_s
+        u = exact_ball(lo).union(exact_ball(hi)) - z.t_s
         try:
-            g, q = self._forms(z, u, t)
+            g, q = self._forms(z, u, (lo, hi))
         except (ValueError, ZeroDivisionError):  # a leading term not proven nonzero
             return 0.0, 0.0
         reach = upper(abs(u)) ** z.pole * abs_bounds(q)[1]
@@ -257,10 +271,10 @@ class FiveBarMotion:
             out.append(lo / reach * (1 - 1e-12) if reach > 0 and math.isfinite(reach) else 0.0)
         return out[0], out[1]
 
-    def _forms(self, z: Zone, u: arb, hull: arb) -> tuple[tuple[arb, arb], arb]:
-        """g_i = A_i/u^k and q = δ/u^m over u = t - t_s, remainders over hull ∪ t_s."""
+    def _forms(self, z: Zone, u: arb, span: tuple[fmpq, fmpq]) -> tuple[tuple[arb, arb], arb]:
+        """g_i = A_i/u^k and q = δ/u^m over u = t - t_s, remainders over span ∪ t_s."""
         n = z.m + TERMS
-        r = self.evaluate(hull.union(z.t_s), n + 1)
+        r = self.evaluate_span(min(span[0], z.lo), max(span[1], z.hi), n + 1)
         rA = [r.A[i].coeffs()[n] if len(r.A[i].coeffs()) > n else arb(0) for i in (0, 1)]
         rq = r.d.delta.coeffs()
         rq_n = rq[n] if len(rq) > n else arb(0)
@@ -272,6 +286,40 @@ class FiveBarMotion:
         """(T1, T2) at a bounded instant: a_k/δ_m (the form at u = 0)."""
         z = self.zone(s)
         return z.a[0][0] / z.q[0], z.a[1][0] / z.q[0]
+
+
+def _centred(over: Evaluation, at: Evaluation, U: arb) -> tuple[Any, Any]:
+    """T's Taylor coefficients over a box from ``over`` (the series over the box), each
+    part's value (δ, ν, T at α = 0, ∂T/∂α) over the box first narrowed by its mean-value
+    form v(c) + v'(box) U (``at``: the series at the midpoint c; U = [-h, h]): near a
+    Type II instant δ's plain enclosure spans 0 where δ itself does not. Every
+    coefficient still holds the true one at each t of the box, so the series' division
+    by δ stays proven."""
+
+    def narrow(s: Any, p: Any) -> Any:
+        cs = s.coeffs()
+        mv = p.coeffs()[0] + cs[1] * U
+        first = cs[0].intersection(mv) if cs[0].overlaps(mv) else mv
+        return arb_series([first, *cs[1:]], prec=len(cs))
+
+    delta, nu = narrow(over.d.delta, at.d.delta), narrow(over.d.nu, at.d.nu)
+    base = [narrow(over.base[i], at.base[i]) for i in (0, 1)]
+    slope = [narrow(over.slope[i], at.slope[i]) for i in (0, 1)]
+    alpha = nu / delta
+    return base[0] + alpha * slope[0], base[1] + alpha * slope[1]
+
+
+def _ends(b: arb) -> tuple[fmpq, fmpq]:
+    """Exact rationals below and above every member of the ball ``b``."""
+    m, e = b.mid().man_exp()
+    r, f = b.rad().man_exp()
+    mid = fmpq(int(m)) * _two(int(e))
+    rad = fmpq(int(r)) * _two(int(f))
+    return mid - rad, mid + rad
+
+
+def _two(e: int) -> fmpq:
+    return fmpq(2**e) if e >= 0 else fmpq(1, 2**-e)
 
 
 def _padded(cs: list[arb], n: int) -> list[arb]:
