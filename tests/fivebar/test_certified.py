@@ -32,7 +32,7 @@ from rprpr.engine.certified.sampling import grid
 from rprpr.engine.exact.five_bar_instants import analyse
 from rprpr.engine.five_bar_certified import limit_check, torque_peak
 
-from .reference import DPS, FiveBar, Motion, elbows, mp, torques
+from .reference import DPS, FiveBar, Motion, elbows, links, mp, newton_euler, torques
 from .reference import delta as ref_delta
 from .standin import polys, q, robot
 from .test_check import MODES, ROBOT, motions
@@ -64,9 +64,23 @@ def certified(name: str) -> FiveBarMotion:
 
 @cache
 def ref_torques(name: str, t: Q) -> tuple[Any, Any]:
+    """(T1, T2) at the time t by the reference."""
+    T1, T2, _ = ref_state(name, t)
+    return T1, T2
+
+
+@cache
+def ref_state(name: str, t: Q) -> tuple[Any, Any, Any]:
+    """(T1, T2, α) at the time t by the reference: α = F_E·(E - C)/l3, the axial part of
+    the force of link 4 on link 3 at E."""
     rb, m, modes, t0, _ = case(name)
     with mpmath.workdps(DPS):
-        return torques(rb, m, t + t0, modes)  # type: ignore[no-any-return]
+        lk = links(rb, m, t + t0, modes, n=3)
+        out = newton_euler(rb, lk)
+        C, E = lk.joints["C"], lk.joints["E"]
+        d = [mp(E[k].c[0]) - mp(C[k].c[0]) for k in (0, 1)]
+        alpha = (out["FE"][0] * d[0] + out["FE"][1] * d[1]) / mp(rb.length[2])
+        return out["T1"], out["T2"], alpha
 
 
 def close(v: float, ref: Any) -> bool:
@@ -98,8 +112,9 @@ def test_samples_hold_the_references_values(name: str) -> None:
         if name != "line" and T == TS:
             continue  # test_samples_at_the_instant
         assert got.reason[j] == 0, (t, got.reason[j])
-        ref = ref_torques(name, T)
+        ref = ref_state(name, T)
         assert close(got.T1[j], ref[0]) and close(got.T2[j], ref[1]), (t, got.T1[j], ref)
+        assert close(got.alpha[j], ref[2])
         with mpmath.workdps(DPS):
             E = tuple(mp(j.c[0]) for j in m.at(T + t0, 1))
             C, D = elbows(rb, E, modes)
@@ -119,8 +134,8 @@ def test_samples_at_the_instant_are_the_limits_or_marked_unbounded(name: str) ->
         return
     assert got.reason[0] == 0 and got.delta[0] == 0.0
     eps = Q(1, 10**25)  # the reference's own limit: both sides, 0/0 absorbed by 60 digits
-    lo, hi = ref_torques(name, TS - eps), ref_torques(name, TS + eps)
-    for i, v in enumerate((got.T1[0], got.T2[0])):
+    lo, hi = ref_state(name, TS - eps), ref_state(name, TS + eps)
+    for i, v in enumerate((got.T1[0], got.T2[0], got.alpha[0])):
         assert close(v, (lo[i] + hi[i]) / 2)
 
 
@@ -303,3 +318,40 @@ def test_the_api_gives_samples_and_the_report(tmp_path: Path) -> None:
     report = result.to_dict()
     assert report["torque_peak_certified"] is True and report["mechanism"] == "5R"
     assert report["torque_peak"][0] == result.torque_peak[0].value
+
+
+@pytest.mark.parametrize(
+    ("extra", "loaded"),
+    [
+        ("", []),  # the exact verdicts alone: no ball machinery
+        ("checks:\n  torque_limit: [1000, 1000]\n", ["certified.five_bar", "five_bar_certified"]),
+    ],
+)
+def test_check_loads_the_certified_layers_only_for_a_task_that_asks(
+    tmp_path: Path, extra: str, loaded: list[str]
+) -> None:
+    import ast
+    import subprocess
+    import sys
+
+    path = _task(tmp_path, "consistent", extra)
+    probe = (
+        "import sys\n"
+        "from rprpr.cli.check import check_one\n"
+        "from rprpr.cli.options import CheckOptions\n"
+        f"kind, *_ = check_one({str(path)!r}, CheckOptions())\n"
+        "got = sorted(m.removeprefix('rprpr.engine.') for m in sys.modules"
+        " if m.startswith(('rprpr.engine.certified.', 'rprpr.engine.bounds.',"
+        " 'rprpr.engine.five_bar_certified')))\n"
+        "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
+    )
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, cwd=root
+    )
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("KIND=report LOADED=")
+    got = ast.literal_eval(last.split("LOADED=")[1])
+    assert [m for m in got if "five_bar" in m] == loaded
+    if not extra:  # the plain records of the verdicts only (every check imports them)
+        assert got == ["bounds.verdicts"], got
