@@ -355,3 +355,19 @@ def test_check_loads_the_certified_layers_only_for_a_task_that_asks(
     assert [m for m in got if "five_bar" in m] == loaded
     if not extra:  # the plain records of the verdicts only (every check imports them)
         assert got == ["bounds.verdicts"], got
+
+
+def test_the_json_export_names_the_5rs_instants_columns_and_units(tmp_path: Path) -> None:
+    import json
+
+    from tests.conftest import run_cli
+
+    path = _task(tmp_path, "inconsistent", "")
+    code, out, err = run_cli("export", str(path), "--format", "json", "--samples", "3")
+    assert (code, err) == (0, "")
+    doc = json.loads(out)
+    (s,) = doc["singularities"]
+    assert (s["t"], s["modes"], s["sigma"], s["order"], s["pole_order"]) == (0.1, [1, -1], -1, 1, 1)
+    assert doc["units"]["delta"] == "m^2" and doc["units"]["alpha"] == "N"
+    assert doc["columns"][-1] == "reason" and len(doc["rows"]) == 3
+    assert doc["reasons"]["1"].startswith("a Type II instant with unbounded torques")
