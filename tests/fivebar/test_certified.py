@@ -371,3 +371,31 @@ def test_the_json_export_names_the_5rs_instants_columns_and_units(tmp_path: Path
     assert doc["units"]["delta"] == "m^2" and doc["units"]["alpha"] == "N"
     assert doc["columns"][-1] == "reason" and len(doc["rows"]) == 3
     assert doc["reasons"]["1"].startswith("a Type II instant with unbounded torques")
+
+
+DEXTAR = FiveBar(
+    Q(1, 5), (Q(1, 5), Q(1, 5), Q(3, 10), Q(3, 10)),
+    (Q(1, 4), Q(1, 4), Q(3, 20), Q(3, 20)), (Q(83, 100000),) * 2 + (Q(9, 8000),) * 2,
+    (Q(1, 10), Q(1, 10), Q(3, 20), Q(3, 20)), Q(981, 100),
+)  # fmt: skip
+
+
+def test_the_motors_angles_are_continuous_across_the_negative_axis() -> None:
+    # E moves down and left from (-0.05, 0.3): the elbow C (mode +1, left of AE) passes
+    # the negative x-axis, where the principal angle jumps from π to -π
+    m = Motion((Q(-1, 20), Q(-3, 10)), (Q(3, 10), Q(-9, 25)))
+    x, y = polys(m)
+    fm = FiveBarMotion(robot(DEXTAR, (1, -1)), q(DEXTAR.g), x, y, fmpq(1, 2), ())
+    ts = grid(fmpq(1, 2), 41)
+    got = sample(fm, ts)
+    assert (got.reason == 0).all()
+    assert np.abs(np.diff(got.theta1)).max() < 0.2 and np.abs(np.diff(got.theta2)).max() < 0.2
+    assert got.theta1[0] < math.pi < got.theta1[-1]  # crossed, not wrapped
+    for j, t in enumerate(ts.tolist()):
+        with mpmath.workdps(DPS):
+            E = tuple(mp(jet.c[0]) for jet in m.at(Q(t), 1))
+            C, D = elbows(DEXTAR, E, (1, -1))
+            for v, ref in ((got.theta1[j], mpmath.atan2(C[1], C[0])),
+                           (got.theta2[j], mpmath.atan2(D[1], D[0] - DEXTAR.a))):  # fmt: skip
+                turns = round((v - float(ref)) / (2 * math.pi))
+                assert close(v, ref + 2 * mpmath.pi * turns), (t, v, ref)

@@ -115,7 +115,7 @@ class Zone:
         self, s: FiveBarInstant, t_s: arb, a: list[list[arb]], q: list[arb], nu: list[arb]
     ) -> None:
         self.s = s
-        self.lo, self.hi = _ends(t_s)  # exact rationals about t_s
+        self.lo, self.hi = exact_ends(t_s)  # exact rationals about t_s
         self.nu = nu  # ν's coefficients m.. (α's limit at a bounded instant: ν_m/δ_m)
         self.t_s = t_s
         self.k = s.conditions_met
@@ -309,7 +309,7 @@ def _centred(over: Evaluation, at: Evaluation, U: arb) -> tuple[Any, Any]:
     return base[0] + alpha * slope[0], base[1] + alpha * slope[1]
 
 
-def _ends(b: arb) -> tuple[fmpq, fmpq]:
+def exact_ends(b: arb) -> tuple[fmpq, fmpq]:
     """Exact rationals below and above every member of the ball ``b``."""
     m, e = b.mid().man_exp()
     r, f = b.rad().man_exp()

@@ -8,7 +8,8 @@ at 128 bits, the precision doubled up to 4096 until certified; exactly at a rati
 Type II instant, δ is 0 and the torques are their limits there (the Taylor form about
 t_s: a_k/δ_m) or undefined (a pole). A value at t depends on t alone.
 
-The angles are the motors' θ1 = angle of C - A and θ2 = angle of D - B, in (-π, π].
+The angles are the motors' θ1 = angle of C - A and θ2 = angle of D - B, continuous from
+their principal values at t = 0 (``five_bar_angles``: the turns decided exactly).
 ``alpha`` is the distal links' axial force α = ν/δ [N] (the part of the force of leg 2
 on leg 1 at E along link 3, the one that blows up at a pole).
 """
@@ -24,6 +25,7 @@ from flint import arb, fmpq
 from ...model.dataclass import dataclass
 from ..exact import five_bar as fb
 from .five_bar import FiveBarMotion, precision
+from .five_bar_angles import Crossing, crossings, turns
 from .pointwise import BEYOND_DOUBLE, MAX_PREC, OK, POLE, START_PREC, TOL, UNCERTIFIED
 
 TYPE_ONE = 7  # the inverse kinematics fail: a leg stretched or folded, or E out of reach
@@ -89,16 +91,21 @@ def sample(motion: FiveBarMotion, t: np.ndarray) -> FiveBarSamples:
     """The 5R motion at the times ``t`` [s], certified (module docstring)."""
     out = {n: np.full(len(t), math.nan) for n in FIELDS}
     reason = np.zeros(len(t), dtype=int)
+    cross = (crossings(motion, 1), crossings(motion, 2)) if len(t) else ([], [])
     for j, tj in enumerate(t.tolist()):
-        values, code = at_time(motion, tj)
+        values, code = at_time(motion, tj, cross)
         for n, v in values.items():
             out[n][j] = v
         reason[j] = code
     return FiveBarSamples(t=np.array(t, dtype=float), reason=reason, **out)
 
 
-def at_time(motion: FiveBarMotion, t: float) -> tuple[dict[str, float], int]:
-    """The certified values at the double ``t`` and the row's reason code."""
+def at_time(
+    motion: FiveBarMotion, t: float, cross: tuple[list[Crossing], list[Crossing]] | None = None
+) -> tuple[dict[str, float], int]:
+    """The certified values at the double ``t`` and the row's reason code; ``cross``: the
+    legs' crossings of the angles' cut (``five_bar_angles.crossings``; none: principal
+    angles)."""
     tq = fmpq(*t.as_integer_ratio())
     exact = [p(tq) for p in motion.polys]
     path = [exact[i] for i in (0, 3, 1, 4, 2, 5)]  # x, y, x', y', x'', y''
@@ -108,6 +115,10 @@ def at_time(motion: FiveBarMotion, t: float) -> tuple[dict[str, float], int]:
         return out, TYPE_ONE
     at = next((s for s in motion.instants if s.t_exact == tq), None)
     todo = [n for n in FIELDS if n not in PATH]
+    on_cut = _on_cut(cross, tq)
+    for name, v in on_cut.items():
+        out[name] = v
+        todo.remove(name)
     bits, beyond = START_PREC, False
     while todo and bits <= MAX_PREC:
         with precision(bits):
@@ -123,11 +134,24 @@ def at_time(motion: FiveBarMotion, t: float) -> tuple[dict[str, float], int]:
                 out[n] = v
                 todo.remove(n)
         bits *= 2
+    for i, name in ((0, "theta1"), (1, "theta2")):
+        if cross is not None and name not in on_cut and math.isfinite(out[name]):
+            out[name] = turns(cross[i], tq, out[name])
     if at is not None and not at.bounded:
         return out, POLE
     if todo:
         return out, UNCERTIFIED
     return out, BEYOND_DOUBLE if beyond else OK
+
+
+def _on_cut(cross: tuple[list[Crossing], list[Crossing]] | None, t: fmpq) -> dict[str, float]:
+    """θ_i at a time at which leg i's elbow is on the angles' cut (the limit from before:
+    its principal ball would straddle ±π)."""
+    out = {}
+    for i, name in ((0, "theta1"), (1, "theta2")):
+        if cross is not None and any(c.compare(t) == 0 for c in cross[i]):
+            out[name] = turns(cross[i], t, math.nan)
+    return out
 
 
 def _exact_float(v: fmpq) -> float:
