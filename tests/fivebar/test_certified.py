@@ -380,10 +380,16 @@ DEXTAR = FiveBar(
 )  # fmt: skip
 
 
-def test_the_motors_angles_are_continuous_across_the_negative_axis() -> None:
-    # E moves down and left from (-0.05, 0.3): the elbow C (mode +1, left of AE) passes
-    # the negative x-axis, where the principal angle jumps from π to -π
-    m = Motion((Q(-1, 20), Q(-3, 10)), (Q(3, 10), Q(-9, 25)))
+@pytest.mark.parametrize(
+    "m",
+    [  # E moves down and left: the elbow C (mode +1, left of AE) passes the negative
+        # x-axis, where the principal angle jumps from π to -π; in the second, exactly at
+        # t = 1/4 (a sample): C = (-0.2, 0) when E = (-0.02, 0.24)
+        Motion((Q(-1, 20), Q(-3, 10)), (Q(3, 10), Q(-9, 25))),
+        Motion((Q(-1, 50) + Q(3, 40), Q(-3, 10)), (Q(6, 25) + Q(9, 100), Q(-9, 25))),
+    ],
+)
+def test_the_motors_angles_are_continuous_across_the_negative_axis(m: Motion) -> None:
     x, y = polys(m)
     fm = FiveBarMotion(robot(DEXTAR, (1, -1)), q(DEXTAR.g), x, y, fmpq(1, 2), ())
     ts = grid(fmpq(1, 2), 41)
