@@ -21,6 +21,7 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
+from .records import SIDE_FIELDS, _knot_record
 
 
 def value(v: Any) -> float | None:
@@ -66,8 +67,16 @@ def instant_record(s: FiveBarInstant) -> dict[str, Any]:
         "pole_order": s.order - s.conditions_met,
         "torque_at_singularity": None if limit is None else [value(limit[0]), value(limit[1])],
         "saturation": None,
-        "knot": False,
+        "knot": s.knot,
+        **({"sides": {n: side_record(side) for n, side in s.sides}} if s.knot else {}),
     }
+
+
+def side_record(s: FiveBarInstant) -> dict[str, Any]:
+    """One side of a Type II instant at a knot (``records.SIDE_FIELDS``, the RPRPR's, of
+    those a 5R instant has, and its ``residuals``)."""
+    fields = instant_record(s)
+    return {k: fields[k] for k in (*SIDE_FIELDS, "residuals") if k in fields}
 
 
 def five_bar_report(
@@ -79,7 +88,6 @@ def five_bar_report(
     """The report of one audited 5R task (a ``reports[]`` entry of ``--format json``):
     ``findings`` its findings as records, ``peak`` the torque peak's fields (null)."""
     task = result.task
-    piece = task.motion[0]
     return {
         "task": file_name(task_path),
         "name": task.name,
@@ -91,21 +99,27 @@ def five_bar_report(
             {
                 "t": k.t,
                 "t_exact": None if k.t_exact is None else str(k.t_exact),
-                "x": value(piece.x(k.t_exact)) if k.t_exact is not None else _at(piece.x, k.t),
-                "y": value(piece.y(k.t_exact)) if k.t_exact is not None else _at(piece.y, k.t),
+                "x": _on(task.motion[k.piece], 0, k),
+                "y": _on(task.motion[k.piece], 1, k),
                 "leg": k.leg,
                 "kind": k.kind,
             }
             for k in result.type_one
         ],
         "on_singular_line": result.on_singular_curve,
-        "knots": [],
+        "knots": [_knot_record(k) for k in result.knot_jumps],
         **peak,
         "torque_limit": None,
         "closest_approach": None,
         "findings": findings,
         "beyond_double_range": [],
     }
+
+
+def _on(piece: Any, i: int, k: Any) -> float | None:
+    """x (i = 0) or y (1) of the Type I instant ``k`` on its piece."""
+    p = piece.y if i else piece.x
+    return value(p(k.t_exact)) if k.t_exact is not None else _at(p, k.t)
 
 
 def _at(p: Any, t: float) -> float | None:
