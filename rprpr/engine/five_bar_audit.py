@@ -136,7 +136,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
         findings=[
             replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
         ],
-        on_singular_curve=whole and not several,
+        on_singular_curve=whole,
         parts=tuple(parts),
         knot_jumps=tuple(knots),
     )

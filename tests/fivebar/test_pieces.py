@@ -337,3 +337,25 @@ def test_a_5r_waypoint_csv_starting_out_of_reach_is_one_located_line(tmp_path: P
     assert err.startswith(f"{path}:")
     assert "motion.waypoints: the start point E(0) = (27, 1) is out of reach of leg 1" in err
     assert "[|l1 - l3|, l1 + l3] = [0, 26] m" in err
+
+
+def test_a_piece_at_rest_on_the_curve_is_rpr104_with_its_span(tmp_path: Path) -> None:
+    """Piece 1 moves along +x at 1 m/s into the singular pose (the reference's instant at
+    t = 1/10, its end); piece 2 stays there (S₋(E(t)) ≡ 0: the reference refuses it as a
+    path along a line-up curve). RPR104 names piece 2 and its span; the instant at the
+    knot is judged from its one analysable side (before)."""
+    p1 = Motion((Q(63, 5) - Q(1, 10), Q(1)), (Q(49, 5),))
+    p2 = Motion((Q(63, 5),), (Q(49, 5),))
+    with pytest.raises(ValueError, match="line-up curve"):
+        singular_instants(ROBOT, p2, MODES, Q(1, 10), TF)
+    ref = reference([(Z, Q(1, 10), p1)])
+    path = pieces_file(tmp_path, "rest", [(Q(1, 10), p1), (TF, p2)])
+    code, rep = check_json(path)
+    assert code == 1 and not rep["on_singular_line"]
+    same_instants(rep["singularities"], ref, MODES)
+    (s,) = rep["singularities"]
+    assert s["knot"] and list(s["sides"]) == ["before"]
+    assert [f["rule"] for f in rep["findings"]] == ["RPR104", "RPR203", "RPR201"]
+    assert rep["findings"][0]["message"].startswith(
+        "piece 2, t = 0.1 s to 0.2 s, runs along a Type II curve of the robot"
+    )
