@@ -17,9 +17,8 @@ end point's x(t), y(t) as one piece), without declared uncertainty. The certifie
 
 from __future__ import annotations
 
-from dataclasses import field, replace
-
 from collections.abc import Sequence
+from dataclasses import field, replace
 from typing import Any
 
 from flint import arb, ctx, fmpq
@@ -142,9 +141,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     )
 
 
-def _on_curve(
-    task: Task, parts: list[FiveBarAnalysis], whole: bool
-) -> list[Finding]:
+def _on_curve(task: Task, parts: list[FiveBarAnalysis], whole: bool) -> list[Finding]:
     """RPR104: the motion (of one piece) or each of its pieces runs along a Type II curve."""
     if whole and len(task.motion) == 1:
         return [Finding("RPR104", ON_CURVE)]

@@ -12,6 +12,7 @@ Newton-Euler (reference.py) says on which side of a knot the torques stay bounde
 
 from __future__ import annotations
 
+import itertools
 from fractions import Fraction as Q
 from pathlib import Path
 from typing import Any
@@ -55,9 +56,7 @@ def pieces_file(
     return path
 
 
-def reference(
-    pieces: list[tuple[Q, Q, Motion]], modes: tuple[int, int] = MODES
-) -> list[Instant]:
+def reference(pieces: list[tuple[Q, Q, Motion]], modes: tuple[int, int] = MODES) -> list[Instant]:
     """The reference's instants of the motion made of ``pieces`` (start, end, E(t)), in
     time order, an instant at a knot once."""
     found: dict[Any, Instant] = {}
@@ -102,7 +101,7 @@ def test_an_instant_inside_a_piece_in_each_working_mode(
     m = absolute(motions()["consistent"])
     cuts = [Z, Q(1, 20), Q(3, 20), TF]
     path = pieces_file(tmp_path, "three", [(b, m) for b in cuts[1:]], modes)
-    ref = reference([(a, b, m) for a, b in zip(cuts, cuts[1:], strict=False)], modes)
+    ref = reference([(a, b, m) for a, b in itertools.pairwise(cuts)], modes)
     assert (TS in [r.t for r in ref]) == (modes == MODES)
     code, rep = check_json(path)
     same_instants(rep["singularities"], ref, modes)
@@ -266,7 +265,7 @@ def _quintic(w0: Any, w1: Any, i: int) -> tuple[Q, ...]:
 
 def _waypoint_reference() -> list[Instant]:
     segments = []
-    for w0, w1 in zip(WAYPOINTS, WAYPOINTS[1:], strict=False):
+    for w0, w1 in itertools.pairwise(WAYPOINTS):
         segments.append((w0[0], w1[0], Motion(_quintic(w0, w1, 0), _quintic(w0, w1, 1))))
     return reference(segments)
 
@@ -326,9 +325,7 @@ def test_a_position_jump_between_5r_pieces_is_one_located_line(tmp_path: Path) -
 
 def test_a_5r_waypoint_csv_starting_out_of_reach_is_one_located_line(tmp_path: Path) -> None:
     """E(0) = (27, 1): |E - A| = 27.02 > l1 + l3 = 26 (leg 2 reaches it: |E - B| = 13.04)."""
-    (tmp_path / "far.csv").write_text(
-        "t,x,y,vx,vy,ax,ay\n0,27,1,0,0,0,0\n1,13.6,10.3,0,0,0,0\n"
-    )
+    (tmp_path / "far.csv").write_text("t,x,y,vx,vy,ax,ay\n0,27,1,0,0,0,0\n1,13.6,10.3,0,0,0,0\n")
     path = tmp_path / "far.rprpr.yaml"
     path.write_text(f"name: far\n{robot_text()}motion:\n  waypoints: far.csv\n")
     code, out, err = run_cli("check", str(path))
