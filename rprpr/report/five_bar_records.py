@@ -21,7 +21,7 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
-from .records import SIDE_FIELDS, _knot_record
+from .knot_records import knot_record
 
 
 def value(v: Any) -> float | None:
@@ -72,11 +72,20 @@ def instant_record(s: FiveBarInstant) -> dict[str, Any]:
     }
 
 
+SIDE_FIELDS = (
+    "order", "kind", "high_order", "slope", "speed", "slope_principle", "slope_reason",
+    "velocity_principle", "velocity_reason", "consistency_residual", "residuals",
+    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
 def side_record(s: FiveBarInstant) -> dict[str, Any]:
-    """One side of a Type II instant at a knot (``records.SIDE_FIELDS``, the RPRPR's, of
-    those a 5R instant has, and its ``residuals``)."""
+    """One side of a Type II instant at a knot: its order, principles, residuals,
+    boundedness and limit torques (``SIDE_FIELDS``: the RPRPR's sides' fields, with the
+    5R's ``residuals`` in place of δ's derivatives)."""
     fields = instant_record(s)
-    return {k: fields[k] for k in (*SIDE_FIELDS, "residuals") if k in fields}
+    return {k: fields[k] for k in SIDE_FIELDS}
 
 
 def five_bar_report(
@@ -107,7 +116,7 @@ def five_bar_report(
             for k in result.type_one
         ],
         "on_singular_line": result.on_singular_curve,
-        "knots": [_knot_record(k) for k in result.knot_jumps],
+        "knots": [knot_record(k) for k in result.knot_jumps],
         **peak,
         "torque_limit": None,
         "closest_approach": None,
