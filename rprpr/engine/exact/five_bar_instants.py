@@ -143,10 +143,11 @@ def analyse(
     locus = (fb.curve(p, 1, x, y), fb.curve(p, -1, x, y))
     _start(p, X, Y)
     type_one, first = _type_one(p, X, Y, duration, t0)
-    if any(fb.curve(p, sigma, X, Y).is_zero() for sigma in (1, -1)):
+    curves = {sigma: fb.curve(p, sigma, X, Y) for sigma in (1, -1)}  # S±(E(u))
+    if any(S.is_zero() for S in curves.values()):
         return FiveBarAnalysis((), type_one, locus, on_curve=True)
     found = []
-    for cand in _candidates(p, X, Y, duration):
+    for cand in _candidates(curves, duration):
         if first is not None and not _before(cand, first):
             continue  # at or after the first Type I instant: the working modes are lost
         instant = _instant(p, modes, X, Y, t0, cand, min_slope, min_speed)
@@ -280,17 +281,10 @@ class _Candidate:
     index: int = 0  # among the real roots of f in the span, in increasing order
 
 
-def _candidates(
-    p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly, duration: fmpq
-) -> list[_Candidate]:
+def _candidates(curves: dict[int, fmpq_poly], duration: fmpq) -> list[_Candidate]:
+    """The real roots of S₊(E(u)) S₋(E(u)) in [0, duration] (neither is zero)."""
     found: dict[Any, _Candidate] = {}
-    for sigma in (1, -1):
-        S = fb.curve(p, sigma, X, Y)
-        if S.is_zero():
-            raise FiveBarError(
-                "the path runs along a Type II curve of the robot (S"
-                f"{'+' if sigma > 0 else '-'} vanishes all along it): not supported"
-            )
+    for sigma, S in curves.items():
         for f, m in S.factor()[1]:
             if f.degree() < 1:
                 continue
