@@ -356,3 +356,25 @@ def test_a_piece_at_rest_on_the_curve_is_rpr104_with_its_span(tmp_path: Path) ->
     assert rep["findings"][0]["message"].startswith(
         "piece 2, t = 0.1 s to 0.2 s, runs along a Type II curve of the robot"
     )
+
+
+def test_an_acceleration_jump_is_rpr204_with_newton_eulers_torque_jump(tmp_path: Path) -> None:
+    """Away from the curve (no instant, by the reference): E moves along +x at 1 m/s, then
+    from t = 1/2 curves upward (ÿ = 2): the acceleration jumps by (0, 2) at the knot and
+    the torques by T(1/2+) - T(1/2-), each side's by Newton-Euler at 60 digits."""
+    p1 = Motion((Q(58, 5), Q(1)), (Q(9),))
+    p2 = Motion((Q(58, 5), Q(1)), (Q(9) + Q(1, 4), Q(-1), Q(1)))  # y = 9 + (t - 1/2)²
+    assert reference([(Z, Q(1, 2), p1), (Q(1, 2), Q(1), p2)]) == []
+    before, after = (torques(ROBOT, m, Q(1, 2), MODES) for m in (p1, p2))
+    path = pieces_file(tmp_path, "bend", [(Q(1, 2), p1), (Q(1), p2)])
+    code, rep = check_json(path)
+    assert code == 0 and rep["singularities"] == []  # RPR204: a warning
+    assert [(f["rule"], f["severity"]) for f in rep["findings"]] == [("RPR204", "warning")]
+    (k,) = rep["knots"]
+    assert k["velocity_jump"] is None and k["acceleration_jump"] == [0, 2]
+    for i in (0, 1):
+        want = float(after[i] - before[i])
+        assert abs(k["torque_jump"][i] - want) <= 1e-9 * (1 + abs(want))
+    message = rep["findings"][0]["message"]
+    assert message.startswith("t = 0.5 s (knot between pieces 1 and 2): the end-point")
+    assert f"T1 jumps by {k['torque_jump'][0]:.6g} N m" in message
