@@ -378,3 +378,14 @@ def test_an_acceleration_jump_is_rpr204_with_newton_eulers_torque_jump(tmp_path:
     message = rep["findings"][0]["message"]
     assert message.startswith("t = 0.5 s (knot between pieces 1 and 2): the end-point")
     assert f"T1 jumps by {k['torque_jump'][0]:.6g} N m" in message
+
+
+@pytest.mark.parametrize("form", ["text", "concise", "github", "gitlab", "sarif", "junit", "html"])
+def test_every_format_reports_a_5r_knot(tmp_path: Path, form: str) -> None:
+    """The knot task of ``test_an_instant_at_a_knot_is_judged_from_each_side``."""
+    a, b = absolute(motions()["consistent"]), absolute(motions()["inconsistent"])
+    path = pieces_file(tmp_path, "knot", [(TS, a), (TF, b)])
+    code, out, err = run_cli("check", "--format", form, str(path))
+    assert (code, err) == (1, "")
+    assert "RPR201" in out and "RPR204" in out and "internal" not in out
+    assert "knot between pieces 1 and 2" in out
