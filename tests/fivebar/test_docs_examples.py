@@ -63,8 +63,9 @@ def test_the_documented_numbers_are_the_references() -> None:
     assert derive(ROBOT, CROSSING, Z, MODES, 3).w(-1).d(0) == 0  # consistent
     w = derive(ROBOT, STOP, Z, MODES, 6).w(-1)
     assert tuple(w.d(i) for i in range(3)) == RESIDUALS
-    T = torques(ROBOT, CROSSING, Q(1, 10**10), MODES)
-    assert all(abs(float(T[i]) - LIMIT[i]) <= 1e-7 for i in (0, 1))
+    for side in (1, -1):
+        T = torques(ROBOT, CROSSING, Q(side, 10**10), MODES)
+        assert all(abs(float(T[i]) - LIMIT[i]) <= 1e-7 for i in (0, 1))
     with mpmath.workdps(DPS):
         for s in (1, -1):
             h = mpmath.mpf(s) / 10**8
