@@ -1,16 +1,19 @@
 """The audit of a 5R task: its exact verdicts (pure; docs/five-bar.md).
 
-    task -> E(t) (exact polynomials) -> Type I instants, else Type II instants
-         (``exact.five_bar_instants``) -> findings -> FiveBarAuditResult
+    task -> each piece's E(t) (exact polynomials) -> its Type II instants up to the first
+         Type I instant (``exact.five_bar_instants``) -> joined (instants at knots from
+         both sides) + the knots' jumps (``exact.knots``) -> findings -> FiveBarAuditResult
 
 The rules are the RPRPR's where the meaning is the same: the transversality principle is
 RPR101 (the slope principle: the path crosses the Type II curve at an angle), the speed
 principle RPR102, a leg stretched or folded RPR103 (the inverse kinematics fail, as at A
-or B for the RPRPR), the path along the Type II curve RPR104 and unbounded torques RPR201
-(the reciprocity condition and the high-order conditions, §6).
+or B for the RPRPR), the path along the Type II curve RPR104, unbounded torques RPR201
+(the reciprocity condition and the high-order conditions, §6), and at the knots of a
+piecewise motion RPR203 (velocity jump) and RPR204 (acceleration and torque jump).
 
-What this build audits of a 5R: a motion of one piece (y = p(x) with a timing law, or the
-end point's x(t), y(t) as one piece), without declared uncertainty. The certified layers
+What this build audits of a 5R: a motion of one piece or of several (y = p(x) with a
+timing law or ``timing.x`` pieces, ``motion.pieces``, waypoints inline or from a CSV
+file), without declared uncertainty. The certified layers
 (torque peak, torque limit, samples, the sheet, export, repair) are not available for a
 5R yet: ``refuse`` says so in one located line (a ``TaskFileError``: exit status 2).
 """
