@@ -5,9 +5,11 @@ renders a 5R task: ``singularities[]`` are its Type II instants, with ``modes`` 
 working modes e1, e2), ``sigma`` (the line-up: -1 E between the elbows, +1 C and D on
 one side of E), ``slope`` (tan α, the crossing angle with the Type II curve),
 ``consistency_residual`` (the reciprocity residual w(t_s) [N]) and ``residuals`` (w^(j)(t_s),
-j < order); ``kinematic_singularities[]`` its Type I instants (a leg ``stretched`` or
-``folded``). The certified layers are absent: the torque peak fields are null,
-``torque_limit`` and ``closest_approach`` null.
+j < order), and at a knot of a piecewise motion ``knot`` and ``sides`` (the one-sided
+analyses, as the RPRPR's); ``kinematic_singularities[]`` its first Type I instant (a leg
+``stretched`` or ``folded``: the analysis stops there); ``knots[]`` the knots' jumps.
+The certified layers are absent: the torque peak fields are null, ``torque_limit`` and
+``closest_approach`` null.
 """
 
 from __future__ import annotations
