@@ -5,9 +5,11 @@ renders a 5R task: ``singularities[]`` are its Type II instants, with ``modes`` 
 working modes e1, e2), ``sigma`` (the line-up: -1 E between the elbows, +1 C and D on
 one side of E), ``slope`` (tan α, the crossing angle with the Type II curve),
 ``consistency_residual`` (the reciprocity residual w(t_s) [N]) and ``residuals`` (w^(j)(t_s),
-j < order); ``kinematic_singularities[]`` its Type I instants (a leg ``stretched`` or
-``folded``). The certified layers are absent: the torque peak fields are null,
-``torque_limit`` and ``closest_approach`` null.
+j < order), and at a knot of a piecewise motion ``knot`` and ``sides`` (the one-sided
+analyses, as the RPRPR's); ``kinematic_singularities[]`` its first Type I instant (a leg
+``stretched`` or ``folded``: the analysis stops there); ``knots[]`` the knots' jumps.
+The certified layers are absent: the torque peak fields are null, ``torque_limit`` and
+``closest_approach`` null.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
+from .knot_records import knot_record
 
 
 def value(v: Any) -> float | None:
@@ -66,8 +69,25 @@ def instant_record(s: FiveBarInstant) -> dict[str, Any]:
         "pole_order": s.order - s.conditions_met,
         "torque_at_singularity": None if limit is None else [value(limit[0]), value(limit[1])],
         "saturation": None,
-        "knot": False,
+        "knot": s.knot,
+        **({"sides": {n: side_record(side) for n, side in s.sides}} if s.knot else {}),
     }
+
+
+SIDE_FIELDS = (
+    "order", "kind", "high_order", "slope", "speed", "slope_principle", "slope_reason",
+    "velocity_principle", "velocity_reason", "consistency_residual", "residuals",
+    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
+def side_record(s: FiveBarInstant) -> dict[str, Any]:
+    """One side of a Type II instant at a knot: its order, principles, residuals,
+    boundedness and limit torques (``SIDE_FIELDS``: the RPRPR's sides' fields, with the
+    5R's ``residuals`` in place of δ's derivatives)."""
+    fields = instant_record(s)
+    return {k: fields[k] for k in SIDE_FIELDS}
 
 
 def five_bar_report(
@@ -79,7 +99,6 @@ def five_bar_report(
     """The report of one audited 5R task (a ``reports[]`` entry of ``--format json``):
     ``findings`` its findings as records, ``peak`` the torque peak's fields (null)."""
     task = result.task
-    piece = task.motion[0]
     return {
         "task": file_name(task_path),
         "name": task.name,
@@ -91,21 +110,27 @@ def five_bar_report(
             {
                 "t": k.t,
                 "t_exact": None if k.t_exact is None else str(k.t_exact),
-                "x": value(piece.x(k.t_exact)) if k.t_exact is not None else _at(piece.x, k.t),
-                "y": value(piece.y(k.t_exact)) if k.t_exact is not None else _at(piece.y, k.t),
+                "x": _on(task.motion[k.piece], 0, k),
+                "y": _on(task.motion[k.piece], 1, k),
                 "leg": k.leg,
                 "kind": k.kind,
             }
             for k in result.type_one
         ],
         "on_singular_line": result.on_singular_curve,
-        "knots": [],
+        "knots": [knot_record(k) for k in result.knot_jumps],
         **peak,
         "torque_limit": None,
         "closest_approach": None,
         "findings": findings,
         "beyond_double_range": [],
     }
+
+
+def _on(piece: Any, i: int, k: Any) -> float | None:
+    """x (i = 0) or y (1) of the Type I instant ``k`` on its piece."""
+    p = piece.y if i else piece.x
+    return value(p(k.t_exact)) if k.t_exact is not None else _at(p, k.t)
 
 
 def _at(p: Any, t: float) -> float | None:

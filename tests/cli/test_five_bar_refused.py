@@ -2,8 +2,8 @@
 
 ``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py); the
 certified layers are not available for a 5R yet (``engine.five_bar_audit.refuse``): a
-torque limit, the torque peak (``--peak``, ``checks.peak``), declared uncertainty, a
-motion of several pieces, and the commands that need samples (``plot``, ``export``,
+torque limit, the torque peak (``--peak``, ``checks.peak``), declared uncertainty, and
+the commands that need samples (``plot``, ``export``,
 ``repair``). The Python API raises ``TaskFileError`` at the same key.
 """
 
@@ -87,26 +87,6 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
     line = _line(path.read_text(), "uncertainty:")
     # the task file's reader refuses it already (the robust audit is the RPRPR's)
     assert err.startswith(f"{path}:{line}:14: uncertainty: uncertainty is for mechanism: rprpr")
-    assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
-
-
-def test_check_refuses_a_motion_of_several_pieces_on_a_5r(tmp_path: Path) -> None:
-    text = _without_limit(tmp_path).read_text()
-    start = text.index("path:")
-    end = text.index("checks:")
-    pieces = (
-        "motion:\n  pieces:\n"
-        "    - until: 0.25\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
-        "    - until: 0.5\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
-    )
-    path = tmp_path / "pieces.rprpr.yaml"
-    path.write_text(text[:start] + pieces + text[end:])
-    code, _, err = run_cli("check", str(path))
-    assert code == 2
-    line = _line(path.read_text(), "motion:")
-    assert err.startswith(
-        f"{path}:{line}: motion: a piecewise motion (motion) is {YET}: give one polynomial piece"
-    )
     assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
 
 
