@@ -1,6 +1,7 @@
 """``rprpr rule [ID]``: what a rule checks, the paper's equation it rests on, why it
-matters, how to fix a finding and how to silence it (as ruff's ``rule``); with no ID, the
-list of every rule. An ID may also be the rule's name (``unbounded-torque``)."""
+matters, what it means for a 5R five-bar (the rules it shares), how to fix a finding and
+how to silence it (as ruff's ``rule``); with no ID, the list of every rule. An ID may also
+be the rule's name (``unbounded-torque``)."""
 
 from __future__ import annotations
 
@@ -40,6 +41,39 @@ def find(rule_id: str) -> Rule:
     raise click.UsageError(f"unknown rule {rule_id!r}{hint}; `rprpr rule` lists them")
 
 
+# what a rule shared by the 5R means for it (docs/five-bar.md: §2 the working modes, §3
+# the Type II curves S₊ and S₋, §4 the principles, §6 the consistency conditions)
+FIVE_BAR = {
+    "RPR101": (
+        "the path is tangent to the Type II curve S₊ or S₋ at the instant (∇S·E' = 0), passes"
+        " a singular point of the curve, or crosses it at an angle α whose tan α ="
+        " |∇S·E'|/|∇S × E'| does not exceed checks.min_slope: the singularity is of high"
+        " order; cross the curve transversally (§4)."
+    ),
+    "RPR102": (
+        "the end point is at rest on S₊ or S₋ (E' = 0) or slower than checks.min_speed:"
+        " the singularity is of high order, as for the RPRPR (§4)."
+    ),
+    "RPR103": (
+        "a leg is stretched or folded (|E - A| = l1 + l3 or |l1 - l3|, likewise |E - B| with"
+        " l2, l4): a Type I singularity, where the leg's two working modes meet and the"
+        " working mode is lost; the analysis stops there (the Type II instants before it"
+        " are reported). Keep E inside both legs' reach (§2)."
+    ),
+    "RPR104": (
+        "the path, or a piece of it, runs along S₊ or S₋ (the distal links stay lined up):"
+        " every instant of it is a Type II singularity (§3)."
+    ),
+    "RPR201": (
+        "the reciprocity condition w = h1/l3 + σ h2/l4 = 0 fails at t_s (the distal links'"
+        " transverse dynamic forces at E do not cancel: the dynamic wrench is not"
+        " reciprocal to the uncontrollable twist), or, at an instant of order k, fewer than"
+        " the k conditions w = w' = ... = w^(k-1) = 0 (σ frozen at t_s) hold; the 5R's"
+        " eq. (34) and higher-order conditions (§6)."
+    ),
+}
+
+
 def explain(r: Rule) -> Iterator[str]:
     """The explanation of ``r``, line by line."""
     yield f"{r.id} {r.name}"
@@ -49,6 +83,8 @@ def explain(r: Rule) -> Iterator[str]:
         yield f"Paper: {r.equation}."
     if r.why:
         yield f"Why it matters: {r.why}"
+    if r.id in FIVE_BAR:
+        yield f"For a 5R (robot.mechanism: 5R): {FIVE_BAR[r.id]} See docs/five-bar.md."
     if r.id == INVALID_TASK:
         yield "Level: always an error (exit status 2); the other tasks are still audited."
     elif r.strict_only:

@@ -1,31 +1,35 @@
 """The audit of a 5R task: its exact verdicts (pure; docs/five-bar.md).
 
-    task -> E(t) (exact polynomials) -> Type I instants, else Type II instants
-         (``exact.five_bar_instants``) -> findings -> FiveBarAuditResult
+    task -> each piece's E(t) (exact polynomials) -> its Type II instants up to the first
+         Type I instant (``exact.five_bar_instants``) -> joined (instants at knots from
+         both sides) + the knots' jumps (``exact.knots``) -> findings -> FiveBarAuditResult
 
 The rules are the RPRPR's where the meaning is the same: the transversality principle is
 RPR101 (the slope principle: the path crosses the Type II curve at an angle), the speed
 principle RPR102, a leg stretched or folded RPR103 (the inverse kinematics fail, as at A
-or B for the RPRPR), the path along the Type II curve RPR104 and unbounded torques RPR201
-(the reciprocity condition and the high-order conditions, §6).
+or B for the RPRPR), the path along the Type II curve RPR104, unbounded torques RPR201
+(the reciprocity condition and the high-order conditions, §6), and at the knots of a
+piecewise motion RPR203 (velocity jump) and RPR204 (acceleration and torque jump).
 
-What this build audits of a 5R: a motion of one piece (y = p(x) with a timing law, or the
-end point's x(t), y(t) as one piece), without declared uncertainty; with its certified
-layers (``five_bar_certified``, loaded only for a task that asks for them): the torque
-peak, the torque limit check and its windows, the samples. What it does not audit of a 5R
-(the sheet, repair) ``refuse`` refuses in one located line (a ``TaskFileError``: exit
-status 2).
+What this build audits of a 5R: a motion of one piece or of several (y = p(x) with a
+timing law or ``timing.x`` pieces, ``motion.pieces``, waypoints inline or from a CSV
+file), without declared uncertainty; for a motion of one piece, its certified layers
+(``five_bar_certified``, loaded only for a task that asks for them): the torque peak, the
+torque limit check and its windows, the samples. What it does not audit of a 5R (the
+certified layers of a motion of several pieces, the sheet, repair) ``refuse`` refuses in
+one located line (a ``TaskFileError``: exit status 2).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import field, replace
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from flint import fmpq_poly
+from flint import arb, ctx, fmpq
 
 from ..model.dataclass import dataclass
 from ..model.errors import TaskFileError
@@ -33,9 +37,10 @@ from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number, to_float
 from ..model.options import AuditOptions
 from ..model.rules import Finding, Judged, with_levels
-from ..model.task import Task
+from ..model.task import Piece, Robot, Task
 from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact import five_bar as fb
+from .exact import knots as K
 from .exact.five_bar_instants import (
     FiveBarAnalysis,
     FiveBarError,
@@ -43,7 +48,8 @@ from .exact.five_bar_instants import (
     TypeOne,
     analyse_robot,
 )
-from .exact.singular import FACTORING, OnStage
+from .exact.singular import FACTORING, OnStage, Principle
+from .findings import exact_text, knot
 
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it
     from .certified.five_bar import FiveBarMotion
@@ -58,13 +64,16 @@ GRID = 101  # ``samples``' default grid (``AuditOptions.samples``)
 @dataclass(frozen=True)
 class FiveBarAuditResult(Judged):
     """What ``rprpr check`` reports for a 5R task: its Type II instants (``analysis``:
-    times, working modes, line-up σ, order, principles, residuals, limit torques), or the
-    Type I instants that stop its inverse kinematics; the findings and the verdict; and
-    the certified layers as the RPRPR's ``AuditResult`` has them: ``torque_peak`` (inf at
-    a pole; None when not asked for, then ``peak_computed`` is False, or undefined: a
-    Type I instant or the path on the curve), ``torque_limit`` (None without a limit),
-    ``saturation`` and ``samples`` (certified values on ``grid_size`` times, made when
-    first read; ``resample`` at any times)."""
+    times, working modes, line-up σ, order, principles, residuals, limit torques) up to
+    the first Type I instant, which stops its inverse kinematics; for a piecewise motion
+    each piece's analysis (``parts``, up to the piece that stops) and its knots
+    (``knot_jumps``: velocity, acceleration and torque jumps); the findings and the
+    verdict; and for a motion of one piece the certified layers as the RPRPR's
+    ``AuditResult`` has them: ``torque_peak`` (inf at a pole; None when not asked for,
+    then ``peak_computed`` is False, or undefined: a Type I instant or the path on the
+    curve), ``torque_limit`` (None without a limit), ``saturation`` and ``samples``
+    (certified values on ``grid_size`` times, made when first read; ``resample`` at any
+    times)."""
 
     task: Task
     strict: bool
@@ -72,6 +81,8 @@ class FiveBarAuditResult(Judged):
     findings: list[Finding]
     on_singular_curve: bool = False  # the path runs along a Type II curve all along
     peak_computed: bool = False
+    parts: tuple[FiveBarAnalysis, ...] = field(default=(), repr=False, compare=False)
+    knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False, compare=False)
     torque_peak: tuple[Peak, Peak] | None = None
     torque_limit: tuple[LimitCheck, LimitCheck] | None = None
     grid_size: int = field(default=GRID, repr=False)
@@ -79,7 +90,8 @@ class FiveBarAuditResult(Judged):
 
     @cached_property
     def motion(self) -> FiveBarMotion:
-        """The motion in balls (``certified.five_bar``), made when first read."""
+        """The motion in balls (``certified.five_bar``), made when first read (a motion
+        of one piece: ``refuse_command``)."""
         return certified_motion(self.task, self.analysis)
 
     @cached_property
@@ -114,6 +126,11 @@ class FiveBarAuditResult(Judged):
         return out
 
     @property
+    def knots(self) -> tuple[float, ...]:
+        """The break times of a piecewise motion [s] (``knot_jumps``' times)."""
+        return tuple(k.t for k in self.knot_jumps)
+
+    @property
     def singularities(self) -> tuple[FiveBarInstant, ...]:
         """The Type II instants, in time order."""
         return self.analysis.instants
@@ -139,31 +156,39 @@ class FiveBarAuditResult(Judged):
 
 def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditResult:
     """The exact audit of the 5R ``task`` under the options ``o`` (``engine.audit``
-    resolved them); what this build cannot audit of a 5R is refused first (``refuse``)."""
+    resolved them); what this build cannot audit of a 5R is refused first (``refuse``).
+
+    A motion of several pieces (``timing.x``, ``motion.pieces``, waypoints) is analysed
+    piece by piece in time order, each on its closed span [t_k, t_k+1]: the working modes
+    at the start of a piece are those at the end of the one before (positions are
+    continuous at the knots and the modes can change only where a leg is stretched or
+    folded), an instant at a knot is judged from each side (``at_knot``), and the first
+    Type I instant stops the analysis: the pieces after it are not analysed."""
     strict = task.checks.strict if o.strict is None else o.strict
-    refuse(task, peak=task.checks.peak if o.peak is None else o.peak, options=o)
-    piece = task.motion[0]
-    x, y = piece.x, piece.y
     asked = task.checks.peak if o.peak is None else o.peak
+    refuse(task, peak=asked, options=o)
     tell(FACTORING)
     r = task.robot
     assert r.five_bar is not None  # a 5R task's robot (``model.five_bar``)
-    p = fb.params(r.five_bar, r.gravity)
-    if any(fb.curve(p, s, x, y).is_zero() for s in (1, -1)):
-        analysis = FiveBarAnalysis((), (), (fmpq_poly(), fmpq_poly()))
-        found = [Finding("RPR104", ON_CURVE)]
-        on_curve = True
-    else:
+    parts: list[FiveBarAnalysis] = []
+    for j, piece in enumerate(task.motion):
         try:
-            analysis = analyse_robot(
-                r, x, y, piece.start, piece.end, task.checks.min_slope, task.checks.min_speed
-            )
+            a = analyse_robot(
+                r, piece.x, piece.y, piece.start, piece.end,
+                task.checks.min_slope, task.checks.min_speed, piece.local,
+            )  # fmt: skip
         except FiveBarError as e:
             raise _error(task, str(e), _motion_key(task)) from None
-        tell(FINDINGS)
-        found = findings(task, analysis, x, y)
-        on_curve = False
-    peak, computed, checked = _certified(task, analysis, asked, on_curve, tell)
+        parts.append(replace(a, type_one=tuple(replace(k, piece=j) for k in a.type_one)))
+        if a.refused:
+            break  # the working modes are lost at a Type I instant
+    tell(FINDINGS)
+    several = len(task.motion) > 1
+    analysis = joined(task, parts) if several else parts[0]
+    knots = K.knots(task.motion[: len(parts)], r, torques_at) if several else []
+    whole = all(a.on_curve for a in parts) and len(parts) == len(task.motion)
+    found = findings(task, analysis, knots, _on_curve(task, parts, whole))
+    peak, computed, checked = _certified(task, analysis, asked, whole, tell)
     if checked is not None:
         from .five_bar_certified import limit_findings
 
@@ -178,7 +203,9 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
         findings=[
             replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
         ],
-        on_singular_curve=on_curve,
+        on_singular_curve=whole,
+        parts=tuple(parts),
+        knot_jumps=tuple(knots),
         peak_computed=computed,
         torque_peak=peak,
         torque_limit=checked,
@@ -191,7 +218,8 @@ def _certified(
 ) -> tuple[tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None]:
     """The torque peak (when asked for, or free: infinite at a pole), whether it was
     computed, and the limit check (with ``checks.torque_limit``); none of them where
-    the torques are undefined (a Type I instant, the path on a Type II curve)."""
+    the torques are undefined (a Type I instant, the path on a Type II curve). A motion
+    of one piece (``refuse`` refuses the others')."""
     limit = task.checks.torque_limit
     if on_curve or analysis.refused:
         return None, asked or limit is not None, None
@@ -215,12 +243,146 @@ def _certified(
 
 
 def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
-    """The 5R task's motion in balls, with its Type II instants."""
+    """The 5R task's motion (of one piece) in balls, with its Type II instants."""
     from .certified.five_bar import FiveBarMotion
 
     piece = task.motion[0]
     r = task.robot
     return FiveBarMotion(r.five_bar, r.gravity, piece.x, piece.y, task.duration, analysis.instants)
+
+
+def _on_curve(task: Task, parts: list[FiveBarAnalysis], whole: bool) -> list[Finding]:
+    """RPR104: the motion (of one piece) or each of its pieces runs along a Type II curve."""
+    if whole and len(task.motion) == 1:
+        return [Finding("RPR104", ON_CURVE)]
+    out = []
+    for j, a in enumerate(parts):
+        if a.on_curve:
+            piece = task.motion[j]
+            start, end = exact_text(piece.start), exact_text(piece.end)
+            message = (
+                f"piece {j + 1}, t = {start} s to {end} s, runs along a Type II curve of the"
+                " robot (S₊ or S₋ vanishes all along it): every instant of that piece is a"
+                " Type II singularity"
+            )
+            out.append(Finding("RPR104", message, to_float(piece.start)))
+    return out
+
+
+def joined(task: Task, parts: list[FiveBarAnalysis]) -> FiveBarAnalysis:
+    """The analyses of the pieces as one, in time order: an instant at a break of the
+    motion (0 and t_f included) found by the pieces on either side becomes one instant
+    with its sides (``at_knot``); the Type I instants are those of the last piece
+    analysed (the first Type I instant stops the analysis); the locus is the first
+    piece's (each piece's is in ``FiveBarAuditResult.parts``)."""
+    breaks = {task.motion[0].start} | {p.end for p in task.motion}
+    plain: list[FiveBarInstant] = []
+    sides: dict[fmpq, dict[str, FiveBarInstant]] = {}
+    for j, a in enumerate(parts):
+        piece = task.motion[j]
+        for s in a.instants:
+            if s.t_exact is not None and s.t_exact in breaks:
+                side = "after" if s.t_exact == piece.start else "before"
+                sides.setdefault(s.t_exact, {})[side] = s
+            else:
+                plain.append(s)
+    plain += [at_knot(pair.get("before"), pair.get("after")) for pair in sides.values()]
+    plain.sort(key=lambda s: (s.t, float(s.t_ball.mid())))
+    return FiveBarAnalysis(
+        tuple(plain), parts[-1].type_one, parts[0].locus, all(a.on_curve for a in parts)
+    )
+
+
+def _side(name: str, principle: Principle, two: bool) -> Principle:
+    return replace(principle, reason=f"{name} the knot: {principle.reason}") if two else principle
+
+
+def _float(v: Any) -> float:
+    """An exact value (rational, ball, float) as a double for ordering."""
+    if isinstance(v, fmpq):
+        return to_float(v)
+    if isinstance(v, arb):
+        return float(v.mid())
+    return float(v)
+
+
+def at_knot(before: FiveBarInstant | None, after: FiveBarInstant | None) -> FiveBarInstant:
+    """One instant at a knot from its one-sided analyses (either may be absent: t = 0,
+    t = t_f), as the RPRPR's (``pieces.at_knot``): the order the larger; a principle
+    fails if it fails on either side (the side's name in its reason); the residuals of an
+    inconsistent side; bounded only if both sides are (the pole of the higher order);
+    the limit torques the common limit, else None."""
+    sides = tuple((n, s) for n, s in (("before", before), ("after", after)) if s is not None)
+    ss = [s for _, s in sides]
+    two = len(ss) == 2
+    base = max(ss, key=lambda s: s.order)
+    slope_n, slope_s = min(
+        sides, key=lambda p: (p[1].slope_principle.passed, _float(abs(p[1].slope)))
+    )
+    speed_n, speed_s = min(
+        sides, key=lambda p: (p[1].velocity_principle.passed, _float(p[1].speed2))
+    )
+    _, resid_s = max(
+        sides, key=lambda p: (not p[1].consistent, _float(abs(p[1].consistency_residual)))
+    )
+    pole = max(s.order - s.conditions_met for s in ss)
+    limits = [s.torque_at_singularity for s in ss]
+    torque = limits[0] if all(_same(lim, limits[0]) for lim in limits) else None
+    return replace(
+        base,
+        order=base.order,
+        slope=slope_s.slope,
+        normal_rate=slope_s.normal_rate,
+        slope_principle=_side(slope_n, slope_s.slope_principle, two),
+        speed2=speed_s.speed2,
+        velocity_principle=_side(speed_n, speed_s.velocity_principle, two),
+        residuals=resid_s.residuals,
+        conditions_met=base.order - pole,
+        torque_at_singularity=torque,
+        knot=True,
+        sides=sides,
+    )
+
+
+def _same(a: tuple[Any, Any] | None, b: tuple[Any, Any] | None) -> bool:
+    """Two limit torques known equal (exactly, or as the same ball)."""
+    if a is None or b is None:
+        return a is b
+    return all(
+        (u == v) if isinstance(u, fmpq) and isinstance(v, fmpq) else (u is v)
+        for u, v in zip(a, b, strict=True)
+    )
+
+
+def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | None:
+    """(T1, T2) of the 5R ``robot`` on the motion ``piece`` at the exact time t in its
+    working modes (``knots.knots``' one-sided torques at a knot), in arb; None where a
+    leg's discriminant or δ is not proven nonzero."""
+    assert robot.five_bar is not None
+    (x, y), u = K._local(piece, t)
+    values = [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
+                              y, y.derivative(), y.derivative().derivative())]  # fmt: skip
+    old = ctx.prec
+    ctx.prec = K.PREC
+    try:
+        X, Xd, Xdd, Y, Yd, Ydd = (arb(v) for v in values)
+        p = fb.params(robot.five_bar, robot.gravity, arb)
+        modes = (int(robot.five_bar.modes[0]), int(robot.five_bar.modes[1]))
+        proven = [True]
+
+        def root(D: arb, i: int) -> arb:
+            proven[0] = proven[0] and bool(D > 0)
+            return D.sqrt() if D > 0 else arb(1)
+
+        d = fb.dynamics(*fb.legs(p, modes, X, Xd, Xdd, Y, Yd, Ydd, root), p)
+        if not proven[0] or not (d.delta > 0 or d.delta < 0):
+            return None
+        T1, T2 = fb.torques(d)
+        if not (T1.is_finite() and T2.is_finite()):
+            return None
+        return float(T1.mid()), float(T2.mid())
+    finally:
+        ctx.prec = old
 
 
 ON_CURVE = (
@@ -231,26 +393,40 @@ ON_CURVE = (
 
 def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = None) -> None:
     """A 5R task asks for what this build cannot audit of a 5R: a ``TaskFileError``
-    located at the key that asks for it (the first met): a motion of several pieces
-    (``timing``, ``motion``), declared uncertainty."""
+    located at the key that asks for it (the first met): declared uncertainty; for a
+    motion of several pieces, a torque limit or the torque peak. (A motion of several
+    pieces is audited: ``audit_five_bar``; the certified layers of one piece:
+    ``five_bar_certified``.)"""
     if task.robot.mechanism != FIVE_BAR:
         return
-    if len(task.motion) != 1 or task.law == "waypoints":
-        raise _error(
-            task,
-            f"a piecewise motion ({task.law}) is {YET}: give one polynomial piece (y = p(x)"
-            " with a rest-to-rest or explicit timing law, or one piece of motion.pieces)",
-            _motion_key(task),
-        )
     if task.uncertainty is not None or (options is not None and options.uncertainty):
         raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
+    several = f"of a motion of several pieces is {YET}"
+    if len(task.motion) > 1 and task.checks.torque_limit is not None:
+        raise _error(
+            task,
+            f"the certified torque limit check {several} (remove checks.torque_limit)",
+            "checks.torque_limit",
+        )
+    if len(task.motion) > 1 and peak:
+        raise _error(
+            task, f"the certified torque peak (--peak, checks.peak) {several}", "checks.peak"
+        )
 
 
 def refuse_command(task: Task, command: str) -> None:
-    """``command`` (plot, export, repair) needs the certified layers, which a 5R task does
-    not have yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR)."""
-    if task.robot.mechanism == FIVE_BAR:
-        raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
+    """``command`` (plot, repair; export for a motion of several pieces) is not available
+    for a 5R task yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR,
+    nor for the export of a 5R motion of one piece)."""
+    if task.robot.mechanism != FIVE_BAR:
+        return
+    if command == "export" and len(task.motion) == 1:
+        return
+    if command == "export":
+        raise _error(
+            task, f"rprpr export of a motion of several pieces is {YET}", _motion_key(task)
+        )
+    raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
 
 
 def _motion_key(task: Task) -> str:
@@ -268,12 +444,17 @@ def _error(task: Task, message: str, key: str) -> TaskFileError:
 # -- the findings -------------------------------------------------------------------------
 
 
-def findings(task: Task, a: FiveBarAnalysis, x: fmpq_poly, y: fmpq_poly) -> list[Finding]:
-    """What the audit found wrong, in report order: the Type I instants (RPR103), then at
-    each Type II instant the broken principles (RPR101, RPR102) and unbounded torques
+def findings(
+    task: Task, a: FiveBarAnalysis, knots: Sequence[K.Knot] = (), on_curve: Sequence[Finding] = ()
+) -> list[Finding]:
+    """What the audit found wrong, in report order: the path (``on_curve``) or pieces
+    along a Type II curve (RPR104), the knots' velocity and acceleration jumps (RPR203,
+    RPR204, as for the RPRPR), the Type I instant that stops the analysis (RPR103), then
+    at each Type II instant the broken principles (RPR101, RPR102) and unbounded torques
     (RPR201, a warning under ``checks.unbounded_torque: warn``)."""
     text = labels([k.t for k in a.type_one] + [s.t for s in a.instants])
-    out = [type_one(k, text[k.t], x, y) for k in a.type_one]
+    out = list(on_curve) + [f for k in knots for f in knot(k)]
+    out += [type_one(k, text[k.t], len(a.instants), len(task.motion) > 1) for k in a.type_one]
     accepted = task.checks.unbounded_torque == "warn"
     for i, s in enumerate(a.instants):
         where = where_text(s, text[s.t])
@@ -294,24 +475,29 @@ def findings(task: Task, a: FiveBarAnalysis, x: fmpq_poly, y: fmpq_poly) -> list
     return out
 
 
-def type_one(k: TypeOne, t: str, x: fmpq_poly, y: fmpq_poly) -> Finding:
-    """RPR103: leg k.leg stretched or folded at k.t (the inverse kinematics fail)."""
+def type_one(k: TypeOne, t: str, before: int = 0, several: bool = False) -> Finding:
+    """RPR103: leg k.leg stretched or folded at k.t (the inverse kinematics fail); the
+    analysis stops there (``before``: the Type II instants found before it)."""
     joint = "A" if k.leg == 1 else "B"
     bound = "l{0} + l{1}" if k.kind == "stretched" else "|l{0} - l{1}|"
     bound = bound.format(k.leg, k.leg + 2)
+    where = f" (piece {k.piece + 1})" if several else ""
+    found = f"{before} Type II instant{'s' if before != 1 else ''}"
     message = (
-        f"t = {t} s: leg {k.leg} is {k.kind} (|E - {joint}| = {bound}): Type I singularity,"
-        " the inverse kinematics fail and the working mode is lost"
+        f"t = {t} s{where}: leg {k.leg} is {k.kind} (|E - {joint}| = {bound}): Type I"
+        " singularity, the inverse kinematics fail and the working mode is lost; the"
+        f" analysis stops here ({found} before it)"
     )
     return Finding("RPR103", message, k.t)
 
 
 def where_text(s: FiveBarInstant, t: str) -> str:
-    """``t = 0.5 s, (x, y) = (0.969, 0.754), modes (+1, -1), σ = -1, order 1``."""
+    """``t = 0.5 s, (x, y) = (0.969, 0.754), modes (+1, -1), σ = -1, order 1`` (and
+    ``, at a knot`` for an instant at a break of a piecewise motion)."""
     e1, e2 = s.modes
     return (
         f"t = {t} s, (x, y) = ({number(s.x)}, {number(s.y)}), modes ({e1:+d}, {e2:+d}),"
-        f" σ = {s.sigma:+d}, order {s.order}"
+        f" σ = {s.sigma:+d}, order {s.order}{', at a knot' if s.knot else ''}"
     )
 
 

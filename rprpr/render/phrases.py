@@ -82,7 +82,8 @@ def details(rep: dict[str, Any], times: dict[float, str]) -> list[str]:
         if five_bar:
             out.append(
                 f"Type I singularity at t = {times[k['t']]} s: leg {k['leg']} {k['kind']}"
-                ": no Type II instant is sought on this path"
+                ": the working modes are lost, the analysis stops here (Type II instants"
+                " are sought before it only)"
             )
             continue
         joint = "A" if k["leg"] == 1 else "B"

@@ -5,10 +5,12 @@ renders a 5R task: ``singularities[]`` are its Type II instants, with ``modes`` 
 working modes e1, e2), ``sigma`` (the line-up: -1 E between the elbows, +1 C and D on
 one side of E), ``slope`` (tan α, the crossing angle with the Type II curve),
 ``consistency_residual`` (the reciprocity residual w(t_s) [N]) and ``residuals`` (w^(j)(t_s),
-j < order); ``kinematic_singularities[]`` its Type I instants (a leg ``stretched`` or
-``folded``). The certified layers are the RPRPR's fields (``records``): the torque peak,
-``torque_limit`` and each unbounded instant's ``saturation``; ``closest_approach`` (the
-RPRPR's distance to the line AB) is null.
+j < order), and at a knot of a piecewise motion ``knot`` and ``sides`` (the one-sided
+analyses, as the RPRPR's); ``kinematic_singularities[]`` its first Type I instant (a leg
+``stretched`` or ``folded``: the analysis stops there); ``knots[]`` the knots' jumps.
+The certified layers (a motion of one piece) are the RPRPR's fields (``records``): the
+torque peak, ``torque_limit`` and each unbounded instant's ``saturation``;
+``closest_approach`` (the RPRPR's distance to the line AB) is null.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
+from .knot_records import knot_record
 
 
 def value(v: Any) -> float | None:
@@ -70,8 +73,25 @@ def instant_record(
         "pole_order": s.order - s.conditions_met,
         "torque_at_singularity": None if limit is None else [value(limit[0]), value(limit[1])],
         "saturation": saturation,
-        "knot": False,
+        "knot": s.knot,
+        **({"sides": {n: side_record(side) for n, side in s.sides}} if s.knot else {}),
     }
+
+
+SIDE_FIELDS = (
+    "order", "kind", "high_order", "slope", "speed", "slope_principle", "slope_reason",
+    "velocity_principle", "velocity_reason", "consistency_residual", "residuals",
+    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
+def side_record(s: FiveBarInstant) -> dict[str, Any]:
+    """One side of a Type II instant at a knot: its order, principles, residuals,
+    boundedness and limit torques (``SIDE_FIELDS``: the RPRPR's sides' fields, with the
+    5R's ``residuals`` in place of δ's derivatives)."""
+    fields = instant_record(s)
+    return {k: fields[k] for k in SIDE_FIELDS}
 
 
 def five_bar_report(
@@ -88,7 +108,6 @@ def five_bar_report(
     records of the unbounded instants (by ``id``), as the RPRPR's."""
     sat = saturation or {}
     task = result.task
-    piece = task.motion[0]
     return {
         "task": file_name(task_path),
         "name": task.name,
@@ -100,21 +119,27 @@ def five_bar_report(
             {
                 "t": k.t,
                 "t_exact": None if k.t_exact is None else str(k.t_exact),
-                "x": value(piece.x(k.t_exact)) if k.t_exact is not None else _at(piece.x, k.t),
-                "y": value(piece.y(k.t_exact)) if k.t_exact is not None else _at(piece.y, k.t),
+                "x": _on(task.motion[k.piece], 0, k),
+                "y": _on(task.motion[k.piece], 1, k),
                 "leg": k.leg,
                 "kind": k.kind,
             }
             for k in result.type_one
         ],
         "on_singular_line": result.on_singular_curve,
-        "knots": [],
+        "knots": [knot_record(k) for k in result.knot_jumps],
         **peak,
         "torque_limit": limit,
         "closest_approach": None,
         "findings": findings,
         "beyond_double_range": [],
     }
+
+
+def _on(piece: Any, i: int, k: Any) -> float | None:
+    """x (i = 0) or y (1) of the Type I instant ``k`` on its piece."""
+    p = piece.y if i else piece.x
+    return value(p(k.t_exact)) if k.t_exact is not None else _at(p, k.t)
 
 
 def _at(p: Any, t: float) -> float | None:

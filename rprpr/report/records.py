@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING, Any
 
 from ..engine.audit import AuditResult
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
-from ..engine.exact.knots import Knot
 from ..engine.exact.singular import SingularInstant
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
 from ..model.errors import TaskFileError
@@ -19,6 +18,7 @@ from ..model.names import file_name
 from ..model.numbers import labels, number, to_float
 from ..model.rules import RULES
 from ..model.task import Task
+from .knot_records import knot_record as _knot_record
 
 if TYPE_CHECKING:  # the robust machinery loads only for a task that declares uncertainty
     from ..engine.five_bar_audit import FiveBarAuditResult
@@ -294,21 +294,6 @@ def actuation_fields(actuation: str) -> dict[str, Any]:
 def scheme(rep: dict[str, Any]) -> Scheme:
     """The actuation scheme of a task report (revolute when it names none)."""
     return SCHEMES[rep.get("actuation", REVOLUTE)]
-
-
-def _knot_record(k: Knot) -> dict[str, Any]:
-    """An interior knot of a piecewise motion: ``t``, ``t_exact`` (text), the jumps of
-    velocity [ẋ, ẏ] and acceleration [ẍ, ÿ] (null where continuous) and of the torques
-    [T1, T2] (null where the velocity jumps, the acceleration does not, or a side's
-    torques are undefined)."""
-    jump = k.torque_jump
-    return {
-        "t": k.t,
-        "t_exact": str(k.t_exact),
-        "velocity_jump": None if k.velocity_jump is None else list(k.velocity_jump),
-        "acceleration_jump": None if k.acceleration_jump is None else list(k.acceleration_jump),
-        "torque_jump": None if jump is None else [_f(jump[0]), _f(jump[1])],
-    }
 
 
 def beyond_double_range(result: AuditResult) -> list[dict[str, str]]:

@@ -1,10 +1,11 @@
 """What this build cannot audit of a 5R task is refused in one located line, exit 2.
 
-``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py) and its
-certified layers (the torque limit, the peak, the samples that ``export`` writes:
-tests/fivebar/test_certified.py); what is not available for a 5R yet
-(``engine.five_bar_audit.refuse``): declared uncertainty, a motion of several pieces, and
-``plot`` and ``repair``. The Python API raises ``TaskFileError`` at the same key.
+``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py) and, for
+a motion of one piece, its certified layers (the torque limit, the peak, the samples that
+``export`` writes: tests/fivebar/test_certified.py); what is not available for a 5R yet
+(``engine.five_bar_audit.refuse``): declared uncertainty, the certified layers of a
+motion of several pieces, and ``plot`` and ``repair``. The Python API raises
+``TaskFileError`` at the same key.
 """
 
 from __future__ import annotations
@@ -76,26 +77,6 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
     assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
 
 
-def test_check_refuses_a_motion_of_several_pieces_on_a_5r(tmp_path: Path) -> None:
-    text = _without_limit(tmp_path).read_text()
-    start = text.index("path:")
-    end = text.index("checks:")
-    pieces = (
-        "motion:\n  pieces:\n"
-        "    - until: 0.25\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
-        "    - until: 0.5\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
-    )
-    path = tmp_path / "pieces.rprpr.yaml"
-    path.write_text(text[:start] + pieces + text[end:])
-    code, _, err = run_cli("check", str(path))
-    assert code == 2
-    line = _line(path.read_text(), "motion:")
-    assert err.startswith(
-        f"{path}:{line}: motion: a piecewise motion (motion) is {YET}: give one polynomial piece"
-    )
-    assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
-
-
 @pytest.mark.parametrize(
     "command",
     [
@@ -113,6 +94,51 @@ def test_plot_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: Pa
         " (rprpr check audits it)\n"
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dextar.rprpr.yaml"]  # nothing written
+
+
+def _pieces(folder: Path, checks: str) -> Path:
+    """The DexTAR task as a motion of two pieces, with ``checks``."""
+    text = TEXT
+    start = text.index("path:")
+    pieces = (
+        "motion:\n  pieces:\n"
+        "    - until: 0.25\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+        "    - until: 0.5\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+    )
+    path = folder / "pieces.rprpr.yaml"
+    path.write_text(text[:start] + pieces + "checks:\n" + checks)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("checks", "options", "key", "what"),
+    [
+        ("  torque_limit: [5, 5]\n", (), "checks.torque_limit",
+         "the certified torque limit check of a motion of several pieces is"),
+        ("  strict: false\n", ("--peak",), "checks.peak",
+         "the certified torque peak (--peak, checks.peak) of a motion of several pieces is"),
+    ],
+)  # fmt: skip
+def test_check_refuses_the_certified_layers_of_several_pieces(
+    tmp_path: Path, checks: str, options: tuple[str, ...], key: str, what: str
+) -> None:
+    path = _pieces(tmp_path, checks)
+    code, _, err = run_cli("check", *options, str(path))
+    assert code == 2
+    line = _line(path.read_text(), "  torque_limit:" if "limit" in key else "checks:")
+    assert err.startswith(f"{path}:{line}: {key}: {what} {YET}")
+    assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
+
+
+def test_export_refuses_a_5r_motion_of_several_pieces(tmp_path: Path) -> None:
+    path = _pieces(tmp_path, "  strict: false\n")
+    code, _, err = run_cli("export", str(path), "-o", str(tmp_path / "x.csv"))
+    assert code == 2
+    line = _line(path.read_text(), "motion:")
+    assert err == (
+        f"rprpr: {path}:{line}: motion: rprpr export of a motion of several pieces is {YET}\n"
+    )
+    assert not (tmp_path / "x.csv").exists()
 
 
 def test_an_rprpr_task_is_audited_as_before() -> None:

@@ -222,7 +222,9 @@ def test_warn_unbounded_downgrades_rpr201_as_for_the_rprpr(tmp_path: Path) -> No
 
 def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> None:
     """E(t) = (12.6 + 12 t, 9.8): leg 1 is stretched (|E| = l1 + l3 = 26) where
-    (12.6 + 12 t)² + 9.8² = 26², t = (√579.96 - 12.6)/12; RPR103 fails the task there."""
+    (12.6 + 12 t)² + 9.8² = 26², t = (√579.96 - 12.6)/12; RPR103 fails the task there,
+    and the analysis stops. Before it, the path starts on the Type II curve at the
+    singular pose (t = 0, the reference's instant), inconsistently: RPR201 there too."""
     m = Motion((Q(63, 5), Q(12)), (Q(49, 5),))
     path = tmp_path / "stretch.rprpr.yaml"
     path.write_text(
@@ -238,8 +240,14 @@ def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> Non
     (k,) = rep["kinematic_singularities"]
     assert (k["leg"], k["kind"], k["t_exact"]) == (1, "stretched", None)
     assert abs(k["t"] - float(sp.N(roots[0], 30))) <= 1e-15
-    assert [(f["rule"], f["t"]) for f in rep["findings"]] == [("RPR103", k["t"])]
-    assert rep["singularities"] == []
+    ref = [r for r in singular_instants(ROBOT, m, MODES, Z, Q(1)) if r.t < roots[0]]
+    assert [(r.t, r.order) for r in ref] == [(0, 1)]
+    (s,) = rep["singularities"]
+    assert (s["t_exact"], s["order"], s["sigma"]) == ("0", 1, ref[0].sigma)
+    assert [(f["rule"], f["t"]) for f in rep["findings"]] == [("RPR103", k["t"]), ("RPR201", 0.0)]
+    assert rep["findings"][0]["message"].endswith(
+        "the analysis stops here (1 Type II instant before it)"
+    )
 
 
 @pytest.mark.parametrize(("margin", "rules"), [("1.1", []), ("1.2", ["RPR102"])])

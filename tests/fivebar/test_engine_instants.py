@@ -185,10 +185,16 @@ def test_the_slope_margin_is_the_tangent_of_the_crossing_angle() -> None:
 
 def test_a_stretched_leg_refuses_the_path_at_the_exact_instant() -> None:
     """E(t) = (1, 1/2 + t): leg 1 (l1 + l3 = 2) is stretched where 1 + (1/2 + t)² = 4,
-    t = √3 - 1/2; the reference finds no elbow beyond it."""
+    t = √3 - 1/2; the reference finds no elbow beyond it. Before it the path crosses the
+    Type II curve at an irrational instant: analysed all the same, the reference's."""
     m = Motion((Q(1),), (H, Q(1)))
     a = analyse(robot(ROBOT, MODES), q(ROBOT.g), *polys(m), q(Z), q(Q(5, 4)))
-    assert a.refused and not a.instants
+    stop = sp.sqrt(3) - H
+    ref = [r for r in singular_instants(ROBOT, m, MODES, Z, Q(5, 4)) if r.t < stop]
+    assert a.refused and len(a.instants) == len(ref) == 1
+    for s, r in zip(a.instants, ref, strict=True):
+        assert (s.t_exact, s.order, s.sigma) == (None, r.order, r.sigma)
+        assert abs(s.t - float(sp.N(r.t, 30))) <= 1e-15
     (k,) = a.type_one
     assert (k.leg, k.kind, k.t_exact) == (1, "stretched", None)
     assert abs(k.t - (float(mpmath.sqrt(3)) - 0.5)) < 1e-15

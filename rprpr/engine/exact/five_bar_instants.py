@@ -5,9 +5,10 @@ For a motion E(t) = (x(t), y(t)) with rational polynomial coordinates on [t0, t1
 * **Type I first.** The legs' working modes e1, e2 (given at t0) are followed
   continuously: they cannot change while the discriminants D1, D2 stay positive, which
   fails exactly where a leg is stretched or folded, at a root of R_i - (lp ± ld)²
-  (``five_bar.reach``). A path that reaches one is refused: the analysis lists those
-  instants (``TypeOne``, leg and kind) and no Type II instant, as the RPRPR reports E at
-  A or B; a start out of a leg's reach is an error.
+  (``five_bar.reach``). A path that reaches one is refused from there on: the analysis
+  lists the first such instant (``TypeOne``, leg and kind; both legs when they meet it at
+  once), as the RPRPR reports E at A or B, and the Type II instants strictly before it
+  (the working modes are known up to it); a start out of a leg's reach is an error.
 * **The candidates.** S₊(E(t)) and S₋(E(t)) (``five_bar.curve``) are factored over Q and
   their real roots in the span isolated exactly (``roots.real_roots_in``): rational, or
   irrational in a rational interval refined on demand. A root common to both is one
@@ -57,6 +58,7 @@ class TypeOne:
     kind: str  # "stretched" or "folded"
     t: float
     t_exact: fmpq | None
+    piece: int = 0  # the piece of the motion it lies on (0-based)
 
 
 @dataclass(frozen=True)
@@ -65,6 +67,8 @@ class FiveBarInstant:
 
     Exact values are ``fmpq`` where t_s and the elbows are rational, else certified
     ``arb`` balls (zero decided exactly all the same: ``consistent``, ``conditions_met``).
+    At a break of a piecewise motion (``knot``) the fields are the conservative
+    combination of the one-sided analyses in ``sides`` (``five_bar_audit.at_knot``).
     """
 
     t: float
@@ -86,6 +90,8 @@ class FiveBarInstant:
     residuals: tuple[Any, ...]  # w^(j)(t_s) [N/s^j], j = 0..order - 1
     conditions_met: int
     torque_at_singularity: tuple[Any, Any] | None  # (T1, T2) [N m] when bounded
+    knot: bool = False  # t_s is a break of a piecewise motion (0 and t_f included)
+    sides: tuple[tuple[str, FiveBarInstant], ...] = ()  # then its one-sided analyses
 
     @property
     def consistency_residual(self) -> Any:
@@ -102,12 +108,15 @@ class FiveBarInstant:
 
 @dataclass(frozen=True)
 class FiveBarAnalysis:
-    """The Type II instants of a 5R motion in time order, or (``type_one`` non-empty) the
-    Type I instants that refuse it; ``locus``: S₊(E(t)), S₋(E(t)) in absolute time."""
+    """The Type II instants of a 5R motion in time order and (``type_one`` non-empty) the
+    first Type I instant, which stops the analysis: the instants are those before it;
+    ``locus``: S₊(E(t)), S₋(E(t)) in absolute time; ``on_curve``: S₊ or S₋ vanishes all
+    along the motion (every instant is a Type II singularity: no instant is listed)."""
 
     instants: tuple[FiveBarInstant, ...]
     type_one: tuple[TypeOne, ...]
     locus: tuple[fmpq_poly, fmpq_poly]
+    on_curve: bool = False
 
     @property
     def refused(self) -> bool:
@@ -117,34 +126,44 @@ class FiveBarAnalysis:
 def analyse(
     five_bar: fb.FiveBarRobot, gravity: fmpq, x: fmpq_poly, y: fmpq_poly, t0: fmpq, t1: fmpq,
     min_slope: fmpq = ZERO, min_speed: fmpq = ZERO,
+    local: tuple[fmpq_poly, fmpq_poly] | None = None,
 ) -> FiveBarAnalysis:  # fmt: skip
     """Every Type II instant of the motion (x(t), y(t)), t0 <= t <= t1, of ``five_bar``
-    in its working modes (those at t0), exactly (module docstring)."""
+    in its working modes (those at t0), exactly (module docstring). ``local``, when given,
+    is the same motion in the local time u = t - t0 (a planner's segment: shorter
+    rationals); the instants' times are absolute all the same."""
     p = fb.params(five_bar, gravity)
     modes = (int(five_bar.modes[0]), int(five_bar.modes[1]))
-    shift = fmpq_poly([t0, 1])
-    X, Y = x(shift), y(shift)  # local time u = t - t0
+    if local is None:
+        shift = fmpq_poly([t0, 1])
+        X, Y = x(shift), y(shift)  # local time u = t - t0
+    else:
+        X, Y = local
     duration = t1 - t0
     locus = (fb.curve(p, 1, x, y), fb.curve(p, -1, x, y))
     _start(p, X, Y)
-    type_one = _type_one(p, X, Y, duration, t0)
-    if type_one:
-        return FiveBarAnalysis((), type_one, locus)
+    type_one, first = _type_one(p, X, Y, duration, t0)
+    curves = {sigma: fb.curve(p, sigma, X, Y) for sigma in (1, -1)}  # S±(E(u))
+    if any(S.is_zero() for S in curves.values()):
+        return FiveBarAnalysis((), type_one, locus, on_curve=True)
     found = []
-    for cand in _candidates(p, X, Y, duration):
+    for cand in _candidates(curves, duration):
+        if first is not None and not _before(cand, first):
+            continue  # at or after the first Type I instant: the working modes are lost
         instant = _instant(p, modes, X, Y, t0, cand, min_slope, min_speed)
         if instant is not None:
             found.append(instant)
     found.sort(key=lambda i: (i.t, float(i.t_ball.mid())))
-    return FiveBarAnalysis(tuple(found), (), locus)
+    return FiveBarAnalysis(tuple(found), type_one, locus)
 
 
 def analyse_robot(
     robot: Any, x: fmpq_poly, y: fmpq_poly, t0: fmpq, t1: fmpq,
     min_slope: fmpq = ZERO, min_speed: fmpq = ZERO,
+    local: tuple[fmpq_poly, fmpq_poly] | None = None,
 ) -> FiveBarAnalysis:  # fmt: skip
     """``analyse`` for a task's robot (``Robot.five_bar`` and ``Robot.gravity``)."""
-    return analyse(robot.five_bar, robot.gravity, x, y, t0, t1, min_slope, min_speed)
+    return analyse(robot.five_bar, robot.gravity, x, y, t0, t1, min_slope, min_speed, local)
 
 
 def _start(p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly) -> None:
@@ -158,19 +177,80 @@ def _start(p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly) -> None:
             )
 
 
+@dataclass(frozen=True)
+class _Root:
+    """A real root in the local span: exact when rational, else the ``index``-th root of
+    the monic irreducible ``f`` (roots of one factor in increasing order) and its balls."""
+
+    exact: fmpq | None
+    f: fmpq_poly
+    index: int
+    at: RootAt
+
+    @property
+    def key(self) -> Any:
+        return self.exact if self.exact is not None else (str(self.f), self.index)
+
+
+def _roots(g: fmpq_poly, duration: fmpq) -> list[_Root]:
+    out = []
+    for f, _ in g.factor()[1]:
+        if f.degree() < 1:
+            continue
+        monic = f / f[f.degree()]
+        for index, (exact, at) in enumerate(real_roots_in(monic, duration, simple=True)):
+            out.append(_Root(exact, monic, index, at))
+    return out
+
+
 def _type_one(
     p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly, duration: fmpq, t0: fmpq
-) -> tuple[TypeOne, ...]:
-    out = []
+) -> tuple[tuple[TypeOne, ...], _Root | None]:
+    """The first Type I instant in the span (each leg and kind met there), and its root."""
+    found: list[tuple[TypeOne, _Root]] = []
     for leg in (1, 2):
         for kind, g in zip(("stretched", "folded"), fb.reach(p, leg, X, Y), strict=True):
             if g.is_zero():
-                out.append(TypeOne(leg, kind, float(t0), t0))
+                root = _Root(ZERO, fmpq_poly([0, 1]), 0, _zero_ball)
+                found.append((TypeOne(leg, kind, float(t0), t0), root))
                 continue
-            for exact, at in real_roots_in(g, duration):
-                t = t0 + exact if exact is not None else None
-                out.append(TypeOne(leg, kind, _float(t0, exact, at), t))
-    return tuple(sorted(out, key=lambda k: k.t))
+            for r in _roots(g, duration):
+                t = t0 + r.exact if r.exact is not None else None
+                found.append((TypeOne(leg, kind, _float(t0, r.exact, r.at), t), r))
+    if not found:
+        return (), None
+    first = found[0][1]
+    for _, r in found[1:]:
+        if _earlier(r, first):
+            first = r
+    return tuple(k for k, r in found if r.key == first.key), first
+
+
+def _zero_ball(prec: int) -> arb:
+    return arb(0)
+
+
+def _earlier(a: Any, b: _Root) -> bool:
+    """Whether the root ``a`` (a ``_Root`` or a candidate) lies strictly before ``b``,
+    decided exactly: rationals compared, roots of one irreducible factor by their order,
+    roots of distinct irreducible factors (never equal) by balls narrowed until apart."""
+    if a.exact is not None and b.exact is not None:
+        return bool(a.exact < b.exact)
+    if a.exact is None and b.exact is None and a.f == b.f:
+        return bool(a.index < b.index)
+    prec = 64
+    while True:
+        lo, hi = a.at(prec), b.at(prec)
+        if lo < hi:
+            return True
+        if lo > hi:
+            return False
+        prec *= 2
+
+
+def _before(cand: _Candidate, first: _Root) -> bool:
+    """Whether the candidate lies strictly before the first Type I instant."""
+    return _earlier(cand, first)
 
 
 def _float(t0: fmpq, exact: fmpq | None, at: RootAt) -> float:
@@ -198,26 +278,20 @@ class _Candidate:
     exact: fmpq | None
     at: RootAt
     multiplicity: dict[int, int]
+    index: int = 0  # among the real roots of f in the span, in increasing order
 
 
-def _candidates(
-    p: fb.FiveBarParams, X: fmpq_poly, Y: fmpq_poly, duration: fmpq
-) -> list[_Candidate]:
+def _candidates(curves: dict[int, fmpq_poly], duration: fmpq) -> list[_Candidate]:
+    """The real roots of S₊(E(u)) S₋(E(u)) in [0, duration] (neither is zero)."""
     found: dict[Any, _Candidate] = {}
-    for sigma in (1, -1):
-        S = fb.curve(p, sigma, X, Y)
-        if S.is_zero():
-            raise FiveBarError(
-                "the path runs along a Type II curve of the robot (S"
-                f"{'+' if sigma > 0 else '-'} vanishes all along it): not supported"
-            )
+    for sigma, S in curves.items():
         for f, m in S.factor()[1]:
             if f.degree() < 1:
                 continue
             monic = f / f[f.degree()]
             for index, (exact, at) in enumerate(real_roots_in(monic, duration, simple=True)):
                 key = exact if exact is not None else (str(monic), index)
-                cand = found.setdefault(key, _Candidate(monic, exact, at, {1: 0, -1: 0}))
+                cand = found.setdefault(key, _Candidate(monic, exact, at, {1: 0, -1: 0}, index))
                 cand.multiplicity[sigma] = int(m)
     return list(found.values())
 

@@ -11,6 +11,7 @@ limit when t_k is a singular instant (``torque_at_singularity`` of that side).
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from fractions import Fraction
 from typing import Any, overload
 
@@ -115,10 +116,17 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
         ctx.prec = old
 
 
-def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
+def knots(
+    pieces: tuple[Piece, ...],
+    robot: Robot,
+    torques: Callable[[Piece, fmpq, Robot], tuple[float, float] | None] | None = None,
+) -> list[Knot]:
     """The interior knots of ``pieces`` with their jumps (module docstring); torques only
     where the acceleration jumps and the velocity does not. A jump a piece rules out by
-    its construction (``Piece.smooth``) is not evaluated: it is zero exactly."""
+    its construction (``Piece.smooth``) is not evaluated: it is zero exactly.
+    ``torques``: the one-sided torques of the robot's mechanism (``torques_at``, the
+    RPRPR's, by default)."""
+    at = torques_at if torques is None else torques
     out = []
     none = (None, None)
     for i, (p, q) in enumerate(itertools.pairwise(pieces)):
@@ -135,6 +143,6 @@ def knots(pieces: tuple[Piece, ...], robot: Robot) -> list[Knot]:
                   (dq[0].derivative(), dq[1].derivative()), uq)  # fmt: skip
         sides: tuple[Any, Any] = (None, None)
         if v is None and a is not None:
-            sides = (torques_at(p, t, robot), torques_at(q, t, robot))
+            sides = (at(p, t, robot), at(q, t, robot))
         out.append(Knot(to_float(t), t, i, v, a, sides, p.line, p.file))
     return out

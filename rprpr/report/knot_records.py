@@ -1,0 +1,28 @@
+"""The knots of a piecewise motion as plain data (``knots[]`` of a report), the same for
+every mechanism (``records``, ``five_bar_records``)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..engine.exact.knots import Knot
+
+
+def _f(v: float | None) -> float | None:
+    return None if v is None or not math.isfinite(v) else float(v)
+
+
+def knot_record(k: Knot) -> dict[str, Any]:
+    """An interior knot of a piecewise motion: ``t``, ``t_exact`` (text), the jumps of
+    velocity [ẋ, ẏ] and acceleration [ẍ, ÿ] (null where continuous) and of the torques
+    [T1, T2] (null where the velocity jumps, the acceleration does not, or a side's
+    torques are undefined)."""
+    jump = k.torque_jump
+    return {
+        "t": k.t,
+        "t_exact": str(k.t_exact),
+        "velocity_jump": None if k.velocity_jump is None else list(k.velocity_jump),
+        "acceleration_jump": None if k.acceleration_jump is None else list(k.acceleration_jump),
+        "torque_jump": None if jump is None else [_f(jump[0]), _f(jump[1])],
+    }
