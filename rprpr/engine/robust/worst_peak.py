@@ -43,6 +43,7 @@ from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, horner, poly_balls, quiet
 from ..certified.jets import Jet
 from ..certified.motion import dyadic_middle
+from .unbounded import poles
 from .windows import Box, Robust
 from .worst import bands_at, bands_of, regressor_jet
 
@@ -72,6 +73,13 @@ def worst_peak(
     spans = [r.span for r in robust if r.span is not None]
     a, b, k = _domain(parts, spans)
     pts, at = np.concatenate([a, b]), np.concatenate([k, k])  # lower bounds at the ends
+    proven = {p.effort for p in poles(task, parts, box, spans)}
+    if proven:  # E passes A or B: a worst case proven unbounded ends the search at once
+        with quiet():
+            low = _lows(task, parts, box, pts, at)
+        return tuple(
+            (math.inf, math.inf) if j in proven else (float(low[j]), math.inf) for j in (0, 1)
+        )  # type: ignore[return-value]
     best = np.full(2, -np.inf)
     dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
     top = np.full(2, np.inf)
@@ -97,6 +105,19 @@ def worst_peak(
         float(best[1]),
         float(max(top[1], best[1])),
     )
+
+
+def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndarray
+          ) -> np.ndarray:  # fmt: skip
+    """Lower bounds of max |E_j| over the box at the local times ``h`` (pieces ``hk``),
+    their largest per effort."""
+    lows = np.full(2, -np.inf)
+    for i in np.unique(hk):
+        at = h[hk == i]
+        kin = parts[int(i)].motion.end_point(Ball.hull(at, at))
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box, True)):
+            lows[j] = max(lows[j], np.max(np.maximum(h_, -l_), initial=-np.inf))
+    return lows
 
 
 def _domain(
