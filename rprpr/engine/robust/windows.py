@@ -141,8 +141,21 @@ class About:
     t_s: float  # absolute
 
     def floats(self) -> list[list[float]]:
-        return [[float(arb(c).mid()) if not isinstance(c, float) else c for c in p]
-                for p in self.coeffs]  # fmt: skip
+        """The coefficients as doubles (made once: every evaluation in doubles reads them)."""
+        got = self.__dict__.get("_floats")
+        if got is None:
+            got = self.__dict__["_floats"] = [
+                [float(arb(c).mid()) if not isinstance(c, float) else c for c in p]
+                for p in self.coeffs
+            ]
+        return got
+
+    def settings(self) -> Any:
+        """``regressor.settings_array`` of the robot (made once)."""
+        got = self.__dict__.get("_settings")
+        if got is None:
+            got = self.__dict__["_settings"] = settings_array(self.robot)
+        return got
 
 
 def shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) -> list[Any]:
@@ -172,11 +185,10 @@ def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     """The regressor at the times t_s + h (doubles): (3, n, 2, 10) for the error parts
     e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``."""
     c = ab.floats()
-    robot = ab.robot
     hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
-    params = settings_array(robot)
+    params = ab.settings()
     legs = legs_about(c, hh, params, ex, ey, np.hypot)
     with np.errstate(divide="ignore", invalid="ignore"):
         T1, T2 = efforts_of(legs, params)  # (n, 3, 10)
@@ -311,48 +323,94 @@ def round_up(x: arb) -> float:
 
 def side(ab: About, box: Box, limits: tuple[float, float], direction: int
          ) -> tuple[float, float, int]:  # fmt: skip
-    """The window on one side of t_s, as distances |h| [s]: (a proven outer end, an
-    inner end at which the limit is proven exceeded (0 when not shown), the joint (0, 1)
-    that reaches furthest). The doubles bracket each joint's first crossing of its limit
-    outward from t_s; when even the nearest time looked at (2^-159 of the piece's reach)
-    shows no excess, the window is too narrow for doubles (a residual of the order of
-    the input's rounding) and a proven outer end is found by halving in ball arithmetic
-    (``_halving``)."""
-    reach = ab.h_max if direction > 0 else -ab.h_min
-    if reach <= 0:
-        return 0.0, 0.0, 0
+    """The window on one side of t_s (``sides`` for that side alone)."""
+    return sides(ab, box, limits, (direction,))[direction]
+
+
+# the initial scan looks at reach 2^-k, k = 0..159: every k up to DENSE, every 8th beyond
+DENSE = 40
+SCAN = np.array(sorted(set(range(0, 160 - DENSE, 8)) | set(range(160 - DENSE - 1, 160))))
+
+
+def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence[int]
+          ) -> dict[int, tuple[float, float, int]]:  # fmt: skip
+    """The window on each side of t_s in ``directions`` (-1, +1), as distances |h| [s]:
+    (a proven outer end, an inner end at which the limit is proven exceeded (0 when not
+    shown), the joint (0, 1) that reaches furthest). The doubles bracket each joint's
+    first crossing of its limit outward from t_s: at reach 2^-k (k = 0..159, the
+    nearest first), then 64 points at a time in the bracket, four times; when even the
+    nearest time looked at (2^-159 of the piece's reach) shows no excess, the window is
+    too narrow for doubles (a residual of the order of the input's rounding) and a
+    proven outer end is found by halving in ball arithmetic (``_halving``).
+
+    Every side and joint is evaluated at once at each step (an evaluation costs its call
+    more than its points). The scan looks at every 2^-k down to 2^-(DENSE - 1) of the
+    reach and at every 8th below (a dip below the limit narrower than that, at under
+    1e-12 of the reach, is not looked for; the points between the first 8th found below
+    and the one before are); a joint whose bracket lies wholly nearer t_s than the
+    other's cannot reach furthest and is not refined."""
+    out: dict[int, tuple[float, float, int]] = {}
+    live = []
+    for d in directions:
+        reach = ab.h_max if d > 0 else -ab.h_min
+        if reach <= 0:
+            out[d] = (0.0, 0.0, 0)
+        else:
+            live.append((d, reach, reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]))
+    if not live:
+        return out
     bbox = ball_box(box)
     fbox = float_box(box)
     lim = np.array(limits)
-    hs = reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]  # ascending, to reach
-    phi = phi_float(ab, direction * hs, box, fbox)  # (n, 2)
-    if not (phi[0] > lim).any():
-        return _halving(ab, box, bbox, limits, direction, reach), 0.0, 0
-    brackets = []
-    for j in (0, 1):
-        below = np.nonzero(phi[:, j] <= lim[j])[0]
-        if len(below) == 0:
-            brackets.append((reach, reach))  # beyond the limit up to the piece's end
-        else:
-            k = int(below[0])
-            brackets.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
+    n = len(SCAN)
+    phi = phi_float(ab, np.concatenate([d * hs[SCAN] for d, _, hs in live]), box, fbox)
+    brackets: dict[int, list[tuple[float, float]]] = {}
+    for m, (d, reach, hs) in enumerate(live):
+        p = phi[n * m : n * (m + 1)]
+        if not (p[0] > lim).any():
+            out[d] = (_halving(ab, box, bbox, limits, d, reach), 0.0, 0)
+            continue
+        firsts = []
+        for j in (0, 1):
+            below = np.nonzero(p[:, j] <= lim[j])[0]
+            firsts.append(int(SCAN[below[0]]) if len(below) else None)
+        # the points skipped before each first 8th found below: looked at now
+        gaps = sorted({i for k in firsts if k is not None
+                       for i in range(int(SCAN[k > SCAN].max(initial=-1)) + 1, k)})  # fmt: skip
+        if gaps:
+            q = phi_float(ab, d * hs[gaps], box, fbox)
+            for j in (0, 1):
+                fine = [g for g, v in zip(gaps, q[:, j], strict=True) if v <= lim[j]]
+                k = firsts[j]
+                if fine and k is not None and fine[0] < k:
+                    firsts[j] = fine[0]
+        bs = []
+        for k in firsts:
+            if k is None:
+                bs.append((reach, reach))  # beyond the limit up to the piece's end
+            else:
+                bs.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
+        brackets[d] = bs
     for _ in range(4):  # the first crossing of each joint, 64 points at a time
-        grids = [np.linspace(lo, hi, 65)[1:] for lo, hi in brackets]
-        p = phi_float(ab, direction * np.concatenate(grids), box, fbox)
-        new = []
-        for j, (lo, hi) in enumerate(brackets):
-            if lo == hi:
-                new.append((lo, hi))
-                continue
-            idx = np.nonzero(p[64 * j : 64 * (j + 1), j] <= lim[j])[0]
+        todo = [(d, j) for d, bs in brackets.items() for j in (0, 1)
+                if bs[j][0] != bs[j][1] and not bs[j][1] < bs[1 - j][0]]  # fmt: skip
+        if not todo:
+            break
+        grids = [np.linspace(*brackets[d][j], 65) for d, j in todo]
+        at = np.concatenate([d * g[1:] for (d, _), g in zip(todo, grids, strict=True)])
+        p = phi_float(ab, at, box, fbox)
+        for m, ((d, j), grid) in enumerate(zip(todo, grids, strict=True)):
+            idx = np.nonzero(p[64 * m : 64 * (m + 1), j] <= lim[j])[0]
             i = int(idx[0]) if len(idx) else 63
-            grid = np.concatenate([[lo], grids[j]])
-            new.append((float(grid[i]), float(grid[i + 1])))
-        brackets = new
-    j = 0 if brackets[0][1] >= brackets[1][1] else 1
-    outer = _prove_out(ab, box, bbox, limits, direction, brackets[j][1], reach)
-    inner = prove_in(ab, box, bbox, limits[j], j, direction, brackets[j][0])
-    return outer, inner, j
+            grid[0] = brackets[d][j][0]
+            brackets[d][j] = (float(grid[i]), float(grid[i + 1]))
+    for d, bs in brackets.items():
+        j = 0 if bs[0][1] >= bs[1][1] else 1
+        reach = next(r for dd, r, _ in live if dd == d)
+        outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
+        inner = prove_in(ab, box, bbox, limits[j], j, d, bs[j][0])
+        out[d] = (outer, inner, j)
+    return out
 
 
 def _prove_out(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
