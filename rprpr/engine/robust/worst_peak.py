@@ -52,10 +52,12 @@ ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
-BUDGET = 512  # intervals per refining round, about (live intervals times their fan)
+BUDGET = 64  # intervals per refining round, about (live intervals times their fan: a
+# round's ball operations cost their calls more than their length, so a round of few
+# narrow intervals where the bound is decided costs little more than its calls)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
-PLAIN = 2  # rounds that bound an interval by evaluating over it; the mean-value form after
+PLAIN = 1  # rounds that bound an interval by evaluating over it; the mean-value form after
 MEAN_CAP = 1 << 12  # ... while the intervals are at most this many (past it, a bound that
 # does not narrow, +inf beside a pole the box allows, costs the form's three times a round)
 
@@ -72,7 +74,7 @@ def worst_peak(
     box = Box.of(task.robot, u)
     spans = [r.span for r in robust if r.span is not None]
     a, b, k = _domain(parts, spans)
-    pts, at = np.concatenate([a, b]), np.concatenate([k, k])  # lower bounds at the ends
+    pts, at = _distinct(np.concatenate([a, b]), np.concatenate([k, k]))  # lower bounds at the ends
     proven = {p.effort for p in poles(task, parts, box, spans)}
     if proven:  # E passes A or B: a worst case proven unbounded ends the search at once
         with quiet():
@@ -105,6 +107,15 @@ def worst_peak(
         float(best[1]),
         float(max(top[1], best[1])),
     )
+
+
+def _distinct(h: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The times ``h`` with their pieces ``k``, each (time, piece) once."""
+    order = np.lexsort((h, k))
+    h, k = h[order], k[order]
+    keep = np.ones(len(h), dtype=bool)
+    keep[1:] = (h[1:] != h[:-1]) | (k[1:] != k[:-1])
+    return h[keep], k[keep]
 
 
 def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndarray
@@ -200,17 +211,14 @@ def _bounds(
     for i in np.unique(np.concatenate([k, hk])):
         sel, at = np.nonzero(k == i)[0], h[hk == i]
         pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
-        lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
-        if centred is not None:  # the points as the plain rounds have them, then the form
-            lo, hi = at, at
-        kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
-        lower = np.arange(len(lo)) < len(at)
-        for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
-            v = np.maximum(h_, -l_)
-            if centred is None:  # the efforts' enclosures over the intervals
+        if centred is None:  # the points, then the efforts' enclosures over the intervals
+            lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
+            kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
+            lower = np.arange(len(lo)) < len(at)
+            for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+                v = np.maximum(h_, -l_)
                 ups[j, sel] = v[len(at) :]
-            lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
-        if centred is None:
+                lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
             continue
         a0, b0 = a[sel] - pad, b[sel] + pad
         if int(i) not in centred:
@@ -218,23 +226,26 @@ def _bounds(
         m = 0.5 * a0 + 0.5 * b0
         hw = np.nextafter(np.maximum(m - a0, b0 - m), np.inf)  # |t - m| <= hw on [a0, b0]
         q = len(m)
-        # one run of ball operations: the values at the midpoints and over the intervals,
-        # the derivatives over the intervals (the midpoints' are not read)
+        # one run of ball operations: the values at the midpoints, over the intervals and
+        # at the points, the derivatives over the intervals (the others' are not read)
         Y, Yd = regressor_jet(task, _jets(centred[int(i)], Ball.hull(
-            np.concatenate([m, a0]), np.concatenate([m, b0]))))  # fmt: skip
+            np.concatenate([m, a0, at]), np.concatenate([m, b0, at]))))  # fmt: skip
         Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
-        D = Ball._of(Yd.mid[..., q:], Yd.rad[..., q:])
+        D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
         # and the largest effort over the box is convex in t - m there: its ends bound it
-        YI = Ball._of(Y.mid[..., q:], Y.rad[..., q:])  # over the intervals
-        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI]
-        Y3 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
+        YI = Ball._of(Y.mid[..., q : 2 * q], Y.rad[..., q : 2 * q])  # over the intervals
+        YP = Ball._of(Y.mid[..., 2 * q :], Y.rad[..., 2 * q :])  # at the points
+        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI, YP]
+        Y4 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
                       np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
-        for j, (l_, h_) in enumerate(bands_of(Y3, box)):
+        lower = np.arange(3 * q + len(at)) >= 3 * q  # the points: lower bounds
+        for j, (l_, h_) in enumerate(bands_of(Y4, box, lower)):
             v = np.maximum(h_, -l_)
             # the narrower of the mean-value form's bound and the interval evaluation's
             # (wide intervals beside a pole: the derivative's enclosure is vast there)
-            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q :])
+            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q : 3 * q])
+            lows[j] = max(lows[j], np.max(v[3 * q :], initial=-np.inf))
     return ups, lows
 
 
