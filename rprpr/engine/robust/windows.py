@@ -364,7 +364,7 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
     lim = np.array(limits)
     n = len(SCAN)
     phi = phi_float(ab, np.concatenate([d * hs[SCAN] for d, _, hs in live]), box, fbox)
-    brackets: dict[int, list[tuple[float, float]]] = {}
+    brackets: dict[int, list[tuple[float, float, float, float]]] = {}
     for m, (d, reach, hs) in enumerate(live):
         p = phi[n * m : n * (m + 1)]
         if not (p[0] > lim).any():
@@ -377,40 +377,84 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
         # the points skipped before each first 8th found below: looked at now
         gaps = sorted({i for k in firsts if k is not None
                        for i in range(int(SCAN[k > SCAN].max(initial=-1)) + 1, k)})  # fmt: skip
+        seen = dict(zip(SCAN.tolist(), p, strict=True))  # the values looked at, by k
         if gaps:
             q = phi_float(ab, d * hs[gaps], box, fbox)
+            seen.update(zip(gaps, q, strict=True))
             for j in (0, 1):
                 fine = [g for g, v in zip(gaps, q[:, j], strict=True) if v <= lim[j]]
                 k = firsts[j]
                 if fine and k is not None and fine[0] < k:
                     firsts[j] = fine[0]
         bs = []
-        for k in firsts:
+        for j, k in enumerate(firsts):
             if k is None:
-                bs.append((reach, reach))  # beyond the limit up to the piece's end
+                bs.append((reach, reach, math.nan, math.nan))  # beyond the limit to the end
             else:
-                bs.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
+                flo = seen[k - 1][j] - lim[j] if k > 0 else math.nan
+                bs.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k]), flo,
+                           seen[k][j] - lim[j]))  # fmt: skip
         brackets[d] = bs
-    for _ in range(4):  # the first crossing of each joint, 64 points at a time
-        todo = [(d, j) for d, bs in brackets.items() for j in (0, 1)
-                if bs[j][0] != bs[j][1] and not bs[j][1] < bs[1 - j][0]]  # fmt: skip
-        if not todo:
-            break
-        grids = [np.linspace(*brackets[d][j], 65) for d, j in todo]
-        at = np.concatenate([d * g[1:] for (d, _), g in zip(todo, grids, strict=True)])
-        p = phi_float(ab, at, box, fbox)
-        for m, ((d, j), grid) in enumerate(zip(todo, grids, strict=True)):
-            idx = np.nonzero(p[64 * m : 64 * (m + 1), j] <= lim[j])[0]
-            i = int(idx[0]) if len(idx) else 63
-            grid[0] = brackets[d][j][0]
-            brackets[d][j] = (float(grid[i]), float(grid[i + 1]))
+    _refine(ab, box, fbox, lim, brackets)
     for d, bs in brackets.items():
         j = 0 if bs[0][1] >= bs[1][1] else 1
         reach = next(r for dd, r, _ in live if dd == d)
         outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
-        inner = prove_in(ab, box, bbox, limits[j], j, d, bs[j][0])
+        # (a bracket narrower than the doubles' error at its ends: from a little inside)
+        inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
         out[d] = (outer, inner, j)
     return out
+
+
+TIGHT = 2.0**-30  # a crossing's bracket is refined to this width relative to its far end
+
+
+def _refine(ab: About, box: Box, fbox: Any, lim: np.ndarray,
+            brackets: dict[int, list[tuple[float, float, float, float]]]) -> None:  # fmt: skip
+    """Each joint's bracket of its first crossing (``brackets[d][j]`` = (lo, hi, and
+    the largest |T_j| less the limit there, NaN when not known): the limit exceeded at
+    lo, not at hi) narrowed in place to ``TIGHT``, every bracket at once at each step.
+    With the values at both ends known: the regula falsi's estimate in 1/h (next to a
+    pole |T| is about C/|h| + a slowly varying part, so nearly linear in 1/h) and points
+    about it at 2^-4, 2^-8, ..., 2^-24 of the bracket on either side, the first of them
+    found below the limit (the estimate's error sets how far the bracket shrinks); else
+    16 points across it. A joint whose bracket lies wholly nearer t_s than the other's
+    cannot reach furthest: not refined."""
+    offsets = np.concatenate([-(2.0 ** -np.arange(4, 25, 4)), [0.0], 2.0 ** -np.arange(24, 3, -4)])
+    state = {(d, j): bs[j] for d, bs in brackets.items() for j in (0, 1)}
+    for _ in range(8):
+        todo = []
+        for (d, j), (lo, hi, flo, fhi) in state.items():
+            other = state[(d, 1 - j)]
+            if lo == hi or hi < other[0] or hi - lo <= TIGHT * hi:
+                continue
+            if lo > 0 and flo > 0 >= fhi and math.isfinite(flo) and math.isfinite(fhi):
+                u = 1 / lo + (1 / hi - 1 / lo) * (flo / (flo - fhi))  # in 1/h
+                est = min(max(1 / u, lo), hi)
+                xs = np.unique(np.clip(est + (hi - lo) * offsets, lo, hi))
+                xs = xs[(xs > lo) & (xs < hi)]
+                if not len(xs):
+                    xs = np.array([0.5 * lo + 0.5 * hi])
+            else:
+                xs = np.linspace(lo, hi, 17)[1:-1]
+            todo.append(((d, j), xs))
+        if not todo:
+            break
+        p = phi_float(ab, np.concatenate([d * xs for (d, _), xs in todo]), box, fbox)
+        at = 0
+        for (d, j), xs in todo:
+            f = p[at : at + len(xs), j] - lim[j]
+            at += len(xs)
+            lo, hi, flo, fhi = state[(d, j)]
+            below = np.nonzero(f <= 0)[0]  # NaN: not below (as above the limit)
+            i = int(below[0]) if len(below) else len(xs)
+            xs_all = np.concatenate([[lo], xs, [hi]])
+            fs_all = np.concatenate([[flo], f, [fhi]])
+            # the first point at or below the limit is xs_all[i + 1], the one before above
+            state[(d, j)] = (float(xs_all[i]), float(xs_all[i + 1]), float(fs_all[i]),
+                             float(fs_all[i + 1]))  # fmt: skip
+    for (d, j), got in state.items():
+        brackets[d][j] = got
 
 
 def _prove_out(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
@@ -441,15 +485,15 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
     fbox = float_box(box)
     Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
-    best, arg = -math.inf, None
-    for ex, ey in box.corners():
-        for s in (1.0, -1.0):
-            Y = s * (Ys[0] + float(ex) * Ys[1] + float(ey) * Ys[2])
-            v = float(form_max(list(Y), fbox, False))
-            if v > best:
-                best, arg = v, (ex, ey, s, Y)
-    assert arg is not None
-    ex, ey, s, Y = arg
+    combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
+    k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
+    Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
+    v = form_max([Yc[:, i] for i in range(Yc.shape[1])], fbox, False)
+    found = np.nonzero(v > -math.inf)[0]  # (NaN: not a candidate)
+    assert len(found)
+    best = int(found[np.argmax(v[found])])  # the first of the largest
+    ex, ey, _ = combos[best]
+    Y = Yc[best]
     values = {}
     for link, km, kmr, kj in LINKS:
         A = Y[km] if km is not None else 0.0
