@@ -234,18 +234,24 @@ def _bounds(
         D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
         # and the largest effort over the box is convex in t - m there: its ends bound it
-        YI = Ball._of(Y.mid[..., q : 2 * q], Y.rad[..., q : 2 * q])  # over the intervals
         YP = Ball._of(Y.mid[..., 2 * q :], Y.rad[..., 2 * q :])  # at the points
-        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI, YP]
-        Y4 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
-                      np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
-        lower = np.arange(3 * q + len(at)) >= 3 * q  # the points: lower bounds
-        for j, (l_, h_) in enumerate(bands_of(Y4, box, lower)):
+        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YP]
+        # the interval evaluation's bound too beside a pole (wide intervals there: the
+        # derivative's enclosure is vast), the narrower kept; elsewhere the mean-value
+        # form's alone (its excess shrinks as w², the other's as w)
+        plain = bool(parts[int(i)].analysis.instants or parts[int(i)].analysis.kinematic)
+        if plain:
+            Yt.insert(2, Ball._of(Y.mid[..., q : 2 * q], Y.rad[..., q : 2 * q]))
+        n = (3 if plain else 2) * q
+        Yall = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
+                        np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
+        lower = np.arange(n + len(at)) >= n  # the points: lower bounds
+        for j, (l_, h_) in enumerate(bands_of(Yall, box, lower)):
             v = np.maximum(h_, -l_)
-            # the narrower of the mean-value form's bound and the interval evaluation's
-            # (wide intervals beside a pole: the derivative's enclosure is vast there)
-            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q : 3 * q])
-            lows[j] = max(lows[j], np.max(v[3 * q :], initial=-np.inf))
+            ups[j, sel] = np.maximum(v[:q], v[q : 2 * q])
+            if plain:
+                ups[j, sel] = np.minimum(ups[j, sel], v[2 * q : 3 * q])
+            lows[j] = max(lows[j], np.max(v[n:], initial=-np.inf))
     return ups, lows
 
 
