@@ -98,6 +98,9 @@ def poles(task: Task, parts: Sequence[Any], box: Box,
 
 def _side(task: Task, p: Any, k: Any, side: int, box: Box, t_abs: float,
           spans: Sequence[tuple[float, float]]) -> Pole | None:  # fmt: skip
+    """The proof on one side of the passage ``k`` of the piece ``p``: on the widest span
+    of 2^-j of the reach (the distance to the piece's end) that lies outside the proven
+    windows and on which the bounds hold, else None."""
     traj = p.traj
     lo, hi = to_float(p.start - p.origin), to_float(p.end - p.origin)
     if not lo <= k.time.hi <= hi:
@@ -115,59 +118,63 @@ def _side(task: Task, p: Any, k: Any, side: int, box: Box, t_abs: float,
     order = min(_order(cu), _order(cy))
     if order == 0 or (order >= len(cu) and order >= len(cy)):  # not there, or sits at it
         return None
-    a, b = cu[order:] or [arb(0)], cy[order:] or [arb(0)]
-    robot = task.robot
-    L = robot.links
-    revolute = of(robot).name == "revolute"
-    m_own, r_own, i_own = (L[3].mass, L[3].r, L[3].inertia) if k.leg == 1 else (
-        L[5].mass, L[5].r, L[5].inertia)  # fmt: skip
-    m_base, r_base, i_base = (L[2].mass, L[2].r, L[2].inertia) if k.leg == 1 else (
-        L[4].mass, L[4].r, L[4].inertia)  # fmt: skip
-    mo_own, ro_own, io_own = (L[5].mass, L[5].r, L[5].inertia) if k.leg == 1 else (
-        L[3].mass, L[3].r, L[3].inertia)  # fmt: skip
-    mo_base, ro_base, io_base = (L[4].mass, L[4].r, L[4].inertia) if k.leg == 1 else (
-        L[2].mass, L[2].r, L[2].inertia)  # fmt: skip
-    a1 = arb(traj.a1)
+    motion = (cu[order:] or [arb(0)], cy[order:] or [arb(0)], co, cy, order)
     for j in range(WIDTHS):
         w = reach * 2.0**-j
         near, far = sorted((t_abs - w, t_abs + w))
         if any(s0 <= far and near <= s1 for s0, s1 in spans):
             continue  # a proven window about: those times are not the peak's
-        eps = arb(0).union(arb(side * w))  # ε over the span (about the exact t_A)
-        A, B = _horner(a, eps), _horner(b, eps)
-        r = (A * A + B * B).sqrt()
-        if not r > 0:
-            continue
-        sin = abs(B) / r
-        beta = sin.lower()
-        if not beta > 0:
-            continue
-        s_max = (abs(eps) ** order * r).upper()
-        s = arb(0).union(s_max)  # s_i over the span
-        U = _horner(co, eps)
-        s_other = (U * U + _horner(cy, eps) ** 2).sqrt()
-        if not s_other > 0:
-            continue
-        d = abs(s - arb(r_own)).lower()  # |s_i - r| >= d over the span (a square >= d²)
-        M = arb(m_base) * arb(r_base) ** 2 + arb(i_base) + arb(m_own) * d * d + arb(i_own)
-        M_other = (arb(mo_base) * arb(ro_base) ** 2 + arb(io_base)
-                   + arb(mo_own) * (s_other - arb(ro_own)) ** 2 + arb(io_own))  # fmt: skip
-        M0 = M.lower()
-        if not M0 > 0:
-            continue
-        if revolute:
-            coef = M0
-            rest = 2 * (arb(L[3].mass) + arb(L[5].mass)) * s_max * s_other / (a1 * beta)
-            effort, p_order = k.leg - 1, 1
-        else:
-            coef = (M0 * s_other.lower() / (a1 * sin.upper())).lower()
-            rest = arb(mo_own) + M_other / (a1 * beta * s_other.lower())
-            effort, p_order = 2 - k.leg, 2
-        if not (coef > 0 and rest.is_finite()):
-            continue
-        return Pole(effort, k.leg, t_abs, side, w, p_order, round_down(coef),
-                    round_up(rest.upper()), round_up(s_max), to_float(box.a))  # fmt: skip
+        got = _bound(task.robot, k.leg, motion, arb(0).union(arb(side * w)))
+        if got is not None:
+            effort, p_order, coef, rest, s_max = got
+            return Pole(effort, k.leg, t_abs, side, w, p_order, coef, rest, s_max,
+                        to_float(box.a))  # fmt: skip
     return None
+
+
+def _bound(robot: Any, leg: int, motion: tuple[Any, ...], eps: arb
+           ) -> tuple[int, int, float, float, float] | None:  # fmt: skip
+    """(the effort, p, c, k, s_max) of the module's bound over the span of ε ``eps``, from
+    ``motion`` = (a, b: u and y over ε^order; the Taylor coefficients of the other leg's
+    u and of y; order), or None where a bound it needs does not hold there."""
+    a, b, co, cy, order = motion
+    L = robot.links
+    legs = (L[3], L[2], L[5], L[4]) if leg == 1 else (L[5], L[4], L[3], L[2])
+    own, own_base, oth, oth_base = legs  # the passing leg's links, the other leg's
+    A, B = _horner(a, eps), _horner(b, eps)
+    r = (A * A + B * B).sqrt()
+    if not r > 0:
+        return None
+    sin = abs(B) / r
+    beta = sin.lower()
+    if not beta > 0:
+        return None
+    s_max = (abs(eps) ** order * r).upper()
+    s = arb(0).union(s_max)  # s_i over the span
+    U = _horner(co, eps)
+    s_other = (U * U + _horner(cy, eps) ** 2).sqrt()
+    if not s_other > 0:
+        return None
+    d = abs(s - arb(own.r)).lower()  # |s_i - r| >= d over the span (a square >= d²)
+    M = (arb(own_base.mass) * arb(own_base.r) ** 2 + arb(own_base.inertia)
+         + arb(own.mass) * d * d + arb(own.inertia))  # fmt: skip
+    M_other = (arb(oth_base.mass) * arb(oth_base.r) ** 2 + arb(oth_base.inertia)
+               + arb(oth.mass) * (s_other - arb(oth.r)) ** 2 + arb(oth.inertia))  # fmt: skip
+    M0 = M.lower()
+    if not M0 > 0:
+        return None
+    a1 = arb(robot.a1)
+    if of(robot).name == "revolute":
+        coef = M0
+        rest = 2 * (arb(L[3].mass) + arb(L[5].mass)) * s_max * s_other / (a1 * beta)
+        effort, p_order = leg - 1, 1
+    else:
+        coef = (M0 * s_other.lower() / (a1 * sin.upper())).lower()
+        rest = arb(oth.mass) + M_other / (a1 * beta * s_other.lower())
+        effort, p_order = 2 - leg, 2
+    if not (coef > 0 and rest.is_finite()):
+        return None
+    return effort, p_order, round_down(coef), round_up(rest.upper()), round_up(s_max)
 
 
 def _minimal(u: Any, y: Any, e: Any) -> Any:

@@ -337,18 +337,12 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
     """The window on each side of t_s in ``directions`` (-1, +1), as distances |h| [s]:
     (a proven outer end, an inner end at which the limit is proven exceeded (0 when not
     shown), the joint (0, 1) that reaches furthest). The doubles bracket each joint's
-    first crossing of its limit outward from t_s: at reach 2^-k (k = 0..159, the
-    nearest first), then 64 points at a time in the bracket, four times; when even the
-    nearest time looked at (2^-159 of the piece's reach) shows no excess, the window is
-    too narrow for doubles (a residual of the order of the input's rounding) and a
-    proven outer end is found by halving in ball arithmetic (``_halving``).
-
-    Every side and joint is evaluated at once at each step (an evaluation costs its call
-    more than its points). The scan looks at every 2^-k down to 2^-(DENSE - 1) of the
-    reach and at every 8th below (a dip below the limit narrower than that, at under
-    1e-12 of the reach, is not looked for; the points between the first 8th found below
-    and the one before are); a joint whose bracket lies wholly nearer t_s than the
-    other's cannot reach furthest and is not refined."""
+    first crossing of its limit outward from t_s (``_scan``, then ``_refine``); when even
+    the nearest time looked at (2^-159 of the piece's reach) shows no excess, the window
+    is too narrow for doubles (a residual of the order of the input's rounding) and a
+    proven outer end is found by halving in ball arithmetic (``_halving``). Every side
+    and joint is evaluated at once at each step (an evaluation costs its call more than
+    its points)."""
     out: dict[int, tuple[float, float, int]] = {}
     live = []
     for d in directions:
@@ -362,13 +356,39 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
     bbox = ball_box(box)
     fbox = float_box(box)
     lim = np.array(limits)
+    brackets, narrow = _scan(ab, box, fbox, lim, live)
+    for d, reach in narrow:
+        out[d] = (_halving(ab, box, bbox, limits, d, reach), 0.0, 0)
+    _refine(ab, box, fbox, lim, brackets)
+    for d, bs in brackets.items():
+        j = 0 if bs[0][1] >= bs[1][1] else 1
+        reach = next(r for dd, r, _ in live if dd == d)
+        outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
+        # (a bracket narrower than the doubles' error at its ends: from a little inside)
+        inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
+        out[d] = (outer, inner, j)
+    return out
+
+
+Bracket = tuple[float, float, float, float]  # lo, hi, and the largest |T_j| less the limit there
+
+
+def _scan(ab: About, box: Box, fbox: Any, lim: np.ndarray, live: list[tuple[int, float, Any]]
+          ) -> tuple[dict[int, list[Bracket]], list[tuple[int, float]]]:  # fmt: skip
+    """Each side's brackets of each joint's first crossing (``live``: the sides, their
+    reach and times reach 2^-k, k = 159..0) from the doubles at those times: every k
+    down to 2^-(DENSE - 1) of the reach and every 8th below (a dip below the limit
+    narrower than that, at under 1e-12 of the reach, is not looked for; the points
+    between the first 8th found below and the one before are); and the sides too narrow
+    for doubles (the limit not exceeded at the nearest time), with their reach."""
     n = len(SCAN)
     phi = phi_float(ab, np.concatenate([d * hs[SCAN] for d, _, hs in live]), box, fbox)
-    brackets: dict[int, list[tuple[float, float, float, float]]] = {}
+    brackets: dict[int, list[Bracket]] = {}
+    narrow = []
     for m, (d, reach, hs) in enumerate(live):
         p = phi[n * m : n * (m + 1)]
         if not (p[0] > lim).any():
-            out[d] = (_halving(ab, box, bbox, limits, d, reach), 0.0, 0)
+            narrow.append((d, reach))
             continue
         firsts = []
         for j in (0, 1):
@@ -395,22 +415,14 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
                 bs.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k]), flo,
                            seen[k][j] - lim[j]))  # fmt: skip
         brackets[d] = bs
-    _refine(ab, box, fbox, lim, brackets)
-    for d, bs in brackets.items():
-        j = 0 if bs[0][1] >= bs[1][1] else 1
-        reach = next(r for dd, r, _ in live if dd == d)
-        outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
-        # (a bracket narrower than the doubles' error at its ends: from a little inside)
-        inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
-        out[d] = (outer, inner, j)
-    return out
+    return brackets, narrow
 
 
 TIGHT = 2.0**-30  # a crossing's bracket is refined to this width relative to its far end
 
 
 def _refine(ab: About, box: Box, fbox: Any, lim: np.ndarray,
-            brackets: dict[int, list[tuple[float, float, float, float]]]) -> None:  # fmt: skip
+            brackets: dict[int, list[Bracket]]) -> None:  # fmt: skip
     """Each joint's bracket of its first crossing (``brackets[d][j]`` = (lo, hi, and
     the largest |T_j| less the limit there, NaN when not known): the limit exceeded at
     lo, not at hi) narrowed in place to ``TIGHT``, every bracket at once at each step.
