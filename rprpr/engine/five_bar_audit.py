@@ -25,7 +25,7 @@ from ..model.dataclass import dataclass
 from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number
-from ..model.options import AuditOptions
+from ..model.options import DEFAULT_SAMPLES, AuditOptions
 from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
 from .exact import five_bar as fb
@@ -56,6 +56,7 @@ class FiveBarAuditResult(Judged):
     findings: list[Finding]
     on_singular_curve: bool = False  # the path runs along a Type II curve all along
     peak_computed: bool = False
+    grid_size: int = field(default=DEFAULT_SAMPLES, repr=False)  # the sheet's samples
 
     @property
     def singularities(self) -> tuple[FiveBarInstant, ...]:
@@ -114,6 +115,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
             replace(f, strict=strict) for f in with_levels(found, o.levels(task.checks.rules))
         ],
         on_singular_curve=on_curve,
+        grid_size=o.samples,
     )
 
 

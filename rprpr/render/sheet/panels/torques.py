@@ -26,6 +26,7 @@ from ....engine.bounds.verdicts import Window
 from ....engine.exact.singular import SingularInstant
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
+from .. import five_bar as FB
 from ..axes import handles, instant_lines, knot_handles, look
 from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
@@ -48,7 +49,8 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
     both named when the sheet overlays the two schemes."""
     kinds = {m.task.robot.actuation for m in motions}
     if kinds <= {REVOLUTE}:
-        return "Motor torques T1, T2, eq. (28)", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
+        paper = "" if all(FB.is_five_bar(m) for m in motions) else ", eq. (28)"
+        return f"Motor torques T1, T2{paper}", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
     if REVOLUTE not in kinds:
         return (
             "Leg forces F1, F2 (prismatic actuation)",
