@@ -22,10 +22,11 @@ from dataclasses import field, replace
 from flint import fmpq_poly
 
 from ..model.dataclass import dataclass
+from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number
-from ..model.options import DEFAULT_SAMPLES, AuditOptions
+from ..model.options import AuditOptions
 from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Task
 from .exact import five_bar as fb

@@ -27,7 +27,7 @@ from dataclasses import dataclass as std_dataclass
 from typing import Any
 
 import numpy as np
-from flint import fmpq, fmpq_poly
+from flint import fmpq_poly
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.lines import Line2D
@@ -38,8 +38,8 @@ from ...engine.exact.five_bar_instants import FiveBarInstant, TypeOne
 from ...engine.exact.singular import Principle
 from ...engine.five_bar_audit import FiveBarAuditResult
 from ...model.dataclass import dataclass
+from ...model.defaults import DEFAULT_SAMPLES
 from ...model.numbers import to_float
-from ...model.options import DEFAULT_SAMPLES
 from ...model.task import Task
 from ...report.five_bar_records import value
 
@@ -268,15 +268,20 @@ def curve_lines(task: Task, box: tuple[float, float, float, float]) -> dict[int,
     return lines
 
 
-def curves(ax: Axes, m: Any, box: tuple[float, float, float, float], gid: str) -> None:
+def curves(
+    ax: Axes, m: Any, box: tuple[float, float, float, float], gid: str
+) -> list[LineCollection]:
     """The Type II curves of ``m``'s robot on ``ax`` (gids ``<gid>-plus``,
     ``<gid>-minus``), not counted in the axes' data limits (the view stays the motion's)."""
+    out = []
     for sigma, segs in curve_lines(m.task, box).items():
         lc = LineCollection(
             segs, colors=CURVES[sigma], linewidths=1.1, linestyles=CURVE_DASH, zorder=CURVE_Z
         )
         lc.set_gid(f"{gid}-{'plus' if sigma > 0 else 'minus'}")
         ax.add_collection(lc, autolim=False)
+        out.append(lc)
+    return out
 
 
 def curve_handles() -> list[Line2D]:

@@ -7,8 +7,8 @@ from typing import cast
 import numpy as np
 
 from ...engine.audit import AuditResult, audit
-from ...engine.five_bar_audit import FiveBarAuditResult
 from ...engine.certified.sampling import Samples, grid
+from ...engine.five_bar_audit import FiveBarAuditResult
 from ...model.dataclass import dataclass
 from ...model.names import file_name
 from ...model.task import Task

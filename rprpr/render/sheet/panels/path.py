@@ -22,7 +22,6 @@ from ..labels import case_label_place
 from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
 from ..page import Indexed, Sheet
-from ..robot import draw_robot as robot_draw
 from ..robot import (
     CYLINDER,
     CYLINDER_ALPHA,
@@ -35,6 +34,7 @@ from ..robot import (
     view,
     workspace,
 )
+from ..robot import draw_robot as robot_draw
 from ..style import (
     LABEL_SIZE,
     LEG1,
@@ -166,9 +166,7 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
             draw_robot(ax, m, at(m, s.t), 0.85, gid, singular=True, colour=colour)
 
 
-def draw_robot(
-    ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any
-) -> np.ndarray:
+def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any) -> np.ndarray:
     """The robot of ``m`` at sample i, by its mechanism: the RPRPR's legs
     (``robot.draw_robot``) or the 5R's links (``five_bar.draw_robot``)."""
     if FB.is_five_bar(m):
@@ -260,9 +258,7 @@ def _freer_side(paths: np.ndarray, x: float, d: float, y: float = 0.0) -> int:
     (x, y ± d)."""
     counts = []
     for side in (1, -1):
-        near = (np.abs(paths[:, 0] - x) < 1.2 * d) & (
-            np.abs(paths[:, 1] - y - side * d) < 0.9 * d
-        )
+        near = (np.abs(paths[:, 0] - x) < 1.2 * d) & (np.abs(paths[:, 1] - y - side * d) < 0.9 * d)
         counts.append(int(np.sum(near)))
     return 1 if counts[0] <= counts[1] else -1
 

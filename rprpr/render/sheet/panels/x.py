@@ -38,5 +38,7 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     row_y[0].set_ylabel("$y_E$ [m]")
     line = Line2D([], [], color=LINE, lw=1.0, ls=LINE_DASH, label="singular line y = 0")
     lines = [line] if rprpr else []
-    sheet.lane(row_x[-1], [*handles(sheet, [("$x_E$, $y_E$", POINT)]), *lines, *knot_handles(sheet)])
+    sheet.lane(
+        row_x[-1], [*handles(sheet, [("$x_E$, $y_E$", POINT)]), *lines, *knot_handles(sheet)]
+    )
     return [*row_x, *row_y]
