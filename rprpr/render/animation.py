@@ -42,6 +42,7 @@ from ..model.actuation import SCHEMES
 from ..model.numbers import number
 from . import sheet as P
 from .sheet import five_bar as FB
+from .sheet import five_bar_robot as FBR
 from .sheet import robot
 from .sheet.axes import knot_lines
 
@@ -164,7 +165,7 @@ class _Column:
             x0, x1, y0, y1 = robot.view([m])
             w, h = x1 - x0, y1 - y0  # the view grows to the axes' shape: contour beyond it
             box = (x0 - w, x1 + w, y0 - h, y1 + h)
-            self.over: list[Any] = [*FB.curves(ax, m, box, f"gif-curve-{self.i}")]
+            self.over: list[Any] = [*FBR.curves(ax, m, box, f"gif-curve-{self.i}")]
         else:
             self.over = [robot.singular_line(ax, f"gif-singular-line-{self.i}")]
         robot.base_joints(ax, [m], size)
@@ -174,8 +175,8 @@ class _Column:
             px, py = FB.point(m, s)
             self.over += ax.plot([px], [py], gid=f"gif-path-singular-{self.i}-{k}", **style)
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
-        self.robot: robot.MovingRobot | FB.MovingFiveBar = (
-            FB.MovingFiveBar(ax, m, (P.LEG1, P.LEG2)) if five else robot.MovingRobot(ax, m)
+        self.robot: robot.MovingRobot | FBR.MovingFiveBar = (
+            FBR.MovingFiveBar(ax, m, (P.LEG1, P.LEG2)) if five else robot.MovingRobot(ax, m)
         )
         self.clock = ax.text(
             0.02,
@@ -259,7 +260,7 @@ class _Column:
         upto = m.s.t <= self.t[k]
         self.trace.set_data(m.s.x[upto], m.s.y[upto])
         E = np.array([f.x[k], f.y[k]])
-        if isinstance(self.robot, FB.MovingFiveBar):
+        if isinstance(self.robot, FBR.MovingFiveBar):
             g: Any = f  # a 5R's samples (``five_bar.FiveBarSamples``) hold its elbows
             self.robot.move(E, np.array([g.cx[k], g.cy[k]]), np.array([g.dx[k], g.dy[k]]))
         else:

@@ -12,6 +12,7 @@ from ...engine.five_bar_audit import FiveBarAuditResult
 from ...model.dataclass import dataclass
 from ...model.names import file_name
 from ...model.task import Task
+from .five_bar import motion as five_bar_motion
 
 
 @dataclass(frozen=True)
@@ -50,8 +51,6 @@ def motion(result: AuditResult | FiveBarAuditResult | Task, source: str = "") ->
         result = audit(result)
     source = file_name(source)
     if isinstance(result, FiveBarAuditResult):
-        from .five_bar import motion as five_bar_motion
-
         drawn, s = five_bar_motion(result, source, result.grid_size)
         return Motion(source, cast(AuditResult, drawn), s)
     t = grid(result.task.duration, result.grid_size)

@@ -19,6 +19,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from ...engine.certified.sampling import Samples
+from .five_bar import elbows, is_five_bar
 from .motion import Motion
 from .style import LEG1, LEG2, LINE, LINE_DASH, POINT, pt
 
@@ -37,8 +38,6 @@ SINGULAR_LEGS = (0, (3, 1.5))  # the legs' rods at a singular instant: AB shows 
 def view(motions: Sequence[Motion]) -> View:
     """The workspace shown: every path, A and B and the singular line (a 5R's elbows
     too), with room around."""
-    from .five_bar import elbows, is_five_bar
-
     links = [elbows(m) for m in motions if is_five_bar(m)]
     xs = np.concatenate(
         [m.s.x for m in motions]

@@ -69,7 +69,8 @@ def headings(sheet: Sheet) -> tuple[str, ...]:
             f"δ(t) = {FIVE_BAR_DELTA}",
         )
     return (
-        f"Type II determinant δ(t): sin(θ1 − θ2) (RPRPR), {FIVE_BAR_DELTA} (5R)",
+        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4) for an RPRPR,"
+        f" {FIVE_BAR_DELTA} for a 5R",
         "Type II determinant δ(t) (RPRPR, 5R)",
         "δ(t)",
     )

@@ -50,7 +50,7 @@ FIVE_BAR_HEADINGS = (
     "Motors θ1, θ2; distal φ1, φ2",
 )
 MIXED_HEADINGS = (
-    "Joint angles θ1, θ2; RPRPR leg lengths s1, s2; 5R distal links' angles φ1, φ2",
+    "Joint angles θ1, θ2 (paper Fig. 5); RPRPR leg lengths s1, s2; 5R distal links' angles φ1, φ2",
     "Joints θ1, θ2; legs s1, s2 (RPRPR), φ1, φ2 (5R)",
 )
 

@@ -17,6 +17,7 @@ from matplotlib.lines import Line2D
 from ....model.actuation import SCHEMES
 from ....model.numbers import number
 from .. import five_bar as FB
+from .. import five_bar_robot as FBR
 from ..axes import handles, look
 from ..labels import case_label_place
 from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
@@ -56,11 +57,19 @@ CASES = (  # the singular line's stretches (Table 1): left of A, between A and B
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading(
-        "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
-        "Workspace (paper Fig. 3): end-point path",
-        "Workspace, end-point path",
-    )
+    rprpr, _ = FB.kinds(sheet.motions)
+    if rprpr:
+        sheet.heading(
+            "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
+            "Workspace (paper Fig. 3): end-point path",
+            "Workspace, end-point path",
+        )
+    else:  # a 5R: its Type II curves instead of the line AB
+        sheet.heading(
+            "Workspace: end-point path, Type II curves, robot at the singular instants",
+            "Workspace: end-point path, Type II curves",
+            "Workspace, end-point path",
+        )
     x0, x1, y0, y1 = view(sheet.motions)
     h = float(np.clip((y1 - y0) / (x1 - x0) * sheet.column_width, 2.0, 4.4))
     (row,) = sheet.rows("path", (h,), time=False)
@@ -75,7 +84,9 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
 def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
     motions = [m for _, m in col]
-    v, size = workspace(ax, sheet.motions)
+    # small multiples share one view, among the tasks of one mechanism (metres apart)
+    kind = FB.is_five_bar(motions[0])
+    v, size = workspace(ax, [m for m in sheet.motions if FB.is_five_bar(m) == kind])
     x0, x1, y0, y1 = v
     ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     # the view as drawn: at equal scales the wider of the axes and the data gets room
@@ -88,7 +99,7 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     rise = max(0.0, h * 72 / ppu - (y1 - y0)) / 2  # as ``grow``, up and down
     for i, m in col:  # a 5R's Type II curves instead of the line AB, over the view drawn
         if FB.is_five_bar(m):
-            FB.curves(ax, m, (x0 - grow, x1 + grow, y0 - rise, y1 + rise), f"path-curve-{i}")
+            FBR.curves(ax, m, (x0 - grow, x1 + grow, y0 - rise, y1 + rise), f"path-curve-{i}")
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
@@ -170,7 +181,7 @@ def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any) -
     """The robot of ``m`` at sample i, by its mechanism: the RPRPR's legs
     (``robot.draw_robot``) or the 5R's links (``five_bar.draw_robot``)."""
     if FB.is_five_bar(m):
-        return FB.draw_robot(ax, m, i, alpha, gid, legs=(LEG1, LEG2), **kw)
+        return FBR.draw_robot(ax, m, i, alpha, gid, legs=(LEG1, LEG2), **kw)
     return robot_draw(ax, m, i, alpha, gid, **kw)
 
 
@@ -355,7 +366,7 @@ def _legend(sheet: Sheet) -> list[Any]:
     ]
     n = len(extra)  # the robots' entries go here, before the singular line
     extra += [singular_line_handle()] if rprpr else []
-    extra += FB.curve_handles() if five else []
+    extra += FBR.curve_handles() if five else []
     extra += marker_handles(motions)
     if five:
         extra[n:n] = _five_bar_links(sheet.overlay)
@@ -407,24 +418,24 @@ def _five_bar_links(overlay: bool) -> list[Any]:
     if overlay:
         return [
             (
-                Line2D([], [], color="#777777", alpha=0.6, **FB.PROXIMAL),
+                Line2D([], [], color="#777777", alpha=0.6, **FBR.PROXIMAL),
                 Line2D(
                     [],
                     [],
                     color="#777777",
                     label="5R links at t_s: proximal, distal, task's colour",
-                    **{**FB.DISTAL, "ls": SINGULAR_LEGS},
+                    **{**FBR.DISTAL, "ls": SINGULAR_LEGS},
                 ),
             )
         ]
     return [
         (
-            Line2D([], [], color=LEG1, alpha=0.6, **FB.PROXIMAL),
-            Line2D([], [], color=LEG1, label="leg 1: links A–C, C–E; θ1, φ1", **FB.DISTAL),
+            Line2D([], [], color=LEG1, alpha=0.6, **FBR.PROXIMAL),
+            Line2D([], [], color=LEG1, label="leg 1: links A–C, C–E; θ1, φ1", **FBR.DISTAL),
         ),
         (
-            Line2D([], [], color=LEG2, alpha=0.6, **FB.PROXIMAL),
-            Line2D([], [], color=LEG2, label="leg 2: links B–D, D–E; θ2, φ2", **FB.DISTAL),
+            Line2D([], [], color=LEG2, alpha=0.6, **FBR.PROXIMAL),
+            Line2D([], [], color=LEG2, label="leg 2: links B–D, D–E; θ2, φ2", **FBR.DISTAL),
         ),
         Line2D(
             [],

@@ -103,10 +103,13 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
 
 
 def _by_scheme(col: Indexed) -> list[tuple[str, Indexed]]:
-    """A column's tasks by actuation scheme, in the order the schemes first appear."""
+    """A column's tasks by actuation scheme, in the order the schemes first appear; a 5R's
+    apart from the RPRPR's (robots of another size: small multiples share y only within
+    one mechanism)."""
     out: dict[str, Indexed] = {}
     for i, m in col:
-        out.setdefault(m.task.robot.actuation, []).append((i, m))
+        key = m.task.robot.actuation + (" 5R" if FB.is_five_bar(m) else "")
+        out.setdefault(key, []).append((i, m))
     return list(out.items())
 
 
