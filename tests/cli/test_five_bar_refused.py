@@ -4,7 +4,8 @@
 certified layers are not available for a 5R yet (``engine.five_bar_audit.refuse``): a
 torque limit, the torque peak (``--peak``, ``checks.peak``), declared uncertainty, a
 motion of several pieces, and the commands that need certified samples (``export``,
-``repair``; ``plot`` draws a 5R: tests/render/test_sheet_five_bar.py). The Python API raises ``TaskFileError`` at the same key.
+``repair``; ``plot`` draws a 5R: tests/render/test_sheet_five_bar.py). The Python API
+raises ``TaskFileError`` at the same key.
 """
 
 from __future__ import annotations
