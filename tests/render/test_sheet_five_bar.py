@@ -293,3 +293,14 @@ def test_what_a_5r_plot_cannot_draw_yet_is_refused_in_one_located_line(tmp_path:
     assert err.count("\n") == 1 and "checks.torque_limit" in err
     assert err.startswith(f"rprpr: {DEXTAR}:")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_html_report_draws_a_5r_s_sheet(tmp_path: Path) -> None:
+    """``check --format html``: the task's sheet, with its Type II curves and its links."""
+    out = tmp_path / "r.html"
+    code, _, _ = run_cli("check", "--format", "html", "-o", str(out), CROSSING)
+    assert code == 0
+    html = out.read_text(encoding="utf-8")
+    assert html.count("<svg") == 1
+    for gid in ("path-curve-0-minus", "robot-0-singular-0-elbow-C", "path-singular-0-0"):
+        assert f'id="s1-{gid}"' in html, gid  # the page prefixes each sheet's ids
