@@ -179,7 +179,7 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
 
 def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any) -> np.ndarray:
     """The robot of ``m`` at sample i, by its mechanism: the RPRPR's legs
-    (``robot.draw_robot``) or the 5R's links (``five_bar.draw_robot``)."""
+    (``robot.draw_robot``) or the 5R's links (``five_bar_robot.draw_robot``)."""
     if FB.is_five_bar(m):
         return FBR.draw_robot(ax, m, i, alpha, gid, legs=(LEG1, LEG2), **kw)
     return robot_draw(ax, m, i, alpha, gid, **kw)
