@@ -41,10 +41,9 @@ from ..engine.exact.singular import SingularInstant
 from ..model.actuation import SCHEMES
 from ..model.numbers import number
 from . import sheet as P
-from .sheet import five_bar as FB
-from .sheet import five_bar_robot as FBR
 from .sheet import robot
 from .sheet.axes import knot_lines
+from .sheet.drawing import drawing
 
 FRAMES = 100  # default frame count: 5 s at FPS
 MAX_FRAMES = 120
@@ -158,26 +157,21 @@ class _Column:
         ax.set_xlabel("x [m]", labelpad=1)
         ax.set_ylabel("y [m]", labelpad=1)
         ax.tick_params(labelsize=7)
-        # the line (a 5R's curves) and the marks move with the robot: redrawn over its
-        # legs every frame
-        five = FB.is_five_bar(m)
-        if five:
-            x0, x1, y0, y1 = robot.view([m])
-            w, h = x1 - x0, y1 - y0  # the view grows to the axes' shape: contour beyond it
-            box = (x0 - w, x1 + w, y0 - h, y1 + h)
-            self.over: list[Any] = [*FBR.curves(ax, m, box, f"gif-curve-{self.i}")]
-        else:
-            self.over = [robot.singular_line(ax, f"gif-singular-line-{self.i}")]
+        # the singular locus (the line AB, a 5R's curves) and the marks move with the
+        # robot: redrawn over its legs every frame
+        d = drawing(m)
+        x0, x1, y0, y1 = robot.view([m])
+        w, h = x1 - x0, y1 - y0  # the view grows to the axes' shape: the locus beyond it
+        box = (x0 - w, x1 + w, y0 - h, y1 + h)
+        self.over: list[Any] = d.locus(ax, m, box, d.locus_gid("gif", self.i))
         robot.base_joints(ax, [m], size)
         ax.plot(m.s.x, m.s.y, color="#AAAAAA", lw=1.0, ls="--", zorder=2)
         for k, s in enumerate(m.result.singularities):
             style = {**P.marker_style(s, m.result.status_of(s)), "alpha": 0.9}
-            px, py = FB.point(m, s)
+            px, py = d.point(s)
             self.over += ax.plot([px], [py], gid=f"gif-path-singular-{self.i}-{k}", **style)
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
-        self.robot: robot.MovingRobot | FBR.MovingFiveBar = (
-            FBR.MovingFiveBar(ax, m, (P.LEG1, P.LEG2)) if five else robot.MovingRobot(ax, m)
-        )
+        self.robot = d.moving(ax, m)
         self.clock = ax.text(
             0.02,
             0.97,
@@ -259,12 +253,7 @@ class _Column:
         f, m = self.f, self.m
         upto = m.s.t <= self.t[k]
         self.trace.set_data(m.s.x[upto], m.s.y[upto])
-        E = np.array([f.x[k], f.y[k]])
-        if isinstance(self.robot, FBR.MovingFiveBar):
-            g: Any = f  # a 5R's samples (``five_bar.FiveBarSamples``) hold its elbows
-            self.robot.move(E, np.array([g.cx[k], g.cy[k]]), np.array([g.dx[k], g.dy[k]]))
-        else:
-            self.robot.move(E)
+        self.robot.pose(f, k)
         delta = float(f.delta[k]) + 0.0  # no "-0.0000"
         ended = " (ended)" if self.clock_t[k] > m.duration else ""
         self.clock.set_text(f"t = {self.clock_t[k]:{self.fmt}} s{ended}\nδ = {delta:+.4f}")

@@ -247,9 +247,9 @@ def test_the_gif_moves_the_links_through_the_singular_pose() -> None:
     col = an.columns[0]
     (k,) = [j for j, s in enumerate(col.at) if s is not None]
     an.draw(k)
-    robot = col.robot
+    robot = col.robot.robot  # the 5R's moving links (``five_bar_robot.MovingFiveBar``)
     C, D = (tuple(float(v) for v in p) for p in elbows(E_S))
-    got = {n: np.asarray(line.get_xydata(), dtype=float) for n, line in robot.links.items()}  # type: ignore[union-attr]
+    got = {n: np.asarray(line.get_xydata(), dtype=float) for n, line in robot.links.items()}
     want = {1: [(0, 0), C], 2: [(0.14, 0), D], 3: [C, E_S], 4: [D, E_S]}
     for n in want:
         assert got[n] == pytest.approx(np.array(want[n], dtype=float), abs=1e-12)

@@ -1,5 +1,6 @@
 """A 5R task on the sheet and in the GIF: its audit read for drawing and its samples
-(docs/five-bar.md); its curves and links are drawn by ``five_bar_robot``.
+(docs/five-bar.md); its curves and links are drawn by ``five_bar_robot``, and what the
+panels draw differently for it is said by ``drawing.FiveBarDrawing``.
 
 ``motion`` readies a 5R audit (``engine.five_bar_audit.FiveBarAuditResult``) for the
 sheet: ``Drawn`` answers what the panels read of an RPRPR's ``AuditResult`` (its
@@ -249,12 +250,6 @@ def is_five_bar(m: Any) -> bool:
     return isinstance(m.result, Drawn)
 
 
-def point(m: Any, s: Any) -> tuple[float, float]:
-    """Where a Type II instant sits in the workspace: (x, y) for a 5R; (x, 0) for the
-    RPRPR (its singular line)."""
-    return (s.x, s.y) if is_five_bar(m) else (s.x, 0)
-
-
 __all__ = [
     "Drawn",
     "FiveBarSamples",
@@ -262,6 +257,5 @@ __all__ = [
     "elbows",
     "is_five_bar",
     "motion",
-    "point",
     "samples",
 ]

@@ -11,8 +11,8 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ....model.numbers import number
-from .. import five_bar as FB
 from ..axes import handles, instant_lines, knot_handles, look
+from ..drawing import kinds
 from ..markers import badge, mark
 from ..motion import finite
 from ..page import Indexed, Sheet
@@ -55,7 +55,7 @@ FIVE_BAR_DELTA = "(E − C) × (E − D)/(l3 l4)"  # a 5R's δ: the sine between
 def headings(sheet: Sheet) -> tuple[str, ...]:
     """The panel's heading and its shorter forms: the RPRPR's δ = sin(θ1 − θ2) (eq. 29),
     a 5R's δ (the sine of the angle between its distal links), or both named."""
-    rprpr, five = FB.kinds(sheet.motions)
+    rprpr, five = kinds(sheet.motions)
     if not five:
         return (
             "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)",

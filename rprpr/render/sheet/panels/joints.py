@@ -9,8 +9,8 @@ import numpy as np
 from matplotlib.axes import Axes
 
 from ....model.actuation import REVOLUTE
-from .. import five_bar as FB
 from ..axes import degree_ticks, handles, instant_lines, knot_handles, look
+from ..drawing import drawing, kinds
 from ..motion import Motion, finite
 from ..page import Sheet
 from ..style import LEG1, LEG2
@@ -55,30 +55,22 @@ MIXED_HEADINGS = (
 )
 
 
-def _second(m: Motion) -> tuple[tuple[np.ndarray, str], tuple[np.ndarray, str]]:
-    """The second row's curves of ``m`` with their gids: the RPRPR's leg lengths s1, s2
-    [m], a 5R's distal links' angles φ1, φ2 [deg]."""
-    if FB.is_five_bar(m):
-        s = m.s
-        return (np.degrees(s.phi1), "phi1"), (np.degrees(s.phi2), "phi2")  # type: ignore[attr-defined]
-    return (m.s.s1, "s1"), (m.s.s2, "s2")
-
-
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    rprpr, five = FB.kinds(sheet.motions)
+    rprpr, five = kinds(sheet.motions)
     if not five:
         sheet.heading(heading(sheet.motions), *short_headings(sheet.motions))
     else:
         sheet.heading(*(MIXED_HEADINGS if rprpr else FIVE_BAR_HEADINGS))
     # the second row is in metres for an RPRPR, in degrees for a 5R: shared by kind only
-    groups = [FB.is_five_bar(c[0][1]) for c in sheet.columns] if rprpr and five else None
+    kind = [drawing(c[0][1]) for c in sheet.columns]
+    groups = [d.name for d in kind] if rprpr and five else None
     row_t, row_s = sheet.rows("joints", (ROW, ROW), groups=groups)
     degrees = []
     for ax_t, ax_s, col in zip(row_t, row_s, sheet.columns, strict=True):
         instant_lines(ax_t, col, "theta")
         instant_lines(ax_s, col, "s")
         for i, m in col:
-            (v1, n1), (v2, n2) = _second(m)
+            (v1, n1), (v2, n2) = drawing(m).second_row(m)
             for ax, v, leg, name in (
                 (ax_t, np.degrees(m.s.theta1), 0, "theta1"),
                 (ax_t, np.degrees(m.s.theta2), 1, "theta2"),
@@ -93,13 +85,9 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     if shown.size:
         degree_ticks(row_t[0], float(shown.min()), float(shown.max()))
     row_t[0].set_ylabel(r"$\theta$ [deg]")
-    if not five:
-        row_s[0].set_ylabel("$s$ [m]")
-    else:
-        for c, (ax, col) in enumerate(zip(row_s, sheet.columns, strict=True)):
-            kind = FB.is_five_bar(col[0][1])
-            if c == 0 or kind != FB.is_five_bar(sheet.columns[c - 1][0][1]):
-                ax.set_ylabel(r"$\varphi$ [deg]" if kind else "$s$ [m]")
+    for c, ax in enumerate(row_s):  # each run of columns of one mechanism says its unit
+        if c == 0 or kind[c] is not kind[c - 1]:
+            ax.set_ylabel(kind[c].second_label)
     sheet.lane(
         row_t[-1],
         [
@@ -107,8 +95,6 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
             *knot_handles(sheet),
         ],
     )
-    second = [("$s_1 = |AE|$", LEG1), ("$s_2 = |BE|$", LEG2)] if rprpr else []
-    if five:
-        second += [(r"$\varphi_1$ (link C–E)", LEG1), (r"$\varphi_2$ (link D–E)", LEG2)]
+    second = [n for d in dict.fromkeys(map(drawing, sheet.motions)) for n in d.second_names]
     sheet.lane(row_s[-1], handles(sheet, second))
     return [*row_t, *row_s]

@@ -15,10 +15,11 @@ from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
 from ....model.actuation import SCHEMES
+from ....model.five_bar import FIVE_BAR, RPRPR
 from ....model.numbers import number
-from .. import five_bar as FB
 from .. import five_bar_robot as FBR
 from ..axes import handles, look
+from ..drawing import drawing, kinds
 from ..labels import case_label_place
 from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
@@ -30,12 +31,10 @@ from ..robot import (
     SINGULAR_LEGS,
     View,
     base_joints,
-    singular_line,
     singular_line_handle,
     view,
     workspace,
 )
-from ..robot import draw_robot as robot_draw
 from ..style import (
     LABEL_SIZE,
     LEG1,
@@ -57,7 +56,7 @@ CASES = (  # the singular line's stretches (Table 1): left of A, between A and B
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    rprpr, _ = FB.kinds(sheet.motions)
+    rprpr, _ = kinds(sheet.motions)
     if rprpr:
         sheet.heading(
             "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
@@ -85,21 +84,22 @@ def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
     motions = [m for _, m in col]
     # small multiples share one view, among the tasks of one mechanism (metres apart)
-    kind = FB.is_five_bar(motions[0])
-    v, size = workspace(ax, [m for m in sheet.motions if FB.is_five_bar(m) == kind])
+    kind = drawing(motions[0])
+    v, size = workspace(ax, [m for m in sheet.motions if drawing(m) is kind])
     x0, x1, y0, y1 = v
     ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     # the view as drawn: at equal scales the wider of the axes and the data gets room
     grow = max(0.0, sheet.column_width * 72 / ppu - (x1 - x0)) / 2
-    rprpr = [m for m in motions if not FB.is_five_bar(m)]
-    if rprpr:
-        singular_line(ax)
+    rise = max(0.0, h * 72 / ppu - (y1 - y0)) / 2  # as ``grow``, up and down
+    drawn = set()
+    for i, m in col:  # the singular locus over the view as drawn: the line AB, a 5R's curves
+        d = drawing(m)
+        if not (d.shared_locus and d.name in drawn):
+            d.locus(ax, m, (x0 - grow, x1 + grow, y0 - rise, y1 + rise), d.locus_gid("path", i))
+            drawn.add(d.name)
+    rprpr = [m for m in motions if drawing(m).name == RPRPR]  # the line AB's three cases
     if rprpr and len(sheet.columns) == 1:  # a small multiple is too narrow to name them
         _case_labels(ax, rprpr, (x0 - grow, x1 + grow, y0, y1), ppu, size)
-    rise = max(0.0, h * 72 / ppu - (y1 - y0)) / 2  # as ``grow``, up and down
-    for i, m in col:  # a 5R's Type II curves instead of the line AB, over the view drawn
-        if FB.is_five_bar(m):
-            FBR.curves(ax, m, (x0 - grow, x1 + grow, y0 - rise, y1 + rise), f"path-curve-{i}")
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
@@ -178,11 +178,8 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
 
 
 def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any) -> np.ndarray:
-    """The robot of ``m`` at sample i, by its mechanism: the RPRPR's legs
-    (``robot.draw_robot``) or the 5R's links (``five_bar_robot.draw_robot``)."""
-    if FB.is_five_bar(m):
-        return FBR.draw_robot(ax, m, i, alpha, gid, legs=(LEG1, LEG2), **kw)
-    return robot_draw(ax, m, i, alpha, gid, **kw)
+    """The robot of ``m`` at sample i, as its mechanism draws it (``drawing``)."""
+    return drawing(m).robot(ax, m, i, alpha, gid, **kw)
 
 
 def _ends(ax: Axes, m: Motion, colour: str, i: int) -> None:
@@ -234,7 +231,7 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
         (
             (i, k),
             s.x,
-            float(FB.point(m, s)[1]),
+            float(drawing(m).point(s)[1]),
             _RING_SIZE if s.high_order else marker_style(s, "ok")["markersize"],
         )
         for i, m in col
@@ -246,7 +243,7 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
         for k, s in enumerate(m.result.singularities):
             st = m.result.status_of(s)
             p = placed[i, k]
-            px, py = FB.point(m, s)
+            px, py = drawing(m).point(s)
             style = marker_style(s, st, edge(sheet, i))
             if s.high_order:  # the ring is the mark's outline: it nests, the star inside
                 _ring(ax, (px, py), f"path-ring-{i}-{k}", p.size, p.zorder)
@@ -357,7 +354,7 @@ def _legend(sheet: Sheet) -> list[Any]:
     """The workspace's legend: the paths, the singular line, the legs (each a pair: its
     sleeve and its rod, drawn one over the other), the marks."""
     motions = sheet.motions
-    five = [m for m in motions if FB.is_five_bar(m)]
+    five = [m for m in motions if drawing(m).name == FIVE_BAR]
     rprpr = len(five) < len(motions)
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
@@ -402,7 +399,7 @@ def _legend(sheet: Sheet) -> list[Any]:
                 ),
             )
         ]
-    if any(m.result.kinematic_singularities for m in motions if not FB.is_five_bar(m)):
+    if any(m.result.kinematic_singularities for m in motions if drawing(m).name == RPRPR):
         extra.append(
             Line2D([], [], marker="X", ms=9, ls="none", label="E at A or B (s = 0)", **_CROSS)
         )

@@ -26,8 +26,8 @@ from ....engine.bounds.verdicts import Window
 from ....engine.exact.singular import SingularInstant
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
-from .. import five_bar as FB
 from ..axes import handles, instant_lines, knot_handles, look
+from ..drawing import RPRPR_DRAWING, drawing
 from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
@@ -49,7 +49,7 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
     both named when the sheet overlays the two schemes."""
     kinds = {m.task.robot.actuation for m in motions}
     if kinds <= {REVOLUTE}:
-        paper = "" if all(FB.is_five_bar(m) for m in motions) else ", eq. (28)"
+        paper = "" if RPRPR_DRAWING not in map(drawing, motions) else ", eq. (28)"
         return f"Motor torques T1, T2{paper}", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
     if REVOLUTE not in kinds:
         return (
@@ -108,7 +108,8 @@ def _by_scheme(col: Indexed) -> list[tuple[str, Indexed]]:
     one mechanism)."""
     out: dict[str, Indexed] = {}
     for i, m in col:
-        key = m.task.robot.actuation + (" 5R" if FB.is_five_bar(m) else "")
+        d = drawing(m)
+        key = m.task.robot.actuation + ("" if d is RPRPR_DRAWING else f" {d.name}")
         out.setdefault(key, []).append((i, m))
     return list(out.items())
 
