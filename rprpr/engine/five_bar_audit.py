@@ -27,6 +27,7 @@ from typing import Any
 from flint import arb, ctx, fmpq
 
 from ..model.dataclass import dataclass
+from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number, to_float
@@ -66,6 +67,7 @@ class FiveBarAuditResult(Judged):
     findings: list[Finding]
     on_singular_curve: bool = False  # the path runs along a Type II curve all along
     peak_computed: bool = False
+    grid_size: int = field(default=DEFAULT_SAMPLES, repr=False)  # the sheet's samples
     parts: tuple[FiveBarAnalysis, ...] = field(default=(), repr=False, compare=False)
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False, compare=False)
 
@@ -141,6 +143,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
         on_singular_curve=whole,
         parts=tuple(parts),
         knot_jumps=tuple(knots),
+        grid_size=o.samples,
     )
 
 

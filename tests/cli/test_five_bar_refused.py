@@ -3,8 +3,9 @@
 ``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py); the
 certified layers are not available for a 5R yet (``engine.five_bar_audit.refuse``): a
 torque limit, the torque peak (``--peak``, ``checks.peak``), declared uncertainty, and
-the commands that need samples (``plot``, ``export``,
-``repair``). The Python API raises ``TaskFileError`` at the same key.
+the commands that need certified samples (``export``, ``repair``; ``plot`` draws a 5R:
+tests/render/test_sheet_five_bar.py). The Python API raises ``TaskFileError`` at the same
+key.
 """
 
 from __future__ import annotations
@@ -94,11 +95,10 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
     "command",
     [
         ("export", "-o", "{tmp}/x.csv"),
-        ("plot", "-o", "{tmp}/x.png"),
         ("repair", "-o", "{tmp}/r.yaml"),
     ],
 )
-def test_export_plot_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
+def test_export_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
     args = [a.format(tmp=tmp_path) for a in command]
     source = _without_limit(tmp_path)
     code, _, err = run_cli(args[0], str(source), *args[1:])
