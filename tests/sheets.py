@@ -26,13 +26,16 @@ from .conftest import CONFIGS, run_cli
 PATH1 = str(CONFIGS / "paper_path1.rprpr.yaml")
 PATH2 = str(CONFIGS / "paper_path2.rprpr.yaml")
 ZERO = str(CONFIGS / "zero_speed_crossing.rprpr.yaml")
-# the shipped tasks in the paper's form (one polynomial each); the piecewise ones apart
+# the shipped RPRPR tasks in the paper's form (one polynomial each); the piecewise ones
+# and the 5R's apart
 ALL_CONFIGS = sorted(str(p) for p in CONFIGS.glob("*.yaml"))
-CONFIG_FILES = [p for p in ALL_CONFIGS if not load_task(p).pieces]
-PIECEWISE = [p for p in ALL_CONFIGS if p not in CONFIG_FILES]
-# each config alone, the paper's two paths overlaid, and every paper-form config (small
-# multiples)
-SETS = [[p] for p in ALL_CONFIGS] + [[PATH1, PATH2], CONFIG_FILES]
+FIVE_BAR_FILES = [p for p in ALL_CONFIGS if load_task(p).robot.mechanism == "5R"]
+CONFIG_FILES = [p for p in ALL_CONFIGS if not load_task(p).pieces and p not in FIVE_BAR_FILES]
+PIECEWISE = [p for p in ALL_CONFIGS if p not in CONFIG_FILES + FIVE_BAR_FILES]
+# each config alone, the paper's two paths overlaid, every paper-form config (small
+# multiples), and the 5R's beside two RPRPR's (small multiples of both mechanisms)
+MIXED = [*CONFIG_FILES[:2], *FIVE_BAR_FILES]
+SETS = [[p] for p in ALL_CONFIGS] + [[PATH1, PATH2], CONFIG_FILES, MIXED]
 SAMPLES = 101  # enough for every check on a shared sheet
 DPI = 50  # enough to measure text; the sheet's sizes are in inches and points
 SMALL_DPI = 20  # a picture a test writes but never looks at the pixels of

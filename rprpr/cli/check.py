@@ -347,14 +347,11 @@ def _attach(
     the sheet of ``result`` as SVG, drawn within what is left of the task's budget (a
     report format never turns a verdict into a budget error: out of time, or failing to
     draw, the task has a one-line note instead of its sheet)."""
-    from ..engine.audit import AuditResult as Audited
     from ..report.run import Attachment
 
     source = _source_lines(options.stdin if name == STDIN else None, name)
     if result is None or not options.sheets:
         return Attachment(source)
-    if not isinstance(result, Audited):  # a 5R task's exact audit: no sheet to draw yet
-        return Attachment(source, note="The audit sheet is not available for a 5R yet.")
     left = None if options.budget is None else options.budget - (time.perf_counter() - start)
     if left is not None and left <= SHEET_MARGIN:
         return Attachment(source, note=_NO_TIME)

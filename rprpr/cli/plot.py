@@ -205,16 +205,48 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     """Each loaded task (with its file) audited on ``samples`` points and made ready to
     draw."""
     from ..engine.audit import audit
-    from ..engine.five_bar_audit import refuse_command
+    from ..model.five_bar import FIVE_BAR
     from ..model.options import AuditOptions
     from ..render import sheet as P
 
+    refuse_mixed_overlay(loaded)
     motions = []
     for task, src in loaded:
         with task_named(src):
-            refuse_command(task, "plot")
-            motions.append(P.motion(audit(task, AuditOptions(samples, peak=True)), src))
+            # a 5R's certified peak is not built: its sheet draws its exact audit
+            peak = task.robot.mechanism != FIVE_BAR
+            motions.append(P.motion(audit(task, AuditOptions(samples, peak=peak)), src))
     return motions
+
+
+def refuse_mixed_overlay(loaded: Sequence[tuple[Task, str]]) -> None:
+    """Tasks of two mechanisms (an RPRPR and a 5R) overlaid on one set of axes (at most
+    ``OVERLAID`` tasks) are refused: a ``TaskFileError`` at the first task whose
+    ``robot.mechanism`` differs from the first task's. Beyond ``OVERLAID`` each task has
+    its own column, and the mechanisms may differ."""
+    from ..model.errors import TaskFileError
+    from ..render.sheet.style import OVERLAID
+
+    if len(loaded) > OVERLAID:
+        return
+    first = loaded[0][0].robot.mechanism
+    for task, src in loaded[1:]:
+        if task.robot.mechanism == first:
+            continue
+        with task_named(src):
+            raise TaskFileError(
+                f"{_named(task.robot.mechanism)} task cannot be overlaid with"
+                f" {_named(first)} task on one sheet's axes (plot them apart, or with more"
+                f" than {OVERLAID} tasks, one column each)",
+                file=task.source,
+                line=task.lines.get("robot.mechanism") or task.lines.get("robot", 0),
+                key="robot.mechanism",
+            )
+
+
+def _named(mechanism: str) -> str:
+    """``an RPRPR`` or ``a 5R``."""
+    return "an RPRPR" if mechanism == "rprpr" else f"a {mechanism}"
 
 
 def _write_sheet(

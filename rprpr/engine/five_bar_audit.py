@@ -32,6 +32,7 @@ import numpy as np
 from flint import arb, ctx, fmpq
 
 from ..model.dataclass import dataclass
+from ..model.defaults import DEFAULT_SAMPLES
 from ..model.errors import TaskFileError
 from ..model.five_bar import FIVE_BAR
 from ..model.numbers import exact_number, labels, number, to_float
@@ -58,7 +59,6 @@ if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it
 YET = "not available for a 5R yet"
 FINDINGS = "the findings"
 ENVELOPE = "the torque envelope"
-GRID = 101  # ``samples``' default grid (``AuditOptions.samples``)
 
 
 @dataclass(frozen=True)
@@ -81,11 +81,11 @@ class FiveBarAuditResult(Judged):
     findings: list[Finding]
     on_singular_curve: bool = False  # the path runs along a Type II curve all along
     peak_computed: bool = False
+    grid_size: int = field(default=DEFAULT_SAMPLES, repr=False)  # the sheet's samples
     parts: tuple[FiveBarAnalysis, ...] = field(default=(), repr=False, compare=False)
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False, compare=False)
     torque_peak: tuple[Peak, Peak] | None = None
     torque_limit: tuple[LimitCheck, LimitCheck] | None = None
-    grid_size: int = field(default=GRID, repr=False)
     closest_approach: None = None  # the RPRPR's distance to the line AB: no 5R meaning
 
     @cached_property
@@ -415,9 +415,9 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
 
 
 def refuse_command(task: Task, command: str) -> None:
-    """``command`` (plot, repair; export for a motion of several pieces) is not available
-    for a 5R task yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR,
-    nor for the export of a 5R motion of one piece)."""
+    """``command`` (repair; export for a motion of several pieces) is not available for a
+    5R task yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR, nor for
+    the export of a 5R motion of one piece)."""
     if task.robot.mechanism != FIVE_BAR:
         return
     if command == "export" and len(task.motion) == 1:

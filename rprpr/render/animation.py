@@ -43,6 +43,7 @@ from ..model.numbers import number
 from . import sheet as P
 from .sheet import robot
 from .sheet.axes import knot_lines
+from .sheet.drawing import drawing
 
 FRAMES = 100  # default frame count: 5 s at FPS
 MAX_FRAMES = 120
@@ -156,15 +157,21 @@ class _Column:
         ax.set_xlabel("x [m]", labelpad=1)
         ax.set_ylabel("y [m]", labelpad=1)
         ax.tick_params(labelsize=7)
-        # the line and the marks move with the robot: redrawn over its legs every frame
-        self.over = [robot.singular_line(ax, f"gif-singular-line-{self.i}")]
+        # the singular locus (the line AB, a 5R's curves) and the marks move with the
+        # robot: redrawn over its legs every frame
+        d = drawing(m)
+        x0, x1, y0, y1 = robot.view([m])
+        w, h = x1 - x0, y1 - y0  # the view grows to the axes' shape: the locus beyond it
+        box = (x0 - w, x1 + w, y0 - h, y1 + h)
+        self.over: list[Any] = d.locus(ax, m, box, d.locus_gid("gif", self.i))
         robot.base_joints(ax, [m], size)
         ax.plot(m.s.x, m.s.y, color="#AAAAAA", lw=1.0, ls="--", zorder=2)
         for k, s in enumerate(m.result.singularities):
             style = {**P.marker_style(s, m.result.status_of(s)), "alpha": 0.9}
-            self.over += ax.plot([s.x], [0], gid=f"gif-path-singular-{self.i}-{k}", **style)
+            px, py = d.point(s)
+            self.over += ax.plot([px], [py], gid=f"gif-path-singular-{self.i}-{k}", **style)
         self.trace = ax.plot([], [], color=P.POINT, lw=1.8, zorder=4)[0]
-        self.robot = robot.MovingRobot(ax, m)
+        self.robot = d.moving(ax, m)
         self.clock = ax.text(
             0.02,
             0.97,
@@ -246,7 +253,7 @@ class _Column:
         f, m = self.f, self.m
         upto = m.s.t <= self.t[k]
         self.trace.set_data(m.s.x[upto], m.s.y[upto])
-        self.robot.move(np.array([f.x[k], f.y[k]]))
+        self.robot.pose(f, k)
         delta = float(f.delta[k]) + 0.0  # no "-0.0000"
         ended = " (ended)" if self.clock_t[k] > m.duration else ""
         self.clock.set_text(f"t = {self.clock_t[k]:{self.fmt}} s{ended}\nδ = {delta:+.4f}")

@@ -2,10 +2,11 @@
 
 ``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py) and, for
 a motion of one piece, its certified layers (the torque limit, the peak, the samples that
-``export`` writes: tests/fivebar/test_certified.py); what is not available for a 5R yet
+``export`` writes: tests/fivebar/test_certified.py); ``plot`` draws a 5R
+(tests/render/test_sheet_five_bar.py). What is not available for a 5R yet
 (``engine.five_bar_audit.refuse``): declared uncertainty, the certified layers of a
-motion of several pieces, and ``plot`` and ``repair``. The Python API raises
-``TaskFileError`` at the same key.
+motion of several pieces, and ``repair``. The Python API raises ``TaskFileError`` at the
+same key.
 """
 
 from __future__ import annotations
@@ -80,11 +81,10 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "command",
     [
-        ("plot", "-o", "{tmp}/x.png"),
         ("repair", "-o", "{tmp}/r.yaml"),
     ],
 )
-def test_plot_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
+def test_repair_refuses_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
     args = [a.format(tmp=tmp_path) for a in command]
     source = _without_limit(tmp_path)
     code, _, err = run_cli(args[0], str(source), *args[1:])

@@ -586,6 +586,8 @@ def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
     tasks = []
     for p in sorted(CONFIGS.glob("*.yaml")):
         task = load_task(p)
+        if task.robot.mechanism == "5R":  # a 5R's peak and limit are not in this build
+            continue
         tasks.append((p.name, task))
         tasks += [(f"{p.name} {lim}", _with_limit(task, lim)) for lim in PEAK_LIMITS]
     corner = parse_task(C0_KNOT, "corner.yaml")

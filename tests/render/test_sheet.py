@@ -93,6 +93,17 @@ PANEL_WORDS = (
 )
 
 
+FIVE_BAR_WORDS = (
+    "Workspace",
+    "Type II curve S₊ = 0",
+    "Type II curve S₋ = 0",
+    "x_E(t) and y_E(t)",
+    "δ(t) = (E − C) × (E − D)/(l3 l4)",
+    "Motor angles θ1, θ2",
+    "Motor torques T1, T2",
+)
+
+
 def figure_texts(fig: Figure) -> str:
     """Every text the sheet shows: titles, axis labels, annotations and legends."""
     texts = [lane_texts(fig), *legend_texts(fig)]
@@ -122,7 +133,7 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
     assert axes["path"][0].get_ylabel() == "y [m]"
     assert [ax.get_ylabel() for ax in axes["joints"][::columns]] == [
         r"$\theta$ [deg]",
-        "$s$ [m]",
+        r"$\varphi$ [deg]" if ms[0].task.robot.mechanism == "5R" else "$s$ [m]",
     ]
     kinds = {m.task.robot.actuation for m in ms}  # forces in N for linear actuators
     if columns > 1:  # small multiples: the first column's axis is in its own unit (issue 26)
@@ -133,7 +144,7 @@ def check_content(fig: Figure, ms: Sequence[P.Motion]) -> None:
         for k, s in enumerate(m.result.singularities):
             shape = "*" if s.high_order else "D"
             for panel, gid, xy in (
-                ("path", f"path-singular-{i}-{k}", (s.x, 0.0)),
+                ("path", f"path-singular-{i}-{k}", (s.x, getattr(s, "y", 0.0))),
                 ("delta", f"delta-singular-{i}-{k}", (s.t, 0.0)),
                 ("x", f"x-singular-{i}-{k}", (s.t, s.x)),
             ):
@@ -157,6 +168,8 @@ def check_words_and_ids(texts: str, ids: set[str], ms: Sequence[P.Motion]) -> No
         frozenset({"prismatic"}): "Leg forces F1, F2 (prismatic actuation)",
     }.get(frozenset(kinds), "Actuator efforts: torques T [N m] (revolute), forces F [N]")
     panel_words = [w if w != PANEL_WORDS[4] else efforts for w in PANEL_WORDS]
+    if all(m.task.robot.mechanism == "5R" for m in ms):  # the paper's figures are the RPRPR's
+        panel_words = [*FIVE_BAR_WORDS, *PANEL_WORDS[5:]]
     for words in (*panel_words, *(m.name for m in ms)):
         assert words in texts, words
     for i, m in enumerate(ms):

@@ -39,11 +39,12 @@ def marks(fig: Figure) -> dict[str, Line2D]:
 def expected(panel: str, m: P.Motion, k: int) -> tuple[float, float]:
     """Where the audit puts task m's k-th singular instant on ``panel``."""
     s = m.result.singularities[k]
+    y = getattr(s, "y", 0.0)  # a 5R's instant sits on its Type II curve, an RPRPR's at y = 0
     return {
-        "path": (s.x, 0.0),
-        "gif-path": (s.x, 0.0),
+        "path": (s.x, y),
+        "gif-path": (s.x, y),
         "x": (s.t, s.x),
-        "y": (s.t, 0.0),
+        "y": (s.t, y),
         "delta": (s.t, 0.0),
         "gif-delta": (s.t, 0.0),
     }[panel]

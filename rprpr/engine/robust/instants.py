@@ -30,7 +30,7 @@ from .windows import (
     round_down,
     round_up,
     shifted,
-    side,
+    sides,
 )
 
 GAP = 1e-12  # [s] past a knot, a dip below the limit shorter than this does not end a window
@@ -130,14 +130,15 @@ def analyse(ab_sides: Sequence[tuple[About, int]], box: Box, limits: tuple[float
     ends = {-1: (0.0, 0.0, 0), 1: (0.0, 0.0, 0)}
     covered = set()
     for k, (ab, which) in enumerate(ab_sides):
-        for d in (-1, 1):
-            if which in (0, d):
-                covered.add(d)
-                ends[d] = side(ab, box, limits, d)
-                reach = ab.h_max if d > 0 else -ab.h_min
-                if onward is not None and ends[d][0] >= reach:
-                    far, near, j = onward(k, d)  # the window reaches the knot: it goes on
-                    ends[d] = (max(far, ends[d][0]), max(near, ends[d][1]), j)
+        dirs = [d for d in (-1, 1) if which in (0, d)]
+        got = sides(ab, box, limits, dirs)
+        for d in dirs:
+            covered.add(d)
+            ends[d] = got[d]
+            reach = ab.h_max if d > 0 else -ab.h_min
+            if onward is not None and ends[d][0] >= reach:
+                far, near, j = onward(k, d)  # the window reaches the knot: it goes on
+                ends[d] = (max(far, ends[d][0]), max(near, ends[d][1]), j)
     for d in {-1, 1} - covered:  # t_s on a knot, the piece beyond without a record
         edge = [k for k, (ab, _) in enumerate(ab_sides) if (ab.h_max if d > 0 else -ab.h_min) == 0]
         if onward is not None and edge:

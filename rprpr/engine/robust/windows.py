@@ -141,8 +141,21 @@ class About:
     t_s: float  # absolute
 
     def floats(self) -> list[list[float]]:
-        return [[float(arb(c).mid()) if not isinstance(c, float) else c for c in p]
-                for p in self.coeffs]  # fmt: skip
+        """The coefficients as doubles (made once: every evaluation in doubles reads them)."""
+        got = self.__dict__.get("_floats")
+        if got is None:
+            got = self.__dict__["_floats"] = [
+                [float(arb(c).mid()) if not isinstance(c, float) else c for c in p]
+                for p in self.coeffs
+            ]
+        return got
+
+    def settings(self) -> Any:
+        """``regressor.settings_array`` of the robot (made once)."""
+        got = self.__dict__.get("_settings")
+        if got is None:
+            got = self.__dict__["_settings"] = settings_array(self.robot)
+        return got
 
 
 def shifted(poly: fmpq_poly, t_s: fmpq | None, ball: arb | None, field: Any) -> list[Any]:
@@ -172,11 +185,10 @@ def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     """The regressor at the times t_s + h (doubles): (3, n, 2, 10) for the error parts
     e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``."""
     c = ab.floats()
-    robot = ab.robot
     hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
-    params = settings_array(robot)
+    params = ab.settings()
     legs = legs_about(c, hh, params, ex, ey, np.hypot)
     with np.errstate(divide="ignore", invalid="ignore"):
         T1, T2 = efforts_of(legs, params)  # (n, 3, 10)
@@ -311,48 +323,150 @@ def round_up(x: arb) -> float:
 
 def side(ab: About, box: Box, limits: tuple[float, float], direction: int
          ) -> tuple[float, float, int]:  # fmt: skip
-    """The window on one side of t_s, as distances |h| [s]: (a proven outer end, an
-    inner end at which the limit is proven exceeded (0 when not shown), the joint (0, 1)
-    that reaches furthest). The doubles bracket each joint's first crossing of its limit
-    outward from t_s; when even the nearest time looked at (2^-159 of the piece's reach)
-    shows no excess, the window is too narrow for doubles (a residual of the order of
-    the input's rounding) and a proven outer end is found by halving in ball arithmetic
-    (``_halving``)."""
-    reach = ab.h_max if direction > 0 else -ab.h_min
-    if reach <= 0:
-        return 0.0, 0.0, 0
+    """The window on one side of t_s (``sides`` for that side alone)."""
+    return sides(ab, box, limits, (direction,))[direction]
+
+
+# the initial scan looks at reach 2^-k, k = 0..159: every k up to DENSE, every 8th beyond
+DENSE = 40
+SCAN = np.array(sorted(set(range(0, 160 - DENSE, 8)) | set(range(160 - DENSE - 1, 160))))
+
+
+def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence[int]
+          ) -> dict[int, tuple[float, float, int]]:  # fmt: skip
+    """The window on each side of t_s in ``directions`` (-1, +1), as distances |h| [s]:
+    (a proven outer end, an inner end at which the limit is proven exceeded (0 when not
+    shown), the joint (0, 1) that reaches furthest). The doubles bracket each joint's
+    first crossing of its limit outward from t_s (``_scan``, then ``_refine``); when even
+    the nearest time looked at (2^-159 of the piece's reach) shows no excess, the window
+    is too narrow for doubles (a residual of the order of the input's rounding) and a
+    proven outer end is found by halving in ball arithmetic (``_halving``). Every side
+    and joint is evaluated at once at each step (an evaluation costs its call more than
+    its points)."""
+    out: dict[int, tuple[float, float, int]] = {}
+    live = []
+    for d in directions:
+        reach = ab.h_max if d > 0 else -ab.h_min
+        if reach <= 0:
+            out[d] = (0.0, 0.0, 0)
+        else:
+            live.append((d, reach, reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]))
+    if not live:
+        return out
     bbox = ball_box(box)
     fbox = float_box(box)
     lim = np.array(limits)
-    hs = reach * np.exp2(-np.arange(0, 160, 1.0))[::-1]  # ascending, to reach
-    phi = phi_float(ab, direction * hs, box, fbox)  # (n, 2)
-    if not (phi[0] > lim).any():
-        return _halving(ab, box, bbox, limits, direction, reach), 0.0, 0
-    brackets = []
-    for j in (0, 1):
-        below = np.nonzero(phi[:, j] <= lim[j])[0]
-        if len(below) == 0:
-            brackets.append((reach, reach))  # beyond the limit up to the piece's end
-        else:
-            k = int(below[0])
-            brackets.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k])))
-    for _ in range(4):  # the first crossing of each joint, 64 points at a time
-        grids = [np.linspace(lo, hi, 65)[1:] for lo, hi in brackets]
-        p = phi_float(ab, direction * np.concatenate(grids), box, fbox)
-        new = []
-        for j, (lo, hi) in enumerate(brackets):
-            if lo == hi:
-                new.append((lo, hi))
+    brackets, narrow = _scan(ab, box, fbox, lim, live)
+    for d, reach in narrow:
+        out[d] = (_halving(ab, box, bbox, limits, d, reach), 0.0, 0)
+    _refine(ab, box, fbox, lim, brackets)
+    for d, bs in brackets.items():
+        j = 0 if bs[0][1] >= bs[1][1] else 1
+        reach = next(r for dd, r, _ in live if dd == d)
+        outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
+        # (a bracket narrower than the doubles' error at its ends: from a little inside)
+        inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
+        out[d] = (outer, inner, j)
+    return out
+
+
+Bracket = tuple[float, float, float, float]  # lo, hi, and the largest |T_j| less the limit there
+
+
+def _scan(ab: About, box: Box, fbox: Any, lim: np.ndarray, live: list[tuple[int, float, Any]]
+          ) -> tuple[dict[int, list[Bracket]], list[tuple[int, float]]]:  # fmt: skip
+    """Each side's brackets of each joint's first crossing (``live``: the sides, their
+    reach and times reach 2^-k, k = 159..0) from the doubles at those times: every k
+    down to 2^-(DENSE - 1) of the reach and every 8th below (a dip below the limit
+    narrower than that, at under 1e-12 of the reach, is not looked for; the points
+    between the first 8th found below and the one before are); and the sides too narrow
+    for doubles (the limit not exceeded at the nearest time), with their reach."""
+    n = len(SCAN)
+    phi = phi_float(ab, np.concatenate([d * hs[SCAN] for d, _, hs in live]), box, fbox)
+    brackets: dict[int, list[Bracket]] = {}
+    narrow = []
+    for m, (d, reach, hs) in enumerate(live):
+        p = phi[n * m : n * (m + 1)]
+        if not (p[0] > lim).any():
+            narrow.append((d, reach))
+            continue
+        firsts = []
+        for j in (0, 1):
+            below = np.nonzero(p[:, j] <= lim[j])[0]
+            firsts.append(int(SCAN[below[0]]) if len(below) else None)
+        # the points skipped before each first 8th found below: looked at now
+        gaps = sorted({i for k in firsts if k is not None
+                       for i in range(int(SCAN[k > SCAN].max(initial=-1)) + 1, k)})  # fmt: skip
+        seen = dict(zip(SCAN.tolist(), p, strict=True))  # the values looked at, by k
+        if gaps:
+            q = phi_float(ab, d * hs[gaps], box, fbox)
+            seen.update(zip(gaps, q, strict=True))
+            for j in (0, 1):
+                fine = [g for g, v in zip(gaps, q[:, j], strict=True) if v <= lim[j]]
+                k = firsts[j]
+                if fine and k is not None and fine[0] < k:
+                    firsts[j] = fine[0]
+        bs = []
+        for j, k in enumerate(firsts):
+            if k is None:
+                bs.append((reach, reach, math.nan, math.nan))  # beyond the limit to the end
+            else:
+                flo = seen[k - 1][j] - lim[j] if k > 0 else math.nan
+                bs.append((float(hs[k - 1]) if k > 0 else 0.0, float(hs[k]), flo,
+                           seen[k][j] - lim[j]))  # fmt: skip
+        brackets[d] = bs
+    return brackets, narrow
+
+
+TIGHT = 2.0**-30  # a crossing's bracket is refined to this width relative to its far end
+
+
+def _refine(ab: About, box: Box, fbox: Any, lim: np.ndarray,
+            brackets: dict[int, list[Bracket]]) -> None:  # fmt: skip
+    """Each joint's bracket of its first crossing (``brackets[d][j]`` = (lo, hi, and
+    the largest |T_j| less the limit there, NaN when not known): the limit exceeded at
+    lo, not at hi) narrowed in place to ``TIGHT``, every bracket at once at each step.
+    With the values at both ends known: the regula falsi's estimate in 1/h (next to a
+    pole |T| is about C/|h| + a slowly varying part, so nearly linear in 1/h) and points
+    about it at 2^-4, 2^-8, ..., 2^-24 of the bracket on either side, the first of them
+    found below the limit (the estimate's error sets how far the bracket shrinks); else
+    16 points across it. A joint whose bracket lies wholly nearer t_s than the other's
+    cannot reach furthest: not refined."""
+    offsets = np.concatenate([-(2.0 ** -np.arange(4, 25, 4)), [0.0], 2.0 ** -np.arange(24, 3, -4)])
+    state = {(d, j): bs[j] for d, bs in brackets.items() for j in (0, 1)}
+    for _ in range(8):
+        todo = []
+        for (d, j), (lo, hi, flo, fhi) in state.items():
+            other = state[(d, 1 - j)]
+            if lo == hi or hi < other[0] or hi - lo <= TIGHT * hi:
                 continue
-            idx = np.nonzero(p[64 * j : 64 * (j + 1), j] <= lim[j])[0]
-            i = int(idx[0]) if len(idx) else 63
-            grid = np.concatenate([[lo], grids[j]])
-            new.append((float(grid[i]), float(grid[i + 1])))
-        brackets = new
-    j = 0 if brackets[0][1] >= brackets[1][1] else 1
-    outer = _prove_out(ab, box, bbox, limits, direction, brackets[j][1], reach)
-    inner = prove_in(ab, box, bbox, limits[j], j, direction, brackets[j][0])
-    return outer, inner, j
+            if lo > 0 and flo > 0 >= fhi and math.isfinite(flo) and math.isfinite(fhi):
+                u = 1 / lo + (1 / hi - 1 / lo) * (flo / (flo - fhi))  # in 1/h
+                est = min(max(1 / u, lo), hi)
+                xs = np.unique(np.clip(est + (hi - lo) * offsets, lo, hi))
+                xs = xs[(xs > lo) & (xs < hi)]
+                if not len(xs):
+                    xs = np.array([0.5 * lo + 0.5 * hi])
+            else:
+                xs = np.linspace(lo, hi, 17)[1:-1]
+            todo.append(((d, j), xs))
+        if not todo:
+            break
+        p = phi_float(ab, np.concatenate([d * xs for (d, _), xs in todo]), box, fbox)
+        at = 0
+        for (d, j), xs in todo:
+            f = p[at : at + len(xs), j] - lim[j]
+            at += len(xs)
+            lo, hi, flo, fhi = state[(d, j)]
+            below = np.nonzero(f <= 0)[0]  # NaN: not below (as above the limit)
+            i = int(below[0]) if len(below) else len(xs)
+            xs_all = np.concatenate([[lo], xs, [hi]])
+            fs_all = np.concatenate([[flo], f, [fhi]])
+            # the first point at or below the limit is xs_all[i + 1], the one before above
+            state[(d, j)] = (float(xs_all[i]), float(xs_all[i + 1]), float(fs_all[i]),
+                             float(fs_all[i + 1]))  # fmt: skip
+    for (d, j), got in state.items():
+        brackets[d][j] = got
 
 
 def _prove_out(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
@@ -383,15 +497,15 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
     fbox = float_box(box)
     Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
-    best, arg = -math.inf, None
-    for ex, ey in box.corners():
-        for s in (1.0, -1.0):
-            Y = s * (Ys[0] + float(ex) * Ys[1] + float(ey) * Ys[2])
-            v = float(form_max(list(Y), fbox, False))
-            if v > best:
-                best, arg = v, (ex, ey, s, Y)
-    assert arg is not None
-    ex, ey, s, Y = arg
+    combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
+    k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
+    Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
+    v = form_max([Yc[:, i] for i in range(Yc.shape[1])], fbox, False)
+    found = np.nonzero(v > -math.inf)[0]  # (NaN: not a candidate)
+    assert len(found)
+    best = int(found[np.argmax(v[found])])  # the first of the largest
+    ex, ey, _ = combos[best]
+    Y = Yc[best]
     values = {}
     for link, km, kmr, kj in LINKS:
         A = Y[km] if km is not None else 0.0

@@ -43,6 +43,7 @@ from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, horner, poly_balls, quiet
 from ..certified.jets import Jet
 from ..certified.motion import dyadic_middle
+from .unbounded import poles
 from .windows import Box, Robust
 from .worst import bands_at, bands_of, regressor_jet
 
@@ -51,10 +52,12 @@ ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
-BUDGET = 512  # intervals per refining round, about (live intervals times their fan)
+BUDGET = 64  # intervals per refining round, about (live intervals times their fan: a
+# round's ball operations cost their calls more than their length, so a round of few
+# narrow intervals where the bound is decided costs little more than its calls)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
-PLAIN = 2  # rounds that bound an interval by evaluating over it; the mean-value form after
+PLAIN = 1  # rounds that bound an interval by evaluating over it; the mean-value form after
 MEAN_CAP = 1 << 12  # ... while the intervals are at most this many (past it, a bound that
 # does not narrow, +inf beside a pole the box allows, costs the form's three times a round)
 
@@ -71,7 +74,14 @@ def worst_peak(
     box = Box.of(task.robot, u)
     spans = [r.span for r in robust if r.span is not None]
     a, b, k = _domain(parts, spans)
-    pts, at = np.concatenate([a, b]), np.concatenate([k, k])  # lower bounds at the ends
+    pts, at = _distinct(np.concatenate([a, b]), np.concatenate([k, k]))  # lower bounds at the ends
+    proven = {p.effort for p in poles(task, parts, box, spans)}
+    if proven:  # E passes A or B: a worst case proven unbounded ends the search at once
+        with quiet():
+            low = _lows(task, parts, box, pts, at)
+        return tuple(
+            (math.inf, math.inf) if j in proven else (float(low[j]), math.inf) for j in (0, 1)
+        )  # type: ignore[return-value]
     best = np.full(2, -np.inf)
     dropped = np.full(2, -np.inf)  # the largest upper bound of the intervals dropped
     top = np.full(2, np.inf)
@@ -97,6 +107,28 @@ def worst_peak(
         float(best[1]),
         float(max(top[1], best[1])),
     )
+
+
+def _distinct(h: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The times ``h`` with their pieces ``k``, each (time, piece) once."""
+    order = np.lexsort((h, k))
+    h, k = h[order], k[order]
+    keep = np.ones(len(h), dtype=bool)
+    keep[1:] = (h[1:] != h[:-1]) | (k[1:] != k[:-1])
+    return h[keep], k[keep]
+
+
+def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndarray
+          ) -> np.ndarray:  # fmt: skip
+    """Lower bounds of max |E_j| over the box at the local times ``h`` (pieces ``hk``),
+    their largest per effort."""
+    lows = np.full(2, -np.inf)
+    for i in np.unique(hk):
+        at = h[hk == i]
+        kin = parts[int(i)].motion.end_point(Ball.hull(at, at))
+        for j, (l_, h_) in enumerate(bands_at(task, kin, box, True)):
+            lows[j] = max(lows[j], np.max(np.maximum(h_, -l_), initial=-np.inf))
+    return lows
 
 
 def _domain(
@@ -179,17 +211,14 @@ def _bounds(
     for i in np.unique(np.concatenate([k, hk])):
         sel, at = np.nonzero(k == i)[0], h[hk == i]
         pad = 4 * np.spacing(np.maximum(np.abs(a[sel]), np.abs(b[sel])))  # the ends' rounding
-        lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
-        if centred is not None:  # the points as the plain rounds have them, then the form
-            lo, hi = at, at
-        kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
-        lower = np.arange(len(lo)) < len(at)
-        for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
-            v = np.maximum(h_, -l_)
-            if centred is None:  # the efforts' enclosures over the intervals
+        if centred is None:  # the points, then the efforts' enclosures over the intervals
+            lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
+            kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
+            lower = np.arange(len(lo)) < len(at)
+            for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+                v = np.maximum(h_, -l_)
                 ups[j, sel] = v[len(at) :]
-            lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
-        if centred is None:
+                lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
             continue
         a0, b0 = a[sel] - pad, b[sel] + pad
         if int(i) not in centred:
@@ -197,23 +226,32 @@ def _bounds(
         m = 0.5 * a0 + 0.5 * b0
         hw = np.nextafter(np.maximum(m - a0, b0 - m), np.inf)  # |t - m| <= hw on [a0, b0]
         q = len(m)
-        # one run of ball operations: the values at the midpoints and over the intervals,
-        # the derivatives over the intervals (the midpoints' are not read)
+        # one run of ball operations: the values at the midpoints, over the intervals and
+        # at the points, the derivatives over the intervals (the others' are not read)
         Y, Yd = regressor_jet(task, _jets(centred[int(i)], Ball.hull(
-            np.concatenate([m, a0]), np.concatenate([m, b0]))))  # fmt: skip
+            np.concatenate([m, a0, at]), np.concatenate([m, b0, at]))))  # fmt: skip
         Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
-        D = Ball._of(Yd.mid[..., q:], Yd.rad[..., q:])
+        D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
         # and the largest effort over the box is convex in t - m there: its ends bound it
-        YI = Ball._of(Y.mid[..., q:], Y.rad[..., q:])  # over the intervals
-        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YI]
-        Y3 = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
-                      np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
-        for j, (l_, h_) in enumerate(bands_of(Y3, box)):
+        YP = Ball._of(Y.mid[..., 2 * q :], Y.rad[..., 2 * q :])  # at the points
+        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YP]
+        # the interval evaluation's bound too beside a pole (wide intervals there: the
+        # derivative's enclosure is vast), the narrower kept; elsewhere the mean-value
+        # form's alone (its excess shrinks as w², the other's as w)
+        plain = bool(parts[int(i)].analysis.instants or parts[int(i)].analysis.kinematic)
+        if plain:
+            Yt.insert(2, Ball._of(Y.mid[..., q : 2 * q], Y.rad[..., q : 2 * q]))
+        n = (3 if plain else 2) * q
+        Yall = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
+                        np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
+        lower = np.arange(n + len(at)) >= n  # the points: lower bounds
+        for j, (l_, h_) in enumerate(bands_of(Yall, box, lower)):
             v = np.maximum(h_, -l_)
-            # the narrower of the mean-value form's bound and the interval evaluation's
-            # (wide intervals beside a pole: the derivative's enclosure is vast there)
-            ups[j, sel] = np.minimum(np.maximum(v[:q], v[q : 2 * q]), v[2 * q :])
+            ups[j, sel] = np.maximum(v[:q], v[q : 2 * q])
+            if plain:
+                ups[j, sel] = np.minimum(ups[j, sel], v[2 * q : 3 * q])
+            lows[j] = max(lows[j], np.max(v[n:], initial=-np.inf))
     return ups, lows
 
 

@@ -17,7 +17,9 @@ Conventions, stated once:
 * a singular instant is a star when of high order, a diamond when of first order, filled
   with the colour of the audit's status there (``markers``): the same findings as
   ``rprpr check``;
-* the robot is drawn by ``robot``, for the sheet and the GIF alike;
+* the robot is drawn by ``robot``, for the sheet and the GIF alike; what differs by
+  mechanism (the RPRPR's legs and line AB, a 5R's links and Type II curves: ``five_bar``,
+  ``five_bar_robot``) is asked of the motion's ``drawing.Drawing``;
 * every number written goes through ``rprpr.model.numbers`` (``words``).
 
 The modules: ``motion`` (what is drawn), ``style``, ``words``, ``markers``, ``labels``

@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from ...engine.audit import AuditResult, audit
 from ...engine.certified.sampling import Samples, grid
+from ...engine.five_bar_audit import FiveBarAuditResult
 from ...model.dataclass import dataclass
 from ...model.names import file_name
 from ...model.task import Task
+from .five_bar import motion as five_bar_motion
 
 
 @dataclass(frozen=True)
@@ -35,15 +39,20 @@ class Motion:
         return float(self.s.t[-1])
 
 
-def motion(result: AuditResult | Task, source: str = "") -> Motion:
+def motion(result: AuditResult | FiveBarAuditResult | Task, source: str = "") -> Motion:
     """The audited task ``result`` (``audit(task)``; a ``Task`` is audited here first),
     ready to draw: its samples with its singular instants added to the grid and, about an
     unbounded one, the times t_s ± 10^-k t_f (k = 3..8), so that the curves visibly
     diverge however fine or coarse the grid. ``source`` (the task file) is held as
-    ``model.names.file_name`` writes it: any name can be drawn."""
+    ``model.names.file_name`` writes it: any name can be drawn. A 5R's audit is read for
+    drawing by ``five_bar`` (its ``Drawn`` answers what the sheet reads of an
+    ``AuditResult``)."""
     if isinstance(result, Task):
         result = audit(result)
     source = file_name(source)
+    if isinstance(result, FiveBarAuditResult):
+        drawn, s = five_bar_motion(result, source, result.grid_size)
+        return Motion(source, cast(AuditResult, drawn), s)
     t = grid(result.task.duration, result.grid_size)
     tf = float(t[-1])
     tol = 1e-12 * max(1.0, tf)

@@ -19,6 +19,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon
 
 from ...engine.certified.sampling import Samples
+from .five_bar import elbows, is_five_bar
 from .motion import Motion
 from .style import LEG1, LEG2, LINE, LINE_DASH, POINT, pt
 
@@ -35,11 +36,15 @@ SINGULAR_LEGS = (0, (3, 1.5))  # the legs' rods at a singular instant: AB shows 
 
 
 def view(motions: Sequence[Motion]) -> View:
-    """The workspace shown: every path, A and B and the singular line, with room around."""
+    """The workspace shown: every path, A and B and the singular line (a 5R's elbows
+    too), with room around."""
+    links = [elbows(m) for m in motions if is_five_bar(m)]
     xs = np.concatenate(
-        [m.s.x for m in motions] + [np.array([0.0, float(m.task.robot.a1)]) for m in motions]
+        [m.s.x for m in motions]
+        + [np.array([0.0, float(m.task.robot.a1)]) for m in motions]
+        + [p[:, 0] for p in links]
     )
-    ys = np.concatenate([m.s.y for m in motions] + [np.zeros(1)])
+    ys = np.concatenate([m.s.y for m in motions] + [np.zeros(1)] + [p[:, 1] for p in links])
     xs, ys = xs[np.isfinite(xs)], ys[np.isfinite(ys)]
     x0, x1 = float(xs.min()), float(xs.max())
     y0, y1 = float(ys.min()), float(ys.max())

@@ -12,6 +12,7 @@ from matplotlib.lines import Line2D
 
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
+from ..drawing import kinds
 from ..markers import badge, mark
 from ..motion import finite
 from ..page import Indexed, Sheet
@@ -30,11 +31,7 @@ APPROACH: dict[str, Any] = {
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading(
-        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)",
-        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29)",
-        "δ(t) = sin(θ1 − θ2), eq. (29)",
-    )
+    sheet.heading(*headings(sheet))
     (row,) = sheet.rows("delta", (ROW,))
     for ax, col in zip(row, sheet.columns, strict=True):
         ax.axhspan(-NEAR_DELTA, NEAR_DELTA, color="#999999", alpha=0.12, lw=0, zorder=0.2)
@@ -50,6 +47,33 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     band = Line2D([], [], color="#999999", alpha=0.35, lw=6, label=near)
     sheet.lane(row[-1], [*handles(sheet, [("δ", DELTA)]), band, *knot_handles(sheet)], notes(sheet))
     return row
+
+
+FIVE_BAR_DELTA = "(E − C) × (E − D)/(l3 l4)"  # a 5R's δ: the sine between its distal links
+
+
+def headings(sheet: Sheet) -> tuple[str, ...]:
+    """The panel's heading and its shorter forms: the RPRPR's δ = sin(θ1 − θ2) (eq. 29),
+    a 5R's δ (the sine of the angle between its distal links), or both named."""
+    rprpr, five = kinds(sheet.motions)
+    if not five:
+        return (
+            "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4)",
+            "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29)",
+            "δ(t) = sin(θ1 − θ2), eq. (29)",
+        )
+    if not rprpr:
+        return (
+            f"Type II determinant δ(t) = {FIVE_BAR_DELTA}, the sine between the distal links",
+            f"Type II determinant δ(t) = {FIVE_BAR_DELTA}",
+            f"δ(t) = {FIVE_BAR_DELTA}",
+        )
+    return (
+        "Type II determinant δ(t) = sin(θ1 − θ2), eq. (29) (paper Fig. 4) for an RPRPR,"
+        f" {FIVE_BAR_DELTA} for a 5R",
+        "Type II determinant δ(t) (RPRPR, 5R)",
+        "δ(t)",
+    )
 
 
 def _approaches(sheet: Sheet, ax: Axes, col: Indexed) -> None:

@@ -10,6 +10,7 @@ from matplotlib.axes import Axes
 
 from ....model.actuation import REVOLUTE
 from ..axes import degree_ticks, handles, instant_lines, knot_handles, look
+from ..drawing import drawing, kinds
 from ..motion import Motion, finite
 from ..page import Sheet
 from ..style import LEG1, LEG2
@@ -43,19 +44,38 @@ def short_headings(motions: Sequence[Motion]) -> tuple[str, ...]:
     return ("Joint angles θ1, θ2 and leg lengths s1, s2", "Joints θ1, θ2; legs s1, s2")
 
 
+FIVE_BAR_HEADINGS = (
+    "Motor angles θ1, θ2 (links A–C, B–D) and distal links' angles φ1, φ2 (C–E, D–E)",
+    "Motor angles θ1, θ2 and distal angles φ1, φ2",
+    "Motors θ1, θ2; distal φ1, φ2",
+)
+MIXED_HEADINGS = (
+    "Joint angles θ1, θ2 (paper Fig. 5); RPRPR leg lengths s1, s2; 5R distal links' angles φ1, φ2",
+    "Joints θ1, θ2; legs s1, s2 (RPRPR), φ1, φ2 (5R)",
+)
+
+
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading(heading(sheet.motions), *short_headings(sheet.motions))
-    row_t, row_s = sheet.rows("joints", (ROW, ROW))
+    rprpr, five = kinds(sheet.motions)
+    if not five:
+        sheet.heading(heading(sheet.motions), *short_headings(sheet.motions))
+    else:
+        sheet.heading(*(MIXED_HEADINGS if rprpr else FIVE_BAR_HEADINGS))
+    # the second row is in metres for an RPRPR, in degrees for a 5R: shared by kind only
+    kind = [drawing(c[0][1]) for c in sheet.columns]
+    groups = [d.name for d in kind] if rprpr and five else None
+    row_t, row_s = sheet.rows("joints", (ROW, ROW), groups=groups)
     degrees = []
     for ax_t, ax_s, col in zip(row_t, row_s, sheet.columns, strict=True):
         instant_lines(ax_t, col, "theta")
         instant_lines(ax_s, col, "s")
         for i, m in col:
+            (v1, n1), (v2, n2) = drawing(m).second_row(m)
             for ax, v, leg, name in (
                 (ax_t, np.degrees(m.s.theta1), 0, "theta1"),
                 (ax_t, np.degrees(m.s.theta2), 1, "theta2"),
-                (ax_s, m.s.s1, 0, "s1"),
-                (ax_s, m.s.s2, 1, "s2"),
+                (ax_s, v1, 0, n1),
+                (ax_s, v2, 1, n2),
             ):
                 kw = look(sheet, i, (LEG1, LEG2)[leg], leg, pair=True)
                 ax.plot(m.s.t, finite(v), lw=1.6, gid=f"{name}-{i}", **kw)
@@ -65,7 +85,9 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
     if shown.size:
         degree_ticks(row_t[0], float(shown.min()), float(shown.max()))
     row_t[0].set_ylabel(r"$\theta$ [deg]")
-    row_s[0].set_ylabel("$s$ [m]")
+    for c, ax in enumerate(row_s):  # each run of columns of one mechanism says its unit
+        if c == 0 or kind[c] is not kind[c - 1]:
+            ax.set_ylabel(kind[c].second_label)
     sheet.lane(
         row_t[-1],
         [
@@ -73,5 +95,6 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
             *knot_handles(sheet),
         ],
     )
-    sheet.lane(row_s[-1], handles(sheet, [("$s_1 = |AE|$", LEG1), ("$s_2 = |BE|$", LEG2)]))
+    second = [n for d in dict.fromkeys(map(drawing, sheet.motions)) for n in d.second_names]
+    sheet.lane(row_s[-1], handles(sheet, second))
     return [*row_t, *row_s]

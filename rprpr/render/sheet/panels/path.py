@@ -14,10 +14,12 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.lines import Line2D
 
-from ....engine.exact.singular import SingularInstant
 from ....model.actuation import SCHEMES
+from ....model.five_bar import FIVE_BAR, RPRPR
 from ....model.numbers import number
+from .. import five_bar_robot as FBR
 from ..axes import handles, look
+from ..drawing import drawing, kinds
 from ..labels import case_label_place
 from ..markers import badge, edge, mark_handle, marker_handles, marker_style, nest
 from ..motion import Motion, at
@@ -29,8 +31,6 @@ from ..robot import (
     SINGULAR_LEGS,
     View,
     base_joints,
-    draw_robot,
-    singular_line,
     singular_line_handle,
     view,
     workspace,
@@ -56,11 +56,19 @@ CASES = (  # the singular line's stretches (Table 1): left of A, between A and B
 
 
 def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
-    sheet.heading(
-        "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
-        "Workspace (paper Fig. 3): end-point path",
-        "Workspace, end-point path",
-    )
+    rprpr, _ = kinds(sheet.motions)
+    if rprpr:
+        sheet.heading(
+            "Workspace (paper Fig. 3): end-point path, robot at the singular instants",
+            "Workspace (paper Fig. 3): end-point path",
+            "Workspace, end-point path",
+        )
+    else:  # a 5R: its Type II curves instead of the line AB
+        sheet.heading(
+            "Workspace: end-point path, Type II curves, robot at the singular instants",
+            "Workspace: end-point path, Type II curves",
+            "Workspace, end-point path",
+        )
     x0, x1, y0, y1 = view(sheet.motions)
     h = float(np.clip((y1 - y0) / (x1 - x0) * sheet.column_width, 2.0, 4.4))
     (row,) = sheet.rows("path", (h,), time=False)
@@ -75,14 +83,23 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
 def _workspace(sheet: Sheet, ax: Axes, col: Indexed, h: float) -> None:
     """One column's workspace: the line, the bases, robots, paths, marks, near misses."""
     motions = [m for _, m in col]
-    v, size = workspace(ax, sheet.motions)
+    # small multiples share one view, among the tasks of one mechanism (metres apart)
+    kind = drawing(motions[0])
+    v, size = workspace(ax, [m for m in sheet.motions if drawing(m) is kind])
     x0, x1, y0, y1 = v
     ppu = 72 * min(sheet.column_width / (x1 - x0), h / (y1 - y0))  # points per metre
     # the view as drawn: at equal scales the wider of the axes and the data gets room
     grow = max(0.0, sheet.column_width * 72 / ppu - (x1 - x0)) / 2
-    singular_line(ax)
-    if len(sheet.columns) == 1:  # a small multiple is too narrow to name them
-        _case_labels(ax, motions, (x0 - grow, x1 + grow, y0, y1), ppu, size)
+    rise = max(0.0, h * 72 / ppu - (y1 - y0)) / 2  # as ``grow``, up and down
+    drawn = set()
+    for i, m in col:  # the singular locus over the view as drawn: the line AB, a 5R's curves
+        d = drawing(m)
+        if not (d.shared_locus and d.name in drawn):
+            d.locus(ax, m, (x0 - grow, x1 + grow, y0 - rise, y1 + rise), d.locus_gid("path", i))
+            drawn.add(d.name)
+    rprpr = [m for m in motions if drawing(m).name == RPRPR]  # the line AB's three cases
+    if rprpr and len(sheet.columns) == 1:  # a small multiple is too narrow to name them
+        _case_labels(ax, rprpr, (x0 - grow, x1 + grow, y0, y1), ppu, size)
     base_joints(ax, motions, size)
     _robots(sheet, ax, col, size)
     _paths(sheet, ax, col)
@@ -160,6 +177,11 @@ def _robots(sheet: Sheet, ax: Axes, col: Indexed, size: float) -> None:
             draw_robot(ax, m, at(m, s.t), 0.85, gid, singular=True, colour=colour)
 
 
+def draw_robot(ax: Axes, m: Motion, i: int, alpha: float, gid: str, **kw: Any) -> np.ndarray:
+    """The robot of ``m`` at sample i, as its mechanism draws it (``drawing``)."""
+    return drawing(m).robot(ax, m, i, alpha, gid, **kw)
+
+
 def _ends(ax: Axes, m: Motion, colour: str, i: int) -> None:
     """The path's start (an open circle) and end (a filled one): the legend says which."""
     for j, (word, face) in ((0, ("start", "white")), (len(m.s.t) - 1, ("end", colour))):
@@ -206,7 +228,12 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
     the line the paths leave freer; each inverse-kinematic singular point's cross."""
     span = float(np.diff(ax.dataLim.intervalx)[0]) if ax.dataLim.width > 0 else 1.0
     pts = [
-        ((i, k), s.x, 0.0, _RING_SIZE if s.high_order else marker_style(s, "ok")["markersize"])
+        (
+            (i, k),
+            s.x,
+            float(drawing(m).point(s)[1]),
+            _RING_SIZE if s.high_order else marker_style(s, "ok")["markersize"],
+        )
         for i, m in col
         for k, s in enumerate(m.result.singularities)
     ]
@@ -216,28 +243,30 @@ def _singular_points(sheet: Sheet, ax: Axes, col: Indexed, ppu: float) -> None:
         for k, s in enumerate(m.result.singularities):
             st = m.result.status_of(s)
             p = placed[i, k]
+            px, py = drawing(m).point(s)
             style = marker_style(s, st, edge(sheet, i))
             if s.high_order:  # the ring is the mark's outline: it nests, the star inside
-                _ring(ax, s, f"path-ring-{i}-{k}", p.size, p.zorder)
+                _ring(ax, (px, py), f"path-ring-{i}-{k}", p.size, p.zorder)
                 style["zorder"] = p.zorder + 0.01
             else:
                 style.update(markersize=p.size, zorder=p.zorder)
-            ax.plot([s.x], [0], gid=f"path-singular-{i}-{k}", **style)
+            ax.plot([px], [py], gid=f"path-singular-{i}-{k}", **style)
             dy = p.reach + 7
-            side = _freer_side(paths, s.x + p.dx / ppu, dy / ppu)
+            side = _freer_side(paths, px + p.dx / ppu, dy / ppu, float(py))
             if (i, k) in sheet.keys:
                 key = sheet.keys[i, k]
-                badge(ax, key, (s.x, 0.0), p.dx, side * dy, f"path-key-{i}-{k}")
+                badge(ax, key, (px, float(py)), p.dx, side * dy, f"path-key-{i}-{k}")
         for k, ks in enumerate(m.result.kinematic_singularities):
             cross = {**_CROSS, "mec": edge(sheet, i) or _CROSS["mec"]}
             ax.plot([ks.x], [ks.y], "X", ms=11, zorder=6, gid=f"path-kinematic-{i}-{k}", **cross)
 
 
-def _freer_side(paths: np.ndarray, x: float, d: float) -> int:
-    """+1 (above the line) or -1 (below): where fewer path points lie near (x, ±d)."""
+def _freer_side(paths: np.ndarray, x: float, d: float, y: float = 0.0) -> int:
+    """+1 (above the mark at (x, y)) or -1 (below): where fewer path points lie near
+    (x, y ± d)."""
     counts = []
     for side in (1, -1):
-        near = (np.abs(paths[:, 0] - x) < 1.2 * d) & (np.abs(paths[:, 1] - side * d) < 0.9 * d)
+        near = (np.abs(paths[:, 0] - x) < 1.2 * d) & (np.abs(paths[:, 1] - y - side * d) < 0.9 * d)
         counts.append(int(np.sum(near)))
     return 1 if counts[0] <= counts[1] else -1
 
@@ -278,11 +307,11 @@ _CROSS: dict[str, Any] = {"mfc": STATUS_COLOUR["fail"], "mec": "black"}  # E at 
 _RING_SIZE = 30.0  # points: the ring around a high-order singular point
 
 
-def _ring(ax: Axes, s: SingularInstant, gid: str, size: float, zorder: float) -> None:
-    """A red ring around a high-order singular point: it must stand out."""
+def _ring(ax: Axes, at: tuple[float, float], gid: str, size: float, zorder: float) -> None:
+    """A red ring around a high-order singular point at ``at``: it must stand out."""
     ax.plot(
-        [s.x],
-        [0],
+        [at[0]],
+        [at[1]],
         "o",
         ms=size,
         mfc="none",
@@ -325,15 +354,20 @@ def _legend(sheet: Sheet) -> list[Any]:
     """The workspace's legend: the paths, the singular line, the legs (each a pair: its
     sleeve and its rod, drawn one over the other), the marks."""
     motions = sheet.motions
+    five = [m for m in motions if drawing(m).name == FIVE_BAR]
+    rprpr = len(five) < len(motions)
     extra: list[Any] = [
         *handles(sheet, [("end-point path", POINT)]),
         mark_handle("start of the path (t = 0)", "o", "white", "#333333"),
         mark_handle("end of the path (t = t_f)", "o", "#333333", "#333333"),
-        singular_line_handle(),
-        *marker_handles(motions),
     ]
-    n = len(extra) - 1 - len(marker_handles(motions))  # before the singular line
-    if not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
+    n = len(extra)  # the robots' entries go here, before the singular line
+    extra += [singular_line_handle()] if rprpr else []
+    extra += FBR.curve_handles() if five else []
+    extra += marker_handles(motions)
+    if five:
+        extra[n:n] = _five_bar_links(sheet.overlay)
+    if rprpr and not sheet.overlay:  # overlaid, each robot is drawn in its task's colour
         extra[n:n] = [
             (
                 _sleeve(LEG1),
@@ -352,7 +386,7 @@ def _legend(sheet: Sheet) -> list[Any]:
                 label="legs at a singular instant",
             ),
         ]
-    else:
+    elif rprpr:
         extra[n:n] = [
             (
                 _sleeve("#777777"),
@@ -365,8 +399,47 @@ def _legend(sheet: Sheet) -> list[Any]:
                 ),
             )
         ]
-    if any(m.result.kinematic_singularities for m in motions):
+    if any(m.result.kinematic_singularities for m in motions if drawing(m).name == RPRPR):
         extra.append(
             Line2D([], [], marker="X", ms=9, ls="none", label="E at A or B (s = 0)", **_CROSS)
         )
+    if any(m.result.kinematic_singularities for m in five):
+        label = "a leg stretched or folded (Type I)"
+        extra.append(Line2D([], [], marker="X", ms=9, ls="none", label=label, **_CROSS))
     return extra
+
+
+def _five_bar_links(overlay: bool) -> list[Any]:
+    """A 5R's legend entries: each leg's proximal and distal links (one over the other),
+    and the distal links at a singular instant; overlaid, one entry in grey."""
+    if overlay:
+        return [
+            (
+                Line2D([], [], color="#777777", alpha=0.6, **FBR.PROXIMAL),
+                Line2D(
+                    [],
+                    [],
+                    color="#777777",
+                    label="5R links at t_s: proximal, distal, task's colour",
+                    **{**FBR.DISTAL, "ls": SINGULAR_LEGS},
+                ),
+            )
+        ]
+    return [
+        (
+            Line2D([], [], color=LEG1, alpha=0.6, **FBR.PROXIMAL),
+            Line2D([], [], color=LEG1, label="leg 1: links A–C, C–E; θ1, φ1", **FBR.DISTAL),
+        ),
+        (
+            Line2D([], [], color=LEG2, alpha=0.6, **FBR.PROXIMAL),
+            Line2D([], [], color=LEG2, label="leg 2: links B–D, D–E; θ2, φ2", **FBR.DISTAL),
+        ),
+        Line2D(
+            [],
+            [],
+            color="#777777",
+            lw=1.6,
+            ls=(0, (3, 1.5)),
+            label="distal links at a singular instant",
+        ),
+    ]

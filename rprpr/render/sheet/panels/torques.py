@@ -27,6 +27,7 @@ from ....engine.exact.singular import SingularInstant
 from ....model.actuation import REVOLUTE, SCHEMES
 from ....model.numbers import number
 from ..axes import handles, instant_lines, knot_handles, look
+from ..drawing import RPRPR_DRAWING, drawing
 from ..markers import arrow_mark, badge, mark_handle, nest
 from ..motion import Motion, finite
 from ..page import Indexed, Sheet
@@ -48,7 +49,8 @@ def efforts(motions: Sequence[Motion]) -> tuple[str, str, tuple[str, str]]:
     both named when the sheet overlays the two schemes."""
     kinds = {m.task.robot.actuation for m in motions}
     if kinds <= {REVOLUTE}:
-        return "Motor torques T1, T2, eq. (28)", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
+        paper = "" if RPRPR_DRAWING not in map(drawing, motions) else ", eq. (28)"
+        return f"Motor torques T1, T2{paper}", "$T$ [N m]", ("$T_1$ (joint A)", "$T_2$ (joint B)")
     if REVOLUTE not in kinds:
         return (
             "Leg forces F1, F2 (prismatic actuation)",
@@ -101,10 +103,14 @@ def draw(sheet: Sheet, pole_inset: bool = False) -> list[Axes]:
 
 
 def _by_scheme(col: Indexed) -> list[tuple[str, Indexed]]:
-    """A column's tasks by actuation scheme, in the order the schemes first appear."""
+    """A column's tasks by actuation scheme, in the order the schemes first appear; a 5R's
+    apart from the RPRPR's (robots of another size: small multiples share y only within
+    one mechanism)."""
     out: dict[str, Indexed] = {}
     for i, m in col:
-        out.setdefault(m.task.robot.actuation, []).append((i, m))
+        d = drawing(m)
+        key = m.task.robot.actuation + ("" if d is RPRPR_DRAWING else f" {d.name}")
+        out.setdefault(key, []).append((i, m))
     return list(out.items())
 
 
