@@ -188,8 +188,9 @@ class LimitChecks:
     if TYPE_CHECKING:
 
         def bounds(
-            self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0
-        ) -> Bounds: ...
+            self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None,
+            need: float = 0.0, limit: np.ndarray | None = None,
+        ) -> Bounds: ...  # fmt: skip
 
         def _pass(self, t: Ball) -> tuple[Ball, Ball]: ...
 
@@ -250,7 +251,7 @@ class LimitChecks:
                 break
             lo, hi, src = self._refine(lo, hi, split, k, res)
             active = act[:, src]
-            b = self.bounds(lo, hi, need=float(L.min()))
+            b = self.bounds(lo, hi, need=float(L.min()), limit=L)
         if pending:  # stopped by a cap: the brackets not closed stay undecided
             lo, hi, act = self._bracket(pending, L, res, done)
             for i in (0, 1):
@@ -344,8 +345,8 @@ class LimitChecks:
         near, band = pole_bands(self.motion, self.scalars, lo, hi, L) if not self.throughs \
             else (np.zeros(len(lo), dtype=bool), None)  # fmt: skip
         if band is None:
-            return self.bounds(lo, hi, need=float(L.min()))
-        return _joined(self.bounds(lo[~near], hi[~near], need=float(L.min())), band)
+            return self.bounds(lo, hi, need=float(L.min()), limit=L)
+        return _joined(self.bounds(lo[~near], hi[~near], need=float(L.min()), limit=L), band)
 
     def _coarse_start(self, lo: np.ndarray, hi: np.ndarray, L: np.ndarray, res: float) -> Bounds:
         """The first pass without a pole: the values over the boxes alone (``coarse``:
@@ -368,7 +369,7 @@ class LimitChecks:
         if keep.all():
             return first
         plo, phi, _ = self._refine(lo, hi, ~keep, fan(int((~keep).sum())), res)
-        return _joined(first, self.bounds(plo, phi, need=float(L.min())))
+        return _joined(first, self.bounds(plo, phi, need=float(L.min()), limit=L))
 
     def _refine(
         self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float,
