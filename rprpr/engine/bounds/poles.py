@@ -223,7 +223,7 @@ def pole_bands(
     for k, (s, e) in enumerate(motion.instants):
         if s.torque_bounded:
             continue
-        t0, coeffs = scalars.origin(e.hi)
+        t0, coeffs = scalars._origin(e.hi)
         point = point_series(motion, t0, coeffs, k)
         at = None if point is None else pole_form(motion, k, t0, coeffs, e.hi, e.hi, point)
         if at is None:

@@ -42,7 +42,7 @@ class Scalars:
         self._origins: dict[int, tuple[arb, list[list[arb]]]] = {}
         self._times = [e.hi for _, e in motion.instants]
 
-    def origin(self, t: float) -> tuple[arb, list[list[arb]]]:
+    def _origin(self, t: float) -> tuple[arb, list[list[arb]]]:
         """(t_0, Taylor coefficients of x and y about t_0): the nearest instant, else 0."""
         k = -1
         if self._times:
@@ -66,7 +66,7 @@ class Scalars:
 
     def _series(self, t: arb, mid: float, n: int) -> tuple[Any, Any] | None:
         """T1, T2 as series of n terms about every time of the ball t (None on failure)."""
-        t0, coeffs = self.origin(mid)
+        t0, coeffs = self._origin(mid)
         old_prec, old_cap = ctx.prec, ctx.cap
         ctx.prec, ctx.cap = TAYLOR_PREC, n + 2
         try:

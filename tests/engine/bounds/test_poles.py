@@ -45,7 +45,7 @@ def test_the_pole_form_holds_the_reference_over_its_band(name: str, share: float
         if s.torque_bounded:
             continue
         assert e.exact is not None  # the shipped poles are at rational times
-        t0, coeffs = env.scalars.origin(e.hi)
+        t0, coeffs = env.scalars._origin(e.hi)
         point = point_series(motion, t0, coeffs, k)
         at = pole_form(motion, k, t0, coeffs, e.hi, e.hi, point)
         assert at is not None
