@@ -192,6 +192,85 @@ def _bytes(stream: io.TextIOWrapper) -> bytes:
     return buffer.getvalue()
 
 
+# -- check's worker, in this process ------------------------------------------------------
+# ``rprpr check`` audits in worker processes, forked from the process that runs it. Forking
+# a test process (every test module's imports and caches: 200-500 MB) costs 30-60 ms of
+# CPU, against a few ms for a small audit, and the suite runs ~600 checks. So a check with
+# one worker and the default budget hands its tasks to ``InProcessWorker``: the same work
+# function, the task and its outcome pickled both ways as between rprpr and a forked
+# worker, a worker's death (an exception out of the work) reported as one. Checks with
+# -j N, a budget of their own, or spawned workers start real workers, as do the tests marked
+# ``real_workers`` (signals, pids, the workers themselves) and a run with RPRPR_REAL_WORKERS=1.
+
+
+class InProcessWorker:
+    """``rprpr.cli.workers.Workers`` for one worker that is this process (see above)."""
+
+    def __init__(self, work: Any, stages: Any) -> None:
+        self.work, self.stages = work, tuple(stages)
+
+    def __enter__(self) -> InProcessWorker:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def run(self, tasks: Any, budget: float | None) -> Iterator[tuple[Any, Any]]:
+        import pickle
+        import time
+
+        from rprpr.cli import workers
+
+        def on_stage(name: str) -> None:
+            self.stages.index(name)  # a stage the worker knows, as its shared byte says
+
+        for task in tasks:
+            start = time.monotonic()
+            sent = pickle.loads(pickle.dumps(task, pickle.HIGHEST_PROTOCOL))
+            try:
+                value = self.work(sent, on_stage)
+                answer = pickle.dumps(value, pickle.HIGHEST_PROTOCOL)
+            except Exception:  # a forked worker prints its traceback and exits 1
+                yield task, workers.Died(time.monotonic() - start, 1)
+                continue
+            yield task, workers.Done(pickle.loads(answer))
+
+
+def _workers_in_process(real: Any) -> Any:
+    """``Workers`` as ``rprpr.cli.workers`` has it, but a check with one forked worker and
+    the default budget (read from its work's options) gets an ``InProcessWorker``."""
+    from rprpr.cli.config import DEFAULT_BUDGET
+    from rprpr.cli.workers import FORK
+
+    def workers(work: Any, jobs: int, stages: Any, **kwargs: Any) -> Any:
+        options = getattr(work, "args", (None,))[0]
+        budget = getattr(options, "budget", 0.0)
+        default = budget is None or (isinstance(budget, int | float) and budget >= DEFAULT_BUDGET)
+        if jobs == 1 and kwargs.get("fork", FORK) and default:
+            return InProcessWorker(work, stages)
+        return real(work, jobs, stages, **kwargs)
+
+    return workers
+
+
+@pytest.fixture(autouse=True)
+def _check_worker_in_process(request: pytest.FixtureRequest) -> Iterator[None]:
+    """Each test's checks audit in this process (``InProcessWorker``) unless the test is
+    marked ``real_workers`` or RPRPR_REAL_WORKERS=1."""
+    real_workers = request.node.get_closest_marker("real_workers")
+    if real_workers or os.environ.get("RPRPR_REAL_WORKERS") == "1":
+        yield
+        return
+    from rprpr.cli import workers
+
+    real = workers.Workers
+    workers.Workers = _workers_in_process(real)  # type: ignore[misc]
+    try:
+        yield
+    finally:
+        workers.Workers = real  # type: ignore[misc]
+
+
 # -- one audit, many renderings ------------------------------------------------------------
 # What a run of ``rprpr check`` prints differs by format, width, colour, -q and -o; what it
 # audits does not. Tests that print one set of tasks many ways (the golden files, the text
