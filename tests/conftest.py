@@ -4,6 +4,7 @@ run in this process, a plain terminal for every test, and hypothesis's profiles.
 from __future__ import annotations
 
 import io
+import math
 import os
 import sys
 from collections.abc import Iterator
@@ -35,6 +36,27 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True, deadline=None)
 settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
+# CI draws the same examples on every run: it re-checks a fixed set, and developers' random
+# runs do the exploring. There each property runs CI_SHARE of the examples its test asks
+# for, at least CI_MIN_EXAMPLES (``pytest_collection_modifyitems``); a developer's run
+# (and --hypothesis-profile=dev) runs them all.
+CI_SHARE, CI_MIN_EXAMPLES = 0.5, 25
+
+
+def _fewer_examples_under_ci(items: list[pytest.Item]) -> None:
+    """Each hypothesis test's examples cut to CI_SHARE under the derandomized CI profile."""
+    if not settings.default.derandomize:
+        return
+    for item in items:
+        test = getattr(item, "obj", None)
+        own = getattr(test, "_hypothesis_internal_use_settings", None)
+        if own is None or getattr(test, "_rprpr_ci_examples", False):
+            continue
+        n = own.max_examples
+        fewer = min(n, max(CI_MIN_EXAMPLES, math.ceil(n * CI_SHARE)))
+        test._hypothesis_internal_use_settings = settings(own, max_examples=fewer)  # type: ignore[union-attr]
+        test._rprpr_ci_examples = True  # type: ignore[union-attr]
+
 
 # -- task files ------------------------------------------------------------------------------
 LINKS_ALIKE = """\
@@ -345,6 +367,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     which its worker writes to ``item._nodeid`` before this hook has marked the test, and
     pytest 9.2 keeps the id in ``item._id``: the suffix is written here when it is missing
     (on any other layout the tests spread like the others: slower, never wrong)."""
+    _fewer_examples_under_ci(items)
     if not getattr(config.option, "loadgroup", False):
         return
     for item in items:
