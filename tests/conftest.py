@@ -4,6 +4,7 @@ run in this process, a plain terminal for every test, and hypothesis's profiles.
 from __future__ import annotations
 
 import io
+import math
 import os
 import sys
 from collections.abc import Iterator
@@ -35,6 +36,27 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True, deadline=None)
 settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
+# CI draws the same examples on every run: it re-checks a fixed set, and developers' random
+# runs do the exploring. There each property runs CI_SHARE of the examples its test asks
+# for, at least CI_MIN_EXAMPLES (``pytest_collection_modifyitems``); a developer's run
+# (and --hypothesis-profile=dev) runs them all.
+CI_SHARE, CI_MIN_EXAMPLES = 0.5, 25
+
+
+def _fewer_examples_under_ci(items: list[pytest.Item]) -> None:
+    """Each hypothesis test's examples cut to CI_SHARE under the derandomized CI profile."""
+    if not settings.default.derandomize:
+        return
+    for item in items:
+        test = getattr(item, "obj", None)
+        own = getattr(test, "_hypothesis_internal_use_settings", None)
+        if own is None or getattr(test, "_rprpr_ci_examples", False):
+            continue
+        n = own.max_examples
+        fewer = min(n, max(CI_MIN_EXAMPLES, math.ceil(n * CI_SHARE)))
+        test._hypothesis_internal_use_settings = settings(own, max_examples=fewer)  # type: ignore[union-attr]
+        test._rprpr_ci_examples = True  # type: ignore[union-attr]
+
 
 # -- task files ------------------------------------------------------------------------------
 LINKS_ALIKE = """\
@@ -192,6 +214,85 @@ def _bytes(stream: io.TextIOWrapper) -> bytes:
     return buffer.getvalue()
 
 
+# -- check's worker, in this process ------------------------------------------------------
+# ``rprpr check`` audits in worker processes, forked from the process that runs it. Forking
+# a test process (every test module's imports and caches: 200-500 MB) costs 30-60 ms of
+# CPU, against a few ms for a small audit, and the suite runs ~600 checks. So a check with
+# one worker and the default budget hands its tasks to ``InProcessWorker``: the same work
+# function, the task and its outcome pickled both ways as between rprpr and a forked
+# worker, a worker's death (an exception out of the work) reported as one. Checks with
+# -j N, a budget of their own, or spawned workers start real workers, as do the tests marked
+# ``real_workers`` (signals, pids, the workers themselves) and a run with RPRPR_REAL_WORKERS=1.
+
+
+class InProcessWorker:
+    """``rprpr.cli.workers.Workers`` for one worker that is this process (see above)."""
+
+    def __init__(self, work: Any, stages: Any) -> None:
+        self.work, self.stages = work, tuple(stages)
+
+    def __enter__(self) -> InProcessWorker:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def run(self, tasks: Any, budget: float | None) -> Iterator[tuple[Any, Any]]:
+        import pickle
+        import time
+
+        from rprpr.cli import workers
+
+        def on_stage(name: str) -> None:
+            self.stages.index(name)  # a stage the worker knows, as its shared byte says
+
+        for task in tasks:
+            start = time.monotonic()
+            sent = pickle.loads(pickle.dumps(task, pickle.HIGHEST_PROTOCOL))
+            try:
+                value = self.work(sent, on_stage)
+                answer = pickle.dumps(value, pickle.HIGHEST_PROTOCOL)
+            except Exception:  # a forked worker prints its traceback and exits 1
+                yield task, workers.Died(time.monotonic() - start, 1)
+                continue
+            yield task, workers.Done(pickle.loads(answer))
+
+
+def _workers_in_process(real: Any) -> Any:
+    """``Workers`` as ``rprpr.cli.workers`` has it, but a check with one forked worker and
+    the default budget (read from its work's options) gets an ``InProcessWorker``."""
+    from rprpr.cli.config import DEFAULT_BUDGET
+    from rprpr.cli.workers import FORK
+
+    def workers(work: Any, jobs: int, stages: Any, **kwargs: Any) -> Any:
+        options = getattr(work, "args", (None,))[0]
+        budget = getattr(options, "budget", 0.0)
+        default = budget is None or (isinstance(budget, int | float) and budget >= DEFAULT_BUDGET)
+        if jobs == 1 and kwargs.get("fork", FORK) and default:
+            return InProcessWorker(work, stages)
+        return real(work, jobs, stages, **kwargs)
+
+    return workers
+
+
+@pytest.fixture(autouse=True)
+def _check_worker_in_process(request: pytest.FixtureRequest) -> Iterator[None]:
+    """Each test's checks audit in this process (``InProcessWorker``) unless the test is
+    marked ``real_workers`` or RPRPR_REAL_WORKERS=1."""
+    real_workers = request.node.get_closest_marker("real_workers")
+    if real_workers or os.environ.get("RPRPR_REAL_WORKERS") == "1":
+        yield
+        return
+    from rprpr.cli import workers
+
+    real = workers.Workers
+    workers.Workers = _workers_in_process(real)  # type: ignore[misc]
+    try:
+        yield
+    finally:
+        workers.Workers = real  # type: ignore[misc]
+
+
 # -- one audit, many renderings ------------------------------------------------------------
 # What a run of ``rprpr check`` prints differs by format, width, colour, -q and -o; what it
 # audits does not. Tests that print one set of tasks many ways (the golden files, the text
@@ -266,6 +367,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     which its worker writes to ``item._nodeid`` before this hook has marked the test, and
     pytest 9.2 keeps the id in ``item._id``: the suffix is written here when it is missing
     (on any other layout the tests spread like the others: slower, never wrong)."""
+    _fewer_examples_under_ci(items)
     if not getattr(config.option, "loadgroup", False):
         return
     for item in items:

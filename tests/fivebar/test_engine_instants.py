@@ -7,8 +7,10 @@ are singular at once) and in each working mode; and the Type I refusals."""
 
 from __future__ import annotations
 
+import json
 from fractions import Fraction as Q
 from functools import cache
+from pathlib import Path
 from typing import Any
 
 import mpmath
@@ -18,7 +20,7 @@ from flint import arb, ctx, fmpq
 
 from rprpr.engine.exact.five_bar_instants import FiveBarError, analyse
 
-from .instants import singular_instants
+from .instants import Instant, singular_instants
 from .locus import curve, x, y
 from .reference import FiveBar, Motion, elbows
 from .standin import polys, q, robot
@@ -120,11 +122,86 @@ def _ref_ball(t: Any) -> arb:
         ctx.prec = old
 
 
+# The reference's instants of each case (instants.py: sympy's exact real roots, δ at 60
+# digits), stored beside this file by the case's robot, motion, modes and span: the
+# reference's values never change, and sympy takes seconds to isolate them. Written by
+# ``python -m tests.fivebar.test_engine_instants``; a slow test recomputes every stored
+# case, and a case not stored (a new one, or one whose motion changed) is computed here.
+STORED = Path(__file__).with_name("engine_instants_reference.json")
+
+
+def _key(i: int) -> str:
+    return repr(CASES[i][1:])
+
+
+def _encode(instants: list[Instant]) -> list[dict[str, Any]]:
+    """The reference's instants as stored: t exact (p/q) or as the 80 digits the tests
+    read of it, and |δ| of the other working modes to 20 digits."""
+    return [
+        {
+            "t": str(w.t) if w.t.is_Rational else None,
+            "t80": None if w.t.is_Rational else str(sp.N(w.t, 80)),
+            "sigma": w.sigma,
+            "multiplicity": w.multiplicity,
+            "order": w.order,
+            "others": [mpmath.nstr(v, 20) for v in w.others],
+        }
+        for w in instants
+    ]
+
+
+def _decode(rows: list[dict[str, Any]]) -> list[Instant]:
+    with mpmath.workdps(30):  # the 20 digits stored, read back as written
+        return [
+            Instant(
+                sp.Rational(r["t"]) if r["t"] is not None else sp.Float(r["t80"], 80),
+                r["sigma"],
+                r["multiplicity"],
+                r["order"],
+                tuple(mpmath.mpf(v) for v in r["others"]),
+            )
+            for r in rows
+        ]
+
+
+@cache
+def _stored() -> dict[str, list[dict[str, Any]]]:
+    return json.loads(STORED.read_text(encoding="utf-8")) if STORED.exists() else {}
+
+
+def _recomputed(i: int) -> list[Instant]:
+    _, rb, m, modes, t0, t1 = CASES[i]
+    return singular_instants(rb, m, modes, t0, t1)
+
+
+def reference(i: int) -> list[Instant]:
+    """The reference's instants of CASES[i]: stored, or computed when not stored."""
+    rows = _stored().get(_key(i))
+    return _recomputed(i) if rows is None else _decode(rows)
+
+
+def _write_stored() -> None:
+    table = {_key(i): _encode(_recomputed(i)) for i in range(len(CASES))}
+    for rows in table.values():  # the tests read back the digits stored
+        assert _encode(_decode(rows)) == rows
+    STORED.write_text(json.dumps(table, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+
+
+@pytest.mark.slow  # sympy's exact roots of every case, and δ at 60 digits at each
+@pytest.mark.parametrize("i", range(len(CASES)), ids=[c[0] for c in CASES])
+def test_the_stored_instants_are_the_references(i: int) -> None:
+    rows = _stored().get(_key(i))
+    if rows is None:
+        pytest.skip("not stored: the fast test computes it")
+    assert _encode(_recomputed(i)) == rows
+    assert _encode(_decode(rows)) == rows
+
+
 @pytest.mark.parametrize("i", range(len(CASES)), ids=[c[0] for c in CASES])
 def test_the_instants_orders_and_line_ups_are_the_references(i: int) -> None:
-    name, rb, m, modes, t0, t1 = CASES[i]
+    name, _rb, _m, modes, _t0, _t1 = CASES[i]
     got = _engine(i)
-    want = singular_instants(rb, m, modes, t0, t1)
+    want = reference(i)
     assert not got.refused
     assert len(got.instants) == len(want), name
     for g, w in zip(got.instants, want, strict=True):
@@ -226,3 +303,7 @@ def test_a_task_s_robot_is_read_through_its_five_bar_and_gravity() -> None:
     assert [(s.t_exact, s.order) for s in a.instants if s.t_exact is not None] == [(0, 1)]
     p = FIVE_BAR.robot_params(rb)
     assert (p.a, p.g, p.m[2], p.r[3]) == (q(ROBOT.a), q(ROBOT.g), q(ROBOT.mass[2]), q(ROBOT.r[3]))
+
+
+if __name__ == "__main__":
+    _write_stored()

@@ -168,17 +168,21 @@ class Envelope(LimitChecks, NearForms, Ladders):
         return V, D
 
     def bounds(
-        self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0
-    ) -> Bounds:
+        self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0,
+        limit: np.ndarray | None = None,
+    ) -> Bounds:  # fmt: skip
         """One vectorised pass over the boxes and their ends (``Bounds``), with the zone
-        and Taylor forms near singular instants where the direct form is poor."""
+        and Taylor forms near singular instants where the direct form is poor; with a
+        ``limit`` (per torque), no box Taylor model for a box whose side of the limit the
+        pass decides already (``_settled``)."""
         n = len(lo)
         times, where = unique_ends(lo, hi)
         with quiet():
             box = Ball.hull(lo, hi)
             B, D = self._pass(box)  # T and T' over the boxes
             P = self._values(times)  # T at the ends, each once (boxes share their ends)
-            P, B = self._near(times, lo, hi, P, B, need)
+            settled = None if limit is None else _settled(P, B, D, where, box, limit)
+            P, B = self._near(times, lo, hi, P, B, need, settled)
             P = Ball._of(P.mid[:, where], P.rad[:, where])
             pa, pb = P[:, :n], P[:, n:]
             ua, ub = pa.upper_abs(), pb.upper_abs()
@@ -297,3 +301,23 @@ class Envelope(LimitChecks, NearForms, Ladders):
         dist, t_y = min_abs_y(self.motion.traj, self.duration)
         lo, hi, t_delta = min_abs_delta(self.motion.traj, self.duration)
         return Approach(dist, t_y, lo, hi, t_delta)
+
+
+def _settled(
+    P: Ball, B: Ball, D: Ball, where: np.ndarray, box: Ball, limit: np.ndarray
+) -> np.ndarray:
+    """The boxes on a known side of the limit in both rows before the forms near
+    singular instants: |T_i| <= limit_i by the mean-value bound (``Envelope.bounds``)
+    or > limit_i by the value at the box's start plus T' over the box. The forms only
+    narrow P and B, so these boxes keep their side (a box Taylor model decides nothing
+    there)."""
+    n = len(box.mid)
+    P = Ball._of(P.mid[:, where], P.rad[:, where])
+    pa, pb = P[:, :n], P[:, n:]
+    width = 2.0 * box.rad
+    mean_value = round_up((pa.upper_abs() + pb.upper_abs() + D.upper_abs() * width) * 0.5)
+    up = np.minimum(B.upper_abs(), mean_value)
+    around = pa + D * Ball(0.5 * width, 0.5 * width)
+    floor = np.maximum(B.lower_abs(), around.lower_abs())
+    L = limit[:, None]
+    return np.asarray(((up <= L) | (floor > L)).all(axis=0))

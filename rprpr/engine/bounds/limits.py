@@ -21,6 +21,7 @@ from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
 from .boxes import START_BOXES, Bounds, partition, split
+from .poles import pole_bands
 from .scalars import Scalars
 from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
 from .verdicts import CROSSING_REL, LimitCheck, Peak, Window
@@ -187,8 +188,9 @@ class LimitChecks:
     if TYPE_CHECKING:
 
         def bounds(
-            self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None, need: float = 0.0
-        ) -> Bounds: ...
+            self, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray | None = None,
+            need: float = 0.0, limit: np.ndarray | None = None,
+        ) -> Bounds: ...  # fmt: skip
 
         def _pass(self, t: Ball) -> tuple[Ball, Ball]: ...
 
@@ -249,7 +251,7 @@ class LimitChecks:
                 break
             lo, hi, src = self._refine(lo, hi, split, k, res)
             active = act[:, src]
-            b = self.bounds(lo, hi, need=float(L.min()))
+            b = self.bounds(lo, hi, need=float(L.min()), limit=L)
         if pending:  # stopped by a cap: the brackets not closed stay undecided
             lo, hi, act = self._bracket(pending, L, res, done)
             for i in (0, 1):
@@ -322,7 +324,9 @@ class LimitChecks:
         uniform partition (``_coarse_start``: a limit far above the torques is decided
         there); with poles, the uniform partition with the boxes within POLE_REACH boxes
         of a pole merged and cut about it (``_around_pole``, no piece wider than the
-        partition's), so that the boxes beside a pole are decided in this pass."""
+        partition's), so that the boxes beside a pole are decided in this pass, the
+        pieces near the pole proven above both limits by its form without a pass
+        (``poles.pole_bands``)."""
         if self._first is not None:
             return self._first
         lo, hi = partition(self.duration, START_BOXES)
@@ -338,7 +342,11 @@ class LimitChecks:
         ends = ends[~inner]  # the boxes about each pole merged: cut about it below
         lo, hi, _ = self._refine(ends[:-1], ends[1:], np.ones(len(ends) - 1, dtype=bool), 1, res,
                                  float(hi[0] - lo[0]))  # fmt: skip
-        return self.bounds(lo, hi, need=float(L.min()))
+        near, band = pole_bands(self.motion, self.scalars, lo, hi, L) if not self.throughs \
+            else (np.zeros(len(lo), dtype=bool), None)  # fmt: skip
+        if band is None:
+            return self.bounds(lo, hi, need=float(L.min()), limit=L)
+        return _joined(self.bounds(lo[~near], hi[~near], need=float(L.min()), limit=L), band)
 
     def _coarse_start(self, lo: np.ndarray, hi: np.ndarray, L: np.ndarray, res: float) -> Bounds:
         """The first pass without a pole: the values over the boxes alone (``coarse``:
@@ -361,7 +369,7 @@ class LimitChecks:
         if keep.all():
             return first
         plo, phi, _ = self._refine(lo, hi, ~keep, fan(int((~keep).sum())), res)
-        return _joined(first, self.bounds(plo, phi, need=float(L.min())))
+        return _joined(first, self.bounds(plo, phi, need=float(L.min()), limit=L))
 
     def _refine(
         self, lo: np.ndarray, hi: np.ndarray, which: np.ndarray, k: int, res: float,

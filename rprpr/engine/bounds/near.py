@@ -55,11 +55,14 @@ class NearForms:
         def stacked(self) -> Stacked | General: ...
 
     def _near(
-        self, pts: np.ndarray, lo: np.ndarray, hi: np.ndarray, P: Ball, B: Ball, need: float
-    ) -> tuple[Ball, Ball]:
+        self, pts: np.ndarray, lo: np.ndarray, hi: np.ndarray, P: Ball, B: Ball, need: float,
+        settled: np.ndarray | None = None,
+    ) -> tuple[Ball, Ball]:  # fmt: skip
         """P (T at the points) and B (T over the boxes) made narrower near singular
         instants: the zone form inside a zone, else a Taylor form per box (``_near_instant``)
-        for the boxes whose direct enclosure is poor and whose bound matters (> need)."""
+        for the boxes whose direct enclosure is poor and whose bound matters (> need), but
+        those ``settled`` (on a known side of a limit already: they keep their turn among
+        the NEAR_PER_PASS, so that the other boxes get the same forms as without)."""
         if not self.motion.instants:
             return P, B
         poor_p = ~(P.rad <= np.abs(P.mid)).all(axis=0)
@@ -98,6 +101,8 @@ class NearForms:
                 holds |= (e.compare(lo) <= 0) & (e.compare(hi) >= 0)
             rest &= holds
         for j in np.nonzero(rest)[0][:NEAR_PER_PASS]:  # the others are cut further
+            if settled is not None and settled[j]:
+                continue
             got = self._near_instant(float(lo[j]), float(hi[j]))
             if got is not None:
                 col = [g.normal() for g in got]

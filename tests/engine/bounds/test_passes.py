@@ -44,7 +44,7 @@ SHIPPED = {
     "trapezoidal": (5, 11, 5),
     "waypoints": (4, 20, 4),
     "waypoints_csv": (6, 18, 6),
-    "zero_speed_crossing": (0, 0, 7),
+    "zero_speed_crossing": (0, 0, 5),
 }
 
 # per task of the hard corpus (tests/corpora/test_hard_input.py): the same three
