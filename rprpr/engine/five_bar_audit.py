@@ -13,17 +13,22 @@ piecewise motion RPR203 (velocity jump) and RPR204 (acceleration and torque jump
 
 What this build audits of a 5R: a motion of one piece or of several (y = p(x) with a
 timing law or ``timing.x`` pieces, ``motion.pieces``, waypoints inline or from a CSV
-file), without declared uncertainty. The certified layers
-(torque peak, torque limit, samples, the sheet, export, repair) are not available for a
-5R yet: ``refuse`` says so in one located line (a ``TaskFileError``: exit status 2).
+file), without declared uncertainty; for a motion of one piece, its certified layers
+(``five_bar_certified``, loaded only for a task that asks for them): the torque peak, the
+torque limit check and its windows, the samples. What it does not audit of a 5R (the
+certified layers of a motion of several pieces, the sheet, repair) ``refuse`` refuses in
+one located line (a ``TaskFileError``: exit status 2).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import field, replace
-from typing import Any
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
 from flint import arb, ctx, fmpq
 
 from ..model.dataclass import dataclass
@@ -34,6 +39,7 @@ from ..model.numbers import exact_number, labels, number, to_float
 from ..model.options import AuditOptions
 from ..model.rules import Finding, Judged, with_levels
 from ..model.task import Piece, Robot, Task
+from .bounds.verdicts import LimitCheck, Peak, Window
 from .exact import five_bar as fb
 from .exact import knots as K
 from .exact.five_bar_instants import (
@@ -46,8 +52,13 @@ from .exact.five_bar_instants import (
 from .exact.singular import FACTORING, OnStage, Principle
 from .findings import exact_text, knot
 
+if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it
+    from .certified.five_bar import FiveBarMotion
+    from .certified.five_bar_samples import FiveBarSamples
+
 YET = "not available for a 5R yet"
 FINDINGS = "the findings"
+ENVELOPE = "the torque envelope"
 
 
 @dataclass(frozen=True)
@@ -57,9 +68,12 @@ class FiveBarAuditResult(Judged):
     the first Type I instant, which stops its inverse kinematics; for a piecewise motion
     each piece's analysis (``parts``, up to the piece that stops) and its knots
     (``knot_jumps``: velocity, acceleration and torque jumps); the findings and the
-    verdict. The
-    certified layers of the RPRPR's ``AuditResult`` are absent: no torque peak, no torque
-    limit, no samples (``peak_computed`` is False)."""
+    verdict; and for a motion of one piece the certified layers as the RPRPR's
+    ``AuditResult`` has them: ``torque_peak`` (inf at a pole; None when not asked for,
+    then ``peak_computed`` is False, or undefined: a Type I instant or the path on the
+    curve), ``torque_limit`` (None without a limit), ``saturation`` and ``samples``
+    (certified values on ``grid_size`` times, made when first read; ``resample`` at any
+    times)."""
 
     task: Task
     strict: bool
@@ -70,6 +84,46 @@ class FiveBarAuditResult(Judged):
     grid_size: int = field(default=DEFAULT_SAMPLES, repr=False)  # the sheet's samples
     parts: tuple[FiveBarAnalysis, ...] = field(default=(), repr=False, compare=False)
     knot_jumps: tuple[K.Knot, ...] = field(default=(), repr=False, compare=False)
+    torque_peak: tuple[Peak, Peak] | None = None
+    torque_limit: tuple[LimitCheck, LimitCheck] | None = None
+    closest_approach: None = None  # the RPRPR's distance to the line AB: no 5R meaning
+
+    @cached_property
+    def motion(self) -> FiveBarMotion:
+        """The motion in balls (``certified.five_bar``), made when first read (a motion
+        of one piece: ``refuse_command``)."""
+        return certified_motion(self.task, self.analysis)
+
+    @cached_property
+    def samples(self) -> FiveBarSamples:
+        """Certified samples at ``grid_size`` evenly spaced times, t = 0 .. t_f."""
+        from .certified.sampling import grid
+
+        return self.resample(grid(self.task.duration, self.grid_size))
+
+    def resample(self, t: np.ndarray) -> FiveBarSamples:
+        """The motion, joints, δ, the axial force and the torques at the times ``t`` [s],
+        certified (``certified.five_bar_samples``)."""
+        from .certified.five_bar_samples import sample
+
+        return sample(self.motion, np.asarray(t, dtype=float))
+
+    @cached_property
+    def saturation(self) -> list[tuple[FiveBarInstant, Window | None, Window | None]]:
+        """For each unbounded instant, the windows around it in which |T1|, |T2| exceed
+        their limits (empty without a limit)."""
+        if self.torque_limit is None:
+            return []
+        out = []
+        for s in self.singularities:
+            if s.bounded:
+                continue
+            pair = [
+                next((w for w in c.windows if w.pole and w.start_lo <= s.t <= w.end_hi), None)
+                for c in self.torque_limit
+            ]
+            out.append((s, pair[0], pair[1]))
+        return out
 
     @property
     def knots(self) -> tuple[float, ...]:
@@ -111,7 +165,8 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     folded), an instant at a knot is judged from each side (``at_knot``), and the first
     Type I instant stops the analysis: the pieces after it are not analysed."""
     strict = task.checks.strict if o.strict is None else o.strict
-    refuse(task, peak=task.checks.peak if o.peak is None else o.peak, options=o)
+    asked = task.checks.peak if o.peak is None else o.peak
+    refuse(task, peak=asked, options=o)
     tell(FACTORING)
     r = task.robot
     assert r.five_bar is not None  # a 5R task's robot (``model.five_bar``)
@@ -133,6 +188,14 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     knots = K.knots(task.motion[: len(parts)], r, torques_at) if several else []
     whole = all(a.on_curve for a in parts) and len(parts) == len(task.motion)
     found = findings(task, analysis, knots, _on_curve(task, parts, whole))
+    peak, computed, checked = _certified(task, analysis, asked, whole, tell)
+    if checked is not None:
+        from .five_bar_certified import limit_findings
+
+        text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
+        found += limit_findings(
+            task, analysis.instants, peak, checked, lambda t: f"t = {text[t]} s"
+        )
     return FiveBarAuditResult(
         task=task,
         strict=strict,
@@ -143,8 +206,49 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
         on_singular_curve=whole,
         parts=tuple(parts),
         knot_jumps=tuple(knots),
+        peak_computed=computed,
+        torque_peak=peak,
+        torque_limit=checked,
         grid_size=o.samples,
     )
+
+
+def _certified(
+    task: Task, analysis: FiveBarAnalysis, asked: bool, on_curve: bool, tell: OnStage
+) -> tuple[tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None]:
+    """The torque peak (when asked for, or free: infinite at a pole), whether it was
+    computed, and the limit check (with ``checks.torque_limit``); none of them where
+    the torques are undefined (a Type I instant, the path on a Type II curve). A motion
+    of one piece (``refuse`` refuses the others')."""
+    limit = task.checks.torque_limit
+    if on_curve or analysis.refused:
+        return None, asked or limit is not None, None
+    poles = [s for s in analysis.instants if not s.bounded]
+    peak: tuple[Peak, Peak] | None = None
+    if poles:
+        t = poles[0].t
+        peak = (Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True))
+    if not asked and limit is None:
+        return peak, peak is not None, None
+    from .five_bar_certified import limit_check, torque_peak
+
+    tell(ENVELOPE)
+    motion = certified_motion(task, analysis)
+    if peak is None and asked:
+        peak = torque_peak(motion)
+    checked = None
+    if limit is not None:
+        checked = limit_check(motion, (to_float(limit[0]), to_float(limit[1])), peak)
+    return peak, peak is not None, checked
+
+
+def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
+    """The 5R task's motion (of one piece) in balls, with its Type II instants."""
+    from .certified.five_bar import FiveBarMotion
+
+    piece = task.motion[0]
+    r = task.robot
+    return FiveBarMotion(r.five_bar, r.gravity, piece.x, piece.y, task.duration, analysis.instants)
 
 
 def _on_curve(task: Task, parts: list[FiveBarAnalysis], whole: bool) -> list[Finding]:
@@ -289,29 +393,40 @@ ON_CURVE = (
 
 def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = None) -> None:
     """A 5R task asks for what this build cannot audit of a 5R: a ``TaskFileError``
-    located at the key that asks for it (the first met): declared uncertainty, a torque
-    limit, the torque peak. (A motion of several pieces is audited: ``audit_five_bar``.)"""
+    located at the key that asks for it (the first met): declared uncertainty; for a
+    motion of several pieces, a torque limit or the torque peak. (A motion of several
+    pieces is audited: ``audit_five_bar``; the certified layers of one piece:
+    ``five_bar_certified``.)"""
     if task.robot.mechanism != FIVE_BAR:
         return
     if task.uncertainty is not None or (options is not None and options.uncertainty):
         raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
-    if task.checks.torque_limit is not None:
+    several = f"of a motion of several pieces is {YET}"
+    if len(task.motion) > 1 and task.checks.torque_limit is not None:
         raise _error(
             task,
-            f"the certified torque limit check is {YET} (remove checks.torque_limit)",
+            f"the certified torque limit check {several} (remove checks.torque_limit)",
             "checks.torque_limit",
         )
-    if peak:
+    if len(task.motion) > 1 and peak:
         raise _error(
-            task, f"the certified torque peak (--peak, checks.peak) is {YET}", "checks.peak"
+            task, f"the certified torque peak (--peak, checks.peak) {several}", "checks.peak"
         )
 
 
 def refuse_command(task: Task, command: str) -> None:
-    """``command`` (plot, export, repair) needs the certified layers, which a 5R task does
-    not have yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR)."""
-    if task.robot.mechanism == FIVE_BAR:
-        raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
+    """``command`` (repair; export for a motion of several pieces) is not available for a
+    5R task yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR, nor for
+    the export of a 5R motion of one piece)."""
+    if task.robot.mechanism != FIVE_BAR:
+        return
+    if command == "export" and len(task.motion) == 1:
+        return
+    if command == "export":
+        raise _error(
+            task, f"rprpr export of a motion of several pieces is {YET}", _motion_key(task)
+        )
+    raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
 
 
 def _motion_key(task: Task) -> str:

@@ -12,7 +12,11 @@ round-trip ``repr``, so reading the file back gives the very same floats.
 the row is certified; otherwise the cause of the row's NaN: 1 a singular instant with
 unbounded torques (λ2, T1, T2), 2 and 3 the end point at A or at B, 4 the path on the
 singular line, 5 a value not certified at the highest precision tried, 6 a value beyond
-the double range (|value| > 1.8e308, certified so). Every value that is not finite is
+the double range (|value| > 1.8e308, certified so).
+
+A 5R task's rows have the 5R's columns and codes (``certified.five_bar_samples``: the
+motors' angles θ1, θ2, δ, the distal links' axial force ``alpha``, T1, T2; code 7 a leg
+stretched or folded), the same certification, the same formats. Every value that is not finite is
 ``nan`` in CSV and ``null`` in JSON (the JSON is strict: no NaN or Infinity tokens); -0.0
 is written as 0.0.
 
@@ -56,8 +60,10 @@ UNITS = {
     "lambda1": "N", "lambda2": "N", "T1": "N m", "T2": "N m", "F1": "N", "F2": "N",
     "x_ddot": "m/s^2", "y_ddot": "m/s^2", "theta1_ddot": "rad/s^2", "s1_ddot": "m/s^2",
     "theta2_ddot": "rad/s^2", "s2_ddot": "m/s^2", "reason": "code",
-    "T1_worst": "N m", "T2_worst": "N m", "F1_worst": "N", "F2_worst": "N",
+    "T1_worst": "N m", "T2_worst": "N m", "F1_worst": "N", "F2_worst": "N", "alpha": "N",
 }  # fmt: skip
+
+FIVE_BAR_UNITS = {"delta": "m^2", "delta_dot": "m^2/s"}  # a 5R's δ = (E - C) × (E - D)
 
 EXPORTED = (*COLUMNS, "reason")  # the columns of a row, in order
 FORCES = {"T1": "F1", "T2": "F2"}  # a prismatic robot's efforts: the legs' forces [N]
@@ -69,7 +75,10 @@ WORST = ("T1_worst", "T2_worst")  # with uncertainty: max |T_i| over the box, pr
 def exported(result: AuditResult) -> tuple[str, ...]:
     """The columns of a row for ``result``'s robot: ``EXPORTED``, with F1, F2 [N] in the
     place of T1, T2 when the legs' prismatic joints are actuated; with declared
-    uncertainty, ``WORST`` before ``reason`` (F1_worst, F2_worst for forces)."""
+    uncertainty, ``WORST`` before ``reason`` (F1_worst, F2_worst for forces); a 5R's
+    columns (``FiveBarSamples.COLUMNS``)."""
+    if _five_bar(result):
+        return (*_any(result).samples.COLUMNS, "reason")
     names = (*COLUMNS, *WORST, "reason") if result.task.uncertainty is not None else EXPORTED
     if result.task.robot.actuation == REVOLUTE:
         return names
@@ -81,6 +90,28 @@ CERTIFIED = f"every value certified to |err| <= {number(TOL)} (1 + |value|)"
 
 # at a pole under linear actuators it is λ1 (not λ2) that diverges, with the forces
 _PRISMATIC_POLE = "a singular instant with unbounded forces (a pole of λ1): λ1, F1, F2 undefined"
+
+
+def _five_bar(result: AuditResult) -> bool:
+    """Whether ``result`` is a 5R task's (its samples have their own columns)."""
+    return not isinstance(result, AuditResult)
+
+
+def _any(result: AuditResult) -> Any:
+    """A 5R's result as what it is (its samples are ``FiveBarSamples``)."""
+    return result
+
+
+def _reasons(result: AuditResult) -> dict[int, str]:
+    """``reasons`` of the task's robot (a 5R's samples carry theirs)."""
+    if _five_bar(result):
+        return {c: t or "every value certified" for c, t in _any(result).samples.REASONS.items()}
+    return reasons(result.task.robot.actuation)
+
+
+def _units(result: AuditResult) -> dict[str, str]:
+    """The units that differ from ``UNITS`` for the task's robot (a 5R's δ is in m²)."""
+    return FIVE_BAR_UNITS if _five_bar(result) else {}
 
 
 def reasons(actuation: str = REVOLUTE) -> dict[int, str]:
@@ -139,9 +170,7 @@ def comment(result: AuditResult, source: str) -> str:
         f"# rprpr {__version__} export of task {name}{where}: {len(t)} samples, "
         f"t = 0 .. {number(float(t[-1]))} s; SI units (m, s, rad, N, N m); "
         f"{CERTIFIED}, or nan;{_worst_note(result)} reason codes: "
-        + "; ".join(
-            f"{code} = {text}" for code, text in reasons(result.task.robot.actuation).items()
-        )
+        + "; ".join(f"{code} = {text}" for code, text in _reasons(result).items())
     )
 
 
@@ -171,7 +200,18 @@ SINGULARITY_FIELDS = (
 )  # fmt: skip
 
 
+# a 5R's: its working modes and line-up in the place of the RPRPR's case
+FIVE_BAR_FIELDS = (
+    "t", "x", "y", "modes", "sigma", "order", "high_order", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
 def _singularities(result: AuditResult) -> list[dict[str, Any]]:
+    if _five_bar(result):
+        from ..report.five_bar_records import instant_record
+
+        return [{k: instant_record(s)[k] for k in FIVE_BAR_FIELDS} for s in result.singularities]  # type: ignore[arg-type]
     records = (singularity_record(s) for s in result.singularities)
     return [{k: r[k] for k in SINGULARITY_FIELDS} for r in records]
 
@@ -188,8 +228,8 @@ def document_head(result: AuditResult, source: str) -> dict[str, Any]:
         **actuation_fields(result.task.robot.actuation),
         "verdict": result.verdict,
         "columns": list(exported(result)),
-        "units": {c: UNITS[c] for c in exported(result)},
-        "reasons": {str(code): text for code, text in reasons(result.task.robot.actuation).items()},
+        "units": {c: _units(result).get(c, UNITS[c]) for c in exported(result)},
+        "reasons": {str(code): text for code, text in _reasons(result).items()},
         "singularities": _singularities(result),
     }
 

@@ -8,8 +8,9 @@ one side of E), ``slope`` (tan α, the crossing angle with the Type II curve),
 j < order), and at a knot of a piecewise motion ``knot`` and ``sides`` (the one-sided
 analyses, as the RPRPR's); ``kinematic_singularities[]`` its first Type I instant (a leg
 ``stretched`` or ``folded``: the analysis stops there); ``knots[]`` the knots' jumps.
-The certified layers are absent: the torque peak fields are null, ``torque_limit`` and
-``closest_approach`` null.
+The certified layers (a motion of one piece) are the RPRPR's fields (``records``): the
+torque peak, ``torque_limit`` and each unbounded instant's ``saturation``;
+``closest_approach`` (the RPRPR's distance to the line AB) is null.
 """
 
 from __future__ import annotations
@@ -39,8 +40,11 @@ def value(v: Any) -> float | None:
     return f if math.isfinite(f) else None
 
 
-def instant_record(s: FiveBarInstant) -> dict[str, Any]:
-    """One Type II instant as JSON-ready data (``singularities[]``)."""
+def instant_record(
+    s: FiveBarInstant, saturation: list[dict[str, Any] | None] | None = None
+) -> dict[str, Any]:
+    """One Type II instant as JSON-ready data (``singularities[]``), with its
+    ``saturation`` record (``records.saturation_record``) at a pole under a limit."""
     limit = s.torque_at_singularity
     return {
         "t": s.t,
@@ -68,7 +72,7 @@ def instant_record(s: FiveBarInstant) -> dict[str, Any]:
         "torque_bounded": s.bounded,
         "pole_order": s.order - s.conditions_met,
         "torque_at_singularity": None if limit is None else [value(limit[0]), value(limit[1])],
-        "saturation": None,
+        "saturation": saturation,
         "knot": s.knot,
         **({"sides": {n: side_record(side) for n, side in s.sides}} if s.knot else {}),
     }
@@ -94,10 +98,15 @@ def five_bar_report(
     result: FiveBarAuditResult,
     task_path: str,
     findings: list[dict[str, Any]],
-    peak: dict[str, None],
+    peak: dict[str, Any],
+    limit: list[dict[str, Any]] | None = None,
+    saturation: dict[int, list[dict[str, Any] | None]] | None = None,
 ) -> dict[str, Any]:
     """The report of one audited 5R task (a ``reports[]`` entry of ``--format json``):
-    ``findings`` its findings as records, ``peak`` the torque peak's fields (null)."""
+    ``findings`` its findings as records, ``peak`` the torque peak's fields
+    (``records.peak_fields``), ``limit`` the ``torque_limit`` records, ``saturation`` the
+    records of the unbounded instants (by ``id``), as the RPRPR's."""
+    sat = saturation or {}
     task = result.task
     return {
         "task": file_name(task_path),
@@ -105,7 +114,7 @@ def five_bar_report(
         "mechanism": task.robot.mechanism,
         "verdict": result.verdict,
         "strict": result.strict,
-        "singularities": [instant_record(s) for s in result.singularities],
+        "singularities": [instant_record(s, sat.get(id(s))) for s in result.singularities],
         "kinematic_singularities": [
             {
                 "t": k.t,
@@ -120,7 +129,7 @@ def five_bar_report(
         "on_singular_line": result.on_singular_curve,
         "knots": [knot_record(k) for k in result.knot_jumps],
         **peak,
-        "torque_limit": None,
+        "torque_limit": limit,
         "closest_approach": None,
         "findings": findings,
         "beyond_double_range": [],

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from ..engine.audit import AuditResult, Saturation
+from ..engine.audit import AuditResult
 from ..engine.bounds.verdicts import Approach, LimitCheck, Peak, Window
 from ..engine.exact.singular import SingularInstant
 from ..model.actuation import REVOLUTE, SCHEMES, Scheme
@@ -175,25 +175,32 @@ def peak_fields(peak: tuple[Peak, Peak] | None, computed: bool = True) -> dict[s
     }
 
 
-def _saturations(result: AuditResult) -> dict[int, list[dict[str, Any] | None]]:
+def _saturations(
+    result: AuditResult | FiveBarAuditResult,
+) -> dict[int, list[dict[str, Any] | None]]:
     """The saturation record of each unbounded instant, by the instant itself (``id``:
     two instants whose times round to one double are still two)."""
     limits = result.torque_limit
     if limits is None:
         return {}
-    sat: list[Saturation] = result.saturation
+    sat: list[Any] = result.saturation
     return {id(s): saturation_record(limits, (w1, w2)) for s, w1, w2 in sat}
 
 
 def task_report(result: AuditResult | FiveBarAuditResult, task_path: str) -> dict[str, Any]:
     """The report of one audited task (the ``reports[]`` entries of ``--format json``);
     a 5R task's is ``five_bar_records.five_bar_report``."""
-    if not isinstance(result, AuditResult):  # no peak: the certified layers are not there
+    saturation = _saturations(result)
+    if not isinstance(result, AuditResult):  # a 5R task: its records, the same fields
         from .five_bar_records import five_bar_report
 
-        return five_bar_report(result, task_path, _findings(result), dict.fromkeys(PEAK_FIELDS))
+        checked = result.torque_limit
+        return five_bar_report(
+            result, task_path, _findings(result),
+            peak_fields(result.torque_peak, result.peak_computed),
+            [limit_record(c) for c in checked] if checked else None, saturation,
+        )  # fmt: skip
     task = result.task
-    saturation = _saturations(result)
     sings = [singularity_record(s, saturation.get(id(s))) for s in result.singularities]
     for rec, r in zip(sings, result.robust, strict=False):
         rec["robust"] = robust_record(r)  # only with declared uncertainty (docs/robust.md)

@@ -1,11 +1,12 @@
 """What this build cannot audit of a 5R task is refused in one located line, exit 2.
 
-``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py); the
-certified layers are not available for a 5R yet (``engine.five_bar_audit.refuse``): a
-torque limit, the torque peak (``--peak``, ``checks.peak``), declared uncertainty, and
-the commands that need certified samples (``export``, ``repair``; ``plot`` draws a 5R:
-tests/render/test_sheet_five_bar.py). The Python API raises ``TaskFileError`` at the same
-key.
+``rprpr check`` audits a 5R task's exact verdicts (tests/fivebar/test_check.py) and, for
+a motion of one piece, its certified layers (the torque limit, the peak, the samples that
+``export`` writes: tests/fivebar/test_certified.py); ``plot`` draws a 5R
+(tests/render/test_sheet_five_bar.py). What is not available for a 5R yet
+(``engine.five_bar_audit.refuse``): declared uncertainty, the certified layers of a
+motion of several pieces, and ``repair``. The Python API raises ``TaskFileError`` at the
+same key.
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ import pytest
 
 from rprpr import audit
 from rprpr.io.loader import load_task
-from rprpr.model.errors import TaskFileError
 from tests.conftest import run_cli
 
 DEXTAR = Path(__file__).resolve().parents[1] / "io" / "data" / "five_bar_dextar.rprpr.yaml"
@@ -29,11 +29,7 @@ def _line(text: str, start: str) -> int:
     return next(i for i, ln in enumerate(text.splitlines(), 1) if ln.startswith(start))
 
 
-LIMIT_LINE = _line(TEXT, "  torque_limit:")
 MECHANISM_LINE = _line(TEXT, "  mechanism:")
-LIMIT_MESSAGE = (
-    f"checks.torque_limit: the certified torque limit check is {YET} (remove checks.torque_limit)"
-)
 
 
 def _without_limit(folder: Path, extra: str = "") -> Path:
@@ -43,41 +39,32 @@ def _without_limit(folder: Path, extra: str = "") -> Path:
     return path
 
 
-def test_the_audit_refuses_a_5r_task_with_a_torque_limit() -> None:
-    with pytest.raises(TaskFileError) as info:
-        audit(load_task(DEXTAR))
-    e = info.value
-    assert (e.file, e.line, e.key) == (str(DEXTAR), LIMIT_LINE, "checks.torque_limit")
-    assert str(e) == f"{DEXTAR}:{LIMIT_LINE}: {LIMIT_MESSAGE}"
+def test_the_audit_checks_a_5r_tasks_torque_limit() -> None:
+    result = audit(load_task(DEXTAR))
+    assert result.torque_limit is not None
+    assert [c.passed for c in result.torque_limit] == [True, True]
+    assert [c.limit for c in result.torque_limit] == [5.0, 5.0]
 
 
 @pytest.mark.parametrize("form", ["concise", "text"])
-def test_check_refuses_a_torque_limit_in_one_line_with_status_2(form: str) -> None:
+def test_check_audits_a_torque_limit_with_status_0(form: str) -> None:
     code, out, err = run_cli("check", "--format", form, str(DEXTAR))
-    assert code == 2
-    assert err == f"{DEXTAR}:{LIMIT_LINE}: {LIMIT_MESSAGE} [RPR001]\n"
-    if form == "concise":
-        assert out == f"{DEXTAR}:{LIMIT_LINE}:1: RPR001 [error] {LIMIT_MESSAGE}\n"
-    else:
-        assert out == ""
+    assert (code, err) == (0, "")
+    assert "RPR001" not in out
 
 
 def test_check_audits_the_same_task_without_the_limit(tmp_path: Path) -> None:
     code, out, err = run_cli("check", str(_without_limit(tmp_path)))
     assert (code, err) == (0, "")
     assert "no Type II singular instant in [0, t_f]" in out
-    assert out.splitlines()[-1] == "  verdict: PASS — 0 singular instants, 0 high-order"
+    last = "  verdict: PASS — 0 singular instants, 0 high-order; peak not computed (--peak)"
+    assert out.splitlines()[-1] == last  # as the RPRPR says it
 
 
-def test_check_refuses_the_peak_of_a_5r(tmp_path: Path) -> None:
-    path = _without_limit(tmp_path)
-    code, _, err = run_cli("check", "--peak", str(path))
-    assert code == 2
-    line = _line(path.read_text(), "checks:")
-    assert err == (
-        f"{path}:{line}: checks.peak: the certified torque peak (--peak, checks.peak) is {YET}"
-        " [RPR001]\n"
-    )
+def test_check_gives_the_peak_of_a_5r(tmp_path: Path) -> None:
+    code, out, err = run_cli("check", "--peak", str(_without_limit(tmp_path)))
+    assert (code, err) == (0, "")
+    assert "; peak |T1| " in out.splitlines()[-1]
 
 
 def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
@@ -94,11 +81,10 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "command",
     [
-        ("export", "-o", "{tmp}/x.csv"),
         ("repair", "-o", "{tmp}/r.yaml"),
     ],
 )
-def test_export_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
+def test_repair_refuses_a_5r_task(command: tuple[str, ...], tmp_path: Path) -> None:
     args = [a.format(tmp=tmp_path) for a in command]
     source = _without_limit(tmp_path)
     code, _, err = run_cli(args[0], str(source), *args[1:])
@@ -108,6 +94,51 @@ def test_export_and_repair_refuse_a_5r_task(command: tuple[str, ...], tmp_path: 
         " (rprpr check audits it)\n"
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dextar.rprpr.yaml"]  # nothing written
+
+
+def _pieces(folder: Path, checks: str) -> Path:
+    """The DexTAR task as a motion of two pieces, with ``checks``."""
+    text = TEXT
+    start = text.index("path:")
+    pieces = (
+        "motion:\n  pieces:\n"
+        "    - until: 0.25\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+        "    - until: 0.5\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+    )
+    path = folder / "pieces.rprpr.yaml"
+    path.write_text(text[:start] + pieces + "checks:\n" + checks)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("checks", "options", "key", "what"),
+    [
+        ("  torque_limit: [5, 5]\n", (), "checks.torque_limit",
+         "the certified torque limit check of a motion of several pieces is"),
+        ("  strict: false\n", ("--peak",), "checks.peak",
+         "the certified torque peak (--peak, checks.peak) of a motion of several pieces is"),
+    ],
+)  # fmt: skip
+def test_check_refuses_the_certified_layers_of_several_pieces(
+    tmp_path: Path, checks: str, options: tuple[str, ...], key: str, what: str
+) -> None:
+    path = _pieces(tmp_path, checks)
+    code, _, err = run_cli("check", *options, str(path))
+    assert code == 2
+    line = _line(path.read_text(), "  torque_limit:" if "limit" in key else "checks:")
+    assert err.startswith(f"{path}:{line}: {key}: {what} {YET}")
+    assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
+
+
+def test_export_refuses_a_5r_motion_of_several_pieces(tmp_path: Path) -> None:
+    path = _pieces(tmp_path, "  strict: false\n")
+    code, _, err = run_cli("export", str(path), "-o", str(tmp_path / "x.csv"))
+    assert code == 2
+    line = _line(path.read_text(), "motion:")
+    assert err == (
+        f"rprpr: {path}:{line}: motion: rprpr export of a motion of several pieces is {YET}\n"
+    )
+    assert not (tmp_path / "x.csv").exists()
 
 
 def test_an_rprpr_task_is_audited_as_before() -> None:

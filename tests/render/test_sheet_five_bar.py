@@ -287,12 +287,24 @@ def test_an_rprpr_and_a_5r_on_one_set_of_axes_are_refused_in_one_line(tmp_path: 
 
 
 def test_what_a_5r_plot_cannot_draw_yet_is_refused_in_one_located_line(tmp_path: Path) -> None:
-    """A torque limit needs the certified check, not in this build: exit 2, one line."""
-    code, _, err = run_cli("plot", str(DEXTAR), "-o", str(tmp_path / "x.png"))
+    """A torque limit on a motion of several pieces needs a certified check not in this
+    build: exit 2, one line (on one piece it is checked: the sheet is drawn)."""
+    code, _, err = run_cli("plot", str(DEXTAR), "-o", str(tmp_path / "one.png"))
+    assert code == 0 and (tmp_path / "one.png").exists(), err
+    text = DEXTAR.read_text()
+    start, end = text.index("path:"), text.index("checks:")
+    pieces = (
+        "motion:\n  pieces:\n"
+        "    - until: 0.25\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+        "    - until: 0.5\n      x: -0.05 + 0.6*t\n      y: 0.3\n"
+    )
+    task = tmp_path / "pieces.rprpr.yaml"
+    task.write_text(text[:start] + pieces + text[end:])
+    code, _, err = run_cli("plot", str(task), "-o", str(tmp_path / "x.png"))
     assert code == 2
     assert err.count("\n") == 1 and "checks.torque_limit" in err
-    assert err.startswith(f"rprpr: {DEXTAR}:")
-    assert list(tmp_path.iterdir()) == []
+    assert err.startswith(f"rprpr: {task}:")
+    assert not (tmp_path / "x.png").exists()
 
 
 def test_the_html_report_draws_a_5r_s_sheet(tmp_path: Path) -> None:
