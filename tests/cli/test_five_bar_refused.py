@@ -4,8 +4,8 @@
 certified layers (the torque limit, the peak, the samples that
 ``export`` writes: tests/fivebar/test_certified.py); ``plot`` draws a 5R
 (tests/render/test_sheet_five_bar.py). What is not available for a 5R yet
-(``engine.five_bar_audit.refuse``): declared uncertainty and ``repair``. The Python API raises ``TaskFileError`` at the
-same key.
+(``engine.five_bar_audit.refuse``): declared uncertainty and ``repair``. The Python API
+raises ``TaskFileError`` at the same key.
 """
 
 from __future__ import annotations

@@ -137,7 +137,7 @@ def test_a_limit_window_across_the_knot_brackets_the_crossings_on_each_side(
     for i, c in enumerate(rep["torque_limit"]):
         r = ref_crossings(i, LIMIT[i])
         assert c["passed"] is False and c["pole"] == [False, False]
-        (first, second) = c["exceeded"]
+        first, _ = c["exceeded"]
         assert first[0] < float(K) < first[1]  # one window across the knot, joined
         brackets = [b for w in c["crossings"] for b in w if b[0] < float(TF) - 1e-15]
         assert len(brackets) == len(r) == 3, (brackets, r)
