@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction as Q
 from functools import cache
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -158,4 +159,65 @@ def test_export_rows_on_each_piece_hold_the_references_torques(tmp_path: Path) -
         t = Q(float(v["t"]))
         assert v["reason"] == "0"
         T = ref(holding(t), t)
+        assert close(float(v["T1"]), T[0]) and close(float(v["T2"]), T[1]), (t, v, T)
+
+
+# -- waypoints: pieces in their local time, a pole inside segment 2 -------------------------
+def _waypoints(folder: Path, checks: str = "") -> tuple[Path, list[tuple[Q, Q, Motion]]]:
+    from .test_pieces import WAYPOINTS, _quintic, _row, robot_text
+
+    rows = "".join(
+        f"    - {{t: {r[0]}, p: [{r[1]}, {r[2]}], v: [{r[3]}, {r[4]}], a: [{r[5]}, {r[6]}]}}\n"
+        for r in map(_row, WAYPOINTS)
+    )
+    path = folder / "wp.rprpr.yaml"
+    path.write_text(f"name: wp\n{robot_text()}motion:\n  waypoints:\n{rows}{checks}")
+    segments = [
+        (w0[0], w1[0], Motion(_quintic(w0, w1, 0), _quintic(w0, w1, 1)))
+        for w0, w1 in pairwise(WAYPOINTS)
+    ]
+    return path, segments
+
+
+def test_waypoints_peak_is_infinite_at_the_pole_and_the_limit_window_holds_it(
+    tmp_path: Path,
+) -> None:
+    """The waypoints' segment 2 crosses the pose inconsistently at an irrational time:
+    the peak is infinite there, and each torque's limit fails with one window holding the
+    pole, inside segment 2 (the reference's |T| past the limit on either side of it)."""
+    path, segments = _waypoints(tmp_path, "checks:\n  torque_limit: [3000, 3000]\n")
+    code, rep = check_json(path, "--peak")
+    assert code == 1 and rep["torque_peak"] is None
+    (s,) = [s for s in rep["singularities"] if s["t_exact"] is None]
+    lo, hi, m = segments[1]
+
+    def above(t: float, i: int) -> bool:
+        with mpmath.workdps(DPS):
+            return bool(abs(torques(ROBOT, m, Q(t), MODES)[i]) > 3000)
+
+    for i, c in enumerate(rep["torque_limit"]):
+        assert c["passed"] is False and c["pole"] == [True]
+        ((a, b),) = c["exceeded"]
+        assert float(lo) < a < s["t"] < b < float(hi)
+        (start, end) = c["crossings"][0]
+        assert end[1] - end[0] <= c["resolution"] * 1.01 >= start[1] - start[0]
+        # the reference crosses the limit in each bracket (1e-7 on either side of it)
+        assert not above(start[0] - 1e-7, i) and above(start[1] + 1e-7, i)
+        assert above(end[0] - 1e-7, i) and not above(end[1] + 1e-7, i)
+
+
+def test_waypoints_export_rows_hold_the_references_torques(tmp_path: Path) -> None:
+    path, segments = _waypoints(tmp_path)
+    out = tmp_path / "s.csv"
+    code, _, err = run_cli("export", str(path), "-o", str(out), "--samples", "6")
+    assert (code, err) == (0, f"rprpr: wrote {out} (6 samples)\n")
+    lines = out.read_text().splitlines()
+    head = lines[1].split(",")
+    for row in lines[2:]:
+        v = dict(zip(head, row.split(","), strict=True))
+        t = Q(float(v["t"]))
+        m = next(m for a, _, m in reversed(segments) if a <= t)  # the later one at a knot
+        assert v["reason"] == "0"
+        with mpmath.workdps(DPS):
+            T = torques(ROBOT, m, t, MODES)
         assert close(float(v["T1"]), T[0]) and close(float(v["T2"]), T[1]), (t, v, T)
