@@ -46,7 +46,7 @@ def export(task: str, output_file: str | None, fmt: str | None, samples: int) ->
     from ..render import export as E
 
     with task_named(task):
-        refuse_command(loaded, "export")  # a 5R motion of several pieces
+        refuse_command(loaded, "export")
         result = audit(loaded, AuditOptions(samples))
     if output_file is None:
         with writing("the samples", None, ExitCode.PASSED):

@@ -13,11 +13,11 @@ piecewise motion RPR203 (velocity jump) and RPR204 (acceleration and torque jump
 
 What this build audits of a 5R: a motion of one piece or of several (y = p(x) with a
 timing law or ``timing.x`` pieces, ``motion.pieces``, waypoints inline or from a CSV
-file), without declared uncertainty; for a motion of one piece, its certified layers
-(``five_bar_certified``, loaded only for a task that asks for them): the torque peak, the
-torque limit check and its windows, the samples. What it does not audit of a 5R (the
-certified layers of a motion of several pieces, the sheet, repair) ``refuse`` refuses in
-one located line (a ``TaskFileError``: exit status 2).
+file), without declared uncertainty; its certified layers (``five_bar_certified`` for a
+motion of one piece, ``five_bar_pieces`` each piece's joined for several, loaded only for
+a task that asks for them): the torque peak, the torque limit check and its windows, the
+samples. What it does not audit of a 5R (declared uncertainty, repair) ``refuse`` and
+``refuse_command`` refuse in one located line (a ``TaskFileError``: exit status 2).
 """
 
 from __future__ import annotations
@@ -55,6 +55,7 @@ from .findings import exact_text, knot
 if TYPE_CHECKING:  # the ball machinery is imported only by a task that needs it
     from .certified.five_bar import FiveBarMotion
     from .certified.five_bar_samples import FiveBarSamples
+    from .five_bar_pieces import FiveBarPart
 
 YET = "not available for a 5R yet"
 FINDINGS = "the findings"
@@ -68,7 +69,7 @@ class FiveBarAuditResult(Judged):
     the first Type I instant, which stops its inverse kinematics; for a piecewise motion
     each piece's analysis (``parts``, up to the piece that stops) and its knots
     (``knot_jumps``: velocity, acceleration and torque jumps); the findings and the
-    verdict; and for a motion of one piece the certified layers as the RPRPR's
+    verdict; and the certified layers as the RPRPR's
     ``AuditResult`` has them: ``torque_peak`` (inf at a pole; None when not asked for,
     then ``peak_computed`` is False, or undefined: a Type I instant or the path on the
     curve), ``torque_limit`` (None without a limit), ``saturation`` and ``samples``
@@ -90,9 +91,21 @@ class FiveBarAuditResult(Judged):
 
     @cached_property
     def motion(self) -> FiveBarMotion:
-        """The motion in balls (``certified.five_bar``), made when first read (a motion
-        of one piece: ``refuse_command``)."""
+        """The motion in balls (``certified.five_bar``), made when first read (of a
+        motion of one piece; of several: ``pieces``)."""
         return certified_motion(self.task, self.analysis)
+
+    @cached_property
+    def pieces(self) -> list[FiveBarPart]:
+        """Each piece in its local time with its own instants (``five_bar_pieces``), the
+        motors' angles continuous across the knots; a piece after the one a Type I
+        instant stops has no instant found."""
+        from .five_bar_pieces import five_bar_parts, theta_offsets
+
+        parts = _analyses(self.task, list(self.parts))
+        out = five_bar_parts(self.task.motion, self.task.robot, parts)
+        theta_offsets(out)
+        return out
 
     @cached_property
     def samples(self) -> FiveBarSamples:
@@ -104,6 +117,10 @@ class FiveBarAuditResult(Judged):
     def resample(self, t: np.ndarray) -> FiveBarSamples:
         """The motion, joints, δ, the axial force and the torques at the times ``t`` [s],
         certified (``certified.five_bar_samples``)."""
+        if len(self.task.motion) > 1:
+            from .five_bar_pieces import sample_pieces
+
+            return sample_pieces(self.pieces, np.asarray(t, dtype=float))
         from .certified.five_bar_samples import sample
 
         return sample(self.motion, np.asarray(t, dtype=float))
@@ -188,7 +205,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     knots = K.knots(task.motion[: len(parts)], r, torques_at) if several else []
     whole = all(a.on_curve for a in parts) and len(parts) == len(task.motion)
     found = findings(task, analysis, knots, _on_curve(task, parts, whole))
-    peak, computed, checked = _certified(task, analysis, asked, whole, tell)
+    peak, computed, checked = _certified(task, analysis, asked, whole, tell, parts)
     if checked is not None:
         from .five_bar_certified import limit_findings
 
@@ -214,14 +231,16 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
 
 
 def _certified(
-    task: Task, analysis: FiveBarAnalysis, asked: bool, on_curve: bool, tell: OnStage
-) -> tuple[tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None]:
+    task: Task, analysis: FiveBarAnalysis, asked: bool, on_curve: bool, tell: OnStage,
+    parts: Sequence[FiveBarAnalysis] = (),
+) -> tuple[tuple[Peak, Peak] | None, bool, tuple[LimitCheck, LimitCheck] | None]:  # fmt: skip
     """The torque peak (when asked for, or free: infinite at a pole), whether it was
     computed, and the limit check (with ``checks.torque_limit``); none of them where
-    the torques are undefined (a Type I instant, the path on a Type II curve). A motion
-    of one piece (``refuse`` refuses the others')."""
+    the torques are undefined (a Type I instant, the path on a Type II curve or a piece
+    along one). A motion of several pieces: each piece's (``parts``: their analyses)
+    joined (``five_bar_pieces``)."""
     limit = task.checks.torque_limit
-    if on_curve or analysis.refused:
+    if on_curve or analysis.refused or any(a.on_curve for a in parts):
         return None, asked or limit is not None, None
     poles = [s for s in analysis.instants if not s.bounded]
     peak: tuple[Peak, Peak] | None = None
@@ -230,9 +249,17 @@ def _certified(
         peak = (Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True))
     if not asked and limit is None:
         return peak, peak is not None, None
+    tell(ENVELOPE)
+    lim = None if limit is None else (to_float(limit[0]), to_float(limit[1]))
+    if len(task.motion) > 1:
+        from .five_bar_pieces import five_bar_parts, limit_check_pieces, torque_peak_pieces
+
+        each = five_bar_parts(task.motion, task.robot, parts)
+        if peak is None and asked:
+            peak = torque_peak_pieces(each)
+        return peak, peak is not None, None if lim is None else limit_check_pieces(each, lim, peak)
     from .five_bar_certified import limit_check, torque_peak
 
-    tell(ENVELOPE)
     motion = certified_motion(task, analysis)
     if peak is None and asked:
         peak = torque_peak(motion)
@@ -249,6 +276,13 @@ def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
     piece = task.motion[0]
     r = task.robot
     return FiveBarMotion(r.five_bar, r.gravity, piece.x, piece.y, task.duration, analysis.instants)
+
+
+def _analyses(task: Task, parts: list[FiveBarAnalysis]) -> list[FiveBarAnalysis]:
+    """The analyses of every piece: those after the last analysed (the first Type I
+    instant stops the analysis) with no instant."""
+    empty = FiveBarAnalysis((), (), parts[0].locus, False)
+    return parts + [empty] * (len(task.motion) - len(parts))
 
 
 def _on_curve(task: Task, parts: list[FiveBarAnalysis], whole: bool) -> list[Finding]:
@@ -393,39 +427,19 @@ ON_CURVE = (
 
 def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = None) -> None:
     """A 5R task asks for what this build cannot audit of a 5R: a ``TaskFileError``
-    located at the key that asks for it (the first met): declared uncertainty; for a
-    motion of several pieces, a torque limit or the torque peak. (A motion of several
-    pieces is audited: ``audit_five_bar``; the certified layers of one piece:
-    ``five_bar_certified``.)"""
+    located at the key that asks for it: declared uncertainty. (The certified layers of
+    a motion of one piece: ``five_bar_certified``; of several: ``five_bar_pieces``.)"""
     if task.robot.mechanism != FIVE_BAR:
         return
     if task.uncertainty is not None or (options is not None and options.uncertainty):
         raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
-    several = f"of a motion of several pieces is {YET}"
-    if len(task.motion) > 1 and task.checks.torque_limit is not None:
-        raise _error(
-            task,
-            f"the certified torque limit check {several} (remove checks.torque_limit)",
-            "checks.torque_limit",
-        )
-    if len(task.motion) > 1 and peak:
-        raise _error(
-            task, f"the certified torque peak (--peak, checks.peak) {several}", "checks.peak"
-        )
 
 
 def refuse_command(task: Task, command: str) -> None:
-    """``command`` (repair; export for a motion of several pieces) is not available for a
-    5R task yet: a ``TaskFileError`` at ``robot.mechanism`` (nothing for an RPRPR, nor for
-    the export of a 5R motion of one piece)."""
-    if task.robot.mechanism != FIVE_BAR:
+    """``command`` (repair) is not available for a 5R task yet: a ``TaskFileError`` at
+    ``robot.mechanism`` (nothing for an RPRPR, nor for the export of a 5R task)."""
+    if task.robot.mechanism != FIVE_BAR or command == "export":
         return
-    if command == "export" and len(task.motion) == 1:
-        return
-    if command == "export":
-        raise _error(
-            task, f"rprpr export of a motion of several pieces is {YET}", _motion_key(task)
-        )
     raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
 
 

@@ -127,13 +127,16 @@ class Zone:
 
 class FiveBarMotion:
     """A 5R motion of one piece (x(t), y(t), 0 <= t <= ``duration``) in its working modes,
-    with its exact Type II instants, evaluated in balls (module docstring)."""
+    with its exact Type II instants, evaluated in balls (module docstring); for a piece of
+    a piecewise motion, t is its local time and ``start`` the absolute time of t = 0
+    (the samples' times are absolute: ``five_bar_samples``)."""
 
     def __init__(
         self, five_bar: Any, gravity: Any, x: fmpq_poly, y: fmpq_poly, duration: fmpq,
-        instants: Sequence[FiveBarInstant],
+        instants: Sequence[FiveBarInstant], start: fmpq | None = None,
     ) -> None:  # fmt: skip
         self.five_bar, self.gravity = five_bar, gravity
+        self.start = fmpq(0) if start is None else start  # the absolute time of t = 0
         self.modes: tuple[int, int] = five_bar.modes
         xd, yd = x.derivative(), y.derivative()
         self.polys = (x, xd, xd.derivative(), y, yd, yd.derivative())

@@ -103,10 +103,11 @@ def sample(motion: FiveBarMotion, t: np.ndarray) -> FiveBarSamples:
 def at_time(
     motion: FiveBarMotion, t: float, cross: tuple[list[Crossing], list[Crossing]] | None = None
 ) -> tuple[dict[str, float], int]:
-    """The certified values at the double ``t`` and the row's reason code; ``cross``: the
+    """The certified values at the double ``t`` (absolute: ``motion.start`` taken off
+    exactly) and the row's reason code; ``cross``: the
     legs' crossings of the angles' cut (``five_bar_angles.crossings``; none: principal
     angles)."""
-    tq = fmpq(*t.as_integer_ratio())
+    tq = fmpq(*t.as_integer_ratio()) - motion.start  # the motion's own (local) time
     exact = [p(tq) for p in motion.polys]
     path = [exact[i] for i in (0, 3, 1, 4, 2, 5)]  # x, y, x', y', x'', y''
     out = {n: _exact_float(v) for n, v in zip(PATH, path, strict=True)}
