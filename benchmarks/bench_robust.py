@@ -5,7 +5,7 @@ aim: a task with ``uncertainty`` at most 3 times the same task without), in CPU 
     python benchmarks/bench_robust.py --vs main=/tmp/main/bin/python   # side by side
     python benchmarks/bench_robust.py --only paper_path2 --only "case 1"   # some kinds
 
-The kinds: each shipped config (``configs/*.rprpr.yaml``) on its own, and each kind of
+The kinds: each shipped RPRPR config (``configs/*.rprpr.yaml``) on its own, and each kind of
 task of ``bench_hard.py``'s mix (``--per-kind`` tasks of it, default 2, from its seed);
 every task with ``checks.torque_limit: [300, 300]`` where it has no limit of its own. In
 process, for each task: ``rprpr.api.audit(task)`` and the same with ``uncertainty`` (±5 %
@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import random
+import re
 import statistics
 import subprocess
 import sys
@@ -42,6 +43,8 @@ def tasks(folder: Path, per_kind: int) -> dict[str, list[Path]]:
     out: dict[str, list[Path]] = {}
     for path in sorted((ROOT / "configs").glob("*.rprpr.yaml")):
         text = path.read_text(encoding="utf-8")
+        if re.search(r"^\s*mechanism:\s*5R\b", text, re.M):
+            continue  # uncertainty is the RPRPR's analysis (a 5R task refuses it)
         if "torque_limit" not in text:
             text += LIMIT
             path = folder / path.name
