@@ -206,13 +206,15 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     whole = all(a.on_curve for a in parts) and len(parts) == len(task.motion)
     found = findings(task, analysis, knots, _on_curve(task, parts, whole))
     peak, computed, checked = _certified(task, analysis, asked, whole, tell, parts)
+    text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
     if checked is not None:
         from .five_bar_certified import limit_findings
 
-        text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
         found += limit_findings(
             task, analysis.instants, peak, checked, lambda t: f"t = {text[t]} s"
         )
+    elif task.checks.torque_limit is not None and analysis.refused and not whole:
+        found.append(unchecked(analysis.type_one[0], text[analysis.type_one[0].t]))
     return FiveBarAuditResult(
         task=task,
         strict=strict,
@@ -503,6 +505,19 @@ def type_one(k: TypeOne, t: str, before: int = 0, several: bool = False) -> Find
         f" analysis stops here ({found} before it)"
     )
     return Finding("RPR103", message, k.t)
+
+
+def unchecked(k: TypeOne, t: str) -> Finding:
+    """RPR202: ``checks.torque_limit`` is not checked, because the first Type I instant
+    (``k``, at ``t``) stops the analysis: the torques are undefined past it (the working
+    mode is lost), so the limit is not decided over [0, t_f] (``torque_limit`` None)."""
+    joint = "A" if k.leg == 1 else "B"
+    message = (
+        f"t = {t} s: the torque limit is not checked: leg {k.leg} is {k.kind} (Type I"
+        f" singularity, |E - {joint}| at its bound), where the analysis stops; the torques"
+        " past it are undefined (the working mode is lost)"
+    )
+    return Finding("RPR202", message, k.t)
 
 
 def where_text(s: FiveBarInstant, t: str) -> str:

@@ -16,6 +16,7 @@ carries the reference's instant times.
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable
 from fractions import Fraction as Q
 from functools import cache
@@ -248,6 +249,26 @@ def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> Non
     assert rep["findings"][0]["message"].endswith(
         "the analysis stops here (1 Type II instant before it)"
     )
+
+
+def test_a_torque_limit_past_a_type_one_instant_is_said_not_checked(tmp_path: Path) -> None:
+    """The stretched motion above with checks.torque_limit: the leg is stretched at
+    t = (√579.96 - 12.6)/12 and the analysis stops there, so the limit is not decided
+    (``torque_limit`` null): the report says so in an RPR202 finding located at that
+    instant, in the task file's line for the limit, rather than saying nothing."""
+    path = tmp_path / "stretch.rprpr.yaml"
+    path.write_text(
+        f"name: stretch\n{robot_text()}motion:\n  pieces:\n"
+        "    - until: 1\n      x: 12.6 + 12*t\n      y: 9.8\n"
+        "checks:\n  torque_limit: [1000, 1000]\n"
+    )
+    t_i = (math.sqrt(579.96) - 12.6) / 12
+    code, rep = check_json(path)
+    assert code == 1 and rep["torque_limit"] is None
+    (f,) = [f for f in rep["findings"] if f["rule"] == "RPR202"]
+    assert abs(f["t"] - t_i) <= 1e-12 and f["key"] == "checks.torque_limit"
+    assert "the torque limit is not checked: leg 1 is stretched" in f["message"]
+    assert f["line"] == path.read_text().splitlines().index("  torque_limit: [1000, 1000]") + 1
 
 
 @pytest.mark.parametrize(("margin", "rules"), [("1.1", []), ("1.2", ["RPR102"])])
