@@ -433,8 +433,10 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
     a motion of one piece: ``five_bar_certified``; of several: ``five_bar_pieces``.)"""
     if task.robot.mechanism != FIVE_BAR:
         return
-    if task.uncertainty is not None or (options is not None and options.uncertainty):
-        raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
+    u = task.uncertainty or (options.uncertainty if options is not None else None)
+    if u is not None:
+        whose = f" (declared by the configuration {u.origin})" if u.origin else ""
+        raise _error(task, f"uncertainty is {YET}{whose} (its audit is the RPRPR's)", "uncertainty")
 
 
 def refuse_command(task: Task, command: str) -> None:
@@ -453,8 +455,14 @@ def _motion_key(task: Task) -> str:
 
 
 def _error(task: Task, message: str, key: str) -> TaskFileError:
+    """A ``TaskFileError`` at ``key``'s line, else its section's, else (a key the task
+    file does not hold: an option or the configuration asked for it) at the motion's
+    top-level key (column 1)."""
     line = task.lines.get(key) or task.lines.get(key.split(".")[0], 0)
-    return TaskFileError(message, file=task.source, line=line, key=key)
+    if line:
+        return TaskFileError(message, file=task.source, line=line, key=key)
+    line = task.lines.get(_motion_key(task), 0)
+    return TaskFileError(message, file=task.source, line=line, column=1 if line else 0, key=key)
 
 
 # -- the findings -------------------------------------------------------------------------

@@ -10,6 +10,7 @@ raises ``TaskFileError`` at the same key.
 
 from __future__ import annotations
 
+from contextlib import chdir
 from pathlib import Path
 
 import pytest
@@ -75,6 +76,24 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
     # the task file's reader refuses it already (the robust audit is the RPRPR's)
     assert err.startswith(f"{path}:{line}:14: uncertainty: uncertainty is for mechanism: rprpr")
     assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
+
+
+def test_the_configurations_uncertainty_on_a_5r_is_refused_at_a_line(tmp_path: Path) -> None:
+    """The task file holds no ``uncertainty`` key to point at: the one line names the
+    configuration and stands at the task's timing (its motion), file:line:col, exit 2."""
+    (tmp_path / "rprpr.toml").write_text(
+        'uncertainty = {links = "5%", acceleration = 0.01, period = 0.001}\n'
+    )
+    path = tmp_path / "dextar.rprpr.yaml"
+    path.write_text(TEXT)
+    with chdir(tmp_path):
+        code, _, err = run_cli("check", path.name)
+    assert code == 2
+    line = _line(TEXT, "timing:")
+    assert err == (
+        f"{path.name}:{line}:1: uncertainty: uncertainty is {YET} (declared by the"
+        f" configuration {tmp_path / 'rprpr.toml'}:1) (its audit is the RPRPR's) [RPR001]\n"
+    )
 
 
 @pytest.mark.parametrize(
