@@ -116,14 +116,21 @@ class FiveBarAuditResult(Judged):
 
     def resample(self, t: np.ndarray) -> FiveBarSamples:
         """The motion, joints, δ, the axial force and the torques at the times ``t`` [s],
-        certified (``certified.five_bar_samples``)."""
+        certified (``certified.five_bar_samples``); from the first Type I instant on the
+        working modes are lost: the joints, δ, α and the torques there are NaN with the
+        Type I reason code (only the path is known)."""
+        times = np.asarray(t, dtype=float)
         if len(self.task.motion) > 1:
             from .five_bar_pieces import sample_pieces
 
-            return sample_pieces(self.pieces, np.asarray(t, dtype=float))
-        from .certified.five_bar_samples import sample
+            got = sample_pieces(self.pieces, times)
+        else:
+            from .certified.five_bar_samples import sample
 
-        return sample(self.motion, np.asarray(t, dtype=float))
+            got = sample(self.motion, times)
+        if self.analysis.type_one:
+            _past_type_one(got, self.analysis.type_one[0])
+        return got
 
     @cached_property
     def saturation(self) -> list[tuple[FiveBarInstant, Window | None, Window | None]]:
@@ -269,6 +276,23 @@ def _certified(
     if limit is not None:
         checked = limit_check(motion, (to_float(limit[0]), to_float(limit[1])), peak)
     return peak, peak is not None, checked
+
+
+def _past_type_one(samples: FiveBarSamples, k: TypeOne) -> None:
+    """The samples at or after the Type I instant ``k`` (exactly when it is rational):
+    NaN but for the path, with the Type I reason code (in place)."""
+    from .certified.five_bar_samples import FIELDS, PATH, TYPE_ONE
+
+    if k.t_exact is not None:
+        past = np.array([fmpq(*v.as_integer_ratio()) >= k.t_exact for v in samples.t.tolist()])
+    else:
+        past = samples.t >= k.t
+    if not past.any():
+        return
+    for name in FIELDS:
+        if name not in PATH:
+            samples.column(name)[past] = math.nan
+    samples.reason[past] = TYPE_ONE
 
 
 def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
