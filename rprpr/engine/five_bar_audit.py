@@ -419,9 +419,7 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
     working modes (``knots.knots``' one-sided torques at a knot), in arb; None where a
     leg's discriminant or δ is not proven nonzero."""
     assert robot.five_bar is not None
-    (x, y), u = K._local(piece, t)
-    values = [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
-                              y, y.derivative(), y.derivative().derivative())]  # fmt: skip
+    values = K.path_at(piece, t)
     old = ctx.prec
     ctx.prec = K.PREC
     try:
