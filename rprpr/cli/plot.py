@@ -213,7 +213,7 @@ def _motions(loaded: Sequence[tuple[Task, str]], samples: int) -> list[Motion]:
     motions = []
     for task, src in loaded:
         with task_named(src):
-            # a 5R's certified peak is not built: its sheet draws its exact audit
+            # a 5R's sheet draws no torque peak (its exact audit and samples): not computed
             peak = task.robot.mechanism != FIVE_BAR
             motions.append(P.motion(audit(task, AuditOptions(samples, peak=peak)), src))
     return motions

@@ -116,14 +116,21 @@ class FiveBarAuditResult(Judged):
 
     def resample(self, t: np.ndarray) -> FiveBarSamples:
         """The motion, joints, δ, the axial force and the torques at the times ``t`` [s],
-        certified (``certified.five_bar_samples``)."""
+        certified (``certified.five_bar_samples``); from the first Type I instant on the
+        working modes are lost: the joints, δ, α and the torques there are NaN with the
+        Type I reason code (only the path is known)."""
+        times = np.asarray(t, dtype=float)
         if len(self.task.motion) > 1:
             from .five_bar_pieces import sample_pieces
 
-            return sample_pieces(self.pieces, np.asarray(t, dtype=float))
-        from .certified.five_bar_samples import sample
+            got = sample_pieces(self.pieces, times)
+        else:
+            from .certified.five_bar_samples import sample
 
-        return sample(self.motion, np.asarray(t, dtype=float))
+            got = sample(self.motion, times)
+        if self.analysis.type_one:
+            _past_type_one(got, self.analysis.type_one[0])
+        return got
 
     @cached_property
     def saturation(self) -> list[tuple[FiveBarInstant, Window | None, Window | None]]:
@@ -206,13 +213,15 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     whole = all(a.on_curve for a in parts) and len(parts) == len(task.motion)
     found = findings(task, analysis, knots, _on_curve(task, parts, whole))
     peak, computed, checked = _certified(task, analysis, asked, whole, tell, parts)
+    text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
     if checked is not None:
         from .five_bar_certified import limit_findings
 
-        text = labels([k.t for k in analysis.type_one] + [s.t for s in analysis.instants])
         found += limit_findings(
             task, analysis.instants, peak, checked, lambda t: f"t = {text[t]} s"
         )
+    elif task.checks.torque_limit is not None and analysis.refused and not whole:
+        found.append(unchecked(analysis.type_one[0], text[analysis.type_one[0].t]))
     return FiveBarAuditResult(
         task=task,
         strict=strict,
@@ -267,6 +276,23 @@ def _certified(
     if limit is not None:
         checked = limit_check(motion, (to_float(limit[0]), to_float(limit[1])), peak)
     return peak, peak is not None, checked
+
+
+def _past_type_one(samples: FiveBarSamples, k: TypeOne) -> None:
+    """The samples at or after the Type I instant ``k`` (exactly when it is rational):
+    NaN but for the path, with the Type I reason code (in place)."""
+    from .certified.five_bar_samples import FIELDS, PATH, TYPE_ONE
+
+    if k.t_exact is not None:
+        past = np.array([fmpq(*v.as_integer_ratio()) >= k.t_exact for v in samples.t.tolist()])
+    else:
+        past = samples.t >= k.t
+    if not past.any():
+        return
+    for name in FIELDS:
+        if name not in PATH:
+            samples.column(name)[past] = math.nan
+    samples.reason[past] = TYPE_ONE
 
 
 def certified_motion(task: Task, analysis: FiveBarAnalysis) -> FiveBarMotion:
@@ -393,9 +419,7 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
     working modes (``knots.knots``' one-sided torques at a knot), in arb; None where a
     leg's discriminant or δ is not proven nonzero."""
     assert robot.five_bar is not None
-    (x, y), u = K._local(piece, t)
-    values = [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
-                              y, y.derivative(), y.derivative().derivative())]  # fmt: skip
+    values = K.path_at(piece, t)
     old = ctx.prec
     ctx.prec = K.PREC
     try:
@@ -431,8 +455,10 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
     a motion of one piece: ``five_bar_certified``; of several: ``five_bar_pieces``.)"""
     if task.robot.mechanism != FIVE_BAR:
         return
-    if task.uncertainty is not None or (options is not None and options.uncertainty):
-        raise _error(task, f"uncertainty is {YET} (its audit is the RPRPR's)", "uncertainty")
+    u = task.uncertainty or (options.uncertainty if options is not None else None)
+    if u is not None:
+        whose = f" (declared by the configuration {u.origin})" if u.origin else ""
+        raise _error(task, f"uncertainty is {YET}{whose} (its audit is the RPRPR's)", "uncertainty")
 
 
 def refuse_command(task: Task, command: str) -> None:
@@ -451,8 +477,14 @@ def _motion_key(task: Task) -> str:
 
 
 def _error(task: Task, message: str, key: str) -> TaskFileError:
+    """A ``TaskFileError`` at ``key``'s line, else its section's, else (a key the task
+    file does not hold: an option or the configuration asked for it) at the motion's
+    top-level key (column 1)."""
     line = task.lines.get(key) or task.lines.get(key.split(".")[0], 0)
-    return TaskFileError(message, file=task.source, line=line, key=key)
+    if line:
+        return TaskFileError(message, file=task.source, line=line, key=key)
+    line = task.lines.get(_motion_key(task), 0)
+    return TaskFileError(message, file=task.source, line=line, column=1 if line else 0, key=key)
 
 
 # -- the findings -------------------------------------------------------------------------
@@ -503,6 +535,19 @@ def type_one(k: TypeOne, t: str, before: int = 0, several: bool = False) -> Find
         f" analysis stops here ({found} before it)"
     )
     return Finding("RPR103", message, k.t)
+
+
+def unchecked(k: TypeOne, t: str) -> Finding:
+    """RPR202: ``checks.torque_limit`` is not checked, because the first Type I instant
+    (``k``, at ``t``) stops the analysis: the torques are undefined past it (the working
+    mode is lost), so the limit is not decided over [0, t_f] (``torque_limit`` None)."""
+    joint = "A" if k.leg == 1 else "B"
+    message = (
+        f"t = {t} s: the torque limit is not checked: leg {k.leg} is {k.kind} (Type I"
+        f" singularity, |E - {joint}| at its bound), where the analysis stops; the torques"
+        " past it are undefined (the working mode is lost)"
+    )
+    return Finding("RPR202", message, k.t)
 
 
 def where_text(s: FiveBarInstant, t: str) -> str:

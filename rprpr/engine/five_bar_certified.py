@@ -27,6 +27,7 @@ from typing import Any
 from flint import arb, fmpq
 
 from ..model.numbers import to_float
+from .bounds.boxes import last_float
 from .bounds.search import PEAK_ABS, PEAK_REL
 from .bounds.verdicts import CROSSING_REL, LimitCheck, Peak, Window
 from .certified.five_bar import PREC, FiveBarMotion, abs_bounds, precision
@@ -48,16 +49,6 @@ def partition(duration: fmpq, n: int = START_BOXES) -> list[Box]:
 def halves(b: Box) -> list[Box]:
     mid = (b[0] + b[1]) / 2
     return [(b[0], mid), (mid, b[1])]
-
-
-def as_float(q: fmpq) -> float:
-    return to_float(q)
-
-
-def down(q: fmpq) -> float:
-    """The largest double <= q."""
-    f = to_float(q)
-    return math.nextafter(f, -math.inf) if fmpq(*f.as_integer_ratio()) > q else f
 
 
 def up(q: fmpq) -> float:
@@ -91,7 +82,7 @@ def torque_peak(
         return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
     with precision(PREC):
         best, best_t = [0.0, 0.0], [0.0, 0.0]
-        first, last = up(lo), down(hi)
+        first, last = up(lo), last_float(hi)
         candidates = [(first, value_at(fm, first)), (last, value_at(fm, last))]
         for s in fm.instants:  # the limits at bounded instants are values of T
             if (
@@ -105,10 +96,6 @@ def torque_peak(
             _raise(best, best_t, v, t)
         boxes = partition(hi - lo)
         return _maximise(fm, [(a + lo, b + lo) for a, b in boxes], best, best_t, rel)
-
-
-def _at_double(t: float, exact: fmpq) -> bool:
-    return fmpq(*t.as_integer_ratio()) == exact
 
 
 def _raise(best: list[float], best_t: list[float], v: Sequence[float], t: float) -> None:
@@ -197,7 +184,7 @@ def limit_check(
             nxt = []
             for b, act in live:
                 st = _states(fm, b, limit)
-                wide = as_float(b[1] - b[0]) > res
+                wide = to_float(b[1] - b[0]) > res
                 cut = [act[i] and st[i] == OPEN and wide for i in (0, 1)]
                 for i in (0, 1):
                     if act[i] and not cut[i]:
@@ -257,7 +244,7 @@ def _windows(boxes: list[tuple[Box, int]], poles: Sequence[FiveBarInstant]) -> l
             first, last = (inner[0], inner[-1]) if inner else (0, len(run) - 1)
             start_hi = run[first][0][0] if inner else run[0][0][1]
             end_lo = run[last][0][1] if inner else run[-1][0][0]
-            out.append(Window(down(lo), up(start_hi), down(end_lo), up(hi), pole))
+            out.append(Window(last_float(lo), up(start_hi), last_float(end_lo), up(hi), pole))
         j = k + 1
     return out
 

@@ -24,7 +24,7 @@ from ..engine.exact.five_bar_instants import FiveBarInstant
 from ..engine.five_bar_audit import FiveBarAuditResult
 from ..model.names import file_name
 from ..model.numbers import to_float
-from .knot_records import knot_record
+from .knot_records import knot_record, side_fields
 
 
 def value(v: Any) -> float | None:
@@ -78,12 +78,7 @@ def instant_record(
     }
 
 
-SIDE_FIELDS = (
-    "order", "kind", "high_order", "slope", "speed", "slope_principle", "slope_reason",
-    "velocity_principle", "velocity_reason", "consistency_residual", "residuals",
-    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
-    "torque_at_singularity",
-)  # fmt: skip
+SIDE_FIELDS = side_fields("residuals", after="consistency_residual")
 
 
 def side_record(s: FiveBarInstant) -> dict[str, Any]:

@@ -26,3 +26,19 @@ def knot_record(k: Knot) -> dict[str, Any]:
         "acceleration_jump": None if k.acceleration_jump is None else list(k.acceleration_jump),
         "torque_jump": None if jump is None else [_f(jump[0]), _f(jump[1])],
     }
+
+
+_SIDE = (
+    "order", "kind", "high_order", "slope", "speed", "slope_principle", "slope_reason",
+    "velocity_principle", "velocity_reason", "consistency_residual", "consistent",
+    "conditions_required", "conditions_met", "torque_bounded", "pole_order",
+    "torque_at_singularity",
+)  # fmt: skip
+
+
+def side_fields(own: str, after: str) -> tuple[str, ...]:
+    """The fields of one side of an instant at a knot, the same for every mechanism but
+    for its own one (``own``: δ's derivatives of the RPRPR, the residuals of the 5R),
+    placed after the field ``after``."""
+    i = _SIDE.index(after) + 1
+    return (*_SIDE[:i], own, *_SIDE[i:])

@@ -19,6 +19,7 @@ from ..model.numbers import labels, number, to_float
 from ..model.rules import RULES
 from ..model.task import Task
 from .knot_records import knot_record as _knot_record
+from .knot_records import side_fields
 
 if TYPE_CHECKING:  # the robust machinery loads only for a task that declares uncertainty
     from ..engine.five_bar_audit import FiveBarAuditResult
@@ -49,12 +50,7 @@ def singularity_record(
     return out
 
 
-SIDE_FIELDS = (
-    "order", "kind", "high_order", "delta_derivatives", "slope", "speed", "slope_principle",
-    "slope_reason", "velocity_principle", "velocity_reason", "consistency_residual",
-    "consistent", "conditions_required", "conditions_met", "torque_bounded", "pole_order",
-    "torque_at_singularity",
-)  # fmt: skip
+SIDE_FIELDS = side_fields("delta_derivatives", after="high_order")
 
 
 def side_record(s: SingularInstant) -> dict[str, Any]:

@@ -10,13 +10,18 @@ raises ``TaskFileError`` at the same key.
 
 from __future__ import annotations
 
+from contextlib import chdir
+from fractions import Fraction
+from functools import cache
 from pathlib import Path
 
+import mpmath
 import pytest
 
 from rprpr import audit
 from rprpr.io.loader import load_task
 from tests.conftest import run_cli
+from tests.fivebar.reference import DPS, FiveBar, Motion, torques
 
 DEXTAR = Path(__file__).resolve().parents[1] / "io" / "data" / "five_bar_dextar.rprpr.yaml"
 TEXT = DEXTAR.read_text()
@@ -38,11 +43,52 @@ def _without_limit(folder: Path, extra: str = "") -> Path:
     return path
 
 
+def _reference_peaks() -> list[Fraction]:
+    """max |T1|, max |T2| of the DexTAR task by the Newton-Euler reference (mpmath): on
+    201 times of [0, t_f], then twice on a grid 20 times finer about the largest."""
+    rb = FiveBar(
+        Fraction(1, 5), (Fraction(1, 5),) * 2 + (Fraction(3, 10),) * 2,
+        (Fraction(1, 4),) * 2 + (Fraction(3, 20),) * 2,
+        (Fraction(83, 100000),) * 2 + (Fraction(1125, 1000000),) * 2,
+        (Fraction(1, 10),) * 2 + (Fraction(3, 20),) * 2, Fraction(981, 100),
+    )  # fmt: skip
+    tf, d = Fraction(1, 2), Fraction(3, 10)  # quintic rest to rest, x from -0.05 to 0.25
+    m = Motion((Fraction(-1, 20), 0, 0, 10 * d / tf**3, -15 * d / tf**4, 6 * d / tf**5),
+               (Fraction(3, 10),))  # fmt: skip
+
+    @cache
+    def both(t: Fraction) -> tuple[Fraction, Fraction]:
+        with mpmath.workdps(DPS):
+            T = torques(rb, m, t, (1, -1))
+            return Fraction(mpmath.nstr(abs(T[0]), 30)), Fraction(mpmath.nstr(abs(T[1]), 30))
+
+    def size(t: Fraction, i: int) -> Fraction:
+        return both(t)[i]
+
+    out = []
+    for i in (0, 1):
+        h = tf / 200
+        ts = [h * j for j in range(201)]
+        for _ in range(3):
+            best = max(ts, key=lambda t: size(t, i))
+            ts = [t for t in (best + h * (j - 20) / 20 for j in range(41)) if 0 <= t <= tf]
+            h /= 20
+        out.append(max(size(t, i) for t in ts))
+    return out
+
+
 def test_the_audit_checks_a_5r_tasks_torque_limit() -> None:
-    result = audit(load_task(DEXTAR))
+    """The reference's max |T1|, |T2| (0.8647 N m) is below the limit 5 N m: passed; and
+    the engine's certified peak holds it."""
+    peaks = _reference_peaks()
+    assert all(0.8 < p < 5 for p in peaks)
+    result = audit(load_task(DEXTAR), peak=True)
     assert result.torque_limit is not None
     assert [c.passed for c in result.torque_limit] == [True, True]
     assert [c.limit for c in result.torque_limit] == [5.0, 5.0]
+    assert result.torque_peak is not None
+    for pk, ref in zip(result.torque_peak, peaks, strict=True):
+        assert pk.value <= ref * (1 + 1e-9) and pk.upper >= ref * (1 - 1e-9)
 
 
 @pytest.mark.parametrize("form", ["concise", "text"])
@@ -75,6 +121,24 @@ def test_check_refuses_declared_uncertainty_on_a_5r(tmp_path: Path) -> None:
     # the task file's reader refuses it already (the robust audit is the RPRPR's)
     assert err.startswith(f"{path}:{line}:14: uncertainty: uncertainty is for mechanism: rprpr")
     assert err.endswith(" [RPR001]\n") and err.count("\n") == 1
+
+
+def test_the_configurations_uncertainty_on_a_5r_is_refused_at_a_line(tmp_path: Path) -> None:
+    """The task file holds no ``uncertainty`` key to point at: the one line names the
+    configuration and stands at the task's timing (its motion), file:line:col, exit 2."""
+    (tmp_path / "rprpr.toml").write_text(
+        'uncertainty = {links = "5%", acceleration = 0.01, period = 0.001}\n'
+    )
+    path = tmp_path / "dextar.rprpr.yaml"
+    path.write_text(TEXT)
+    with chdir(tmp_path):
+        code, _, err = run_cli("check", path.name)
+    assert code == 2
+    line = _line(TEXT, "timing:")
+    assert err == (
+        f"{path.name}:{line}:1: uncertainty: uncertainty is {YET} (declared by the"
+        f" configuration {tmp_path / 'rprpr.toml'}:1) (its audit is the RPRPR's) [RPR001]\n"
+    )
 
 
 @pytest.mark.parametrize(

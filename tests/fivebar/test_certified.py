@@ -405,3 +405,37 @@ def test_the_motors_angles_are_continuous_across_the_negative_axis(m: Motion) ->
                            (got.theta2[j], mpmath.atan2(D[1], D[0] - DEXTAR.a))):  # fmt: skip
                 turns = round((v - float(ref)) / (2 * math.pi))
                 assert close(v, ref + 2 * mpmath.pi * turns), (t, v, ref)
+
+
+def test_two_rational_crossings_closer_than_a_double_are_told_apart() -> None:
+    """Leg 1's elbow C is at (-13, 0) (on the negative x-axis) where E is on the circle
+    of radius 13 about it: at s = 1/2 and s = 1/2 + 2^-70 of its rational parametrisation,
+    P1 and P2. E runs along the chord P1 P2, through P1 at t1 = 1/8 and P2 at t2 = t1 + ε:
+    C dips below the axis between them (the chord is inside the circle). The two times
+    are rational roots of P closer than a double tells apart; the crossings are both,
+    exact, with opposite turns, as the reference's elbows (mpmath) say c_y changes sign."""
+    from rprpr.engine.certified.five_bar_angles import crossings
+
+    eps = Q(1, 2**70)
+
+    def on_circle(s: Q) -> tuple[Q, Q]:
+        return (-13 + 13 * (1 - s * s) / (1 + s * s), 13 * 2 * s / (1 + s * s))
+
+    p1, p2 = on_circle(Q(1, 2)), on_circle(Q(1, 2) + eps)
+    t1, t2 = Q(1, 8), Q(1, 8) + eps
+    v = ((p2[0] - p1[0]) / eps, (p2[1] - p1[1]) / eps)
+    m = Motion((p1[0] - v[0] * t1, v[0]), (p1[1] - v[1] * t1, v[1]))
+    x, y = polys(m)
+    fm = FiveBarMotion(robot(ROBOT, MODES), q(ROBOT.g), x, y, fmpq(1, 4), ())
+    got = crossings(fm, 1)
+    assert [c.exact for c in got] == [q(t1), q(t2)]
+    with mpmath.workdps(200):
+        signs = []
+        for t in (t1 - eps, (t1 + t2) / 2, t2 + eps):
+            E = tuple(mp(j.c[0]) for j in m.at(t, 1))
+            C, _ = elbows(ROBOT, E, MODES)
+            signs.append(int(mpmath.sign(C[1])))
+            assert C[0] < 0
+    assert signs[0] == signs[2] == -signs[1] != 0
+    # c_y from + to - on the negative axis: the angle passes π upward (+1), and back
+    assert [(c.before, c.turn) for c in got] == [(signs[0], signs[0]), (signs[1], signs[1])]

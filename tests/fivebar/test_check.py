@@ -16,6 +16,7 @@ carries the reference's instant times.
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable
 from fractions import Fraction as Q
 from functools import cache
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import mpmath
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -250,6 +252,26 @@ def test_a_leg_stretched_is_reported_as_the_rprprs_e_at_a(tmp_path: Path) -> Non
     )
 
 
+def test_a_torque_limit_past_a_type_one_instant_is_said_not_checked(tmp_path: Path) -> None:
+    """The stretched motion above with checks.torque_limit: the leg is stretched at
+    t = (√579.96 - 12.6)/12 and the analysis stops there, so the limit is not decided
+    (``torque_limit`` null): the report says so in an RPR202 finding located at that
+    instant, in the task file's line for the limit, rather than saying nothing."""
+    path = tmp_path / "stretch.rprpr.yaml"
+    path.write_text(
+        f"name: stretch\n{robot_text()}motion:\n  pieces:\n"
+        "    - until: 1\n      x: 12.6 + 12*t\n      y: 9.8\n"
+        "checks:\n  torque_limit: [1000, 1000]\n"
+    )
+    t_i = (math.sqrt(579.96) - 12.6) / 12
+    code, rep = check_json(path)
+    assert code == 1 and rep["torque_limit"] is None
+    (f,) = [f for f in rep["findings"] if f["rule"] == "RPR202"]
+    assert abs(f["t"] - t_i) <= 1e-12 and f["key"] == "checks.torque_limit"
+    assert "the torque limit is not checked: leg 1 is stretched" in f["message"]
+    assert f["line"] == path.read_text().splitlines().index("  torque_limit: [1000, 1000]") + 1
+
+
 @pytest.mark.parametrize(("margin", "rules"), [("1.1", []), ("1.2", ["RPR102"])])
 def test_the_speed_margin_is_the_rprprs(tmp_path: Path, margin: str, rules: list[str]) -> None:
     """The consistent crossing moves at |v| = |(1, 1/2)| = √5/2 = 1.1180 m/s through the
@@ -323,3 +345,29 @@ def test_every_format_reports_a_5r_finding(tmp_path: Path, form: str) -> None:
     assert (code, err) == (1, "")
     assert "RPR201" in out and "internal" not in out
     assert "t = 0.1 s, (x, y) = (12.6, 9.8), modes (+1, -1)" in out  # σ: escaped in JSON
+
+
+def test_samples_past_a_type_one_instant_carry_its_reason(tmp_path: Path) -> None:
+    """E(t) = (t - 1/2, 1/2 - t) runs through A at t = 1/2: leg 1 (l1 = l3) is folded
+    there, |E - A| = |l1 - l3| = 0, and its working mode is lost. From that instant on
+    the samples hold the path but no joint, δ, α or torque: NaN, with the Type I reason
+    code 7 (the export's reason for them); before it, every value is certified (0)."""
+    from rprpr import audit
+    from rprpr.engine.certified.five_bar_samples import TYPE_ONE
+    from rprpr.io.loader import load_task
+
+    path = tmp_path / "fold.rprpr.yaml"
+    path.write_text(
+        f"name: fold\n{robot_text()}motion:\n  pieces:\n"
+        "    - until: 1\n      x: -0.5 + t\n      y: 0.5 - t\n"
+    )
+    r = audit(load_task(path), samples=11)
+    assert [(k.leg, k.kind, str(k.t_exact)) for k in r.analysis.type_one] == [(1, "folded", "1/2")]
+    got = r.samples
+    past = got.t >= 0.5
+    assert TYPE_ONE == 7 and list(got.reason) == [0] * 5 + [7] * 6
+    for name in ("theta1", "theta2", "delta", "alpha", "T1", "T2"):
+        assert not np.isnan(got.column(name)[~past]).any(), name
+        assert np.isnan(got.column(name)[past]).all(), name
+    assert np.allclose(got.x, got.t - 0.5, rtol=0, atol=1e-15)
+    assert np.allclose(got.y, 0.5 - got.t, rtol=0, atol=1e-15)

@@ -235,10 +235,11 @@ class FiveBarMotion:
             n = m + TERMS
             A = [_padded(e.A[j].coeffs(), n) for j in (0, 1)]
             q = _padded(e.d.delta.coeffs(), n)
-            if any(not v.contains(0) for v in [*A[0][:k], *A[1][:k], *q[:m]]):
+            nu = _padded(e.d.nu.coeffs(), n)
+            zero = [*A[0][:k], *A[1][:k], *q[:m], *(nu[:m] if s.bounded else [])]
+            if any(not v.contains(0) for v in zero):  # ν too where α = ν/δ stays bounded
                 raise AssertionError("a coefficient the exact analysis proves zero is not")
-            nu = _padded(e.d.nu.coeffs(), n)[m:]
-            self._zones[i] = Zone(s, t_s, [A[0][k:], A[1][k:]], q[m:], nu)
+            self._zones[i] = Zone(s, t_s, [A[0][k:], A[1][k:]], q[m:], nu[m:])
         return self._zones[i]
 
     def zone_values(self, s: FiveBarInstant, t: arb, span: tuple[fmpq, fmpq]) -> tuple[arb, arb]:

@@ -95,11 +95,18 @@ def crossings(m: FiveBarMotion, i: int) -> list[Crossing]:
     P = K * K * y * y - D * u * u
     if P.is_zero():
         return []
-    roots = sorted(((exact_ends(at(128)), exact, at) for exact, at in real_roots_in(P, m.duration)),
-                   key=lambda r: r[0][0])  # fmt: skip
-    bounds = [b for b, _, _ in roots]
-    if any(a[1] >= b[0] for a, b in pairwise(bounds)):
-        raise AssertionError("two roots of P not told apart at 128 bits")
+    found = real_roots_in(P, m.duration)
+    bits = 128
+    while True:
+        with precision(bits):
+            roots = sorted(((_ends(exact, at, bits), exact, at) for exact, at in found),
+                           key=lambda r: r[0][0])  # fmt: skip
+        bounds = [b for b, _, _ in roots]
+        if all(a[1] < b[0] for a, b in pairwise(bounds)):
+            break
+        if bits >= MAX_BITS:  # distinct roots, so only a bug leaves two overlapping
+            raise AssertionError(f"two roots of P not told apart at {bits} bits")
+        bits *= 2
     edges = [fmpq(0), *(e for b in bounds for e in b), m.duration]
     gaps = [
         _sign(m, i, (lo + hi) / 2, "y") if lo < hi else 0
@@ -113,6 +120,12 @@ def crossings(m: FiveBarMotion, i: int) -> list[Crossing]:
         if _sign(m, i, exact if exact is not None else at, "x") < 0:
             out.append(Crossing(exact, at, (1 if before > 0 else -1) if after else 0, before))
     return out
+
+
+def _ends(exact: fmpq | None, at: Any, bits: int) -> tuple[fmpq, fmpq]:
+    """Rationals around a root of P: the root itself when rational, else its ball's ends
+    at ``bits``."""
+    return (exact, exact) if exact is not None else exact_ends(at(bits))
 
 
 def turns(cross: list[Crossing], t: fmpq, principal: float) -> float:

@@ -35,8 +35,8 @@ REASONS = {
     POLE: "a Type II instant with unbounded torques (a pole of alpha): alpha, T1, T2 undefined",
     UNCERTIFIED: f"not certified to {TOL:g} at {MAX_PREC} bits: no value",
     BEYOND_DOUBLE: "beyond the double range: |value| > 1.8e308 (certified)",
-    TYPE_ONE: "a leg stretched or folded, or E out of its reach (Type I): the joints, δ,"
-    " alpha and T undefined",
+    TYPE_ONE: "a leg stretched or folded, or E out of its reach (Type I), or past the first"
+    " Type I instant (the working mode is lost): the joints, δ, alpha and T undefined",
 }
 
 # the export columns of a 5R, in order (SI units, angles in radians); the accelerations

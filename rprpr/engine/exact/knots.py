@@ -89,12 +89,18 @@ def _local(piece: Piece, t: fmpq) -> tuple[tuple[Any, Any], fmpq]:
     return (piece.x, piece.y), t
 
 
+def path_at(piece: Piece, t: fmpq) -> list[fmpq]:
+    """x, x', x'', y, y', y'' of the motion ``piece`` at the exact time t, exactly (each
+    mechanism's ``torques_at`` starts from them)."""
+    (x, y), u = _local(piece, t)
+    return [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
+                           y, y.derivative(), y.derivative().derivative())]  # fmt: skip
+
+
 def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | None:
     """(T1, T2) of the motion ``piece`` at the exact time t (eq. 28 with λ = μ/δ,
     eqs. 30-31), in arb; None where δ or s1, s2 are not proven nonzero."""
-    (x, y), u = _local(piece, t)
-    values = [p(u) for p in (x, x.derivative(), x.derivative().derivative(),
-                              y, y.derivative(), y.derivative().derivative())]  # fmt: skip
+    values = path_at(piece, t)
     old = ctx.prec
     ctx.prec = PREC
     try:

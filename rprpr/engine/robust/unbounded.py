@@ -64,13 +64,12 @@ class Pole:
     coef: float  # c > 0
     rest: float  # k >= 0
     s_max: float
-    a: float  # the acceleration bound [m/s²]
+    a: fmpq  # the acceleration bound [m/s²], exact
 
     def lower(self, s: float) -> float:
         """The proven lower bound at a time where s_i = ``s`` (0 < s <= ``s_max``), rounded
         down (a double)."""
-        return float((arb(self.a) * (arb(self.coef) / arb(s) ** self.order
-                                     - arb(self.rest))).lower())  # fmt: skip
+        return round_down(arb(self.a) * (arb(self.coef) / arb(s) ** self.order - arb(self.rest)))
 
 
 def poles(task: Task, parts: Sequence[Any], box: Box,
@@ -127,8 +126,7 @@ def _side(task: Task, p: Any, k: Any, side: int, box: Box, t_abs: float,
         got = _bound(task.robot, k.leg, motion, arb(0).union(arb(side * w)))
         if got is not None:
             effort, p_order, coef, rest, s_max = got
-            return Pole(effort, k.leg, t_abs, side, w, p_order, coef, rest, s_max,
-                        to_float(box.a))  # fmt: skip
+            return Pole(effort, k.leg, t_abs, side, w, p_order, coef, rest, s_max, box.a)
     return None
 
 

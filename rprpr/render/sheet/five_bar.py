@@ -94,9 +94,10 @@ def kinematic_of(k: TypeOne, x: fmpq_poly, y: fmpq_poly) -> Kinematic:
 
 class Drawn:
     """A 5R audit as the sheet reads an ``AuditResult``: ``singularities`` (``Mark``s),
-    ``status_of``, ``kinematic_singularities``, the verdict and findings; what a 5R
-    audit does not have (a torque peak or limit, a near miss, robust bands, knots) is
-    absent; ``resample`` gives the drawing's samples (``samples``)."""
+    ``status_of``, ``kinematic_singularities``, the verdict, findings and knots; what
+    the sheet does not draw of a 5R (its torque peak and limit) or a 5R audit does not
+    have (a near miss, robust bands) is absent; ``resample`` gives the drawing's samples
+    (``samples``)."""
 
     mechanism = fb.FIVE_BAR.name
 

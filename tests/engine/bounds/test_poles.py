@@ -12,6 +12,7 @@ band) and the band it proves above a limit, against the independent reference
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import cache
 
 import mpmath
 import numpy as np
@@ -20,6 +21,9 @@ import pytest
 from rprpr.engine.bounds import limits
 from rprpr.engine.bounds.envelope import Envelope
 from rprpr.engine.bounds.poles import band_floor, estimate, point_series, pole_bands, pole_form
+from rprpr.io.loader import parse_task
+from rprpr.model.task import Task
+from tests.conftest import CONFIGS as CONFIGS_DIR
 from tests.engine.bounds.test_scalars import _exact, _root
 from tests.engine.certified.test_motion import _config, _motion
 from tests.reference import reference
@@ -83,7 +87,30 @@ def test_the_pole_form_holds_the_reference_over_its_band(name: str, share: float
 def test_the_bands_are_proven_above_the_limit_and_the_crossings_hold_the_roots(
     name: str, limit: float
 ) -> None:
-    task = _config(name)
+    _bands_and_crossings(_config(name), limit)
+
+
+@cache
+def _irrational() -> Task:
+    """Case 1 on to x = 9.5: the quintic law reaches x = 8 (y = 0) at an irrational time
+    t_s ≈ 1.78502 s, a pole there."""
+    text = (CONFIGS_DIR / "case1_crossing.rprpr.yaml").read_text(encoding="utf-8")
+    assert "  to: [9, 0.5]\n" in text
+    return parse_task(text.replace("  to: [9, 0.5]\n", "  to: [9.5, 0.75]\n"))
+
+
+@pytest.mark.parametrize("limit", [80.0, 300.0, 1000.0])
+def test_the_bands_about_an_irrational_pole_hold_the_reference(limit: float) -> None:
+    task = _irrational()
+    (s,) = [s for s, _ in _motion(task).instants if not s.torque_bounded]
+    assert s.t_exact is None and abs(s.t - 1.78502) < 1e-5
+    assert _bands_and_crossings(task, limit) >= 4  # each torque, on each side of the pole
+
+
+def _bands_and_crossings(task: Task, limit: float) -> int:
+    """Each band about a pole has its floor above ``limit`` and below the reference's
+    |T_i| at five times across it; each crossing window of the limit check brackets the
+    reference's root of |T_i| - limit."""
     env = Envelope(_motion(task))
     got: list[object] = []
 
@@ -104,6 +131,7 @@ def test_the_bands_are_proven_above_the_limit_and_the_crossings_hold_the_roots(
                 assert band.floor[i, j] > limit
                 assert abs(ref[key]) >= band.floor[i, j], (t, key)
     tf = float(env.motion.traj.duration)
+    roots = 0
     for key, c in zip(("T1", "T2"), checks, strict=True):
         assert c.passed is False
         for w in c.windows:
@@ -113,3 +141,5 @@ def test_the_bands_are_proven_above_the_limit_and_the_crossings_hold_the_roots(
                 assert 0 <= hi - lo <= c.resolution
                 root = _root(task, key, limit, lo - 1000 * c.resolution, hi + 1000 * c.resolution)
                 assert lo <= root <= hi, (key, lo, hi, root)
+                roots += 1
+    return roots

@@ -97,6 +97,9 @@ def test_bound_holds_and_grows(tmp_path: Path, actuation: str, base: int) -> Non
             assert s <= p.s_max
             bound = p.lower(s)
             assert worst >= bound  # the proven lower bound holds the reference
+            # and it is rounded down: never above a (c / s^p - k) computed exactly
+            exact = Q(int(p.a.p), int(p.a.q)) * (Q(p.coef) / Q(s) ** p.order - Q(p.rest))
+            assert Q(bound) <= exact
             shown = max(shown, bound)
         assert shown > 1e8  # and it grows past any figure as t -> t_A
         # with the pole's own coefficient: the reference within a few times the bound
@@ -122,3 +125,27 @@ def test_no_error_no_proof(tmp_path: Path) -> None:
     task = dataclasses.replace(task, uncertainty=u)
     res = audit(task)
     assert poles(task, list(res.parts), Box.of(task.robot, u)) == []
+
+
+def test_the_lower_bound_is_rounded_down_at_any_working_precision() -> None:
+    """a (c / s^p - k) rounded down to a double, also at 128 bits (poles' own
+    precision), where a ball is narrower than a double's rounding: never above the value
+    computed exactly with fractions (of either sign)."""
+    from flint import ctx, fmpq
+
+    from rprpr.engine.robust.unbounded import Pole
+
+    cases = [
+        (2.0856773675275195, 1.573615585199573, 1.2327307663397529),
+        (2.320903912357481, 1.7937380314702938, 0.8933009419363618),
+        (3.0, 1.0, 1.0), (0.7, 1.0, 0.25), (1.1, 1.3, 0.0),
+    ]  # fmt: skip
+    old = ctx.prec
+    try:
+        for prec in (53, 128, 256):
+            ctx.prec = prec
+            for s, c, k in cases:
+                bound = Pole(0, 1, 1.0, 1, 0.1, 1, c, k, 3.0, fmpq(1, 10)).lower(s)
+                assert Q(bound) <= Q(1, 10) * (Q(c) / Q(s) - Q(k)), (prec, s)
+    finally:
+        ctx.prec = old
