@@ -21,7 +21,6 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 from functools import cached_property
-from itertools import pairwise
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
@@ -34,6 +33,7 @@ from .certified.five_bar_samples import FIELDS, FiveBarSamples, at_time
 from .exact.five_bar_instants import FiveBarAnalysis, FiveBarInstant
 from .five_bar_certified import limit_check, torque_peak
 from .pieces import limits, peaks, which
+from .pieces import theta_offsets as shared_offsets
 
 
 def local(s: FiveBarInstant, origin: fmpq) -> FiveBarInstant:
@@ -109,31 +109,15 @@ def limit_check_pieces(
     return limits(list(parts), got)  # type: ignore[arg-type]
 
 
-def _just(t: fmpq) -> tuple[float, float]:
-    """The doubles just below and just above the exact time t (t itself if a double)."""
-    f = to_float(t)
-    q = fmpq(*f.as_integer_ratio())
-    lo = f if q < t else math.nextafter(f, -math.inf)
-    hi = f if q > t else math.nextafter(f, math.inf)
-    return lo, hi
-
-
 def _theta(p: FiveBarPart, t: float) -> tuple[float, float]:
     v, _ = at_time(p.motion, t, p.crossings)
     return v["theta1"], v["theta2"]
 
 
 def theta_offsets(parts: Sequence[FiveBarPart]) -> None:
-    """Each piece's 2πk per leg, so that θ is continuous across every knot."""
-    for prev, p in pairwise(parts):
-        lo, hi = _just(p.start)
-        before, after = _theta(prev, lo), _theta(p, hi)
-        offset = list(prev.theta_offset)
-        for leg in (0, 1):
-            jump = before[leg] + prev.theta_offset[leg] - after[leg]
-            if math.isfinite(jump):
-                offset[leg] = 2 * math.pi * round(jump / (2 * math.pi))
-        p.theta_offset = (offset[0], offset[1])
+    """Each piece's 2πk per leg, so that θ is continuous across every knot (the RPRPR's
+    ``pieces.theta_offsets``, with the 5R's angles)."""
+    shared_offsets(parts, _theta)
 
 
 def sample_pieces(parts: Sequence[FiveBarPart], t: np.ndarray) -> FiveBarSamples:

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from fractions import Fraction
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
@@ -441,21 +442,34 @@ def _theta_at(p: Part, t: float) -> tuple[float, float]:
     return float(c.value["theta1"][0]), float(c.value["theta2"][0])
 
 
-def theta_offsets(parts: list[Part]) -> None:
+def theta_offsets(
+    parts: Sequence[Any], theta_at: Callable[[Any, float], tuple[float, float]] | None = None
+) -> None:
     """Each piece's 2πk per leg, so that θ is continuous across every knot: the angle
     just after the knot (a double above it) is moved by the multiple of 2π nearest its
-    difference from the angle just before (a double below it)."""
+    difference from the angle just before (a double below it). ``theta_at(part, t)`` is
+    (θ1, θ2) of a part at the absolute time t (the RPRPR's parts' by default; the 5R's
+    parts give theirs, ``five_bar_pieces``)."""
+    angle = theta_at or _theta_at
     offset = [0.0, 0.0]
     for prev, p in itertools.pairwise(parts):
-        t = to_float(p.start)
-        lo = t if fmpq(*t.as_integer_ratio()) < p.start else math.nextafter(t, -math.inf)
-        hi = t if fmpq(*t.as_integer_ratio()) > p.start else math.nextafter(t, math.inf)
-        before, after = _theta_at(prev, lo), _theta_at(p, hi)
+        lo, hi = just_about(p.start)
+        before, after = angle(prev, lo), angle(p, hi)
         for leg in (0, 1):
             jump = before[leg] + prev.theta_offset[leg] - after[leg]
             if math.isfinite(jump):
                 offset[leg] = 2 * math.pi * round(jump / (2 * math.pi))
         p.theta_offset = (offset[0], offset[1])
+
+
+def just_about(t: fmpq) -> tuple[float, float]:
+    """The doubles just below and just above the exact time t (t itself where it is a
+    double below or above t)."""
+    f = to_float(t)
+    q = fmpq(*f.as_integer_ratio())
+    lo = f if q < t else math.nextafter(f, -math.inf)
+    hi = f if q > t else math.nextafter(f, math.inf)
+    return lo, hi
 
 
 def sample(parts: list[Part], t: np.ndarray) -> Samples:
