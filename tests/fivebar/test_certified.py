@@ -16,6 +16,7 @@ hold the reference's crossings (sign changes and bisection of |T_i| - L_i).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from fractions import Fraction as Q
 from functools import cache
 from pathlib import Path
@@ -215,6 +216,12 @@ def ref_crossings(name: str, i: int, limit: float, tf: Q, pole: float | None) ->
     n = 120
     ts = [tf * Q(k, n) for k in range(n + 1)]
     ts = [t for t in ts if pole is None or abs(float(t) - pole) > 1e-6]
+    return bisected(g, ts, pole)
+
+
+def bisected(g: Callable[[Q], Any], ts: list[Q], pole: float | None = None) -> list[Any]:
+    """The roots of g in every step of ``ts`` where g changes sign (a step holding the
+    ``pole`` left out), each bisected 64 times: the lower end of its last bracket."""
     out = []
     vals = [g(t) for t in ts]
     for a, b, ga, gb in zip(ts, ts[1:], vals, vals[1:], strict=False):

@@ -24,6 +24,7 @@ import sympy as sp
 from tests.conftest import run_cli
 
 from .reference import DPS, Motion, torques
+from .test_certified import bisected
 from .test_check import MODES, ROBOT, TF, TS, absolute, check_json, motions
 from .test_pieces import pieces_file
 
@@ -98,18 +99,7 @@ def ref_crossings(i: int, limit: float) -> list[Any]:
         def g(t: Q, m: Motion = m) -> Any:
             return abs(ref(m, t)[i]) - limit
 
-        ts = [lo + (hi - lo) * Q(k, 60) for k in range(61)]
-        vals = [g(t) for t in ts]
-        for a, b, ga, gb in zip(ts, ts[1:], vals, vals[1:], strict=False):
-            if (ga > 0) == (gb > 0):
-                continue
-            for _ in range(64):
-                c = (a + b) / 2
-                if (g(c) > 0) == (ga > 0):
-                    a = c
-                else:
-                    b = c
-            out.append(mpmath.mpf(a.numerator) / a.denominator)
+        out += bisected(g, [lo + (hi - lo) * Q(k, 60) for k in range(61)])
     return out
 
 
