@@ -15,10 +15,11 @@ hold the reference's crossings (sign changes and bisection of |T_i| - L_i).
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable
 from fractions import Fraction as Q
-from functools import cache
+from functools import cache, partial
 from pathlib import Path
 from typing import Any
 
@@ -206,7 +207,64 @@ def test_the_peak_at_a_pole_is_infinite_at_the_instant(name: str) -> None:
 
 
 # -- the limit ----------------------------------------------------------------------------
+# The reference's crossings of |T_i| = limit (bisections of Newton-Euler's torques at 60
+# digits: seconds each) are stored beside this file by their case (the motion, the
+# joint, the limit, the span): the reference's values never change. Written by
+# ``python -m tests.fivebar.test_certified``; a slow test recomputes every stored case,
+# and a case not stored (a new one, or one whose motion changed) is computed here.
+CROSSINGS = Path(__file__).with_name("limit_crossings_reference.json")
+
+
+@cache
+def _stored_crossings() -> dict[str, list[str]]:
+    return json.loads(CROSSINGS.read_text(encoding="utf-8")) if CROSSINGS.exists() else {}
+
+
+def _encode(roots: list[Any]) -> list[str]:
+    return [mpmath.nstr(r, 30) for r in roots]
+
+
+def stored(key: str, compute: Callable[[], list[Any]]) -> list[Any]:
+    """The reference's crossings of the case ``key``: stored, or computed when not."""
+    rows = _stored_crossings().get(key)
+    return compute() if rows is None else _decode(rows)
+
+
+def _decode(rows: list[str]) -> list[Any]:
+    with mpmath.workdps(40):  # the 30 digits stored, read back as written
+        return [mpmath.mpf(r) for r in rows]
+
+
+LIMITS = [
+    ("consistent", (60.0, 40.0)), ("inconsistent", (300.0, 250.0)), ("line", (30.0, 20.0)),
+    ("stop", (80.0, 18.0)),
+]  # fmt: skip
+
+
+def _limit_span(name: str) -> tuple[Q, float | None]:
+    """t_f of the case and its pole (the step holding it is left out), if any."""
+    fm = certified(name)
+    poles = [s.t for s in fm.instants if not s.bounded]
+    return Q(int(fm.duration.p), int(fm.duration.q)), (poles[0] if poles else None)
+
+
+def crossing_cases() -> list[tuple[str, Callable[[], list[Any]]]]:
+    """(key, the reference's computation) of every case of the limit tests here."""
+    out = []
+    for name, limit in LIMITS:
+        tf, pole = _limit_span(name)
+        for i in (0, 1):
+            key = repr(("one piece", name, case(name)[1], i, limit[i], str(tf), pole))
+            out.append((key, partial(_ref_crossings, name, i, limit[i], tf, pole)))
+    return out
+
+
 def ref_crossings(name: str, i: int, limit: float, tf: Q, pole: float | None) -> list[Any]:
+    key = repr(("one piece", name, case(name)[1], i, limit, str(tf), pole))
+    return stored(key, partial(_ref_crossings, name, i, limit, tf, pole))
+
+
+def _ref_crossings(name: str, i: int, limit: float, tf: Q, pole: float | None) -> list[Any]:
     """The times at which |T_i| = limit by the reference: sign changes of |T_i| - limit
     on 120 steps (the pole left out), each bisected to 2^-70 t_f."""
 
@@ -239,20 +297,16 @@ def bisected(g: Callable[[Q], Any], ts: list[Q], pole: float | None = None) -> l
     return out
 
 
-@pytest.mark.parametrize(
-    ("name", "limit"),
-    [("consistent", (60.0, 40.0)), ("inconsistent", (300.0, 250.0)), ("line", (30.0, 20.0)),
-     ("stop", (80.0, 18.0))],
-)  # fmt: skip
+@pytest.mark.parametrize(("name", "limit"), LIMITS)
 def test_limit_windows_bracket_the_references_crossings(
     name: str, limit: tuple[float, float]
 ) -> None:
     fm = certified(name)
     poles = [s.t for s in fm.instants if not s.bounded]
     checks = limit_check(fm, limit)
-    tf = Q(int(fm.duration.p), int(fm.duration.q))
+    tf, pole = _limit_span(name)
     for i, c in enumerate(checks):
-        ref = ref_crossings(name, i, limit[i], tf, poles[0] if poles else None)
+        ref = ref_crossings(name, i, limit[i], tf, pole)
         brackets = [(w.start_lo, w.start_hi) for w in c.windows if w.start_hi > 0]
         brackets += [(w.end_lo, w.end_hi) for w in c.windows if w.end_lo < float(tf) - 1e-15]
         assert len(brackets) == len(ref), (c, ref)
@@ -446,3 +500,28 @@ def test_two_rational_crossings_closer_than_a_double_are_told_apart() -> None:
     assert signs[0] == signs[2] == -signs[1] != 0
     # c_y from + to - on the negative axis: the angle passes π upward (+1), and back
     assert [(c.before, c.turn) for c in got] == [(signs[0], signs[0]), (signs[1], signs[1])]
+
+
+def _all_crossing_cases() -> list[tuple[str, Callable[[], list[Any]]]]:
+    from . import test_certified_pieces
+
+    return crossing_cases() + test_certified_pieces.crossing_cases()
+
+
+@pytest.mark.slow  # Newton-Euler at 60 digits, bisected at every crossing of every case
+def test_the_stored_crossings_are_the_references() -> None:
+    cases = _all_crossing_cases()
+    assert {k for k, _ in cases} == set(_stored_crossings())  # every stored case is live
+    for key, compute in cases:
+        assert _encode(compute()) == _stored_crossings()[key], key
+
+
+def _write_crossings() -> None:
+    table = {key: _encode(compute()) for key, compute in _all_crossing_cases()}
+    for rows in table.values():  # the tests read back the digits stored
+        assert _encode(_decode(rows)) == rows
+    CROSSINGS.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    _write_crossings()

@@ -12,8 +12,9 @@ of it (and the next window's); the exported rows of each piece the reference's t
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from fractions import Fraction as Q
-from functools import cache
+from functools import cache, partial
 from itertools import pairwise
 from pathlib import Path
 from typing import Any
@@ -24,7 +25,7 @@ import sympy as sp
 from tests.conftest import run_cli
 
 from .reference import DPS, Motion, torques
-from .test_certified import bisected
+from .test_certified import bisected, stored
 from .test_check import MODES, ROBOT, TF, TS, absolute, check_json, motions
 from .test_pieces import pieces_file
 
@@ -90,7 +91,22 @@ def ref_max(i: int, lo: Q, hi: Q, m: Motion, n: int = 60) -> Any:
     return best
 
 
+def crossing_cases() -> list[tuple[str, Callable[[], list[Any]]]]:
+    """(key, the reference's computation) of the limit test's cases here."""
+    return [(_crossings_key(i), partial(_ref_crossings, i, LIMIT[i])) for i in (0, 1)]
+
+
+def _crossings_key(i: int) -> str:
+    return repr(("two pieces", pieces(), i, LIMIT[i]))
+
+
 def ref_crossings(i: int, limit: float) -> list[Any]:
+    """The reference's crossings of |T_i| = limit (stored beside test_certified)."""
+    assert limit == LIMIT[i]
+    return stored(_crossings_key(i), partial(_ref_crossings, i, limit))
+
+
+def _ref_crossings(i: int, limit: float) -> list[Any]:
     """The times at which |T_i| = limit by the reference, on each piece apart: sign
     changes of |T_i| - limit on 60 steps of its span, each bisected 64 times."""
     out = []
