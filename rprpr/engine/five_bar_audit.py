@@ -420,9 +420,7 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
     leg's discriminant or δ is not proven nonzero."""
     assert robot.five_bar is not None
     values = K.path_at(piece, t)
-    old = ctx.prec
-    ctx.prec = K.PREC
-    try:
+    with ctx.workprec(K.PREC):
         X, Xd, Xdd, Y, Yd, Ydd = (arb(v) for v in values)
         p = fb.params(robot.five_bar, robot.gravity, arb)
         modes = (int(robot.five_bar.modes[0]), int(robot.five_bar.modes[1]))
@@ -439,8 +437,6 @@ def torques_at(piece: Piece, t: fmpq, robot: Robot) -> tuple[float, float] | Non
         if not (T1.is_finite() and T2.is_finite()):
             return None
         return float(T1.mid()), float(T2.mid())
-    finally:
-        ctx.prec = old
 
 
 ON_CURVE = (

@@ -24,13 +24,13 @@ from collections.abc import Callable, Sequence
 from itertools import pairwise
 from typing import Any
 
-from flint import arb, fmpq
+from flint import arb, ctx, fmpq
 
 from ..model.numbers import to_float
 from .bounds.boxes import last_float
 from .bounds.search import PEAK_ABS, PEAK_REL
 from .bounds.verdicts import CROSSING_REL, LimitCheck, Peak, Window
-from .certified.five_bar import PREC, FiveBarMotion, abs_bounds, precision
+from .certified.five_bar import PREC, FiveBarMotion, abs_bounds
 from .exact.five_bar_instants import FiveBarInstant
 
 START_BOXES = 32  # the first partition of [0, t_f]
@@ -80,7 +80,7 @@ def torque_peak(
     if poles:
         t = poles[0].t
         return Peak(math.inf, t, math.inf, True), Peak(math.inf, t, math.inf, True)
-    with precision(PREC):
+    with ctx.workprec(PREC):
         best, best_t = [0.0, 0.0], [0.0, 0.0]
         first, last = up(lo), last_float(hi)
         candidates = [(first, value_at(fm, first)), (last, value_at(fm, last))]
@@ -176,7 +176,7 @@ def limit_check(
         for i in (0, 1):
             if peak[i].certified and peak[i].upper <= limit[i]:
                 active[i] = False
-    with precision(PREC):
+    with ctx.workprec(PREC):
         live = [(b, list(active)) for b in partition(fm.duration)]
         for _ in range(MAX_ROUNDS * 4):
             if not live:

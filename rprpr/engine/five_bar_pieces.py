@@ -40,16 +40,12 @@ def local(s: FiveBarInstant, origin: fmpq) -> FiveBarInstant:
     """The instant ``s`` (absolute time) in the local time of a piece starting at ``origin``."""
     if origin == 0:
         return s
-    old = ctx.prec
-    ctx.prec = 128
-    try:
+    with ctx.workprec(128):
         if s.t_exact is not None:
             u = s.t_exact - origin
             return replace(s, t=to_float(u), t_exact=u, t_ball=arb(u))
         ball = s.t_ball - arb(origin)
         return replace(s, t=float(ball.mid()), t_ball=ball)
-    finally:
-        ctx.prec = old
 
 
 class FiveBarPart:

@@ -24,12 +24,8 @@ def _digits() -> Iterator[None]:
 
 def _q_tower(D1: fmpq, D2: fmpq) -> Tower:
     def value(v: Any, prec: int) -> arb:
-        old = ctx.prec
-        ctx.prec = prec
-        try:
+        with ctx.workprec(prec):
             return arb(v)
-        finally:
-            ctx.prec = old
 
     return Tower(D1, D2, value)
 

@@ -182,9 +182,7 @@ def band_floor(form: tuple[int, list[arb], list[arb], arb], i: int) -> float:
     """A lower bound of |T_i| at every time of the band of ``form`` (``pole_form``) other
     than t_s: |S_i|/h^k - |A_i| rounded down (0 when that is not above 0)."""
     order, S, A, h = form
-    old = ctx.prec
-    ctx.prec = TAYLOR_PREC
-    try:
+    with ctx.workprec(TAYLOR_PREC):
         if S[i].contains(0):
             return 0.0
         hk = arb(1)
@@ -194,8 +192,6 @@ def band_floor(form: tuple[int, list[arb], list[arb], arb], i: int) -> float:
         if not low.is_finite() or not low > 0:
             return 0.0
         return max(0.0, math.nextafter(float(low), -math.inf))
-    finally:
-        ctx.prec = old
 
 
 def estimate(form: tuple[int, list[arb], list[arb], arb], i: int, limit: float) -> float:

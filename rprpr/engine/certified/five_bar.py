@@ -25,8 +25,7 @@ Nothing here rounds a double into a proof: every bound is read from a ball, outw
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from typing import Any
 
 from flint import arb, arb_series, ctx, fmpq, fmpq_poly
@@ -38,17 +37,6 @@ PREC = 96  # bits of the branch and bound's balls
 TERMS = 4  # Taylor terms kept about a Type II instant beyond the ones divided out
 NEAR = 0.02  # the instant's Taylor form is tried over boxes this close (a fraction of t_f)
 _NAN = arb("nan")
-
-
-@contextmanager
-def precision(bits: int) -> Iterator[None]:
-    """Run the block with flint's working precision at ``bits``."""
-    old = ctx.prec
-    ctx.prec = bits
-    try:
-        yield
-    finally:
-        ctx.prec = old
 
 
 def lower(b: arb) -> float:

@@ -17,10 +17,10 @@ import math
 from itertools import pairwise
 from typing import Any
 
-from flint import arb, fmpq, fmpq_poly
+from flint import arb, ctx, fmpq, fmpq_poly
 
 from ..exact.roots import real_roots_in
-from .five_bar import FiveBarMotion, exact_ends, precision
+from .five_bar import FiveBarMotion, exact_ends
 
 MAX_BITS = 4096
 
@@ -68,7 +68,7 @@ def _sign(m: FiveBarMotion, i: int, t: Any, part: str) -> int:
     e = m.modes[i - 1]
     bits = 128
     while bits <= MAX_BITS:
-        with precision(bits):
+        with ctx.workprec(bits):
             tb = arb(t) if isinstance(t, fmpq) else t(bits)
             uv, yv, Kv, Dv = (_at(q, tb) for q in (u, y, K, D))
             s = Dv.sqrt() * e
@@ -98,7 +98,7 @@ def crossings(m: FiveBarMotion, i: int) -> list[Crossing]:
     found = real_roots_in(P, m.duration)
     bits = 128
     while True:
-        with precision(bits):
+        with ctx.workprec(bits):
             roots = sorted(((_ends(exact, at, bits), exact, at) for exact, at in found),
                            key=lambda r: r[0][0])  # fmt: skip
         bounds = [b for b, _, _ in roots]

@@ -20,11 +20,11 @@ import math
 from typing import Any
 
 import numpy as np
-from flint import arb, fmpq
+from flint import arb, ctx, fmpq
 
 from ...model.dataclass import dataclass
 from ..exact import five_bar as fb
-from .five_bar import FiveBarMotion, precision
+from .five_bar import FiveBarMotion
 from .five_bar_angles import Crossing, crossings, turns
 from .pointwise import BEYOND_DOUBLE, MAX_PREC, OK, POLE, START_PREC, TOL, UNCERTIFIED
 
@@ -122,7 +122,7 @@ def at_time(
         todo.remove(name)
     bits, beyond = START_PREC, False
     while todo and bits <= MAX_PREC:
-        with precision(bits):
+        with ctx.workprec(bits):
             got = _balls(motion, tq, at)
         for n in list(todo):
             b = got.get(n)

@@ -43,12 +43,8 @@ class Point:
         """A scalar of this point (fmpq or KElem) as a ball at ``prec`` bits."""
         if isinstance(v, KElem):
             return v.field.evaluate(v.p, prec)
-        old = ctx.prec
-        ctx.prec = prec
-        try:
+        with ctx.workprec(prec):
             return arb(v)
-        finally:
-            ctx.prec = old
 
     def one(self) -> Any:
         return fmpq(1) if self.field is None else self.field.elem(1)
@@ -222,14 +218,10 @@ def _limit(e: Expansion, k: int) -> tuple[Any, Any]:
     A = fb.efforts(d, 0)
     B = fb.efforts(d, 1)
     out = []
-    old = ctx.prec
-    ctx.prec = 128
-    try:
+    with ctx.workprec(128):
         for a, b in zip(A, B, strict=True):
             a0 = a.c[0]
             numerator = a0 * D + (b.c[0] - a0) * N
             zero = is_zero(numerator)
             out.append(arb(0) if zero else arb(value(numerator)) / arb(value(D)))
-    finally:
-        ctx.prec = old
     return out[0], out[1]

@@ -80,9 +80,7 @@ def poles(task: Task, parts: Sequence[Any], box: Box,
     if box.a == 0:
         return []
     out = []
-    old = ctx.prec
-    ctx.prec = PREC
-    try:
+    with ctx.workprec(PREC):
         for p in parts:
             for k in p.motion.kinematic:
                 t_abs = to_float(p.origin) + k.time.hi
@@ -90,8 +88,6 @@ def poles(task: Task, parts: Sequence[Any], box: Box,
                     got = _side(task, p, k, side, box, t_abs, spans)
                     if got is not None:
                         out.append(got)
-    finally:
-        ctx.prec = old
     return out
 
 
