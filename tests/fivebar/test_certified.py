@@ -162,13 +162,19 @@ def ref_max(name: str, i: int, lo: Q, hi: Q, n: int = 60) -> Any:
             T += Q(1, 10**25)
         return abs(ref_torques(name, T)[i])
 
+    return maximum(f, lo, hi, n)
+
+
+def maximum(f: Callable[[Q], Any], lo: Q, hi: Q, n: int) -> Any:
+    """max of f over [lo, hi]: n + 1 points, then golden-section search about the best,
+    at doubles (f takes each exactly)."""
     ts = [lo + (hi - lo) * Q(k, n) for k in range(n + 1)]
     vals = [f(t) for t in ts]
     k = max(range(n + 1), key=lambda j: vals[j])
     a, b = float(ts[max(k - 1, 0)]), float(ts[min(k + 1, n)])
     g = (math.sqrt(5) - 1) / 2
     best = vals[k]
-    for _ in range(30):  # at the doubles: the reference takes each exactly
+    for _ in range(30):
         c, d = a + (b - a) * (1 - g), a + (b - a) * g
         fc, fd = f(Q(c)), f(Q(d))
         best = max(best, fc, fd)

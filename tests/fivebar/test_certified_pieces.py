@@ -11,7 +11,6 @@ of it (and the next window's); the exported rows of each piece the reference's t
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from fractions import Fraction as Q
 from functools import cache, partial
@@ -25,7 +24,7 @@ import sympy as sp
 from tests.conftest import run_cli
 
 from .reference import DPS, Motion, torques
-from .test_certified import bisected, stored
+from .test_certified import bisected, maximum, stored
 from .test_check import MODES, ROBOT, TF, TS, absolute, check_json, motions
 from .test_pieces import pieces_file
 
@@ -74,21 +73,7 @@ def ref_max(i: int, lo: Q, hi: Q, m: Motion, n: int = 60) -> Any:
     def f(t: Q) -> Any:
         return abs(ref(m, t)[i])
 
-    ts = [lo + (hi - lo) * Q(k, n) for k in range(n + 1)]
-    vals = [f(t) for t in ts]
-    k = max(range(n + 1), key=lambda j: vals[j])
-    a, b = float(ts[max(k - 1, 0)]), float(ts[min(k + 1, n)])
-    g = (math.sqrt(5) - 1) / 2
-    best = vals[k]
-    for _ in range(30):
-        c, d = a + (b - a) * (1 - g), a + (b - a) * g
-        fc, fd = f(Q(c)), f(Q(d))
-        best = max(best, fc, fd)
-        if fc >= fd:
-            b = d
-        else:
-            a = c
-    return best
+    return maximum(f, lo, hi, n)
 
 
 def crossing_cases() -> list[tuple[str, Callable[[], list[Any]]]]:
