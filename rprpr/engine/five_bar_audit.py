@@ -190,7 +190,7 @@ def audit_five_bar(task: Task, o: AuditOptions, tell: OnStage) -> FiveBarAuditRe
     Type I instant stops the analysis: the pieces after it are not analysed."""
     strict = task.checks.strict if o.strict is None else o.strict
     asked = task.checks.peak if o.peak is None else o.peak
-    refuse(task, peak=asked, options=o)
+    refuse(task, options=o)
     tell(FACTORING)
     r = task.robot
     assert r.five_bar is not None  # a 5R task's robot (``model.five_bar``)
@@ -445,7 +445,7 @@ ON_CURVE = (
 )
 
 
-def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = None) -> None:
+def refuse(task: Task, *, options: AuditOptions | None = None) -> None:
     """A 5R task asks for what this build cannot audit of a 5R: a ``TaskFileError``
     located at the key that asks for it: declared uncertainty. (The certified layers of
     a motion of one piece: ``five_bar_certified``; of several: ``five_bar_pieces``.)"""
@@ -459,8 +459,8 @@ def refuse(task: Task, *, peak: bool = False, options: AuditOptions | None = Non
 
 def refuse_command(task: Task, command: str) -> None:
     """``command`` (repair) is not available for a 5R task yet: a ``TaskFileError`` at
-    ``robot.mechanism`` (nothing for an RPRPR, nor for the export of a 5R task)."""
-    if task.robot.mechanism != FIVE_BAR or command == "export":
+    ``robot.mechanism`` (nothing for an RPRPR)."""
+    if task.robot.mechanism != FIVE_BAR:
         return
     raise _error(task, f"rprpr {command} is {YET} (rprpr check audits it)", "robot.mechanism")
 
