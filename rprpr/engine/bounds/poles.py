@@ -231,16 +231,16 @@ def pole_bands(
                 break
         if got is None:
             continue
-        near, pieces, f = got
+        near, pieces = got
         inner |= near
-        for x0, x1 in pieces:
+        for x0, x1, f in pieces:
             blo.append(x0)
             bhi.append(x1)
             floors.append(f)
     if not blo:
         return inner, None
     lo_b, hi_b = np.array(blo), np.array(bhi)
-    fl = np.array(floors).T  # rows: torques
+    fl = np.array(floors).T  # rows: torques; 0 about the pole (open there)
     up = np.full(fl.shape, np.inf)
     band = Bounds(lo_b, hi_b, fl, np.broadcast_to(lo_b, fl.shape).copy(), up, fl,
                   (up, up, fl, fl, fl, fl), np.zeros(fl.shape, dtype=bool))  # fmt: skip
@@ -250,10 +250,15 @@ def pole_bands(
 def _pole_band(
     motion: CertifiedMotion, k: int, t0: Any, coeffs: Any, point: Any, h: float, lo: np.ndarray,
     hi: np.ndarray, inner: np.ndarray, L: np.ndarray,
-) -> tuple[np.ndarray, list[tuple[float, float]], list[float]] | None:  # fmt: skip
+) -> tuple[np.ndarray, list[tuple[float, float, list[float]]]] | None:  # fmt: skip
     """The pieces within h of the k-th instant (a pole) but the one holding it, merged
-    on each side and proven above both limits by the pole's form over their hull:
-    (the pieces, the merged boxes, the floors of |T1|, |T2| there); None where not."""
+    on each side and proven above both limits by the pole's form over their hull, with
+    the floors of |T1|, |T2| there; and the piece holding the pole, when it is the
+    narrow one that ``limits._around_pole`` leaves about it, as a box open for both
+    torques with floors 0 (the torques are unbounded in it: a pass over it would
+    decide nothing, and the point values at its ends are the poorest of all, which
+    would ask for the pole's zone): (the pieces, the boxes that replace them); None
+    where no band is proven."""
     e = motion.instants[k][1]
     near = (lo >= e.hi - h) & (hi <= e.hi + h) & ~inner
     centre = (lo <= e.hi) & (hi >= e.hi)  # the piece about the pole stays as it was
@@ -272,5 +277,8 @@ def _pole_band(
     f = [band_floor(form, i) for i in (0, 1)]
     if not (f[0] > L[0] and f[1] > L[1]):
         return None
-    pieces = [(x0, x1) for side, x0, x1 in ((left, a, c_lo), (right, c_hi, z)) if side.any()]
-    return near, pieces, f
+    pieces = [(x0, x1, f) for side, x0, x1 in ((left, a, c_lo), (right, c_hi, z)) if side.any()]
+    if c_hi - c_lo < z - a:  # the piece about the pole: open, and no pass for it
+        near |= centre
+        pieces.append((c_lo, c_hi, [0.0, 0.0]))
+    return near, pieces
