@@ -156,8 +156,9 @@ def pole_form(
 
 def point_series(
     motion: CertifiedMotion, t0: arb, coeffs: list[list[arb]], k: int
-) -> tuple[Any, Any, Any] | None:
-    """μ1, μ2, δ as series at the ``k``-th instant t_s (``pole_form``'s terms)."""
+) -> _PointSeries | None:
+    """μ1, μ2, δ as series at the ``k``-th instant t_s (``pole_form``'s terms), with the
+    dynamics there (``_PointSeries``)."""
     s, _ = motion.instants[k]
     m = s.order
     ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
@@ -171,11 +172,56 @@ def point_series(
         p = mech.params(motion.robot, arb)
         l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
         d = mech.dynamics(l1, l2, p)
-        return d.mu1, d.mu2, mech.delta(p, Y, l1, l2)
+        return _PointSeries((d.mu1, d.mu2, mech.delta(p, Y, l1, l2)), d)
     except (ValueError, ZeroDivisionError):
         return None
     finally:
         ctx.prec, ctx.cap = old_prec, old_cap
+
+
+class _PointSeries(tuple):  # type: ignore[type-arg]
+    """μ1, μ2, δ as series at t_s (``point_series``), with the dynamics there (``dyn``),
+    from which ``_at_pole`` reads the form at t_s without evaluating the formulas again."""
+
+    dyn: Any
+
+    def __new__(cls, items: tuple[Any, Any, Any], dyn: Any) -> _PointSeries:
+        out = super().__new__(cls, items)
+        out.dyn = dyn
+        return out
+
+
+def _at_pole(
+    motion: CertifiedMotion, k: int, point: _PointSeries
+) -> tuple[int, list[arb], list[arb], arb] | None:
+    """S_i and A_i of the form at t_s itself (``pole_form`` over the band [t_s, t_s]) from
+    the series at t_s (``point_series``): the leading coefficients' quotients, the
+    efforts on the dynamics at t_s. Only for ``estimate`` (where to try a band: each
+    band is proven by its own ``pole_form``), so the time's enclosure (t_s a real root)
+    is not carried."""
+    s, _ = motion.instants[k]
+    m = s.order
+    ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
+    order = m - min(ks)
+    if order < 1:
+        return None
+    with ctx.workprec(TAYLOR_PREC):
+        try:
+            dm = coef(point[2], m)
+            if not dm.is_finite() or dm.contains(0):
+                return None
+            lam = []
+            for j, kj in enumerate(ks):
+                q = coef(point[j], kj) / dm if kj - m + order == 0 else arb(0)
+                lam.append(_Affine(arb(0), q))
+            T = motion.mech.efforts(point.dyn, lam[0], lam[1])
+            S = [coef(Ti.b, 0) for Ti in T]
+            A = [coef(Ti.a, 0) for Ti in T]
+        except (ValueError, ZeroDivisionError):
+            return None
+    if not all(v.is_finite() for v in (*S, *A)):
+        return None
+    return order, S, A, arb(0)
 
 
 def band_floor(form: tuple[int, list[arb], list[arb], arb], i: int) -> float:
@@ -221,7 +267,7 @@ def pole_bands(
             continue
         t0, coeffs = scalars._origin(e.hi)
         point = point_series(motion, t0, coeffs, k)
-        at = None if point is None else pole_form(motion, k, t0, coeffs, e.hi, e.hi, point)
+        at = None if point is None else _at_pole(motion, k, point)
         if at is None:
             continue
         reach = min(estimate(at, i, float(L[i])) for i in (0, 1))

@@ -108,9 +108,9 @@ class Scalars:
         each point's certified value moves a or z to it (on the side it proves); once a
         step is shorter than ``res``, the points 0.45 res either side of the estimate close
         the bracket (the one beyond it alone, when t is an end of the bracket and the step
-        is at most res/2: the bracket is then within 0.95 res). A step outside (a, z), or a failed evaluation, bisects. From
-        the estimate t; returns (a, z), within ``res`` of each other unless STEPS did
-        not suffice."""
+        is at most res/2: the bracket is then within 0.95 res). A step outside (a, z), or
+        a failed evaluation, bisects. From the estimate t; returns (a, z), within ``res``
+        of each other unless STEPS did not suffice."""
         for _ in range(STEPS):
             if abs(z - a) <= res:
                 break
