@@ -41,6 +41,8 @@ class Scalars:
         self.motion = motion
         self._origins: dict[int, tuple[arb, list[list[arb]]]] = {}
         self._times = [e.hi for _, e in motion.instants]
+        with ctx.workprec(TAYLOR_PREC):  # the robot's numbers in arb, once
+            self._params = motion.mech.params(motion.robot, arb)
 
     def _origin(self, t: float) -> tuple[arb, list[list[arb]]]:
         """(t_0, Taylor coefficients of x and y about t_0): the nearest instant, else 0."""
@@ -73,7 +75,7 @@ class Scalars:
             X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, t - t0, n)
             ctx.cap = n
             m = self.motion.mech
-            p = m.params(self.motion.robot, arb)
+            p = self._params
             l1, l2 = m.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
             d = m.dynamics(l1, l2, p)
             delta = m.delta(p, Y, l1, l2)
