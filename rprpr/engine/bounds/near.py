@@ -69,11 +69,12 @@ class NearForms:
         poor_b = ~(B.rad <= np.abs(B.mid)).all(axis=0)
         covered = np.zeros(len(lo), dtype=bool)
         box = Ball.hull(lo, hi)
+        matters = poor_b & ~(B.upper_abs() <= need).all(axis=0)  # a poor bound above need
         for k, (s, e) in enumerate(self.motion.instants):
             if not (s.torque_bounded or self._pole_zones or self._poor_beside(e, pts, poor_p)):
                 continue  # beside a pole the direct form is good: no zone needed (yet)
             if self._hull_first and s.torque_bounded and k not in self._zones and not len(pts):
-                hull = self._over_hull(k, lo, hi, poor_b, need)
+                hull = self._over_hull(k, lo, hi, matters, need)
                 if hull is not None:  # every poor box about it proven below ``need``
                     B = put_narrower(B, hull[0], hull[1])
                     covered[hull[0]] = True

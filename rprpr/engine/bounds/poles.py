@@ -156,8 +156,9 @@ def pole_form(
 
 def point_series(
     motion: CertifiedMotion, t0: arb, coeffs: list[list[arb]], k: int
-) -> tuple[Any, Any, Any] | None:
-    """μ1, μ2, δ as series at the ``k``-th instant t_s (``pole_form``'s terms)."""
+) -> _PointSeries | None:
+    """μ1, μ2, δ as series at the ``k``-th instant t_s (``pole_form``'s terms), with the
+    dynamics there (``_PointSeries``)."""
     s, _ = motion.instants[k]
     m = s.order
     ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
@@ -171,11 +172,56 @@ def point_series(
         p = mech.params(motion.robot, arb)
         l1, l2 = mech.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
         d = mech.dynamics(l1, l2, p)
-        return d.mu1, d.mu2, mech.delta(p, Y, l1, l2)
+        return _PointSeries((d.mu1, d.mu2, mech.delta(p, Y, l1, l2)), d)
     except (ValueError, ZeroDivisionError):
         return None
     finally:
         ctx.prec, ctx.cap = old_prec, old_cap
+
+
+class _PointSeries(tuple):  # type: ignore[type-arg]
+    """μ1, μ2, δ as series at t_s (``point_series``), with the dynamics there (``dyn``),
+    from which ``_at_pole`` reads the form at t_s without evaluating the formulas again."""
+
+    dyn: Any
+
+    def __new__(cls, items: tuple[Any, Any, Any], dyn: Any) -> _PointSeries:
+        out = super().__new__(cls, items)
+        out.dyn = dyn
+        return out
+
+
+def _at_pole(
+    motion: CertifiedMotion, k: int, point: _PointSeries
+) -> tuple[int, list[arb], list[arb], arb] | None:
+    """S_i and A_i of the form at t_s itself (``pole_form`` over the band [t_s, t_s]) from
+    the series at t_s (``point_series``): the leading coefficients' quotients, the
+    efforts on the dynamics at t_s. Only for ``estimate`` (where to try a band: each
+    band is proven by its own ``pole_form``), so the time's enclosure (t_s a real root)
+    is not carried."""
+    s, _ = motion.instants[k]
+    m = s.order
+    ks = [min(v, m + 1) for v in motion.analysis.hints(s).mu_valuations]
+    order = m - min(ks)
+    if order < 1:
+        return None
+    with ctx.workprec(TAYLOR_PREC):
+        try:
+            dm = coef(point[2], m)
+            if not dm.is_finite() or dm.contains(0):
+                return None
+            lam = []
+            for j, kj in enumerate(ks):
+                q = coef(point[j], kj) / dm if kj - m + order == 0 else arb(0)
+                lam.append(_Affine(arb(0), q))
+            T = motion.mech.efforts(point.dyn, lam[0], lam[1])
+            S = [coef(Ti.b, 0) for Ti in T]
+            A = [coef(Ti.a, 0) for Ti in T]
+        except (ValueError, ZeroDivisionError):
+            return None
+    if not all(v.is_finite() for v in (*S, *A)):
+        return None
+    return order, S, A, arb(0)
 
 
 def band_floor(form: tuple[int, list[arb], list[arb], arb], i: int) -> float:
@@ -221,7 +267,7 @@ def pole_bands(
             continue
         t0, coeffs = scalars._origin(e.hi)
         point = point_series(motion, t0, coeffs, k)
-        at = None if point is None else pole_form(motion, k, t0, coeffs, e.hi, e.hi, point)
+        at = None if point is None else _at_pole(motion, k, point)
         if at is None:
             continue
         reach = min(estimate(at, i, float(L[i])) for i in (0, 1))
@@ -231,16 +277,16 @@ def pole_bands(
                 break
         if got is None:
             continue
-        near, pieces, f = got
+        near, pieces = got
         inner |= near
-        for x0, x1 in pieces:
+        for x0, x1, f in pieces:
             blo.append(x0)
             bhi.append(x1)
             floors.append(f)
     if not blo:
         return inner, None
     lo_b, hi_b = np.array(blo), np.array(bhi)
-    fl = np.array(floors).T  # rows: torques
+    fl = np.array(floors).T  # rows: torques; 0 about the pole (open there)
     up = np.full(fl.shape, np.inf)
     band = Bounds(lo_b, hi_b, fl, np.broadcast_to(lo_b, fl.shape).copy(), up, fl,
                   (up, up, fl, fl, fl, fl), np.zeros(fl.shape, dtype=bool))  # fmt: skip
@@ -250,10 +296,15 @@ def pole_bands(
 def _pole_band(
     motion: CertifiedMotion, k: int, t0: Any, coeffs: Any, point: Any, h: float, lo: np.ndarray,
     hi: np.ndarray, inner: np.ndarray, L: np.ndarray,
-) -> tuple[np.ndarray, list[tuple[float, float]], list[float]] | None:  # fmt: skip
+) -> tuple[np.ndarray, list[tuple[float, float, list[float]]]] | None:  # fmt: skip
     """The pieces within h of the k-th instant (a pole) but the one holding it, merged
-    on each side and proven above both limits by the pole's form over their hull:
-    (the pieces, the merged boxes, the floors of |T1|, |T2| there); None where not."""
+    on each side and proven above both limits by the pole's form over their hull, with
+    the floors of |T1|, |T2| there; and the piece holding the pole, when it is the
+    narrow one that ``limits._around_pole`` leaves about it, as a box open for both
+    torques with floors 0 (the torques are unbounded in it: a pass over it would
+    decide nothing, and the point values at its ends are the poorest of all, which
+    would ask for the pole's zone): (the pieces, the boxes that replace them); None
+    where no band is proven."""
     e = motion.instants[k][1]
     near = (lo >= e.hi - h) & (hi <= e.hi + h) & ~inner
     centre = (lo <= e.hi) & (hi >= e.hi)  # the piece about the pole stays as it was
@@ -272,5 +323,8 @@ def _pole_band(
     f = [band_floor(form, i) for i in (0, 1)]
     if not (f[0] > L[0] and f[1] > L[1]):
         return None
-    pieces = [(x0, x1) for side, x0, x1 in ((left, a, c_lo), (right, c_hi, z)) if side.any()]
-    return near, pieces, f
+    pieces = [(x0, x1, f) for side, x0, x1 in ((left, a, c_lo), (right, c_hi, z)) if side.any()]
+    if c_hi - c_lo < z - a:  # the piece about the pole: open, and no pass for it
+        near |= centre
+        pieces.append((c_lo, c_hi, [0.0, 0.0]))
+    return near, pieces

@@ -41,6 +41,8 @@ class Scalars:
         self.motion = motion
         self._origins: dict[int, tuple[arb, list[list[arb]]]] = {}
         self._times = [e.hi for _, e in motion.instants]
+        with ctx.workprec(TAYLOR_PREC):  # the robot's numbers in arb, once
+            self._params = motion.mech.params(motion.robot, arb)
 
     def _origin(self, t: float) -> tuple[arb, list[list[arb]]]:
         """(t_0, Taylor coefficients of x and y about t_0): the nearest instant, else 0."""
@@ -73,7 +75,7 @@ class Scalars:
             X, Xd, Xdd, Y, Yd, Ydd = series_at(coeffs, t - t0, n)
             ctx.cap = n
             m = self.motion.mech
-            p = m.params(self.motion.robot, arb)
+            p = self._params
             l1, l2 = m.legs(p, X, Xd, Xdd, Y, Yd, Ydd, hypot)
             d = m.dynamics(l1, l2, p)
             delta = m.delta(p, Y, l1, l2)
@@ -106,10 +108,11 @@ class Scalars:
         (> limit), |T_i| monotone between, bracketed by arb scalars: Newton's method on
         f = |T_i| - limit (T_i and T_i' at a point, ``slope``) chooses the points,
         each point's certified value moves a or z to it (on the side it proves); once a
-        step is shorter than ``res``, the two points 0.45 res either side of the estimate
-        close the bracket. A step outside (a, z), or a failed evaluation, bisects. From
-        the estimate t; returns (a, z), within ``res`` of each other unless STEPS did
-        not suffice."""
+        step is shorter than ``res``, the points 0.45 res either side of the estimate close
+        the bracket (the one beyond it alone, when t is an end of the bracket and the step
+        is at most res/2: the bracket is then within 0.95 res). A step outside (a, z), or
+        a failed evaluation, bisects. From the estimate t; returns (a, z), within ``res``
+        of each other unless STEPS did not suffice."""
         for _ in range(STEPS):
             if abs(z - a) <= res:
                 break
@@ -119,13 +122,20 @@ class Scalars:
                 v = Ball.of_arb(got[0][i])
                 d = float(got[1][i].mid())
                 a, z = _moved(t, v, limit, a, z)
+                est = 0.5 * a + 0.5 * z  # the bisection, where Newton's step falls outside
                 f = abs(float(v.mid)) - limit
                 step = -f / (math.copysign(1.0, float(v.mid)) * d) if d != 0.0 else math.inf
                 if math.isfinite(step) and (t + step - a) * (z - t - step) > 0:
                     est = t + step
-                if abs(step) < res:  # close: the two points either side decide
+                if abs(step) < res:  # close: points either side decide
                     sign = math.copysign(1.0, z - a)
-                    for p in (est - 0.45 * res * sign, est + 0.45 * res * sign):
+                    probes = [est - 0.45 * res * sign, est + 0.45 * res * sign]
+                    if t in (a, z) and abs(step) <= 0.5 * res:  # t is an end: one probe
+                        away = sign if t == a else -sign  # beyond est, from t
+                        probes = [est + 0.45 * res * away, est - 0.45 * res * away]
+                    for p in probes:
+                        if abs(z - a) <= res:
+                            break
                         if (p - a) * (z - p) > 0:
                             w = self.point(p)
                             if w is not None:

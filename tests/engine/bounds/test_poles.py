@@ -124,13 +124,22 @@ def _bands_and_crossings(task: Task, limit: float) -> int:
         checks = env.limit_violations((limit, limit))
     _, band = got[0]  # type: ignore[misc]
     assert band is not None  # the pieces near each pole were merged and proven
+    poles = [s.t for s, _ in env.motion.instants if not s.torque_bounded]
+    tf = float(env.motion.traj.duration)
+    centres = 0
     for j in range(len(band.lo)):
+        if any(band.lo[j] <= t <= band.hi[j] for t in poles):
+            # the narrow piece about a pole: open (floors 0), given no pass
+            assert band.hi[j] - band.lo[j] <= 1e-9 * tf
+            assert (band.floor[:, j] == 0).all() and (band.up[:, j] == np.inf).all()
+            centres += 1
+            continue
         for t in np.linspace(band.lo[j], band.hi[j], 5):
             ref = reference(task, float(t))
             for i, key in enumerate(("T1", "T2")):
                 assert band.floor[i, j] > limit
                 assert abs(ref[key]) >= band.floor[i, j], (t, key)
-    tf = float(env.motion.traj.duration)
+    assert centres == len(poles)
     roots = 0
     for key, c in zip(("T1", "T2"), checks, strict=True):
         assert c.passed is False
