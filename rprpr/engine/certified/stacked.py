@@ -18,8 +18,11 @@ import numpy as np
 from ...model.task import Robot
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .balls import Ball, hypot, stack
+from .balls import Ball, _new, hypot, stack
 from .jets import Jet
+from .kernel import INDEX, KERNEL
+
+_LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 
 def _pair(a: Any, b: Any) -> Ball:
@@ -60,9 +63,26 @@ class Stacked:
         self.mg = _pair(L[3].mass * g, L[5].mass * g)
         self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
         self.prismatic = isinstance(of(r), dyn.Prismatic)  # the RPRPR's two schemes
+        self._consts = tuple(
+            a for b in (self.base, self.a1, self.m, self.r, self.K, self.G, self.mg)
+            for a in (b.mid, b.rad)
+        )  # the compiled kernel's first inputs (``kernel_gen``)
+        scheme = "prismatic" if self.prismatic else "revolute"
+        self._torques_k = (INDEX.get(f"torques_ball_{scheme}"), INDEX.get(f"torques_jet_{scheme}"))
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
-        """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
+        """Both legs' joint values (rows 0 and 1), eqs. 41-42 (in one call of the compiled
+        kernel where it is built: the same doubles, ``kernel.py``)."""
+        if KERNEL is not None:
+            args = (x, xd, xdd, y, yd, ydd)
+            got = _compiled(self._consts, args, args[0], 1, INDEX.get("legs_ball"),
+                            INDEX.get("legs_jet"))  # fmt: skip
+            if got is not None:
+                return dyn.Leg(*got)
+        return self._legs(x, xd, xdd, y, yd, ydd)
+
+    def _legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
+        """``legs`` by numpy's ball operations (the description the kernel is made from)."""
         return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, hypot)
 
     def delta(self, lg: dyn.Leg, y: Any) -> Any:
@@ -72,7 +92,19 @@ class Stacked:
     def torques(
         self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
     ) -> tuple[Any, Any]:
-        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29)."""
+        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29). Without λ
+        and δ, in one call of the compiled kernel where it is built (the same doubles)."""
+        if KERNEL is not None and lam is None and delta is None:
+            args = tuple(getattr(lg, f) for f in _LEG_FIELDS) + (y,)
+            got = _compiled(self._consts, args, lg.s, 2, *self._torques_k)
+            if got is not None:
+                return got[0], got[1]
+        return self._torques(lg, y, lam, delta)
+
+    def _torques(
+        self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """``torques`` by numpy's ball operations (the description the kernel is made from)."""
         d = lg.s - self.r
         M = self.K + self.m * (d * d)
         N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
@@ -91,6 +123,48 @@ class Stacked:
             lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
         T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
         return T, delta
+
+
+def _compiled(
+    consts: tuple[Any, ...], args: tuple[Any, ...], anchor: Any, rows: int,
+    ball: tuple[int, int] | None, jet: tuple[int, int] | None,
+) -> list[Any] | None:  # fmt: skip
+    """A kernel's outputs, balls or jets of balls (a legs kernel: the seven fields of
+    ``Leg``, 2 rows each; a torques kernel, ``rows`` 2: T, 2 rows, and δ, 1 row), or None
+    where it does not apply: the arguments not all balls or all jets, ``anchor`` (the
+    argument every output depends on) not a vector (``rows`` 1) or two rows of vectors
+    (2), or a shape the kernel does not take; numpy's path then runs."""
+    kind = type(anchor)
+    if kind is Jet:
+        spec, anchor = jet, anchor.v.mid
+        if not all(type(a) is Jet for a in args):
+            return None
+        flat = tuple(p for a in args for b in (a.v, a.d) for p in (b.mid, b.rad))
+    elif kind is Ball:
+        spec, anchor = ball, anchor.mid
+        if not all(type(a) is Ball for a in args):
+            return None
+        flat = tuple(p for a in args for p in (a.mid, a.rad))
+    else:
+        return None
+    if spec is None or anchor.ndim != rows or (rows == 2 and anchor.shape[0] != 2):
+        return None
+    n = anchor.shape[-1]
+    out = np.empty((spec[1], n))
+    if not KERNEL.run(spec[0], consts + flat, out, n):
+        return None
+    per = 2 if kind is Jet else 1  # balls per output
+    layout = [2] * (7 * per) if rows == 1 else [2] * per + [1] * per
+    balls, i = [], 0
+    for r in layout:
+        if r == 2:
+            balls.append(_new(out[i : i + 2], out[i + 2 : i + 4]))
+        else:
+            balls.append(_new(out[i], out[i + 1]))
+        i += 2 * r
+    if kind is Jet:
+        return [Jet(balls[k], balls[k + 1]) for k in range(0, len(balls), 2)]
+    return balls
 
 
 def _rows(a: Any, b: Any) -> Any:
