@@ -437,10 +437,8 @@ static PyObject *py_horner(PyObject *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "O!OOOn", &PyTuple_Type, &cs, &xm, &xr, &out, &n))
         return NULL;
     K = PyTuple_GET_SIZE(cs) / 2;
-    if (K < 2 || 2 * K + 2 > MAXBUF) {
-        PyErr_SetString(PyExc_ValueError, "horner takes 2 to 63 coefficients");
-        return NULL;
-    }
+    if (K < 2 || 2 * K + 2 > MAXBUF) /* 2 to 63 coefficients: else numpy's path */
+        Py_RETURN_FALSE;
     Py_buffer views[MAXBUF], ov;
     Array arr[MAXBUF];
     Py_ssize_t got = 0;
