@@ -11,12 +11,13 @@ way too: CONTRIBUTING.md)."""
 from __future__ import annotations
 
 import os
+from importlib import import_module
 from typing import Any
 
 KERNEL: Any = None
 if os.environ.get("RPRPR_NO_KERNEL", "") in ("", "0"):
     try:
-        from ... import _kernel as KERNEL  # type: ignore[attr-defined,no-redef]
+        KERNEL = import_module("rprpr._kernel")
     except ImportError:  # not built: the numpy path
         KERNEL = None
 

@@ -141,8 +141,9 @@ _C = {k: float(v).hex() for k, v in (("U", balls.U), ("ETA", balls.ETA), ("GROW"
                                      ("SQ", 1 + 4 * balls.U))}  # fmt: skip
 
 # (a, b -> c): mid m{c}, radius r{c}; t, u: scratch
-_ADD = "m{c} = m{a} + m{b}; t = r{a} + r{b}; u = fabs(m{c}) * U; t = t + u; t = t * GROW; r{c} = t + PAD;"
-_SUB = "m{c} = m{a} - m{b}; t = r{a} + r{b}; u = fabs(m{c}) * U; t = t + u; t = t * GROW; r{c} = t + PAD;"
+_SUM = "t = r{a} + r{b}; u = fabs(m{c}) * U; t = t + u; t = t * GROW; r{c} = t + PAD;"
+_ADD = "m{c} = m{a} + m{b}; " + _SUM
+_SUB = "m{c} = m{a} - m{b}; " + _SUM
 _MUL = (
     "m{c} = m{a} * m{b}; t = fabs(m{a}) + r{a}; t = t * r{b}; u = fabs(m{b}) * r{a}; t = t + u;"
     " u = fabs(m{c}) * U; u = u + ETA; t = t + u; t = t * GROW; r{c} = t + PAD;"
@@ -216,7 +217,7 @@ class Kernel:
     def jet(self, rows: int) -> Jet:
         return Jet(self.ball(rows), self.ball(rows))
 
-    def source(self, outputs: list[Sym]) -> str:
+    def source(self, outputs: list[Any]) -> str:
         """The C function ``k_<name>``: every column j of n, the outputs' rows (mids then
         radii, output by output) into out[(row) * n + j]."""
         load = {}
@@ -264,7 +265,7 @@ def _stacked(kernel: Kernel, prismatic: bool) -> Any:
 LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 
-def kernels() -> list[tuple[Kernel, list[Sym]]]:
+def kernels() -> list[tuple[Kernel, list[Any]]]:
     """Every kernel and its outputs (the order ``kernel.py`` reads them in).
 
     legs_{ball,jet}: inputs base, a1, m, r, K, G, mg (Stacked's constants), then x, ẋ, ẍ,
@@ -275,7 +276,7 @@ def kernels() -> list[tuple[Kernel, list[Sym]]]:
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
-    out: list[tuple[Kernel, list[Sym]]] = []
+    out: list[tuple[Kernel, list[Any]]] = []
     for jets in (False, True):
         kind = "jet" if jets else "ball"
         k = Kernel(f"legs_{kind}")
@@ -298,8 +299,9 @@ def kernels() -> list[tuple[Kernel, list[Sym]]]:
     return out
 
 
-def _flat(values: list[Any]) -> list[Sym]:
-    flat: list[Sym] = []
+def _flat(values: list[Any]) -> list[Any]:
+    """The traced outputs as recorded balls (a jet: its value, then its derivative)."""
+    flat: list[Any] = []
     for v in values:
         flat.extend([v.v, v.d] if isinstance(v, Jet) else [v])
     for s in flat:

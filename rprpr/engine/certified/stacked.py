@@ -18,7 +18,7 @@ import numpy as np
 from ...model.task import Robot
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .balls import Ball, _new, hypot, stack
+from .balls import Ball, hypot, stack
 from .jets import Jet
 from .kernel import INDEX, KERNEL
 
@@ -64,7 +64,8 @@ class Stacked:
         self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
         self.prismatic = isinstance(of(r), dyn.Prismatic)  # the RPRPR's two schemes
         self._consts = tuple(
-            a for b in (self.base, self.a1, self.m, self.r, self.K, self.G, self.mg)
+            a
+            for b in (self.base, self.a1, self.m, self.r, self.K, self.G, self.mg)
             for a in (b.mid, b.rad)
         )  # the compiled kernel's first inputs (``kernel_gen``)
         scheme = "prismatic" if self.prismatic else "revolute"
@@ -95,7 +96,7 @@ class Stacked:
         """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29). Without λ
         and δ, in one call of the compiled kernel where it is built (the same doubles)."""
         if KERNEL is not None and lam is None and delta is None:
-            args = tuple(getattr(lg, f) for f in _LEG_FIELDS) + (y,)
+            args = (*(getattr(lg, f) for f in _LEG_FIELDS), y)
             got = _compiled(self._consts, args, lg.s, 2, *self._torques_k)
             if got is not None:
                 return got[0], got[1]
@@ -158,9 +159,9 @@ def _compiled(
     balls, i = [], 0
     for r in layout:
         if r == 2:
-            balls.append(_new(out[i : i + 2], out[i + 2 : i + 4]))
+            balls.append(Ball._of(out[i : i + 2], out[i + 2 : i + 4]))
         else:
-            balls.append(_new(out[i], out[i + 1]))
+            balls.append(Ball._of(out[i], out[i + 1]))
         i += 2 * r
     if kind is Jet:
         return [Jet(balls[k], balls[k + 1]) for k in range(0, len(balls), 2)]

@@ -269,7 +269,8 @@ def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool) -
                 P = [mpmath.mpf(v.numerator) / v.denominator for v in p]
                 Q = [mpmath.mpf(v.numerator) / v.denominator for v in q]
 
-                def along(tau: Any, key: str, P: list[Any] = P, Q: list[Any] = Q) -> Any:
+                def along(tau: Any, key: str, P: list[Any] = P, Q: list[Any] = Q,
+                          robot: Robot = robot) -> Any:  # fmt: skip
                     return _reference(robot, [a + tau * b for a, b in zip(P, Q, strict=True)])[key]
 
                 slack = mpmath.mpf(2) ** -100
