@@ -13,7 +13,7 @@ from setuptools.command.build_ext import build_ext
 class BuildExt(build_ext):
     def build_extensions(self) -> None:
         strict = ["/fp:strict"] if self.compiler.compiler_type == "msvc" else [
-            "-O2", "-ffp-contract=off", "-fno-fast-math",
+            "-O2", "-g0", "-ffp-contract=off", "-fno-fast-math",
         ]  # fmt: skip
         for ext in self.extensions:
             ext.extra_compile_args = strict
