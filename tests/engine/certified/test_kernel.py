@@ -90,9 +90,12 @@ def _mids(rng: np.random.Generator, n: int, shape: tuple[int, ...]) -> np.ndarra
 
 
 def _ball(rng: np.random.Generator, n: int) -> Ball:
-    """A ball of n columns: a vector, a scalar, one column (numpy broadcasts both), or
-    a vector of a scalar radius (``Ball.exact``)."""
-    kind = rng.integers(0, 6)
+    """A ball of n columns: a vector, a scalar, one column (numpy broadcasts both), a
+    vector of a scalar radius (``Ball.exact``), or exact small integers (0 among them:
+    products and sums of exact zeros, where only the pads η and 2^-1064 are left)."""
+    kind = rng.integers(0, 7)
+    if kind == 6:
+        return Ball(rng.integers(-2, 3, n).astype(float), np.zeros(n) if n % 2 else 0.0)
     shape = () if kind == 0 else (1,) if kind == 1 else (n,)
     mid = _mids(rng, n, shape) if shape else np.array(float(_mids(rng, 1, (1,))[0]))
     if kind == 2:
