@@ -335,6 +335,108 @@ static void k_torques_ball_revolute(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_torques_ball_revolute[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1};
+static void k_torques_at_ball_revolute(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m3 = LD(in[2].m, 0, j), r3 = LD(in[2].r, 0, j);
+        double m4 = LD(in[2].m, 1, j), r4 = LD(in[2].r, 1, j);
+        double m5 = LD(in[3].m, 0, j), r5 = LD(in[3].r, 0, j);
+        double m6 = LD(in[3].m, 1, j), r6 = LD(in[3].r, 1, j);
+        double m7 = LD(in[4].m, 0, j), r7 = LD(in[4].r, 0, j);
+        double m8 = LD(in[4].m, 1, j), r8 = LD(in[4].r, 1, j);
+        double m9 = LD(in[5].m, 0, j), r9 = LD(in[5].r, 0, j);
+        double m10 = LD(in[5].m, 1, j), r10 = LD(in[5].r, 1, j);
+        double m11 = LD(in[6].m, 0, j), r11 = LD(in[6].r, 0, j);
+        double m12 = LD(in[6].m, 1, j), r12 = LD(in[6].r, 1, j);
+        const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+        const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+        double m15 = LD(in[7].m, 0, j), r15 = LD(in[7].r, 0, j);
+        double m16 = LD(in[7].m, 1, j), r16 = LD(in[7].r, 1, j);
+        double m17 = LD(in[8].m, 0, j), r17 = LD(in[8].r, 0, j);
+        double m18 = LD(in[8].m, 1, j), r18 = LD(in[8].r, 1, j);
+        double m19 = LD(in[9].m, 0, j), r19 = LD(in[9].r, 0, j);
+        double m20 = LD(in[9].m, 1, j), r20 = LD(in[9].r, 1, j);
+        double m21 = LD(in[10].m, 0, j), r21 = LD(in[10].r, 0, j);
+        double m22 = LD(in[10].m, 1, j), r22 = LD(in[10].r, 1, j);
+        double m23 = LD(in[11].m, 0, j), r23 = LD(in[11].r, 0, j);
+        double m24 = LD(in[11].m, 1, j), r24 = LD(in[11].r, 1, j);
+        double m25 = LD(in[12].m, 0, j), r25 = LD(in[12].r, 0, j);
+        double m26 = LD(in[12].m, 1, j), r26 = LD(in[12].r, 1, j);
+        double m27 = LD(in[13].m, 0, j), r27 = LD(in[13].r, 0, j);
+        double m28 = LD(in[13].m, 1, j), r28 = LD(in[13].r, 1, j);
+        double m30 = LD(in[15].m, 0, j), r30 = LD(in[15].r, 0, j);
+        double m31, r31; m31 = m15 - m5; t = r15 + r5; u = fabs(m31) * U; t = t + u; t = t * GROW; r31 = t + PAD;
+        double m32, r32; m32 = m16 - m6; t = r16 + r6; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+        double m33, r33; m33 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD;
+        double m34, r34; m34 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+        double m35, r35; m35 = m3 * m33; t = fabs(m3) + r3; t = t * r33; u = fabs(m33) * r3; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+        double m36, r36; m36 = m4 * m34; t = fabs(m4) + r4; t = t * r34; u = fabs(m34) * r4; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+        double m37, r37; m37 = m7 + m35; t = r7 + r35; u = fabs(m37) * U; t = t + u; t = t * GROW; r37 = t + PAD;
+        double m38, r38; m38 = m8 + m36; t = r8 + r36; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+        const double m39 = 0x1.0000000000000p+1, r39 = 0x0.0p+0;
+        double m40, r40; m40 = m3 * m39; t = fabs(m3) + r3; t = t * r39; u = fabs(m39) * r3; t = t + u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD;
+        double m41, r41; m41 = m4 * m39; t = fabs(m4) + r4; t = t * r39; u = fabs(m39) * r4; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+        double m42, r42; m42 = m21 * m23; t = fabs(m21) + r21; t = t * r23; u = fabs(m23) * r21; t = t + u; u = fabs(m42) * U; u = u + ETA; t = t + u; t = t * GROW; r42 = t + PAD;
+        double m43, r43; m43 = m22 * m24; t = fabs(m22) + r22; t = t * r24; u = fabs(m24) * r22; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+        double m44, r44; m44 = m42 * m31; t = fabs(m42) + r42; t = t * r31; u = fabs(m31) * r42; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+        double m45, r45; m45 = m43 * m32; t = fabs(m43) + r43; t = t * r32; u = fabs(m32) * r43; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+        double m46, r46; m46 = m40 * m44; t = fabs(m40) + r40; t = t * r44; u = fabs(m44) * r40; t = t + u; u = fabs(m46) * U; u = u + ETA; t = t + u; t = t * GROW; r46 = t + PAD;
+        double m47, r47; m47 = m41 * m45; t = fabs(m41) + r41; t = t * r45; u = fabs(m45) * r41; t = t + u; u = fabs(m47) * U; u = u + ETA; t = t + u; t = t * GROW; r47 = t + PAD;
+        double m48, r48; m48 = m11 * m15; t = fabs(m11) + r11; t = t * r15; u = fabs(m15) * r11; t = t + u; u = fabs(m48) * U; u = u + ETA; t = t + u; t = t * GROW; r48 = t + PAD;
+        double m49, r49; m49 = m12 * m16; t = fabs(m12) + r12; t = t * r16; u = fabs(m16) * r12; t = t + u; u = fabs(m49) * U; u = u + ETA; t = t + u; t = t * GROW; r49 = t + PAD;
+        double m50, r50; m50 = m9 + m48; t = r9 + r48; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m10 + m49; t = r10 + r49; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; m52 = m50 * m17; t = fabs(m50) + r50; t = t * r17; u = fabs(m17) * r50; t = t + u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD;
+        double m53, r53; m53 = m51 * m18; t = fabs(m51) + r51; t = t * r18; u = fabs(m18) * r51; t = t + u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD;
+        double m54, r54; m54 = m46 + m52; t = r46 + r52; u = fabs(m54) * U; t = t + u; t = t * GROW; r54 = t + PAD;
+        double m55, r55; m55 = m47 + m53; t = r47 + r53; u = fabs(m55) * U; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m23 * m23; t = fabs(m23) + r23; t = t * r23; u = fabs(m23) * r23; t = t + u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD;
+        double m58, r58; m58 = m31 * m56; t = fabs(m31) + r31; t = t * r56; u = fabs(m56) * r31; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m32 * m57; t = fabs(m32) + r32; t = t * r57; u = fabs(m57) * r32; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m25 - m58; t = r25 + r58; u = fabs(m60) * U; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; m61 = m26 - m59; t = r26 + r59; u = fabs(m61) * U; t = t + u; t = t * GROW; r61 = t + PAD;
+        double m62, r62; m62 = m3 * m60; t = fabs(m3) + r3; t = t * r60; u = fabs(m60) * r3; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m4 * m61; t = fabs(m4) + r4; t = t * r61; u = fabs(m61) * r4; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; m64 = m11 * m19; t = fabs(m11) + r11; t = t * r19; u = fabs(m19) * r11; t = t + u; u = fabs(m64) * U; u = u + ETA; t = t + u; t = t * GROW; r64 = t + PAD;
+        double m65, r65; m65 = m12 * m20; t = fabs(m12) + r12; t = t * r20; u = fabs(m20) * r12; t = t + u; u = fabs(m65) * U; u = u + ETA; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m62 + m64; t = r62 + r64; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m63 + m65; t = r63 + r65; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        double m68, r68; m68 = m19 * m67; t = fabs(m19) + r19; t = t * r67; u = fabs(m67) * r19; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+        double m69, r69; m69 = m20 * m66; t = fabs(m20) + r20; t = t * r66; u = fabs(m66) * r20; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; m70 = m17 * m67; t = fabs(m17) + r17; t = t * r67; u = fabs(m67) * r17; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+        double m71, r71; m71 = m18 * m66; t = fabs(m18) + r18; t = t * r66; u = fabs(m66) * r18; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; m72 = m68 + m69; t = r68 + r69; u = fabs(m72) * U; t = t + u; t = t * GROW; r72 = t + PAD;
+        double m73, r73; m73 = -m72; r73 = r72;
+        double m74, r74; b = fabs(m30); m74 = m73 / m30; t = r73 * b; u = fabs(m73) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD; if (!(b > r30)) { m74 = NAN; r74 = INFINITY; }
+        double m75, r75; m75 = m70 + m71; t = r70 + r71; u = fabs(m75) * U; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; b = fabs(m30); m76 = m75 / m30; t = r75 * b; u = fabs(m75) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m76) * U; u = u + ETA; t = t + u; t = t * GROW; r76 = t + PAD; if (!(b > r30)) { m76 = NAN; r76 = INFINITY; }
+        double m77, r77; m77 = m37 * m27; t = fabs(m37) + r37; t = t * r27; u = fabs(m27) * r37; t = t + u; u = fabs(m77) * U; u = u + ETA; t = t + u; t = t * GROW; r77 = t + PAD;
+        double m78, r78; m78 = m38 * m28; t = fabs(m38) + r38; t = t * r28; u = fabs(m28) * r38; t = t + u; u = fabs(m78) * U; u = u + ETA; t = t + u; t = t * GROW; r78 = t + PAD;
+        double m79, r79; m79 = m77 + m54; t = r77 + r54; u = fabs(m79) * U; t = t + u; t = t * GROW; r79 = t + PAD;
+        double m80, r80; m80 = m78 + m55; t = r78 + r55; u = fabs(m80) * U; t = t + u; t = t * GROW; r80 = t + PAD;
+        double m81, r81; m81 = m19 * m74; t = fabs(m19) + r19; t = t * r74; u = fabs(m74) * r19; t = t + u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = m20 * m74; t = fabs(m20) + r20; t = t * r74; u = fabs(m74) * r20; t = t + u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD;
+        double m83, r83; m83 = m17 * m76; t = fabs(m17) + r17; t = t * r76; u = fabs(m76) * r17; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+        double m84, r84; m84 = m18 * m76; t = fabs(m18) + r18; t = t * r76; u = fabs(m76) * r18; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m81 - m83; t = r81 + r83; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m82 - m84; t = r82 + r84; u = fabs(m86) * U; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m15 * m85; t = fabs(m15) + r15; t = t * r85; u = fabs(m85) * r15; t = t + u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m16 * m86; t = fabs(m16) + r16; t = t * r86; u = fabs(m86) * r16; t = t + u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m13 * m87; t = fabs(m13) + r13; t = t * r87; u = fabs(m87) * r13; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m14 * m88; t = fabs(m14) + r14; t = t * r88; u = fabs(m88) * r14; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m79 + m89; t = r79 + r89; u = fabs(m91) * U; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m80 + m90; t = r80 + r90; u = fabs(m92) * U; t = t + u; t = t * GROW; r92 = t + PAD;
+        out[0 * n + j] = m91;
+        out[2 * n + j] = r91;
+        out[1 * n + j] = m92;
+        out[3 * n + j] = r92;
+    }
+}
+
+static const int rows_torques_at_ball_revolute[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1};
 static void k_torques_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -445,6 +547,109 @@ static void k_torques_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_torques_ball_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1};
+static void k_torques_at_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m3 = LD(in[2].m, 0, j), r3 = LD(in[2].r, 0, j);
+        double m4 = LD(in[2].m, 1, j), r4 = LD(in[2].r, 1, j);
+        double m5 = LD(in[3].m, 0, j), r5 = LD(in[3].r, 0, j);
+        double m6 = LD(in[3].m, 1, j), r6 = LD(in[3].r, 1, j);
+        double m7 = LD(in[4].m, 0, j), r7 = LD(in[4].r, 0, j);
+        double m8 = LD(in[4].m, 1, j), r8 = LD(in[4].r, 1, j);
+        double m9 = LD(in[5].m, 0, j), r9 = LD(in[5].r, 0, j);
+        double m10 = LD(in[5].m, 1, j), r10 = LD(in[5].r, 1, j);
+        double m11 = LD(in[6].m, 0, j), r11 = LD(in[6].r, 0, j);
+        double m12 = LD(in[6].m, 1, j), r12 = LD(in[6].r, 1, j);
+        const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+        const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+        double m15 = LD(in[7].m, 0, j), r15 = LD(in[7].r, 0, j);
+        double m16 = LD(in[7].m, 1, j), r16 = LD(in[7].r, 1, j);
+        double m17 = LD(in[8].m, 0, j), r17 = LD(in[8].r, 0, j);
+        double m18 = LD(in[8].m, 1, j), r18 = LD(in[8].r, 1, j);
+        double m19 = LD(in[9].m, 0, j), r19 = LD(in[9].r, 0, j);
+        double m20 = LD(in[9].m, 1, j), r20 = LD(in[9].r, 1, j);
+        double m21 = LD(in[10].m, 0, j), r21 = LD(in[10].r, 0, j);
+        double m22 = LD(in[10].m, 1, j), r22 = LD(in[10].r, 1, j);
+        double m23 = LD(in[11].m, 0, j), r23 = LD(in[11].r, 0, j);
+        double m24 = LD(in[11].m, 1, j), r24 = LD(in[11].r, 1, j);
+        double m25 = LD(in[12].m, 0, j), r25 = LD(in[12].r, 0, j);
+        double m26 = LD(in[12].m, 1, j), r26 = LD(in[12].r, 1, j);
+        double m27 = LD(in[13].m, 0, j), r27 = LD(in[13].r, 0, j);
+        double m28 = LD(in[13].m, 1, j), r28 = LD(in[13].r, 1, j);
+        double m30 = LD(in[15].m, 0, j), r30 = LD(in[15].r, 0, j);
+        double m31, r31; m31 = m15 - m5; t = r15 + r5; u = fabs(m31) * U; t = t + u; t = t * GROW; r31 = t + PAD;
+        double m32, r32; m32 = m16 - m6; t = r16 + r6; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+        double m33, r33; m33 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD;
+        double m34, r34; m34 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+        double m35, r35; m35 = m3 * m33; t = fabs(m3) + r3; t = t * r33; u = fabs(m33) * r3; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+        double m36, r36; m36 = m4 * m34; t = fabs(m4) + r4; t = t * r34; u = fabs(m34) * r4; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+        double m37, r37; m37 = m7 + m35; t = r7 + r35; u = fabs(m37) * U; t = t + u; t = t * GROW; r37 = t + PAD;
+        double m38, r38; m38 = m8 + m36; t = r8 + r36; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+        const double m39 = 0x1.0000000000000p+1, r39 = 0x0.0p+0;
+        double m40, r40; m40 = m3 * m39; t = fabs(m3) + r3; t = t * r39; u = fabs(m39) * r3; t = t + u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD;
+        double m41, r41; m41 = m4 * m39; t = fabs(m4) + r4; t = t * r39; u = fabs(m39) * r4; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+        double m42, r42; m42 = m21 * m23; t = fabs(m21) + r21; t = t * r23; u = fabs(m23) * r21; t = t + u; u = fabs(m42) * U; u = u + ETA; t = t + u; t = t * GROW; r42 = t + PAD;
+        double m43, r43; m43 = m22 * m24; t = fabs(m22) + r22; t = t * r24; u = fabs(m24) * r22; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+        double m44, r44; m44 = m42 * m31; t = fabs(m42) + r42; t = t * r31; u = fabs(m31) * r42; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+        double m45, r45; m45 = m43 * m32; t = fabs(m43) + r43; t = t * r32; u = fabs(m32) * r43; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+        double m46, r46; m46 = m40 * m44; t = fabs(m40) + r40; t = t * r44; u = fabs(m44) * r40; t = t + u; u = fabs(m46) * U; u = u + ETA; t = t + u; t = t * GROW; r46 = t + PAD;
+        double m47, r47; m47 = m41 * m45; t = fabs(m41) + r41; t = t * r45; u = fabs(m45) * r41; t = t + u; u = fabs(m47) * U; u = u + ETA; t = t + u; t = t * GROW; r47 = t + PAD;
+        double m48, r48; m48 = m11 * m15; t = fabs(m11) + r11; t = t * r15; u = fabs(m15) * r11; t = t + u; u = fabs(m48) * U; u = u + ETA; t = t + u; t = t * GROW; r48 = t + PAD;
+        double m49, r49; m49 = m12 * m16; t = fabs(m12) + r12; t = t * r16; u = fabs(m16) * r12; t = t + u; u = fabs(m49) * U; u = u + ETA; t = t + u; t = t * GROW; r49 = t + PAD;
+        double m50, r50; m50 = m9 + m48; t = r9 + r48; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m10 + m49; t = r10 + r49; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; m52 = m50 * m17; t = fabs(m50) + r50; t = t * r17; u = fabs(m17) * r50; t = t + u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD;
+        double m53, r53; m53 = m51 * m18; t = fabs(m51) + r51; t = t * r18; u = fabs(m18) * r51; t = t + u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD;
+        double m54, r54; m54 = m46 + m52; t = r46 + r52; u = fabs(m54) * U; t = t + u; t = t * GROW; r54 = t + PAD;
+        double m55, r55; m55 = m47 + m53; t = r47 + r53; u = fabs(m55) * U; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m23 * m23; t = fabs(m23) + r23; t = t * r23; u = fabs(m23) * r23; t = t + u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD;
+        double m58, r58; m58 = m31 * m56; t = fabs(m31) + r31; t = t * r56; u = fabs(m56) * r31; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m32 * m57; t = fabs(m32) + r32; t = t * r57; u = fabs(m57) * r32; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m25 - m58; t = r25 + r58; u = fabs(m60) * U; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; m61 = m26 - m59; t = r26 + r59; u = fabs(m61) * U; t = t + u; t = t * GROW; r61 = t + PAD;
+        double m62, r62; m62 = m3 * m60; t = fabs(m3) + r3; t = t * r60; u = fabs(m60) * r3; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m4 * m61; t = fabs(m4) + r4; t = t * r61; u = fabs(m61) * r4; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; m64 = m11 * m19; t = fabs(m11) + r11; t = t * r19; u = fabs(m19) * r11; t = t + u; u = fabs(m64) * U; u = u + ETA; t = t + u; t = t * GROW; r64 = t + PAD;
+        double m65, r65; m65 = m12 * m20; t = fabs(m12) + r12; t = t * r20; u = fabs(m20) * r12; t = t + u; u = fabs(m65) * U; u = u + ETA; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m62 + m64; t = r62 + r64; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m63 + m65; t = r63 + r65; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        double m68, r68; m68 = m37 * m27; t = fabs(m37) + r37; t = t * r27; u = fabs(m27) * r37; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+        double m69, r69; m69 = m38 * m28; t = fabs(m38) + r38; t = t * r28; u = fabs(m28) * r38; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; m70 = m68 + m54; t = r68 + r54; u = fabs(m70) * U; t = t + u; t = t * GROW; r70 = t + PAD;
+        double m71, r71; m71 = m69 + m55; t = r69 + r55; u = fabs(m71) * U; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; b = fabs(m15); m72 = m70 / m15; t = r70 * b; u = fabs(m70) * r15; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r15; t = t / u; u = fabs(m72) * U; u = u + ETA; t = t + u; t = t * GROW; r72 = t + PAD; if (!(b > r15)) { m72 = NAN; r72 = INFINITY; }
+        double m73, r73; b = fabs(m16); m73 = m71 / m16; t = r71 * b; u = fabs(m71) * r16; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r16; t = t / u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD; if (!(b > r16)) { m73 = NAN; r73 = INFINITY; }
+        double m74, r74; m74 = m17 * m73; t = fabs(m17) + r17; t = t * r73; u = fabs(m73) * r17; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+        double m75, r75; m75 = m18 * m72; t = fabs(m18) + r18; t = t * r72; u = fabs(m72) * r18; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; m76 = m19 * m73; t = fabs(m19) + r19; t = t * r73; u = fabs(m73) * r19; t = t + u; u = fabs(m76) * U; u = u + ETA; t = t + u; t = t * GROW; r76 = t + PAD;
+        double m77, r77; m77 = m20 * m72; t = fabs(m20) + r20; t = t * r72; u = fabs(m72) * r20; t = t + u; u = fabs(m77) * U; u = u + ETA; t = t + u; t = t * GROW; r77 = t + PAD;
+        double m78, r78; m78 = m74 + m75; t = r74 + r75; u = fabs(m78) * U; t = t + u; t = t * GROW; r78 = t + PAD;
+        double m79, r79; m79 = -m78; r79 = r78;
+        double m80, r80; b = fabs(m30); m80 = m79 / m30; t = r79 * b; u = fabs(m79) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m80) * U; u = u + ETA; t = t + u; t = t * GROW; r80 = t + PAD; if (!(b > r30)) { m80 = NAN; r80 = INFINITY; }
+        double m81, r81; m81 = m76 + m77; t = r76 + r77; u = fabs(m81) * U; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = -m81; r82 = r81;
+        double m83, r83; b = fabs(m30); m83 = m82 / m30; t = r82 * b; u = fabs(m82) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD; if (!(b > r30)) { m83 = NAN; r83 = INFINITY; }
+        double m84, r84; m84 = m17 * m80; t = fabs(m17) + r17; t = t * r80; u = fabs(m80) * r17; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m18 * m80; t = fabs(m18) + r18; t = t * r80; u = fabs(m80) * r18; t = t + u; u = fabs(m85) * U; u = u + ETA; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m19 * m83; t = fabs(m19) + r19; t = t * r83; u = fabs(m83) * r19; t = t + u; u = fabs(m86) * U; u = u + ETA; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m20 * m83; t = fabs(m20) + r20; t = t * r83; u = fabs(m83) * r20; t = t + u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m84 + m86; t = r84 + r86; u = fabs(m88) * U; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m85 + m87; t = r85 + r87; u = fabs(m89) * U; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m13 * m88; t = fabs(m13) + r13; t = t * r88; u = fabs(m88) * r13; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m14 * m89; t = fabs(m14) + r14; t = t * r89; u = fabs(m89) * r14; t = t + u; u = fabs(m91) * U; u = u + ETA; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m66 - m90; t = r66 + r90; u = fabs(m92) * U; t = t + u; t = t * GROW; r92 = t + PAD;
+        double m93, r93; m93 = m67 - m91; t = r67 + r91; u = fabs(m93) * U; t = t + u; t = t * GROW; r93 = t + PAD;
+        out[0 * n + j] = m92;
+        out[2 * n + j] = r92;
+        out[1 * n + j] = m93;
+        out[3 * n + j] = r93;
+    }
+}
+
+static const int rows_torques_at_ball_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1};
 static void k_legs_jet(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -965,6 +1170,239 @@ static void k_torques_jet_revolute(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_torques_jet_revolute[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1};
+static void k_torques_at_jet_revolute(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m3 = LD(in[2].m, 0, j), r3 = LD(in[2].r, 0, j);
+        double m4 = LD(in[2].m, 1, j), r4 = LD(in[2].r, 1, j);
+        double m5 = LD(in[3].m, 0, j), r5 = LD(in[3].r, 0, j);
+        double m6 = LD(in[3].m, 1, j), r6 = LD(in[3].r, 1, j);
+        double m7 = LD(in[4].m, 0, j), r7 = LD(in[4].r, 0, j);
+        double m8 = LD(in[4].m, 1, j), r8 = LD(in[4].r, 1, j);
+        double m9 = LD(in[5].m, 0, j), r9 = LD(in[5].r, 0, j);
+        double m10 = LD(in[5].m, 1, j), r10 = LD(in[5].r, 1, j);
+        double m11 = LD(in[6].m, 0, j), r11 = LD(in[6].r, 0, j);
+        double m12 = LD(in[6].m, 1, j), r12 = LD(in[6].r, 1, j);
+        const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+        const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+        double m15 = LD(in[7].m, 0, j), r15 = LD(in[7].r, 0, j);
+        double m16 = LD(in[7].m, 1, j), r16 = LD(in[7].r, 1, j);
+        double m17 = LD(in[8].m, 0, j), r17 = LD(in[8].r, 0, j);
+        double m18 = LD(in[8].m, 1, j), r18 = LD(in[8].r, 1, j);
+        double m19 = LD(in[9].m, 0, j), r19 = LD(in[9].r, 0, j);
+        double m20 = LD(in[9].m, 1, j), r20 = LD(in[9].r, 1, j);
+        double m21 = LD(in[10].m, 0, j), r21 = LD(in[10].r, 0, j);
+        double m22 = LD(in[10].m, 1, j), r22 = LD(in[10].r, 1, j);
+        double m23 = LD(in[11].m, 0, j), r23 = LD(in[11].r, 0, j);
+        double m24 = LD(in[11].m, 1, j), r24 = LD(in[11].r, 1, j);
+        double m25 = LD(in[12].m, 0, j), r25 = LD(in[12].r, 0, j);
+        double m26 = LD(in[12].m, 1, j), r26 = LD(in[12].r, 1, j);
+        double m27 = LD(in[13].m, 0, j), r27 = LD(in[13].r, 0, j);
+        double m28 = LD(in[13].m, 1, j), r28 = LD(in[13].r, 1, j);
+        double m29 = LD(in[14].m, 0, j), r29 = LD(in[14].r, 0, j);
+        double m30 = LD(in[14].m, 1, j), r30 = LD(in[14].r, 1, j);
+        double m31 = LD(in[15].m, 0, j), r31 = LD(in[15].r, 0, j);
+        double m32 = LD(in[15].m, 1, j), r32 = LD(in[15].r, 1, j);
+        double m33 = LD(in[16].m, 0, j), r33 = LD(in[16].r, 0, j);
+        double m34 = LD(in[16].m, 1, j), r34 = LD(in[16].r, 1, j);
+        double m35 = LD(in[17].m, 0, j), r35 = LD(in[17].r, 0, j);
+        double m36 = LD(in[17].m, 1, j), r36 = LD(in[17].r, 1, j);
+        double m37 = LD(in[18].m, 0, j), r37 = LD(in[18].r, 0, j);
+        double m38 = LD(in[18].m, 1, j), r38 = LD(in[18].r, 1, j);
+        double m39 = LD(in[19].m, 0, j), r39 = LD(in[19].r, 0, j);
+        double m40 = LD(in[19].m, 1, j), r40 = LD(in[19].r, 1, j);
+        double m41 = LD(in[20].m, 0, j), r41 = LD(in[20].r, 0, j);
+        double m42 = LD(in[20].m, 1, j), r42 = LD(in[20].r, 1, j);
+        double m45 = LD(in[23].m, 0, j), r45 = LD(in[23].r, 0, j);
+        double m46 = LD(in[24].m, 0, j), r46 = LD(in[24].r, 0, j);
+        double m47, r47; m47 = m15 - m5; t = r15 + r5; u = fabs(m47) * U; t = t + u; t = t * GROW; r47 = t + PAD;
+        double m48, r48; m48 = m16 - m6; t = r16 + r6; u = fabs(m48) * U; t = t + u; t = t * GROW; r48 = t + PAD;
+        const double m49 = 0x0.0p+0, r49 = 0x0.0p+0;
+        double m50, r50; m50 = m17 - m49; t = r17 + r49; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m18 - m49; t = r18 + r49; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; m52 = m47 * m47; t = fabs(m47) + r47; t = t * r47; u = fabs(m47) * r47; t = t + u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD;
+        double m53, r53; m53 = m48 * m48; t = fabs(m48) + r48; t = t * r48; u = fabs(m48) * r48; t = t + u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD;
+        double m54, r54; m54 = m50 * m47; t = fabs(m50) + r50; t = t * r47; u = fabs(m47) * r50; t = t + u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD;
+        double m55, r55; m55 = m51 * m48; t = fabs(m51) + r51; t = t * r48; u = fabs(m48) * r51; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m47 * m50; t = fabs(m47) + r47; t = t * r50; u = fabs(m50) * r47; t = t + u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = m48 * m51; t = fabs(m48) + r48; t = t * r51; u = fabs(m51) * r48; t = t + u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD;
+        double m58, r58; m58 = m54 + m56; t = r54 + r56; u = fabs(m58) * U; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m55 + m57; t = r55 + r57; u = fabs(m59) * U; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m52 * m3; t = fabs(m52) + r52; t = t * r3; u = fabs(m3) * r52; t = t + u; u = fabs(m60) * U; u = u + ETA; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; m61 = m53 * m4; t = fabs(m53) + r53; t = t * r4; u = fabs(m4) * r53; t = t + u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD;
+        double m62, r62; m62 = m58 * m3; t = fabs(m58) + r58; t = t * r3; u = fabs(m3) * r58; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m59 * m4; t = fabs(m59) + r59; t = t * r4; u = fabs(m4) * r59; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; m64 = m60 + m7; t = r60 + r7; u = fabs(m64) * U; t = t + u; t = t * GROW; r64 = t + PAD;
+        double m65, r65; m65 = m61 + m8; t = r61 + r8; u = fabs(m65) * U; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m62 + m49; t = r62 + r49; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m63 + m49; t = r63 + r49; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        const double m68 = 0x1.0000000000000p+1, r68 = 0x0.0p+0;
+        double m69, r69; m69 = m3 * m68; t = fabs(m3) + r3; t = t * r68; u = fabs(m68) * r3; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; m70 = m4 * m68; t = fabs(m4) + r4; t = t * r68; u = fabs(m68) * r4; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+        double m71, r71; m71 = m27 * m31; t = fabs(m27) + r27; t = t * r31; u = fabs(m31) * r27; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; m72 = m28 * m32; t = fabs(m28) + r28; t = t * r32; u = fabs(m32) * r28; t = t + u; u = fabs(m72) * U; u = u + ETA; t = t + u; t = t * GROW; r72 = t + PAD;
+        double m73, r73; m73 = m29 * m31; t = fabs(m29) + r29; t = t * r31; u = fabs(m31) * r29; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+        double m74, r74; m74 = m30 * m32; t = fabs(m30) + r30; t = t * r32; u = fabs(m32) * r30; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+        double m75, r75; m75 = m27 * m33; t = fabs(m27) + r27; t = t * r33; u = fabs(m33) * r27; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; m76 = m28 * m34; t = fabs(m28) + r28; t = t * r34; u = fabs(m34) * r28; t = t + u; u = fabs(m76) * U; u = u + ETA; t = t + u; t = t * GROW; r76 = t + PAD;
+        double m77, r77; m77 = m73 + m75; t = r73 + r75; u = fabs(m77) * U; t = t + u; t = t * GROW; r77 = t + PAD;
+        double m78, r78; m78 = m74 + m76; t = r74 + r76; u = fabs(m78) * U; t = t + u; t = t * GROW; r78 = t + PAD;
+        double m79, r79; m79 = m71 * m47; t = fabs(m71) + r71; t = t * r47; u = fabs(m47) * r71; t = t + u; u = fabs(m79) * U; u = u + ETA; t = t + u; t = t * GROW; r79 = t + PAD;
+        double m80, r80; m80 = m72 * m48; t = fabs(m72) + r72; t = t * r48; u = fabs(m48) * r72; t = t + u; u = fabs(m80) * U; u = u + ETA; t = t + u; t = t * GROW; r80 = t + PAD;
+        double m81, r81; m81 = m77 * m47; t = fabs(m77) + r77; t = t * r47; u = fabs(m47) * r77; t = t + u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = m78 * m48; t = fabs(m78) + r78; t = t * r48; u = fabs(m48) * r78; t = t + u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD;
+        double m83, r83; m83 = m71 * m50; t = fabs(m71) + r71; t = t * r50; u = fabs(m50) * r71; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+        double m84, r84; m84 = m72 * m51; t = fabs(m72) + r72; t = t * r51; u = fabs(m51) * r72; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m81 + m83; t = r81 + r83; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m82 + m84; t = r82 + r84; u = fabs(m86) * U; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m79 * m69; t = fabs(m79) + r79; t = t * r69; u = fabs(m69) * r79; t = t + u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m80 * m70; t = fabs(m80) + r80; t = t * r70; u = fabs(m70) * r80; t = t + u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m85 * m69; t = fabs(m85) + r85; t = t * r69; u = fabs(m69) * r85; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m86 * m70; t = fabs(m86) + r86; t = t * r70; u = fabs(m70) * r86; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m15 * m11; t = fabs(m15) + r15; t = t * r11; u = fabs(m11) * r15; t = t + u; u = fabs(m91) * U; u = u + ETA; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m16 * m12; t = fabs(m16) + r16; t = t * r12; u = fabs(m12) * r16; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+        double m93, r93; m93 = m17 * m11; t = fabs(m17) + r17; t = t * r11; u = fabs(m11) * r17; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+        double m94, r94; m94 = m18 * m12; t = fabs(m18) + r18; t = t * r12; u = fabs(m12) * r18; t = t + u; u = fabs(m94) * U; u = u + ETA; t = t + u; t = t * GROW; r94 = t + PAD;
+        double m95, r95; m95 = m91 + m9; t = r91 + r9; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+        double m96, r96; m96 = m92 + m10; t = r92 + r10; u = fabs(m96) * U; t = t + u; t = t * GROW; r96 = t + PAD;
+        double m97, r97; m97 = m93 + m49; t = r93 + r49; u = fabs(m97) * U; t = t + u; t = t * GROW; r97 = t + PAD;
+        double m98, r98; m98 = m94 + m49; t = r94 + r49; u = fabs(m98) * U; t = t + u; t = t * GROW; r98 = t + PAD;
+        double m99, r99; m99 = m95 * m19; t = fabs(m95) + r95; t = t * r19; u = fabs(m19) * r95; t = t + u; u = fabs(m99) * U; u = u + ETA; t = t + u; t = t * GROW; r99 = t + PAD;
+        double m100, r100; m100 = m96 * m20; t = fabs(m96) + r96; t = t * r20; u = fabs(m20) * r96; t = t + u; u = fabs(m100) * U; u = u + ETA; t = t + u; t = t * GROW; r100 = t + PAD;
+        double m101, r101; m101 = m97 * m19; t = fabs(m97) + r97; t = t * r19; u = fabs(m19) * r97; t = t + u; u = fabs(m101) * U; u = u + ETA; t = t + u; t = t * GROW; r101 = t + PAD;
+        double m102, r102; m102 = m98 * m20; t = fabs(m98) + r98; t = t * r20; u = fabs(m20) * r98; t = t + u; u = fabs(m102) * U; u = u + ETA; t = t + u; t = t * GROW; r102 = t + PAD;
+        double m103, r103; m103 = m95 * m21; t = fabs(m95) + r95; t = t * r21; u = fabs(m21) * r95; t = t + u; u = fabs(m103) * U; u = u + ETA; t = t + u; t = t * GROW; r103 = t + PAD;
+        double m104, r104; m104 = m96 * m22; t = fabs(m96) + r96; t = t * r22; u = fabs(m22) * r96; t = t + u; u = fabs(m104) * U; u = u + ETA; t = t + u; t = t * GROW; r104 = t + PAD;
+        double m105, r105; m105 = m101 + m103; t = r101 + r103; u = fabs(m105) * U; t = t + u; t = t * GROW; r105 = t + PAD;
+        double m106, r106; m106 = m102 + m104; t = r102 + r104; u = fabs(m106) * U; t = t + u; t = t * GROW; r106 = t + PAD;
+        double m107, r107; m107 = m87 + m99; t = r87 + r99; u = fabs(m107) * U; t = t + u; t = t * GROW; r107 = t + PAD;
+        double m108, r108; m108 = m88 + m100; t = r88 + r100; u = fabs(m108) * U; t = t + u; t = t * GROW; r108 = t + PAD;
+        double m109, r109; m109 = m89 + m105; t = r89 + r105; u = fabs(m109) * U; t = t + u; t = t * GROW; r109 = t + PAD;
+        double m110, r110; m110 = m90 + m106; t = r90 + r106; u = fabs(m110) * U; t = t + u; t = t * GROW; r110 = t + PAD;
+        double m111, r111; m111 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD;
+        double m112, r112; m112 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m112) * U; u = u + ETA; t = t + u; t = t * GROW; r112 = t + PAD;
+        double m113, r113; m113 = m33 * m31; t = fabs(m33) + r33; t = t * r31; u = fabs(m31) * r33; t = t + u; u = fabs(m113) * U; u = u + ETA; t = t + u; t = t * GROW; r113 = t + PAD;
+        double m114, r114; m114 = m34 * m32; t = fabs(m34) + r34; t = t * r32; u = fabs(m32) * r34; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+        double m115, r115; m115 = m31 * m33; t = fabs(m31) + r31; t = t * r33; u = fabs(m33) * r31; t = t + u; u = fabs(m115) * U; u = u + ETA; t = t + u; t = t * GROW; r115 = t + PAD;
+        double m116, r116; m116 = m32 * m34; t = fabs(m32) + r32; t = t * r34; u = fabs(m34) * r32; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+        double m117, r117; m117 = m113 + m115; t = r113 + r115; u = fabs(m117) * U; t = t + u; t = t * GROW; r117 = t + PAD;
+        double m118, r118; m118 = m114 + m116; t = r114 + r116; u = fabs(m118) * U; t = t + u; t = t * GROW; r118 = t + PAD;
+        double m119, r119; m119 = m47 * m111; t = fabs(m47) + r47; t = t * r111; u = fabs(m111) * r47; t = t + u; u = fabs(m119) * U; u = u + ETA; t = t + u; t = t * GROW; r119 = t + PAD;
+        double m120, r120; m120 = m48 * m112; t = fabs(m48) + r48; t = t * r112; u = fabs(m112) * r48; t = t + u; u = fabs(m120) * U; u = u + ETA; t = t + u; t = t * GROW; r120 = t + PAD;
+        double m121, r121; m121 = m50 * m111; t = fabs(m50) + r50; t = t * r111; u = fabs(m111) * r50; t = t + u; u = fabs(m121) * U; u = u + ETA; t = t + u; t = t * GROW; r121 = t + PAD;
+        double m122, r122; m122 = m51 * m112; t = fabs(m51) + r51; t = t * r112; u = fabs(m112) * r51; t = t + u; u = fabs(m122) * U; u = u + ETA; t = t + u; t = t * GROW; r122 = t + PAD;
+        double m123, r123; m123 = m47 * m117; t = fabs(m47) + r47; t = t * r117; u = fabs(m117) * r47; t = t + u; u = fabs(m123) * U; u = u + ETA; t = t + u; t = t * GROW; r123 = t + PAD;
+        double m124, r124; m124 = m48 * m118; t = fabs(m48) + r48; t = t * r118; u = fabs(m118) * r48; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+        double m125, r125; m125 = m121 + m123; t = r121 + r123; u = fabs(m125) * U; t = t + u; t = t * GROW; r125 = t + PAD;
+        double m126, r126; m126 = m122 + m124; t = r122 + r124; u = fabs(m126) * U; t = t + u; t = t * GROW; r126 = t + PAD;
+        double m127, r127; m127 = m35 - m119; t = r35 + r119; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+        double m128, r128; m128 = m36 - m120; t = r36 + r120; u = fabs(m128) * U; t = t + u; t = t * GROW; r128 = t + PAD;
+        double m129, r129; m129 = m37 - m125; t = r37 + r125; u = fabs(m129) * U; t = t + u; t = t * GROW; r129 = t + PAD;
+        double m130, r130; m130 = m38 - m126; t = r38 + r126; u = fabs(m130) * U; t = t + u; t = t * GROW; r130 = t + PAD;
+        double m131, r131; m131 = m127 * m3; t = fabs(m127) + r127; t = t * r3; u = fabs(m3) * r127; t = t + u; u = fabs(m131) * U; u = u + ETA; t = t + u; t = t * GROW; r131 = t + PAD;
+        double m132, r132; m132 = m128 * m4; t = fabs(m128) + r128; t = t * r4; u = fabs(m4) * r128; t = t + u; u = fabs(m132) * U; u = u + ETA; t = t + u; t = t * GROW; r132 = t + PAD;
+        double m133, r133; m133 = m129 * m3; t = fabs(m129) + r129; t = t * r3; u = fabs(m3) * r129; t = t + u; u = fabs(m133) * U; u = u + ETA; t = t + u; t = t * GROW; r133 = t + PAD;
+        double m134, r134; m134 = m130 * m4; t = fabs(m130) + r130; t = t * r4; u = fabs(m4) * r130; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+        double m135, r135; m135 = m23 * m11; t = fabs(m23) + r23; t = t * r11; u = fabs(m11) * r23; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+        double m136, r136; m136 = m24 * m12; t = fabs(m24) + r24; t = t * r12; u = fabs(m12) * r24; t = t + u; u = fabs(m136) * U; u = u + ETA; t = t + u; t = t * GROW; r136 = t + PAD;
+        double m137, r137; m137 = m25 * m11; t = fabs(m25) + r25; t = t * r11; u = fabs(m11) * r25; t = t + u; u = fabs(m137) * U; u = u + ETA; t = t + u; t = t * GROW; r137 = t + PAD;
+        double m138, r138; m138 = m26 * m12; t = fabs(m26) + r26; t = t * r12; u = fabs(m12) * r26; t = t + u; u = fabs(m138) * U; u = u + ETA; t = t + u; t = t * GROW; r138 = t + PAD;
+        double m139, r139; m139 = m131 + m135; t = r131 + r135; u = fabs(m139) * U; t = t + u; t = t * GROW; r139 = t + PAD;
+        double m140, r140; m140 = m132 + m136; t = r132 + r136; u = fabs(m140) * U; t = t + u; t = t * GROW; r140 = t + PAD;
+        double m141, r141; m141 = m133 + m137; t = r133 + r137; u = fabs(m141) * U; t = t + u; t = t * GROW; r141 = t + PAD;
+        double m142, r142; m142 = m134 + m138; t = r134 + r138; u = fabs(m142) * U; t = t + u; t = t * GROW; r142 = t + PAD;
+        double m143, r143; m143 = m23 * m140; t = fabs(m23) + r23; t = t * r140; u = fabs(m140) * r23; t = t + u; u = fabs(m143) * U; u = u + ETA; t = t + u; t = t * GROW; r143 = t + PAD;
+        double m144, r144; m144 = m24 * m139; t = fabs(m24) + r24; t = t * r139; u = fabs(m139) * r24; t = t + u; u = fabs(m144) * U; u = u + ETA; t = t + u; t = t * GROW; r144 = t + PAD;
+        double m145, r145; m145 = m25 * m140; t = fabs(m25) + r25; t = t * r140; u = fabs(m140) * r25; t = t + u; u = fabs(m145) * U; u = u + ETA; t = t + u; t = t * GROW; r145 = t + PAD;
+        double m146, r146; m146 = m26 * m139; t = fabs(m26) + r26; t = t * r139; u = fabs(m139) * r26; t = t + u; u = fabs(m146) * U; u = u + ETA; t = t + u; t = t * GROW; r146 = t + PAD;
+        double m147, r147; m147 = m23 * m142; t = fabs(m23) + r23; t = t * r142; u = fabs(m142) * r23; t = t + u; u = fabs(m147) * U; u = u + ETA; t = t + u; t = t * GROW; r147 = t + PAD;
+        double m148, r148; m148 = m24 * m141; t = fabs(m24) + r24; t = t * r141; u = fabs(m141) * r24; t = t + u; u = fabs(m148) * U; u = u + ETA; t = t + u; t = t * GROW; r148 = t + PAD;
+        double m149, r149; m149 = m145 + m147; t = r145 + r147; u = fabs(m149) * U; t = t + u; t = t * GROW; r149 = t + PAD;
+        double m150, r150; m150 = m146 + m148; t = r146 + r148; u = fabs(m150) * U; t = t + u; t = t * GROW; r150 = t + PAD;
+        double m151, r151; m151 = m19 * m140; t = fabs(m19) + r19; t = t * r140; u = fabs(m140) * r19; t = t + u; u = fabs(m151) * U; u = u + ETA; t = t + u; t = t * GROW; r151 = t + PAD;
+        double m152, r152; m152 = m20 * m139; t = fabs(m20) + r20; t = t * r139; u = fabs(m139) * r20; t = t + u; u = fabs(m152) * U; u = u + ETA; t = t + u; t = t * GROW; r152 = t + PAD;
+        double m153, r153; m153 = m21 * m140; t = fabs(m21) + r21; t = t * r140; u = fabs(m140) * r21; t = t + u; u = fabs(m153) * U; u = u + ETA; t = t + u; t = t * GROW; r153 = t + PAD;
+        double m154, r154; m154 = m22 * m139; t = fabs(m22) + r22; t = t * r139; u = fabs(m139) * r22; t = t + u; u = fabs(m154) * U; u = u + ETA; t = t + u; t = t * GROW; r154 = t + PAD;
+        double m155, r155; m155 = m19 * m142; t = fabs(m19) + r19; t = t * r142; u = fabs(m142) * r19; t = t + u; u = fabs(m155) * U; u = u + ETA; t = t + u; t = t * GROW; r155 = t + PAD;
+        double m156, r156; m156 = m20 * m141; t = fabs(m20) + r20; t = t * r141; u = fabs(m141) * r20; t = t + u; u = fabs(m156) * U; u = u + ETA; t = t + u; t = t * GROW; r156 = t + PAD;
+        double m157, r157; m157 = m153 + m155; t = r153 + r155; u = fabs(m157) * U; t = t + u; t = t * GROW; r157 = t + PAD;
+        double m158, r158; m158 = m154 + m156; t = r154 + r156; u = fabs(m158) * U; t = t + u; t = t * GROW; r158 = t + PAD;
+        double m159, r159; m159 = m143 + m144; t = r143 + r144; u = fabs(m159) * U; t = t + u; t = t * GROW; r159 = t + PAD;
+        double m160, r160; m160 = m149 + m150; t = r149 + r150; u = fabs(m160) * U; t = t + u; t = t * GROW; r160 = t + PAD;
+        double m161, r161; m161 = -m159; r161 = r159;
+        double m162, r162; m162 = -m160; r162 = r160;
+        double m163, r163; b = fabs(m45); m163 = m161 / m45; t = r161 * b; u = fabs(m161) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m163) * U; u = u + ETA; t = t + u; t = t * GROW; r163 = t + PAD; if (!(b > r45)) { m163 = NAN; r163 = INFINITY; }
+        double m164, r164; m164 = m163 * m46; t = fabs(m163) + r163; t = t * r46; u = fabs(m46) * r163; t = t + u; u = fabs(m164) * U; u = u + ETA; t = t + u; t = t * GROW; r164 = t + PAD;
+        double m165, r165; m165 = m162 - m164; t = r162 + r164; u = fabs(m165) * U; t = t + u; t = t * GROW; r165 = t + PAD;
+        double m166, r166; b = fabs(m45); m166 = m165 / m45; t = r165 * b; u = fabs(m165) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m166) * U; u = u + ETA; t = t + u; t = t * GROW; r166 = t + PAD; if (!(b > r45)) { m166 = NAN; r166 = INFINITY; }
+        double m167, r167; m167 = m151 + m152; t = r151 + r152; u = fabs(m167) * U; t = t + u; t = t * GROW; r167 = t + PAD;
+        double m168, r168; m168 = m157 + m158; t = r157 + r158; u = fabs(m168) * U; t = t + u; t = t * GROW; r168 = t + PAD;
+        double m169, r169; b = fabs(m45); m169 = m167 / m45; t = r167 * b; u = fabs(m167) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m169) * U; u = u + ETA; t = t + u; t = t * GROW; r169 = t + PAD; if (!(b > r45)) { m169 = NAN; r169 = INFINITY; }
+        double m170, r170; m170 = m169 * m46; t = fabs(m169) + r169; t = t * r46; u = fabs(m46) * r169; t = t + u; u = fabs(m170) * U; u = u + ETA; t = t + u; t = t * GROW; r170 = t + PAD;
+        double m171, r171; m171 = m168 - m170; t = r168 + r170; u = fabs(m171) * U; t = t + u; t = t * GROW; r171 = t + PAD;
+        double m172, r172; b = fabs(m45); m172 = m171 / m45; t = r171 * b; u = fabs(m171) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m172) * U; u = u + ETA; t = t + u; t = t * GROW; r172 = t + PAD; if (!(b > r45)) { m172 = NAN; r172 = INFINITY; }
+        double m173, r173; m173 = m64 * m39; t = fabs(m64) + r64; t = t * r39; u = fabs(m39) * r64; t = t + u; u = fabs(m173) * U; u = u + ETA; t = t + u; t = t * GROW; r173 = t + PAD;
+        double m174, r174; m174 = m65 * m40; t = fabs(m65) + r65; t = t * r40; u = fabs(m40) * r65; t = t + u; u = fabs(m174) * U; u = u + ETA; t = t + u; t = t * GROW; r174 = t + PAD;
+        double m175, r175; m175 = m66 * m39; t = fabs(m66) + r66; t = t * r39; u = fabs(m39) * r66; t = t + u; u = fabs(m175) * U; u = u + ETA; t = t + u; t = t * GROW; r175 = t + PAD;
+        double m176, r176; m176 = m67 * m40; t = fabs(m67) + r67; t = t * r40; u = fabs(m40) * r67; t = t + u; u = fabs(m176) * U; u = u + ETA; t = t + u; t = t * GROW; r176 = t + PAD;
+        double m177, r177; m177 = m64 * m41; t = fabs(m64) + r64; t = t * r41; u = fabs(m41) * r64; t = t + u; u = fabs(m177) * U; u = u + ETA; t = t + u; t = t * GROW; r177 = t + PAD;
+        double m178, r178; m178 = m65 * m42; t = fabs(m65) + r65; t = t * r42; u = fabs(m42) * r65; t = t + u; u = fabs(m178) * U; u = u + ETA; t = t + u; t = t * GROW; r178 = t + PAD;
+        double m179, r179; m179 = m175 + m177; t = r175 + r177; u = fabs(m179) * U; t = t + u; t = t * GROW; r179 = t + PAD;
+        double m180, r180; m180 = m176 + m178; t = r176 + r178; u = fabs(m180) * U; t = t + u; t = t * GROW; r180 = t + PAD;
+        double m181, r181; m181 = m173 + m107; t = r173 + r107; u = fabs(m181) * U; t = t + u; t = t * GROW; r181 = t + PAD;
+        double m182, r182; m182 = m174 + m108; t = r174 + r108; u = fabs(m182) * U; t = t + u; t = t * GROW; r182 = t + PAD;
+        double m183, r183; m183 = m179 + m109; t = r179 + r109; u = fabs(m183) * U; t = t + u; t = t * GROW; r183 = t + PAD;
+        double m184, r184; m184 = m180 + m110; t = r180 + r110; u = fabs(m184) * U; t = t + u; t = t * GROW; r184 = t + PAD;
+        double m185, r185; m185 = m23 * m163; t = fabs(m23) + r23; t = t * r163; u = fabs(m163) * r23; t = t + u; u = fabs(m185) * U; u = u + ETA; t = t + u; t = t * GROW; r185 = t + PAD;
+        double m186, r186; m186 = m24 * m163; t = fabs(m24) + r24; t = t * r163; u = fabs(m163) * r24; t = t + u; u = fabs(m186) * U; u = u + ETA; t = t + u; t = t * GROW; r186 = t + PAD;
+        double m187, r187; m187 = m25 * m163; t = fabs(m25) + r25; t = t * r163; u = fabs(m163) * r25; t = t + u; u = fabs(m187) * U; u = u + ETA; t = t + u; t = t * GROW; r187 = t + PAD;
+        double m188, r188; m188 = m26 * m163; t = fabs(m26) + r26; t = t * r163; u = fabs(m163) * r26; t = t + u; u = fabs(m188) * U; u = u + ETA; t = t + u; t = t * GROW; r188 = t + PAD;
+        double m189, r189; m189 = m23 * m166; t = fabs(m23) + r23; t = t * r166; u = fabs(m166) * r23; t = t + u; u = fabs(m189) * U; u = u + ETA; t = t + u; t = t * GROW; r189 = t + PAD;
+        double m190, r190; m190 = m24 * m166; t = fabs(m24) + r24; t = t * r166; u = fabs(m166) * r24; t = t + u; u = fabs(m190) * U; u = u + ETA; t = t + u; t = t * GROW; r190 = t + PAD;
+        double m191, r191; m191 = m187 + m189; t = r187 + r189; u = fabs(m191) * U; t = t + u; t = t * GROW; r191 = t + PAD;
+        double m192, r192; m192 = m188 + m190; t = r188 + r190; u = fabs(m192) * U; t = t + u; t = t * GROW; r192 = t + PAD;
+        double m193, r193; m193 = m19 * m169; t = fabs(m19) + r19; t = t * r169; u = fabs(m169) * r19; t = t + u; u = fabs(m193) * U; u = u + ETA; t = t + u; t = t * GROW; r193 = t + PAD;
+        double m194, r194; m194 = m20 * m169; t = fabs(m20) + r20; t = t * r169; u = fabs(m169) * r20; t = t + u; u = fabs(m194) * U; u = u + ETA; t = t + u; t = t * GROW; r194 = t + PAD;
+        double m195, r195; m195 = m21 * m169; t = fabs(m21) + r21; t = t * r169; u = fabs(m169) * r21; t = t + u; u = fabs(m195) * U; u = u + ETA; t = t + u; t = t * GROW; r195 = t + PAD;
+        double m196, r196; m196 = m22 * m169; t = fabs(m22) + r22; t = t * r169; u = fabs(m169) * r22; t = t + u; u = fabs(m196) * U; u = u + ETA; t = t + u; t = t * GROW; r196 = t + PAD;
+        double m197, r197; m197 = m19 * m172; t = fabs(m19) + r19; t = t * r172; u = fabs(m172) * r19; t = t + u; u = fabs(m197) * U; u = u + ETA; t = t + u; t = t * GROW; r197 = t + PAD;
+        double m198, r198; m198 = m20 * m172; t = fabs(m20) + r20; t = t * r172; u = fabs(m172) * r20; t = t + u; u = fabs(m198) * U; u = u + ETA; t = t + u; t = t * GROW; r198 = t + PAD;
+        double m199, r199; m199 = m195 + m197; t = r195 + r197; u = fabs(m199) * U; t = t + u; t = t * GROW; r199 = t + PAD;
+        double m200, r200; m200 = m196 + m198; t = r196 + r198; u = fabs(m200) * U; t = t + u; t = t * GROW; r200 = t + PAD;
+        double m201, r201; m201 = m185 - m193; t = r185 + r193; u = fabs(m201) * U; t = t + u; t = t * GROW; r201 = t + PAD;
+        double m202, r202; m202 = m186 - m194; t = r186 + r194; u = fabs(m202) * U; t = t + u; t = t * GROW; r202 = t + PAD;
+        double m203, r203; m203 = m191 - m199; t = r191 + r199; u = fabs(m203) * U; t = t + u; t = t * GROW; r203 = t + PAD;
+        double m204, r204; m204 = m192 - m200; t = r192 + r200; u = fabs(m204) * U; t = t + u; t = t * GROW; r204 = t + PAD;
+        double m205, r205; m205 = m15 * m201; t = fabs(m15) + r15; t = t * r201; u = fabs(m201) * r15; t = t + u; u = fabs(m205) * U; u = u + ETA; t = t + u; t = t * GROW; r205 = t + PAD;
+        double m206, r206; m206 = m16 * m202; t = fabs(m16) + r16; t = t * r202; u = fabs(m202) * r16; t = t + u; u = fabs(m206) * U; u = u + ETA; t = t + u; t = t * GROW; r206 = t + PAD;
+        double m207, r207; m207 = m17 * m201; t = fabs(m17) + r17; t = t * r201; u = fabs(m201) * r17; t = t + u; u = fabs(m207) * U; u = u + ETA; t = t + u; t = t * GROW; r207 = t + PAD;
+        double m208, r208; m208 = m18 * m202; t = fabs(m18) + r18; t = t * r202; u = fabs(m202) * r18; t = t + u; u = fabs(m208) * U; u = u + ETA; t = t + u; t = t * GROW; r208 = t + PAD;
+        double m209, r209; m209 = m15 * m203; t = fabs(m15) + r15; t = t * r203; u = fabs(m203) * r15; t = t + u; u = fabs(m209) * U; u = u + ETA; t = t + u; t = t * GROW; r209 = t + PAD;
+        double m210, r210; m210 = m16 * m204; t = fabs(m16) + r16; t = t * r204; u = fabs(m204) * r16; t = t + u; u = fabs(m210) * U; u = u + ETA; t = t + u; t = t * GROW; r210 = t + PAD;
+        double m211, r211; m211 = m207 + m209; t = r207 + r209; u = fabs(m211) * U; t = t + u; t = t * GROW; r211 = t + PAD;
+        double m212, r212; m212 = m208 + m210; t = r208 + r210; u = fabs(m212) * U; t = t + u; t = t * GROW; r212 = t + PAD;
+        double m213, r213; m213 = m205 * m13; t = fabs(m205) + r205; t = t * r13; u = fabs(m13) * r205; t = t + u; u = fabs(m213) * U; u = u + ETA; t = t + u; t = t * GROW; r213 = t + PAD;
+        double m214, r214; m214 = m206 * m14; t = fabs(m206) + r206; t = t * r14; u = fabs(m14) * r206; t = t + u; u = fabs(m214) * U; u = u + ETA; t = t + u; t = t * GROW; r214 = t + PAD;
+        double m215, r215; m215 = m211 * m13; t = fabs(m211) + r211; t = t * r13; u = fabs(m13) * r211; t = t + u; u = fabs(m215) * U; u = u + ETA; t = t + u; t = t * GROW; r215 = t + PAD;
+        double m216, r216; m216 = m212 * m14; t = fabs(m212) + r212; t = t * r14; u = fabs(m14) * r212; t = t + u; u = fabs(m216) * U; u = u + ETA; t = t + u; t = t * GROW; r216 = t + PAD;
+        double m217, r217; m217 = m181 + m213; t = r181 + r213; u = fabs(m217) * U; t = t + u; t = t * GROW; r217 = t + PAD;
+        double m218, r218; m218 = m182 + m214; t = r182 + r214; u = fabs(m218) * U; t = t + u; t = t * GROW; r218 = t + PAD;
+        double m219, r219; m219 = m183 + m215; t = r183 + r215; u = fabs(m219) * U; t = t + u; t = t * GROW; r219 = t + PAD;
+        double m220, r220; m220 = m184 + m216; t = r184 + r216; u = fabs(m220) * U; t = t + u; t = t * GROW; r220 = t + PAD;
+        out[0 * n + j] = m217;
+        out[2 * n + j] = r217;
+        out[1 * n + j] = m218;
+        out[3 * n + j] = r218;
+        out[4 * n + j] = m219;
+        out[6 * n + j] = r219;
+        out[5 * n + j] = m220;
+        out[7 * n + j] = r220;
+    }
+}
+
+static const int rows_torques_at_jet_revolute[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 1, 1};
 static void k_torques_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -1217,6 +1655,241 @@ static void k_torques_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_torques_jet_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1};
+static void k_torques_at_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m3 = LD(in[2].m, 0, j), r3 = LD(in[2].r, 0, j);
+        double m4 = LD(in[2].m, 1, j), r4 = LD(in[2].r, 1, j);
+        double m5 = LD(in[3].m, 0, j), r5 = LD(in[3].r, 0, j);
+        double m6 = LD(in[3].m, 1, j), r6 = LD(in[3].r, 1, j);
+        double m7 = LD(in[4].m, 0, j), r7 = LD(in[4].r, 0, j);
+        double m8 = LD(in[4].m, 1, j), r8 = LD(in[4].r, 1, j);
+        double m9 = LD(in[5].m, 0, j), r9 = LD(in[5].r, 0, j);
+        double m10 = LD(in[5].m, 1, j), r10 = LD(in[5].r, 1, j);
+        double m11 = LD(in[6].m, 0, j), r11 = LD(in[6].r, 0, j);
+        double m12 = LD(in[6].m, 1, j), r12 = LD(in[6].r, 1, j);
+        const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+        const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+        double m15 = LD(in[7].m, 0, j), r15 = LD(in[7].r, 0, j);
+        double m16 = LD(in[7].m, 1, j), r16 = LD(in[7].r, 1, j);
+        double m17 = LD(in[8].m, 0, j), r17 = LD(in[8].r, 0, j);
+        double m18 = LD(in[8].m, 1, j), r18 = LD(in[8].r, 1, j);
+        double m19 = LD(in[9].m, 0, j), r19 = LD(in[9].r, 0, j);
+        double m20 = LD(in[9].m, 1, j), r20 = LD(in[9].r, 1, j);
+        double m21 = LD(in[10].m, 0, j), r21 = LD(in[10].r, 0, j);
+        double m22 = LD(in[10].m, 1, j), r22 = LD(in[10].r, 1, j);
+        double m23 = LD(in[11].m, 0, j), r23 = LD(in[11].r, 0, j);
+        double m24 = LD(in[11].m, 1, j), r24 = LD(in[11].r, 1, j);
+        double m25 = LD(in[12].m, 0, j), r25 = LD(in[12].r, 0, j);
+        double m26 = LD(in[12].m, 1, j), r26 = LD(in[12].r, 1, j);
+        double m27 = LD(in[13].m, 0, j), r27 = LD(in[13].r, 0, j);
+        double m28 = LD(in[13].m, 1, j), r28 = LD(in[13].r, 1, j);
+        double m29 = LD(in[14].m, 0, j), r29 = LD(in[14].r, 0, j);
+        double m30 = LD(in[14].m, 1, j), r30 = LD(in[14].r, 1, j);
+        double m31 = LD(in[15].m, 0, j), r31 = LD(in[15].r, 0, j);
+        double m32 = LD(in[15].m, 1, j), r32 = LD(in[15].r, 1, j);
+        double m33 = LD(in[16].m, 0, j), r33 = LD(in[16].r, 0, j);
+        double m34 = LD(in[16].m, 1, j), r34 = LD(in[16].r, 1, j);
+        double m35 = LD(in[17].m, 0, j), r35 = LD(in[17].r, 0, j);
+        double m36 = LD(in[17].m, 1, j), r36 = LD(in[17].r, 1, j);
+        double m37 = LD(in[18].m, 0, j), r37 = LD(in[18].r, 0, j);
+        double m38 = LD(in[18].m, 1, j), r38 = LD(in[18].r, 1, j);
+        double m39 = LD(in[19].m, 0, j), r39 = LD(in[19].r, 0, j);
+        double m40 = LD(in[19].m, 1, j), r40 = LD(in[19].r, 1, j);
+        double m41 = LD(in[20].m, 0, j), r41 = LD(in[20].r, 0, j);
+        double m42 = LD(in[20].m, 1, j), r42 = LD(in[20].r, 1, j);
+        double m45 = LD(in[23].m, 0, j), r45 = LD(in[23].r, 0, j);
+        double m46 = LD(in[24].m, 0, j), r46 = LD(in[24].r, 0, j);
+        double m47, r47; m47 = m15 - m5; t = r15 + r5; u = fabs(m47) * U; t = t + u; t = t * GROW; r47 = t + PAD;
+        double m48, r48; m48 = m16 - m6; t = r16 + r6; u = fabs(m48) * U; t = t + u; t = t * GROW; r48 = t + PAD;
+        const double m49 = 0x0.0p+0, r49 = 0x0.0p+0;
+        double m50, r50; m50 = m17 - m49; t = r17 + r49; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m18 - m49; t = r18 + r49; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; m52 = m47 * m47; t = fabs(m47) + r47; t = t * r47; u = fabs(m47) * r47; t = t + u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD;
+        double m53, r53; m53 = m48 * m48; t = fabs(m48) + r48; t = t * r48; u = fabs(m48) * r48; t = t + u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD;
+        double m54, r54; m54 = m50 * m47; t = fabs(m50) + r50; t = t * r47; u = fabs(m47) * r50; t = t + u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD;
+        double m55, r55; m55 = m51 * m48; t = fabs(m51) + r51; t = t * r48; u = fabs(m48) * r51; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m47 * m50; t = fabs(m47) + r47; t = t * r50; u = fabs(m50) * r47; t = t + u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = m48 * m51; t = fabs(m48) + r48; t = t * r51; u = fabs(m51) * r48; t = t + u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD;
+        double m58, r58; m58 = m54 + m56; t = r54 + r56; u = fabs(m58) * U; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m55 + m57; t = r55 + r57; u = fabs(m59) * U; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m52 * m3; t = fabs(m52) + r52; t = t * r3; u = fabs(m3) * r52; t = t + u; u = fabs(m60) * U; u = u + ETA; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; m61 = m53 * m4; t = fabs(m53) + r53; t = t * r4; u = fabs(m4) * r53; t = t + u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD;
+        double m62, r62; m62 = m58 * m3; t = fabs(m58) + r58; t = t * r3; u = fabs(m3) * r58; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m59 * m4; t = fabs(m59) + r59; t = t * r4; u = fabs(m4) * r59; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; m64 = m60 + m7; t = r60 + r7; u = fabs(m64) * U; t = t + u; t = t * GROW; r64 = t + PAD;
+        double m65, r65; m65 = m61 + m8; t = r61 + r8; u = fabs(m65) * U; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m62 + m49; t = r62 + r49; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m63 + m49; t = r63 + r49; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        const double m68 = 0x1.0000000000000p+1, r68 = 0x0.0p+0;
+        double m69, r69; m69 = m3 * m68; t = fabs(m3) + r3; t = t * r68; u = fabs(m68) * r3; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; m70 = m4 * m68; t = fabs(m4) + r4; t = t * r68; u = fabs(m68) * r4; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+        double m71, r71; m71 = m27 * m31; t = fabs(m27) + r27; t = t * r31; u = fabs(m31) * r27; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; m72 = m28 * m32; t = fabs(m28) + r28; t = t * r32; u = fabs(m32) * r28; t = t + u; u = fabs(m72) * U; u = u + ETA; t = t + u; t = t * GROW; r72 = t + PAD;
+        double m73, r73; m73 = m29 * m31; t = fabs(m29) + r29; t = t * r31; u = fabs(m31) * r29; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+        double m74, r74; m74 = m30 * m32; t = fabs(m30) + r30; t = t * r32; u = fabs(m32) * r30; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+        double m75, r75; m75 = m27 * m33; t = fabs(m27) + r27; t = t * r33; u = fabs(m33) * r27; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; m76 = m28 * m34; t = fabs(m28) + r28; t = t * r34; u = fabs(m34) * r28; t = t + u; u = fabs(m76) * U; u = u + ETA; t = t + u; t = t * GROW; r76 = t + PAD;
+        double m77, r77; m77 = m73 + m75; t = r73 + r75; u = fabs(m77) * U; t = t + u; t = t * GROW; r77 = t + PAD;
+        double m78, r78; m78 = m74 + m76; t = r74 + r76; u = fabs(m78) * U; t = t + u; t = t * GROW; r78 = t + PAD;
+        double m79, r79; m79 = m71 * m47; t = fabs(m71) + r71; t = t * r47; u = fabs(m47) * r71; t = t + u; u = fabs(m79) * U; u = u + ETA; t = t + u; t = t * GROW; r79 = t + PAD;
+        double m80, r80; m80 = m72 * m48; t = fabs(m72) + r72; t = t * r48; u = fabs(m48) * r72; t = t + u; u = fabs(m80) * U; u = u + ETA; t = t + u; t = t * GROW; r80 = t + PAD;
+        double m81, r81; m81 = m77 * m47; t = fabs(m77) + r77; t = t * r47; u = fabs(m47) * r77; t = t + u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = m78 * m48; t = fabs(m78) + r78; t = t * r48; u = fabs(m48) * r78; t = t + u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD;
+        double m83, r83; m83 = m71 * m50; t = fabs(m71) + r71; t = t * r50; u = fabs(m50) * r71; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+        double m84, r84; m84 = m72 * m51; t = fabs(m72) + r72; t = t * r51; u = fabs(m51) * r72; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m81 + m83; t = r81 + r83; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m82 + m84; t = r82 + r84; u = fabs(m86) * U; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m79 * m69; t = fabs(m79) + r79; t = t * r69; u = fabs(m69) * r79; t = t + u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m80 * m70; t = fabs(m80) + r80; t = t * r70; u = fabs(m70) * r80; t = t + u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m85 * m69; t = fabs(m85) + r85; t = t * r69; u = fabs(m69) * r85; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m86 * m70; t = fabs(m86) + r86; t = t * r70; u = fabs(m70) * r86; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m15 * m11; t = fabs(m15) + r15; t = t * r11; u = fabs(m11) * r15; t = t + u; u = fabs(m91) * U; u = u + ETA; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m16 * m12; t = fabs(m16) + r16; t = t * r12; u = fabs(m12) * r16; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+        double m93, r93; m93 = m17 * m11; t = fabs(m17) + r17; t = t * r11; u = fabs(m11) * r17; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+        double m94, r94; m94 = m18 * m12; t = fabs(m18) + r18; t = t * r12; u = fabs(m12) * r18; t = t + u; u = fabs(m94) * U; u = u + ETA; t = t + u; t = t * GROW; r94 = t + PAD;
+        double m95, r95; m95 = m91 + m9; t = r91 + r9; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+        double m96, r96; m96 = m92 + m10; t = r92 + r10; u = fabs(m96) * U; t = t + u; t = t * GROW; r96 = t + PAD;
+        double m97, r97; m97 = m93 + m49; t = r93 + r49; u = fabs(m97) * U; t = t + u; t = t * GROW; r97 = t + PAD;
+        double m98, r98; m98 = m94 + m49; t = r94 + r49; u = fabs(m98) * U; t = t + u; t = t * GROW; r98 = t + PAD;
+        double m99, r99; m99 = m95 * m19; t = fabs(m95) + r95; t = t * r19; u = fabs(m19) * r95; t = t + u; u = fabs(m99) * U; u = u + ETA; t = t + u; t = t * GROW; r99 = t + PAD;
+        double m100, r100; m100 = m96 * m20; t = fabs(m96) + r96; t = t * r20; u = fabs(m20) * r96; t = t + u; u = fabs(m100) * U; u = u + ETA; t = t + u; t = t * GROW; r100 = t + PAD;
+        double m101, r101; m101 = m97 * m19; t = fabs(m97) + r97; t = t * r19; u = fabs(m19) * r97; t = t + u; u = fabs(m101) * U; u = u + ETA; t = t + u; t = t * GROW; r101 = t + PAD;
+        double m102, r102; m102 = m98 * m20; t = fabs(m98) + r98; t = t * r20; u = fabs(m20) * r98; t = t + u; u = fabs(m102) * U; u = u + ETA; t = t + u; t = t * GROW; r102 = t + PAD;
+        double m103, r103; m103 = m95 * m21; t = fabs(m95) + r95; t = t * r21; u = fabs(m21) * r95; t = t + u; u = fabs(m103) * U; u = u + ETA; t = t + u; t = t * GROW; r103 = t + PAD;
+        double m104, r104; m104 = m96 * m22; t = fabs(m96) + r96; t = t * r22; u = fabs(m22) * r96; t = t + u; u = fabs(m104) * U; u = u + ETA; t = t + u; t = t * GROW; r104 = t + PAD;
+        double m105, r105; m105 = m101 + m103; t = r101 + r103; u = fabs(m105) * U; t = t + u; t = t * GROW; r105 = t + PAD;
+        double m106, r106; m106 = m102 + m104; t = r102 + r104; u = fabs(m106) * U; t = t + u; t = t * GROW; r106 = t + PAD;
+        double m107, r107; m107 = m87 + m99; t = r87 + r99; u = fabs(m107) * U; t = t + u; t = t * GROW; r107 = t + PAD;
+        double m108, r108; m108 = m88 + m100; t = r88 + r100; u = fabs(m108) * U; t = t + u; t = t * GROW; r108 = t + PAD;
+        double m109, r109; m109 = m89 + m105; t = r89 + r105; u = fabs(m109) * U; t = t + u; t = t * GROW; r109 = t + PAD;
+        double m110, r110; m110 = m90 + m106; t = r90 + r106; u = fabs(m110) * U; t = t + u; t = t * GROW; r110 = t + PAD;
+        double m111, r111; m111 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD;
+        double m112, r112; m112 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m112) * U; u = u + ETA; t = t + u; t = t * GROW; r112 = t + PAD;
+        double m113, r113; m113 = m33 * m31; t = fabs(m33) + r33; t = t * r31; u = fabs(m31) * r33; t = t + u; u = fabs(m113) * U; u = u + ETA; t = t + u; t = t * GROW; r113 = t + PAD;
+        double m114, r114; m114 = m34 * m32; t = fabs(m34) + r34; t = t * r32; u = fabs(m32) * r34; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+        double m115, r115; m115 = m31 * m33; t = fabs(m31) + r31; t = t * r33; u = fabs(m33) * r31; t = t + u; u = fabs(m115) * U; u = u + ETA; t = t + u; t = t * GROW; r115 = t + PAD;
+        double m116, r116; m116 = m32 * m34; t = fabs(m32) + r32; t = t * r34; u = fabs(m34) * r32; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+        double m117, r117; m117 = m113 + m115; t = r113 + r115; u = fabs(m117) * U; t = t + u; t = t * GROW; r117 = t + PAD;
+        double m118, r118; m118 = m114 + m116; t = r114 + r116; u = fabs(m118) * U; t = t + u; t = t * GROW; r118 = t + PAD;
+        double m119, r119; m119 = m47 * m111; t = fabs(m47) + r47; t = t * r111; u = fabs(m111) * r47; t = t + u; u = fabs(m119) * U; u = u + ETA; t = t + u; t = t * GROW; r119 = t + PAD;
+        double m120, r120; m120 = m48 * m112; t = fabs(m48) + r48; t = t * r112; u = fabs(m112) * r48; t = t + u; u = fabs(m120) * U; u = u + ETA; t = t + u; t = t * GROW; r120 = t + PAD;
+        double m121, r121; m121 = m50 * m111; t = fabs(m50) + r50; t = t * r111; u = fabs(m111) * r50; t = t + u; u = fabs(m121) * U; u = u + ETA; t = t + u; t = t * GROW; r121 = t + PAD;
+        double m122, r122; m122 = m51 * m112; t = fabs(m51) + r51; t = t * r112; u = fabs(m112) * r51; t = t + u; u = fabs(m122) * U; u = u + ETA; t = t + u; t = t * GROW; r122 = t + PAD;
+        double m123, r123; m123 = m47 * m117; t = fabs(m47) + r47; t = t * r117; u = fabs(m117) * r47; t = t + u; u = fabs(m123) * U; u = u + ETA; t = t + u; t = t * GROW; r123 = t + PAD;
+        double m124, r124; m124 = m48 * m118; t = fabs(m48) + r48; t = t * r118; u = fabs(m118) * r48; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+        double m125, r125; m125 = m121 + m123; t = r121 + r123; u = fabs(m125) * U; t = t + u; t = t * GROW; r125 = t + PAD;
+        double m126, r126; m126 = m122 + m124; t = r122 + r124; u = fabs(m126) * U; t = t + u; t = t * GROW; r126 = t + PAD;
+        double m127, r127; m127 = m35 - m119; t = r35 + r119; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+        double m128, r128; m128 = m36 - m120; t = r36 + r120; u = fabs(m128) * U; t = t + u; t = t * GROW; r128 = t + PAD;
+        double m129, r129; m129 = m37 - m125; t = r37 + r125; u = fabs(m129) * U; t = t + u; t = t * GROW; r129 = t + PAD;
+        double m130, r130; m130 = m38 - m126; t = r38 + r126; u = fabs(m130) * U; t = t + u; t = t * GROW; r130 = t + PAD;
+        double m131, r131; m131 = m127 * m3; t = fabs(m127) + r127; t = t * r3; u = fabs(m3) * r127; t = t + u; u = fabs(m131) * U; u = u + ETA; t = t + u; t = t * GROW; r131 = t + PAD;
+        double m132, r132; m132 = m128 * m4; t = fabs(m128) + r128; t = t * r4; u = fabs(m4) * r128; t = t + u; u = fabs(m132) * U; u = u + ETA; t = t + u; t = t * GROW; r132 = t + PAD;
+        double m133, r133; m133 = m129 * m3; t = fabs(m129) + r129; t = t * r3; u = fabs(m3) * r129; t = t + u; u = fabs(m133) * U; u = u + ETA; t = t + u; t = t * GROW; r133 = t + PAD;
+        double m134, r134; m134 = m130 * m4; t = fabs(m130) + r130; t = t * r4; u = fabs(m4) * r130; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+        double m135, r135; m135 = m23 * m11; t = fabs(m23) + r23; t = t * r11; u = fabs(m11) * r23; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+        double m136, r136; m136 = m24 * m12; t = fabs(m24) + r24; t = t * r12; u = fabs(m12) * r24; t = t + u; u = fabs(m136) * U; u = u + ETA; t = t + u; t = t * GROW; r136 = t + PAD;
+        double m137, r137; m137 = m25 * m11; t = fabs(m25) + r25; t = t * r11; u = fabs(m11) * r25; t = t + u; u = fabs(m137) * U; u = u + ETA; t = t + u; t = t * GROW; r137 = t + PAD;
+        double m138, r138; m138 = m26 * m12; t = fabs(m26) + r26; t = t * r12; u = fabs(m12) * r26; t = t + u; u = fabs(m138) * U; u = u + ETA; t = t + u; t = t * GROW; r138 = t + PAD;
+        double m139, r139; m139 = m131 + m135; t = r131 + r135; u = fabs(m139) * U; t = t + u; t = t * GROW; r139 = t + PAD;
+        double m140, r140; m140 = m132 + m136; t = r132 + r136; u = fabs(m140) * U; t = t + u; t = t * GROW; r140 = t + PAD;
+        double m141, r141; m141 = m133 + m137; t = r133 + r137; u = fabs(m141) * U; t = t + u; t = t * GROW; r141 = t + PAD;
+        double m142, r142; m142 = m134 + m138; t = r134 + r138; u = fabs(m142) * U; t = t + u; t = t * GROW; r142 = t + PAD;
+        double m143, r143; m143 = m64 * m39; t = fabs(m64) + r64; t = t * r39; u = fabs(m39) * r64; t = t + u; u = fabs(m143) * U; u = u + ETA; t = t + u; t = t * GROW; r143 = t + PAD;
+        double m144, r144; m144 = m65 * m40; t = fabs(m65) + r65; t = t * r40; u = fabs(m40) * r65; t = t + u; u = fabs(m144) * U; u = u + ETA; t = t + u; t = t * GROW; r144 = t + PAD;
+        double m145, r145; m145 = m66 * m39; t = fabs(m66) + r66; t = t * r39; u = fabs(m39) * r66; t = t + u; u = fabs(m145) * U; u = u + ETA; t = t + u; t = t * GROW; r145 = t + PAD;
+        double m146, r146; m146 = m67 * m40; t = fabs(m67) + r67; t = t * r40; u = fabs(m40) * r67; t = t + u; u = fabs(m146) * U; u = u + ETA; t = t + u; t = t * GROW; r146 = t + PAD;
+        double m147, r147; m147 = m64 * m41; t = fabs(m64) + r64; t = t * r41; u = fabs(m41) * r64; t = t + u; u = fabs(m147) * U; u = u + ETA; t = t + u; t = t * GROW; r147 = t + PAD;
+        double m148, r148; m148 = m65 * m42; t = fabs(m65) + r65; t = t * r42; u = fabs(m42) * r65; t = t + u; u = fabs(m148) * U; u = u + ETA; t = t + u; t = t * GROW; r148 = t + PAD;
+        double m149, r149; m149 = m145 + m147; t = r145 + r147; u = fabs(m149) * U; t = t + u; t = t * GROW; r149 = t + PAD;
+        double m150, r150; m150 = m146 + m148; t = r146 + r148; u = fabs(m150) * U; t = t + u; t = t * GROW; r150 = t + PAD;
+        double m151, r151; m151 = m143 + m107; t = r143 + r107; u = fabs(m151) * U; t = t + u; t = t * GROW; r151 = t + PAD;
+        double m152, r152; m152 = m144 + m108; t = r144 + r108; u = fabs(m152) * U; t = t + u; t = t * GROW; r152 = t + PAD;
+        double m153, r153; m153 = m149 + m109; t = r149 + r109; u = fabs(m153) * U; t = t + u; t = t * GROW; r153 = t + PAD;
+        double m154, r154; m154 = m150 + m110; t = r150 + r110; u = fabs(m154) * U; t = t + u; t = t * GROW; r154 = t + PAD;
+        double m155, r155; b = fabs(m15); m155 = m151 / m15; t = r151 * b; u = fabs(m151) * r15; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r15; t = t / u; u = fabs(m155) * U; u = u + ETA; t = t + u; t = t * GROW; r155 = t + PAD; if (!(b > r15)) { m155 = NAN; r155 = INFINITY; }
+        double m156, r156; b = fabs(m16); m156 = m152 / m16; t = r152 * b; u = fabs(m152) * r16; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r16; t = t / u; u = fabs(m156) * U; u = u + ETA; t = t + u; t = t * GROW; r156 = t + PAD; if (!(b > r16)) { m156 = NAN; r156 = INFINITY; }
+        double m157, r157; m157 = m155 * m17; t = fabs(m155) + r155; t = t * r17; u = fabs(m17) * r155; t = t + u; u = fabs(m157) * U; u = u + ETA; t = t + u; t = t * GROW; r157 = t + PAD;
+        double m158, r158; m158 = m156 * m18; t = fabs(m156) + r156; t = t * r18; u = fabs(m18) * r156; t = t + u; u = fabs(m158) * U; u = u + ETA; t = t + u; t = t * GROW; r158 = t + PAD;
+        double m159, r159; m159 = m153 - m157; t = r153 + r157; u = fabs(m159) * U; t = t + u; t = t * GROW; r159 = t + PAD;
+        double m160, r160; m160 = m154 - m158; t = r154 + r158; u = fabs(m160) * U; t = t + u; t = t * GROW; r160 = t + PAD;
+        double m161, r161; b = fabs(m15); m161 = m159 / m15; t = r159 * b; u = fabs(m159) * r15; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r15; t = t / u; u = fabs(m161) * U; u = u + ETA; t = t + u; t = t * GROW; r161 = t + PAD; if (!(b > r15)) { m161 = NAN; r161 = INFINITY; }
+        double m162, r162; b = fabs(m16); m162 = m160 / m16; t = r160 * b; u = fabs(m160) * r16; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r16; t = t / u; u = fabs(m162) * U; u = u + ETA; t = t + u; t = t * GROW; r162 = t + PAD; if (!(b > r16)) { m162 = NAN; r162 = INFINITY; }
+        double m163, r163; m163 = m19 * m156; t = fabs(m19) + r19; t = t * r156; u = fabs(m156) * r19; t = t + u; u = fabs(m163) * U; u = u + ETA; t = t + u; t = t * GROW; r163 = t + PAD;
+        double m164, r164; m164 = m20 * m155; t = fabs(m20) + r20; t = t * r155; u = fabs(m155) * r20; t = t + u; u = fabs(m164) * U; u = u + ETA; t = t + u; t = t * GROW; r164 = t + PAD;
+        double m165, r165; m165 = m21 * m156; t = fabs(m21) + r21; t = t * r156; u = fabs(m156) * r21; t = t + u; u = fabs(m165) * U; u = u + ETA; t = t + u; t = t * GROW; r165 = t + PAD;
+        double m166, r166; m166 = m22 * m155; t = fabs(m22) + r22; t = t * r155; u = fabs(m155) * r22; t = t + u; u = fabs(m166) * U; u = u + ETA; t = t + u; t = t * GROW; r166 = t + PAD;
+        double m167, r167; m167 = m19 * m162; t = fabs(m19) + r19; t = t * r162; u = fabs(m162) * r19; t = t + u; u = fabs(m167) * U; u = u + ETA; t = t + u; t = t * GROW; r167 = t + PAD;
+        double m168, r168; m168 = m20 * m161; t = fabs(m20) + r20; t = t * r161; u = fabs(m161) * r20; t = t + u; u = fabs(m168) * U; u = u + ETA; t = t + u; t = t * GROW; r168 = t + PAD;
+        double m169, r169; m169 = m165 + m167; t = r165 + r167; u = fabs(m169) * U; t = t + u; t = t * GROW; r169 = t + PAD;
+        double m170, r170; m170 = m166 + m168; t = r166 + r168; u = fabs(m170) * U; t = t + u; t = t * GROW; r170 = t + PAD;
+        double m171, r171; m171 = m23 * m156; t = fabs(m23) + r23; t = t * r156; u = fabs(m156) * r23; t = t + u; u = fabs(m171) * U; u = u + ETA; t = t + u; t = t * GROW; r171 = t + PAD;
+        double m172, r172; m172 = m24 * m155; t = fabs(m24) + r24; t = t * r155; u = fabs(m155) * r24; t = t + u; u = fabs(m172) * U; u = u + ETA; t = t + u; t = t * GROW; r172 = t + PAD;
+        double m173, r173; m173 = m25 * m156; t = fabs(m25) + r25; t = t * r156; u = fabs(m156) * r25; t = t + u; u = fabs(m173) * U; u = u + ETA; t = t + u; t = t * GROW; r173 = t + PAD;
+        double m174, r174; m174 = m26 * m155; t = fabs(m26) + r26; t = t * r155; u = fabs(m155) * r26; t = t + u; u = fabs(m174) * U; u = u + ETA; t = t + u; t = t * GROW; r174 = t + PAD;
+        double m175, r175; m175 = m23 * m162; t = fabs(m23) + r23; t = t * r162; u = fabs(m162) * r23; t = t + u; u = fabs(m175) * U; u = u + ETA; t = t + u; t = t * GROW; r175 = t + PAD;
+        double m176, r176; m176 = m24 * m161; t = fabs(m24) + r24; t = t * r161; u = fabs(m161) * r24; t = t + u; u = fabs(m176) * U; u = u + ETA; t = t + u; t = t * GROW; r176 = t + PAD;
+        double m177, r177; m177 = m173 + m175; t = r173 + r175; u = fabs(m177) * U; t = t + u; t = t * GROW; r177 = t + PAD;
+        double m178, r178; m178 = m174 + m176; t = r174 + r176; u = fabs(m178) * U; t = t + u; t = t * GROW; r178 = t + PAD;
+        double m179, r179; m179 = m163 + m164; t = r163 + r164; u = fabs(m179) * U; t = t + u; t = t * GROW; r179 = t + PAD;
+        double m180, r180; m180 = m169 + m170; t = r169 + r170; u = fabs(m180) * U; t = t + u; t = t * GROW; r180 = t + PAD;
+        double m181, r181; m181 = -m179; r181 = r179;
+        double m182, r182; m182 = -m180; r182 = r180;
+        double m183, r183; b = fabs(m45); m183 = m181 / m45; t = r181 * b; u = fabs(m181) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m183) * U; u = u + ETA; t = t + u; t = t * GROW; r183 = t + PAD; if (!(b > r45)) { m183 = NAN; r183 = INFINITY; }
+        double m184, r184; m184 = m183 * m46; t = fabs(m183) + r183; t = t * r46; u = fabs(m46) * r183; t = t + u; u = fabs(m184) * U; u = u + ETA; t = t + u; t = t * GROW; r184 = t + PAD;
+        double m185, r185; m185 = m182 - m184; t = r182 + r184; u = fabs(m185) * U; t = t + u; t = t * GROW; r185 = t + PAD;
+        double m186, r186; b = fabs(m45); m186 = m185 / m45; t = r185 * b; u = fabs(m185) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m186) * U; u = u + ETA; t = t + u; t = t * GROW; r186 = t + PAD; if (!(b > r45)) { m186 = NAN; r186 = INFINITY; }
+        double m187, r187; m187 = m171 + m172; t = r171 + r172; u = fabs(m187) * U; t = t + u; t = t * GROW; r187 = t + PAD;
+        double m188, r188; m188 = m177 + m178; t = r177 + r178; u = fabs(m188) * U; t = t + u; t = t * GROW; r188 = t + PAD;
+        double m189, r189; m189 = -m187; r189 = r187;
+        double m190, r190; m190 = -m188; r190 = r188;
+        double m191, r191; b = fabs(m45); m191 = m189 / m45; t = r189 * b; u = fabs(m189) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m191) * U; u = u + ETA; t = t + u; t = t * GROW; r191 = t + PAD; if (!(b > r45)) { m191 = NAN; r191 = INFINITY; }
+        double m192, r192; m192 = m191 * m46; t = fabs(m191) + r191; t = t * r46; u = fabs(m46) * r191; t = t + u; u = fabs(m192) * U; u = u + ETA; t = t + u; t = t * GROW; r192 = t + PAD;
+        double m193, r193; m193 = m190 - m192; t = r190 + r192; u = fabs(m193) * U; t = t + u; t = t * GROW; r193 = t + PAD;
+        double m194, r194; b = fabs(m45); m194 = m193 / m45; t = r193 * b; u = fabs(m193) * r45; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r45; t = t / u; u = fabs(m194) * U; u = u + ETA; t = t + u; t = t * GROW; r194 = t + PAD; if (!(b > r45)) { m194 = NAN; r194 = INFINITY; }
+        double m195, r195; m195 = m19 * m183; t = fabs(m19) + r19; t = t * r183; u = fabs(m183) * r19; t = t + u; u = fabs(m195) * U; u = u + ETA; t = t + u; t = t * GROW; r195 = t + PAD;
+        double m196, r196; m196 = m20 * m183; t = fabs(m20) + r20; t = t * r183; u = fabs(m183) * r20; t = t + u; u = fabs(m196) * U; u = u + ETA; t = t + u; t = t * GROW; r196 = t + PAD;
+        double m197, r197; m197 = m21 * m183; t = fabs(m21) + r21; t = t * r183; u = fabs(m183) * r21; t = t + u; u = fabs(m197) * U; u = u + ETA; t = t + u; t = t * GROW; r197 = t + PAD;
+        double m198, r198; m198 = m22 * m183; t = fabs(m22) + r22; t = t * r183; u = fabs(m183) * r22; t = t + u; u = fabs(m198) * U; u = u + ETA; t = t + u; t = t * GROW; r198 = t + PAD;
+        double m199, r199; m199 = m19 * m186; t = fabs(m19) + r19; t = t * r186; u = fabs(m186) * r19; t = t + u; u = fabs(m199) * U; u = u + ETA; t = t + u; t = t * GROW; r199 = t + PAD;
+        double m200, r200; m200 = m20 * m186; t = fabs(m20) + r20; t = t * r186; u = fabs(m186) * r20; t = t + u; u = fabs(m200) * U; u = u + ETA; t = t + u; t = t * GROW; r200 = t + PAD;
+        double m201, r201; m201 = m197 + m199; t = r197 + r199; u = fabs(m201) * U; t = t + u; t = t * GROW; r201 = t + PAD;
+        double m202, r202; m202 = m198 + m200; t = r198 + r200; u = fabs(m202) * U; t = t + u; t = t * GROW; r202 = t + PAD;
+        double m203, r203; m203 = m23 * m191; t = fabs(m23) + r23; t = t * r191; u = fabs(m191) * r23; t = t + u; u = fabs(m203) * U; u = u + ETA; t = t + u; t = t * GROW; r203 = t + PAD;
+        double m204, r204; m204 = m24 * m191; t = fabs(m24) + r24; t = t * r191; u = fabs(m191) * r24; t = t + u; u = fabs(m204) * U; u = u + ETA; t = t + u; t = t * GROW; r204 = t + PAD;
+        double m205, r205; m205 = m25 * m191; t = fabs(m25) + r25; t = t * r191; u = fabs(m191) * r25; t = t + u; u = fabs(m205) * U; u = u + ETA; t = t + u; t = t * GROW; r205 = t + PAD;
+        double m206, r206; m206 = m26 * m191; t = fabs(m26) + r26; t = t * r191; u = fabs(m191) * r26; t = t + u; u = fabs(m206) * U; u = u + ETA; t = t + u; t = t * GROW; r206 = t + PAD;
+        double m207, r207; m207 = m23 * m194; t = fabs(m23) + r23; t = t * r194; u = fabs(m194) * r23; t = t + u; u = fabs(m207) * U; u = u + ETA; t = t + u; t = t * GROW; r207 = t + PAD;
+        double m208, r208; m208 = m24 * m194; t = fabs(m24) + r24; t = t * r194; u = fabs(m194) * r24; t = t + u; u = fabs(m208) * U; u = u + ETA; t = t + u; t = t * GROW; r208 = t + PAD;
+        double m209, r209; m209 = m205 + m207; t = r205 + r207; u = fabs(m209) * U; t = t + u; t = t * GROW; r209 = t + PAD;
+        double m210, r210; m210 = m206 + m208; t = r206 + r208; u = fabs(m210) * U; t = t + u; t = t * GROW; r210 = t + PAD;
+        double m211, r211; m211 = m195 + m203; t = r195 + r203; u = fabs(m211) * U; t = t + u; t = t * GROW; r211 = t + PAD;
+        double m212, r212; m212 = m196 + m204; t = r196 + r204; u = fabs(m212) * U; t = t + u; t = t * GROW; r212 = t + PAD;
+        double m213, r213; m213 = m201 + m209; t = r201 + r209; u = fabs(m213) * U; t = t + u; t = t * GROW; r213 = t + PAD;
+        double m214, r214; m214 = m202 + m210; t = r202 + r210; u = fabs(m214) * U; t = t + u; t = t * GROW; r214 = t + PAD;
+        double m215, r215; m215 = m211 * m13; t = fabs(m211) + r211; t = t * r13; u = fabs(m13) * r211; t = t + u; u = fabs(m215) * U; u = u + ETA; t = t + u; t = t * GROW; r215 = t + PAD;
+        double m216, r216; m216 = m212 * m14; t = fabs(m212) + r212; t = t * r14; u = fabs(m14) * r212; t = t + u; u = fabs(m216) * U; u = u + ETA; t = t + u; t = t * GROW; r216 = t + PAD;
+        double m217, r217; m217 = m213 * m13; t = fabs(m213) + r213; t = t * r13; u = fabs(m13) * r213; t = t + u; u = fabs(m217) * U; u = u + ETA; t = t + u; t = t * GROW; r217 = t + PAD;
+        double m218, r218; m218 = m214 * m14; t = fabs(m214) + r214; t = t * r14; u = fabs(m14) * r214; t = t + u; u = fabs(m218) * U; u = u + ETA; t = t + u; t = t * GROW; r218 = t + PAD;
+        double m219, r219; m219 = m139 - m215; t = r139 + r215; u = fabs(m219) * U; t = t + u; t = t * GROW; r219 = t + PAD;
+        double m220, r220; m220 = m140 - m216; t = r140 + r216; u = fabs(m220) * U; t = t + u; t = t * GROW; r220 = t + PAD;
+        double m221, r221; m221 = m141 - m217; t = r141 + r217; u = fabs(m221) * U; t = t + u; t = t * GROW; r221 = t + PAD;
+        double m222, r222; m222 = m142 - m218; t = r142 + r218; u = fabs(m222) * U; t = t + u; t = t * GROW; r222 = t + PAD;
+        out[0 * n + j] = m219;
+        out[2 * n + j] = r219;
+        out[1 * n + j] = m220;
+        out[3 * n + j] = r220;
+        out[4 * n + j] = m221;
+        out[6 * n + j] = r221;
+        out[5 * n + j] = m222;
+        out[7 * n + j] = r222;
+    }
+}
+
+static const int rows_torques_at_jet_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 1, 1};
 static void k_horner(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -1302,10 +1975,14 @@ static PyObject *py_horner(PyObject *self, PyObject *args)
 static const Spec SPECS[] = {
     {"legs_ball", k_legs_ball, 13, rows_legs_ball, 28},
     {"torques_ball_revolute", k_torques_ball_revolute, 15, rows_torques_ball_revolute, 6},
+    {"torques_at_ball_revolute", k_torques_at_ball_revolute, 16, rows_torques_at_ball_revolute, 4},
     {"torques_ball_prismatic", k_torques_ball_prismatic, 15, rows_torques_ball_prismatic, 6},
+    {"torques_at_ball_prismatic", k_torques_at_ball_prismatic, 16, rows_torques_at_ball_prismatic, 4},
     {"legs_jet", k_legs_jet, 19, rows_legs_jet, 56},
     {"torques_jet_revolute", k_torques_jet_revolute, 23, rows_torques_jet_revolute, 12},
+    {"torques_at_jet_revolute", k_torques_at_jet_revolute, 25, rows_torques_at_jet_revolute, 8},
     {"torques_jet_prismatic", k_torques_jet_prismatic, 23, rows_torques_jet_prismatic, 12},
+    {"torques_at_jet_prismatic", k_torques_at_jet_prismatic, 25, rows_torques_at_jet_prismatic, 8},
 };
 
 static PyObject *py_run(PyObject *self, PyObject *args)
@@ -1315,7 +1992,7 @@ static PyObject *py_run(PyObject *self, PyObject *args)
     Py_ssize_t n;
     if (!PyArg_ParseTuple(args, "iO!On", &k, &PyTuple_Type, &inputs, &out, &n))
         return NULL;
-    if (k < 0 || k >= 6 || n < 0) {
+    if (k < 0 || k >= 10 || n < 0) {
         PyErr_SetString(PyExc_ValueError, "no such kernel");
         return NULL;
     }
@@ -1324,10 +2001,10 @@ static PyObject *py_run(PyObject *self, PyObject *args)
 
 static PyObject *py_names(PyObject *self, PyObject *unused)
 {
-    PyObject *t = PyTuple_New(6);
+    PyObject *t = PyTuple_New(10);
     if (t == NULL)
         return NULL;
-    for (int i = 0; i < 6; i++) {
+    for (int i = 0; i < 10; i++) {
         PyObject *s = Py_BuildValue("(sn)", SPECS[i].name, SPECS[i].nout);
         if (s == NULL) {
             Py_DECREF(t);

@@ -273,6 +273,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     ``equations.Leg`` (2 rows; jets: value then derivative).
     torques_{ball,jet}_{revolute,prismatic}: the same constants, then the seven Leg
     fields and y; outputs T (2 rows) and δ (``Stacked.torques(lg, y)``).
+    torques_at_{ball,jet}_{revolute,prismatic}: the same inputs and δ; output T
+    (``Stacked.torques(lg, y, delta=δ)``).
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
@@ -292,6 +294,13 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
             y = k.jet(1) if jets else k.ball(1)
             T, delta = st._torques(dyn.Leg(*fields), y)
             out.append((k, _flat([T, delta])))
+            k = Kernel(f"torques_at_{kind}_{'prismatic' if prismatic else 'revolute'}")
+            st = _stacked(k, prismatic)
+            fields = [k.jet(2) if jets else k.ball(2) for _ in LEG_FIELDS]
+            y = k.jet(1) if jets else k.ball(1)
+            given = k.jet(1) if jets else k.ball(1)
+            T, _ = st._torques(dyn.Leg(*fields), y, delta=given)
+            out.append((k, _flat([T])))
     k = Kernel("horner")
     acc, x, c = k.ball(1), k.ball(1), k.ball(1)
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step

@@ -69,15 +69,18 @@ class Stacked:
             for a in (b.mid, b.rad)
         )  # the compiled kernel's first inputs (``kernel_gen``)
         scheme = "prismatic" if self.prismatic else "revolute"
-        self._torques_k = (INDEX.get(f"torques_ball_{scheme}"), INDEX.get(f"torques_jet_{scheme}"))
+        self._kernels = {
+            name: (INDEX.get(f"{name}_ball_{scheme}"), INDEX.get(f"{name}_jet_{scheme}"))
+            for name in ("torques", "torques_at")
+        }  # the compiled kernels of the scheme (``kernel_gen``): (on balls, on jets)
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """Both legs' joint values (rows 0 and 1), eqs. 41-42 (in one call of the compiled
         kernel where it is built: the same doubles, ``kernel.py``)."""
         if KERNEL is not None:
             args = (x, xd, xdd, y, yd, ydd)
-            got = _compiled(self._consts, args, args[0], 1, INDEX.get("legs_ball"),
-                            INDEX.get("legs_jet"))  # fmt: skip
+            kernels = (INDEX.get("legs_ball"), INDEX.get("legs_jet"))
+            got = _compiled(self._consts, args, args[0], 1, (2,) * 7, *kernels)
             if got is not None:
                 return dyn.Leg(*got)
         return self._legs(x, xd, xdd, y, yd, ydd)
@@ -95,11 +98,17 @@ class Stacked:
     ) -> tuple[Any, Any]:
         """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29). Without λ
         and δ, in one call of the compiled kernel where it is built (the same doubles)."""
-        if KERNEL is not None and lam is None and delta is None:
+        if KERNEL is not None and lam is None:
             args = (*(getattr(lg, f) for f in _LEG_FIELDS), y)
-            got = _compiled(self._consts, args, lg.s, 2, *self._torques_k)
-            if got is not None:
-                return got[0], got[1]
+            if delta is None:
+                got = _compiled(self._consts, args, lg.s, 2, (2, 1), *self._kernels["torques"])
+                if got is not None:
+                    return got[0], got[1]
+            else:
+                k = self._kernels["torques_at"]
+                got = _compiled(self._consts, (*args, delta), lg.s, 2, (2,), *k)
+                if got is not None:
+                    return got[0], delta
         return self._torques(lg, y, lam, delta)
 
     def _torques(
@@ -128,13 +137,14 @@ class Stacked:
 
 def _compiled(
     consts: tuple[Any, ...], args: tuple[Any, ...], anchor: Any, rows: int,
-    ball: tuple[int, int] | None, jet: tuple[int, int] | None,
+    layout: tuple[int, ...], ball: tuple[int, int] | None, jet: tuple[int, int] | None,
 ) -> list[Any] | None:  # fmt: skip
-    """A kernel's outputs, balls or jets of balls (a legs kernel: the seven fields of
-    ``Leg``, 2 rows each; a torques kernel, ``rows`` 2: T, 2 rows, and δ, 1 row), or None
-    where it does not apply: the arguments not all balls or all jets, ``anchor`` (the
-    argument every output depends on) not a vector (``rows`` 1) or two rows of vectors
-    (2), or a shape the kernel does not take; numpy's path then runs."""
+    """A kernel's outputs, balls or jets of balls, of as many rows as ``layout`` says (a
+    legs kernel: the seven fields of ``Leg``, 2 rows each; a torques kernel: T, 2 rows,
+    and δ, 1 row, unless δ was given), or None where it does not apply: the arguments not
+    all balls or all jets, ``anchor`` (the argument every output depends on) not a vector
+    (``rows`` 1) or two rows of vectors (2), or a shape the kernel does not take; numpy's
+    path then runs."""
     kind = type(anchor)
     if kind is Jet:
         spec, anchor = jet, anchor.v.mid
@@ -154,10 +164,9 @@ def _compiled(
     out = np.empty((spec[1], n))
     if not KERNEL.run(spec[0], consts + flat, out, n):
         return None
-    per = 2 if kind is Jet else 1  # balls per output
-    layout = [2] * (7 * per) if rows == 1 else [2] * per + [1] * per
+    per = 2 if kind is Jet else 1  # balls per output: a jet's value and derivative
     balls, i = [], 0
-    for r in layout:
+    for r in (r for r in layout for _ in range(per)):
         if r == 2:
             balls.append(Ball._of(out[i : i + 2], out[i + 2 : i + 4]))
         else:

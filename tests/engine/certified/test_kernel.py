@@ -137,6 +137,13 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(prismatic: bool, alike:
             T0, d0 = st._torques(want, args[3])
             _same(T, T0, (trial, "T"))
             _same(d, d0, (trial, "delta"))
+            given = _ball(rng, n)  # δ given (the factored form near A or B)
+            (T, d), (T0, _) = (
+                st.torques(want, args[3], delta=given),
+                st._torques(want, args[3], delta=given),
+            )
+            _same(T, T0, (trial, "T at δ"))
+            assert d is given
             jets = [Jet(_vector(rng, n), _ball(rng, n))] + [
                 Jet(_ball(rng, n), _ball(rng, n)) for _ in range(5)
             ]
@@ -149,6 +156,11 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(prismatic: bool, alike:
             for a, b, w in ((T.v, T0.v, "T"), (T.d, T0.d, "T'"), (d.v, d0.v, "δ"),
                             (d.d, d0.d, "δ'")):  # fmt: skip
                 _same(a, b, (trial, w))
+            given = Jet(_ball(rng, n), _ball(rng, n))
+            T = st.torques(want, jets[3], delta=given)[0]
+            T0 = st._torques(want, jets[3], delta=given)[0]
+            _same(T.v, T0.v, (trial, "T at δ"))
+            _same(T.d, T0.d, (trial, "T' at δ"))
 
 
 @needs_kernel
