@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 from flint import fmpq
 
-from rprpr.engine.certified import kernel_gen
+from rprpr.engine.certified import balls, kernel_gen, stacked
 from rprpr.engine.certified.balls import Ball, _horner, horner, quiet
 from rprpr.engine.certified.jets import Jet
 from rprpr.engine.certified.kernel import KERNEL
@@ -67,6 +67,34 @@ def test_the_kernel_is_built_where_it_can_be_and_is_off_when_asked() -> None:
 
 
 # -- bit for bit against numpy's path -------------------------------------------------------
+class Spy:
+    """The kernel, counting the calls it took (True) and declined (False): a test of
+    equality with numpy's path means nothing where numpy's path ran on both sides."""
+
+    def __init__(self, kernel: Any) -> None:
+        self.kernel = kernel
+        self.took = self.declined = 0
+
+    def _count(self, done: bool) -> bool:
+        self.took += bool(done)
+        self.declined += not done
+        return done
+
+    def run(self, *args: Any) -> bool:
+        return self._count(self.kernel.run(*args))
+
+    def horner(self, *args: Any) -> bool:
+        return self._count(self.kernel.horner(*args))
+
+
+@pytest.fixture
+def spy(monkeypatch: pytest.MonkeyPatch) -> Spy:
+    s = Spy(KERNEL)
+    monkeypatch.setattr(stacked, "KERNEL", s)
+    monkeypatch.setattr(balls, "KERNEL", s)
+    return s
+
+
 def _robot(rng: np.random.Generator, prismatic: bool, alike: bool) -> Robot:
     def q() -> fmpq:
         return fmpq(int(rng.integers(1, 400)), int(rng.integers(1, 97)))
@@ -109,7 +137,7 @@ def _ball(rng: np.random.Generator, n: int) -> Ball:
 
 def _vector(rng: np.random.Generator, n: int) -> Ball:
     b = _ball(rng, n)
-    return b if np.ndim(b.mid) == 1 else Ball(_mids(rng, n, (n,)), b.rad)
+    return b if np.shape(b.mid) == (n,) else Ball(_mids(rng, n, (n,)), b.rad)
 
 
 def _same(a: Ball, b: Ball, what: Any) -> None:
@@ -123,7 +151,9 @@ def _same(a: Ball, b: Ball, what: Any) -> None:
 @needs_kernel
 @pytest.mark.parametrize("prismatic", [False, True])
 @pytest.mark.parametrize("alike", [False, True])
-def test_stacked_through_the_kernel_is_numpy_bit_for_bit(prismatic: bool, alike: bool) -> None:
+def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
+    prismatic: bool, alike: bool, spy: Spy
+) -> None:
     rng = np.random.default_rng(23 + 2 * prismatic + alike)
     for trial in range(60):
         st = Stacked(_robot(rng, prismatic, alike))
@@ -161,10 +191,11 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(prismatic: bool, alike:
             T0 = st._torques(want, jets[3], delta=given)[0]
             _same(T.v, T0.v, (trial, "T at δ"))
             _same(T.d, T0.d, (trial, "T' at δ"))
+    assert spy.took >= 6 * 60 * 0.9  # six calls a trial, and few shapes declined
 
 
 @needs_kernel
-def test_horner_through_the_kernel_is_numpy_bit_for_bit() -> None:
+def test_horner_through_the_kernel_is_numpy_bit_for_bit(spy: Spy) -> None:
     rng = np.random.default_rng(7)
     for trial in range(300):
         n = int(rng.choice([1, 2, 5, 40]))
@@ -172,10 +203,32 @@ def test_horner_through_the_kernel_is_numpy_bit_for_bit() -> None:
         x = _vector(rng, n)
         with quiet():
             _same(horner(c, x), _horner(c, x), trial)
+    assert spy.took == 300
 
 
 @needs_kernel
-def test_the_kernel_declines_what_it_does_not_take() -> None:
+def test_strided_and_reversed_inputs_are_read_as_numpy_reads_them(spy: Spy) -> None:
+    rng = np.random.default_rng(5)
+    st = Stacked(_robot(rng, False, False))
+    big = [Ball(rng.uniform(-3, 3, 40), rng.uniform(0, 1e-6, 40)) for _ in range(6)]
+    with quiet():
+        args = [Ball(b.mid[::-2], b.rad[::-2]) for b in big]  # negative strides, of 20
+        got, want = st.legs(*args), st._legs(*args)
+        for f in FIELDS:
+            _same(getattr(got, f), getattr(want, f), f)
+        lg = dyn.Leg(*(Ball(getattr(want, f).mid[:, ::-1], getattr(want, f).rad[:, ::-1])
+                       for f in FIELDS))  # fmt: skip
+        y = Ball(args[3].mid[::-1], args[3].rad[::-1])
+        (T, d), (T0, d0) = st.torques(lg, y), st._torques(lg, y)
+        _same(T, T0, "T")
+        _same(d, d0, "δ")
+        c = [Ball(rng.uniform(-1, 1, 40)[::2], rng.uniform(0, 1e-9, 40)[1::2]) for _ in range(4)]
+        _same(horner(c, args[0]), _horner(c, args[0]), "horner")
+    assert (spy.took, spy.declined) == (3, 0)
+
+
+@needs_kernel
+def test_the_kernel_declines_what_it_does_not_take(spy: Spy) -> None:
     """Shapes outside its contract (a leg field of one row, coefficients of two rows,
     more coefficients than it holds) go the numpy way, with numpy's results."""
     st = Stacked(_config("paper_path1.rprpr.yaml").robot)
@@ -186,6 +239,9 @@ def test_the_kernel_declines_what_it_does_not_take() -> None:
         _same(horner(c, x), _horner(c, x), "2 rows")
         c = [Ball(float(v), 0.0) for v in rng.uniform(-1, 1, 80)]
         _same(horner(c, x), _horner(c, x), "80 coefficients")
+        c = [Ball(rng.uniform(-1, 1, 4), 0.0) for _ in range(3)]
+        one = Ball(np.array([0.5]), 0.0)  # x of one column, coefficients of four
+        _same(horner(c, one), _horner(c, one), "x broadcast")
         args = [Ball(rng.uniform(1, 2, 4), 1e-9) for _ in range(6)]
         lg = st._legs(*args)
         one = dyn.Leg(*(getattr(lg, f)[0] for f in FIELDS))  # rows 0 only: (4,) each
@@ -193,6 +249,7 @@ def test_the_kernel_declines_what_it_does_not_take() -> None:
         T0, d0 = st._torques(one, args[3])
         _same(T, T0, "T")
         _same(d, d0, "δ")
+    assert spy.took == 0 and spy.declined == 3  # the legs' shapes checked in Python
 
 
 # -- enclosures of the reference --------------------------------------------------------
