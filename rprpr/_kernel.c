@@ -1890,6 +1890,422 @@ static void k_torques_at_jet_prismatic(Py_ssize_t n, const Slot *in, double *out
 }
 
 static const int rows_torques_at_jet_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 1, 1};
+static void k_formulas_revolute(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m0 = LD(in[0].m, 0, j), r0 = LD(in[0].r, 0, j);
+        double m1 = LD(in[1].m, 0, j), r1 = LD(in[1].r, 0, j);
+        double m2 = LD(in[2].m, 0, j), r2 = LD(in[2].r, 0, j);
+        double m3 = LD(in[3].m, 0, j), r3 = LD(in[3].r, 0, j);
+        double m4 = LD(in[4].m, 0, j), r4 = LD(in[4].r, 0, j);
+        double m5 = LD(in[5].m, 0, j), r5 = LD(in[5].r, 0, j);
+        double m6 = LD(in[6].m, 0, j), r6 = LD(in[6].r, 0, j);
+        double m7 = LD(in[7].m, 0, j), r7 = LD(in[7].r, 0, j);
+        double m8 = LD(in[8].m, 0, j), r8 = LD(in[8].r, 0, j);
+        double m9 = LD(in[9].m, 0, j), r9 = LD(in[9].r, 0, j);
+        double m10 = LD(in[10].m, 0, j), r10 = LD(in[10].r, 0, j);
+        double m11 = LD(in[11].m, 0, j), r11 = LD(in[11].r, 0, j);
+        double m12 = LD(in[12].m, 0, j), r12 = LD(in[12].r, 0, j);
+        double m13 = LD(in[13].m, 0, j), r13 = LD(in[13].r, 0, j);
+        double m14 = LD(in[14].m, 0, j), r14 = LD(in[14].r, 0, j);
+        double m15 = LD(in[15].m, 0, j), r15 = LD(in[15].r, 0, j);
+        double m16 = LD(in[16].m, 0, j), r16 = LD(in[16].r, 0, j);
+        double m17 = LD(in[17].m, 0, j), r17 = LD(in[17].r, 0, j);
+        double m18 = LD(in[18].m, 0, j), r18 = LD(in[18].r, 0, j);
+        double m19 = LD(in[19].m, 0, j), r19 = LD(in[19].r, 0, j);
+        double m20, r20; m20 = m14 - m0; t = r14 + r0; u = fabs(m20) * U; t = t + u; t = t * GROW; r20 = t + PAD;
+        double m21, r21; m21 = m14 * m14; t = fabs(m14) + r14; t = t * r14; u = fabs(m14) * r14; t = t + u; u = fabs(m21) * U; u = u + ETA; t = t + u; t = t * GROW; r21 = t + PAD;
+        double m22, r22; m22 = m17 * m17; t = fabs(m17) + r17; t = t * r17; u = fabs(m17) * r17; t = t + u; u = fabs(m22) * U; u = u + ETA; t = t + u; t = t * GROW; r22 = t + PAD;
+        double m23, r23; m23 = m21 + m22; t = r21 + r22; u = fabs(m23) * U; t = t + u; t = t * GROW; r23 = t + PAD;
+        double m24, r24; m24 = sqrt(m23 > 0 ? m23 : 0.0); t = m23 > 0 ? (r23 * SQ) / m24 : INFINITY; u = sqrt(r23); t = nanmin(t, u); if (!(m23 > 0)) { u = m23 + r23; t = sqrt(nanmax(u, 0.0)); } u = U * m24; t = t + u; t = t * GROW; r24 = t + PAD; if (m23 + r23 < 0) { m24 = NAN; r24 = INFINITY; }
+        double m25, r25; m25 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m25) * U; u = u + ETA; t = t + u; t = t * GROW; r25 = t + PAD;
+        double m26, r26; m26 = m14 * m15; t = fabs(m14) + r14; t = t * r15; u = fabs(m15) * r14; t = t + u; u = fabs(m26) * U; u = u + ETA; t = t + u; t = t * GROW; r26 = t + PAD;
+        double m27, r27; m27 = m17 * m18; t = fabs(m17) + r17; t = t * r18; u = fabs(m18) * r17; t = t + u; u = fabs(m27) * U; u = u + ETA; t = t + u; t = t * GROW; r27 = t + PAD;
+        double m28, r28; m28 = m26 + m27; t = r26 + r27; u = fabs(m28) * U; t = t + u; t = t * GROW; r28 = t + PAD;
+        double m29, r29; b = fabs(m24); m29 = m28 / m24; t = r28 * b; u = fabs(m28) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m29) * U; u = u + ETA; t = t + u; t = t * GROW; r29 = t + PAD; if (!(b > r24)) { m29 = NAN; r29 = INFINITY; }
+        double m30, r30; m30 = m14 * m18; t = fabs(m14) + r14; t = t * r18; u = fabs(m18) * r14; t = t + u; u = fabs(m30) * U; u = u + ETA; t = t + u; t = t * GROW; r30 = t + PAD;
+        double m31, r31; m31 = m17 * m15; t = fabs(m17) + r17; t = t * r15; u = fabs(m15) * r17; t = t + u; u = fabs(m31) * U; u = u + ETA; t = t + u; t = t * GROW; r31 = t + PAD;
+        double m32, r32; m32 = m30 - m31; t = r30 + r31; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+        double m33, r33; b = fabs(m25); m33 = m32 / m25; t = r32 * b; u = fabs(m32) * r25; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r25; t = t / u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD; if (!(b > r25)) { m33 = NAN; r33 = INFINITY; }
+        double m34, r34; m34 = m15 * m15; t = fabs(m15) + r15; t = t * r15; u = fabs(m15) * r15; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+        double m35, r35; m35 = m18 * m18; t = fabs(m18) + r18; t = t * r18; u = fabs(m18) * r18; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+        double m36, r36; m36 = m34 + m35; t = r34 + r35; u = fabs(m36) * U; t = t + u; t = t * GROW; r36 = t + PAD;
+        double m37, r37; m37 = m14 * m16; t = fabs(m14) + r14; t = t * r16; u = fabs(m16) * r14; t = t + u; u = fabs(m37) * U; u = u + ETA; t = t + u; t = t * GROW; r37 = t + PAD;
+        double m38, r38; m38 = m36 + m37; t = r36 + r37; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+        double m39, r39; m39 = m17 * m19; t = fabs(m17) + r17; t = t * r19; u = fabs(m19) * r17; t = t + u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD;
+        double m40, r40; m40 = m38 + m39; t = r38 + r39; u = fabs(m40) * U; t = t + u; t = t * GROW; r40 = t + PAD;
+        double m41, r41; m41 = m29 * m29; t = fabs(m29) + r29; t = t * r29; u = fabs(m29) * r29; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+        double m42, r42; m42 = m40 - m41; t = r40 + r41; u = fabs(m42) * U; t = t + u; t = t * GROW; r42 = t + PAD;
+        double m43, r43; b = fabs(m24); m43 = m42 / m24; t = r42 * b; u = fabs(m42) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD; if (!(b > r24)) { m43 = NAN; r43 = INFINITY; }
+        double m44, r44; m44 = m14 * m19; t = fabs(m14) + r14; t = t * r19; u = fabs(m19) * r14; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+        double m45, r45; m45 = m17 * m16; t = fabs(m17) + r17; t = t * r16; u = fabs(m16) * r17; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+        double m46, r46; m46 = m44 - m45; t = r44 + r45; u = fabs(m46) * U; t = t + u; t = t * GROW; r46 = t + PAD;
+        const double m47 = 0x1.0000000000000p+1, r47 = 0x0.0p+0;
+        double m48, r48; m48 = m24 * m47; t = fabs(m24) + r24; t = t * r47; u = fabs(m47) * r24; t = t + u; u = fabs(m48) * U; u = u + ETA; t = t + u; t = t * GROW; r48 = t + PAD;
+        double m49, r49; m49 = m48 * m29; t = fabs(m48) + r48; t = t * r29; u = fabs(m29) * r48; t = t + u; u = fabs(m49) * U; u = u + ETA; t = t + u; t = t * GROW; r49 = t + PAD;
+        double m50, r50; m50 = m49 * m33; t = fabs(m49) + r49; t = t * r33; u = fabs(m33) * r49; t = t + u; u = fabs(m50) * U; u = u + ETA; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m46 - m50; t = r46 + r50; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; b = fabs(m25); m52 = m51 / m25; t = r51 * b; u = fabs(m51) * r25; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r25; t = t / u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD; if (!(b > r25)) { m52 = NAN; r52 = INFINITY; }
+        double m53, r53; b = fabs(m24); m53 = m14 / m24; t = r14 * b; u = fabs(m14) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD; if (!(b > r24)) { m53 = NAN; r53 = INFINITY; }
+        double m54, r54; b = fabs(m24); m54 = m17 / m24; t = r17 * b; u = fabs(m17) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD; if (!(b > r24)) { m54 = NAN; r54 = INFINITY; }
+        double m55, r55; m55 = m20 * m20; t = fabs(m20) + r20; t = t * r20; u = fabs(m20) * r20; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m55 + m22; t = r55 + r22; u = fabs(m56) * U; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = sqrt(m56 > 0 ? m56 : 0.0); t = m56 > 0 ? (r56 * SQ) / m57 : INFINITY; u = sqrt(r56); t = nanmin(t, u); if (!(m56 > 0)) { u = m56 + r56; t = sqrt(nanmax(u, 0.0)); } u = U * m57; t = t + u; t = t * GROW; r57 = t + PAD; if (m56 + r56 < 0) { m57 = NAN; r57 = INFINITY; }
+        double m58, r58; m58 = m57 * m57; t = fabs(m57) + r57; t = t * r57; u = fabs(m57) * r57; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m20 * m15; t = fabs(m20) + r20; t = t * r15; u = fabs(m15) * r20; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m59 + m27; t = r59 + r27; u = fabs(m60) * U; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; b = fabs(m57); m61 = m60 / m57; t = r60 * b; u = fabs(m60) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD; if (!(b > r57)) { m61 = NAN; r61 = INFINITY; }
+        double m62, r62; m62 = m20 * m18; t = fabs(m20) + r20; t = t * r18; u = fabs(m18) * r20; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m62 - m31; t = r62 + r31; u = fabs(m63) * U; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; b = fabs(m58); m64 = m63 / m58; t = r63 * b; u = fabs(m63) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m64) * U; u = u + ETA; t = t + u; t = t * GROW; r64 = t + PAD; if (!(b > r58)) { m64 = NAN; r64 = INFINITY; }
+        double m65, r65; m65 = m20 * m16; t = fabs(m20) + r20; t = t * r16; u = fabs(m16) * r20; t = t + u; u = fabs(m65) * U; u = u + ETA; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m36 + m65; t = r36 + r65; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m66 + m39; t = r66 + r39; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        double m68, r68; m68 = m61 * m61; t = fabs(m61) + r61; t = t * r61; u = fabs(m61) * r61; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+        double m69, r69; m69 = m67 - m68; t = r67 + r68; u = fabs(m69) * U; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; b = fabs(m57); m70 = m69 / m57; t = r69 * b; u = fabs(m69) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD; if (!(b > r57)) { m70 = NAN; r70 = INFINITY; }
+        double m71, r71; m71 = m20 * m19; t = fabs(m20) + r20; t = t * r19; u = fabs(m19) * r20; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; m72 = m71 - m45; t = r71 + r45; u = fabs(m72) * U; t = t + u; t = t * GROW; r72 = t + PAD;
+        double m73, r73; m73 = m57 * m47; t = fabs(m57) + r57; t = t * r47; u = fabs(m47) * r57; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+        double m74, r74; m74 = m73 * m61; t = fabs(m73) + r73; t = t * r61; u = fabs(m61) * r73; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+        double m75, r75; m75 = m74 * m64; t = fabs(m74) + r74; t = t * r64; u = fabs(m64) * r74; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; m76 = m72 - m75; t = r72 + r75; u = fabs(m76) * U; t = t + u; t = t * GROW; r76 = t + PAD;
+        double m77, r77; b = fabs(m58); m77 = m76 / m58; t = r76 * b; u = fabs(m76) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m77) * U; u = u + ETA; t = t + u; t = t * GROW; r77 = t + PAD; if (!(b > r58)) { m77 = NAN; r77 = INFINITY; }
+        double m78, r78; b = fabs(m57); m78 = m20 / m57; t = r20 * b; u = fabs(m20) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m78) * U; u = u + ETA; t = t + u; t = t * GROW; r78 = t + PAD; if (!(b > r57)) { m78 = NAN; r78 = INFINITY; }
+        double m79, r79; b = fabs(m57); m79 = m17 / m57; t = r17 * b; u = fabs(m17) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m79) * U; u = u + ETA; t = t + u; t = t * GROW; r79 = t + PAD; if (!(b > r57)) { m79 = NAN; r79 = INFINITY; }
+        double m80, r80; m80 = m24 - m7; t = r24 + r7; u = fabs(m80) * U; t = t + u; t = t * GROW; r80 = t + PAD;
+        double m81, r81; m81 = m57 - m13; t = r57 + r13; u = fabs(m81) * U; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = m2 * m4; t = fabs(m2) + r2; t = t * r4; u = fabs(m4) * r2; t = t + u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD;
+        double m83, r83; m83 = m82 * m4; t = fabs(m82) + r82; t = t * r4; u = fabs(m4) * r82; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+        double m84, r84; m84 = m83 + m3; t = r83 + r3; u = fabs(m84) * U; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m5 * m80; t = fabs(m5) + r5; t = t * r80; u = fabs(m80) * r5; t = t + u; u = fabs(m85) * U; u = u + ETA; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m85 * m80; t = fabs(m85) + r85; t = t * r80; u = fabs(m80) * r85; t = t + u; u = fabs(m86) * U; u = u + ETA; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m84 + m86; t = r84 + r86; u = fabs(m87) * U; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m87 + m6; t = r87 + r6; u = fabs(m88) * U; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m8 * m10; t = fabs(m8) + r8; t = t * r10; u = fabs(m10) * r8; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m89 * m10; t = fabs(m89) + r89; t = t * r10; u = fabs(m10) * r89; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m90 + m9; t = r90 + r9; u = fabs(m91) * U; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m11 * m81; t = fabs(m11) + r11; t = t * r81; u = fabs(m81) * r11; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+        double m93, r93; m93 = m92 * m81; t = fabs(m92) + r92; t = t * r81; u = fabs(m81) * r92; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+        double m94, r94; m94 = m91 + m93; t = r91 + r93; u = fabs(m94) * U; t = t + u; t = t * GROW; r94 = t + PAD;
+        double m95, r95; m95 = m94 + m12; t = r94 + r12; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+        double m96, r96; m96 = m5 * m47; t = fabs(m5) + r5; t = t * r47; u = fabs(m47) * r5; t = t + u; u = fabs(m96) * U; u = u + ETA; t = t + u; t = t * GROW; r96 = t + PAD;
+        double m97, r97; m97 = m96 * m29; t = fabs(m96) + r96; t = t * r29; u = fabs(m29) * r96; t = t + u; u = fabs(m97) * U; u = u + ETA; t = t + u; t = t * GROW; r97 = t + PAD;
+        double m98, r98; m98 = m97 * m33; t = fabs(m97) + r97; t = t * r33; u = fabs(m33) * r97; t = t + u; u = fabs(m98) * U; u = u + ETA; t = t + u; t = t * GROW; r98 = t + PAD;
+        double m99, r99; m99 = m98 * m80; t = fabs(m98) + r98; t = t * r80; u = fabs(m80) * r98; t = t + u; u = fabs(m99) * U; u = u + ETA; t = t + u; t = t * GROW; r99 = t + PAD;
+        double m100, r100; m100 = m82 + m85; t = r82 + r85; u = fabs(m100) * U; t = t + u; t = t * GROW; r100 = t + PAD;
+        double m101, r101; m101 = m100 * m1; t = fabs(m100) + r100; t = t * r1; u = fabs(m1) * r100; t = t + u; u = fabs(m101) * U; u = u + ETA; t = t + u; t = t * GROW; r101 = t + PAD;
+        double m102, r102; m102 = m101 * m53; t = fabs(m101) + r101; t = t * r53; u = fabs(m53) * r101; t = t + u; u = fabs(m102) * U; u = u + ETA; t = t + u; t = t * GROW; r102 = t + PAD;
+        double m103, r103; m103 = m99 + m102; t = r99 + r102; u = fabs(m103) * U; t = t + u; t = t * GROW; r103 = t + PAD;
+        double m104, r104; m104 = -m5; r104 = r5;
+        double m105, r105; m105 = m104 * m80; t = fabs(m104) + r104; t = t * r80; u = fabs(m80) * r104; t = t + u; u = fabs(m105) * U; u = u + ETA; t = t + u; t = t * GROW; r105 = t + PAD;
+        double m106, r106; m106 = m105 * m33; t = fabs(m105) + r105; t = t * r33; u = fabs(m33) * r105; t = t + u; u = fabs(m106) * U; u = u + ETA; t = t + u; t = t * GROW; r106 = t + PAD;
+        double m107, r107; m107 = m106 * m33; t = fabs(m106) + r106; t = t * r33; u = fabs(m33) * r106; t = t + u; u = fabs(m107) * U; u = u + ETA; t = t + u; t = t * GROW; r107 = t + PAD;
+        double m108, r108; m108 = m5 * m1; t = fabs(m5) + r5; t = t * r1; u = fabs(m1) * r5; t = t + u; u = fabs(m108) * U; u = u + ETA; t = t + u; t = t * GROW; r108 = t + PAD;
+        double m109, r109; m109 = m108 * m54; t = fabs(m108) + r108; t = t * r54; u = fabs(m54) * r108; t = t + u; u = fabs(m109) * U; u = u + ETA; t = t + u; t = t * GROW; r109 = t + PAD;
+        double m110, r110; m110 = m107 + m109; t = r107 + r109; u = fabs(m110) * U; t = t + u; t = t * GROW; r110 = t + PAD;
+        double m111, r111; m111 = m11 * m47; t = fabs(m11) + r11; t = t * r47; u = fabs(m47) * r11; t = t + u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD;
+        double m112, r112; m112 = m111 * m61; t = fabs(m111) + r111; t = t * r61; u = fabs(m61) * r111; t = t + u; u = fabs(m112) * U; u = u + ETA; t = t + u; t = t * GROW; r112 = t + PAD;
+        double m113, r113; m113 = m112 * m64; t = fabs(m112) + r112; t = t * r64; u = fabs(m64) * r112; t = t + u; u = fabs(m113) * U; u = u + ETA; t = t + u; t = t * GROW; r113 = t + PAD;
+        double m114, r114; m114 = m113 * m81; t = fabs(m113) + r113; t = t * r81; u = fabs(m81) * r113; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+        double m115, r115; m115 = m89 + m92; t = r89 + r92; u = fabs(m115) * U; t = t + u; t = t * GROW; r115 = t + PAD;
+        double m116, r116; m116 = m115 * m1; t = fabs(m115) + r115; t = t * r1; u = fabs(m1) * r115; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+        double m117, r117; m117 = m116 * m78; t = fabs(m116) + r116; t = t * r78; u = fabs(m78) * r116; t = t + u; u = fabs(m117) * U; u = u + ETA; t = t + u; t = t * GROW; r117 = t + PAD;
+        double m118, r118; m118 = m114 + m117; t = r114 + r117; u = fabs(m118) * U; t = t + u; t = t * GROW; r118 = t + PAD;
+        double m119, r119; m119 = -m11; r119 = r11;
+        double m120, r120; m120 = m119 * m81; t = fabs(m119) + r119; t = t * r81; u = fabs(m81) * r119; t = t + u; u = fabs(m120) * U; u = u + ETA; t = t + u; t = t * GROW; r120 = t + PAD;
+        double m121, r121; m121 = m120 * m64; t = fabs(m120) + r120; t = t * r64; u = fabs(m64) * r120; t = t + u; u = fabs(m121) * U; u = u + ETA; t = t + u; t = t * GROW; r121 = t + PAD;
+        double m122, r122; m122 = m121 * m64; t = fabs(m121) + r121; t = t * r64; u = fabs(m64) * r121; t = t + u; u = fabs(m122) * U; u = u + ETA; t = t + u; t = t * GROW; r122 = t + PAD;
+        double m123, r123; m123 = m11 * m1; t = fabs(m11) + r11; t = t * r1; u = fabs(m1) * r11; t = t + u; u = fabs(m123) * U; u = u + ETA; t = t + u; t = t * GROW; r123 = t + PAD;
+        double m124, r124; m124 = m123 * m79; t = fabs(m123) + r123; t = t * r79; u = fabs(m79) * r123; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+        double m125, r125; m125 = m122 + m124; t = r122 + r124; u = fabs(m125) * U; t = t + u; t = t * GROW; r125 = t + PAD;
+        double m126, r126; m126 = m5 * m43; t = fabs(m5) + r5; t = t * r43; u = fabs(m43) * r5; t = t + u; u = fabs(m126) * U; u = u + ETA; t = t + u; t = t * GROW; r126 = t + PAD;
+        double m127, r127; m127 = m126 + m110; t = r126 + r110; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+        double m128, r128; m128 = m11 * m70; t = fabs(m11) + r11; t = t * r70; u = fabs(m70) * r11; t = t + u; u = fabs(m128) * U; u = u + ETA; t = t + u; t = t * GROW; r128 = t + PAD;
+        double m129, r129; m129 = m128 + m125; t = r128 + r125; u = fabs(m129) * U; t = t + u; t = t * GROW; r129 = t + PAD;
+        double m133, r133; m133 = -m79; r133 = r79;
+        double m134, r134; m134 = m133 * m127; t = fabs(m133) + r133; t = t * r127; u = fabs(m127) * r133; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+        double m135, r135; m135 = m54 * m129; t = fabs(m54) + r54; t = t * r129; u = fabs(m129) * r54; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+        double m136, r136; m136 = m134 - m135; t = r134 + r135; u = fabs(m136) * U; t = t + u; t = t * GROW; r136 = t + PAD;
+        double m137, r137; m137 = m78 * m127; t = fabs(m78) + r78; t = t * r127; u = fabs(m127) * r78; t = t + u; u = fabs(m137) * U; u = u + ETA; t = t + u; t = t * GROW; r137 = t + PAD;
+        double m138, r138; m138 = m53 * m129; t = fabs(m53) + r53; t = t * r129; u = fabs(m129) * r53; t = t + u; u = fabs(m138) * U; u = u + ETA; t = t + u; t = t * GROW; r138 = t + PAD;
+        double m139, r139; m139 = m137 + m138; t = r137 + r138; u = fabs(m139) * U; t = t + u; t = t * GROW; r139 = t + PAD;
+        double m140, r140; m140 = m0 * m17; t = fabs(m0) + r0; t = t * r17; u = fabs(m17) * r0; t = t + u; u = fabs(m140) * U; u = u + ETA; t = t + u; t = t * GROW; r140 = t + PAD;
+        double m141, r141; m141 = -m140; r141 = r140;
+        double m142, r142; m142 = m24 * m57; t = fabs(m24) + r24; t = t * r57; u = fabs(m57) * r24; t = t + u; u = fabs(m142) * U; u = u + ETA; t = t + u; t = t * GROW; r142 = t + PAD;
+        double m143, r143; b = fabs(m142); m143 = m141 / m142; t = r141 * b; u = fabs(m141) * r142; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r142; t = t / u; u = fabs(m143) * U; u = u + ETA; t = t + u; t = t * GROW; r143 = t + PAD; if (!(b > r142)) { m143 = NAN; r143 = INFINITY; }
+        double m144, r144; b = fabs(m142); m144 = m0 / m142; t = r0 * b; u = fabs(m0) * r142; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r142; t = t / u; u = fabs(m144) * U; u = u + ETA; t = t + u; t = t * GROW; r144 = t + PAD; if (!(b > r142)) { m144 = NAN; r144 = INFINITY; }
+        double m145, r145; m145 = -m144; r145 = r144;
+        double m146, r146; b = fabs(m24); m146 = m29 / m24; t = r29 * b; u = fabs(m29) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m146) * U; u = u + ETA; t = t + u; t = t * GROW; r146 = t + PAD; if (!(b > r24)) { m146 = NAN; r146 = INFINITY; }
+        double m147, r147; b = fabs(m57); m147 = m61 / m57; t = r61 * b; u = fabs(m61) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m147) * U; u = u + ETA; t = t + u; t = t * GROW; r147 = t + PAD; if (!(b > r57)) { m147 = NAN; r147 = INFINITY; }
+        double m148, r148; m148 = m146 + m147; t = r146 + r147; u = fabs(m148) * U; t = t + u; t = t * GROW; r148 = t + PAD;
+        double m149, r149; m149 = m17 * m148; t = fabs(m17) + r17; t = t * r148; u = fabs(m148) * r17; t = t + u; u = fabs(m149) * U; u = u + ETA; t = t + u; t = t * GROW; r149 = t + PAD;
+        double m150, r150; m150 = m18 - m149; t = r18 + r149; u = fabs(m150) * U; t = t + u; t = t * GROW; r150 = t + PAD;
+        double m151, r151; m151 = m145 * m150; t = fabs(m145) + r145; t = t * r150; u = fabs(m150) * r145; t = t + u; u = fabs(m151) * U; u = u + ETA; t = t + u; t = t * GROW; r151 = t + PAD;
+        double m152, r152; b = fabs(m143); m152 = m136 / m143; t = r136 * b; u = fabs(m136) * r143; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r143; t = t / u; u = fabs(m152) * U; u = u + ETA; t = t + u; t = t * GROW; r152 = t + PAD; if (!(b > r143)) { m152 = NAN; r152 = INFINITY; }
+        double m153, r153; b = fabs(m143); m153 = m139 / m143; t = r139 * b; u = fabs(m139) * r143; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r143; t = t / u; u = fabs(m153) * U; u = u + ETA; t = t + u; t = t * GROW; r153 = t + PAD; if (!(b > r143)) { m153 = NAN; r153 = INFINITY; }
+        double m154, r154; m154 = m88 * m52; t = fabs(m88) + r88; t = t * r52; u = fabs(m52) * r88; t = t + u; u = fabs(m154) * U; u = u + ETA; t = t + u; t = t * GROW; r154 = t + PAD;
+        double m155, r155; m155 = m154 + m103; t = r154 + r103; u = fabs(m155) * U; t = t + u; t = t * GROW; r155 = t + PAD;
+        double m156, r156; m156 = -m24; r156 = r24;
+        double m157, r157; m157 = m156 * m54; t = fabs(m156) + r156; t = t * r54; u = fabs(m54) * r156; t = t + u; u = fabs(m157) * U; u = u + ETA; t = t + u; t = t * GROW; r157 = t + PAD;
+        double m158, r158; m158 = m157 * m152; t = fabs(m157) + r157; t = t * r152; u = fabs(m152) * r157; t = t + u; u = fabs(m158) * U; u = u + ETA; t = t + u; t = t * GROW; r158 = t + PAD;
+        double m159, r159; m159 = m24 * m53; t = fabs(m24) + r24; t = t * r53; u = fabs(m53) * r24; t = t + u; u = fabs(m159) * U; u = u + ETA; t = t + u; t = t * GROW; r159 = t + PAD;
+        double m160, r160; m160 = m159 * m153; t = fabs(m159) + r159; t = t * r153; u = fabs(m153) * r159; t = t + u; u = fabs(m160) * U; u = u + ETA; t = t + u; t = t * GROW; r160 = t + PAD;
+        double m161, r161; m161 = m158 + m160; t = r158 + r160; u = fabs(m161) * U; t = t + u; t = t * GROW; r161 = t + PAD;
+        double m162, r162; m162 = m155 - m161; t = r155 + r161; u = fabs(m162) * U; t = t + u; t = t * GROW; r162 = t + PAD;
+        double m163, r163; m163 = m95 * m77; t = fabs(m95) + r95; t = t * r77; u = fabs(m77) * r95; t = t + u; u = fabs(m163) * U; u = u + ETA; t = t + u; t = t * GROW; r163 = t + PAD;
+        double m164, r164; m164 = m163 + m118; t = r163 + r118; u = fabs(m164) * U; t = t + u; t = t * GROW; r164 = t + PAD;
+        double m165, r165; m165 = m57 * m79; t = fabs(m57) + r57; t = t * r79; u = fabs(m79) * r57; t = t + u; u = fabs(m165) * U; u = u + ETA; t = t + u; t = t * GROW; r165 = t + PAD;
+        double m166, r166; m166 = m165 * m152; t = fabs(m165) + r165; t = t * r152; u = fabs(m152) * r165; t = t + u; u = fabs(m166) * U; u = u + ETA; t = t + u; t = t * GROW; r166 = t + PAD;
+        double m167, r167; m167 = m57 * m78; t = fabs(m57) + r57; t = t * r78; u = fabs(m78) * r57; t = t + u; u = fabs(m167) * U; u = u + ETA; t = t + u; t = t * GROW; r167 = t + PAD;
+        double m168, r168; m168 = m167 * m153; t = fabs(m167) + r167; t = t * r153; u = fabs(m153) * r167; t = t + u; u = fabs(m168) * U; u = u + ETA; t = t + u; t = t * GROW; r168 = t + PAD;
+        double m169, r169; m169 = m166 - m168; t = r166 + r168; u = fabs(m169) * U; t = t + u; t = t * GROW; r169 = t + PAD;
+        double m170, r170; m170 = m164 - m169; t = r164 + r169; u = fabs(m170) * U; t = t + u; t = t * GROW; r170 = t + PAD;
+        out[0 * n + j] = m24;
+        out[1 * n + j] = r24;
+        out[2 * n + j] = m57;
+        out[3 * n + j] = r57;
+        out[4 * n + j] = m33;
+        out[5 * n + j] = r33;
+        out[6 * n + j] = m29;
+        out[7 * n + j] = r29;
+        out[8 * n + j] = m64;
+        out[9 * n + j] = r64;
+        out[10 * n + j] = m61;
+        out[11 * n + j] = r61;
+        out[12 * n + j] = m52;
+        out[13 * n + j] = r52;
+        out[14 * n + j] = m43;
+        out[15 * n + j] = r43;
+        out[16 * n + j] = m77;
+        out[17 * n + j] = r77;
+        out[18 * n + j] = m70;
+        out[19 * n + j] = r70;
+        out[20 * n + j] = m143;
+        out[21 * n + j] = r143;
+        out[22 * n + j] = m151;
+        out[23 * n + j] = r151;
+        out[24 * n + j] = m152;
+        out[25 * n + j] = r152;
+        out[26 * n + j] = m153;
+        out[27 * n + j] = r153;
+        out[28 * n + j] = m162;
+        out[29 * n + j] = r162;
+        out[30 * n + j] = m170;
+        out[31 * n + j] = r170;
+    }
+}
+
+static const int rows_formulas_revolute[] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+static void k_formulas_prismatic(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m0 = LD(in[0].m, 0, j), r0 = LD(in[0].r, 0, j);
+        double m1 = LD(in[1].m, 0, j), r1 = LD(in[1].r, 0, j);
+        double m2 = LD(in[2].m, 0, j), r2 = LD(in[2].r, 0, j);
+        double m3 = LD(in[3].m, 0, j), r3 = LD(in[3].r, 0, j);
+        double m4 = LD(in[4].m, 0, j), r4 = LD(in[4].r, 0, j);
+        double m5 = LD(in[5].m, 0, j), r5 = LD(in[5].r, 0, j);
+        double m6 = LD(in[6].m, 0, j), r6 = LD(in[6].r, 0, j);
+        double m7 = LD(in[7].m, 0, j), r7 = LD(in[7].r, 0, j);
+        double m8 = LD(in[8].m, 0, j), r8 = LD(in[8].r, 0, j);
+        double m9 = LD(in[9].m, 0, j), r9 = LD(in[9].r, 0, j);
+        double m10 = LD(in[10].m, 0, j), r10 = LD(in[10].r, 0, j);
+        double m11 = LD(in[11].m, 0, j), r11 = LD(in[11].r, 0, j);
+        double m12 = LD(in[12].m, 0, j), r12 = LD(in[12].r, 0, j);
+        double m13 = LD(in[13].m, 0, j), r13 = LD(in[13].r, 0, j);
+        double m14 = LD(in[14].m, 0, j), r14 = LD(in[14].r, 0, j);
+        double m15 = LD(in[15].m, 0, j), r15 = LD(in[15].r, 0, j);
+        double m16 = LD(in[16].m, 0, j), r16 = LD(in[16].r, 0, j);
+        double m17 = LD(in[17].m, 0, j), r17 = LD(in[17].r, 0, j);
+        double m18 = LD(in[18].m, 0, j), r18 = LD(in[18].r, 0, j);
+        double m19 = LD(in[19].m, 0, j), r19 = LD(in[19].r, 0, j);
+        double m20, r20; m20 = m14 - m0; t = r14 + r0; u = fabs(m20) * U; t = t + u; t = t * GROW; r20 = t + PAD;
+        double m21, r21; m21 = m14 * m14; t = fabs(m14) + r14; t = t * r14; u = fabs(m14) * r14; t = t + u; u = fabs(m21) * U; u = u + ETA; t = t + u; t = t * GROW; r21 = t + PAD;
+        double m22, r22; m22 = m17 * m17; t = fabs(m17) + r17; t = t * r17; u = fabs(m17) * r17; t = t + u; u = fabs(m22) * U; u = u + ETA; t = t + u; t = t * GROW; r22 = t + PAD;
+        double m23, r23; m23 = m21 + m22; t = r21 + r22; u = fabs(m23) * U; t = t + u; t = t * GROW; r23 = t + PAD;
+        double m24, r24; m24 = sqrt(m23 > 0 ? m23 : 0.0); t = m23 > 0 ? (r23 * SQ) / m24 : INFINITY; u = sqrt(r23); t = nanmin(t, u); if (!(m23 > 0)) { u = m23 + r23; t = sqrt(nanmax(u, 0.0)); } u = U * m24; t = t + u; t = t * GROW; r24 = t + PAD; if (m23 + r23 < 0) { m24 = NAN; r24 = INFINITY; }
+        double m25, r25; m25 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m25) * U; u = u + ETA; t = t + u; t = t * GROW; r25 = t + PAD;
+        double m26, r26; m26 = m14 * m15; t = fabs(m14) + r14; t = t * r15; u = fabs(m15) * r14; t = t + u; u = fabs(m26) * U; u = u + ETA; t = t + u; t = t * GROW; r26 = t + PAD;
+        double m27, r27; m27 = m17 * m18; t = fabs(m17) + r17; t = t * r18; u = fabs(m18) * r17; t = t + u; u = fabs(m27) * U; u = u + ETA; t = t + u; t = t * GROW; r27 = t + PAD;
+        double m28, r28; m28 = m26 + m27; t = r26 + r27; u = fabs(m28) * U; t = t + u; t = t * GROW; r28 = t + PAD;
+        double m29, r29; b = fabs(m24); m29 = m28 / m24; t = r28 * b; u = fabs(m28) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m29) * U; u = u + ETA; t = t + u; t = t * GROW; r29 = t + PAD; if (!(b > r24)) { m29 = NAN; r29 = INFINITY; }
+        double m30, r30; m30 = m14 * m18; t = fabs(m14) + r14; t = t * r18; u = fabs(m18) * r14; t = t + u; u = fabs(m30) * U; u = u + ETA; t = t + u; t = t * GROW; r30 = t + PAD;
+        double m31, r31; m31 = m17 * m15; t = fabs(m17) + r17; t = t * r15; u = fabs(m15) * r17; t = t + u; u = fabs(m31) * U; u = u + ETA; t = t + u; t = t * GROW; r31 = t + PAD;
+        double m32, r32; m32 = m30 - m31; t = r30 + r31; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+        double m33, r33; b = fabs(m25); m33 = m32 / m25; t = r32 * b; u = fabs(m32) * r25; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r25; t = t / u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD; if (!(b > r25)) { m33 = NAN; r33 = INFINITY; }
+        double m34, r34; m34 = m15 * m15; t = fabs(m15) + r15; t = t * r15; u = fabs(m15) * r15; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+        double m35, r35; m35 = m18 * m18; t = fabs(m18) + r18; t = t * r18; u = fabs(m18) * r18; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+        double m36, r36; m36 = m34 + m35; t = r34 + r35; u = fabs(m36) * U; t = t + u; t = t * GROW; r36 = t + PAD;
+        double m37, r37; m37 = m14 * m16; t = fabs(m14) + r14; t = t * r16; u = fabs(m16) * r14; t = t + u; u = fabs(m37) * U; u = u + ETA; t = t + u; t = t * GROW; r37 = t + PAD;
+        double m38, r38; m38 = m36 + m37; t = r36 + r37; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+        double m39, r39; m39 = m17 * m19; t = fabs(m17) + r17; t = t * r19; u = fabs(m19) * r17; t = t + u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD;
+        double m40, r40; m40 = m38 + m39; t = r38 + r39; u = fabs(m40) * U; t = t + u; t = t * GROW; r40 = t + PAD;
+        double m41, r41; m41 = m29 * m29; t = fabs(m29) + r29; t = t * r29; u = fabs(m29) * r29; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+        double m42, r42; m42 = m40 - m41; t = r40 + r41; u = fabs(m42) * U; t = t + u; t = t * GROW; r42 = t + PAD;
+        double m43, r43; b = fabs(m24); m43 = m42 / m24; t = r42 * b; u = fabs(m42) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD; if (!(b > r24)) { m43 = NAN; r43 = INFINITY; }
+        double m44, r44; m44 = m14 * m19; t = fabs(m14) + r14; t = t * r19; u = fabs(m19) * r14; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+        double m45, r45; m45 = m17 * m16; t = fabs(m17) + r17; t = t * r16; u = fabs(m16) * r17; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+        double m46, r46; m46 = m44 - m45; t = r44 + r45; u = fabs(m46) * U; t = t + u; t = t * GROW; r46 = t + PAD;
+        const double m47 = 0x1.0000000000000p+1, r47 = 0x0.0p+0;
+        double m48, r48; m48 = m24 * m47; t = fabs(m24) + r24; t = t * r47; u = fabs(m47) * r24; t = t + u; u = fabs(m48) * U; u = u + ETA; t = t + u; t = t * GROW; r48 = t + PAD;
+        double m49, r49; m49 = m48 * m29; t = fabs(m48) + r48; t = t * r29; u = fabs(m29) * r48; t = t + u; u = fabs(m49) * U; u = u + ETA; t = t + u; t = t * GROW; r49 = t + PAD;
+        double m50, r50; m50 = m49 * m33; t = fabs(m49) + r49; t = t * r33; u = fabs(m33) * r49; t = t + u; u = fabs(m50) * U; u = u + ETA; t = t + u; t = t * GROW; r50 = t + PAD;
+        double m51, r51; m51 = m46 - m50; t = r46 + r50; u = fabs(m51) * U; t = t + u; t = t * GROW; r51 = t + PAD;
+        double m52, r52; b = fabs(m25); m52 = m51 / m25; t = r51 * b; u = fabs(m51) * r25; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r25; t = t / u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD; if (!(b > r25)) { m52 = NAN; r52 = INFINITY; }
+        double m53, r53; b = fabs(m24); m53 = m14 / m24; t = r14 * b; u = fabs(m14) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m53) * U; u = u + ETA; t = t + u; t = t * GROW; r53 = t + PAD; if (!(b > r24)) { m53 = NAN; r53 = INFINITY; }
+        double m54, r54; b = fabs(m24); m54 = m17 / m24; t = r17 * b; u = fabs(m17) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD; if (!(b > r24)) { m54 = NAN; r54 = INFINITY; }
+        double m55, r55; m55 = m20 * m20; t = fabs(m20) + r20; t = t * r20; u = fabs(m20) * r20; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+        double m56, r56; m56 = m55 + m22; t = r55 + r22; u = fabs(m56) * U; t = t + u; t = t * GROW; r56 = t + PAD;
+        double m57, r57; m57 = sqrt(m56 > 0 ? m56 : 0.0); t = m56 > 0 ? (r56 * SQ) / m57 : INFINITY; u = sqrt(r56); t = nanmin(t, u); if (!(m56 > 0)) { u = m56 + r56; t = sqrt(nanmax(u, 0.0)); } u = U * m57; t = t + u; t = t * GROW; r57 = t + PAD; if (m56 + r56 < 0) { m57 = NAN; r57 = INFINITY; }
+        double m58, r58; m58 = m57 * m57; t = fabs(m57) + r57; t = t * r57; u = fabs(m57) * r57; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+        double m59, r59; m59 = m20 * m15; t = fabs(m20) + r20; t = t * r15; u = fabs(m15) * r20; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+        double m60, r60; m60 = m59 + m27; t = r59 + r27; u = fabs(m60) * U; t = t + u; t = t * GROW; r60 = t + PAD;
+        double m61, r61; b = fabs(m57); m61 = m60 / m57; t = r60 * b; u = fabs(m60) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD; if (!(b > r57)) { m61 = NAN; r61 = INFINITY; }
+        double m62, r62; m62 = m20 * m18; t = fabs(m20) + r20; t = t * r18; u = fabs(m18) * r20; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+        double m63, r63; m63 = m62 - m31; t = r62 + r31; u = fabs(m63) * U; t = t + u; t = t * GROW; r63 = t + PAD;
+        double m64, r64; b = fabs(m58); m64 = m63 / m58; t = r63 * b; u = fabs(m63) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m64) * U; u = u + ETA; t = t + u; t = t * GROW; r64 = t + PAD; if (!(b > r58)) { m64 = NAN; r64 = INFINITY; }
+        double m65, r65; m65 = m20 * m16; t = fabs(m20) + r20; t = t * r16; u = fabs(m16) * r20; t = t + u; u = fabs(m65) * U; u = u + ETA; t = t + u; t = t * GROW; r65 = t + PAD;
+        double m66, r66; m66 = m36 + m65; t = r36 + r65; u = fabs(m66) * U; t = t + u; t = t * GROW; r66 = t + PAD;
+        double m67, r67; m67 = m66 + m39; t = r66 + r39; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+        double m68, r68; m68 = m61 * m61; t = fabs(m61) + r61; t = t * r61; u = fabs(m61) * r61; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+        double m69, r69; m69 = m67 - m68; t = r67 + r68; u = fabs(m69) * U; t = t + u; t = t * GROW; r69 = t + PAD;
+        double m70, r70; b = fabs(m57); m70 = m69 / m57; t = r69 * b; u = fabs(m69) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD; if (!(b > r57)) { m70 = NAN; r70 = INFINITY; }
+        double m71, r71; m71 = m20 * m19; t = fabs(m20) + r20; t = t * r19; u = fabs(m19) * r20; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+        double m72, r72; m72 = m71 - m45; t = r71 + r45; u = fabs(m72) * U; t = t + u; t = t * GROW; r72 = t + PAD;
+        double m73, r73; m73 = m57 * m47; t = fabs(m57) + r57; t = t * r47; u = fabs(m47) * r57; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+        double m74, r74; m74 = m73 * m61; t = fabs(m73) + r73; t = t * r61; u = fabs(m61) * r73; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+        double m75, r75; m75 = m74 * m64; t = fabs(m74) + r74; t = t * r64; u = fabs(m64) * r74; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+        double m76, r76; m76 = m72 - m75; t = r72 + r75; u = fabs(m76) * U; t = t + u; t = t * GROW; r76 = t + PAD;
+        double m77, r77; b = fabs(m58); m77 = m76 / m58; t = r76 * b; u = fabs(m76) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m77) * U; u = u + ETA; t = t + u; t = t * GROW; r77 = t + PAD; if (!(b > r58)) { m77 = NAN; r77 = INFINITY; }
+        double m78, r78; b = fabs(m57); m78 = m20 / m57; t = r20 * b; u = fabs(m20) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m78) * U; u = u + ETA; t = t + u; t = t * GROW; r78 = t + PAD; if (!(b > r57)) { m78 = NAN; r78 = INFINITY; }
+        double m79, r79; b = fabs(m57); m79 = m17 / m57; t = r17 * b; u = fabs(m17) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m79) * U; u = u + ETA; t = t + u; t = t * GROW; r79 = t + PAD; if (!(b > r57)) { m79 = NAN; r79 = INFINITY; }
+        double m80, r80; m80 = m24 - m7; t = r24 + r7; u = fabs(m80) * U; t = t + u; t = t * GROW; r80 = t + PAD;
+        double m81, r81; m81 = m57 - m13; t = r57 + r13; u = fabs(m81) * U; t = t + u; t = t * GROW; r81 = t + PAD;
+        double m82, r82; m82 = m2 * m4; t = fabs(m2) + r2; t = t * r4; u = fabs(m4) * r2; t = t + u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD;
+        double m83, r83; m83 = m82 * m4; t = fabs(m82) + r82; t = t * r4; u = fabs(m4) * r82; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+        double m84, r84; m84 = m83 + m3; t = r83 + r3; u = fabs(m84) * U; t = t + u; t = t * GROW; r84 = t + PAD;
+        double m85, r85; m85 = m5 * m80; t = fabs(m5) + r5; t = t * r80; u = fabs(m80) * r5; t = t + u; u = fabs(m85) * U; u = u + ETA; t = t + u; t = t * GROW; r85 = t + PAD;
+        double m86, r86; m86 = m85 * m80; t = fabs(m85) + r85; t = t * r80; u = fabs(m80) * r85; t = t + u; u = fabs(m86) * U; u = u + ETA; t = t + u; t = t * GROW; r86 = t + PAD;
+        double m87, r87; m87 = m84 + m86; t = r84 + r86; u = fabs(m87) * U; t = t + u; t = t * GROW; r87 = t + PAD;
+        double m88, r88; m88 = m87 + m6; t = r87 + r6; u = fabs(m88) * U; t = t + u; t = t * GROW; r88 = t + PAD;
+        double m89, r89; m89 = m8 * m10; t = fabs(m8) + r8; t = t * r10; u = fabs(m10) * r8; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+        double m90, r90; m90 = m89 * m10; t = fabs(m89) + r89; t = t * r10; u = fabs(m10) * r89; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+        double m91, r91; m91 = m90 + m9; t = r90 + r9; u = fabs(m91) * U; t = t + u; t = t * GROW; r91 = t + PAD;
+        double m92, r92; m92 = m11 * m81; t = fabs(m11) + r11; t = t * r81; u = fabs(m81) * r11; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+        double m93, r93; m93 = m92 * m81; t = fabs(m92) + r92; t = t * r81; u = fabs(m81) * r92; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+        double m94, r94; m94 = m91 + m93; t = r91 + r93; u = fabs(m94) * U; t = t + u; t = t * GROW; r94 = t + PAD;
+        double m95, r95; m95 = m94 + m12; t = r94 + r12; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+        double m96, r96; m96 = m5 * m47; t = fabs(m5) + r5; t = t * r47; u = fabs(m47) * r5; t = t + u; u = fabs(m96) * U; u = u + ETA; t = t + u; t = t * GROW; r96 = t + PAD;
+        double m97, r97; m97 = m96 * m29; t = fabs(m96) + r96; t = t * r29; u = fabs(m29) * r96; t = t + u; u = fabs(m97) * U; u = u + ETA; t = t + u; t = t * GROW; r97 = t + PAD;
+        double m98, r98; m98 = m97 * m33; t = fabs(m97) + r97; t = t * r33; u = fabs(m33) * r97; t = t + u; u = fabs(m98) * U; u = u + ETA; t = t + u; t = t * GROW; r98 = t + PAD;
+        double m99, r99; m99 = m98 * m80; t = fabs(m98) + r98; t = t * r80; u = fabs(m80) * r98; t = t + u; u = fabs(m99) * U; u = u + ETA; t = t + u; t = t * GROW; r99 = t + PAD;
+        double m100, r100; m100 = m82 + m85; t = r82 + r85; u = fabs(m100) * U; t = t + u; t = t * GROW; r100 = t + PAD;
+        double m101, r101; m101 = m100 * m1; t = fabs(m100) + r100; t = t * r1; u = fabs(m1) * r100; t = t + u; u = fabs(m101) * U; u = u + ETA; t = t + u; t = t * GROW; r101 = t + PAD;
+        double m102, r102; m102 = m101 * m53; t = fabs(m101) + r101; t = t * r53; u = fabs(m53) * r101; t = t + u; u = fabs(m102) * U; u = u + ETA; t = t + u; t = t * GROW; r102 = t + PAD;
+        double m103, r103; m103 = m99 + m102; t = r99 + r102; u = fabs(m103) * U; t = t + u; t = t * GROW; r103 = t + PAD;
+        double m104, r104; m104 = -m5; r104 = r5;
+        double m105, r105; m105 = m104 * m80; t = fabs(m104) + r104; t = t * r80; u = fabs(m80) * r104; t = t + u; u = fabs(m105) * U; u = u + ETA; t = t + u; t = t * GROW; r105 = t + PAD;
+        double m106, r106; m106 = m105 * m33; t = fabs(m105) + r105; t = t * r33; u = fabs(m33) * r105; t = t + u; u = fabs(m106) * U; u = u + ETA; t = t + u; t = t * GROW; r106 = t + PAD;
+        double m107, r107; m107 = m106 * m33; t = fabs(m106) + r106; t = t * r33; u = fabs(m33) * r106; t = t + u; u = fabs(m107) * U; u = u + ETA; t = t + u; t = t * GROW; r107 = t + PAD;
+        double m108, r108; m108 = m5 * m1; t = fabs(m5) + r5; t = t * r1; u = fabs(m1) * r5; t = t + u; u = fabs(m108) * U; u = u + ETA; t = t + u; t = t * GROW; r108 = t + PAD;
+        double m109, r109; m109 = m108 * m54; t = fabs(m108) + r108; t = t * r54; u = fabs(m54) * r108; t = t + u; u = fabs(m109) * U; u = u + ETA; t = t + u; t = t * GROW; r109 = t + PAD;
+        double m110, r110; m110 = m107 + m109; t = r107 + r109; u = fabs(m110) * U; t = t + u; t = t * GROW; r110 = t + PAD;
+        double m111, r111; m111 = m11 * m47; t = fabs(m11) + r11; t = t * r47; u = fabs(m47) * r11; t = t + u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD;
+        double m112, r112; m112 = m111 * m61; t = fabs(m111) + r111; t = t * r61; u = fabs(m61) * r111; t = t + u; u = fabs(m112) * U; u = u + ETA; t = t + u; t = t * GROW; r112 = t + PAD;
+        double m113, r113; m113 = m112 * m64; t = fabs(m112) + r112; t = t * r64; u = fabs(m64) * r112; t = t + u; u = fabs(m113) * U; u = u + ETA; t = t + u; t = t * GROW; r113 = t + PAD;
+        double m114, r114; m114 = m113 * m81; t = fabs(m113) + r113; t = t * r81; u = fabs(m81) * r113; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+        double m115, r115; m115 = m89 + m92; t = r89 + r92; u = fabs(m115) * U; t = t + u; t = t * GROW; r115 = t + PAD;
+        double m116, r116; m116 = m115 * m1; t = fabs(m115) + r115; t = t * r1; u = fabs(m1) * r115; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+        double m117, r117; m117 = m116 * m78; t = fabs(m116) + r116; t = t * r78; u = fabs(m78) * r116; t = t + u; u = fabs(m117) * U; u = u + ETA; t = t + u; t = t * GROW; r117 = t + PAD;
+        double m118, r118; m118 = m114 + m117; t = r114 + r117; u = fabs(m118) * U; t = t + u; t = t * GROW; r118 = t + PAD;
+        double m119, r119; m119 = -m11; r119 = r11;
+        double m120, r120; m120 = m119 * m81; t = fabs(m119) + r119; t = t * r81; u = fabs(m81) * r119; t = t + u; u = fabs(m120) * U; u = u + ETA; t = t + u; t = t * GROW; r120 = t + PAD;
+        double m121, r121; m121 = m120 * m64; t = fabs(m120) + r120; t = t * r64; u = fabs(m64) * r120; t = t + u; u = fabs(m121) * U; u = u + ETA; t = t + u; t = t * GROW; r121 = t + PAD;
+        double m122, r122; m122 = m121 * m64; t = fabs(m121) + r121; t = t * r64; u = fabs(m64) * r121; t = t + u; u = fabs(m122) * U; u = u + ETA; t = t + u; t = t * GROW; r122 = t + PAD;
+        double m123, r123; m123 = m11 * m1; t = fabs(m11) + r11; t = t * r1; u = fabs(m1) * r11; t = t + u; u = fabs(m123) * U; u = u + ETA; t = t + u; t = t * GROW; r123 = t + PAD;
+        double m124, r124; m124 = m123 * m79; t = fabs(m123) + r123; t = t * r79; u = fabs(m79) * r123; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+        double m125, r125; m125 = m122 + m124; t = r122 + r124; u = fabs(m125) * U; t = t + u; t = t * GROW; r125 = t + PAD;
+        double m126, r126; m126 = m5 * m43; t = fabs(m5) + r5; t = t * r43; u = fabs(m43) * r5; t = t + u; u = fabs(m126) * U; u = u + ETA; t = t + u; t = t * GROW; r126 = t + PAD;
+        double m127, r127; m127 = m126 + m110; t = r126 + r110; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+        double m128, r128; m128 = m11 * m70; t = fabs(m11) + r11; t = t * r70; u = fabs(m70) * r11; t = t + u; u = fabs(m128) * U; u = u + ETA; t = t + u; t = t * GROW; r128 = t + PAD;
+        double m129, r129; m129 = m128 + m125; t = r128 + r125; u = fabs(m129) * U; t = t + u; t = t * GROW; r129 = t + PAD;
+        double m133, r133; m133 = m88 * m52; t = fabs(m88) + r88; t = t * r52; u = fabs(m52) * r88; t = t + u; u = fabs(m133) * U; u = u + ETA; t = t + u; t = t * GROW; r133 = t + PAD;
+        double m134, r134; m134 = m133 + m103; t = r133 + r103; u = fabs(m134) * U; t = t + u; t = t * GROW; r134 = t + PAD;
+        double m135, r135; m135 = m95 * m77; t = fabs(m95) + r95; t = t * r77; u = fabs(m77) * r95; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+        double m136, r136; m136 = m135 + m118; t = r135 + r118; u = fabs(m136) * U; t = t + u; t = t * GROW; r136 = t + PAD;
+        double m137, r137; b = fabs(m24); m137 = m134 / m24; t = r134 * b; u = fabs(m134) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m137) * U; u = u + ETA; t = t + u; t = t * GROW; r137 = t + PAD; if (!(b > r24)) { m137 = NAN; r137 = INFINITY; }
+        double m138, r138; b = fabs(m57); m138 = m136 / m57; t = r136 * b; u = fabs(m136) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m138) * U; u = u + ETA; t = t + u; t = t * GROW; r138 = t + PAD; if (!(b > r57)) { m138 = NAN; r138 = INFINITY; }
+        double m139, r139; m139 = m78 * m137; t = fabs(m78) + r78; t = t * r137; u = fabs(m137) * r78; t = t + u; u = fabs(m139) * U; u = u + ETA; t = t + u; t = t * GROW; r139 = t + PAD;
+        double m140, r140; m140 = m53 * m138; t = fabs(m53) + r53; t = t * r138; u = fabs(m138) * r53; t = t + u; u = fabs(m140) * U; u = u + ETA; t = t + u; t = t * GROW; r140 = t + PAD;
+        double m141, r141; m141 = m139 + m140; t = r139 + r140; u = fabs(m141) * U; t = t + u; t = t * GROW; r141 = t + PAD;
+        double m142, r142; m142 = -m141; r142 = r141;
+        double m143, r143; m143 = m54 * m138; t = fabs(m54) + r54; t = t * r138; u = fabs(m138) * r54; t = t + u; u = fabs(m143) * U; u = u + ETA; t = t + u; t = t * GROW; r143 = t + PAD;
+        double m144, r144; m144 = m79 * m137; t = fabs(m79) + r79; t = t * r137; u = fabs(m137) * r79; t = t + u; u = fabs(m144) * U; u = u + ETA; t = t + u; t = t * GROW; r144 = t + PAD;
+        double m145, r145; m145 = m143 + m144; t = r143 + r144; u = fabs(m145) * U; t = t + u; t = t * GROW; r145 = t + PAD;
+        double m146, r146; m146 = -m145; r146 = r145;
+        double m147, r147; m147 = m0 * m17; t = fabs(m0) + r0; t = t * r17; u = fabs(m17) * r0; t = t + u; u = fabs(m147) * U; u = u + ETA; t = t + u; t = t * GROW; r147 = t + PAD;
+        double m148, r148; m148 = -m147; r148 = r147;
+        double m149, r149; m149 = m24 * m57; t = fabs(m24) + r24; t = t * r57; u = fabs(m57) * r24; t = t + u; u = fabs(m149) * U; u = u + ETA; t = t + u; t = t * GROW; r149 = t + PAD;
+        double m150, r150; b = fabs(m149); m150 = m148 / m149; t = r148 * b; u = fabs(m148) * r149; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r149; t = t / u; u = fabs(m150) * U; u = u + ETA; t = t + u; t = t * GROW; r150 = t + PAD; if (!(b > r149)) { m150 = NAN; r150 = INFINITY; }
+        double m151, r151; b = fabs(m149); m151 = m0 / m149; t = r0 * b; u = fabs(m0) * r149; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r149; t = t / u; u = fabs(m151) * U; u = u + ETA; t = t + u; t = t * GROW; r151 = t + PAD; if (!(b > r149)) { m151 = NAN; r151 = INFINITY; }
+        double m152, r152; m152 = -m151; r152 = r151;
+        double m153, r153; b = fabs(m24); m153 = m29 / m24; t = r29 * b; u = fabs(m29) * r24; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r24; t = t / u; u = fabs(m153) * U; u = u + ETA; t = t + u; t = t * GROW; r153 = t + PAD; if (!(b > r24)) { m153 = NAN; r153 = INFINITY; }
+        double m154, r154; b = fabs(m57); m154 = m61 / m57; t = r61 * b; u = fabs(m61) * r57; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r57; t = t / u; u = fabs(m154) * U; u = u + ETA; t = t + u; t = t * GROW; r154 = t + PAD; if (!(b > r57)) { m154 = NAN; r154 = INFINITY; }
+        double m155, r155; m155 = m153 + m154; t = r153 + r154; u = fabs(m155) * U; t = t + u; t = t * GROW; r155 = t + PAD;
+        double m156, r156; m156 = m17 * m155; t = fabs(m17) + r17; t = t * r155; u = fabs(m155) * r17; t = t + u; u = fabs(m156) * U; u = u + ETA; t = t + u; t = t * GROW; r156 = t + PAD;
+        double m157, r157; m157 = m18 - m156; t = r18 + r156; u = fabs(m157) * U; t = t + u; t = t * GROW; r157 = t + PAD;
+        double m158, r158; m158 = m152 * m157; t = fabs(m152) + r152; t = t * r157; u = fabs(m157) * r152; t = t + u; u = fabs(m158) * U; u = u + ETA; t = t + u; t = t * GROW; r158 = t + PAD;
+        double m159, r159; b = fabs(m150); m159 = m142 / m150; t = r142 * b; u = fabs(m142) * r150; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r150; t = t / u; u = fabs(m159) * U; u = u + ETA; t = t + u; t = t * GROW; r159 = t + PAD; if (!(b > r150)) { m159 = NAN; r159 = INFINITY; }
+        double m160, r160; b = fabs(m150); m160 = m146 / m150; t = r146 * b; u = fabs(m146) * r150; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r150; t = t / u; u = fabs(m160) * U; u = u + ETA; t = t + u; t = t * GROW; r160 = t + PAD; if (!(b > r150)) { m160 = NAN; r160 = INFINITY; }
+        double m161, r161; m161 = m53 * m159; t = fabs(m53) + r53; t = t * r159; u = fabs(m159) * r53; t = t + u; u = fabs(m161) * U; u = u + ETA; t = t + u; t = t * GROW; r161 = t + PAD;
+        double m162, r162; m162 = m54 * m160; t = fabs(m54) + r54; t = t * r160; u = fabs(m160) * r54; t = t + u; u = fabs(m162) * U; u = u + ETA; t = t + u; t = t * GROW; r162 = t + PAD;
+        double m163, r163; m163 = m161 + m162; t = r161 + r162; u = fabs(m163) * U; t = t + u; t = t * GROW; r163 = t + PAD;
+        double m164, r164; m164 = m127 - m163; t = r127 + r163; u = fabs(m164) * U; t = t + u; t = t * GROW; r164 = t + PAD;
+        double m165, r165; m165 = m78 * m159; t = fabs(m78) + r78; t = t * r159; u = fabs(m159) * r78; t = t + u; u = fabs(m165) * U; u = u + ETA; t = t + u; t = t * GROW; r165 = t + PAD;
+        double m166, r166; m166 = m79 * m160; t = fabs(m79) + r79; t = t * r160; u = fabs(m160) * r79; t = t + u; u = fabs(m166) * U; u = u + ETA; t = t + u; t = t * GROW; r166 = t + PAD;
+        double m167, r167; m167 = m165 + m166; t = r165 + r166; u = fabs(m167) * U; t = t + u; t = t * GROW; r167 = t + PAD;
+        double m168, r168; m168 = m129 + m167; t = r129 + r167; u = fabs(m168) * U; t = t + u; t = t * GROW; r168 = t + PAD;
+        out[0 * n + j] = m24;
+        out[1 * n + j] = r24;
+        out[2 * n + j] = m57;
+        out[3 * n + j] = r57;
+        out[4 * n + j] = m33;
+        out[5 * n + j] = r33;
+        out[6 * n + j] = m29;
+        out[7 * n + j] = r29;
+        out[8 * n + j] = m64;
+        out[9 * n + j] = r64;
+        out[10 * n + j] = m61;
+        out[11 * n + j] = r61;
+        out[12 * n + j] = m52;
+        out[13 * n + j] = r52;
+        out[14 * n + j] = m43;
+        out[15 * n + j] = r43;
+        out[16 * n + j] = m77;
+        out[17 * n + j] = r77;
+        out[18 * n + j] = m70;
+        out[19 * n + j] = r70;
+        out[20 * n + j] = m150;
+        out[21 * n + j] = r150;
+        out[22 * n + j] = m158;
+        out[23 * n + j] = r158;
+        out[24 * n + j] = m159;
+        out[25 * n + j] = r159;
+        out[26 * n + j] = m160;
+        out[27 * n + j] = r160;
+        out[28 * n + j] = m164;
+        out[29 * n + j] = r164;
+        out[30 * n + j] = m168;
+        out[31 * n + j] = r168;
+    }
+}
+
+static const int rows_formulas_prismatic[] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 static void k_horner(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -1983,6 +2399,8 @@ static const Spec SPECS[] = {
     {"torques_at_jet_revolute", k_torques_at_jet_revolute, 25, rows_torques_at_jet_revolute, 8},
     {"torques_jet_prismatic", k_torques_jet_prismatic, 23, rows_torques_jet_prismatic, 12},
     {"torques_at_jet_prismatic", k_torques_at_jet_prismatic, 25, rows_torques_at_jet_prismatic, 8},
+    {"formulas_revolute", k_formulas_revolute, 20, rows_formulas_revolute, 32},
+    {"formulas_prismatic", k_formulas_prismatic, 20, rows_formulas_prismatic, 32},
 };
 
 static PyObject *py_run(PyObject *self, PyObject *args)
@@ -1992,7 +2410,7 @@ static PyObject *py_run(PyObject *self, PyObject *args)
     Py_ssize_t n;
     if (!PyArg_ParseTuple(args, "iO!On", &k, &PyTuple_Type, &inputs, &out, &n))
         return NULL;
-    if (k < 0 || k >= 10 || n < 0) {
+    if (k < 0 || k >= 12 || n < 0) {
         PyErr_SetString(PyExc_ValueError, "no such kernel");
         return NULL;
     }
@@ -2001,10 +2419,10 @@ static PyObject *py_run(PyObject *self, PyObject *args)
 
 static PyObject *py_names(PyObject *self, PyObject *unused)
 {
-    PyObject *t = PyTuple_New(10);
+    PyObject *t = PyTuple_New(12);
     if (t == NULL)
         return NULL;
-    for (int i = 0; i < 10; i++) {
+    for (int i = 0; i < 12; i++) {
         PyObject *s = Py_BuildValue("(sn)", SPECS[i].name, SPECS[i].nout);
         if (s == NULL) {
             Py_DECREF(t);

@@ -27,10 +27,11 @@ import numpy as np
 import pytest
 from flint import fmpq
 
-from rprpr.engine.certified import balls, kernel_gen, stacked
+from rprpr.engine.certified import balls, kernel_gen, motion, stacked
 from rprpr.engine.certified.balls import Ball, _horner, horner, quiet
 from rprpr.engine.certified.jets import Jet
 from rprpr.engine.certified.kernel import KERNEL
+from rprpr.engine.certified.motion import COMPUTED, CertifiedMotion
 from rprpr.engine.certified.stacked import Stacked
 from rprpr.engine.exact import equations as dyn
 from rprpr.model.link import Link
@@ -92,6 +93,7 @@ def spy(monkeypatch: pytest.MonkeyPatch) -> Spy:
     s = Spy(KERNEL)
     monkeypatch.setattr(stacked, "KERNEL", s)
     monkeypatch.setattr(balls, "KERNEL", s)
+    monkeypatch.setattr(motion, "KERNEL", s)
     return s
 
 
@@ -192,6 +194,32 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
             _same(T.v, T0.v, (trial, "T at δ"))
             _same(T.d, T0.d, (trial, "T' at δ"))
     assert spy.took >= 6 * 60 * 0.9  # six calls a trial, and few shapes declined
+
+
+class _Motion(CertifiedMotion):
+    """What ``formulas`` reads of a motion: the robot's parameters and its scheme."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.robot = robot
+        self.mech = dyn.MECHANISMS[robot.actuation]
+
+
+@needs_kernel
+@pytest.mark.parametrize("prismatic", [False, True])
+def test_the_motions_formulas_through_the_kernel_are_numpy_bit_for_bit(
+    prismatic: bool, spy: Spy
+) -> None:
+    rng = np.random.default_rng(41 + prismatic)
+    for trial in range(80):
+        m = _Motion(_robot(rng, prismatic, bool(rng.integers(0, 2))))
+        n = int(rng.choice([1, 2, 3, 17, 64]))
+        kin = [_vector(rng, n)] + [_ball(rng, n) for _ in range(5)]
+        with quiet():
+            got, want = m.formulas(*kin), m._formulas(*kin)
+        assert list(got) == list(want)  # the same names in the same order
+        for name in want:
+            _same(got[name], want[name], (trial, name))
+    assert spy.took == 80
 
 
 @needs_kernel
@@ -305,6 +333,7 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool) -> None:
         with quiet():
             lg = st.legs(*boxes)
             T, d = st.torques(lg, boxes[3])
+            values = _Motion(robot).formulas(*boxes)
         a1 = mpmath.mpf(int(robot.a1.p)) / int(robot.a1.q)
         for j in range(n):
             for _ in range(3):
@@ -319,6 +348,8 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool) -> None:
                             assert _holds(getattr(lg, f), (i, j), v), (f, i, j)
                     assert _holds(T, (0, j), ref["T1"]) and _holds(T, (1, j), ref["T2"])
                     assert _holds(d, j, ref["delta"])
+                    for name in COMPUTED:  # the motion's formulas
+                        assert _holds(values[name], j, ref[name]), name
 
 
 @needs_kernel
