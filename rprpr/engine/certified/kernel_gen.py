@@ -309,7 +309,7 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
 
     from .motion import COMPUTED, PARAMS, CertifiedMotion
 
-    for mech in (dyn.Revolute(), dyn.Prismatic()):
+    for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
         k = Kernel(f"formulas_{mech.name}")
         params = dyn.Params(**{f: k.ball(1) for f in PARAMS}, mechanism=mech)
         kin = [k.ball(1) for _ in range(6)]

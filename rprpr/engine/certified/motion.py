@@ -478,6 +478,9 @@ class CertifiedMotion(AtInstants, Refinement):
         return out
 
 
+_TRACED = {type(m) for m in dyn.MECHANISMS.values()}  # the schemes kernel_gen traces
+
+
 def _compiled_formulas(motion: CertifiedMotion, kin: tuple[Any, ...]) -> Values | None:
     """``formulas`` in one call of the compiled kernel, or None where it does not apply (a
     mechanism other than the RPRPR's two schemes, arguments not balls, x not a vector, a
@@ -486,7 +489,7 @@ def _compiled_formulas(motion: CertifiedMotion, kin: tuple[Any, ...]) -> Values 
     x = kin[0]
     if (
         spec is None
-        or type(motion.mech) not in (dyn.Revolute, dyn.Prismatic)
+        or type(motion.mech) not in _TRACED
         or not all(type(b) is Ball for b in kin)
         or x.mid.ndim != 1
     ):
