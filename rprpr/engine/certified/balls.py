@@ -37,6 +37,7 @@ from flint import arb, fmpq, fmpq_poly
 
 from ...model.numbers import to_float
 from ..exact.equations import hypot as hypot  # its one home, read here by the layer
+from .kernel import KERNEL
 
 U = 2.0**-53  # unit roundoff of binary64, round to nearest
 ETA = 2.0**-1074  # smallest positive subnormal
@@ -437,7 +438,20 @@ def _rational(q: fmpq) -> Ball:
 
 
 def horner(c: list[Ball], x: Ball) -> Ball:
-    """The polynomial with ball coefficients ``c`` (low to high) at ``x``, by Horner's rule."""
+    """The polynomial with ball coefficients ``c`` (low to high) at ``x``, by Horner's rule
+    (in one call of the compiled kernel where it is built and x is a vector of balls: the
+    same doubles, ``kernel.py``)."""
+    if KERNEL is not None and len(c) > 1 and type(x) is Ball and x.mid.ndim == 1:
+        n = x.mid.shape[0]
+        out = np.empty((2, n))
+        cs = tuple(a for b in c for a in (b.mid, b.rad))
+        if type(c[0]) is Ball and KERNEL.horner(cs, x.mid, x.rad, out, n):
+            return _new(out[0], out[1])
+    return _horner(c, x)
+
+
+def _horner(c: list[Ball], x: Ball) -> Ball:
+    """``horner`` by numpy's ball operations (the description the kernel is generated from)."""
     acc = c[-1]
     for ck in c[-2::-1]:
         acc = acc * x + ck

@@ -59,6 +59,7 @@ from ..exact.series import taylor
 from ..exact.singular import SingularAnalysis, SingularInstant
 from ..exact.trajectory import Trajectory
 from .balls import Ball, horner, hypot, poly_balls, polyval, quiet
+from .kernel import INDEX, KERNEL
 from .pointwise import (
     AT_A,
     AT_B,
@@ -82,6 +83,13 @@ from .pointwise import (
     Values,
 )
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
+
+# what ``formulas`` computes (the rest of its values are its arguments), in its order
+COMPUTED = (
+    "s1", "s2", "theta1_dot", "s1_dot", "theta2_dot", "s2_dot", "theta1_ddot", "s1_ddot",
+    "theta2_ddot", "s2_ddot", "delta", "delta_dot", "lambda1", "lambda2", "T1", "T2",
+)  # fmt: skip
+PARAMS = ("a1", "g", "m2", "I2", "r2", "m3", "I3", "r3", "m4", "I4", "r4", "m5", "I5", "r5")
 
 
 @dataclass(frozen=True)
@@ -441,7 +449,15 @@ class CertifiedMotion(AtInstants, Refinement):
         return tuple(out)
 
     def formulas(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Values:
-        """The paper's formulas on balls (all but θ, ``theta``)."""
+        """The paper's formulas on balls (all but θ, ``theta``): for the RPRPR, in one call
+        of the compiled kernel where it is built (the same doubles, ``kernel.py``)."""
+        got = _compiled_formulas(self, (x, xd, xdd, y, yd, ydd))
+        if got is not None:
+            return got
+        return self._formulas(x, xd, xdd, y, yd, ydd)
+
+    def _formulas(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Values:
+        """``formulas`` by numpy's ball operations (the description the kernel is made from)."""
         p, mech = self.params, self.mech
         leg1, leg2 = mech.legs(p, x, xd, xdd, y, yd, ydd, hypot)
         d = mech.dynamics(leg1, leg2, p)
@@ -460,6 +476,36 @@ class CertifiedMotion(AtInstants, Refinement):
             "T1": T1, "T2": T2,
         }  # fmt: skip
         return out
+
+
+_TRACED = {type(m) for m in dyn.MECHANISMS.values()}  # the schemes kernel_gen traces
+
+
+def _compiled_formulas(motion: CertifiedMotion, kin: tuple[Any, ...]) -> Values | None:
+    """``formulas`` in one call of the compiled kernel, or None where it does not apply (a
+    mechanism other than the RPRPR's two schemes, arguments not balls, x not a vector, a
+    shape the kernel does not take)."""
+    spec = INDEX.get(f"formulas_{motion.mech.name}")
+    x = kin[0]
+    if (
+        spec is None
+        or type(motion.mech) not in _TRACED
+        or not all(type(b) is Ball for b in kin)
+        or x.mid.ndim != 1
+    ):
+        return None
+    p = motion.params
+    consts = tuple(a for f in PARAMS for b in (getattr(p, f),) for a in (b.mid, b.rad))
+    n = x.mid.shape[0]
+    out = np.empty((spec[1], n))
+    if not KERNEL.run(spec[0], consts + tuple(a for b in kin for a in (b.mid, b.rad)), out, n):
+        return None
+    x, xd, xdd, y, yd, ydd = kin
+    names = ("x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot")
+    got: Values = dict(zip(names, (x, y, xd, yd, xdd, ydd), strict=True))
+    for i, name in enumerate(COMPUTED):
+        got[name] = Ball._of(out[2 * i], out[2 * i + 1])
+    return got
 
 
 def _arb_at(c: fmpq_poly, e: ExactTime, prec: int, scale: fmpq) -> Ball:

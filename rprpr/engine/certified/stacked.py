@@ -20,6 +20,9 @@ from ..exact import equations as dyn
 from ..exact.mechanism import of
 from .balls import Ball, hypot, stack
 from .jets import Jet
+from .kernel import INDEX, KERNEL
+
+_LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 
 def _pair(a: Any, b: Any) -> Ball:
@@ -60,9 +63,30 @@ class Stacked:
         self.mg = _pair(L[3].mass * g, L[5].mass * g)
         self.sign = Ball.exact(np.array([[1.0], [-1.0]]))
         self.prismatic = isinstance(of(r), dyn.Prismatic)  # the RPRPR's two schemes
+        self._consts = tuple(
+            a
+            for b in (self.base, self.a1, self.m, self.r, self.K, self.G, self.mg)
+            for a in (b.mid, b.rad)
+        )  # the compiled kernel's first inputs (``kernel_gen``)
+        scheme = "prismatic" if self.prismatic else "revolute"
+        self._kernels = {
+            name: (INDEX.get(f"{name}_ball_{scheme}"), INDEX.get(f"{name}_jet_{scheme}"))
+            for name in ("torques", "torques_at")
+        }  # the compiled kernels of the scheme (``kernel_gen``): (on balls, on jets)
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
-        """Both legs' joint values (rows 0 and 1), eqs. 41-42."""
+        """Both legs' joint values (rows 0 and 1), eqs. 41-42 (in one call of the compiled
+        kernel where it is built: the same doubles, ``kernel.py``)."""
+        if KERNEL is not None:
+            args = (x, xd, xdd, y, yd, ydd)
+            kernels = (INDEX.get("legs_ball"), INDEX.get("legs_jet"))
+            got = _compiled(self._consts, args, args[0], 1, (2,) * 7, *kernels)
+            if got is not None:
+                return dyn.Leg(*got)
+        return self._legs(x, xd, xdd, y, yd, ydd)
+
+    def _legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
+        """``legs`` by numpy's ball operations (the description the kernel is made from)."""
         return dyn.leg(x - self.base, xd, xdd, y, yd, ydd, hypot)
 
     def delta(self, lg: dyn.Leg, y: Any) -> Any:
@@ -72,7 +96,25 @@ class Stacked:
     def torques(
         self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
     ) -> tuple[Any, Any]:
-        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29)."""
+        """(T stacked, δ) from the legs; λ given, or μ/δ (δ given, or eq. 29). Without λ
+        and δ, in one call of the compiled kernel where it is built (the same doubles)."""
+        if KERNEL is not None and lam is None:
+            args = (*(getattr(lg, f) for f in _LEG_FIELDS), y)
+            if delta is None:
+                got = _compiled(self._consts, args, lg.s, 2, (2, 1), *self._kernels["torques"])
+                if got is not None:
+                    return got[0], got[1]
+            else:
+                k = self._kernels["torques_at"]
+                got = _compiled(self._consts, (*args, delta), lg.s, 2, (2,), *k)
+                if got is not None:
+                    return got[0], delta
+        return self._torques(lg, y, lam, delta)
+
+    def _torques(
+        self, lg: dyn.Leg, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None
+    ) -> tuple[Any, Any]:
+        """``torques`` by numpy's ball operations (the description the kernel is made from)."""
         d = lg.s - self.r
         M = self.K + self.m * (d * d)
         N = (self.m * 2) * (lg.s_d * lg.th_d * d) + (self.G + self.mg * lg.s) * lg.cos
@@ -91,6 +133,48 @@ class Stacked:
             lam = (-(sF[0] + sF[1]) / delta, (cF[0] + cF[1]) / delta)
         T = M * lg.th_dd + N + self.sign * (lg.s * (lg.sin * lam[0] - lg.cos * lam[1]))
         return T, delta
+
+
+def _compiled(
+    consts: tuple[Any, ...], args: tuple[Any, ...], anchor: Any, rows: int,
+    layout: tuple[int, ...], ball: tuple[int, int] | None, jet: tuple[int, int] | None,
+) -> list[Any] | None:  # fmt: skip
+    """A kernel's outputs, balls or jets of balls, of as many rows as ``layout`` says (a
+    legs kernel: the seven fields of ``Leg``, 2 rows each; a torques kernel: T, 2 rows,
+    and δ, 1 row, unless δ was given), or None where it does not apply: the arguments not
+    all balls or all jets, ``anchor`` (the argument every output depends on) not a vector
+    (``rows`` 1) or two rows of vectors (2), or a shape the kernel does not take; numpy's
+    path then runs."""
+    kind = type(anchor)
+    if kind is Jet:
+        spec, anchor = jet, anchor.v.mid
+        if not all(type(a) is Jet for a in args):
+            return None
+        flat = tuple(p for a in args for b in (a.v, a.d) for p in (b.mid, b.rad))
+    elif kind is Ball:
+        spec, anchor = ball, anchor.mid
+        if not all(type(a) is Ball for a in args):
+            return None
+        flat = tuple(p for a in args for p in (a.mid, a.rad))
+    else:
+        return None
+    if spec is None or anchor.ndim != rows or (rows == 2 and anchor.shape[0] != 2):
+        return None
+    n = anchor.shape[-1]
+    out = np.empty((spec[1], n))
+    if not KERNEL.run(spec[0], consts + flat, out, n):
+        return None
+    per = 2 if kind is Jet else 1  # balls per output: a jet's value and derivative
+    balls, i = [], 0
+    for r in (r for r in layout for _ in range(per)):
+        if r == 2:
+            balls.append(Ball._of(out[i : i + 2], out[i + 2 : i + 4]))
+        else:
+            balls.append(Ball._of(out[i], out[i + 1]))
+        i += 2 * r
+    if kind is Jet:
+        return [Jet(balls[k], balls[k + 1]) for k in range(0, len(balls), 2)]
+    return balls
 
 
 def _rows(a: Any, b: Any) -> Any:
