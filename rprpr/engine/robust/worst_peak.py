@@ -43,9 +43,10 @@ from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, horner, poly_balls, quiet
 from ..certified.jets import Jet
 from ..certified.motion import dyadic_middle
+from .regressor import regressor_balls
 from .unbounded import poles
 from .windows import Box, Robust
-from .worst import bands_at, bands_of, regressor_jet
+from .worst import bands_of
 
 REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal peak's) ...
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
@@ -126,7 +127,7 @@ def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndar
     for i in np.unique(hk):
         at = h[hk == i]
         kin = parts[int(i)].motion.end_point(Ball.hull(at, at))
-        for j, (l_, h_) in enumerate(bands_at(task, kin, box, True)):
+        for j, (l_, h_) in enumerate(bands_of(regressor_balls(task.robot, kin), box, True)):
             lows[j] = max(lows[j], np.max(np.maximum(h_, -l_), initial=-np.inf))
     return lows
 
@@ -215,7 +216,7 @@ def _bounds(
             lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
             kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
             lower = np.arange(len(lo)) < len(at)
-            for j, (l_, h_) in enumerate(bands_at(task, kin, box, lower)):
+            for j, (l_, h_) in enumerate(bands_of(regressor_balls(task.robot, kin), box, lower)):
                 v = np.maximum(h_, -l_)
                 ups[j, sel] = v[len(at) :]
                 lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
@@ -228,8 +229,8 @@ def _bounds(
         q = len(m)
         # one run of ball operations: the values at the midpoints, over the intervals and
         # at the points, the derivatives over the intervals (the others' are not read)
-        Y, Yd = regressor_jet(task, _jets(centred[int(i)], Ball.hull(
-            np.concatenate([m, a0, at]), np.concatenate([m, b0, at]))))  # fmt: skip
+        Y, Yd = regressor_balls(task.robot, _jets(centred[int(i)], Ball.hull(
+            np.concatenate([m, a0, at]), np.concatenate([m, b0, at]))), jets=True)  # fmt: skip
         Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
         D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
