@@ -293,3 +293,28 @@ def _ball_params(robot: Robot) -> dyn.Params:
             z, z, z, z, z, z, z, z, z, z, z, z, of(robot),
         )  # fmt: skip
     return got
+
+
+def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
+    """``regressor_balls`` in doubles (not proven: a guide), from the end point's x, ẋ,
+    ẍ, y, ẏ, ÿ as double arrays: [effort, ``BASIS``, error part, time]."""
+    p = dyn.Params(float(robot.a1), float(robot.gravity), *(None,) * 12, of(robot))
+    cols = regressor_columns(p, kin, np.hypot)
+    shape = np.broadcast_shapes(*(np.shape(k) for k in kin))
+    out = np.zeros((2, len(BASIS), 3, *shape))
+    for j, row in enumerate(cols):
+        for k, entry in enumerate(row):
+            for e, v in enumerate(entry):
+                if v is not None:
+                    out[j, k, e] = v
+    return out
+
+
+def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:
+    """[effort, time]: the largest |Σ_k Y_k π_k| over the box (``corners``: the error's,
+    ``box``: the links' as doubles), the error e at the corners (the efforts are affine
+    in it), in doubles, from ``regressor_floats``' Y."""
+    k = np.array([(s * float(ex), s * float(ey), s) for ex, ey in corners for s in (1.0, -1.0)])
+    Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
+          * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip
+    return form_max([Yc[:, :, j] for j in range(len(BASIS))], box, False).max(axis=0)
