@@ -318,3 +318,81 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
     Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
           * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip
     return form_max([Yc[:, :, j] for j in range(len(BASIS))], box, False).max(axis=0)
+
+
+# -- the largest effort over the box from the regressor's balls, in doubles, proven -------
+#
+# With every coefficient Y_k in [y_k - ρ_k, y_k + ρ_k] (a ball), at a corner e of the
+# error's square and a sign s, s E = Σ_k π_k s (y0_k + e_x yx_k + e_y yy_k) + Σ_k π_k η_k
+# with |η_k| <= ρ0_k + |e_x| ρx_k + |e_y| ρy_k. So
+#     max over the box of s E  <=  max over the box of Σ_k π_k x_k  +  Σ_k |π_k|max ρ_k
+# and >= the same first term less the second (at the box's point where the first is
+# largest), x_k = s (y0_k + e_x yx_k + e_y yy_k). The first term is ``link_max_float``'s
+# closed form evaluated in doubles: every candidate there is a sum of at most a few tens
+# of products of the box's ends and the x_k, so its rounding error (and that of the box's
+# ends and of e as doubles, each within one unit in the last place of the exact ones) is
+# at most ``SLACK`` times the same sum with every term's absolute value,
+#     S = Σ_links m_max (|A| + |B| R + |C| R²) + |C| I_max   (R >= |r| on the box),
+# a vertex -B/2C counted only where it lies within [r_lo, r_hi] (a lower bound: surely
+# inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
+
+SLACK = 1e-12  # the doubles' rounding, relative to S: tens of units of 2^-53, and room
+
+
+def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool
+                ) -> np.ndarray:  # fmt: skip
+    """[effort, column]: an upper bound (``upper``) or a lower bound of the largest
+    |E_j| over the box and the error's ``corners`` for efforts whose coefficients lie in
+    the balls ``Y`` [effort, ``BASIS``, e = 0 / per e_x / per e_y, column], proven (see
+    above); ±inf where a ball is not finite. ``box``: {link: ((m_lo, m_hi), (r_lo, r_hi),
+    (I_lo, I_hi))} exact (fmpq)."""
+    mid, rad = np.asarray(Y.mid, dtype=float), np.asarray(Y.rad, dtype=float)
+    mid, rad = np.broadcast_arrays(mid, rad)
+    finite = np.isfinite(mid).all(axis=(1, 2)) & np.isfinite(rad).all(axis=(1, 2))
+    mid = np.where(np.isfinite(mid), mid, 0.0)
+    rad = np.where(np.isfinite(rad), rad, 0.0)
+    es = np.array([(float(ex), float(ey)) for ex, ey in corners])  # [corner, 2]
+    ea = np.abs(es).max(axis=0)  # |e_x|, |e_y| at most
+    # x_k at every corner and sign: [combination, effort, BASIS, column]
+    comb = [(s * ex, s * ey, s) for ex, ey in es for s in (1.0, -1.0)]
+    X = np.stack([s * mid[:, :, 0] + cx * mid[:, :, 1] + cy * mid[:, :, 2] for cx, cy, s in comb])
+    # X: [combination, effort, BASIS, column]
+    ab = np.abs(mid[:, :, 0]) + ea[0] * np.abs(mid[:, :, 1]) + ea[1] * np.abs(mid[:, :, 2])
+    rho = rad[:, :, 0] + ea[0] * rad[:, :, 1] + ea[1] * rad[:, :, 2]  # [effort, BASIS, col]
+    total = np.zeros((X.shape[0], X.shape[1], X.shape[3]))
+    S = np.zeros(ab.shape[:1] + ab.shape[2:])
+    spread = np.zeros_like(S)
+    for link, km, kmr, kj in LINKS:
+        (mlo, mhi), (rlo, rhi), (ilo, ihi) = (tuple(float(v) for v in pair) for pair in box[link])
+        R = max(abs(rlo), abs(rhi))
+        Imax = max(abs(ilo), abs(ihi))
+        A = X[:, :, km] if km is not None else 0.0 * X[:, :, kmr]  # [comb, effort, col]
+        B, C = X[:, :, kmr], X[:, :, kj]
+        total = total + _link_max(A, B, C, (mlo, mhi), (rlo, rhi), (ilo, ihi), upper)
+        aA = ab[:, km] if km is not None else 0.0
+        S = S + mhi * (aA + ab[:, kmr] * R + ab[:, kj] * R * R) + ab[:, kj] * Imax
+        spread = spread + rho[:, kmr] * (mhi * R) + rho[:, kj] * (mhi * R * R + Imax)
+        if km is not None:
+            spread = spread + rho[:, km] * mhi
+    best = total.max(axis=0)  # [effort, column]
+    slack = (S * SLACK + spread) * (1 + SLACK) + 1e-300
+    out = best + slack if upper else best - slack
+    return np.where(finite, out, np.inf if upper else -np.inf)
+
+
+def _link_max(A: np.ndarray, B: np.ndarray, C: np.ndarray, m: tuple[float, float],
+              r: tuple[float, float], i: tuple[float, float], upper: bool) -> np.ndarray:  # fmt: skip
+    """``link_max_float`` with the vertex counted where it may lie inside r's interval
+    (``upper``: an upper bound) or only where it surely does (a lower bound: a value the
+    box reaches), both within a margin far above the doubles' rounding."""
+    (mlo, mhi), (rlo, rhi), (ilo, ihi) = m, r, i
+    G = np.maximum(A + B * rlo + C * rlo * rlo, A + B * rhi + C * rhi * rhi)
+    margin = 1e-9 * (max(abs(rlo), abs(rhi)) + (rhi - rlo))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rs = -B / (2 * C)
+        if upper:
+            inside = (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
+        else:
+            inside = (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin)
+        G = np.where(inside, np.maximum(G, A - B * B / (4 * C)), G)
+    return np.maximum(mlo * G, mhi * G) + np.maximum(C * ilo, C * ihi)

@@ -43,7 +43,7 @@ from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, horner, poly_balls, quiet
 from ..certified.jets import Jet
 from ..certified.motion import dyadic_middle
-from .regressor import form_worst, regressor_balls, regressor_floats
+from .regressor import form_bounds, form_worst, regressor_balls, regressor_floats
 from .unbounded import poles
 from .windows import Box, Robust, float_box
 from .worst import bands_of
@@ -361,25 +361,12 @@ def _bounds(
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
         # and the largest effort over the box is convex in t - m there: its ends bound it
         YP = Ball._of(Y.mid[..., 2 * q :], Y.rad[..., 2 * q :])  # at the points
-        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw), YP]
-        # the interval evaluation's bound too beside a pole (wide intervals there: the
-        # derivative's enclosure is vast), the narrower kept; elsewhere the mean-value
-        # form's alone (its excess shrinks as w², the other's as w)
-        plain = PLAIN_TOO and bool(
-            parts[int(i)].analysis.instants or parts[int(i)].analysis.kinematic
-        )
-        if plain:
-            Yt.insert(2, Ball._of(Y.mid[..., q : 2 * q], Y.rad[..., q : 2 * q]))
-        n = (3 if plain else 2) * q
-        Yall = Ball._of(np.concatenate([y.mid for y in Yt], axis=-1),
-                        np.concatenate([y.rad for y in Yt], axis=-1))  # fmt: skip
-        lower = np.arange(n + len(at)) >= n  # the points: lower bounds
-        for j, (l_, h_) in enumerate(bands_of(Yall, box, lower)):
-            v = np.maximum(h_, -l_)
-            ups[j, sel] = np.maximum(v[:q], v[q : 2 * q])
-            if plain:
-                ups[j, sel] = np.minimum(ups[j, sel], v[2 * q : 3 * q])
-            lows[j] = max(lows[j], np.max(v[n:], initial=-np.inf))
+        Yt = [Ym + D * Ball.exact(hw), Ym - D * Ball.exact(hw)]
+        ends = form_bounds(_joined(Yt, axis=-1), box.links, box.corners(), True)
+        ups[:, sel] = np.maximum(ends[:, :q], ends[:, q:])
+        if len(at):  # lower bounds at the points
+            v = form_bounds(YP, box.links, box.corners(), False)
+            lows = np.maximum(lows, v.max(axis=1))
     return ups, lows
 
 
@@ -427,6 +414,7 @@ def _centred(traj: Any) -> tuple[list[list[Ball]], float]:
     return out, to_float(c)
 
 
-def _joined(balls: Sequence[Ball]) -> Ball:
-    """Ball arrays end to end."""
-    return Ball._of(np.concatenate([b.mid for b in balls]), np.concatenate([b.rad for b in balls]))
+def _joined(balls: Sequence[Ball], axis: int = 0) -> Ball:
+    """Ball arrays end to end (along ``axis``)."""
+    return Ball._of(np.concatenate([b.mid for b in balls], axis=axis),
+                    np.concatenate([b.rad for b in balls], axis=axis))  # fmt: skip
