@@ -54,6 +54,7 @@ ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
 ZOOM = 4  # finer grids about the largest effort in doubles (``_Guess.summits``)
+NEAR = 12  # a ladder about each summit in the first round, 2^-j of its interval
 CELLS = 8  # cells of a live interval read in doubles (``_Guess.cut``)
 ROOM = 0.25  # a cut interval's bound aimed at this share of the room under the goal
 WIDE = 384  # intervals per refining round, about, at most (``_Guess.fans``)
@@ -101,6 +102,7 @@ def worst_peak(
         if len(a):  # the largest effort's place, found in doubles: its lower bound first
             h, hk = guess.summits(a, b, k)
             pts, at = _distinct(np.concatenate([pts, h]), np.concatenate([at, hk]))
+            a, b, k = _about_summits(a, b, k, h, hk)
         for n in range(ROUNDS):
             if not len(a):
                 break
@@ -246,6 +248,40 @@ class _Guess:
         hh, hk2 = g.ravel()[top], np.repeat(k, CELLS + 1)[top]
         aa, bb, kk = (np.concatenate(o) for o in out)
         return aa, bb, kk.astype(int), hh, hk2.astype(int)
+
+
+def _about_summits(a: np.ndarray, b: np.ndarray, k: np.ndarray, h: np.ndarray,
+                   hk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """The intervals [a, b] (pieces ``k``) cut at each summit ``h`` (pieces ``hk``) and
+    at 2^-j of its interval's width on each side of it, j = 1..``NEAR``: about a summit
+    the bounds need narrow intervals, and a ladder gives them in the first round."""
+    cuts: dict[int, list[float]] = {}
+    for t, kk in zip(h, hk, strict=True):
+        inside = np.nonzero((k == kk) & (a <= t) & (t <= b))[0]
+        if not len(inside):
+            continue
+        i = int(inside[0])
+        w = b[i] - a[i]
+        steps = w * 2.0 ** -np.arange(0, NEAR + 1)
+        cuts.setdefault(i, []).extend([t, *(t - steps), *(t + steps)])
+        for j in (i - 1, i + 1):  # the neighbours too: the ladder reaches into them
+            if 0 <= j < len(a) and k[j] == kk:
+                cuts.setdefault(j, []).extend([*(t - steps), *(t + steps)])
+    if not cuts:
+        return a, b, k
+    out_a, out_b, out_k = [a], [b], [k]
+    keep = np.ones(len(a), dtype=bool)
+    for i, cs in cuts.items():
+        g = np.unique(np.clip(np.array(cs), a[i], b[i]))
+        g = np.unique(np.concatenate([[a[i]], g[(g > a[i]) & (g < b[i])], [b[i]]]))
+        keep[i] = False
+        out_a.append(g[:-1])
+        out_b.append(g[1:])
+        out_k.append(np.full(len(g) - 1, k[i]))
+    out_a[0], out_b[0], out_k[0] = a[keep], b[keep], k[keep]
+    aa, bb, kk2 = np.concatenate(out_a), np.concatenate(out_b), np.concatenate(out_k)
+    order = np.lexsort((aa, kk2))
+    return aa[order], bb[order], kk2[order].astype(int)
 
 
 def _distinct(h: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
