@@ -380,8 +380,11 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
     return np.where(finite, out, np.inf if upper else -np.inf)
 
 
-def _link_max(A: np.ndarray, B: np.ndarray, C: np.ndarray, m: tuple[float, float],
-              r: tuple[float, float], i: tuple[float, float], upper: bool) -> np.ndarray:  # fmt: skip
+Span = tuple[float, float]
+
+
+def _link_max(A: np.ndarray, B: np.ndarray, C: np.ndarray, m: Span, r: Span, i: Span,
+              upper: bool) -> np.ndarray:  # fmt: skip
     """``link_max_float`` with the vertex counted where it may lie inside r's interval
     (``upper``: an upper bound) or only where it surely does (a lower bound: a value the
     box reaches), both within a margin far above the doubles' rounding."""

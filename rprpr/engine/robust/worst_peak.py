@@ -53,7 +53,8 @@ ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
-ZOOM = 4  # finer grids about the largest effort in doubles (``_Guess.summits``)
+ZOOM = 2  # finer grids about the largest effort in doubles (``_Guess.summits``) ...
+ZGRID = 64  # ... each of 2 ZGRID + 1 points over the last one's two cells
 NEAR = 12  # a ladder about each summit in the first round, 2^-j of its interval
 CELLS = 8  # cells of a live interval read in doubles (``_Guess.cut``)
 ROOM = 0.25  # a cut interval's bound aimed at this share of the room under the goal
@@ -135,6 +136,7 @@ class _Guess:
                  ) -> None:  # fmt: skip
         self.task, self.parts, self.box, self.centred = task, parts, box, centred
         self.fbox = float_box(box)
+        self.corners = box.corners()
         self.about: dict[int, Any] = {}
         self.peaks: list[tuple[float, int]] = []  # the summits found (``summits``)
 
@@ -149,7 +151,7 @@ class _Guess:
             kin = [np.polynomial.polynomial.polyval(w, q) for q in coeffs]
             with np.errstate(all="ignore"):
                 Y = regressor_floats(self.task.robot, kin)
-                v = form_worst(Y, self.box.corners(), self.fbox)
+                v = form_worst(Y, self.corners, self.fbox)
             out[:, sel] = np.where(np.isnan(v), np.inf, v)
         return out
 
@@ -169,9 +171,10 @@ class _Guess:
         """Per effort, the local time (and piece) where the largest effort is largest
         over the intervals [a, b], to about 2^-20 of an interval's width: the largest of
         a grid, then ``ZOOM`` finer grids about it (inside its interval)."""
-        h = np.concatenate([a, 0.5 * a + 0.5 * b, b])
-        hk = np.concatenate([k, k, k])
-        lo, hi = np.concatenate([a, a, a]), np.concatenate([b, b, b])
+        h, hk = np.concatenate([a, b]), np.concatenate([k, k])
+        lo, hi = np.concatenate([a, a]), np.concatenate([b, b])
+        h, first = np.unique(np.stack([hk, h]), axis=1, return_index=True)  # the ends once
+        hk, h, lo, hi = hk[first], h[1], lo[first], hi[first]
         v = self.at(h, hk)
         out = []  # per effort: its summit's time, piece, interval, effort, zoom step
         for j in (0, 1):
@@ -179,14 +182,14 @@ class _Guess:
             n = int(np.argmax(finite))
             if np.isfinite(finite[n]):
                 out.append([h[n], int(hk[n]), lo[n], hi[n], j, 0.5 * (hi[n] - lo[n])])
-        grid = np.linspace(-1.0, 1.0, 33)
+        grid = np.linspace(-1.0, 1.0, 2 * ZGRID + 1)
         for _ in range(ZOOM if out else 0):  # both efforts' grids in one evaluation
             gs = [np.clip(o[0] + o[5] * grid, o[2], o[3]) for o in out]
             w = self.at(np.concatenate(gs), np.repeat([o[1] for o in out], len(grid)))
             for n, (o, g_) in enumerate(zip(out, gs, strict=True)):
                 wj = w[o[4], n * len(grid) : (n + 1) * len(grid)]
                 o[0] = g_[int(np.argmax(np.where(np.isfinite(wj), wj, -np.inf)))]
-                o[5] /= 16
+                o[5] /= ZGRID
         self.peaks += [(float(o[0]), int(o[1])) for o in out]
         return np.array([o[0] for o in out], dtype=float), np.array([o[1] for o in out], dtype=int)
 
