@@ -184,7 +184,7 @@ def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[
     l1, l2 = p.mechanism.legs(p, x, xd, xdd, y, yd, ydd, hyp)
     g = p.g
     parts = []
-    for leg_ in (l1, l2):
+    for leg_, u in ((l1, x), (l2, x - p.a1)):  # (u, y): the leg's offset, s (cos θ, sin θ)
         s, w = leg_.s, leg_.th_d
         gc = leg_.cos * g
         w2 = w * w
@@ -195,9 +195,9 @@ def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[
                 "pr": (gc, None, None),  # (m r)_in: U
                 "J": (leg_.th_dd, *gt),  # J_in, J_out: U
                 "m": (s * (s * leg_.th_dd + leg_.s_d * w * 2.0 + gc),
-                      s * s * gt[0], s * s * gt[1]),  # m_out: U
+                      -y, u),  # m_out: U (s² ∂θ''/∂e = (-s sin θ, s cos θ))
                 "mr": (-(s * leg_.th_dd * 2.0 + leg_.s_d * w * 2.0 + gc),
-                       -(s * gt[0] * 2.0), -(s * gt[1] * 2.0)),  # (m r)_out: U
+                       leg_.sin * 2.0, leg_.cos * -2.0),  # (m r)_out: U
                 "a": (leg_.s_dd - s * w2 + leg_.sin * g, *gs),  # m_out: F
                 "b": (w2, None, None),  # (m r)_out: F
             }

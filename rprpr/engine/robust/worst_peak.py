@@ -169,19 +169,25 @@ class _Guess:
     def summits(self, a: np.ndarray, b: np.ndarray, k: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
         """Per effort, the local time (and piece) where the largest effort is largest
-        over the intervals [a, b], to about 2^-20 of an interval's width: the largest of
-        a grid, then ``ZOOM`` finer grids about it (inside its interval)."""
-        h, hk = np.concatenate([a, b]), np.concatenate([k, k])
-        lo, hi = np.concatenate([a, a]), np.concatenate([b, b])
-        h, first = np.unique(np.stack([hk, h]), axis=1, return_index=True)  # the ends once
-        hk, h, lo, hi = hk[first], h[1], lo[first], hi[first]
+        over the intervals [a, b], to about ZGRID^-ZOOM of an interval's width: the
+        largest at the intervals' ends, then ``ZOOM`` finer grids about it (within its
+        two intervals); none where that is a stretch's end (already a lower bound's
+        point: ``worst_peak``)."""
+        left = {(int(kk), float(t)): float(s) for kk, s, t in zip(k, a, b, strict=True)}
+        right = {(int(kk), float(s)): float(t) for kk, s, t in zip(k, a, b, strict=True)}
+        ends = sorted(set(left) | set(right))
+        hk = np.array([e[0] for e in ends], dtype=int)
+        h = np.array([e[1] for e in ends])
+        lo = np.array([left.get(e, e[1]) for e in ends])  # the intervals on each side
+        hi = np.array([right.get(e, e[1]) for e in ends])
         v = self.at(h, hk)
-        out = []  # per effort: its summit's time, piece, interval, effort, zoom step
+        out = []  # per effort: its summit's time, piece, reach, effort, zoom step
         for j in (0, 1):
             finite = np.where(np.isfinite(v[j]), v[j], -np.inf)
             n = int(np.argmax(finite))
-            if np.isfinite(finite[n]):
-                out.append([h[n], int(hk[n]), lo[n], hi[n], j, 0.5 * (hi[n] - lo[n])])
+            if np.isfinite(finite[n]) and lo[n] < h[n] < hi[n]:
+                step = max(h[n] - lo[n], hi[n] - h[n])
+                out.append([h[n], int(hk[n]), lo[n], hi[n], j, step])
         grid = np.linspace(-1.0, 1.0, 2 * ZGRID + 1)
         for _ in range(ZOOM if out else 0):  # both efforts' grids in one evaluation
             gs = [np.clip(o[0] + o[5] * grid, o[2], o[3]) for o in out]
