@@ -53,6 +53,7 @@ ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
 LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
+RUNGS = 12  # ... and two per halving for the first RUNGS halvings
 ZOOM = 2  # finer grids about the largest effort in doubles (``_Guess.summits``) ...
 ZGRID = 64  # ... each of 2 ZGRID + 1 points over the last one's two cells
 NEAR = 12  # a ladder about each summit in the first round, 2^-j of its interval
@@ -103,7 +104,10 @@ def worst_peak(
         if len(a):  # the largest effort's place, found in doubles: its lower bound first
             h, hk = guess.summits(a, b, k)
             pts, at = _distinct(np.concatenate([pts, h]), np.concatenate([at, hk]))
-            a, b, k = _about_summits(a, b, k, h, hk)
+            ladder = guess.peaks + guess.ends
+            if ladder:
+                a, b, k = _about_summits(a, b, k, np.array([t for t, _ in ladder]),
+                                         np.array([i for _, i in ladder]))  # fmt: skip
         for n in range(ROUNDS):
             if not len(a):
                 break
@@ -139,6 +143,7 @@ class _Guess:
         self.corners = box.corners()
         self.about: dict[int, Any] = {}
         self.peaks: list[tuple[float, int]] = []  # the summits found (``summits``)
+        self.ends: list[tuple[float, int]] = []  # ... those at a stretch's end
 
     def at(self, h: np.ndarray, hk: np.ndarray) -> np.ndarray:
         """[effort, time]: the largest |E_j| over the box at the local times ``h`` (pieces
@@ -185,9 +190,13 @@ class _Guess:
         for j in (0, 1):
             finite = np.where(np.isfinite(v[j]), v[j], -np.inf)
             n = int(np.argmax(finite))
-            if np.isfinite(finite[n]) and lo[n] < h[n] < hi[n]:
-                step = max(h[n] - lo[n], hi[n] - h[n])
-                out.append([h[n], int(hk[n]), lo[n], hi[n], j, step])
+            if not np.isfinite(finite[n]):
+                continue
+            if not lo[n] < h[n] < hi[n]:  # a stretch's end: the ladder about it only
+                self.ends.append((float(h[n]), int(hk[n])))
+                continue
+            step = max(h[n] - lo[n], hi[n] - h[n])
+            out.append([h[n], int(hk[n]), lo[n], hi[n], j, step])
         grid = np.linspace(-1.0, 1.0, 2 * ZGRID + 1)
         for _ in range(ZOOM if out else 0):  # both efforts' grids in one evaluation
             gs = [np.clip(o[0] + o[5] * grid, o[2], o[3]) for o in out]
@@ -338,7 +347,9 @@ def _domain(
             if h1 < h0:
                 continue
             grid = np.linspace(h0, h1, n + 1)
-            steps = (h1 - h0) * 2.0 ** -np.arange(1, LADDER + 1)
+            steps = (h1 - h0) * 2.0 ** -np.unique(
+                np.r_[np.arange(1, LADDER + 1), np.arange(1, 2 * RUNGS + 1) / 2]
+            )
             if any(c0 == s1 for _, s1 in spans):  # a window's edge: the ladder from it
                 grid = np.concatenate([grid, h0 + steps])
             if any(c1 == s0 for s0, _ in spans):
