@@ -5,25 +5,26 @@ motion outside the proven saturation windows (``Robust.span``; within them some 
 may exceed the limit, and near a possible pole it is unbounded).
 
 Branch and bound on time intervals in each piece's local time, every interval at once
-(``balls.Ball`` arrays), from a uniform partition cut finer towards each window's edge
-(intervals of 2^-k of the span, k = 1..``LADDER``: beside the edge the worst case is
-about the limit and steep, so the upper bounds there need narrow intervals, and a
-ladder gives them in the first round): an interval's upper bound is ``worst``'s
-closed form evaluated over it (the end point's balls over the interval); a lower bound
-of the peak is the closed form's lower bound at the intervals' ends (the windows' edges
-among them, where the peak sits when the window is the limit's). After ``PLAIN`` rounds
-an interval's upper bound is also the mean-value form's (the narrower of the two is
-kept): every coefficient of the efforts at t lies in Y(m) + (t - m) Y'(I) (m the
-interval's middle, Y'(I) the derivative's enclosure over it, by first-order jets of the
-piece's polynomials about its middle), and the largest effort over the box is convex in
-t - m there, so the closed form at the two ends t - m = ±w/2 bounds it. Its excess is
-of the order of w², where the interval evaluation's is of the order of w: about a
-smooth maximum the live intervals no longer multiply as they narrow. Intervals whose upper
-bound cannot beat the best lower bound are dropped (their bound kept for the final
-upper), the others cut in ``fan`` (few live intervals: many cuts each, as
-``bounds.search`` does, so a round costs about one evaluation whatever its width), until
-the two meet within ``REL`` (the nominal peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or
-``CAP`` live intervals (an uncertified bracket, still proven).
+(``balls.Ball`` arrays). An interval's upper bound is the mean-value form's: every
+coefficient of the efforts at t lies in Y(m) + (t - m) Y'(I) (m the interval's middle,
+Y'(I) the derivative's enclosure over it, by first-order jets of the closed-form
+regressor, ``regressor.regressor_balls``, over the motion's second-order Taylor form on
+the interval), and the largest effort over the box is convex in t - m there, so its
+bound at the two ends t - m = ±w/2 (``regressor.form_bounds``) bounds it; its excess is
+about K w². A lower bound of the peak is that bound's lower counterpart at a point.
+
+Guided by the same largest effort in doubles (``_Guess``, never a bound itself): the
+first partition, uniform and cut finer towards each window's edge (2^-k of the span:
+beside the edge the worst case is about the limit and steep), is read at its ends to
+guess each effort's summit, refined on ``ZOOM`` finer grids; the summit is the first
+lower bound's point (with the stretches' ends: a window's edge is where the peak sits
+when the window is the limit's) and a ladder of intervals about it is added (``NEAR``).
+Intervals whose upper bound cannot beat the best lower bound are dropped (their bound
+kept for the final upper); the others are cut where their bounds can meet the goal
+(``_Guess.cut``: K from each interval's own excess, the pieces equidistributed over the
+room the doubles leave under the goal), until the two meet within ``REL`` (the nominal
+peak's ``PEAK_REL``), or ``ROUNDS`` rounds, or ``CAP`` live intervals (an uncertified
+bracket, still proven). Most motions take one round, a sharp summit two or three.
 """
 
 from __future__ import annotations
@@ -59,16 +60,14 @@ ZGRID = 64  # ... each of 2 ZGRID + 1 points over the last one's two cells
 NEAR = 12  # a ladder about each summit in the first round, 2^-j of its interval
 CELLS = 8  # cells of a live interval read in doubles (``_Guess.cut``)
 ROOM = 0.25  # a cut interval's bound aimed at this share of the room under the goal
-WIDE = 384  # intervals per refining round, about, at most (``_Guess.fans``)
+WIDE = 384  # intervals per refining round, about, at most (``_Guess.cut``)
 BUDGET = 64  # intervals per refining round, about (live intervals times their fan: a
 # round's ball operations cost their calls more than their length, so a round of few
 # narrow intervals where the bound is decided costs little more than its calls)
 MAX_FAN = 512  # a live interval is cut into at most this many
 CAP = 1 << 15  # live intervals kept at most
-PLAIN_TOO = False
-PLAIN = 0  # rounds that bound an interval by evaluating over it; the mean-value form after
-MEAN_CAP = 1 << 12  # ... while the intervals are at most this many (past it, a bound that
-# does not narrow, +inf beside a pole the box allows, costs the form's three times a round)
+MEAN_CAP = 1 << 12  # the mean-value form while the intervals are at most this many, else
+# the interval evaluation (past it, a bound that does not narrow costs less)
 
 
 def worst_peak(
@@ -108,10 +107,10 @@ def worst_peak(
             if ladder:
                 a, b, k = _about_summits(a, b, k, np.array([t for t, _ in ladder]),
                                          np.array([i for _, i in ladder]))  # fmt: skip
-        for n in range(ROUNDS):
+        for _ in range(ROUNDS):
             if not len(a):
                 break
-            form = centred if n >= PLAIN and len(a) <= MEAN_CAP else None
+            form = centred if len(a) <= MEAN_CAP else None
             ups, lows = _bounds(task, parts, box, (a, b, k), (pts, at), form)
             best = np.maximum(best, lows)
             top = np.maximum(ups.max(axis=1), dropped)
@@ -131,7 +130,8 @@ def worst_peak(
 
 
 class _Guess:
-    """The largest effort over the box in doubles (``windows.phi_float``, not proven):
+    """The largest effort over the box in doubles (``regressor.regressor_floats``,
+    ``form_worst``; not proven):
     where to look for the peak's lower bound, and how finely to cut an interval whose
     upper bound is still above the goal. Only guides the search; every bound it returns
     is the balls'."""
