@@ -176,6 +176,13 @@ def form_max(Y: Sequence[Any], box: Any, ball: bool) -> Any:
 # equations at ten settings and three error parts).
 
 
+def closed_form(mechanism: Any) -> bool:
+    """Whether ``regressor_columns`` holds for ``mechanism``: the RPRPR's own schemes
+    (``exact.equations``' implementations, told apart by their ``automatic`` index);
+    another registered implementation is evaluated through its own equations."""
+    return type(mechanism).__module__ == dyn.__name__ and mechanism.automatic in (0, 1)
+
+
 def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[list[Any]]]:
     """[effort][``BASIS``][e = 0, per unit e_x, per unit e_y]: the efforts' coefficients
     of π (None where identically 0), from the end point's x, ẋ, ẍ, y, ẏ, ÿ ``kin`` (balls
@@ -248,14 +255,19 @@ def _plus(u: Sequence[Any], v: Sequence[Any]) -> tuple[Any, ...]:
     return tuple(a if b is None else b if a is None else a + b for a, b in zip(u, v, strict=True))
 
 
-def regressor_balls(robot: Robot, kin: Sequence[Any], jets: bool = False) -> Any:
+def regressor_balls(task: Any, kin: Sequence[Any], jets: bool = False) -> Any:
     """The regressor [effort, ``BASIS``, e = 0 / per unit e_x / per unit e_y, time] as
     one ball array (``regressor_columns``) from the end point's balls ``kin``; with
     ``jets`` (``kin`` first-order jets over boxes of time), the pair (values,
-    derivatives), each enclosing its quantity at every time of its box."""
+    derivatives), each enclosing its quantity at every time of its box. A mechanism
+    without the closed form: ``worst``'s evaluation of its equations at every setting."""
     from ..certified.balls import Ball, hypot
 
-    p = _ball_params(robot)
+    if not closed_form(of(task.robot)):
+        from .worst import _regressor, regressor_jet
+
+        return regressor_jet(task, kin) if jets else _regressor(task, kin)
+    p = _ball_params(task.robot)
     hyp = (lambda u, v: (u * u + v * v).sqrt()) if jets else hypot
     cols = regressor_columns(p, kin, hyp)
     shape = np.broadcast_shapes(*(np.shape((k.v if jets else k).mid) for k in kin))
@@ -284,7 +296,7 @@ def _ball_params(robot: Robot) -> dyn.Params:
     """The robot's a1 and g as balls, and its scheme (what ``regressor_columns`` reads)."""
     from ..certified.balls import Ball
 
-    key = (robot.a1, robot.gravity, robot.actuation)
+    key = (robot.a1, robot.gravity, of(robot))
     got = _PARAMS.get(key)
     if got is None:
         z = None
@@ -298,9 +310,21 @@ def _ball_params(robot: Robot) -> dyn.Params:
 def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
     """``regressor_balls`` in doubles (not proven: a guide), from the end point's x, ẋ,
     ẍ, y, ẏ, ÿ as double arrays: [effort, ``BASIS``, error part, time]."""
-    p = dyn.Params(float(robot.a1), float(robot.gravity), *(None,) * 12, of(robot))
-    cols = regressor_columns(p, kin, np.hypot)
+    mech = of(robot)
     shape = np.broadcast_shapes(*(np.shape(k) for k in kin))
+    if not closed_form(mech):  # the equations at every setting and error part
+        x, xd, xdd, y, yd, ydd = (np.broadcast_to(np.asarray(k, dtype=float), shape)[:, None, None]
+                                  for k in kin)  # fmt: skip
+        ex = np.array([0.0, 1.0, 0.0])[None, :, None]
+        ey = np.array([0.0, 0.0, 1.0])[None, :, None]
+        params = settings_array(robot)
+        legs = mech.legs(params, x, xd, xdd + ex, y, yd, ydd + ey, np.hypot)
+        T = np.stack(np.broadcast_arrays(*efforts_of(legs, params)))  # (2, n, 3, 10)
+        T = np.stack(to_basis([T[..., k] for k in range(len(BASIS))]), axis=1)  # (2, 10, n, 3)
+        T = np.moveaxis(T, 3, 2)  # (2, 10, 3, n)
+        return np.concatenate([T[:, :, :1], T[:, :, 1:] - T[:, :, :1]], axis=2)
+    p = dyn.Params(float(robot.a1), float(robot.gravity), *(None,) * 12, mech)
+    cols = regressor_columns(p, kin, np.hypot)
     out = np.zeros((2, len(BASIS), 3, *shape))
     for j, row in enumerate(cols):
         for k, entry in enumerate(row):

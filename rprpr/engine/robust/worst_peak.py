@@ -319,7 +319,7 @@ def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndar
     for i in np.unique(hk):
         at = h[hk == i]
         kin = parts[int(i)].motion.end_point(Ball.hull(at, at))
-        for j, (l_, h_) in enumerate(bands_of(regressor_balls(task.robot, kin), box, True)):
+        for j, (l_, h_) in enumerate(bands_of(regressor_balls(task, kin), box, True)):
             lows[j] = max(lows[j], np.max(np.maximum(h_, -l_), initial=-np.inf))
     return lows
 
@@ -397,7 +397,7 @@ def _bounds(
             lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
             kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
             lower = np.arange(len(lo)) < len(at)
-            for j, (l_, h_) in enumerate(bands_of(regressor_balls(task.robot, kin), box, lower)):
+            for j, (l_, h_) in enumerate(bands_of(regressor_balls(task, kin), box, lower)):
                 v = np.maximum(h_, -l_)
                 ups[j, sel] = v[len(at) :]
                 lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
@@ -411,7 +411,7 @@ def _bounds(
         # one run of ball operations: the values at the midpoints, over the intervals and
         # at the points, the derivatives over the intervals (the others' are not read)
         kin = _jets(centred[int(i)], m, hw, at)
-        Y, Yd = regressor_balls(task.robot, kin, jets=True)
+        Y, Yd = regressor_balls(task, kin, jets=True)
         Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
         D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
