@@ -184,16 +184,14 @@ def closed_form(mechanism: Any) -> bool:
 
 
 def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[list[Any]]]:
-    """[effort][``BASIS``][e = 0, per unit e_x, per unit e_y]: the efforts' coefficients
-    of π (None where identically 0), from the end point's x, ẋ, ẍ, y, ẏ, ÿ ``kin`` (balls
-    or jets; ``p``: the robot's a1, g and scheme, as the same type's scalars)."""
+    """[effort][``BASIS``][e = 0, per unit e_x, e_y]: the efforts' coefficients of π (None:
+    0) from the end point's x, ẋ, ẍ, y, ẏ, ÿ ``kin`` (balls, jets; ``p``: a1, g, scheme)."""
     x, xd, xdd, y, yd, ydd = kin
     l1, l2 = p.mechanism.legs(p, x, xd, xdd, y, yd, ydd, hyp)
-    g = p.g
     parts = []
     for leg_, u in ((l1, x), (l2, x - p.a1)):  # (u, y): the leg's offset, s (cos θ, sin θ)
         s, w = leg_.s, leg_.th_d
-        gc = leg_.cos * g
+        gc = leg_.cos * p.g
         w2 = w * w
         gt = (-leg_.sin / s, leg_.cos / s)  # ∂θ''/∂e
         gs = (leg_.cos, leg_.sin)  # ∂s''/∂e
@@ -205,7 +203,7 @@ def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[
                       -y, u),  # m_out: U (s² ∂θ''/∂e = (-s sin θ, s cos θ))
                 "mr": (-(s * leg_.th_dd * 2.0 + leg_.s_d * w * 2.0 + gc),
                        leg_.sin * 2.0, leg_.cos * -2.0),  # (m r)_out: U
-                "a": (leg_.s_dd - s * w2 + leg_.sin * g, *gs),  # m_out: F
+                "a": (leg_.s_dd - s * w2 + leg_.sin * p.g, *gs),  # m_out: F
                 "b": (w2, None, None),  # (m r)_out: F
             }
         )  # fmt: skip
@@ -255,19 +253,14 @@ def _plus(u: Sequence[Any], v: Sequence[Any]) -> tuple[Any, ...]:
     return tuple(a if b is None else b if a is None else a + b for a, b in zip(u, v, strict=True))
 
 
-def regressor_balls(task: Any, kin: Sequence[Any], jets: bool = False) -> Any:
+def regressor_balls(robot: Robot, kin: Sequence[Any], jets: bool = False) -> Any:
     """The regressor [effort, ``BASIS``, e = 0 / per unit e_x / per unit e_y, time] as
-    one ball array (``regressor_columns``) from the end point's balls ``kin``; with
-    ``jets`` (``kin`` first-order jets over boxes of time), the pair (values,
-    derivatives), each enclosing its quantity at every time of its box. A mechanism
-    without the closed form: ``worst``'s evaluation of its equations at every setting."""
+    one ball array (``regressor_columns``; ``closed_form`` robots) from the end point's
+    balls ``kin``; with ``jets`` (``kin`` first-order jets over boxes of time), the pair
+    (values, derivatives), each enclosing its quantity at every time of its box."""
     from ..certified.balls import Ball, hypot
 
-    if not closed_form(of(task.robot)):
-        from .worst import _regressor, regressor_jet
-
-        return regressor_jet(task, kin) if jets else _regressor(task, kin)
-    p = _ball_params(task.robot)
+    p = _ball_params(robot)
     hyp = (lambda u, v: (u * u + v * v).sqrt()) if jets else hypot
     cols = regressor_columns(p, kin, hyp)
     shape = np.broadcast_shapes(*(np.shape((k.v if jets else k).mid) for k in kin))

@@ -44,10 +44,11 @@ from ..bounds.search import PEAK_ABS, PEAK_REL
 from ..certified.balls import Ball, horner, poly_balls, quiet
 from ..certified.jets import Jet
 from ..certified.motion import dyadic_middle
-from .regressor import form_bounds, form_worst, regressor_balls, regressor_floats
+from ..exact.mechanism import of
+from .regressor import closed_form, form_bounds, form_worst, regressor_balls, regressor_floats
 from .unbounded import poles
 from .windows import Box, Robust, float_box
-from .worst import bands_of
+from .worst import bands_of, regressor_jet
 
 REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal peak's) ...
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
@@ -319,7 +320,7 @@ def _lows(task: Task, parts: Sequence[Any], box: Box, h: np.ndarray, hk: np.ndar
     for i in np.unique(hk):
         at = h[hk == i]
         kin = parts[int(i)].motion.end_point(Ball.hull(at, at))
-        for j, (l_, h_) in enumerate(bands_of(regressor_balls(task, kin), box, True)):
+        for j, (l_, h_) in enumerate(bands_of(_regressor(task, kin), box, True)):
             lows[j] = max(lows[j], np.max(np.maximum(h_, -l_), initial=-np.inf))
     return lows
 
@@ -397,7 +398,7 @@ def _bounds(
             lo, hi = np.concatenate([at, a[sel] - pad]), np.concatenate([at, b[sel] + pad])
             kin = parts[int(i)].motion.end_point(Ball.hull(lo, hi))
             lower = np.arange(len(lo)) < len(at)
-            for j, (l_, h_) in enumerate(bands_of(regressor_balls(task, kin), box, lower)):
+            for j, (l_, h_) in enumerate(bands_of(_regressor(task, kin), box, lower)):
                 v = np.maximum(h_, -l_)
                 ups[j, sel] = v[len(at) :]
                 lows[j] = max(lows[j], np.max(v[: len(at)], initial=-np.inf))
@@ -411,7 +412,7 @@ def _bounds(
         # one run of ball operations: the values at the midpoints, over the intervals and
         # at the points, the derivatives over the intervals (the others' are not read)
         kin = _jets(centred[int(i)], m, hw, at)
-        Y, Yd = regressor_balls(task, kin, jets=True)
+        Y, Yd = _regressor(task, kin, jets=True)
         Ym = Ball._of(Y.mid[..., :q], Y.rad[..., :q])
         D = Ball._of(Yd.mid[..., q : 2 * q], Yd.rad[..., q : 2 * q])
         # the mean-value form over [a0, b0]: every coefficient at t lies in Ym + (t - m) D,
@@ -424,6 +425,16 @@ def _bounds(
             v = form_bounds(YP, box.links, box.corners(), False)
             lows = np.maximum(lows, v.max(axis=1))
     return ups, lows
+
+
+def _regressor(task: Task, kin: Sequence[Any], jets: bool = False) -> Any:
+    """``regressor.regressor_balls`` where the robot's mechanism has the closed form, else
+    ``worst.regressor_jet``'s evaluation of its own equations at every setting."""
+    if closed_form(of(task.robot)):
+        return regressor_balls(task.robot, kin, jets)
+    if jets:
+        return regressor_jet(task, kin)
+    return regressor_jet(task, [Jet(k, k * 0.0) for k in kin])[0]
 
 
 def _jets(about: tuple[list[list[Ball]], float], m: np.ndarray, hw: np.ndarray,

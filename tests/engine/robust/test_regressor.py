@@ -43,8 +43,8 @@ def test_the_regressor_holds_the_references_efforts(path: str) -> None:
     (part,) = audit(task).parts
     times = [Q(1, 3), Q(12, 5), Q(13, 5), Q(9, 2)]  # t_s = 2.5 on both paths
     kin = part.motion.end_point(Ball.exact(np.array([float(t) for t in times])))
-    Y = regressor_balls(task, kin)
-    jets = regressor_balls(task, [Jet(k, k * 0.0) for k in kin], jets=True)[0]
+    Y = regressor_balls(task.robot, kin)
+    jets = regressor_balls(task.robot, [Jet(k, k * 0.0) for k in kin], jets=True)[0]
     for links, e in itertools.product((base, scaled), ((Q(0), Q(0)), (Q(1, 50), Q(-3, 100)))):
         pi = _pi(links)
         for n, t in enumerate(times):
