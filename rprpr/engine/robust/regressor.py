@@ -349,7 +349,7 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
 # of products of the box's ends and the x_k, so its rounding error (and that of the box's
 # ends and of e as doubles, each within one unit in the last place of the exact ones) is
 # at most ``SLACK`` times the same sum with every term's absolute value,
-#     S = Σ_links m_max (|A| + |B| R + |C| R²) + |C| I_max   (R >= |r| on the box),
+#     S = Σ_links M (|A| + |B| R + |C| R²) + |C| I_max   (M, R, I_max >= |m|, |r|, |I|),
 # a vertex -B/2C counted only where it lies within [r_lo, r_hi] (a lower bound: surely
 # inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
 
@@ -381,16 +381,15 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
     spread = np.zeros_like(S)
     for link, km, kmr, kj in LINKS:
         (mlo, mhi), (rlo, rhi), (ilo, ihi) = (tuple(float(v) for v in pair) for pair in box[link])
-        R = max(abs(rlo), abs(rhi))
-        Imax = max(abs(ilo), abs(ihi))
+        R, Imax, M = max(abs(rlo), abs(rhi)), max(abs(ilo), abs(ihi)), max(abs(mlo), abs(mhi))
         A = X[:, :, km] if km is not None else 0.0 * X[:, :, kmr]  # [comb, effort, col]
         B, C = X[:, :, kmr], X[:, :, kj]
         total = total + _link_max(A, B, C, (mlo, mhi), (rlo, rhi), (ilo, ihi), upper)
         aA = ab[:, km] if km is not None else 0.0
-        S = S + mhi * (aA + ab[:, kmr] * R + ab[:, kj] * R * R) + ab[:, kj] * Imax
-        spread = spread + rho[:, kmr] * (mhi * R) + rho[:, kj] * (mhi * R * R + Imax)
+        S = S + M * (aA + ab[:, kmr] * R + ab[:, kj] * R * R) + ab[:, kj] * Imax
+        spread = spread + rho[:, kmr] * (M * R) + rho[:, kj] * (M * R * R + Imax)
         if km is not None:
-            spread = spread + rho[:, km] * mhi
+            spread = spread + rho[:, km] * M
     best = total.max(axis=0)  # [effort, column]
     slack = (S * SLACK + spread) * (1 + SLACK) + 1e-300
     out = best + slack if upper else best - slack
