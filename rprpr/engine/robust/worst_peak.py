@@ -54,7 +54,7 @@ REL = PEAK_REL  # the peak's bounds meet within this relative width (the nominal
 ABS = PEAK_ABS  # ... or this absolute one, whichever is larger (a peak near 0)
 ROUNDS = 48  # refining rounds at most
 START = 64  # intervals per piece at the start
-LADDER = 40  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
+LADDER = 24  # ... and from a window's edge, intervals of 2^-k of the span, k = 1..LADDER
 RUNGS = 12  # ... and two per halving for the first RUNGS halvings
 ZOOM = 2  # finer grids about the largest effort in doubles (``_Guess.summits``) ...
 ZGRID = 64  # ... each of 2 ZGRID + 1 points over the last one's two cells
