@@ -157,3 +157,261 @@ def form_max(Y: Sequence[Any], box: Any, ball: bool) -> Any:
         else:
             total = total + link_max_float(A, Y[kmr], Y[kj], b)
     return (lo, hi) if ball else total
+
+
+# -- the regressor in closed form, for ball and jet arithmetic ---------------------------
+#
+# From the equations (``exact.equations``), with π = ``BASIS`` (J_i = m_i r_i² + I_i), per
+# leg i (links 2, 3 on leg 1; 4, 5 on leg 2; s, θ its joint values, g the gravity):
+#   U_i = M θ'' + N (the θ row) = J_in θ'' + J_out θ'' + (m r)_in g cos θ
+#         + m_out (s² θ'' + 2 s s' θ' + g s cos θ) - (m r)_out (2 s θ'' + 2 s' θ' + g cos θ),
+#   F_i = M s'' + N (the s row) = m_out (s'' - s θ'² + g sin θ) + (m r)_out θ'²;
+# with λ = μ/δ (eqs. 32-33 and the prismatic μ), c = cos(θ1 - θ2), δ = -a1 y/(s1 s2):
+#   revolute:  T1 = U1 - (s1/δ)(c F1 + F2),        T2 = U2 + (s2/δ)(F1 + c F2);
+#   prismatic: F1' = F1 + (c U1/s1 + U2/s2)/δ,       F2' = F2 - (U1/s1 + c U2/s2)/δ.
+# The error e enters only s'' and θ'': ∂s''/∂e = (cos θ, sin θ), ∂θ''/∂e = (-sin θ, cos θ)/s
+# (the legs' kinematics), so each column's change per unit e_x, e_y is its s'', θ''
+# terms with these in their place. Mathematically the same efforts as ``efforts_of`` at
+# the settings (each column a handful of products of the legs' values instead of the
+# equations at ten settings and three error parts).
+
+
+def closed_form(mechanism: Any) -> bool:
+    """Whether ``regressor_columns`` holds for ``mechanism``: the RPRPR's own schemes
+    (``exact.equations``' implementations, told apart by their ``automatic`` index);
+    another registered implementation is evaluated through its own equations."""
+    return type(mechanism).__module__ == dyn.__name__ and mechanism.automatic in (0, 1)
+
+
+def regressor_columns(p: dyn.Params, kin: Sequence[Any], hyp: Any) -> list[list[list[Any]]]:
+    """[effort][``BASIS``][e = 0, per unit e_x, e_y]: the efforts' coefficients of π (None:
+    0) from the end point's x, ẋ, ẍ, y, ẏ, ÿ ``kin`` (balls, jets; ``p``: a1, g, scheme)."""
+    x, xd, xdd, y, yd, ydd = kin
+    l1, l2 = p.mechanism.legs(p, x, xd, xdd, y, yd, ydd, hyp)
+    parts = []
+    for leg_, u in ((l1, x), (l2, x - p.a1)):  # (u, y): the leg's offset, s (cos θ, sin θ)
+        s, w = leg_.s, leg_.th_d
+        gc = leg_.cos * p.g
+        w2 = w * w
+        gt = (-leg_.sin / s, leg_.cos / s)  # ∂θ''/∂e
+        gs = (leg_.cos, leg_.sin)  # ∂s''/∂e
+        parts.append(
+            {
+                "pr": (gc, None, None),  # (m r)_in: U
+                "J": (leg_.th_dd, *gt),  # J_in, J_out: U
+                "m": (s * (s * leg_.th_dd + leg_.s_d * w * 2.0 + gc),
+                      -y, u),  # m_out: U (s² ∂θ''/∂e = (-s sin θ, s cos θ))
+                "mr": (-(s * leg_.th_dd * 2.0 + leg_.s_d * w * 2.0 + gc),
+                       leg_.sin * 2.0, leg_.cos * -2.0),  # (m r)_out: U
+                "a": (leg_.s_dd - s * w2 + leg_.sin * p.g, *gs),  # m_out: F
+                "b": (w2, None, None),  # (m r)_out: F
+            }
+        )  # fmt: skip
+    c = l1.cos * l2.cos + l1.sin * l2.sin
+    inv = 1.0 / (y * p.a1)  # δ = -a1 y/(s1 s2)
+    U = [{k: parts[i][k] for k in ("pr", "J", "m", "mr")} for i in (0, 1)]
+    F = [{"m": parts[i]["a"], "mr": parts[i]["b"]} for i in (0, 1)]
+    if p.mechanism.automatic == 0:  # revolute: T1 = U1 + q1 F1 + r1 F2, T2 = U2 + q2 F2 + r2 F1
+        k1 = l1.s * l1.s * l2.s * inv  # -s1/δ
+        k2 = l1.s * l2.s * l2.s * inv  # -s2/δ
+        rows = []
+        for i, (q_own, q_other) in enumerate(((k1 * c, k1), (-(k2 * c), -k2))):
+            col: dict[tuple[int, str], Any] = {}
+            mine, other = 2 * i + 2, 4 - 2 * i
+            col[(mine, "mr")] = U[i]["pr"]
+            col[(mine, "J")] = U[i]["J"]
+            col[(mine + 1, "J")] = U[i]["J"]
+            col[(mine + 1, "m")] = _plus(U[i]["m"], _times(F[i]["m"], q_own))
+            col[(mine + 1, "mr")] = _plus(U[i]["mr"], _times(F[i]["mr"], q_own))
+            col[(other + 1, "m")] = _times(F[1 - i]["m"], q_other)
+            col[(other + 1, "mr")] = _times(F[1 - i]["mr"], q_other)
+            rows.append(col)
+    else:  # prismatic: F_i' = F_i + q_i U_i/s_i + r_i U_other/s_other
+        p1 = -(l2.s * inv)  # 1/(s1 δ)
+        p2 = -(l1.s * inv)  # 1/(s2 δ)
+        rows = []
+        for i, (q_own, q_other) in enumerate(((c * p1, p2), (-(c * p2), -p1))):
+            col = {}
+            mine, other = 2 * i + 2, 4 - 2 * i
+            for link, side, qq in ((mine, i, q_own), (other, 1 - i, q_other)):
+                col[(link, "mr")] = _times(U[side]["pr"], qq)
+                col[(link, "J")] = _times(U[side]["J"], qq)
+                col[(link + 1, "J")] = col[(link, "J")]
+                col[(link + 1, "m")] = _times(U[side]["m"], qq)
+                col[(link + 1, "mr")] = _times(U[side]["mr"], qq)
+            col[(mine + 1, "m")] = _plus(F[i]["m"], col[(mine + 1, "m")])
+            col[(mine + 1, "mr")] = _plus(F[i]["mr"], col[(mine + 1, "mr")])
+            rows.append(col)
+    return [[list(col.get(key, (None, None, None))) for key in BASIS] for col in rows]
+
+
+def _times(v: Sequence[Any], k: Any) -> tuple[Any, ...]:
+    return tuple(None if a is None else a * k for a in v)
+
+
+def _plus(u: Sequence[Any], v: Sequence[Any]) -> tuple[Any, ...]:
+    return tuple(a if b is None else b if a is None else a + b for a, b in zip(u, v, strict=True))
+
+
+def regressor_balls(robot: Robot, kin: Sequence[Any], jets: bool = False) -> Any:
+    """The regressor [effort, ``BASIS``, e = 0 / per unit e_x / per unit e_y, time] as
+    one ball array (``regressor_columns``; ``closed_form`` robots) from the end point's
+    balls ``kin``; with ``jets`` (``kin`` first-order jets over boxes of time), the pair
+    (values, derivatives), each enclosing its quantity at every time of its box."""
+    from ..certified.balls import Ball, hypot
+
+    p = _ball_params(robot)
+    hyp = (lambda u, v: (u * u + v * v).sqrt()) if jets else hypot
+    cols = regressor_columns(p, kin, hyp)
+    shape = np.broadcast_shapes(*(np.shape((k.v if jets else k).mid) for k in kin))
+    out = []
+    for which in ("v", "d") if jets else (None,):
+        mid = np.zeros((2, len(BASIS), 3, *shape))
+        rad = np.zeros((2, len(BASIS), 3, *shape))
+        for j, row in enumerate(cols):
+            for k, entry in enumerate(row):
+                for e, b in enumerate(entry):
+                    if b is None:
+                        continue
+                    if which is not None:  # a jet's part (a ball: a constant's)
+                        if isinstance(b, Ball) and which == "d":
+                            continue
+                        b = b if isinstance(b, Ball) else getattr(b, which)
+                    mid[j, k, e], rad[j, k, e] = b.mid, b.rad
+        out.append(Ball._of(mid, rad))
+    return tuple(out) if jets else out[0]
+
+
+_PARAMS: dict[Any, dyn.Params] = {}
+
+
+def _ball_params(robot: Robot) -> dyn.Params:
+    """The robot's a1 and g as balls, and its scheme (what ``regressor_columns`` reads)."""
+    from ..certified.balls import Ball
+
+    key = (robot.a1, robot.gravity, of(robot))
+    got = _PARAMS.get(key)
+    if got is None:
+        z = None
+        got = _PARAMS[key] = dyn.Params(
+            Ball.of_rational(robot.a1), Ball.of_rational(robot.gravity),
+            z, z, z, z, z, z, z, z, z, z, z, z, of(robot),
+        )  # fmt: skip
+    return got
+
+
+def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
+    """``regressor_balls`` in doubles (not proven: a guide), from the end point's x, ẋ,
+    ẍ, y, ẏ, ÿ as double arrays: [effort, ``BASIS``, error part, time]."""
+    mech = of(robot)
+    shape = np.broadcast_shapes(*(np.shape(k) for k in kin))
+    if not closed_form(mech):  # the equations at every setting and error part
+        x, xd, xdd, y, yd, ydd = (np.broadcast_to(np.asarray(k, dtype=float), shape)[:, None, None]
+                                  for k in kin)  # fmt: skip
+        ex = np.array([0.0, 1.0, 0.0])[None, :, None]
+        ey = np.array([0.0, 0.0, 1.0])[None, :, None]
+        params = settings_array(robot)
+        legs = mech.legs(params, x, xd, xdd + ex, y, yd, ydd + ey, np.hypot)
+        T = np.stack(np.broadcast_arrays(*efforts_of(legs, params)))  # (2, n, 3, 10)
+        T = np.stack(to_basis([T[..., k] for k in range(len(BASIS))]), axis=1)  # (2, 10, n, 3)
+        T = np.moveaxis(T, 3, 2)  # (2, 10, 3, n)
+        return np.concatenate([T[:, :, :1], T[:, :, 1:] - T[:, :, :1]], axis=2)
+    p = dyn.Params(float(robot.a1), float(robot.gravity), *(None,) * 12, mech)
+    cols = regressor_columns(p, kin, np.hypot)
+    out = np.zeros((2, len(BASIS), 3, *shape))
+    for j, row in enumerate(cols):
+        for k, entry in enumerate(row):
+            for e, v in enumerate(entry):
+                if v is not None:
+                    out[j, k, e] = v
+    return out
+
+
+def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:
+    """[effort, time]: the largest |Σ_k Y_k π_k| over the box (``corners``: the error's,
+    ``box``: the links' as doubles), the error e at the corners (the efforts are affine
+    in it), in doubles, from ``regressor_floats``' Y."""
+    k = np.array([(s * float(ex), s * float(ey), s) for ex, ey in corners for s in (1.0, -1.0)])
+    Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
+          * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip
+    return form_max([Yc[:, :, j] for j in range(len(BASIS))], box, False).max(axis=0)
+
+
+# -- the largest effort over the box from the regressor's balls, in doubles, proven -------
+#
+# With every coefficient Y_k in [y_k - ρ_k, y_k + ρ_k] (a ball), at a corner e of the
+# error's square and a sign s, s E = Σ_k π_k s (y0_k + e_x yx_k + e_y yy_k) + Σ_k π_k η_k
+# with |η_k| <= ρ0_k + |e_x| ρx_k + |e_y| ρy_k. So
+#     max over the box of s E  <=  max over the box of Σ_k π_k x_k  +  Σ_k |π_k|max ρ_k
+# and >= the same first term less the second (at the box's point where the first is
+# largest), x_k = s (y0_k + e_x yx_k + e_y yy_k). The first term is ``link_max_float``'s
+# closed form evaluated in doubles: every candidate there is a sum of at most a few tens
+# of products of the box's ends and the x_k, so its rounding error (and that of the box's
+# ends and of e as doubles, each within one unit in the last place of the exact ones) is
+# at most ``SLACK`` times the same sum with every term's absolute value,
+#     S = Σ_links M (|A| + |B| R + |C| R²) + |C| I_max   (M, R, I_max >= |m|, |r|, |I|),
+# a vertex -B/2C counted only where it lies within [r_lo, r_hi] (a lower bound: surely
+# inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
+
+SLACK = 1e-12  # the doubles' rounding, relative to S: tens of units of 2^-53, and room
+
+
+def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool
+                ) -> np.ndarray:  # fmt: skip
+    """[effort, column]: an upper bound (``upper``) or a lower bound of the largest
+    |E_j| over the box and the error's ``corners`` for efforts whose coefficients lie in
+    the balls ``Y`` [effort, ``BASIS``, e = 0 / per e_x / per e_y, column], proven (see
+    above); ±inf where a ball is not finite. ``box``: {link: ((m_lo, m_hi), (r_lo, r_hi),
+    (I_lo, I_hi))} exact (fmpq)."""
+    mid, rad = np.asarray(Y.mid, dtype=float), np.asarray(Y.rad, dtype=float)
+    mid, rad = np.broadcast_arrays(mid, rad)
+    finite = np.isfinite(mid).all(axis=(1, 2)) & np.isfinite(rad).all(axis=(1, 2))
+    mid = np.where(np.isfinite(mid), mid, 0.0)
+    rad = np.where(np.isfinite(rad), rad, 0.0)
+    es = np.array([(float(ex), float(ey)) for ex, ey in corners])  # [corner, 2]
+    ea = np.abs(es).max(axis=0)  # |e_x|, |e_y| at most
+    # x_k at every corner and sign: [combination, effort, BASIS, column]
+    comb = [(s * ex, s * ey, s) for ex, ey in es for s in (1.0, -1.0)]
+    X = np.stack([s * mid[:, :, 0] + cx * mid[:, :, 1] + cy * mid[:, :, 2] for cx, cy, s in comb])
+    # X: [combination, effort, BASIS, column]
+    ab = np.abs(mid[:, :, 0]) + ea[0] * np.abs(mid[:, :, 1]) + ea[1] * np.abs(mid[:, :, 2])
+    rho = rad[:, :, 0] + ea[0] * rad[:, :, 1] + ea[1] * rad[:, :, 2]  # [effort, BASIS, col]
+    total = np.zeros((X.shape[0], X.shape[1], X.shape[3]))
+    S = np.zeros(ab.shape[:1] + ab.shape[2:])
+    spread = np.zeros_like(S)
+    for link, km, kmr, kj in LINKS:
+        (mlo, mhi), (rlo, rhi), (ilo, ihi) = (tuple(float(v) for v in pair) for pair in box[link])
+        R, Imax, M = max(abs(rlo), abs(rhi)), max(abs(ilo), abs(ihi)), max(abs(mlo), abs(mhi))
+        A = X[:, :, km] if km is not None else 0.0 * X[:, :, kmr]  # [comb, effort, col]
+        B, C = X[:, :, kmr], X[:, :, kj]
+        total = total + _link_max(A, B, C, (mlo, mhi), (rlo, rhi), (ilo, ihi), upper)
+        aA = ab[:, km] if km is not None else 0.0
+        S = S + M * (aA + ab[:, kmr] * R + ab[:, kj] * R * R) + ab[:, kj] * Imax
+        spread = spread + rho[:, kmr] * (M * R) + rho[:, kj] * (M * R * R + Imax)
+        if km is not None:
+            spread = spread + rho[:, km] * M
+    best = total.max(axis=0)  # [effort, column]
+    slack = (S * SLACK + spread) * (1 + SLACK) + 1e-300
+    out = best + slack if upper else best - slack
+    return np.where(finite, out, np.inf if upper else -np.inf)
+
+
+Span = tuple[float, float]
+
+
+def _link_max(A: np.ndarray, B: np.ndarray, C: np.ndarray, m: Span, r: Span, i: Span,
+              upper: bool) -> np.ndarray:  # fmt: skip
+    """``link_max_float`` with the vertex counted where it may lie inside r's interval
+    (``upper``: an upper bound) or only where it surely does (a lower bound: a value the
+    box reaches), both within a margin far above the doubles' rounding."""
+    (mlo, mhi), (rlo, rhi), (ilo, ihi) = m, r, i
+    G = np.maximum(A + B * rlo + C * rlo * rlo, A + B * rhi + C * rhi * rhi)
+    margin = 1e-9 * (max(abs(rlo), abs(rhi)) + (rhi - rlo))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rs = -B / (2 * C)
+        if upper:
+            inside = (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
+        else:
+            inside = (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin)
+        G = np.where(inside, np.maximum(G, A - B * B / (4 * C)), G)
+    return np.maximum(mlo * G, mhi * G) + np.maximum(C * ilo, C * ihi)

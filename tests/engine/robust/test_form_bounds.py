@@ -1,0 +1,92 @@
+"""The largest effort over the box from the regressor's balls in doubles
+(``robust.regressor.form_bounds``) against an exact reference (``fractions``): for
+coefficients anywhere in the balls, the exact maximum over the links' box and the
+error's corners of |Σ_k π_k (y0_k + e_x yx_k + e_y yy_k)| lies between the lower and the
+upper bound, which are close when the balls are narrow."""
+
+from __future__ import annotations
+
+import itertools
+import random
+from fractions import Fraction
+
+import numpy as np
+from flint import fmpq
+
+from rprpr.engine.certified.balls import Ball
+from rprpr.engine.robust.regressor import BASIS, form_bounds
+
+Q = Fraction
+
+
+def _box(rng: random.Random) -> dict[int, tuple[tuple[fmpq, fmpq], ...]]:
+    out = {}
+    for link in (2, 3, 4, 5):
+        m, r, i = (
+            Q(rng.randint(5, 40), 10),
+            Q(rng.randint(-30, 60), 100),
+            Q(rng.randint(1, 90), 100),
+        )
+        w = Q(rng.choice([0, 1, 5, 10]), 100)
+        out[link] = tuple((_f(v - abs(v) * w), _f(v + abs(v) * w)) for v in (m, r, i))
+    return out
+
+
+def _f(v: Q) -> fmpq:
+    return fmpq(v.numerator, v.denominator)
+
+
+def _exact_max(y: dict[tuple[int, int, int], Q], box: dict, corners: list[tuple[Q, Q]]
+               ) -> list[Q]:  # fmt: skip
+    """Per effort, max over the corners, both signs and the box of s Σ π_k x_k, exactly:
+    for each link the form A m + B m r + C (m r² + I) at m's and I's ends and at r's ends
+    and the parabola's vertex where it lies inside."""
+    out = []
+    for j in (0, 1):
+        best = None
+        for (ex, ey), s in itertools.product(corners, (1, -1)):
+            x = {k: s * (y[j, k, 0] + ex * y[j, k, 1] + ey * y[j, k, 2]) for k in range(10)}
+            total = Q(0)
+            for link in (2, 3, 4, 5):
+                km = BASIS.index((link, "m")) if (link, "m") in BASIS else None
+                A = x[km] if km is not None else Q(0)
+                B, C = x[BASIS.index((link, "mr"))], x[BASIS.index((link, "J"))]
+                (ml, mh), (rl, rh), (il, ih) = ((Q(int(a.p), int(a.q)), Q(int(b.p), int(b.q)))
+                                                 for a, b in box[link])  # fmt: skip
+                rs = [rl, rh]
+                if C != 0 and rl < -B / (2 * C) < rh:
+                    rs.append(-B / (2 * C))
+                total += max(m * (A + B * r + C * r * r) + C * i
+                             for m in (ml, mh) for r in rs for i in (il, ih))  # fmt: skip
+            best = total if best is None else max(best, total)
+        out.append(best)
+    return out
+
+
+def test_form_bounds_hold_the_exact_maximum_for_coefficients_in_the_balls() -> None:
+    rng = random.Random(24)
+    for case in range(16):
+        box = _box(rng)
+        a = Q(rng.choice([0, 1, 10]), 100)
+        corners = (
+            [(Q(0), Q(0))] if a == 0 else [(sx * a, sy * a) for sx in (-1, 1) for sy in (-1, 1)]
+        )
+        n = 2
+        mid = np.array([[[[rng.uniform(-50, 50) * 10.0 ** rng.randint(-3, 2) for _ in range(n)]
+                          for _ in range(3)] for _ in range(10)] for _ in range(2)])  # fmt: skip
+        rad = np.abs(mid) * (1e-9 if case % 2 else 0.0)
+        Y = Ball(mid, rad)
+        fc = [(_f(ex), _f(ey)) for ex, ey in corners]
+        up = form_bounds(Y, box, fc, True)
+        lo = form_bounds(Y, box, fc, False)
+        for col in range(n):
+            for pick in (0, 1, -1):  # the balls' middles, and ends
+                y = {(j, k, e): Q(float(mid[j, k, e, col])) + pick * Q(float(rad[j, k, e, col]))
+                     for j in (0, 1) for k in range(10) for e in range(3)}  # fmt: skip
+                exact = _exact_max(y, box, corners)
+                for j in (0, 1):
+                    assert Q(float(lo[j, col])) <= exact[j] <= Q(float(up[j, col]))
+            for j in (0, 1):
+                size = max(abs(float(exact[j])), 1.0)
+                tol = 1e-6 if case % 2 else 1e-10  # the radii, or the rounding alone
+                assert up[j, col] - lo[j, col] <= tol * size
