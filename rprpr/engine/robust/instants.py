@@ -22,8 +22,8 @@ from .windows import (
     Robust,
     about,
     ball_box,
+    below,
     float_box,
-    phi_ball,
     phi_float,
     prove_in,
     residual,
@@ -99,8 +99,7 @@ def _prove_from(ab: About, bbox: Any, box: Box, limits: tuple[float, float], d: 
     none is."""
     step = 1e-12 * max(h, 1e-9 * reach)
     while True:
-        phi = phi_ball(ab, d * h, box, bbox, d * min(GAP, reach - h))
-        if phi[0][1] <= limits[0] and phi[1][1] <= limits[1]:
+        if below(ab, box, bbox, limits, d * h, d * min(GAP, reach - h)):
             return h
         if h >= reach:
             return None

@@ -45,11 +45,9 @@ from ..exact.series import taylor
 from .regressor import (
     BASIS,
     LINKS,
-    Pair,
     efforts_of,
     form_max,
     legs_about,
-    pair_max,
     setting_params,
     settings_array,
     to_basis,
@@ -254,40 +252,95 @@ def _ball(v: Any) -> arb:
     return arb(v)
 
 
-def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0
-              ) -> tuple[Pair, Pair]:  # fmt: skip
-    """Bounds on the largest |T1|, |T2| over the box at t_s + h (with ``width``: over
-    every time between t_s + h and t_s + h + ``width``)."""
-    old = ctx.prec
-    ctx.prec = PREC
-    try:
+def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0) -> tuple[arb, arb]:
+    """Upper bounds (exact points) of the largest |T1|, |T2| over the box at t_s + h
+    (with ``width``: over every time between t_s + h and t_s + h + ``width``)."""
+    with ctx.workprec(PREC):
         Ys = _regressor_ball(ab, arb(h) if not width else arb(h).union(arb(h) + arb(width)))
-        best: list[list[Pair]] = [[], []]
-        for ex, ey in box.corners():
-            for j in (0, 1):
-                for s in (1, -1):
-                    best[j].append(form_max(_at_corner(Ys, ex, ey, j, s), bbox, True))
-        return pair_max(best[0]), pair_max(best[1])
-    finally:
-        ctx.prec = old
+        out = []
+        for j in (0, 1):
+            best = None
+            for form in _corner_forms(Ys, box, j):
+                for up in signed_uppers(form, bbox):
+                    best = up if best is None or up > best else best
+            out.append(best)
+        return out[0], out[1]
+
+
+def _corner_forms(Ys: list[list[list[Any]]], box: Box, j: int) -> list[list[Any]]:
+    """Y0 + ex Yx + ey Yy for joint j at each corner (ex, ey) of the error's square
+    (``Box.corners``' order): the products by the bound a made once."""
+    y0 = Ys[0][j]
+    if box.a == 0:
+        return [list(y0)]
+    a = arb(box.a)
+    bx = [v * a for v in Ys[1][j]]
+    cy = [v * a for v in Ys[2][j]]
+    out = []
+    for part in ([u - b for u, b in zip(y0, bx, strict=True)],
+                 [u + b for u, b in zip(y0, bx, strict=True)]):  # fmt: skip
+        out.append([u - c for u, c in zip(part, cy, strict=True)])
+        out.append([u + c for u, c in zip(part, cy, strict=True)])
+    return out
+
+
+ZERO = arb(0)
+
+
+def _top(a: arb, b: arb) -> arb:
+    """The larger of two exact points."""
+    return a if a > b else b
+
+
+def signed_uppers(Y: Sequence[arb], bbox: Any) -> tuple[arb, arb]:
+    """Upper bounds (exact points) of max over the box of s Σ_k Y_k π_k (Y indexed as
+    ``BASIS``) for s = +1 and s = -1: ``regressor.form_max``'s upper bound in ball
+    arithmetic (each link's candidates: the ends of r's interval, the vertex of the
+    quadratic in r where it is concave and may lie inside, r's whole interval where the
+    sign of its r² coefficient is not decided; the larger of m's ends, of I's), both signs
+    from the same balls: s = -1 negates every candidate's ball exactly (its upper end is
+    minus the lower end of the ball for s = +1)."""
+    tot = [ZERO, ZERO]
+    for link, km, kmr, kj in LINKS:
+        (mlo, mhi), (rlo, rhi), (ilo, ihi) = bbox[link]
+        A = Y[km] if km is not None else ZERO
+        B, C = Y[kmr], Y[kj]
+        g0 = A + B * rlo + C * rlo * rlo
+        g1 = A + B * rhi + C * rhi * rhi
+        G = [_top(g0.upper(), g1.upper()), _top(-g0.lower(), -g1.lower())]
+        if not C.is_zero():
+            pos, neg = C > 0, C < 0
+            if pos or neg:  # concave for the sign s with s C < 0
+                s = 0 if neg else 1
+                rs = -B / (2 * C)
+                if not (rs <= rlo or rs >= rhi):
+                    top = A - B * B / (4 * C)
+                    G[s] = _top(G[s], top.upper() if s == 0 else -top.lower())
+            else:  # C's sign not decided: the quadratic's range over [r_lo, r_hi]
+                r = (rlo + rhi) / 2 + (rhi - rlo) / 2 * arb("0 +/- 1")
+                q = A + B * r + C * r * r
+                G = [_top(G[0], q.upper()), _top(G[1], -q.lower())]
+        c_lo, c_hi = C * ilo, C * ihi
+        cI = [_top(c_lo.upper(), c_hi.upper()), _top(-c_lo.lower(), -c_hi.lower())]
+        for s in (0, 1):
+            mG = _top((mlo * G[s]).upper(), (mhi * G[s]).upper())
+            tot[s] = (tot[s] + (mG + cI[s]).upper()).upper()
+    return tot[0], tot[1]
 
 
 def residual(ab: About, box: Box) -> tuple[arb, arb]:
     """A lower bound on the least and an upper bound on the largest consistency residual
     over the box [N] (exact points)."""
-    old = ctx.prec
-    ctx.prec = PREC
-    try:
+    with ctx.workprec(PREC):
         bbox = ball_box(box)
-        lo: list[Pair] = []
-        hi: list[Pair] = []
         Ys = _regressor_ball(ab, arb(0), at_ts=True)
-        for ex, ey in box.corners():
-            hi.append(form_max(_at_corner(Ys, ex, ey, 0, 1), bbox, True))
-            lo.append(form_max(_at_corner(Ys, ex, ey, 0, -1), bbox, True))  # -min
-        return -pair_max(lo)[1], pair_max(hi)[1]
-    finally:
-        ctx.prec = old
+        hi = lo = None
+        for form in _corner_forms(Ys, box, 0):
+            up, down = signed_uppers(form, bbox)  # down: an upper bound of -min
+            hi = up if hi is None or up > hi else hi
+            lo = down if lo is None or down > lo else lo
+        assert hi is not None and lo is not None
+        return -lo, hi
 
 
 def residual_at(robot: Robot, u: Uncertainty, state: Sequence[fmpq]) -> tuple[arb, arb]:
@@ -363,7 +416,9 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
     for d, bs in brackets.items():
         j = 0 if bs[0][1] >= bs[1][1] else 1
         reach = next(r for dd, r, _ in live if dd == d)
-        outer = _prove_out(ab, box, bbox, limits, d, bs[j][1], reach)
+        # the window cannot reach past the first candidate at which it is proven to end
+        outer = next((h for h in _outward(bs[j][1], reach)
+                      if below(ab, box, bbox, limits, d * h)), reach)  # fmt: skip
         # (a bracket narrower than the doubles' error at its ends: from a little inside)
         inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
         out[d] = (outer, inner, j)
@@ -469,27 +524,33 @@ def _refine(ab: About, box: Box, fbox: Any, lim: np.ndarray,
         brackets[d][j] = got
 
 
-def _prove_out(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int, h: float,
-               reach: float) -> float:  # fmt: skip
-    """The nearest of h, h (1 + 1e-12), h (1 + 1e-10), ... at which both max |T_j| <=
-    their limits are proven (reach when none is): the window cannot reach past it."""
-    step = 1e-12
+def _outward(h: float, reach: float) -> list[float]:
+    """The candidates for a proven outer end from h: h, h (1 + 1e-12), h (1 + 1e-12)
+    (1 + 1e-10), ..., each below ``reach`` (the window cannot reach past the first at
+    which both max |T_j| <= their limits are proven; ``reach`` when none is)."""
+    out, step = [], 1e-12
     while h < reach:
-        phi = phi_ball(ab, d * h, box, bbox)
-        if phi[0][1] <= limits[0] and phi[1][1] <= limits[1]:
-            return h
+        out.append(h)
         h, step = min(h * (1 + step), reach), step * 100
-    return reach
+    return out
+
+
+def _inward(h: float) -> list[float]:
+    """The candidates for a proven inner end: h, then a little nearer t_s."""
+    return [g for shrink in (0.0, 1e-12, 1e-9, 1e-6) if (g := h * (1 - shrink)) > 0]
+
+
+def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
+          width: float = 0.0) -> bool:  # fmt: skip
+    """Both max |T_j| <= their limits proven at t_s + h (over [h, h + ``width``])."""
+    up = phi_ball(ab, h, box, bbox, width)
+    return bool(up[0] <= limits[0] and up[1] <= limits[1])
 
 
 def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
     """h, or a little nearer t_s, at which max |T_j| > lim is proven (0 when none is):
     |T_j| at the box's worst point there (found in doubles), in ball arithmetic."""
-    for shrink in (0.0, 1e-12, 1e-9, 1e-6):
-        g = h * (1 - shrink)
-        if g > 0 and _worst_ball(ab, d * g, box, j) > lim:
-            return g
-    return 0.0
+    return next((g for g in _inward(h) if _worst_ball(ab, d * g, box, j) > lim), 0.0)
 
 
 def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
@@ -544,13 +605,10 @@ def _halving(ab: About, box: Box, bbox: Any, limits: tuple[float, float], d: int
     their limits are proven (down to 1e-30 of the piece's reach: a window narrower
     is reported as that bound)."""
 
-    def below(h: float) -> bool:
-        phi = phi_ball(ab, d * h, box, bbox)
-        return bool(phi[0][1] <= limits[0] and phi[1][1] <= limits[1])
-
     best, h = reach, reach / 2
     for factor in (16.0, 2.0):
-        while h > reach * 1e-30 and below(h):  # (a window under 1e-30 of the piece: 0)
+        # (a window under 1e-30 of the piece: 0)
+        while h > reach * 1e-30 and below(ab, box, bbox, limits, d * h):
             best, h = h, h / factor
         h = best / 2
     return best
