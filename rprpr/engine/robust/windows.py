@@ -148,6 +148,23 @@ class About:
             ]
         return got
 
+    def rows(self) -> dict[float, Any]:
+        """The regressor in doubles (``_regressor_float``, (3, 2, 10)) at the times t_s + h
+        ``phi_float`` evaluated, by h."""
+        return self.__dict__.setdefault("_rows", {})
+
+    def balls(self) -> tuple[list[list[arb]], list[dyn.Params]]:
+        """The coefficients and the settings of ``BASIS`` (``regressor.setting_params``)
+        as balls at the working precision (made once per precision)."""
+        key = f"_balls{ctx.prec}"
+        got = self.__dict__.get(key)
+        if got is None:
+            got = self.__dict__[key] = (
+                [[_ball(v) for v in p] for p in self.coeffs],
+                [setting_params(self.robot, k, _ball) for k in range(len(BASIS))],
+            )
+        return got
+
     def settings(self) -> Any:
         """``regressor.settings_array`` of the robot (made once)."""
         got = self.__dict__.get("_settings")
@@ -198,8 +215,10 @@ def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
 
 
 def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
-    """The largest |T_i| over the box at t_s + h, (n, 2), in doubles."""
+    """The largest |T_i| over the box at t_s + h, (n, 2), in doubles. The regressor at
+    each of these times is kept (``About.rows``, for ``prove_in``)."""
     Ys = _regressor_float(ab, h)
+    ab.rows().update(zip(np.asarray(h, dtype=float).tolist(), np.moveaxis(Ys, 1, 0), strict=True))
     combos = [(s * float(ex), s * float(ey), s) for ex, ey in box.corners() for s in (1.0, -1.0)]
     k = np.array(combos)  # (c, 3)
     Y = (
@@ -215,9 +234,7 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
     """The regressor at t_s + h in ball arithmetic, for the error parts e = 0, per unit
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
-    robot = ab.robot
-    c = [[_ball(v) for v in p] for p in ab.coeffs]
-    params = [setting_params(robot, k, _ball) for k in range(len(BASIS))]
+    c, params = ab.balls()
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
         legs = legs_about(c, h, params[0], arb(ex), arb(ey), dyn.hypot)
@@ -252,9 +269,11 @@ def _ball(v: Any) -> arb:
     return arb(v)
 
 
-def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0) -> tuple[arb, arb]:
+def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0,
+             limits: tuple[float, float] | None = None) -> tuple[arb, arb] | None:  # fmt: skip
     """Upper bounds (exact points) of the largest |T1|, |T2| over the box at t_s + h
-    (with ``width``: over every time between t_s + h and t_s + h + ``width``)."""
+    (with ``width``: over every time between t_s + h and t_s + h + ``width``); with
+    ``limits``, None as soon as one of them exceeds its limit."""
     with ctx.workprec(PREC):
         Ys = _regressor_ball(ab, arb(h) if not width else arb(h).union(arb(h) + arb(width)))
         out = []
@@ -262,6 +281,8 @@ def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0) -> tu
             best = None
             for form in _corner_forms(Ys, box, j):
                 for up in signed_uppers(form, bbox):
+                    if limits is not None and not up <= limits[j]:
+                        return None
                     best = up if best is None or up > best else best
             out.append(best)
         return out[0], out[1]
@@ -543,8 +564,7 @@ def _inward(h: float) -> list[float]:
 def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
           width: float = 0.0) -> bool:  # fmt: skip
     """Both max |T_j| <= their limits proven at t_s + h (over [h, h + ``width``])."""
-    up = phi_ball(ab, h, box, bbox, width)
-    return bool(up[0] <= limits[0] and up[1] <= limits[1])
+    return phi_ball(ab, h, box, bbox, width, limits) is not None
 
 
 def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
@@ -557,7 +577,8 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
     corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
     fbox = float_box(box)
-    Ys = _regressor_float(ab, np.array([h]))[:, 0, j, :]  # (3, 10)
+    got = ab.rows().get(h)
+    Ys = (got if got is not None else _regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
     k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
     Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
