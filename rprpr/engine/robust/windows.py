@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
+from ...model.actuation import PRISMATIC, REVOLUTE
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
@@ -46,8 +47,9 @@ from .regressor import (
     BASIS,
     LINKS,
     efforts_of,
-    form_max,
+    horner_at,
     legs_about,
+    link_max_float,
     setting_params,
     settings_array,
     to_basis,
@@ -148,10 +150,19 @@ class About:
             ]
         return got
 
-    def rows(self) -> dict[float, Any]:
-        """The regressor in doubles (``_regressor_float``, (3, 2, 10)) at the times t_s + h
-        ``phi_float`` evaluated, by h."""
-        return self.__dict__.setdefault("_rows", {})
+    def rows(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The times t_s + h at which ``phi_float`` evaluated the regressor in doubles, and
+        the regressor there (h, ``_regressor_float``'s array)."""
+        return self.__dict__.setdefault("_rows", [])
+
+    def row(self, h: float) -> np.ndarray | None:
+        """The regressor in doubles at t_s + h, (3, 2, 10), when ``phi_float`` has
+        evaluated it there."""
+        for hs, Ys in reversed(self.rows()):
+            at = np.nonzero(hs == h)[0]
+            if len(at):
+                return Ys[:, int(at[0])]
+        return None
 
     def balls(self) -> tuple[list[list[arb]], list[dyn.Params]]:
         """The coefficients and the settings of ``BASIS`` (``regressor.setting_params``)
@@ -218,7 +229,7 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     """The largest |T_i| over the box at t_s + h, (n, 2), in doubles. The regressor at
     each of these times is kept (``About.rows``, for ``prove_in``)."""
     Ys = _regressor_float(ab, h)
-    ab.rows().update(zip(np.asarray(h, dtype=float).tolist(), np.moveaxis(Ys, 1, 0), strict=True))
+    ab.rows().append((np.asarray(h, dtype=float), Ys))
     combos = [(s * float(ex), s * float(ey), s) for ex, ey in box.corners() for s in (1.0, -1.0)]
     k = np.array(combos)  # (c, 3)
     Y = (
@@ -226,8 +237,34 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
         + k[:, 0, None, None, None] * Ys[1][None]
         + (k[:, 1, None, None, None] * Ys[2][None])
     )  # (c, n, 2, 10)
-    v = form_max([Y[..., j] for j in range(len(BASIS))], fbox, False)
-    return v.max(axis=0)
+    return _form_float(Y, fbox).max(axis=0)
+
+
+_MR, _J, _M = [0, 3, 5, 8], [1, 4, 6, 9], [0, 2, 5, 7]  # per link of ``LINKS``: its columns
+
+
+def _form_float(Y: np.ndarray, fbox: Any) -> np.ndarray:
+    """``regressor.form_max`` in doubles (the same operations on the same numbers, so the
+    same doubles) with ``BASIS`` on the last axis of ``Y``: every link at once."""
+    B = np.moveaxis(Y[..., _MR], -1, 0)
+    C = np.moveaxis(Y[..., _J], -1, 0)
+    A = np.moveaxis(Y[..., _M], -1, 0)
+    for i, (_, km, _, _) in enumerate(LINKS):
+        if km is None:
+            A[i] = B[i] * 0
+    bounds = _box_arrays(fbox, Y.ndim)
+    L = link_max_float(A, B, C, bounds)
+    total = L[0]
+    for i in range(1, len(LINKS)):
+        total = total + L[i]
+    return total
+
+
+def _box_arrays(fbox: Any, ndim: int) -> Any:
+    """The box's (m, r, I) ends as arrays over ``LINKS`` (then ``ndim`` - 1 unit axes)."""
+    shape = (len(LINKS),) + (1,) * (ndim - 1)
+    return tuple(tuple(np.array([fbox[link][q][e] for link, *_ in LINKS]).reshape(shape)
+                       for e in (0, 1)) for q in (0, 1, 2))  # fmt: skip
 
 
 def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[Any]]]:
@@ -235,6 +272,8 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
     c, params = ab.balls()
+    if params[0].mechanism.name in (REVOLUTE, PRISMATIC):
+        return _regressor_direct(ab, c, params[0], h, at_ts)
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
         legs = legs_about(c, h, params[0], arb(ex), arb(ey), dyn.hypot)
@@ -247,6 +286,69 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
             else:
                 values.append(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta))
         out.append([to_basis([v[j] for v in values]) for j in range(len(values[0]))])
+    return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
+             for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
+
+
+def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_ts: bool
+                      ) -> list[list[list[Any]]]:  # fmt: skip
+    """``_regressor_ball`` for the two schemes of ``equations``, each coefficient of π
+    written out (the settings' evaluations of eqs. 7-14, 28-33 collected by hand): with
+    d = s - r and J = m r² + I,
+
+        U1 = M11 θ1'' + N1:  J2, J3: θ1'';  m3: θ1'' s1² + 2 s1' θ1' s1 + g cos θ1 s1;
+                             m3 r3: -2 θ1'' s1 - 2 s1' θ1' - g cos θ1;  m2 r2: g cos θ1
+        F1 = M22 s1'' + N2:  m3: s1'' - θ1'² s1 + g sin θ1;  m3 r3: θ1'²
+
+    (U2, F2 alike with links 4, 5 and leg 2); then, with δ = -a1 y/(s1 s2) (eq. 29, the
+    product form) and c12 = cos(θ1 - θ2) = cos θ1 cos θ2 + sin θ1 sin θ2 (λ = μ/δ, eqs.
+    32-33 and the prismatic μ of ``equations`` multiplied out, sin² + cos² = 1),
+
+        revolute:   T1 = U1 - s1 (c12 F1 + F2)/δ,   T2 = U2 + s2 (F1 + c12 F2)/δ
+        prismatic:  F1 + (c12 V1 + V2)/δ,  F2 - (V1 + c12 V2)/δ,   V_i = U_i/s_i
+
+    and at t_s the consistency residual σ F1 + F2 (revolute), (s2 U1 + σ s1 U2)/(s1 s2)
+    (prismatic). A few operations per coefficient instead of the equations at each of
+    the ten settings."""
+    g = p.g
+    n = len(BASIS)
+    out = []
+    for ex, ey in ((0, 0), (1, 0), (0, 1)):
+        l1, l2 = legs_about(c, h, p, arb(ex), arb(ey), dyn.hypot)
+        U1, U2, F1, F2 = ([ZERO] * n for _ in range(4))
+        for (k_mr, k_j2, k_m, k_mr3, k_j3), leg, U, F in (
+            ((0, 1, 2, 3, 4), l1, U1, F1), ((5, 6, 7, 8, 9), l2, U2, F2)
+        ):  # fmt: skip
+            gc = g * leg.cos
+            sd_thd = leg.s_d * leg.th_d
+            thd2 = leg.th_d * leg.th_d
+            U[k_mr] = gc
+            U[k_j2] = U[k_j3] = leg.th_dd
+            U[k_m] = (leg.th_dd * leg.s + 2 * sd_thd + gc) * leg.s
+            U[k_mr3] = -2 * (leg.th_dd * leg.s + sd_thd) - gc
+            F[k_m] = leg.s_dd - thd2 * leg.s + g * leg.sin
+            F[k_mr3] = thd2
+        scheme = p.mechanism.name
+        cols = list(zip(U1, U2, F1, F2, strict=True))
+        if at_ts:
+            sigma = _sigma((l1, l2))
+            if scheme == REVOLUTE:
+                rows = [[sigma * f1 + f2 for _, _, f1, f2 in cols]]
+            else:
+                s12 = l1.s * l2.s
+                rows = [[(l2.s * u1 + sigma * l1.s * u2) / s12 for u1, u2, _, _ in cols]]
+        else:
+            delta = -(p.a1 * horner_at(c[3], h)) / (l1.s * l2.s)
+            c12 = l1.cos * l2.cos + l1.sin * l2.sin
+            if scheme == REVOLUTE:
+                a, b = l1.s / delta, l2.s / delta
+                rows = [[u1 - a * (c12 * f1 + f2) for u1, _, f1, f2 in cols],
+                        [u2 + b * (f1 + c12 * f2) for _, u2, f1, f2 in cols]]  # fmt: skip
+            else:
+                vs = [(u1 / l1.s, u2 / l2.s, f1, f2) for u1, u2, f1, f2 in cols]
+                rows = [[f1 + (c12 * v1 + v2) / delta for v1, v2, f1, _ in vs],
+                        [f2 - (v1 + c12 * v2) / delta for v1, v2, _, f2 in vs]]  # fmt: skip
+        out.append(rows)
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
 
@@ -577,12 +679,12 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
     corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
     fbox = float_box(box)
-    got = ab.rows().get(h)
+    got = ab.row(h)
     Ys = (got if got is not None else _regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
     k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
     Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
-    v = form_max([Yc[:, i] for i in range(Yc.shape[1])], fbox, False)
+    v = _form_float(Yc, fbox)
     found = np.nonzero(v > -math.inf)[0]  # (NaN: not a candidate)
     assert len(found)
     best = int(found[np.argmax(v[found])])  # the first of the largest
