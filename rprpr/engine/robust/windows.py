@@ -372,11 +372,12 @@ def _ball(v: Any) -> arb:
 
 
 def phi_ball(ab: About, h: float, box: Box, bbox: Any, width: float = 0.0,
-             limits: tuple[float, float] | None = None) -> tuple[arb, arb] | None:  # fmt: skip
+             limits: tuple[float, float] | None = None, prec: int = PREC
+             ) -> tuple[arb, arb] | None:  # fmt: skip
     """Upper bounds (exact points) of the largest |T1|, |T2| over the box at t_s + h
-    (with ``width``: over every time between t_s + h and t_s + h + ``width``); with
-    ``limits``, None as soon as one of them exceeds its limit."""
-    with ctx.workprec(PREC):
+    (with ``width``: over every time between t_s + h and t_s + h + ``width``), in balls
+    of ``prec`` bits; with ``limits``, None as soon as one of them exceeds its limit."""
+    with ctx.workprec(prec):
         Ys = _regressor_ball(ab, arb(h) if not width else arb(h).union(arb(h) + arb(width)))
         out = []
         for j in (0, 1):
@@ -540,8 +541,12 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
         j = 0 if bs[0][1] >= bs[1][1] else 1
         reach = next(r for dd, r, _ in live if dd == d)
         # the window cannot reach past the first candidate at which it is proven to end
-        outer = next((h for h in _outward(bs[j][1], reach)
-                      if below(ab, box, bbox, limits, d * h)), reach)  # fmt: skip
+        # (at the bracket's far end itself, the quick attempt only where the doubles put
+        # the largest |T_j| there clear of the limit: else it is often just over it)
+        clear = bs[j][3] < -CLEAR * limits[j]
+        outer = next((h for k, h in enumerate(_outward(bs[j][1], reach))
+                      if below(ab, box, bbox, limits, d * h, quick=k > 0 or clear)),
+                     reach)  # fmt: skip
         # (a bracket narrower than the doubles' error at its ends: from a little inside)
         inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
         out[d] = (outer, inner, j)
@@ -647,6 +652,9 @@ def _refine(ab: About, box: Box, fbox: Any, lim: np.ndarray,
         brackets[d][j] = got
 
 
+CLEAR = 1e-12  # a double value of |T_j| this fraction of the limit below it: clear of it
+
+
 def _outward(h: float, reach: float) -> list[float]:
     """The candidates for a proven outer end from h: h, h (1 + 1e-12), h (1 + 1e-12)
     (1 + 1e-10), ..., each below ``reach`` (the window cannot reach past the first at
@@ -663,9 +671,17 @@ def _inward(h: float) -> list[float]:
     return [g for shrink in (0.0, 1e-12, 1e-9, 1e-6) if (g := h * (1 - shrink)) > 0]
 
 
+QUICK = 64  # bits of a first attempt at a proof where the doubles leave a margin
+
+
 def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
-          width: float = 0.0) -> bool:  # fmt: skip
-    """Both max |T_j| <= their limits proven at t_s + h (over [h, h + ``width``])."""
+          width: float = 0.0, quick: bool = True) -> bool:  # fmt: skip
+    """Both max |T_j| <= their limits proven at t_s + h (over [h, h + ``width``]): in
+    ``QUICK``-bit balls first (with ``quick``: where the doubles put the bound clear of
+    the limit), then where they do not decide it in ``PREC``-bit balls (a proof either
+    way; the box's ends are ``bbox``'s balls in both)."""
+    if quick and phi_ball(ab, h, box, bbox, width, limits, QUICK) is not None:
+        return True
     return phi_ball(ab, h, box, bbox, width, limits) is not None
 
 
