@@ -155,14 +155,19 @@ class About:
         the regressor there (h, ``_regressor_float``'s array)."""
         return self.__dict__.setdefault("_rows", [])
 
-    def row(self, h: float) -> np.ndarray | None:
+    def row(self, h: float, near: float = 0.0) -> np.ndarray | None:
         """The regressor in doubles at t_s + h, (3, 2, 10), when ``phi_float`` has
-        evaluated it there."""
+        evaluated it there (with ``near``: at the time it evaluated nearest t_s + h, when
+        within ``near`` |h| of it)."""
+        best, gap = None, near * abs(h)
         for hs, Ys in reversed(self.rows()):
-            at = np.nonzero(hs == h)[0]
-            if len(at):
-                return Ys[:, int(at[0])]
-        return None
+            dist = np.abs(hs - h)
+            k = int(np.argmin(dist)) if len(dist) else -1
+            if k >= 0 and (dist[k] < gap or (best is None and dist[k] <= gap)):
+                best, gap = Ys[:, k], dist[k]
+                if gap == 0:
+                    break
+        return best
 
     def balls(self) -> tuple[list[list[arb]], list[dyn.Params]]:
         """The coefficients and the settings of ``BASIS`` (``regressor.setting_params``)
@@ -218,11 +223,20 @@ def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     legs = legs_about(c, hh, params, ex, ey, np.hypot)
     with np.errstate(divide="ignore", invalid="ignore"):
         T1, T2 = efforts_of(legs, params)  # (n, 3, 10)
-    Y = np.stack(np.broadcast_arrays(T1, T2), axis=2)  # (n, 3, 2, 10)
-    Y = np.moveaxis(Y, 1, 0)  # (3, n, 2, 10)
-    B = to_basis([Y[..., k] for k in range(len(BASIS))])
-    Y = np.stack(B, axis=-1)
-    return np.stack([Y[0], Y[1] - Y[0], Y[2] - Y[0]])
+    shape = (len(hh), 3, len(BASIS))
+    Y = np.empty((3, len(hh), 2, len(BASIS)))
+    for j, T in enumerate((T1, T2)):
+        Y[:, :, j, :] = np.moveaxis(np.broadcast_to(T, shape), 1, 0)
+    for k, m in _TO_BASIS:  # ``to_basis`` in place
+        Y[..., k] -= Y[..., m]
+    Y[1] -= Y[0]  # per unit e_x, e_y
+    Y[2] -= Y[0]
+    return Y
+
+
+# ``to_basis``: the "mr" column less the "m" column of the same link (links 3, 5)
+_TO_BASIS = [(k, BASIS.index((link, "m"))) for k, (link, what) in enumerate(BASIS)
+             if what == "mr" and (link, "m") in BASIS]  # fmt: skip
 
 
 def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
@@ -693,9 +707,11 @@ def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: floa
 
 def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
-    corners of e, and per link the maximiser of ``link_max_float``), as a ball."""
+    corners of e, and per link the maximiser of ``link_max_float``), as a ball. (Any
+    point of the box gives a lower bound of the largest |T_j| there; the doubles at a
+    time 1e-9 |h| from t_s + h, when evaluated already, choose it as well.)"""
     fbox = float_box(box)
-    got = ab.row(h)
+    got = ab.row(h, 1e-9)
     Ys = (got if got is not None else _regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
     k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
@@ -714,7 +730,7 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     old = ctx.prec
     ctx.prec = PREC
     try:
-        c = [[_ball(v) for v in p] for p in ab.coeffs]
+        c = ab.balls()[0]
         p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
         legs = legs_about(c, arb(h), p, arb(ex), arb(ey), dyn.hypot)
         d = dyn.dynamics(legs[0], legs[1], p)
