@@ -226,7 +226,8 @@ def _regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     shape = (len(hh), 3, len(BASIS))
     Y = np.empty((3, len(hh), 2, len(BASIS)))
     for j, T in enumerate((T1, T2)):
-        Y[:, :, j, :] = np.moveaxis(np.broadcast_to(T, shape), 1, 0)
+        Y[:, :, j, :] = (T.transpose(1, 0, 2) if np.ndim(T) == 3
+                         else np.moveaxis(np.broadcast_to(T, shape), 1, 0))  # fmt: skip
     for k, m in _TO_BASIS:  # ``to_basis`` in place
         Y[..., k] -= Y[..., m]
     Y[1] -= Y[0]  # per unit e_x, e_y
@@ -244,8 +245,7 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     each of these times is kept (``About.rows``, for ``prove_in``)."""
     Ys = _regressor_float(ab, h)
     ab.rows().append((np.asarray(h, dtype=float), Ys))
-    combos = [(s * float(ex), s * float(ey), s) for ex, ey in box.corners() for s in (1.0, -1.0)]
-    k = np.array(combos)  # (c, 3)
+    k = _combos(ab, box)[1]  # (c, 3): (s e_x, s e_y, s)
     Y = (
         k[:, 2, None, None, None] * Ys[0][None]
         + k[:, 0, None, None, None] * Ys[1][None]
@@ -254,15 +254,28 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     return _form_float(Y, fbox).max(axis=0)
 
 
+def _combos(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.ndarray, np.ndarray]:
+    """The corners of e with each sign s: (e_x, e_y, s), and as doubles (s e_x, s e_y, s)
+    and (e_x, e_y, s), (c, 3) (made once per instant and box)."""
+    got = ab.__dict__.get("_combos")
+    if got is None or got[0] is not box:
+        combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
+        signed = np.array([(s * float(ex), s * float(ey), s) for ex, ey, s in combos])
+        plain = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])
+        got = ab.__dict__["_combos"] = (box, combos, signed, plain)
+    return got[1], got[2], got[3]
+
+
 _MR, _J, _M = [0, 3, 5, 8], [1, 4, 6, 9], [0, 2, 5, 7]  # per link of ``LINKS``: its columns
 
 
 def _form_float(Y: np.ndarray, fbox: Any) -> np.ndarray:
     """``regressor.form_max`` in doubles (the same operations on the same numbers, so the
     same doubles) with ``BASIS`` on the last axis of ``Y``: every link at once."""
-    B = np.moveaxis(Y[..., _MR], -1, 0)
-    C = np.moveaxis(Y[..., _J], -1, 0)
-    A = np.moveaxis(Y[..., _M], -1, 0)
+    axes = (Y.ndim - 1, *range(Y.ndim - 1))  # the links' axis first
+    B = Y[..., _MR].transpose(axes)
+    C = Y[..., _J].transpose(axes)
+    A = Y[..., _M].transpose(axes)
     for i, (_, km, _, _) in enumerate(LINKS):
         if km is None:
             A[i] = B[i] * 0
@@ -713,8 +726,7 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     fbox = float_box(box)
     got = ab.row(h, 1e-9)
     Ys = (got if got is not None else _regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
-    combos = [(ex, ey, s) for ex, ey in box.corners() for s in (1.0, -1.0)]
-    k = np.array([(float(ex), float(ey), s) for ex, ey, s in combos])  # (c, 3)
+    combos, _, k = _combos(ab, box)  # (c, 3): (e_x, e_y, s)
     Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
     v = _form_float(Yc, fbox)
     found = np.nonzero(v > -math.inf)[0]  # (NaN: not a candidate)
