@@ -251,7 +251,7 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
         + k[:, 0, None, None, None] * Ys[1][None]
         + (k[:, 1, None, None, None] * Ys[2][None])
     )  # (c, n, 2, 10)
-    return _form_float(Y, fbox).max(axis=0)
+    return _form_float(Y, _box_arrays(ab, box, fbox, Y.ndim)).max(axis=0)
 
 
 def _combos(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.ndarray, np.ndarray]:
@@ -269,7 +269,7 @@ def _combos(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.nda
 _MR, _J, _M = [0, 3, 5, 8], [1, 4, 6, 9], [0, 2, 5, 7]  # per link of ``LINKS``: its columns
 
 
-def _form_float(Y: np.ndarray, fbox: Any) -> np.ndarray:
+def _form_float(Y: np.ndarray, bounds: Any) -> np.ndarray:
     """``regressor.form_max`` in doubles (the same operations on the same numbers, so the
     same doubles) with ``BASIS`` on the last axis of ``Y``: every link at once."""
     axes = (Y.ndim - 1, *range(Y.ndim - 1))  # the links' axis first
@@ -279,7 +279,6 @@ def _form_float(Y: np.ndarray, fbox: Any) -> np.ndarray:
     for i, (_, km, _, _) in enumerate(LINKS):
         if km is None:
             A[i] = B[i] * 0
-    bounds = _box_arrays(fbox, Y.ndim)
     L = link_max_float(A, B, C, bounds)
     total = L[0]
     for i in range(1, len(LINKS)):
@@ -287,11 +286,17 @@ def _form_float(Y: np.ndarray, fbox: Any) -> np.ndarray:
     return total
 
 
-def _box_arrays(fbox: Any, ndim: int) -> Any:
-    """The box's (m, r, I) ends as arrays over ``LINKS`` (then ``ndim`` - 1 unit axes)."""
-    shape = (len(LINKS),) + (1,) * (ndim - 1)
-    return tuple(tuple(np.array([fbox[link][q][e] for link, *_ in LINKS]).reshape(shape)
-                       for e in (0, 1)) for q in (0, 1, 2))  # fmt: skip
+def _box_arrays(ab: About, box: Box, fbox: Any, ndim: int) -> Any:
+    """The box's (m, r, I) ends (``fbox``, ``box`` in doubles) as arrays over ``LINKS``
+    (then ``ndim`` - 1 unit axes), made once per instant, box and ``ndim``."""
+    key = f"_bounds{ndim}"
+    got = ab.__dict__.get(key)
+    if got is None or got[0] is not box:
+        shape = (len(LINKS),) + (1,) * (ndim - 1)
+        arrays = tuple(tuple(np.array([fbox[link][q][e] for link, *_ in LINKS]).reshape(shape)
+                             for e in (0, 1)) for q in (0, 1, 2))  # fmt: skip
+        got = ab.__dict__[key] = (box, arrays)
+    return got[1]
 
 
 def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[Any]]]:
@@ -339,9 +344,10 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
     the ten settings."""
     g = p.g
     n = len(BASIS)
+    x, xd, xdd, y, yd, ydd = (horner_at(q, h) for q in c)  # ``legs_about``'s, once
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
-        l1, l2 = legs_about(c, h, p, arb(ex), arb(ey), dyn.hypot)
+        l1, l2 = p.mechanism.legs(p, x, xd, xdd + arb(ex), y, yd, ydd + arb(ey), dyn.hypot)
         U1, U2, F1, F2 = ([ZERO] * n for _ in range(4))
         for (k_mr, k_j2, k_m, k_mr3, k_j3), leg, U, F in (
             ((0, 1, 2, 3, 4), l1, U1, F1), ((5, 6, 7, 8, 9), l2, U2, F2)
@@ -365,7 +371,7 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
                 s12 = l1.s * l2.s
                 rows = [[(l2.s * u1 + sigma * l1.s * u2) / s12 for u1, u2, _, _ in cols]]
         else:
-            delta = -(p.a1 * horner_at(c[3], h)) / (l1.s * l2.s)
+            delta = -(p.a1 * y) / (l1.s * l2.s)
             c12 = l1.cos * l2.cos + l1.sin * l2.sin
             if scheme == REVOLUTE:
                 a, b = l1.s / delta, l2.s / delta
@@ -728,7 +734,7 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
     Ys = (got if got is not None else _regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos, _, k = _combos(ab, box)  # (c, 3): (e_x, e_y, s)
     Yc = k[:, 2, None] * (Ys[0] + k[:, 0, None] * Ys[1] + k[:, 1, None] * Ys[2])  # (c, 10)
-    v = _form_float(Yc, fbox)
+    v = _form_float(Yc, _box_arrays(ab, box, fbox, Yc.ndim))
     found = np.nonzero(v > -math.inf)[0]  # (NaN: not a candidate)
     assert len(found)
     best = int(found[np.argmax(v[found])])  # the first of the largest
