@@ -36,7 +36,6 @@ from typing import Any
 import numpy as np
 from flint import arb, ctx, fmpq, fmpq_poly
 
-from ...model.actuation import PRISMATIC, REVOLUTE
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
@@ -245,13 +244,14 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     each of these times is kept (``About.rows``, for ``prove_in``)."""
     Ys = _regressor_float(ab, h)
     ab.rows().append((np.asarray(h, dtype=float), Ys))
-    k = _combos(ab, box)[1]  # (c, 3): (s e_x, s e_y, s)
+    k = _combos(ab, box)[1][::2]  # (corners, 3): (e_x, e_y, 1)
     Y = (
         k[:, 2, None, None, None] * Ys[0][None]
         + k[:, 0, None, None, None] * Ys[1][None]
         + (k[:, 1, None, None, None] * Ys[2][None])
-    )  # (c, n, 2, 10)
-    return _form_float(Y, _box_arrays(ab, box, fbox, Y.ndim)).max(axis=0)
+    )  # (corners, n, 2, 10); for s = -1 exactly -Y (rounding to nearest is symmetric)
+    up, down = _form_both(Y, _box_arrays(ab, box, fbox, Y.ndim))
+    return np.maximum(up.max(axis=0), down.max(axis=0))
 
 
 def _combos(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.ndarray, np.ndarray]:
@@ -286,6 +286,45 @@ def _form_float(Y: np.ndarray, bounds: Any) -> np.ndarray:
     return total
 
 
+def _form_both(Y: np.ndarray, bounds: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``_form_float`` of Y and of -Y from one set of operations (``_link_max_both``)."""
+    axes = (Y.ndim - 1, *range(Y.ndim - 1))  # the links' axis first
+    B = Y[..., _MR].transpose(axes)
+    C = Y[..., _J].transpose(axes)
+    A = Y[..., _M].transpose(axes)
+    for i, (_, km, _, _) in enumerate(LINKS):
+        if km is None:
+            A[i] = B[i] * 0
+    up, down = _link_max_both(A, B, C, bounds)
+    tot_up, tot_down = up[0], down[0]
+    for i in range(1, len(LINKS)):
+        tot_up = tot_up + up[i]
+        tot_down = tot_down + down[i]
+    return tot_up, tot_down
+
+
+def _link_max_both(A: Any, B: Any, C: Any, box: Any) -> tuple[Any, Any]:
+    """``regressor.link_max_float`` of (A, B, C) and of (-A, -B, -C): every operation
+    there on the negated operands gives the negated double (rounding to nearest is
+    symmetric), so the second is read off the first's intermediate values (a maximum of
+    negated values is minus their minimum, the vertex -B/2C is the same)."""
+    (mlo, mhi), (rlo, rhi), (ilo, ihi) = box
+    glo = A + B * rlo + C * rlo * rlo
+    ghi = A + B * rhi + C * rhi * rhi
+    G = np.maximum(glo, ghi)
+    Gn = -np.minimum(glo, ghi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rs = -B / (2 * C)
+        placed = (rs > rlo) & (rs < rhi)
+        top = A - B * B / (4 * C)
+        G = np.where((C < 0) & placed, np.maximum(G, top), G)
+        Gn = np.where((C > 0) & placed, np.maximum(Gn, -top), Gn)
+    c_lo, c_hi = C * ilo, C * ihi
+    up = np.maximum(mlo * G, mhi * G) + np.maximum(c_lo, c_hi)
+    down = np.maximum(mlo * Gn, mhi * Gn) + (-np.minimum(c_lo, c_hi))
+    return up, down
+
+
 def _box_arrays(ab: About, box: Box, fbox: Any, ndim: int) -> Any:
     """The box's (m, r, I) ends (``fbox``, ``box`` in doubles) as arrays over ``LINKS``
     (then ``ndim`` - 1 unit axes), made once per instant, box and ``ndim``."""
@@ -304,7 +343,7 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
     c, params = ab.balls()
-    if params[0].mechanism.name in (REVOLUTE, PRISMATIC):
+    if type(params[0].mechanism).dynamics is dyn.Rprpr.dynamics:  # the RPRPR's terms
         return _regressor_direct(ab, c, params[0], h, at_ts)
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
@@ -324,30 +363,27 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
 
 def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_ts: bool
                       ) -> list[list[list[Any]]]:  # fmt: skip
-    """``_regressor_ball`` for the two schemes of ``equations``, each coefficient of π
-    written out (the settings' evaluations of eqs. 7-14, 28-33 collected by hand): with
-    d = s - r and J = m r² + I,
+    """``_regressor_ball`` for the RPRPR's equations of motion (``equations.Rprpr``,
+    eqs. 7-14, shared by its schemes), each coefficient of π written out: with d = s - r
+    and J = m r² + I, the θ and s rows' terms U1 = M11 θ1'' + N1 and F1 = M22 s1'' + N2
 
-        U1 = M11 θ1'' + N1:  J2, J3: θ1'';  m3: θ1'' s1² + 2 s1' θ1' s1 + g cos θ1 s1;
-                             m3 r3: -2 θ1'' s1 - 2 s1' θ1' - g cos θ1;  m2 r2: g cos θ1
-        F1 = M22 s1'' + N2:  m3: s1'' - θ1'² s1 + g sin θ1;  m3 r3: θ1'²
+        U1:  J2, J3: θ1'';  m3: θ1'' s1² + 2 s1' θ1' s1 + g cos θ1 s1;
+             m3 r3: -2 θ1'' s1 - 2 s1' θ1' - g cos θ1;  m2 r2: g cos θ1
+        F1:  m3: s1'' - θ1'² s1 + g sin θ1;  m3 r3: θ1'²
 
-    (U2, F2 alike with links 4, 5 and leg 2); then, with δ = -a1 y/(s1 s2) (eq. 29, the
-    product form) and c12 = cos(θ1 - θ2) = cos θ1 cos θ2 + sin θ1 sin θ2 (λ = μ/δ, eqs.
-    32-33 and the prismatic μ of ``equations`` multiplied out, sin² + cos² = 1),
-
-        revolute:   T1 = U1 - s1 (c12 F1 + F2)/δ,   T2 = U2 + s2 (F1 + c12 F2)/δ
-        prismatic:  F1 + (c12 V1 + V2)/δ,  F2 - (V1 + c12 V2)/δ,   V_i = U_i/s_i
-
-    and at t_s the consistency residual σ F1 + F2 (revolute), (s2 U1 + σ s1 U2)/(s1 s2)
-    (prismatic). A few operations per coefficient instead of the equations at each of
-    the ten settings."""
+    (U2, F2 alike with links 4, 5 and leg 2) are linear in π, and the scheme's efforts
+    and consistency residual are linear in (U1, U2, F1, F2): each column through the
+    scheme's own μ, efforts and consistency (``Rprpr._mu``, ``efforts``, ``consistency``)
+    with those terms (M11 = M33 = 0, N1 = U1, N3 = U2), λ = μ/δ with δ in its product
+    form (``delta``, eq. 29). Far fewer operations than the equations at each of the ten
+    settings."""
     g = p.g
+    mech = p.mechanism
     n = len(BASIS)
     x, xd, xdd, y, yd, ydd = (horner_at(q, h) for q in c)  # ``legs_about``'s, once
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
-        l1, l2 = p.mechanism.legs(p, x, xd, xdd + arb(ex), y, yd, ydd + arb(ey), dyn.hypot)
+        l1, l2 = mech.legs(p, x, xd, xdd + arb(ex), y, yd, ydd + arb(ey), dyn.hypot)
         U1, U2, F1, F2 = ([ZERO] * n for _ in range(4))
         for (k_mr, k_j2, k_m, k_mr3, k_j3), leg, U, F in (
             ((0, 1, 2, 3, 4), l1, U1, F1), ((5, 6, 7, 8, 9), l2, U2, F2)
@@ -361,27 +397,25 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
             U[k_mr3] = -2 * (leg.th_dd * leg.s + sd_thd) - gc
             F[k_m] = leg.s_dd - thd2 * leg.s + g * leg.sin
             F[k_mr3] = thd2
-        scheme = p.mechanism.name
-        cols = list(zip(U1, U2, F1, F2, strict=True))
-        if at_ts:
-            sigma = _sigma((l1, l2))
-            if scheme == REVOLUTE:
-                rows = [[sigma * f1 + f2 for _, _, f1, f2 in cols]]
-            else:
-                s12 = l1.s * l2.s
-                rows = [[(l2.s * u1 + sigma * l1.s * u2) / s12 for u1, u2, _, _ in cols]]
-        else:
-            delta = -(p.a1 * y) / (l1.s * l2.s)
-            c12 = l1.cos * l2.cos + l1.sin * l2.sin
-            if scheme == REVOLUTE:
-                a, b = l1.s / delta, l2.s / delta
-                rows = [[u1 - a * (c12 * f1 + f2) for u1, _, f1, f2 in cols],
-                        [u2 + b * (f1 + c12 * f2) for _, u2, f1, f2 in cols]]  # fmt: skip
-            else:
-                vs = [(u1 / l1.s, u2 / l2.s, f1, f2) for u1, u2, f1, f2 in cols]
-                rows = [[f1 + (c12 * v1 + v2) / delta for v1, v2, f1, _ in vs],
-                        [f2 - (v1 + c12 * v2) / delta for v1, v2, _, f2 in vs]]  # fmt: skip
-        out.append(rows)
+        sigma = _sigma((l1, l2)) if at_ts else 0
+        delta = None if at_ts else mech.delta(p, y, l1, l2)
+        rows: list[list[Any]] = []
+        done: dict[tuple[int, ...], tuple[Any, ...]] = {}
+        for col in zip(U1, U2, F1, F2, strict=True):
+            key = tuple(id(v) for v in col)  # (J2 and J3, J4 and J5: the same column)
+            got = done.get(key)
+            if got is None:
+                mu1, mu2, V1, V2 = mech._mu(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3])
+                d = dyn.Dynamics(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3], mu1, mu2,
+                                 delta, mech, V1, V2)  # fmt: skip
+                if at_ts:
+                    num, den = mech.consistency(d, sigma, lambda v: v)
+                    got = (num if den is None else num / den,)
+                else:
+                    got = mech.efforts(d, mu1 / delta, mu2 / delta)
+                done[key] = got
+            rows.append(list(got))
+        out.append([[r[j] for r in rows] for j in range(len(rows[0]))])
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
 
