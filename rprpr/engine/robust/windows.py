@@ -405,9 +405,9 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
             key = tuple(id(v) for v in col)  # (J2 and J3, J4 and J5: the same column)
             got = done.get(key)
             if got is None:
-                mu1, mu2, V1, V2 = mech._mu(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3])
+                mu1, mu2, u1, u2 = mech._mu(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3])
                 d = dyn.Dynamics(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3], mu1, mu2,
-                                 delta, mech, V1, V2)  # fmt: skip
+                                 delta, mech, u1, u2)  # fmt: skip
                 if at_ts:
                     num, den = mech.consistency(d, sigma, lambda v: v)
                     got = (num if den is None else num / den,)
@@ -615,7 +615,9 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
                       if below(ab, box, bbox, limits, d * h, quick=k > 0 or clear)),
                      reach)  # fmt: skip
         # (a bracket narrower than the doubles' error at its ends: from a little inside)
-        inner = prove_in(ab, box, bbox, limits[j], j, d, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
+        near = min(bs[j][0], bs[j][1] * (1 - 2e-12))
+        inner = prove_in(ab, box, bbox, limits[j], j, d, near,
+                         near == bs[j][0] and bs[j][2] > CLEAR * limits[j])  # fmt: skip
         out[d] = (outer, inner, j)
     return out
 
@@ -752,13 +754,20 @@ def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
     return phi_ball(ab, h, box, bbox, width, limits) is not None
 
 
-def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float) -> float:
+def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float,
+             quick: bool = False) -> float:  # fmt: skip
     """h, or a little nearer t_s, at which max |T_j| > lim is proven (0 when none is):
-    |T_j| at the box's worst point there (found in doubles), in ball arithmetic."""
-    return next((g for g in _inward(h) if _worst_ball(ab, d * g, box, j) > lim), 0.0)
+    |T_j| at the box's worst point there (found in doubles), in ball arithmetic (with
+    ``quick``, where the doubles put it clear of the limit: ``QUICK`` bits first)."""
+
+    def above(g: float) -> bool:
+        return bool((quick and _worst_ball(ab, d * g, box, j, QUICK) > lim)
+                    or _worst_ball(ab, d * g, box, j) > lim)  # fmt: skip
+
+    return next((g for g in _inward(h) if above(g)), 0.0)
 
 
-def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
+def _worst_ball(ab: About, h: float, box: Box, j: int, prec: int = PREC) -> arb:
     """|T_j| at t_s + h at one point of the box, the largest the doubles find (its
     corners of e, and per link the maximiser of ``link_max_float``), as a ball. (Any
     point of the box gives a lower bound of the largest |T_j| there; the doubles at a
@@ -780,7 +789,7 @@ def _worst_ball(ab: About, h: float, box: Box, j: int) -> arb:
         values[link] = _argmax(A, Y[kmr], Y[kj], box.links[link])
     L = box.robot_links(values)
     old = ctx.prec
-    ctx.prec = PREC
+    ctx.prec = prec
     try:
         c = ab.balls()[0]
         p = dyn.Params(_ball(ab.robot.a1), _ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
