@@ -1,5 +1,5 @@
 """The robust analysis of a singular instant from its pieces (``docs/robust.md``): the
-residual over the box and the saturation window, each side measured by ``windows.side``
+residual over the box and the saturation window, each side measured by ``ends.sides``
 on the piece that holds t_s and, when it reaches that piece's end, continued across the
 knot into the pieces beyond (``beyond``) until one proves where it ends."""
 
@@ -15,6 +15,8 @@ from flint import arb, ctx, fmpq, fmpq_poly
 from ...model.numbers import to_float
 from ...model.task import Robot, Task
 from ..pieces import shift
+from .ends import sides
+from .proofs import below, prove_in, residual
 from .windows import (
     PREC,
     About,
@@ -22,15 +24,11 @@ from .windows import (
     Robust,
     about,
     ball_box,
-    below,
     float_box,
     phi_float,
-    prove_in,
-    residual,
     round_down,
     round_up,
     shifted,
-    sides,
 )
 
 GAP = 1e-12  # [s] past a knot, a dip below the limit shorter than this does not end a window
