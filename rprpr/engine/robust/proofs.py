@@ -68,50 +68,65 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
     (U2, F2 alike with links 4, 5 and leg 2) are linear in π, and the scheme's efforts
     and consistency residual are linear in (U1, U2, F1, F2): each column through the
     scheme's own μ, efforts and consistency (``Rprpr._mu``, ``efforts``, ``consistency``)
-    with those terms (M11 = M33 = 0, N1 = U1, N3 = U2), λ = μ/δ with δ in its product
-    form (``delta``, eq. 29). Far fewer operations than the equations at each of the ten
-    settings."""
-    g = p.g
+    at the unit terms (M11 = M33 = 0, N1 = U1, N3 = U2), λ = μ/δ with δ in its product
+    form (``delta``, eq. 29), then each column from them. Far fewer operations than the
+    equations at each of the ten settings."""
     mech = p.mechanism
-    n = len(BASIS)
     x, xd, xdd, y, yd, ydd = (horner_at(q, h) for q in c)  # ``legs_about``'s, once
     out = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
         l1, l2 = mech.legs(p, x, xd, xdd + arb(ex), y, yd, ydd + arb(ey), dyn.hypot)
-        U1, U2, F1, F2 = ([ZERO] * n for _ in range(4))
-        for (k_mr, k_j2, k_m, k_mr3, k_j3), leg, U, F in (
-            ((0, 1, 2, 3, 4), l1, U1, F1), ((5, 6, 7, 8, 9), l2, U2, F2)
-        ):  # fmt: skip
-            gc = g * leg.cos
-            sd_thd = leg.s_d * leg.th_d
-            thd2 = leg.th_d * leg.th_d
-            U[k_mr] = gc
-            U[k_j2] = U[k_j3] = leg.th_dd
-            U[k_m] = (leg.th_dd * leg.s + 2 * sd_thd + gc) * leg.s
-            U[k_mr3] = -2 * (leg.th_dd * leg.s + sd_thd) - gc
-            F[k_m] = leg.s_dd - thd2 * leg.s + g * leg.sin
-            F[k_mr3] = thd2
-        sigma = _sigma((l1, l2)) if at_ts else 0
-        delta = None if at_ts else mech.delta(p, y, l1, l2)
-        rows: list[list[Any]] = []
-        done: dict[tuple[int, ...], tuple[Any, ...]] = {}
-        for col in zip(U1, U2, F1, F2, strict=True):
-            key = tuple(id(v) for v in col)  # (J2 and J3, J4 and J5: the same column)
-            got = done.get(key)
-            if got is None:
-                mu1, mu2, u1, u2 = mech._mu(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3])
-                d = dyn.Dynamics(l1, l2, ZERO, ZERO, col[0], col[1], col[2], col[3], mu1, mu2,
-                                 delta, mech, u1, u2)  # fmt: skip
-                if at_ts:
-                    num, den = mech.consistency(d, sigma, lambda v: v)
-                    got = (num if den is None else num / den,)
-                else:
-                    got = mech.efforts(d, mu1 / delta, mu2 / delta)
-                done[key] = got
-            rows.append(list(got))
-        out.append([[r[j] for r in rows] for j in range(len(rows[0]))])
+        unit = _unit_map(p, y, l1, l2, at_ts)
+        rows: list[list[Any]] = [[] for _ in unit[0]]
+        for col in _terms(p.g, l1, l2):
+            terms = [(u, v) for u, v in zip(unit, col, strict=True) if v is not ZERO]
+            for j, row in enumerate(rows):
+                acc = terms[0][0][j] * terms[0][1]
+                for u, v in terms[1:]:
+                    acc = acc + u[j] * v
+                row.append(acc)
+        out.append(rows)
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
+
+
+def _terms(g: arb, l1: dyn.Leg, l2: dyn.Leg) -> list[tuple[arb, arb, arb, arb]]:
+    """Per coefficient of π (``BASIS``), its (U1, U2, F1, F2) (``_regressor_direct``)."""
+    n = len(BASIS)
+    U1, U2, F1, F2 = ([ZERO] * n for _ in range(4))
+    for (k_mr, k_j2, k_m, k_mr3, k_j3), leg, U, F in (
+        ((0, 1, 2, 3, 4), l1, U1, F1), ((5, 6, 7, 8, 9), l2, U2, F2)
+    ):  # fmt: skip
+        gc = g * leg.cos
+        sd_thd = leg.s_d * leg.th_d
+        thd2 = leg.th_d * leg.th_d
+        U[k_mr] = gc
+        U[k_j2] = U[k_j3] = leg.th_dd
+        U[k_m] = (leg.th_dd * leg.s + 2 * sd_thd + gc) * leg.s
+        U[k_mr3] = -2 * (leg.th_dd * leg.s + sd_thd) - gc
+        F[k_m] = leg.s_dd - thd2 * leg.s + g * leg.sin
+        F[k_mr3] = thd2
+    return list(zip(U1, U2, F1, F2, strict=True))
+
+
+def _unit_map(p: dyn.Params, y: arb, l1: dyn.Leg, l2: dyn.Leg, at_ts: bool
+              ) -> list[tuple[Any, ...]]:  # fmt: skip
+    """The scheme's efforts (at t_s, ``at_ts``: its consistency residual), linear in
+    (U1, U2, F1, F2) on the legs: their values at each unit term."""
+    mech = p.mechanism
+    sigma = _sigma((l1, l2)) if at_ts else 0
+    delta = None if at_ts else mech.delta(p, y, l1, l2)
+    unit: list[tuple[Any, ...]] = []
+    for k in range(4):
+        t = [ONE if i == k else ZERO for i in range(4)]
+        mu1, mu2, u1, u2 = mech._mu(l1, l2, ZERO, ZERO, *t)
+        d = dyn.Dynamics(l1, l2, ZERO, ZERO, t[0], t[1], t[2], t[3], mu1, mu2, delta, mech, u1, u2)
+        if at_ts:
+            num, den = mech.consistency(d, sigma, lambda v: v)
+            unit.append((num if den is None else num / den,))
+        else:
+            unit.append(mech.efforts(d, mu1 / delta, mu2 / delta))
+    return unit
 
 
 def _sigma(legs: Any) -> int:
@@ -156,7 +171,7 @@ def _corner_forms(Ys: list[list[list[Any]]], box: Box, j: int) -> list[list[Any]
     return out
 
 
-ZERO = arb(0)
+ZERO, ONE = arb(0), arb(1)
 
 
 def _top(a: arb, b: arb) -> arb:
