@@ -74,9 +74,11 @@ def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_t
     mech = p.mechanism
     x, xd, xdd, y, yd, ydd = (horner_at(q, h) for q in c)  # ``legs_about``'s, once
     out = []
+    unit: list[tuple[Any, ...]] = []
     for ex, ey in ((0, 0), (1, 0), (0, 1)):
         l1, l2 = mech.legs(p, x, xd, xdd + arb(ex), y, yd, ydd + arb(ey), dyn.hypot)
-        unit = _unit_map(p, y, l1, l2, at_ts)
+        # (the map reads the legs' s, cos θ, sin θ, which the error does not move)
+        unit = unit or _unit_map(p, y, l1, l2, at_ts)
         rows: list[list[Any]] = [[] for _ in unit[0]]
         for col in _terms(p.g, l1, l2):
             terms = [(u, v) for u, v in zip(unit, col, strict=True) if v is not ZERO]
