@@ -27,7 +27,7 @@ from fractions import Fraction
 
 from flint import fmpq
 
-from ..engine.robust.windows import residual_at
+from ..engine.robust.proofs import residual_at
 from ..model.task import Task, Uncertainty
 
 CLOSE = 1e-6  # of the interval's width: a middle this close to z0 is z0

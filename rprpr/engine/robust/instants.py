@@ -1,5 +1,5 @@
 """The robust analysis of a singular instant from its pieces (``docs/robust.md``): the
-residual over the box and the saturation window, each side measured by ``windows.side``
+residual over the box and the saturation window, each side measured by ``ends.sides``
 on the piece that holds t_s and, when it reaches that piece's end, continued across the
 knot into the pieces beyond (``beyond``) until one proves where it ends."""
 
@@ -15,6 +15,8 @@ from flint import arb, ctx, fmpq, fmpq_poly
 from ...model.numbers import to_float
 from ...model.task import Robot, Task
 from ..pieces import shift
+from .ends import sides
+from .proofs import below, prove_in, residual
 from .windows import (
     PREC,
     About,
@@ -23,14 +25,10 @@ from .windows import (
     about,
     ball_box,
     float_box,
-    phi_ball,
     phi_float,
-    prove_in,
-    residual,
     round_down,
     round_up,
     shifted,
-    sides,
 )
 
 GAP = 1e-12  # [s] past a knot, a dip below the limit shorter than this does not end a window
@@ -99,8 +97,7 @@ def _prove_from(ab: About, bbox: Any, box: Box, limits: tuple[float, float], d: 
     none is."""
     step = 1e-12 * max(h, 1e-9 * reach)
     while True:
-        phi = phi_ball(ab, d * h, box, bbox, d * min(GAP, reach - h))
-        if phi[0][1] <= limits[0] and phi[1][1] <= limits[1]:
+        if below(ab, box, bbox, limits, d * h, d * min(GAP, reach - h)):
             return h
         if h >= reach:
             return None
