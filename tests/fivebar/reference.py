@@ -39,6 +39,8 @@ from typing import Any
 
 import mpmath
 
+from ..lu import lu_solve
+
 DPS = 60  # working digits of mpmath for everything not exact
 
 
@@ -332,63 +334,6 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
         out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
         out["T1"], out["T2"] = sol[10], sol[11]
         return out
-
-
-def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
-    """x with A x = b: ``mpmath.lu_solve``'s algorithm step for step (10 guard bits, its
-    row-sum pivoting, its "numerically singular" tolerance) on lists of mpf, with every
-    product by an exact zero left out. x - 0·y is x exactly, so x is bit for bit
-    mpmath's; the Newton-Euler matrix is two-thirds zeros, and mpmath's own matrices
-    spent most of the 5R tests' reference time indexing them."""
-    ctx = mpmath.mp
-    prec = ctx.prec
-    try:
-        ctx.prec += 10
-        A = [[ctx.convert(v) for v in row] for row in A]
-        b = [ctx.convert(v) for v in b]
-        n = len(A)
-        tol = abs(max(ctx.fsum((A[i][j] for i in range(n)), absolute=1) for j in range(n))
-                  * ctx.eps)  # fmt: skip
-        p: list[int] = [0] * (n - 1)
-        for j in range(n - 1):
-            biggest: Any = 0
-            for k in range(j, n):
-                s = ctx.fsum([abs(A[k][m]) for m in range(j, n)])
-                if abs(s) <= tol:
-                    raise ZeroDivisionError("matrix is numerically singular")
-                current = 1 / s * abs(A[k][j])
-                if current > biggest:
-                    biggest, p[j] = current, k
-            A[j], A[p[j]] = A[p[j]], A[j]
-            if abs(A[j][j]) <= tol:
-                raise ZeroDivisionError("matrix is numerically singular")
-            pivot, row_j = A[j][j], A[j]
-            for i in range(j + 1, n):
-                row = A[i]
-                if not row[j]:
-                    continue  # a zero factor: the row stays as it is
-                row[j] /= pivot
-                f = row[j]
-                for k in range(j + 1, n):
-                    if row_j[k]:
-                        row[k] -= f * row_j[k]
-        if abs(A[n - 1][n - 1]) <= tol:
-            raise ZeroDivisionError("matrix is numerically singular")
-        for k in range(n - 1):  # L y = P b
-            b[k], b[p[k]] = b[p[k]], b[k]
-        for i in range(1, n):
-            for j in range(i):
-                if A[i][j] and b[j]:
-                    b[i] -= A[i][j] * b[j]
-        x = b  # U x = y
-        for i in range(n - 1, -1, -1):
-            for j in range(i + 1, n):
-                if A[i][j] and x[j]:
-                    x[i] -= A[i][j] * x[j]
-            x[i] /= A[i][i]
-        return x
-    finally:
-        ctx.prec = prec
 
 
 def energy(rb: FiveBar, lk: Links) -> Jet:
