@@ -27,12 +27,16 @@ def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
         for j in range(n - 1):
             biggest: Any = 0
             for k in range(j, n):
-                s = ctx.fsum([abs(A[k][m]) for m in range(j, n)])
+                s = ctx.fsum([abs(v) for v in A[k][j:] if v])  # zeros add nothing
                 if abs(s) <= tol:
                     raise ZeroDivisionError("matrix is numerically singular")
+                if not A[k][j]:
+                    continue  # 0 is never above the biggest so far (0 to start)
                 current = 1 / s * abs(A[k][j])
                 if current > biggest:
                     biggest, p[j] = current, k
+            if biggest == 0:  # a column of zeros (mpmath fails on its pivot, None)
+                raise ZeroDivisionError("matrix is numerically singular")
             A[j], A[p[j]] = A[p[j]], A[j]
             if abs(A[j][j]) <= tol:
                 raise ZeroDivisionError("matrix is numerically singular")
