@@ -30,7 +30,7 @@ from tests.conftest import CONFIGS, run_cli
 from tests.fivebar import locus
 from tests.fivebar.reference import FiveBar, Motion, torques
 from tests.render.test_sheet_marks import check_at_data
-from tests.sheets import drawn, motions, sheet, small_pictures
+from tests.sheets import drawn, few_frames, motions, sheet, small_pictures
 
 CROSSING = str(CONFIGS / "five_bar_consistent_crossing.rprpr.yaml")
 STOP = str(CONFIGS / "five_bar_stop_on_curve.rprpr.yaml")
@@ -262,6 +262,7 @@ def test_plot_writes_a_5r_sheet_in_every_format_and_its_gif(
     suffix: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     small_pictures(monkeypatch)
+    few_frames(monkeypatch)
     out, gif = tmp_path / f"s{suffix}", tmp_path / "r.gif"
     extra = ["--animate", str(gif)] if suffix == ".png" else []
     code, stdout, err = run_cli("plot", STOP, CROSSING, "-o", str(out), "--pole-inset", *extra)
