@@ -40,6 +40,8 @@ from flint import fmpq
 
 from rprpr.model.task import Task
 
+from .lu import lu_solve
+
 KEYS = (
     "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot", "theta1", "s1", "theta2", "s2",
     "theta1_dot", "s1_dot", "theta2_dot", "s2_dot", "theta1_ddot", "s1_ddot",
@@ -141,8 +143,8 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...], upto_delta: bool = False
         # J = dΦ/dq, rows Φ_x, Φ_y; columns θ1, s1, θ2, s2
         J = [[-s1 * sn1, c1, s2 * sn2, -c2], [s1 * c1, sn1, -s2 * c2, -sn2]]
         Q = [[0, 0], [1, 0], [0, 0], [0, 1]]  # ∂Q/∂(F1, F2)
-        A4 = mpmath.matrix([[*Q[i], J[0][i], J[1][i]] for i in range(4)])
-        F1, F2, lam1, lam2 = mpmath.lu_solve(A4, mpmath.matrix(rhs))
+        A4 = [[*Q[i], J[0][i], J[1][i]] for i in range(4)]
+        F1, F2, lam1, lam2 = lu_solve(A4, rhs)
         out.update(lambda1=lam1, lambda2=lam2, T1=F1, T2=F2)
         return out
     lam1 = (b[0] * A[1][1] - A[0][1] * b[1]) / delta

@@ -52,6 +52,24 @@ def small_pictures(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(P, "save", small)
 
 
+FEW_FRAMES = 12  # a GIF a test checks is animated (more than 10 frames), not its frames
+
+
+def few_frames(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The GIFs the commands write (``plot --animate``) with FEW_FRAMES frames for the rest
+    of the test: the same writer and code path, an eighth of the frames to draw
+    (tests/render/test_animation.py tests the frame count itself, and the real command's
+    100-frame GIF, marked slow)."""
+    from rprpr.render import animation as A
+
+    write_gif = A.write_gif
+
+    def few(*args: Any, **kwargs: Any) -> int:
+        return write_gif(*args, **{**kwargs, "frames": FEW_FRAMES})
+
+    monkeypatch.setattr(A, "write_gif", few)
+
+
 @functools.cache
 def _motion(path: str, samples: int) -> P.Motion:
     return P.motion(audit(load_task(path), samples=samples), path)

@@ -39,6 +39,8 @@ from typing import Any
 
 import mpmath
 
+from ..lu import lu_solve
+
 DPS = 60  # working digits of mpmath for everything not exact
 
 
@@ -307,8 +309,8 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
             ([("FC", 1, "C"), ("FE", 1, "E")], None),
             ([("FD", 1, "D"), ("FE", -1, "E")], None),
         )
-        M = mpmath.zeros(12, 12)
-        rhs = mpmath.zeros(12, 1)
+        M = [[mpmath.mpf(0)] * 12 for _ in range(12)]
+        rhs = [mpmath.mpf(0)] * 12
         for i, (forces, torque) in enumerate(bodies):
             G = lk.com[i]
             gx, gy = _val(G[0]), _val(G[1])
@@ -319,16 +321,16 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
                 P = lk.joints[point]
                 px, py = _val(P[0]) - gx, _val(P[1]) - gy
                 k = col[name]
-                M[3 * i, k] += sign
-                M[3 * i + 1, k + 1] += sign
-                M[3 * i + 2, k] += -sign * py  # (P - G) × F = px Fy - py Fx
-                M[3 * i + 2, k + 1] += sign * px
+                M[3 * i][k] += sign
+                M[3 * i + 1][k + 1] += sign
+                M[3 * i + 2][k] += -sign * py  # (P - G) × F = px Fy - py Fx
+                M[3 * i + 2][k + 1] += sign * px
             if torque is not None:
-                M[3 * i + 2, col[torque]] = 1
+                M[3 * i + 2][col[torque]] = mpmath.mpf(1)
             rhs[3 * i] = mass * mp(ax)
             rhs[3 * i + 1] = mass * mp(ay) + mass * mp(rb.g)
             rhs[3 * i + 2] = inertia * mp(alpha)
-        sol = mpmath.lu_solve(M, rhs)
+        sol = lu_solve(M, rhs)
         out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
         out["T1"], out["T2"] = sol[10], sol[11]
         return out
