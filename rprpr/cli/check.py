@@ -378,7 +378,10 @@ class _OutOfTime(Exception):
 @contextlib.contextmanager
 def _time_limit(seconds: float | None) -> Iterator[None]:
     """Raise ``_OutOfTime`` in the block after ``seconds`` (a real-time alarm; nothing
-    where none can be set: no limit, not the main thread, not POSIX)."""
+    where none can be set: no limit, not the main thread, not POSIX). The alarm rings
+    again every ``_RING_AGAIN`` seconds until the block has stopped: a ring that lands
+    where Python cannot pass an exception on (a weakref callback, a ``__del__``) is
+    swallowed there, and the next one stops the block."""
     if (
         seconds is None
         or not hasattr(signal, "setitimer")
@@ -391,12 +394,20 @@ def _time_limit(seconds: float | None) -> Iterator[None]:
         raise _OutOfTime
 
     previous = signal.signal(signal.SIGALRM, ring)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), _RING_AGAIN)
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        while True:  # a ring may still land here, before the timer is off, or just after
+            try:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                break
+            except _OutOfTime:
+                continue
         signal.signal(signal.SIGALRM, previous)
+
+
+_RING_AGAIN = 0.05  # [s] the alarm's interval once the sheet's time is out
 
 
 # where YAML (PyYAML's marks) starts a new line: the line numbers of the findings

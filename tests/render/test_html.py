@@ -443,6 +443,23 @@ def test_the_sheets_time_limit_interrupts_and_restores() -> None:
         pass
 
 
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="no interval timers here")
+def test_the_sheets_time_limit_rings_again_when_a_ring_is_swallowed() -> None:
+    # Under load the first ring can land where Python swallows exceptions (a weakref
+    # callback): the block must still be stopped, by the next ring.
+    swallowed = 0
+    before = signal.getsignal(signal.SIGALRM)
+    with pytest.raises(_OutOfTime), _time_limit(0.01):
+        try:
+            time.sleep(30)
+        except _OutOfTime:
+            swallowed += 1  # as an unraisable-exception context would
+        time.sleep(30)  # interrupted by the next ring, long before
+    assert swallowed == 1
+    assert signal.getsignal(signal.SIGALRM) == before
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
 def test_a_sheet_that_fails_to_draw_is_a_note_and_the_report_stands(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
