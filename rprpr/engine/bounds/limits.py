@@ -199,7 +199,8 @@ class LimitChecks:
 
     @cached_property
     def scalars(self) -> Scalars:
-        """T1, T2 in arb scalars at a few points and over a few boxes (``scalars``)."""
+        """T1, T2 in arb at a point, and the Taylor coefficients about each instant that the
+        pole bands read (``scalars``, ``poles.pole_bands``)."""
         return Scalars(self.motion)
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
