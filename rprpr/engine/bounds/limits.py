@@ -31,7 +31,6 @@ PROBE_SPREAD = 2.0  # the points of a bracketing pass: est ± 0.45 res PROBE_SPR
 POLE_REACH = 16  # boxes of the first partition each side of a pole cut about it (``_around_pole``)
 POLE_GROWTH = 0.1  # pieces about a pole of order k grow by 1 + POLE_GROWTH/k outward
 LIMIT_BUDGET = 256  # boxes per refining pass of the limit check, about (``fan``)
-ARB_CROSSINGS = 10  # crossings bracketed by arb scalars (``Scalars.bracket``), at most
 
 
 def fan(n_live: int) -> int:
@@ -200,7 +199,8 @@ class LimitChecks:
 
     @cached_property
     def scalars(self) -> Scalars:
-        """T1, T2 in arb scalars at a few points and over a few boxes (``scalars``)."""
+        """T1, T2 in arb at a point, and the Taylor coefficients about each instant that the
+        pole bands read (``scalars``, ``poles.pole_bands``)."""
         return Scalars(self.motion)
 
     def _limits(self, limit: tuple[float, float]) -> tuple[LimitCheck, LimitCheck]:
@@ -435,12 +435,6 @@ class LimitChecks:
         reach = float(np.max(hi - lo)) / near
         spread = near * PROBE_SPREAD ** np.arange(max(1, math.ceil(math.log(reach, PROBE_SPREAD))))
         offsets = np.concatenate([-spread[::-1], [0.0], spread])
-        if k <= ARB_CROSSINGS and not self.throughs:  # a few points each: arb scalars
-            est0 = _estimate(a, fa, z, fz, c, fc, np.minimum(a, z), np.maximum(a, z))
-            for q in range(k):
-                a[q], z[q] = self.scalars.bracket(int(rows[q]), float(lim[q]), float(a[q]),
-                                                  float(z[q]), res, float(est0[q]))  # fmt: skip
-            return _record(rows, lo, hi, up, a, z, res, done)
         for _ in range(CROSSING_STEPS):
             j = np.nonzero(np.abs(z - a) > res)[0]
             if not len(j):

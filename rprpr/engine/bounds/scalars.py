@@ -1,10 +1,11 @@
-"""T1, T2 and their time derivatives in arb scalars at a handful of times: the points
-that bracket a crossing of |T_i| = L_i in the limit check (``Scalars.bracket``).
+"""T1, T2 and their time derivatives in arb scalars at a handful of times, and the
+motion's Taylor coefficients about its singular instants in arb (``Scalars._origin``,
+read by the pole bands, ``poles.pole_bands``).
 
-A ball pass over vectors costs its numpy calls (~2-3 ms for the values at points,
-whatever their number); one arb evaluation of the formulas at a point costs ~0.06-0.1 ms.
-Where a few points are wanted (a few crossings, each bracketed by Newton's method in a
-handful of steps), arb is the cheaper proof.
+One arb evaluation of the formulas at a point costs ~0.06-0.1 ms. The crossings of a
+limit check are bracketed by vectorised point passes instead (``limits._bracket``): with
+the compiled kernel a pass costs ~0.1 ms whatever its number of points, and the passes
+serve every crossing of a motion at once.
 
 The series of x(t), y(t) about a time come from their exact Taylor coefficients about an
 exact time t_0 (the nearest singular instant, else t = 0) by Horner in ε + τ, ε = t - t_0
@@ -13,23 +14,20 @@ f^(j)(ξ)/j! for every ξ of the ball in its coefficient j, so the series of T t
 after two terms gives T and T' at a point (``Scalars.slope``). Near t_s, δ and μ are
 evaluated from series whose vanishing terms are exactly zero (t_s rational) or balls of
 radius ~2^-128 (t_s a real root), so the quotient μ/δ keeps its digits at every time
-where |t - t_s|^m is far above that (the limit check's resolution is 1e-9 t_f); where a
-ball is too wide to tell, the point decides nothing and the bracket is bisected."""
+where |t - t_s|^m is far above that."""
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from flint import arb, ctx
 
-from ..certified.balls import Ball, hypot
+from ..certified.balls import hypot
 from ..certified.motion import CertifiedMotion
 from ..certified.taylor_forms import TAYLOR_PREC, coef, series_at, taylor_at_instant
 from ..exact.series import taylor
 
 Pair = tuple[arb, arb]
-STEPS = 40  # Newton steps of a bracketing (``Scalars.bracket``), at most
 
 
 class Scalars:
@@ -100,59 +98,3 @@ class Scalars:
         v = (coef(got[0], 0), coef(got[1], 0))
         d = (coef(got[0], 1), coef(got[1], 1)) if n > 1 else v
         return (v, d) if all(x.is_finite() for x in (*v, *d)) else None
-
-    def bracket(
-        self, i: int, limit: float, a: float, z: float, res: float, t: float
-    ) -> tuple[float, float]:
-        """A crossing of |T_i| = limit in the box between a (|T_i| <= limit there) and z
-        (> limit), |T_i| monotone between, bracketed by arb scalars: Newton's method on
-        f = |T_i| - limit (T_i and T_i' at a point, ``slope``) chooses the points,
-        each point's certified value moves a or z to it (on the side it proves); once a
-        step is shorter than ``res``, the points 0.45 res either side of the estimate close
-        the bracket (the one beyond it alone, when t is an end of the bracket and the step
-        is at most res/2: the bracket is then within 0.95 res). A step outside (a, z), or
-        a failed evaluation, bisects. From the estimate t; returns (a, z), within ``res``
-        of each other unless STEPS did not suffice."""
-        for _ in range(STEPS):
-            if abs(z - a) <= res:
-                break
-            got = self.slope(t)
-            est = 0.5 * a + 0.5 * z
-            if got is not None:
-                v = Ball.of_arb(got[0][i])
-                d = float(got[1][i].mid())
-                a, z = _moved(t, v, limit, a, z)
-                est = 0.5 * a + 0.5 * z  # the bisection, where Newton's step falls outside
-                f = abs(float(v.mid)) - limit
-                step = -f / (math.copysign(1.0, float(v.mid)) * d) if d != 0.0 else math.inf
-                if math.isfinite(step) and (t + step - a) * (z - t - step) > 0:
-                    est = t + step
-                if abs(step) < res:  # close: points either side decide
-                    sign = math.copysign(1.0, z - a)
-                    probes = [est - 0.45 * res * sign, est + 0.45 * res * sign]
-                    if t in (a, z) and abs(step) <= 0.5 * res:  # t is an end: one probe
-                        away = sign if t == a else -sign  # beyond est, from t
-                        probes = [est + 0.45 * res * away, est - 0.45 * res * away]
-                    for p in probes:
-                        if abs(z - a) <= res:
-                            break
-                        if (p - a) * (z - p) > 0:
-                            w = self.point(p)
-                            if w is not None:
-                                a, z = _moved(p, Ball.of_arb(w[i]), limit, a, z)
-                    est = 0.5 * a + 0.5 * z
-            if not (est - a) * (z - est) > 0:
-                break
-            t = est
-        return a, z
-
-
-def _moved(t: float, v: Ball, limit: float, a: float, z: float) -> tuple[float, float]:
-    """The bracket (a below the limit, z above it) moved to t where t lies strictly
-    between them and the certified value v = T_i(t) decides its side."""
-    if (t - a) * (z - t) > 0:
-        if float(v.upper_abs()) <= limit:
-            return t, z
-        if float(v.lower_abs()) > limit:
-            return a, t
-    return a, z

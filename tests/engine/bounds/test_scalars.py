@@ -4,7 +4,8 @@ reference (``tests.reference``: mpmath at 60 digits and more, no engine code).
 * ``Scalars.slope`` at a float time: the balls of T1, T2 hold the reference values, and
   the balls of T1', T2' hold the reference's central difference quotient (step 1e-25 s:
   its error, ~1e-50 |T'''|, far below the balls' radii).
-* The windows of a limit check bracketed by Newton's method in arb (``Scalars.bracket``):
+* The windows of a limit check bracketed by certified point passes (``limits._bracket``,
+  vectorised: cheaper than Newton's method in arb scalars since the compiled kernel):
   each end [lo, hi] is at most the resolution wide and holds the root of |T_i| = limit
   found by bisection on the reference values alone, from a bracket a thousand times
   wider.
@@ -18,7 +19,6 @@ import mpmath
 import pytest
 
 from rprpr.engine.bounds.envelope import Envelope
-from rprpr.engine.bounds.limits import ARB_CROSSINGS
 from rprpr.engine.bounds.scalars import Scalars
 from rprpr.model.task import Task
 from tests.engine.certified.test_motion import _config, _motion
@@ -97,18 +97,9 @@ def _root(task: Task, key: str, limit: float, a: float, b: float) -> mpmath.mpf:
     [("case1_crossing.rprpr.yaml", 300.0), ("case2_crossing.rprpr.yaml", 300.0),
      ("zero_speed_crossing.rprpr.yaml", 300.0), ("case1_crossing.rprpr.yaml", 2000.0)],
 )  # fmt: skip
-def test_newton_brackets_hold_the_reference_crossings(name: str, limit: float) -> None:
+def test_point_pass_brackets_hold_the_reference_crossings(name: str, limit: float) -> None:
     task, env = _limited(name, limit)
-    calls = [0]
-    slope = env.scalars.slope
-
-    def counted(t: float, n: int = 2) -> object:
-        calls[0] += 1
-        return slope(t, n)
-
-    env.scalars.slope = counted  # type: ignore[method-assign, assignment]
     checks = env.limit_violations((limit, limit))
-    assert calls[0]  # bracketed by arb scalars
     ends = 0
     for key, c in zip(("T1", "T2"), checks, strict=True):
         assert c.passed is False  # a pole: the limit is exceeded about it
@@ -121,7 +112,7 @@ def test_newton_brackets_hold_the_reference_crossings(name: str, limit: float) -
                 root = _root(task, key, limit, lo - width, hi + width)
                 assert lo <= root <= hi, (key, lo, hi, root)
                 ends += 1
-    assert 2 <= ends <= 2 * ARB_CROSSINGS  # the crossings Newton's method bracketed
+    assert ends >= 2  # the crossings bracketed
 
 
 @pytest.mark.parametrize("name", CONFIGS[:2])
