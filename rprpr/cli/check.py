@@ -375,26 +375,22 @@ class _OutOfTime(Exception):
     """The sheet's time ran out (``_time_limit``)."""
 
 
+def _ring(signum: int, frame: object) -> None:
+    raise _OutOfTime
+
+
 @contextlib.contextmanager
 def _time_limit(seconds: float | None) -> Iterator[None]:
-    """Raise ``_OutOfTime`` in the block after ``seconds`` (a real-time alarm; nothing
-    where none can be set: no limit, not the main thread, not POSIX). The alarm rings
-    again every ``_RING_AGAIN`` seconds until the block has stopped: a ring that lands
-    where Python cannot pass an exception on (a weakref callback, a ``__del__``) is
-    swallowed there, and the next one stops the block."""
-    if (
-        seconds is None
-        or not hasattr(signal, "setitimer")
-        or threading.current_thread() is not threading.main_thread()
-    ):
+    """Raise ``_OutOfTime`` in the block after ``seconds``, and every 50 ms after until it
+    stops (a ring in a weakref callback is swallowed there); a real-time alarm, none where
+    none can be set: no limit, not the main thread, not POSIX."""
+    main = threading.current_thread() is threading.main_thread()
+    if seconds is None or not hasattr(signal, "setitimer") or not main:
         yield
         return
 
-    def ring(signum: int, frame: object) -> None:
-        raise _OutOfTime
-
-    previous = signal.signal(signal.SIGALRM, ring)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), _RING_AGAIN)
+    previous = signal.signal(signal.SIGALRM, _ring)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), 0.05)
     try:
         yield
     finally:
@@ -405,9 +401,6 @@ def _time_limit(seconds: float | None) -> Iterator[None]:
             except _OutOfTime:
                 continue
         signal.signal(signal.SIGALRM, previous)
-
-
-_RING_AGAIN = 0.05  # [s] the alarm's interval once the sheet's time is out
 
 
 # where YAML (PyYAML's marks) starts a new line: the line numbers of the findings
