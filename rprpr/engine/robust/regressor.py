@@ -13,6 +13,7 @@ import numpy as np
 from flint import arb
 
 from ...model.task import Robot
+from ..certified.kernel import INDEX, KERNEL
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 
@@ -261,6 +262,10 @@ def regressor_balls(robot: Robot, kin: Sequence[Any], jets: bool = False) -> Any
     from ..certified.balls import Ball, hypot
 
     p = _ball_params(robot)
+    if KERNEL is not None:
+        got = _compiled(p, kin, jets)
+        if got is not None:
+            return got
     hyp = (lambda u, v: (u * u + v * v).sqrt()) if jets else hypot
     cols = regressor_columns(p, kin, hyp)
     shape = np.broadcast_shapes(*(np.shape((k.v if jets else k).mid) for k in kin))
@@ -280,6 +285,49 @@ def regressor_balls(robot: Robot, kin: Sequence[Any], jets: bool = False) -> Any
                     mid[j, k, e], rad[j, k, e] = b.mid, b.rad
         out.append(Ball._of(mid, rad))
     return tuple(out) if jets else out[0]
+
+
+def _compiled(p: dyn.Params, kin: Sequence[Any], jets: bool) -> Any:
+    """``regressor_balls`` in one call of the compiled kernel (``kernel_gen``: traced from
+    ``regressor_columns``, the same doubles), or None where it does not apply (the
+    arguments not all balls or all jets of vectors of one length, or a shape the kernel
+    does not take): numpy's path then runs."""
+    from ..certified.balls import Ball
+    from ..certified.jets import Jet
+
+    spec = INDEX.get(f"regressor_{'jet' if jets else 'ball'}_{p.mechanism.name}")
+    if spec is None:
+        return None
+    kind = Jet if jets else Ball
+    if not all(type(k) is kind for k in kin):
+        return None
+    parts = [b for k in kin for b in ((k.v, k.d) if jets else (k,))]
+    shape = np.broadcast_shapes(*(np.shape(b.mid) for b in parts))
+    if len(shape) != 1:
+        return None
+    n = shape[0]
+    flat = (*_consts(p), *(np.asarray(a, dtype=float) for b in parts for a in (b.mid, b.rad)))
+    out = np.empty((spec[1], n))
+    if not KERNEL.run(spec[0], flat, out, n):
+        return None
+    size = 2 * len(BASIS) * 3
+    out = out.reshape(2 if jets else 1, size, 2, n)
+    got = [Ball._of(o[:, 0].reshape(2, len(BASIS), 3, n), o[:, 1].reshape(2, len(BASIS), 3, n))
+           for o in out]  # fmt: skip
+    return tuple(got) if jets else got[0]
+
+
+_CONSTS: dict[int, tuple[np.ndarray, ...]] = {}
+
+
+def _consts(p: dyn.Params) -> tuple[np.ndarray, ...]:
+    """a1's and g's mids and radii as the kernel reads them (``_ball_params``' own)."""
+    got = _CONSTS.get(id(p))
+    if got is None:
+        got = _CONSTS[id(p)] = tuple(
+            np.asarray(a, dtype=float) for b in (p.a1, p.g) for a in (b.mid, b.rad)
+        )
+    return got
 
 
 _PARAMS: dict[Any, dyn.Params] = {}
