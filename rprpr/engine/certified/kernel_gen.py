@@ -333,14 +333,14 @@ def _regressors() -> list[tuple[Kernel, list[Any]]]:
     form leaves out: the exact zero numpy's array holds), a jet's values first, then its
     derivatives (a ball entry's derivative: the exact zero)."""
     from ..exact import equations as dyn
-    from ..robust.regressor import regressor_columns
+    from ..exact.regressor_form import regressor_columns
 
     out: list[tuple[Kernel, list[Any]]] = []
     for jets in (False, True):
         for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
             k = Kernel(f"regressor_{'jet' if jets else 'ball'}_{mech.name}")
             a1, g = k.ball(1), k.ball(1)
-            p = dyn.Params(a1, g, *(None,) * 12, mech)  # type: ignore[arg-type]
+            p = dyn.Params(a1, g, *(None,) * 12, mech)
             kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
             cols = regressor_columns(p, kin, dyn.hypot)
             zero = Sym(k.graph, [k.graph.const(0.0, 0.0)])
