@@ -279,6 +279,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     formulas_{revolute,prismatic}: inputs the robot's parameters (``motion.PARAMS``), then
     x, ẋ, ẍ, y, ẏ, ÿ; outputs ``CertifiedMotion.formulas``' values but its arguments
     (``motion.COMPUTED``).
+    regressor_{ball,jet}_{revolute,prismatic}: inputs a1, g, then x, ẋ, ẍ, y, ẏ, ÿ;
+    outputs the robust regressor's entries (``_regressors``).
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
@@ -316,10 +318,39 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
         fake = SimpleNamespace(params=params, mech=mech)  # the motion's parts formulas reads
         got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
         out.append((k, [got[name] for name in COMPUTED]))
+    out += _regressors()
     k = Kernel("horner")
     acc, x, c = k.ball(1), k.ball(1), k.ball(1)
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
     out.append((k, [step]))
+    return out
+
+
+def _regressors() -> list[tuple[Kernel, list[Any]]]:
+    """regressor_{ball,jet}_{revolute,prismatic}: inputs a1, g, then x, ẋ, ẍ, y, ẏ, ÿ
+    (balls, or jets: value then derivative); outputs ``robust.regressor.regressor_balls``'
+    array [effort, ``BASIS``, error part] entry by entry, in C order (an entry the closed
+    form leaves out: the exact zero numpy's array holds), a jet's values first, then its
+    derivatives (a ball entry's derivative: the exact zero)."""
+    from ..exact import equations as dyn
+    from ..exact.regressor_form import regressor_columns
+
+    out: list[tuple[Kernel, list[Any]]] = []
+    for jets in (False, True):
+        for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
+            k = Kernel(f"regressor_{'jet' if jets else 'ball'}_{mech.name}")
+            a1, g = k.ball(1), k.ball(1)
+            p = dyn.Params(a1, g, *(None,) * 12, mech)
+            kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
+            cols = regressor_columns(p, kin, dyn.hypot)
+            zero = Sym(k.graph, [k.graph.const(0.0, 0.0)])
+            entries = [b for row in cols for entry in row for b in entry]
+            if not jets:
+                out.append((k, [zero if b is None else b for b in entries]))
+                continue
+            vs = [zero if b is None else b if isinstance(b, Sym) else b.v for b in entries]
+            ds = [zero if b is None or isinstance(b, Sym) else b.d for b in entries]
+            out.append((k, vs + ds))
     return out
 
 

@@ -189,32 +189,45 @@ def signed_uppers(Y: Sequence[arb], bbox: Any) -> tuple[arb, arb]:
     sign of its r² coefficient is not decided; the larger of m's ends, of I's), both signs
     from the same balls: s = -1 negates every candidate's ball exactly (its upper end is
     minus the lower end of the ball for s = +1)."""
-    tot = [ZERO, ZERO]
+    t0 = t1 = ZERO  # s = +1, s = -1 (``_top`` written out: one call per link, not 24)
     for link, km, kmr, kj in LINKS:
         (mlo, mhi), (rlo, rhi), (ilo, ihi) = bbox[link]
         A = Y[km] if km is not None else ZERO
         B, C = Y[kmr], Y[kj]
         g0 = A + B * rlo + C * rlo * rlo
         g1 = A + B * rhi + C * rhi * rhi
-        G = [_top(g0.upper(), g1.upper()), _top(-g0.lower(), -g1.lower())]
+        a, b = g0.upper(), g1.upper()
+        G0 = a if a > b else b
+        a, b = -g0.lower(), -g1.lower()
+        G1 = a if a > b else b
         if not C.is_zero():
             pos, neg = C > 0, C < 0
             if pos or neg:  # concave for the sign s with s C < 0
-                s = 0 if neg else 1
                 rs = -B / (2 * C)
                 if not (rs <= rlo or rs >= rhi):
                     top = A - B * B / (4 * C)
-                    G[s] = _top(G[s], top.upper() if s == 0 else -top.lower())
+                    if neg:
+                        a = top.upper()
+                        G0 = G0 if a < G0 else a
+                    else:
+                        a = -top.lower()
+                        G1 = G1 if a < G1 else a
             else:  # C's sign not decided: the quadratic's range over [r_lo, r_hi]
                 r = (rlo + rhi) / 2 + (rhi - rlo) / 2 * arb("0 +/- 1")
                 q = A + B * r + C * r * r
-                G = [_top(G[0], q.upper()), _top(G[1], -q.lower())]
+                a, b = q.upper(), -q.lower()
+                G0 = G0 if a < G0 else a
+                G1 = G1 if b < G1 else b
         c_lo, c_hi = C * ilo, C * ihi
-        cI = [_top(c_lo.upper(), c_hi.upper()), _top(-c_lo.lower(), -c_hi.lower())]
-        for s in (0, 1):
-            mG = _top((mlo * G[s]).upper(), (mhi * G[s]).upper())
-            tot[s] = (tot[s] + (mG + cI[s]).upper()).upper()
-    return tot[0], tot[1]
+        a, b = c_lo.upper(), c_hi.upper()
+        cI0 = a if a > b else b
+        a, b = -c_lo.lower(), -c_hi.lower()
+        cI1 = a if a > b else b
+        a, b = (mlo * G0).upper(), (mhi * G0).upper()
+        t0 = (t0 + ((a if a > b else b) + cI0).upper()).upper()
+        a, b = (mlo * G1).upper(), (mhi * G1).upper()
+        t1 = (t1 + ((a if a > b else b) + cI1).upper()).upper()
+    return t0, t1
 
 
 def residual(ab: About, box: Box) -> tuple[arb, arb]:
