@@ -281,6 +281,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     (``motion.COMPUTED``).
     regressor_{ball,jet}_{revolute,prismatic}: inputs a1, g, then x, ẋ, ẍ, y, ẏ, ÿ;
     outputs the robust regressor's entries (``_regressors``).
+    y_values, y_jets: inputs x', x'', (x3,) q, q', q'' (, q3); outputs
+    ``boxes.y_values``' and ``boxes.y_jets``' balls.
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
@@ -319,6 +321,12 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
         got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
         out.append((k, [got[name] for name in COMPUTED]))
     out += _regressors()
+    from ..bounds import boxes
+
+    k = Kernel("y_values")
+    out.append((k, boxes.y_values(*(k.ball(1) for _ in range(5)))))
+    k = Kernel("y_jets")
+    out.append((k, boxes.y_jets(*(k.ball(1) for _ in range(7)))))
     k = Kernel("horner")
     acc, x, c = k.ball(1), k.ball(1), k.ball(1)
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
