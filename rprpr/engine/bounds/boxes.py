@@ -12,7 +12,7 @@ from flint import fmpq, fmpq_poly
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ..certified.balls import Ball, centred, horner, poly_balls
-from ..certified.jets import Jet
+from ..certified.jets import Jet, y_jets, y_values
 from ..certified.kernel import INDEX, KERNEL
 from ..certified.motion import CertifiedMotion
 
@@ -71,24 +71,6 @@ class Polys:
         ins = (xv[1], xv[2], *qv[:3])
         got = _compiled(ins, "y_values", 3) or y_values(*ins)
         return xv[0], xv[1], xv[2], qv[0], got[0], got[1]
-
-
-def y_values(xd: Ball, xdd: Ball, q: Ball, qd: Ball, qdd: Ball) -> list[Ball]:
-    """y' and y'' from x', x'' and q, q', q'' (q's derivatives in x): q' x' and
-    q'' x' x' + q' x'' (the description the compiled kernel ``y_values`` is made from)."""
-    return [qd * xd, qdd * xd * xd + qd * xdd]
-
-
-def y_jets(xd: Ball, xdd: Ball, x3: Ball, q: Ball, qd: Ball, qdd: Ball, q3: Ball) -> list[Ball]:
-    """From x', x'', x3 and q, q', q'', q3 (q's derivatives in x): y's time derivative,
-    then y' and y'' as jets, each its value then its derivative (the description the
-    compiled kernel ``y_jets`` is made from)."""
-    xj, xjj = Jet(xd, xdd), Jet(xdd, x3)
-    q1 = Jet(qd, qdd * xd)
-    q2 = Jet(qdd, q3 * xd)
-    y = Jet(q, qd * xd)
-    yd, ydd = q1 * xj, q2 * xj * xj + q1 * xjj
-    return [y.d, yd.v, yd.d, ydd.v, ydd.d]
 
 
 def _compiled(ins: tuple[Ball, ...], name: str, qd: int) -> list[Ball] | None:

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import balls
+from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
 from .kernel_c import HEAD, HORNER, RUNTIME, TAIL
@@ -281,8 +282,7 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     (``motion.COMPUTED``).
     regressor_{ball,jet}_{revolute,prismatic}: inputs a1, g, then x, ẋ, ẍ, y, ẏ, ÿ;
     outputs the robust regressor's entries (``_regressors``).
-    y_values, y_jets: inputs x', x'', (x3,) q, q', q'' (, q3); outputs
-    ``boxes.y_values``' and ``boxes.y_jets``' balls.
+    y_values, y_jets: y's derivatives of ``jets.y_values``/``y_jets`` (``_chain``).
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
@@ -321,17 +321,18 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
         got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
         out.append((k, [got[name] for name in COMPUTED]))
     out += _regressors()
-    from ..bounds import boxes
-
-    k = Kernel("y_values")
-    out.append((k, boxes.y_values(*(k.ball(1) for _ in range(5)))))
-    k = Kernel("y_jets")
-    out.append((k, boxes.y_jets(*(k.ball(1) for _ in range(7)))))
+    out += [_chain(name, n) for name, n in (("y_values", 5), ("y_jets", 7))]
     k = Kernel("horner")
     acc, x, c = k.ball(1), k.ball(1), k.ball(1)
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
     out.append((k, [step]))
     return out
+
+
+def _chain(name: str, n: int) -> tuple[Kernel, list[Any]]:
+    """y_values, y_jets: ``jets.y_values``/``jets.y_jets`` on n balls of one row."""
+    k = Kernel(name)
+    return k, getattr(jets_, name)(*(k.ball(1) for _ in range(n)))
 
 
 def _regressors() -> list[tuple[Kernel, list[Any]]]:

@@ -5,7 +5,7 @@ path, enclosures of an independent reference.
 - On random balls (both actuation schemes, legs alike and asymmetric, vectors, scalars
   and broadcast radii, balls holding 0 under a division, unbounded and NaN inputs,
   overflow), ``Stacked.legs``/``torques``, ``horner`` and y's derivatives over boxes
-  (``boxes.y_values``/``y_jets``) through the kernel give the same
+  (``jets.y_values``/``y_jets``) through the kernel give the same
   arrays, bit for bit and of the same shapes, as their numpy path.
 - On random boxes, every output ball holds the value of the mpmath reference
   (``tests.reference``, written apart from the engine) at 256 bits at points of the
@@ -31,7 +31,7 @@ from flint import fmpq
 from rprpr.engine.bounds import boxes
 from rprpr.engine.certified import balls, kernel_gen, motion, stacked
 from rprpr.engine.certified.balls import Ball, _horner, horner, quiet
-from rprpr.engine.certified.jets import Jet
+from rprpr.engine.certified.jets import Jet, y_jets, y_values
 from rprpr.engine.certified.kernel import KERNEL
 from rprpr.engine.certified.motion import COMPUTED, CertifiedMotion
 from rprpr.engine.certified.stacked import Stacked
@@ -242,7 +242,7 @@ def test_y_over_boxes_through_the_kernel_is_numpy_bit_for_bit(spy: Spy) -> None:
     rng = np.random.default_rng(11)
     for trial in range(200):
         n = int(rng.choice([1, 2, 5, 40]))
-        kinds = (("y_values", boxes.y_values, 5, 3), ("y_jets", boxes.y_jets, 7, 4))
+        kinds = (("y_values", y_values, 5, 3), ("y_jets", y_jets, 7, 4))
         for name, form, k, qd in kinds:
             ins = []
             for i in range(k):  # vectors, and scalars (a derivative of a low degree)
