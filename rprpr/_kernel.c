@@ -4382,6 +4382,68 @@ static void k_regressor_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_regressor_jet_prismatic[] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+static void k_y_values(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m0 = LD(in[0].m, 0, j), r0 = LD(in[0].r, 0, j);
+        double m1 = LD(in[1].m, 0, j), r1 = LD(in[1].r, 0, j);
+        double m3 = LD(in[3].m, 0, j), r3 = LD(in[3].r, 0, j);
+        double m4 = LD(in[4].m, 0, j), r4 = LD(in[4].r, 0, j);
+        double m5, r5; m5 = m3 * m0; t = fabs(m3) + r3; t = t * r0; u = fabs(m0) * r3; t = t + u; u = fabs(m5) * U; u = u + ETA; t = t + u; t = t * GROW; r5 = t + PAD;
+        double m6, r6; m6 = m4 * m0; t = fabs(m4) + r4; t = t * r0; u = fabs(m0) * r4; t = t + u; u = fabs(m6) * U; u = u + ETA; t = t + u; t = t * GROW; r6 = t + PAD;
+        double m7, r7; m7 = m6 * m0; t = fabs(m6) + r6; t = t * r0; u = fabs(m0) * r6; t = t + u; u = fabs(m7) * U; u = u + ETA; t = t + u; t = t * GROW; r7 = t + PAD;
+        double m8, r8; m8 = m3 * m1; t = fabs(m3) + r3; t = t * r1; u = fabs(m1) * r3; t = t + u; u = fabs(m8) * U; u = u + ETA; t = t + u; t = t * GROW; r8 = t + PAD;
+        double m9, r9; m9 = m7 + m8; t = r7 + r8; u = fabs(m9) * U; t = t + u; t = t * GROW; r9 = t + PAD;
+        out[0 * n + j] = m5;
+        out[1 * n + j] = r5;
+        out[2 * n + j] = m9;
+        out[3 * n + j] = r9;
+    }
+}
+
+static const int rows_y_values[] = {1, 1, 1, 1, 1};
+static void k_y_jets(Py_ssize_t n, const Slot *in, double *out)
+{
+    double t, u, b;
+    (void)b;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double m0 = LD(in[0].m, 0, j), r0 = LD(in[0].r, 0, j);
+        double m1 = LD(in[1].m, 0, j), r1 = LD(in[1].r, 0, j);
+        double m2 = LD(in[2].m, 0, j), r2 = LD(in[2].r, 0, j);
+        double m4 = LD(in[4].m, 0, j), r4 = LD(in[4].r, 0, j);
+        double m5 = LD(in[5].m, 0, j), r5 = LD(in[5].r, 0, j);
+        double m6 = LD(in[6].m, 0, j), r6 = LD(in[6].r, 0, j);
+        double m7, r7; m7 = m5 * m0; t = fabs(m5) + r5; t = t * r0; u = fabs(m0) * r5; t = t + u; u = fabs(m7) * U; u = u + ETA; t = t + u; t = t * GROW; r7 = t + PAD;
+        double m8, r8; m8 = m6 * m0; t = fabs(m6) + r6; t = t * r0; u = fabs(m0) * r6; t = t + u; u = fabs(m8) * U; u = u + ETA; t = t + u; t = t * GROW; r8 = t + PAD;
+        double m9, r9; m9 = m4 * m0; t = fabs(m4) + r4; t = t * r0; u = fabs(m0) * r4; t = t + u; u = fabs(m9) * U; u = u + ETA; t = t + u; t = t * GROW; r9 = t + PAD;
+        double m10, r10; m10 = m7 * m0; t = fabs(m7) + r7; t = t * r0; u = fabs(m0) * r7; t = t + u; u = fabs(m10) * U; u = u + ETA; t = t + u; t = t * GROW; r10 = t + PAD;
+        double m11, r11; m11 = m4 * m1; t = fabs(m4) + r4; t = t * r1; u = fabs(m1) * r4; t = t + u; u = fabs(m11) * U; u = u + ETA; t = t + u; t = t * GROW; r11 = t + PAD;
+        double m12, r12; m12 = m10 + m11; t = r10 + r11; u = fabs(m12) * U; t = t + u; t = t * GROW; r12 = t + PAD;
+        double m13, r13; m13 = m8 * m0; t = fabs(m8) + r8; t = t * r0; u = fabs(m0) * r8; t = t + u; u = fabs(m13) * U; u = u + ETA; t = t + u; t = t * GROW; r13 = t + PAD;
+        double m14, r14; m14 = m5 * m1; t = fabs(m5) + r5; t = t * r1; u = fabs(m1) * r5; t = t + u; u = fabs(m14) * U; u = u + ETA; t = t + u; t = t * GROW; r14 = t + PAD;
+        double m15, r15; m15 = m13 + m14; t = r13 + r14; u = fabs(m15) * U; t = t + u; t = t * GROW; r15 = t + PAD;
+        double m16, r16; m16 = m15 * m0; t = fabs(m15) + r15; t = t * r0; u = fabs(m0) * r15; t = t + u; u = fabs(m16) * U; u = u + ETA; t = t + u; t = t * GROW; r16 = t + PAD;
+        double m17, r17; m17 = m7 * m1; t = fabs(m7) + r7; t = t * r1; u = fabs(m1) * r7; t = t + u; u = fabs(m17) * U; u = u + ETA; t = t + u; t = t * GROW; r17 = t + PAD;
+        double m18, r18; m18 = m16 + m17; t = r16 + r17; u = fabs(m18) * U; t = t + u; t = t * GROW; r18 = t + PAD;
+        double m19, r19; m19 = m4 * m2; t = fabs(m4) + r4; t = t * r2; u = fabs(m2) * r4; t = t + u; u = fabs(m19) * U; u = u + ETA; t = t + u; t = t * GROW; r19 = t + PAD;
+        double m20, r20; m20 = m17 + m19; t = r17 + r19; u = fabs(m20) * U; t = t + u; t = t * GROW; r20 = t + PAD;
+        double m21, r21; m21 = m18 + m20; t = r18 + r20; u = fabs(m21) * U; t = t + u; t = t * GROW; r21 = t + PAD;
+        out[0 * n + j] = m9;
+        out[1 * n + j] = r9;
+        out[2 * n + j] = m9;
+        out[3 * n + j] = r9;
+        out[4 * n + j] = m12;
+        out[5 * n + j] = r12;
+        out[6 * n + j] = m12;
+        out[7 * n + j] = r12;
+        out[8 * n + j] = m21;
+        out[9 * n + j] = r21;
+    }
+}
+
+static const int rows_y_jets[] = {1, 1, 1, 1, 1, 1, 1};
 static void k_horner(Py_ssize_t n, const Slot *in, double *out)
 {
     double t, u, b;
@@ -4481,6 +4543,8 @@ static const Spec SPECS[] = {
     {"regressor_ball_prismatic", k_regressor_ball_prismatic, 8, rows_regressor_ball_prismatic, 120},
     {"regressor_jet_revolute", k_regressor_jet_revolute, 14, rows_regressor_jet_revolute, 240},
     {"regressor_jet_prismatic", k_regressor_jet_prismatic, 14, rows_regressor_jet_prismatic, 240},
+    {"y_values", k_y_values, 5, rows_y_values, 4},
+    {"y_jets", k_y_jets, 7, rows_y_jets, 10},
 };
 
 static PyObject *py_run(PyObject *self, PyObject *args)
@@ -4490,7 +4554,7 @@ static PyObject *py_run(PyObject *self, PyObject *args)
     Py_ssize_t n;
     if (!PyArg_ParseTuple(args, "iO!On", &k, &PyTuple_Type, &inputs, &out, &n))
         return NULL;
-    if (k < 0 || k >= 16 || n < 0) {
+    if (k < 0 || k >= 18 || n < 0) {
         PyErr_SetString(PyExc_ValueError, "no such kernel");
         return NULL;
     }
@@ -4499,10 +4563,10 @@ static PyObject *py_run(PyObject *self, PyObject *args)
 
 static PyObject *py_names(PyObject *self, PyObject *unused)
 {
-    PyObject *t = PyTuple_New(16);
+    PyObject *t = PyTuple_New(18);
     if (t == NULL)
         return NULL;
-    for (int i = 0; i < 16; i++) {
+    for (int i = 0; i < 18; i++) {
         PyObject *s = Py_BuildValue("(sn)", SPECS[i].name, SPECS[i].nout);
         if (s == NULL) {
             Py_DECREF(t);

@@ -12,7 +12,8 @@ from flint import fmpq, fmpq_poly
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ..certified.balls import Ball, centred, horner, poly_balls
-from ..certified.jets import Jet
+from ..certified.jets import Jet, y_jets, y_values
+from ..certified.kernel import INDEX, KERNEL
 from ..certified.motion import CertifiedMotion
 
 START_BOXES = 512  # the initial partition of [0, t_f]
@@ -55,10 +56,9 @@ class Polys:
             return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
         w = xv[0] - motion.center
         qv = self._enclose(self.q, w)
-        q1 = Jet(qv[1], qv[2] * xv[1])
-        q2 = Jet(qv[2], qv[3] * xv[1])
-        y = Jet(qv[0], qv[1] * xv[1])
-        return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
+        ins = (xv[1], xv[2], xv[3], *qv[:4])
+        got = _compiled(ins, "y_jets", 4) or y_jets(*ins)
+        return x, xd, xdd, Jet(qv[0], got[0]), Jet(got[1], got[2]), Jet(got[3], got[4])
 
     def values(self, motion: CertifiedMotion, box: Ball) -> tuple[Ball, ...]:
         """x, x', x'', y, y', y'' over the box: the values of ``jets`` (the same ball
@@ -68,7 +68,31 @@ class Polys:
             yv = self._enclose(self.q, box - motion.t_center, 3)
             return xv[0], xv[1], xv[2], yv[0], yv[1], yv[2]
         qv = self._enclose(self.q, xv[0] - motion.center, 3)
-        return xv[0], xv[1], xv[2], qv[0], qv[1] * xv[1], qv[2] * xv[1] * xv[1] + qv[1] * xv[2]
+        ins = (xv[1], xv[2], *qv[:3])
+        got = _compiled(ins, "y_values", 3) or y_values(*ins)
+        return xv[0], xv[1], xv[2], qv[0], got[0], got[1]
+
+
+def _compiled(ins: tuple[Ball, ...], name: str, qd: int) -> list[Ball] | None:
+    """The outputs of the compiled kernel ``name`` (``kernel_gen``) on the balls ``ins``
+    (the same doubles as numpy's path, which broadcasts a scalar ball as the kernel
+    does), or None where it is not built, or the balls are not all vectors of one length
+    or scalars, or x' and q' (``ins[0]``, ``ins[qd]``: every output depends on them) are
+    both scalars (numpy's path then runs and makes scalar outputs)."""
+    spec = INDEX.get(name)
+    if spec is None:
+        return None
+    x1, q1 = ins[0].mid, ins[qd].mid
+    n = x1.shape[0] if x1.ndim == 1 else q1.shape[0] if q1.ndim == 1 else 0
+    if not n:
+        return None
+    for b in ins:
+        if type(b) is not Ball or b.mid.shape != b.rad.shape or b.mid.shape not in ((), (n,)):
+            return None
+    out = np.empty((spec[1], n))
+    if not KERNEL.run(spec[0], tuple(a for b in ins for a in (b.mid, b.rad)), out, n):
+        return None
+    return [Ball._of(out[i], out[i + 1]) for i in range(0, spec[1], 2)]
 
 
 def _fourth(third: fmpq_poly) -> list[list[Ball]]:

@@ -63,3 +63,23 @@ class Jet:
     def sqrt(self) -> Jet:
         r = self.v.sqrt()
         return Jet(r, self.d / (r * 2.0))
+
+
+def y_values(xd: Ball, xdd: Ball, q: Ball, qd: Ball, qdd: Ball) -> list[Ball]:
+    """y' and y'' of y = q(x(t)) from x', x'' and q, q', q'' (q's derivatives in x):
+    q' x' and q'' x' x' + q' x'' (``bounds.boxes``; the description the compiled kernel
+    ``y_values`` is made from)."""
+    return [qd * xd, qdd * xd * xd + qd * xdd]
+
+
+def y_jets(xd: Ball, xdd: Ball, x3: Ball, q: Ball, qd: Ball, qdd: Ball, q3: Ball) -> list[Ball]:
+    """Of y = q(x(t)), from x', x'', x3 = x''' and q, q', q'', q3 = q''' (q's derivatives
+    in x): y's time derivative, then y' and y'' as jets, each its value then its
+    derivative (``bounds.boxes``; the description the compiled kernel ``y_jets`` is made
+    from)."""
+    xj, xjj = Jet(xd, xdd), Jet(xdd, x3)
+    q1 = Jet(qd, qdd * xd)
+    q2 = Jet(qdd, q3 * xd)
+    y = Jet(q, qd * xd)
+    yd, ydd = q1 * xj, q2 * xj * xj + q1 * xjj
+    return [y.d, yd.v, yd.d, ydd.v, ydd.d]

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import balls
+from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
 from .kernel_c import HEAD, HORNER, RUNTIME, TAIL
@@ -281,6 +282,7 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     (``motion.COMPUTED``).
     regressor_{ball,jet}_{revolute,prismatic}: inputs a1, g, then x, ẋ, ẍ, y, ẏ, ÿ;
     outputs the robust regressor's entries (``_regressors``).
+    y_values, y_jets: y's derivatives of ``jets.y_values``/``y_jets`` (``_chain``).
     horner: inputs acc, x, c; output acc·x + c (one step of ``balls.horner``)."""
     from ..exact import equations as dyn
 
@@ -319,11 +321,18 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
         got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
         out.append((k, [got[name] for name in COMPUTED]))
     out += _regressors()
+    out += [_chain(name, n) for name, n in (("y_values", 5), ("y_jets", 7))]
     k = Kernel("horner")
     acc, x, c = k.ball(1), k.ball(1), k.ball(1)
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
     out.append((k, [step]))
     return out
+
+
+def _chain(name: str, n: int) -> tuple[Kernel, list[Any]]:
+    """y_values, y_jets: ``jets.y_values``/``jets.y_jets`` on n balls of one row."""
+    k = Kernel(name)
+    return k, getattr(jets_, name)(*(k.ball(1) for _ in range(n)))
 
 
 def _regressors() -> list[tuple[Kernel, list[Any]]]:

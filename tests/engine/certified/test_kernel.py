@@ -4,7 +4,8 @@ path, enclosures of an independent reference.
 - ``rprpr/_kernel.c`` is what ``kernel_gen`` writes today (regenerated like a golden).
 - On random balls (both actuation schemes, legs alike and asymmetric, vectors, scalars
   and broadcast radii, balls holding 0 under a division, unbounded and NaN inputs,
-  overflow), ``Stacked.legs``/``torques`` and ``horner`` through the kernel give the same
+  overflow), ``Stacked.legs``/``torques``, ``horner`` and y's derivatives over boxes
+  (``jets.y_values``/``y_jets``) through the kernel give the same
   arrays, bit for bit and of the same shapes, as their numpy path.
 - On random boxes, every output ball holds the value of the mpmath reference
   (``tests.reference``, written apart from the engine) at 256 bits at points of the
@@ -27,9 +28,10 @@ import numpy as np
 import pytest
 from flint import fmpq
 
+from rprpr.engine.bounds import boxes
 from rprpr.engine.certified import balls, kernel_gen, motion, stacked
 from rprpr.engine.certified.balls import Ball, _horner, horner, quiet
-from rprpr.engine.certified.jets import Jet
+from rprpr.engine.certified.jets import Jet, y_jets, y_values
 from rprpr.engine.certified.kernel import KERNEL
 from rprpr.engine.certified.motion import COMPUTED, CertifiedMotion
 from rprpr.engine.certified.stacked import Stacked
@@ -94,6 +96,7 @@ def spy(monkeypatch: pytest.MonkeyPatch) -> Spy:
     monkeypatch.setattr(stacked, "KERNEL", s)
     monkeypatch.setattr(balls, "KERNEL", s)
     monkeypatch.setattr(motion, "KERNEL", s)
+    monkeypatch.setattr(boxes, "KERNEL", s)
     return s
 
 
@@ -232,6 +235,29 @@ def test_horner_through_the_kernel_is_numpy_bit_for_bit(spy: Spy) -> None:
         with quiet():
             _same(horner(c, x), _horner(c, x), trial)
     assert spy.took == 300
+
+
+@needs_kernel
+def test_y_over_boxes_through_the_kernel_is_numpy_bit_for_bit(spy: Spy) -> None:
+    rng = np.random.default_rng(11)
+    for trial in range(200):
+        n = int(rng.choice([1, 2, 5, 40]))
+        kinds = (("y_values", y_values, 5, 3), ("y_jets", y_jets, 7, 4))
+        for name, form, k, qd in kinds:
+            ins = []
+            for i in range(k):  # vectors, and scalars (a derivative of a low degree)
+                b = _vector(rng, n)
+                scalar = rng.random() < 0.3 and i != qd
+                ins.append(Ball(b.mid[0], b.rad.flat[0]) if scalar else
+                           Ball(b.mid, np.broadcast_to(b.rad, (n,)).copy()))  # fmt: skip
+            with quiet():
+                got, want = boxes._compiled(tuple(ins), name, qd), form(*ins)
+            assert got is not None and len(got) == len(want)
+            for i, (g, w) in enumerate(zip(got, want, strict=True)):
+                _same(g, w, (trial, name, i))
+    assert (spy.took, spy.declined) == (400, 0)
+    scalar = Ball(1.0, 0.0)  # x' and q' scalars: numpy's path (scalar outputs)
+    assert boxes._compiled((scalar,) * 5, "y_values", 3) is None and spy.took == 400
 
 
 @needs_kernel
