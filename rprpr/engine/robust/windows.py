@@ -224,7 +224,7 @@ def regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     if closed_form(of(ab.robot)):
         kin = [np.asarray(horner_at(q, hh), dtype=float) for q in c]
         with np.errstate(divide="ignore", invalid="ignore"):
-            return regressor_doubles(ab.robot, kin).transpose(2, 3, 0, 1)  # type: ignore[no-any-return]
+            return regressor_doubles(ab.robot, kin).transpose(2, 3, 0, 1)
     hh = hh[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
