@@ -281,6 +281,23 @@ def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
     return out
 
 
+def regressor_doubles(robot: Robot, kin: Sequence[np.ndarray]) -> np.ndarray:
+    """``regressor_floats`` (a guide, not proven) for the end point's x, ẋ, ẍ, y, ẏ, ÿ as
+    double vectors of one length: through the compiled kernel where it applies (the mids
+    of ``regressor_balls`` at balls of radius zero: the closed form's operations in
+    doubles), else numpy's closed form or the equations at the settings."""
+    if KERNEL is not None and closed_form(of(robot)):
+        from ..certified.balls import Ball
+
+        vs = [np.asarray(k, dtype=float) for k in kin]
+        if all(v.ndim == 1 and len(v) == len(vs[0]) for v in vs):
+            zero = np.zeros(len(vs[0]))
+            got = _compiled(_ball_params(robot), [Ball._of(v, zero) for v in vs], False)
+            if got is not None:
+                return np.asarray(got.mid)
+    return regressor_floats(robot, kin)
+
+
 def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:
     """[effort, time]: the largest |Σ_k Y_k π_k| over the box (``corners``: the error's,
     ``box``: the links' as doubles), the error e at the corners (the efforts are affine

@@ -41,13 +41,17 @@ from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
 from ..exact import equations as dyn
+from ..exact.mechanism import of
 from ..exact.series import taylor
 from .regressor import (
     BASIS,
     LINKS,
+    closed_form,
     efforts_of,
+    horner_at,
     legs_about,
     link_max_float,
+    regressor_doubles,
     setting_params,
     settings_array,
 )
@@ -211,9 +215,17 @@ def about(traj: Any, robot: Robot, t_local: fmpq | None, field: Any, t_abs: floa
 
 def regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     """The regressor at the times t_s + h (doubles): (3, n, 2, 10) for the error parts
-    e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``."""
+    e = 0, per unit e_x, per unit e_y; joints T1, T2; ``BASIS``. For the RPRPR's own
+    schemes the closed form (``regressor_doubles``: a handful of products per column,
+    and no difference of large efforts near t_s); another scheme's equations at the ten
+    settings of ``settings_array``. A guide to the window's ends, never a proof."""
     c = ab.floats()
-    hh = np.asarray(h, dtype=float)[:, None, None]  # (n, 1, 1)
+    hh = np.asarray(h, dtype=float)
+    if closed_form(of(ab.robot)):
+        kin = [np.asarray(horner_at(q, hh), dtype=float) for q in c]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return regressor_doubles(ab.robot, kin).transpose(2, 3, 0, 1)
+    hh = hh[:, None, None]  # (n, 1, 1)
     ex = np.array([0.0, 1.0, 0.0])[None, :, None]
     ey = np.array([0.0, 0.0, 1.0])[None, :, None]
     params = ab.settings()
