@@ -3,7 +3,6 @@ run in this process, a plain terminal for every test, and hypothesis's profiles.
 
 from __future__ import annotations
 
-import gc
 import io
 import math
 import os
@@ -27,35 +26,6 @@ CONFIGS = ROOT / "configs"
 # The caches go to __pycache__ folders, which git ignores.
 sys.dont_write_bytecode = False
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
-
-# -- the garbage collector: what is alive at a test module's end is not traversed again --
-# A test process holds ~1 M objects (matplotlib, sympy, hypothesis, the shared audits and
-# sheets) that live to its end, and every full collection traversed them all: ~10 % of the
-# suite's CPU time. So after collection, and at the end of each test module once its
-# garbage is collected, what is left is frozen (``gc.freeze``: left out of later
-# collections). Nothing is skipped for good: the session's end unfreezes everything
-# before pytest's last collections, which find what became garbage while frozen (its
-# finalizers, and any warning they raise, run there).
-
-
-@pytest.hookimpl(trylast=True)
-def pytest_collection_finish(session: pytest.Session) -> None:
-    gc.collect()
-    gc.freeze()
-
-
-@pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_teardown(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
-    yield  # the module's fixtures are torn down by now when the next test is elsewhere
-    if nextitem is None or nextitem.path != item.path:
-        gc.collect()
-        gc.freeze()
-
-
-@pytest.hookimpl(tryfirst=True)
-def pytest_sessionfinish(session: pytest.Session) -> None:
-    gc.unfreeze()
-
 
 # -- hypothesis: random locally, derandomized in CI ---------------------------------------
 # CI (which sets CI=true) draws the same examples on every run and keeps no example database,
