@@ -388,10 +388,10 @@ def _time_limit(seconds: float | None) -> Iterator[None]:
     if seconds is None or not hasattr(signal, "setitimer") or not main:
         yield
         return
-
-    previous = signal.signal(signal.SIGALRM, _ring)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), 0.05)
-    try:
+    previous = signal.getsignal(signal.SIGALRM)
+    try:  # armed within the try: a ring before the block still switches the timer off
+        signal.signal(signal.SIGALRM, _ring)
+        signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3), 0.05)
         yield
     finally:
         while True:  # a ring may still land here, before the timer is off, or just after

@@ -223,17 +223,9 @@ def _compiled(p: dyn.Params, kin: Sequence[Any], jets: bool) -> Any:
     return tuple(got) if jets else got[0]
 
 
-_CONSTS: dict[int, tuple[np.ndarray, ...]] = {}
-
-
 def _consts(p: dyn.Params) -> tuple[np.ndarray, ...]:
     """a1's and g's mids and radii as the kernel reads them (``_ball_params``' own)."""
-    got = _CONSTS.get(id(p))
-    if got is None:
-        got = _CONSTS[id(p)] = tuple(
-            np.asarray(a, dtype=float) for b in (p.a1, p.g) for a in (b.mid, b.rad)
-        )
-    return got
+    return tuple(np.asarray(a, dtype=float) for b in (p.a1, p.g) for a in (b.mid, b.rad))
 
 
 _PARAMS: dict[Any, dyn.Params] = {}
@@ -254,9 +246,10 @@ def _ball_params(robot: Robot) -> dyn.Params:
     return got
 
 
-def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
+def regressor_floats(robot: Robot, kin: Sequence[Any], hyp: Any = np.hypot) -> np.ndarray:
     """``regressor_balls`` in doubles (not proven: a guide), from the end point's x, ẋ,
-    ẍ, y, ẏ, ÿ as double arrays: [effort, ``BASIS``, error part, time]."""
+    ẍ, y, ẏ, ÿ as double arrays: [effort, ``BASIS``, error part, time]; ``hyp`` is the
+    closed form's √(u² + v²)."""
     mech = of(robot)
     shape = np.broadcast_shapes(*(np.shape(k) for k in kin))
     if not closed_form(mech):  # the equations at every setting and error part
@@ -271,7 +264,7 @@ def regressor_floats(robot: Robot, kin: Sequence[Any]) -> np.ndarray:
         T = np.moveaxis(T, 3, 2)  # (2, 10, 3, n)
         return np.concatenate([T[:, :, :1], T[:, :, 1:] - T[:, :, :1]], axis=2)
     p = dyn.Params(float(robot.a1), float(robot.gravity), *(None,) * 12, mech)
-    cols = regressor_columns(p, kin, np.hypot)
+    cols = regressor_columns(p, kin, hyp)
     out = np.zeros((2, len(BASIS), 3, *shape))
     for j, row in enumerate(cols):
         for k, entry in enumerate(row):
@@ -285,7 +278,9 @@ def regressor_doubles(robot: Robot, kin: Sequence[np.ndarray]) -> np.ndarray:
     """``regressor_floats`` (a guide, not proven) for the end point's x, ẋ, ẍ, y, ẏ, ÿ as
     double vectors of one length: through the compiled kernel where it applies (the mids
     of ``regressor_balls`` at balls of radius zero: the closed form's operations in
-    doubles), else numpy's closed form or the equations at the settings."""
+    doubles), else numpy's closed form with the kernel's operations (√(u·u + v·v), not
+    ``np.hypot``: the same doubles, so the window ends do not depend on the build), or the
+    equations at the settings."""
     if KERNEL is not None and closed_form(of(robot)):
         from ..certified.balls import Ball
 
@@ -295,7 +290,12 @@ def regressor_doubles(robot: Robot, kin: Sequence[np.ndarray]) -> np.ndarray:
             got = _compiled(_ball_params(robot), [Ball._of(v, zero) for v in vs], False)
             if got is not None:
                 return np.asarray(got.mid)
-    return regressor_floats(robot, kin)
+    return regressor_floats(robot, kin, _root_of_squares)
+
+
+def _root_of_squares(u: Any, v: Any) -> Any:
+    """√(u·u + v·v) in doubles: the mids of the ball operations of ``equations.hypot``."""
+    return np.sqrt(u * u + v * v)
 
 
 def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:

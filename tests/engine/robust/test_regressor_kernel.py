@@ -62,3 +62,28 @@ def test_the_kernel_declines_what_it_does_not_take(monkeypatch: pytest.MonkeyPat
         got = regressor_balls(robot, grid)  # numpy's path: a grid of times
     assert np.shape(got.mid) == (2, len(BASIS), 3, 2, 3)
     assert spy.took == 0 and spy.declined == 0  # both stopped in Python before a call
+
+
+@needs_kernel
+@pytest.mark.parametrize("prismatic", [False, True])
+def test_the_windows_guide_is_the_same_with_and_without_the_kernel(
+    prismatic: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The doubles that steer the window ends' search must not depend on whether the
+    # kernel was built: its mids (√(u·u + v·v)) and numpy's fallback, bit for bit.
+    rng = np.random.default_rng(17 + prismatic)
+    spy = Spy(KERNEL)
+    trials = 40
+    for trial in range(trials):
+        robot = _robot(rng, prismatic, bool(rng.integers(0, 2)))
+        n = int(rng.choice([1, 3, 64]))
+        kin = [rng.uniform(-3.0, 5.0, n) for _ in range(6)]
+        kin[3] = rng.uniform(-1.0, 1.0, n) * 10.0 ** -float(rng.integers(0, 12))  # y near 0
+        with quiet():
+            monkeypatch.setattr(regressor, "KERNEL", spy)
+            got = regressor.regressor_doubles(robot, kin)
+            monkeypatch.setattr(regressor, "KERNEL", None)
+            want = regressor.regressor_doubles(robot, kin)
+        assert got.shape == want.shape == (2, len(BASIS), 3, n)
+        assert np.array_equal(got, want, equal_nan=True), trial
+    assert (spy.took, spy.declined) == (trials, 0)
