@@ -279,17 +279,24 @@ def combos_of(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.n
 _MR, _J, _M = [0, 3, 5, 8], [1, 4, 6, 9], [0, 2, 5, 7]  # per link of ``LINKS``: its columns
 
 
-def form_float(Y: np.ndarray, bounds: Any) -> np.ndarray:
-    """``regressor.form_max`` in doubles (the same operations on the same numbers, so the
-    same doubles) with ``BASIS`` on the last axis of ``Y``: every link at once."""
-    axes = (Y.ndim - 1, *range(Y.ndim - 1))  # the links' axis first
+def _links(Y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``link_max_float``'s (A, B, C) for every link of ``LINKS``: ``Y``'s columns ``_M``,
+    ``_MR``, ``_J`` (``BASIS`` on its last axis), the links' axis first; A is 0 for a link
+    whose mass is not in the box (no ``km``)."""
+    axes = (Y.ndim - 1, *range(Y.ndim - 1))
     B = Y[..., _MR].transpose(axes)
     C = Y[..., _J].transpose(axes)
     A = Y[..., _M].transpose(axes)
     for i, (_, km, _, _) in enumerate(LINKS):
         if km is None:
             A[i] = B[i] * 0
-    L = link_max_float(A, B, C, bounds)
+    return A, B, C
+
+
+def form_float(Y: np.ndarray, bounds: Any) -> np.ndarray:
+    """``regressor.form_max`` in doubles (the same operations on the same numbers, so the
+    same doubles) with ``BASIS`` on the last axis of ``Y``: every link at once."""
+    L = link_max_float(*_links(Y), bounds)
     total = L[0]
     for i in range(1, len(LINKS)):
         total = total + L[i]
@@ -298,14 +305,7 @@ def form_float(Y: np.ndarray, bounds: Any) -> np.ndarray:
 
 def _form_both(Y: np.ndarray, bounds: Any) -> tuple[np.ndarray, np.ndarray]:
     """``form_float`` of Y and of -Y from one set of operations (``_link_max_both``)."""
-    axes = (Y.ndim - 1, *range(Y.ndim - 1))  # the links' axis first
-    B = Y[..., _MR].transpose(axes)
-    C = Y[..., _J].transpose(axes)
-    A = Y[..., _M].transpose(axes)
-    for i, (_, km, _, _) in enumerate(LINKS):
-        if km is None:
-            A[i] = B[i] * 0
-    up, down = _link_max_both(A, B, C, bounds)
+    up, down = _link_max_both(*_links(Y), bounds)
     tot_up, tot_down = up[0], down[0]
     for i in range(1, len(LINKS)):
         tot_up = tot_up + up[i]

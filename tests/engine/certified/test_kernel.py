@@ -349,8 +349,9 @@ def _boxes(rng: np.random.Generator, n: int) -> list[Ball]:
 
 @needs_kernel
 @pytest.mark.parametrize("prismatic", [False, True])
-def test_kernel_balls_enclose_the_reference(prismatic: bool) -> None:
+def test_kernel_balls_enclose_the_reference(prismatic: bool, spy: Spy) -> None:
     rng = np.random.default_rng(11 + prismatic)
+    checked = 0
     for _ in range(4):
         robot = _robot(rng, prismatic, bool(rng.integers(0, 2)))
         st = Stacked(robot)
@@ -376,11 +377,14 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool) -> None:
                     assert _holds(d, j, ref["delta"])
                     for name in COMPUTED:  # the motion's formulas
                         assert _holds(values[name], j, ref[name]), name
+                    checked += 1
+    assert checked >= 100  # of 144 points (a few fall where T is undefined)
+    assert (spy.took, spy.declined) == (4 * 3, 0)  # legs, torques, formulas: the kernel's
 
 
 @needs_kernel
 @pytest.mark.parametrize("prismatic", [False, True])
-def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool) -> None:
+def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool, spy: Spy) -> None:
     """Jets (f, f') over boxes: at a point p of the values' boxes and a direction q of the
     derivatives' boxes, T(p + τ q) and its derivative at τ = 0 lie in T.v and T.d."""
     rng = np.random.default_rng(31 + prismatic)
@@ -409,3 +413,4 @@ def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool) -
                                   slack)  # fmt: skip
                 assert _holds(d.v, j, along(0, "delta"))
                 assert _holds(d.d, j, mpmath.diff(lambda t: along(t, "delta"), 0), slack)
+    assert (spy.took, spy.declined) == (3 * 2, 0)  # the jets' legs and torques: the kernel's
