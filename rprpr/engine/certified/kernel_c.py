@@ -77,6 +77,44 @@ static int as_array(Py_buffer *v, int rows, Py_ssize_t n, Array *a)
     return 0;
 }
 
+/* out as a C-contiguous float64 buffer of len doubles: 0, or -1 with an exception set. */
+static int take_out(PyObject *out, Py_buffer *ov, Py_ssize_t len)
+{
+    if (PyObject_GetBuffer(out, ov, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+        return -1;
+    if (ov->len != (Py_ssize_t)sizeof(double) * len || ov->itemsize != 8) {
+        PyBuffer_Release(ov);
+        PyErr_SetString(PyExc_ValueError, "output of the wrong size");
+        return -1;
+    }
+    return 0;
+}
+
+/* An input viewed (counted in *got, to be released) as an Array of `rows` rows over n
+ * columns: 0, or 1 when it is not one the kernel takes (no exception left set). */
+static int take_in(PyObject *o, Py_buffer *v, Py_ssize_t *got, int rows, Py_ssize_t n,
+                   Array *a)
+{
+    if (PyObject_GetBuffer(o, v, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        PyErr_Clear();
+        return 1;
+    }
+    (*got)++;
+    return as_array(v, rows, n, a);
+}
+
+/* The views and the output released; True when the kernel ran (not bad). */
+static PyObject *done(Py_buffer *views, Py_ssize_t got, Py_buffer *ov, int bad)
+{
+    Py_ssize_t i;
+    for (i = 0; i < got; i++)
+        PyBuffer_Release(&views[i]);
+    PyBuffer_Release(ov);
+    if (bad)
+        Py_RETURN_FALSE;
+    Py_RETURN_TRUE;
+}
+
 typedef void (*Body)(Py_ssize_t, const Slot *, double *);
 typedef struct { const char *name; Body body; int nslots; const int *rows; Py_ssize_t nout; } Spec;
 
@@ -96,35 +134,15 @@ static PyObject *run_spec(const Spec *s, PyObject *inputs, PyObject *out, Py_ssi
         PyErr_SetString(PyExc_ValueError, "wrong number of inputs");
         return NULL;
     }
-    if (PyObject_GetBuffer(out, &ov, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+    if (take_out(out, &ov, s->nout * n) < 0)
         return NULL;
-    if (ov.len != (Py_ssize_t)sizeof(double) * s->nout * n || ov.itemsize != 8) {
-        PyBuffer_Release(&ov);
-        PyErr_SetString(PyExc_ValueError, "output of the wrong size");
-        return NULL;
-    }
-    for (i = 0; i < 2 * s->nslots; i++) {
-        if (PyObject_GetBuffer(PyTuple_GET_ITEM(inputs, i), &views[i],
-                               PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
-            PyErr_Clear();
-            bad = 1;
-            break;
-        }
-        got++;
+    for (i = 0; i < 2 * s->nslots && !bad; i++) {
         Array *a = i % 2 ? &slots[i / 2].r : &slots[i / 2].m;
-        if (as_array(&views[i], s->rows[i / 2], n, a)) {
-            bad = 1;
-            break;
-        }
+        bad = take_in(PyTuple_GET_ITEM(inputs, i), &views[i], &got, s->rows[i / 2], n, a);
     }
     if (!bad)
         s->body(n, slots, (double *)ov.buf);
-    for (i = 0; i < got; i++)
-        PyBuffer_Release(&views[i]);
-    PyBuffer_Release(&ov);
-    if (bad)
-        Py_RETURN_FALSE;
-    Py_RETURN_TRUE;
+    return done(views, got, &ov, bad);
 }
 """
 
@@ -135,7 +153,7 @@ HORNER = r"""
 static PyObject *py_horner(PyObject *self, PyObject *args)
 {
     PyObject *cs, *xm, *xr, *out;
-    Py_ssize_t n, k, K, j, i;
+    Py_ssize_t n, k, K, i;
     if (!PyArg_ParseTuple(args, "O!OOOn", &PyTuple_Type, &cs, &xm, &xr, &out, &n))
         return NULL;
     K = PyTuple_GET_SIZE(cs) / 2;
@@ -145,25 +163,11 @@ static PyObject *py_horner(PyObject *self, PyObject *args)
     Array arr[MAXBUF];
     Py_ssize_t got = 0;
     int bad = 0;
-    if (PyObject_GetBuffer(out, &ov, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+    if (take_out(out, &ov, 2 * n) < 0)
         return NULL;
-    if (ov.len != (Py_ssize_t)sizeof(double) * 2 * n || ov.itemsize != 8) {
-        PyBuffer_Release(&ov);
-        PyErr_SetString(PyExc_ValueError, "output of the wrong size");
-        return NULL;
-    }
-    for (i = 0; i < 2 * K + 2; i++) {
+    for (i = 0; i < 2 * K + 2 && !bad; i++) {
         PyObject *o = i < 2 * K ? PyTuple_GET_ITEM(cs, i) : (i == 2 * K ? xm : xr);
-        if (PyObject_GetBuffer(o, &views[i], PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
-            PyErr_Clear();
-            bad = 1;
-            break;
-        }
-        got++;
-        if (as_array(&views[i], 1, n, &arr[i])) {
-            bad = 1;
-            break;
-        }
+        bad = take_in(o, &views[i], &got, 1, n, &arr[i]);
     }
     if (!bad) {
         double *o = (double *)ov.buf;
@@ -185,14 +189,8 @@ static PyObject *py_horner(PyObject *self, PyObject *args)
             in[2].r = arr[2 * k + 1];
             k_horner(n, in, o); /* in place: column j reads only column j */
         }
-        (void)j;
     }
-    for (i = 0; i < got; i++)
-        PyBuffer_Release(&views[i]);
-    PyBuffer_Release(&ov);
-    if (bad)
-        Py_RETURN_FALSE;
-    Py_RETURN_TRUE;
+    return done(views, got, &ov, bad);
 }
 """
 
