@@ -36,7 +36,7 @@ from ..certified.motion import CertifiedMotion, dyadic_middle, per_robot
 from ..certified.stacked import stacked_form
 from ..exact.trajectory import Trajectory
 from .approach import min_abs_y
-from .boxes import Bounds, full, last_float, partition
+from .boxes import Bounds, full, last_float, partition, y_chain
 from .search import MAX_LIVE, MAX_ROUNDS, PEAK_REL, cut, maximise
 from .verdicts import Approach, Peak
 
@@ -415,11 +415,7 @@ class Batch:
             yv = [at(q, box - c) for q in self.q]
             return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
         w = xv[0] - c
-        qv = [at(q, w) for q in self.q]
-        q1 = Jet(qv[1], qv[2] * xv[1])
-        q2 = Jet(qv[2], qv[3] * xv[1])
-        y = Jet(qv[0], qv[1] * xv[1])
-        return x, xd, xdd, y, q1 * xd, q2 * xd * xd + q1 * xdd
+        return x, xd, xdd, *y_chain(xv, [at(q, w) for q in self.q])
 
     def _pass(self, t: Ball, idx: np.ndarray) -> tuple[Ball, Ball]:
         x, xd, xdd, y, yd, ydd = self.jets(t, idx)

@@ -5,6 +5,7 @@ columns, and ``Bounds``, what one pass proves per box."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from flint import fmpq, fmpq_poly
@@ -55,10 +56,7 @@ class Polys:
             yv = self._enclose(self.q, box - motion.t_center)
             return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
         w = xv[0] - motion.center
-        qv = self._enclose(self.q, w)
-        ins = (xv[1], xv[2], xv[3], *qv[:4])
-        got = _compiled(ins, "y_jets", 4) or y_jets(*ins)
-        return x, xd, xdd, Jet(qv[0], got[0]), Jet(got[1], got[2]), Jet(got[3], got[4])
+        return x, xd, xdd, *y_chain(xv, self._enclose(self.q, w))
 
     def values(self, motion: CertifiedMotion, box: Ball) -> tuple[Ball, ...]:
         """x, x', x'', y, y', y'' over the box: the values of ``jets`` (the same ball
@@ -71,6 +69,15 @@ class Polys:
         ins = (xv[1], xv[2], *qv[:3])
         got = _compiled(ins, "y_values", 3) or y_values(*ins)
         return xv[0], xv[1], xv[2], qv[0], got[0], got[1]
+
+
+def y_chain(xv: Sequence[Ball], qv: Sequence[Ball]) -> tuple[Jet, Jet, Jet]:
+    """y, y', y'' as jets of y = q(x(t)) over boxes, from the enclosures of x and its first
+    three derivatives (``xv``) and of q and its first three derivatives in w (``qv``):
+    ``jets.y_jets``, through the compiled kernel where it applies."""
+    ins = (xv[1], xv[2], xv[3], *qv[:4])
+    got = _compiled(ins, "y_jets", 4) or y_jets(*ins)
+    return Jet(qv[0], got[0]), Jet(got[1], got[2]), Jet(got[3], got[4])
 
 
 def _compiled(ins: tuple[Ball, ...], name: str, qd: int) -> list[Ball] | None:
