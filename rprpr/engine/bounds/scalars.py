@@ -18,6 +18,7 @@ where |t - t_s|^m is far above that."""
 
 from __future__ import annotations
 
+from functools import cached_property
 from typing import Any
 
 from flint import arb, ctx
@@ -39,8 +40,13 @@ class Scalars:
         self.motion = motion
         self._origins: dict[int, tuple[arb, list[list[arb]]]] = {}
         self._times = [e.hi for _, e in motion.instants]
-        with ctx.workprec(TAYLOR_PREC):  # the robot's numbers in arb, once
-            self._params = motion.mech.params(motion.robot, arb)
+
+    @cached_property
+    def _params(self) -> Any:
+        """The robot's numbers in arb, made once, when a series first needs them (the
+        pole bands read only ``_origin``)."""
+        with ctx.workprec(TAYLOR_PREC):
+            return self.motion.mech.params(self.motion.robot, arb)
 
     def _origin(self, t: float) -> tuple[arb, list[list[arb]]]:
         """(t_0, Taylor coefficients of x and y about t_0): the nearest instant, else 0."""
