@@ -17,6 +17,7 @@ HEAD = """\
 #include <Python.h>
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #ifdef __clang__
 #pragma STDC FP_CONTRACT OFF
@@ -38,9 +39,21 @@ typedef struct { const char *p; Py_ssize_t rs, cs; } Array;
 typedef struct { Array m, r; } Slot;
 
 #define LD(a, row, j) (*(const double *)((a).p + (row) * (a).rs + (j) * (a).cs))
+#define BLK 32 /* columns per block (``kernel_gen``) */
 
-static double nanmin(double a, double b) { return (a != a || b != b) ? NAN : (a < b ? a : b); }
-static double nanmax(double a, double b) { return (a != a || b != b) ? NAN : (a > b ? a : b); }
+/* numpy's minimum and maximum (NaN if either is): every comparison made, no branch */
+static double nanmin(double a, double b)
+{
+    double c = a < b ? a : b;
+    c = a != a ? NAN : c;
+    return b != b ? NAN : c;
+}
+static double nanmax(double a, double b)
+{
+    double c = a > b ? a : b;
+    c = a != a ? NAN : c;
+    return b != b ? NAN : c;
+}
 
 /* A float64 buffer as an input of `rows` rows (1 or 2) over n columns, numpy's
  * broadcasting: the last axis the columns (length 1 or n), a first axis (rows) only for

@@ -154,31 +154,22 @@ _DIV = (
     "b = fabs(m{b}); m{c} = m{a} / m{b}; t = r{a} * b; u = fabs(m{a}) * r{b}; t = t + u;"
     " t = t + TINY; t = t / b; t = t + TINY; u = b - r{b}; t = t / u; u = fabs(m{c}) * U;"
     " u = u + ETA; t = t + u; t = t * GROW; r{c} = t + PAD;"
-    " if (!(b > r{b})) {{ m{c} = NAN; r{c} = INFINITY; }}"
+    " m{c} = b > r{b} ? m{c} : NAN; r{c} = b > r{b} ? r{c} : INFINITY;"
 )
 _NEG = "m{c} = -m{a}; r{c} = r{a};"
 _SQRT = (
     "m{c} = sqrt(m{a} > 0 ? m{a} : 0.0);"
-    " t = m{a} > 0 ? (r{a} * SQ) / m{c} : INFINITY; u = sqrt(r{a}); t = nanmin(t, u);"
-    " if (!(m{a} > 0)) {{ u = m{a} + r{a}; t = sqrt(nanmax(u, 0.0)); }}"
+    " t = (r{a} * SQ) / m{c}; t = m{a} > 0 ? t : INFINITY; u = sqrt(r{a}); t = nanmin(t, u);"
+    " u = m{a} + r{a}; u = sqrt(nanmax(u, 0.0)); t = m{a} > 0 ? t : u;"
     " u = U * m{c}; t = t + u; t = t * GROW; r{c} = t + PAD;"
-    " if (m{a} + r{a} < 0) {{ m{c} = NAN; r{c} = INFINITY; }}"
+    " b = m{a} + r{a}; m{c} = b < 0 ? NAN : m{c}; r{c} = b < 0 ? INFINITY : r{c};"
 )
 _FORMS = {"add": _ADD, "sub": _SUB, "mul": _MUL, "div": _DIV, "neg": _NEG, "sqrt": _SQRT}
 
 
 def emit(graph: Graph, outputs: list[int], load: dict[int, tuple[str, str]]) -> list[str]:
     """C statements computing the nodes ``outputs`` need (inputs read by ``load``)."""
-    need: set[int] = set()
-    stack = list(outputs)
-    while stack:
-        k = stack.pop()
-        if k in need:
-            continue
-        need.add(k)
-        op = graph.ops[k]
-        if op[0] in _FORMS:
-            stack.extend(op[1:])
+    need = _needed(graph, outputs)
     lines = []
     for k in sorted(need):
         op = graph.ops[k]
@@ -221,32 +212,64 @@ class Kernel:
 
     def source(self, outputs: list[Any]) -> str:
         """The C function ``k_<name>``: every column j of n, the outputs' rows (mids then
-        radii, output by output) into out[(row) * n + j]."""
-        load = {}
-        for k, op in enumerate(self.graph.ops):
-            if op[0] == "in":
-                load[k] = (f"LD(in[{op[1]}].m, {op[2]}, j)", f"LD(in[{op[1]}].r, {op[2]}, j)")
+        radii, output by output) into out[(row) * n + j]. Columns go BLK at a time: the
+        block's inputs read (with their strides) into contiguous arrays, every column
+        of the block computed by one loop without branches (which the compiler may run
+        on several columns at once: the same IEEE operations on each), the outputs
+        copied out."""
         ids = [r for o in outputs for r in o.rows]
+        used = sorted(k for k in _needed(self.graph, ids) if self.graph.ops[k][0] == "in")
+        load, gather = {}, []
+        for i, k in enumerate(used):
+            op = self.graph.ops[k]
+            load[k] = (f"I[{2 * i}][c]", f"I[{2 * i + 1}][c]")
+            gather.append(f"I[{2 * i}][c] = LD(in[{op[1]}].m, {op[2]}, j);")
+            gather.append(f"I[{2 * i + 1}][c] = LD(in[{op[1]}].r, {op[2]}, j);")
         body = emit(self.graph, ids, load)
         store, row = [], 0
         for o in outputs:
             for r in o.rows:
-                store.append(f"out[{row} * n + j] = m{r};")
-                store.append(f"out[{row + len(o.rows)} * n + j] = r{r};")
+                store.append(f"O[{row}][c] = m{r};")
+                store.append(f"O[{row + len(o.rows)}][c] = r{r};")
                 row += 1
             row += len(o.rows)
         self.rows_out = [len(o.rows) for o in outputs]
         lines = [
             f"static void k_{self.name}(Py_ssize_t n, const Slot *in, double *out)",
             "{",
-            "    double t, u, b;",
-            "    (void)b;",
-            "    for (Py_ssize_t j = 0; j < n; j++) {",
-            *(f"        {s}" for s in body + store),
+            f"    double I[{max(2 * len(used), 1)}][BLK], O[{row}][BLK];",
+            "    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {",
+            "        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;",
+            "        for (int c = 0; c < nb; c++) {",
+            "            Py_ssize_t j = j0 + c;",
+            *(f"            {s}" for s in gather),
+            "        }",
+            "        for (int c = 0; c < nb; c++) {",
+            "            double t, u, b;",
+            "            (void)b;",
+            *(f"            {s}" for s in body + store),
+            "        }",
+            f"        for (int q = 0; q < {row}; q++)",
+            "            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));",
             "    }",
             "}",
         ]
         return "\n".join(lines)
+
+
+def _needed(graph: Graph, outputs: list[int]) -> set[int]:
+    """The nodes the outputs need."""
+    need: set[int] = set()
+    stack = list(outputs)
+    while stack:
+        k = stack.pop()
+        if k in need:
+            continue
+        need.add(k)
+        op = graph.ops[k]
+        if op[0] in _FORMS:
+            stack.extend(op[1:])
+    return need
 
 
 def _stacked(kernel: Kernel, prismatic: bool) -> Any:
