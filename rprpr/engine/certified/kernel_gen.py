@@ -34,7 +34,7 @@ from . import balls
 from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
-from .kernel_c import HEAD, HORNER, RUNTIME, TAIL
+from .kernel_c import BOUNDS, HEAD, HORNER, RUNTIME, TAIL
 
 OUT = Path(__file__).resolve().parents[2] / "_kernel.c"
 
@@ -140,7 +140,8 @@ class Sym(Ball):
 # -- the C forms of balls.Ball's operations (each: the same IEEE operations, in order) --
 _C = {k: float(v).hex() for k, v in (("U", balls.U), ("ETA", balls.ETA), ("GROW", balls._GROW),
                                      ("PAD", balls._PAD), ("TINY", balls.TINY),
-                                     ("SQ", 1 + 4 * balls.U))}  # fmt: skip
+                                     ("SQ", 1 + 4 * balls.U), ("DOWN", balls._DOWN),
+                                     ("FOURU", 4 * balls.U))}  # fmt: skip
 
 # (a, b -> c): mid m{c}, radius r{c}; t, u: scratch
 _SUM = "t = r{a} + r{b}; u = fabs(m{c}) * U; t = t + u; t = t * GROW; r{c} = t + PAD;"
@@ -412,6 +413,7 @@ def source() -> str:
         nout = 2 * sum(k.rows_out)
         specs.append(f'    {{"{k.name}", k_{k.name}, {len(k.slots)}, rows_{k.name}, {nout}}},')
     parts.append(HORNER)
+    parts.append(BOUNDS)
     parts.append("static const Spec SPECS[] = {")
     parts += specs
     parts.append("};")
