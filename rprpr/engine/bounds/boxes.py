@@ -120,6 +120,8 @@ def full(b: Ball, n: int, rows: int = 2) -> Ball:
     """The ball ``b`` broadcast to ``rows`` rows (0: none) of n columns (a motion that
     does not move, x and y constant, gives balls that do not depend on t)."""
     shape = (rows, n) if rows else (n,)
+    if b.mid.shape == shape and b.rad.shape == shape:  # the usual case: a copy
+        return Ball._of(np.array(b.mid), np.array(b.rad))
     mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
     return Ball._of(np.array(mid), np.array(rad))
 

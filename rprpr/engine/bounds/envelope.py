@@ -93,7 +93,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """T (stacked rows) and T' over the balls of time ``t``: first-order jets."""
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+            T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
             V, D = full(T.v, len(t.mid)), full(T.d, len(t.mid))  # t-free parts too
             for th in self.throughs:
                 V, D = self._through(th, t, V, D, poor_columns(V) | poor_columns(D))
@@ -106,7 +106,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, tb)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+            T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
             V = full(T, len(tb.mid))
             for th in self.throughs:  # rare
                 V, _ = self._through(th, tb, V, V, poor_columns(V), False)

@@ -301,6 +301,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     fields and y; outputs T (2 rows) and δ (``Stacked.torques(lg, y)``).
     torques_at_{ball,jet}_{revolute,prismatic}: the same inputs and δ; output T
     (``Stacked.torques(lg, y, delta=δ)``).
+    efforts_{ball,jet}_{revolute,prismatic}: the constants, then x, ẋ, ẍ, y, ẏ, ÿ; output T
+    (``Stacked.efforts``: the legs and the torques in one call).
     formulas_{revolute,prismatic}: inputs the robot's parameters (``motion.PARAMS``), then
     x, ẋ, ẍ, y, ẏ, ÿ; outputs ``CertifiedMotion.formulas``' values but its arguments
     (``motion.COMPUTED``).
@@ -332,6 +334,11 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
             y = k.jet(1) if jets else k.ball(1)
             given = k.jet(1) if jets else k.ball(1)
             T, _ = st._torques(dyn.Leg(*fields), y, delta=given)
+            out.append((k, _flat([T])))
+            k = Kernel(f"efforts_{kind}_{'prismatic' if prismatic else 'revolute'}")
+            st = _stacked(k, prismatic)
+            kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
+            T, _ = st._torques(st._legs(*kin), kin[3])
             out.append((k, _flat([T])))
     from types import SimpleNamespace
 
