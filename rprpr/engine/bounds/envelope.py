@@ -103,7 +103,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """T (stacked rows) at the float times ``t``, or over the balls of time ``t``: the
         values of ``_pass`` without the derivatives (the factored form near t_A where the
         direct one is poor)."""
-        tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
+        tb = t if isinstance(t, Ball) else Ball._of(np.asarray(t, float), np.zeros(np.shape(t)))
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, tb)
             T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)

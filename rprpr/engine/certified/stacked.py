@@ -27,7 +27,8 @@ _LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 def _pair(a: Any, b: Any) -> Ball:
     """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column."""
-    return stack([Ball.of_rational(a), Ball.of_rational(b)])[:, None]
+    p, q = Ball.of_rational(a), Ball.of_rational(b)
+    return Ball._of(np.array([[p.mid], [q.mid]]), np.array([[p.rad], [q.rad]]))
 
 
 class Stacked:
