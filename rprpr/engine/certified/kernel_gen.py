@@ -335,22 +335,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
             given = k.jet(1) if jets else k.ball(1)
             T, _ = st._torques(dyn.Leg(*fields), y, delta=given)
             out.append((k, _flat([T])))
-            k = Kernel(f"efforts_{kind}_{'prismatic' if prismatic else 'revolute'}")
-            st = _stacked(k, prismatic)
-            kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
-            T, _ = st._torques(st._legs(*kin), kin[3])
-            out.append((k, _flat([T])))
-    from types import SimpleNamespace
-
-    from .motion import COMPUTED, PARAMS, CertifiedMotion
-
-    for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
-        k = Kernel(f"formulas_{mech.name}")
-        params = dyn.Params(**{f: k.ball(1) for f in PARAMS}, mechanism=mech)
-        kin = [k.ball(1) for _ in range(6)]
-        fake = SimpleNamespace(params=params, mech=mech)  # the motion's parts formulas reads
-        got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
-        out.append((k, [got[name] for name in COMPUTED]))
+            out.append(_efforts(jets, prismatic))
+    out += _formulas()
     out += _regressors()
     out += [_chain(name, n) for name, n in (("y_values", 5), ("y_jets", 7))]
     k = Kernel("horner")
@@ -358,6 +344,34 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
     out.append((k, [step]))
     return out
+
+
+def _formulas() -> list[tuple[Kernel, list[Any]]]:
+    """formulas_{revolute,prismatic}: ``CertifiedMotion.formulas`` on recording balls."""
+    from types import SimpleNamespace
+
+    from ..exact import equations as dyn
+    from .motion import COMPUTED, PARAMS, CertifiedMotion
+
+    out: list[tuple[Kernel, list[Any]]] = []
+    for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
+        k = Kernel(f"formulas_{mech.name}")
+        params = dyn.Params(**{f: k.ball(1) for f in PARAMS}, mechanism=mech)
+        kin = [k.ball(1) for _ in range(6)]
+        fake = SimpleNamespace(params=params, mech=mech)  # the motion's parts formulas reads
+        got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
+        out.append((k, [got[name] for name in COMPUTED]))
+    return out
+
+
+def _efforts(jets: bool, prismatic: bool) -> tuple[Kernel, list[Any]]:
+    """efforts_{ball,jet}_{scheme}: ``Stacked.efforts``, the legs then the torques."""
+    kind = "jet" if jets else "ball"
+    k = Kernel(f"efforts_{kind}_{'prismatic' if prismatic else 'revolute'}")
+    st = _stacked(k, prismatic)
+    kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
+    T, _ = st._torques(st._legs(*kin), kin[3])
+    return k, _flat([T])
 
 
 def _chain(name: str, n: int) -> tuple[Kernel, list[Any]]:
