@@ -17,7 +17,7 @@ from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .regressor import BASIS, LINKS, horner_at, legs_about, to_basis
+from .regressor import BASIS, LINKS, closed_form, horner_at, legs_about, regressor_columns, to_basis
 from .windows import (
     PREC,
     About,
@@ -37,6 +37,8 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
     c, params = ab.balls()
+    if not at_ts and closed_form(params[0].mechanism):  # the RPRPR's schemes
+        return _regressor_closed(c, params[0], h)
     if type(params[0].mechanism).dynamics is dyn.Rprpr.dynamics:  # the RPRPR's terms
         return _regressor_direct(ab, c, params[0], h, at_ts)
     out = []
@@ -53,6 +55,16 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
         out.append([to_basis([v[j] for v in values]) for j in range(len(values[0]))])
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
+
+
+def _regressor_closed(c: list[list[arb]], p: dyn.Params, h: arb) -> list[list[list[arb]]]:
+    """``_regressor_ball`` from the closed form (``regressor_columns``, the efforts' columns
+    a handful of ball products each, the columns per unit e_x, e_y written out, δ in its
+    product form) on the end point's balls at t_s + h."""
+    kin = [horner_at(q, h) for q in c]
+    cols = regressor_columns(p, kin, dyn.hypot)
+    return [[[ZERO if entry[e] is None else entry[e] for entry in row] for row in cols]
+            for e in range(3)]  # fmt: skip
 
 
 def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_ts: bool
@@ -293,7 +305,10 @@ def _worst_ball(ab: About, h: float, box: Box, j: int, prec: int = PREC) -> arb:
     corners of e, and per link the maximiser of ``link_max_float``), as a ball. (Any
     point of the box gives a lower bound of the largest |T_j| there; the doubles at a
     time 1e-9 |h| from t_s + h, when evaluated already, choose it as well.)"""
-    fbox = float_box(box)
+    fbox = ab.__dict__.get("_fbox")
+    if fbox is None or fbox[0] is not box:  # (made once per instant and box)
+        fbox = ab.__dict__["_fbox"] = (box, float_box(box))
+    fbox = fbox[1]
     got = ab.row(h, 1e-9)
     Ys = (got if got is not None else regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos, _, k = combos_of(ab, box)  # (c, 3): (e_x, e_y, s)
@@ -308,17 +323,29 @@ def _worst_ball(ab: About, h: float, box: Box, j: int, prec: int = PREC) -> arb:
     for link, km, kmr, kj in LINKS:
         A = Y[km] if km is not None else 0.0
         values[link] = _argmax(A, Y[kmr], Y[kj], box.links[link])
-    L = box.robot_links(values)
-    old = ctx.prec
-    ctx.prec = prec
-    try:
-        c = ab.balls()[0]
+    with ctx.workprec(prec):
+        c, params = ab.balls()
+        if closed_form(params[0].mechanism):  # the regressor's columns at that point
+            cols = _regressor_closed(c, params[0], arb(h))
+            bx, by = arb(ex), arb(ey)
+            total = ZERO
+            for q, pi in enumerate(_pi(values)):
+                total += pi * (cols[0][j][q] + bx * cols[1][j][q] + by * cols[2][j][q])
+            return abs(total)
+        L = box.robot_links(values)
         p = dyn.Params(to_ball(ab.robot.a1), to_ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
         legs = legs_about(c, arb(h), p, arb(ex), arb(ey), dyn.hypot)
         d = dyn.dynamics(legs[0], legs[1], p)
         return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
-    finally:
-        ctx.prec = old
+
+
+def _pi(values: dict[int, tuple[fmpq, fmpq, fmpq]]) -> list[arb]:
+    """π (``BASIS``: m r, J = m r² + I, m) at the links' (m, r, I), each rounded once."""
+    out = []
+    for link, what in BASIS:
+        m, r, inertia = values[link]
+        out.append(arb(m * r if what == "mr" else m * r * r + inertia if what == "J" else m))
+    return out
 
 
 def _argmax(A: float, B: float, C: float, box: Any) -> tuple[fmpq, fmpq, fmpq]:

@@ -293,6 +293,31 @@ def regressor_doubles(robot: Robot, kin: Sequence[np.ndarray]) -> np.ndarray:
     return regressor_floats(robot, kin, _root_of_squares)
 
 
+def doubles_call(robot: Robot) -> Callable[[Sequence[np.ndarray]], np.ndarray | None] | None:
+    """``regressor_doubles`` for ``robot`` as one call of the compiled kernel on the end
+    point's x, ẋ, ẍ, y, ẏ, ÿ as float64 vectors of one length (the same call, so the same
+    doubles; None from it where the kernel declines), its constants looked up once; None
+    where the kernel does not apply (not built, not the closed form)."""
+    if KERNEL is None or not closed_form(of(robot)):
+        return None
+    p = _ball_params(robot)
+    spec = INDEX.get(f"regressor_ball_{p.mechanism.name}")
+    if spec is None:
+        return None
+    consts = _consts(p)
+    size = 2 * len(BASIS) * 3
+
+    def run(kin: Sequence[np.ndarray]) -> np.ndarray | None:
+        n = len(kin[0])
+        zero = np.zeros(n)
+        out = np.empty((spec[1], n))
+        if not KERNEL.run(spec[0], (*consts, *(a for v in kin for a in (v, zero))), out, n):
+            return None
+        return out.reshape(size, 2, n)[:, 0].reshape(2, len(BASIS), 3, n)
+
+    return run
+
+
 def _root_of_squares(u: Any, v: Any) -> Any:
     """√(u·u + v·v) in doubles: the mids of the ball operations of ``equations.hypot``."""
     return np.sqrt(u * u + v * v)
