@@ -358,9 +358,18 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
     |E_j| over the box and the error's ``corners`` for efforts whose coefficients lie in
     the balls ``Y`` [effort, ``BASIS``, e = 0 / per e_x / per e_y, column], proven (see
     above); ±inf where a ball is not finite. ``box``: {link: ((m_lo, m_hi), (r_lo, r_hi),
-    (I_lo, I_hi))} exact (fmpq)."""
+    (I_lo, I_hi))} exact (fmpq). In one call of the compiled kernel where it is built
+    (``kernel_c.FORM_BOUNDS``: the numpy operations below and ``_link_max``'s, in their
+    order, so the same doubles; a change to one is a change to both)."""
     mid, rad = np.asarray(Y.mid, dtype=float), np.asarray(Y.rad, dtype=float)
     mid, rad = np.broadcast_arrays(mid, rad)
+    if KERNEL is not None and mid.ndim == 4:  # these operations in one call, the same doubles
+        es = np.array([(float(ex), float(ey)) for ex, ey in corners])
+        ends = np.array([[float(box[link][q][e]) for link, *_ in LINKS] for q in (0, 1, 2)
+                         for e in (0, 1)])  # fmt: skip
+        out = np.empty((2, mid.shape[3]))
+        if KERNEL.form_bounds(mid, rad, es, ends, SLACK, upper, out):
+            return out
     finite = np.isfinite(mid).all(axis=(1, 2)) & np.isfinite(rad).all(axis=(1, 2))
     mid = np.where(np.isfinite(mid), mid, 0.0)
     rad = np.where(np.isfinite(rad), rad, 0.0)

@@ -270,7 +270,8 @@ def box_max(Ys: np.ndarray, corners: np.ndarray, bounds: np.ndarray) -> np.ndarr
     2, 10) (``regressor_float``), the error's ``corners`` (c, 3): (e_x, e_y, 1), and the
     box's ``bounds`` (6, ``LINKS``): m_lo, m_hi, r_lo, r_hi, I_lo, I_hi. In one call of
     the compiled kernel where it is built (``kernel_c.BOX_MAX``: these operations in this
-    order, the same doubles), else numpy's operations below."""
+    order, the same doubles; a change to one is a change to both), else numpy's operations
+    below."""
     if KERNEL is not None:
         out = np.empty((Ys.shape[1], 2))
         if KERNEL.box_max(Ys, corners, bounds, out):

@@ -1,6 +1,8 @@
-"""The windows' guide over the box through the compiled kernel (``kernel_c.BOX_MAX``,
-``robust.windows.box_max``): the largest |T_i| over the links' box and the error's
-corners in doubles, from the regressor's doubles.
+"""The largest effort over the box in doubles through the compiled kernel, written by hand
+after numpy's operations: the windows' guide (``kernel_c.BOX_MAX``,
+``robust.windows.box_max``: the largest |T_i| over the links' box and the error's corners
+from the regressor's doubles) and the robust peak's proven bounds from the regressor's
+balls (``kernel_c.FORM_BOUNDS``, ``robust.regressor.form_bounds``).
 
 - On random regressors (vectors of times, one or four corners, strided views as
   ``regressor_float`` gives them, zeros, a vanishing r² coefficient, vertices inside and
@@ -8,6 +10,9 @@ corners in doubles, from the regressor's doubles.
   numpy's path (a NaN for a NaN; the sign of a zero maximum is not part of the contract:
   numpy's own loops differ on it); a spy counts the kernel's calls, so the equality is
   never numpy's path against itself; what it does not take it declines.
+- ``form_bounds`` likewise, on random balls (broadcast radii among them), both bounds,
+  against its numpy path bit for bit under a spy; its enclosure of the exact maximum is
+  ``test_form_bounds.py``'s (which runs whichever path is built).
 - Against an exact reference (``fractions``, written apart from the engine: every
   corner, both signs, each link's form at m's and I's ends and at r's ends and the
   parabola's vertex where it lies inside), the doubles are within 1e-12 of the sum of
@@ -23,10 +28,12 @@ from typing import Any
 
 import numpy as np
 import pytest
+from flint import fmpq
 
+from rprpr.engine.certified.balls import Ball
 from rprpr.engine.certified.kernel import KERNEL
-from rprpr.engine.robust import windows
-from rprpr.engine.robust.regressor import BASIS, LINKS
+from rprpr.engine.robust import regressor, windows
+from rprpr.engine.robust.regressor import BASIS, LINKS, form_bounds
 from rprpr.engine.robust.windows import box_max
 
 needs_kernel = pytest.mark.skipif(KERNEL is None, reason="the compiled kernel is not built")
@@ -34,17 +41,22 @@ Q = Fraction
 
 
 class Spy:
-    """The kernel, counting the ``box_max`` calls it took and declined."""
+    """The kernel, counting the ``box_max`` and ``form_bounds`` calls it took and declined."""
 
     def __init__(self, kernel: Any) -> None:
         self.kernel = kernel
         self.took = self.declined = 0
 
-    def box_max(self, *args: Any) -> bool:
-        done = bool(self.kernel.box_max(*args))
-        self.took += done
+    def _count(self, done: bool) -> bool:
+        self.took += bool(done)
         self.declined += not done
         return done
+
+    def box_max(self, *args: Any) -> bool:
+        return self._count(self.kernel.box_max(*args))
+
+    def form_bounds(self, *args: Any) -> bool:
+        return self._count(self.kernel.form_bounds(*args))
 
 
 def _bounds(rng: np.random.Generator) -> np.ndarray:
@@ -153,3 +165,64 @@ def test_the_box_max_is_the_exact_maximum_to_the_doubles_rounding() -> None:
         want, scale = _exact(Ys, corners, bounds)
         for g, w, sc in zip(got, want, scale, strict=True):
             assert abs(Q(float(g)) - w) <= Q(1, 10**12) * sc
+
+
+def _exact_box(rng: np.random.Generator) -> dict[int, tuple[tuple[fmpq, fmpq], ...]]:
+    out = {}
+    for link in (2, 3, 4, 5):
+        ends = []
+        for lo, span in ((50, 350), (-30, 90), (1, 89)):
+            v = fmpq(int(rng.integers(lo, lo + span)), 100)
+            w = fmpq(int(rng.choice([0, 1, 5, 10])), 100)
+            ends.append((v - abs(v) * w, v + abs(v) * w))
+        out[link] = tuple(ends)
+    return out
+
+
+@needs_kernel
+def test_form_bounds_through_the_kernel_is_numpy_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    rng = np.random.default_rng(31)
+    spy = Spy(KERNEL)
+    trials = 150
+    for trial in range(trials):
+        n = int(rng.choice([1, 2, 17, 64]))
+        mid = rng.uniform(-5.0, 5.0, (2, 10, 3, n)) * 10.0 ** rng.integers(-3, 4, (2, 10, 3, n))
+        rad: Any = np.abs(mid) * 10.0 ** rng.uniform(-17, -3, mid.shape)
+        if trial % 3 == 1:
+            hit = rng.random(mid.shape) < 0.03
+            mid[hit] = rng.choice([0.0, -0.0, np.inf, -np.inf, np.nan], int(hit.sum()))
+        if trial % 3 == 2:
+            rad = np.array(float(rng.choice([0.0, 1e-12])))  # one radius, broadcast
+        a = fmpq(int(rng.choice([0, 1, 50])), 100)
+        corners = ([(fmpq(0), fmpq(0))] if a == 0
+                   else [(sx * a, sy * a) for sx in (-1, 1) for sy in (-1, 1)])  # fmt: skip
+        Y, box = Ball(mid, rad), _exact_box(rng)
+        for upper in (True, False):
+            with np.errstate(all="ignore"):
+                monkeypatch.setattr(regressor, "KERNEL", spy)
+                got = form_bounds(Y, box, corners, upper)
+                monkeypatch.setattr(regressor, "KERNEL", None)
+                want = form_bounds(Y, box, corners, upper)
+            assert got.shape == want.shape == (2, n)
+            assert _same_doubles(got, want), (trial, upper, got, want)
+    assert (spy.took, spy.declined) == (2 * trials, 0)
+
+
+@needs_kernel
+def test_form_bounds_kernel_declines_what_it_does_not_take() -> None:
+    rng = np.random.default_rng(7)
+    mid = rng.uniform(-1.0, 1.0, (2, 10, 3, 4))
+    rad = np.zeros_like(mid)
+    es = np.array([[0.01, 0.01], [-0.01, 0.01]])
+    ends = np.ones((6, 4))
+    out = np.empty((2, 4))
+    assert KERNEL.form_bounds(mid, rad, es, ends, 1e-12, True, out)
+    assert not KERNEL.form_bounds(mid[:, :9], rad[:, :9], es, ends, 1e-12, True, out)
+    assert not KERNEL.form_bounds(mid, rad[..., :3], es, ends, 1e-12, True, out)
+    assert not KERNEL.form_bounds(mid, rad, es[:0], ends, 1e-12, True, out)
+    assert not KERNEL.form_bounds(mid, rad, es, ends[:5], 1e-12, True, out)
+    assert not KERNEL.form_bounds(mid[..., 0], rad[..., 0], es, ends, 1e-12, True, out)
+    with pytest.raises(ValueError):
+        KERNEL.form_bounds(mid, rad, es, ends, 1e-12, True, np.empty((2, 3)))
