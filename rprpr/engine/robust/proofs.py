@@ -15,9 +15,22 @@ from flint import arb, ctx, fmpq
 
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
+from ..certified.balls import Ball, _rational, horner
+from ..certified.kernel import KERNEL
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .regressor import BASIS, LINKS, closed_form, horner_at, legs_about, regressor_columns, to_basis
+from .regressor import (
+    BASIS,
+    LINKS,
+    TIGHT_SLACK,
+    closed_form,
+    form_bounds,
+    horner_at,
+    legs_about,
+    regressor_balls,
+    regressor_columns,
+    to_basis,
+)
 from .windows import (
     PREC,
     About,
@@ -285,6 +298,37 @@ def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
     if quick and phi_ball(ab, h, box, bbox, width, limits, QUICK) is not None:
         return True
     return phi_ball(ab, h, box, bbox, width, limits) is not None
+
+
+def kernel_verdicts(ab: About, box: Box, limits: tuple[float, float], hs: Sequence[float],
+                    joints: Sequence[int | None]) -> list[bool]:  # fmt: skip
+    """At each time t_s + ``hs[i]``, whether, proven: with ``joints[i]`` None, both max
+    |T_j| <= their limits (``below``); else max |T_j| > its limit for j = ``joints[i]``
+    (``prove_in``). All at once, from the regressor's balls in double precision through
+    the compiled kernel (``regressor_balls``) and their proven bounds over the box
+    (``form_bounds``): a quick first attempt, False where it does not decide (or where the
+    kernel does not apply); ``below`` and ``prove_in`` then decide in ``arb``."""
+    if KERNEL is None or not closed_form(of(ab.robot)) or not hs:
+        return [False] * len(hs)
+    cs = ab.__dict__.get("_coefficient_balls")
+    if cs is None:  # the Taylor coefficients as balls (made once per instant)
+        cs = ab.__dict__["_coefficient_balls"] = [
+            [_rational(v) if isinstance(v, fmpq) else Ball.of_arb(arb(v)) for v in q]
+            for q in ab.coeffs
+        ]
+    x = Ball(np.asarray(hs, dtype=float), 0.0)
+    with np.errstate(all="ignore"):
+        kin = [horner(q, x) if len(q) > 1 else q[0] + x * 0.0 for q in cs]
+        Y = regressor_balls(ab.robot, kin)
+        up = form_bounds(Y, box.links, box.corners(), True, TIGHT_SLACK)
+        low = form_bounds(Y, box.links, box.corners(), False, TIGHT_SLACK)
+    out = []
+    for i, j in enumerate(joints):
+        if j is None:
+            out.append(bool(up[0, i] <= limits[0] and up[1, i] <= limits[1]))
+        else:
+            out.append(bool(low[j, i] > limits[j]))
+    return out
 
 
 def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float,

@@ -350,10 +350,16 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
 # inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
 
 SLACK = 1e-12  # the doubles' rounding, relative to S: tens of units of 2^-53, and room
+# Counted: x_k carries at most 4 roundings (e's double, two products, two sums), a
+# candidate's terms at most 4 more (the ends' doubles, B r, C r r, the sums), m G and C I
+# one each, the sum over the links 3: under 20 units of 2^-53 of S (to first order; the
+# vertex's B²/4C the same with |r*| <= R). So 2^-46 (128 units) is room enough too
+# (``TIGHT_SLACK``: the windows' quick proofs, ``proofs.kernel_verdicts``).
+TIGHT_SLACK = 2.0**-46
 
 
-def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool
-                ) -> np.ndarray:  # fmt: skip
+def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool,
+                slack_rel: float = SLACK) -> np.ndarray:  # fmt: skip
     """[effort, column]: an upper bound (``upper``) or a lower bound of the largest
     |E_j| over the box and the error's ``corners`` for efforts whose coefficients lie in
     the balls ``Y`` [effort, ``BASIS``, e = 0 / per e_x / per e_y, column], proven (see
@@ -368,7 +374,7 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
         ends = np.array([[float(box[link][q][e]) for link, *_ in LINKS] for q in (0, 1, 2)
                          for e in (0, 1)])  # fmt: skip
         out = np.empty((2, mid.shape[3]))
-        if KERNEL.form_bounds(mid, rad, es, ends, SLACK, upper, out):
+        if KERNEL.form_bounds(mid, rad, es, ends, slack_rel, upper, out):
             return out
     finite = np.isfinite(mid).all(axis=(1, 2)) & np.isfinite(rad).all(axis=(1, 2))
     mid = np.where(np.isfinite(mid), mid, 0.0)
@@ -396,7 +402,7 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
         if km is not None:
             spread = spread + rho[:, km] * M
     best = total.max(axis=0)  # [effort, column]
-    slack = (S * SLACK + spread) * (1 + SLACK) + 1e-300
+    slack = (S * slack_rel + spread) * (1 + slack_rel) + 1e-300
     out = best + slack if upper else best - slack
     return np.where(finite, out, np.inf if upper else -np.inf)
 
