@@ -326,7 +326,16 @@ def _root_of_squares(u: Any, v: Any) -> Any:
 def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:
     """[effort, time]: the largest |Σ_k Y_k π_k| over the box (``corners``: the error's,
     ``box``: the links' as doubles), the error e at the corners (the efforts are affine
-    in it), in doubles, from ``regressor_floats``' Y."""
+    in it), in doubles, from ``regressor_floats``' Y. Through the compiled kernel's
+    ``box_max`` where it is built (the sign s = -1 from the same operations on -Y, which
+    give exactly the negated doubles: the same doubles, ``windows.box_max``)."""
+    if KERNEL is not None and np.ndim(Y) == 4:
+        plus = np.array([(float(ex), float(ey), 1.0) for ex, ey in corners])
+        ends = np.array([[box[link][q][e] for link, *_ in LINKS] for q in (0, 1, 2)
+                         for e in (0, 1)], dtype=float)  # fmt: skip
+        out = np.empty((np.shape(Y)[3], 2))
+        if KERNEL.box_max(np.asarray(Y, dtype=float).transpose(2, 3, 0, 1), plus, ends, out):
+            return out.T
     k = np.array([(s * float(ex), s * float(ey), s) for ex, ey in corners for s in (1.0, -1.0)])
     Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
           * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip

@@ -10,6 +10,7 @@ balls (``kernel_c.FORM_BOUNDS``, ``robust.regressor.form_bounds``).
   numpy's path (a NaN for a NaN; the sign of a zero maximum is not part of the contract:
   numpy's own loops differ on it); a spy counts the kernel's calls, so the equality is
   never numpy's path against itself; what it does not take it declines.
+- ``form_worst`` (the robust peak's guide, through ``box_max``) likewise.
 - ``form_bounds`` likewise, on random balls (broadcast radii among them), both bounds,
   against its numpy path bit for bit under a spy; its enclosure of the exact maximum is
   ``test_form_bounds.py``'s (which runs whichever path is built).
@@ -226,3 +227,30 @@ def test_form_bounds_kernel_declines_what_it_does_not_take() -> None:
     assert not KERNEL.form_bounds(mid[..., 0], rad[..., 0], es, ends, 1e-12, True, out)
     with pytest.raises(ValueError):
         KERNEL.form_bounds(mid, rad, es, ends, 1e-12, True, np.empty((2, 3)))
+
+
+@needs_kernel
+def test_the_peaks_guide_through_the_kernel_is_numpy_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # ``form_worst`` (the robust peak's guide: both signs from one call of ``box_max``)
+    rng = np.random.default_rng(37)
+    spy = Spy(KERNEL)
+    trials = 150
+    for trial in range(trials):
+        n = int(rng.choice([1, 3, 50]))
+        Y = np.ascontiguousarray(_regressor(rng, n, special=trial % 2 == 1).transpose(2, 3, 0, 1))
+        bounds = _bounds(rng)
+        box = {link: tuple((bounds[2 * q, i], bounds[2 * q + 1, i]) for q in range(3))
+               for i, (link, *_) in enumerate(LINKS)}  # fmt: skip
+        a = fmpq(int(rng.choice([0, 1, 50])), 100)
+        corners = ([(fmpq(0), fmpq(0))] if a == 0
+                   else [(sx * a, sy * a) for sx in (-1, 1) for sy in (-1, 1)])  # fmt: skip
+        with np.errstate(all="ignore"):
+            monkeypatch.setattr(regressor, "KERNEL", spy)
+            got = regressor.form_worst(Y, corners, box)
+            monkeypatch.setattr(regressor, "KERNEL", None)
+            want = regressor.form_worst(Y, corners, box)
+        assert got.shape == want.shape == (2, n)
+        assert _same_doubles(got, want), (trial, got, want)
+    assert (spy.took, spy.declined) == (trials, 0)
