@@ -15,8 +15,7 @@ from flint import arb, ctx, fmpq
 
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
-from ..certified.balls import Ball, _rational, horner
-from ..certified.kernel import KERNEL
+from ..certified.balls import Ball, horner
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 from .regressor import (
@@ -304,16 +303,17 @@ def kernel_verdicts(ab: About, box: Box, limits: tuple[float, float], hs: Sequen
                     joints: Sequence[int | None]) -> list[bool]:  # fmt: skip
     """At each time t_s + ``hs[i]``, whether, proven: with ``joints[i]`` None, both max
     |T_j| <= their limits (``below``); else max |T_j| > its limit for j = ``joints[i]``
-    (``prove_in``). All at once, from the regressor's balls in double precision through
-    the compiled kernel (``regressor_balls``) and their proven bounds over the box
-    (``form_bounds``): a quick first attempt, False where it does not decide (or where the
-    kernel does not apply); ``below`` and ``prove_in`` then decide in ``arb``."""
-    if KERNEL is None or not closed_form(of(ab.robot)) or not hs:
+    (``prove_in``). All at once, from the regressor's balls in double precision
+    (``regressor_balls``) and their proven bounds over the box (``form_bounds``), through
+    the compiled kernel where it is built (numpy's path otherwise: the same doubles, so
+    the same verdicts): a quick first attempt, False where it does not decide (or for
+    another scheme than the RPRPR's); ``below`` and ``prove_in`` then decide in ``arb``."""
+    if not closed_form(of(ab.robot)) or not hs:
         return [False] * len(hs)
     cs = ab.__dict__.get("_coefficient_balls")
     if cs is None:  # the Taylor coefficients as balls (made once per instant)
         cs = ab.__dict__["_coefficient_balls"] = [
-            [_rational(v) if isinstance(v, fmpq) else Ball.of_arb(arb(v)) for v in q]
+            [Ball.of_rational(v) if isinstance(v, fmpq) else Ball.of_arb(arb(v)) for v in q]
             for q in ab.coeffs
         ]
     x = Ball(np.asarray(hs, dtype=float), 0.0)
