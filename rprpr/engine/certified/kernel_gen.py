@@ -34,7 +34,7 @@ from . import balls
 from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
-from .kernel_c import HEAD, HORNER, RUNTIME, TAIL
+from .kernel_c import BOX_MAX, FORM_BOUNDS, HEAD, HORNER, RUNTIME, TAIL
 
 OUT = Path(__file__).resolve().parents[2] / "_kernel.c"
 
@@ -389,6 +389,8 @@ def source() -> str:
         nout = 2 * sum(k.rows_out)
         specs.append(f'    {{"{k.name}", k_{k.name}, {len(k.slots)}, rows_{k.name}, {nout}}},')
     parts.append(HORNER)
+    parts.append(BOX_MAX)
+    parts.append(FORM_BOUNDS)
     parts.append("static const Spec SPECS[] = {")
     parts += specs
     parts.append("};")
