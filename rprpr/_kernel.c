@@ -5,10 +5,11 @@
  * one step of Horner's rule) and the regressor (exact/regressor_form.py's
  * regressor_columns), traced from the Python code and
  * emitted as the same IEEE-754 operations, in the same order, as balls.Ball performs on
- * numpy arrays: compiled without contraction (-ffp-contract=off) and without fast-math,
- * every result is the double numpy gives; and, written by hand beside its numpy lines,
- * what one pass proves per box (bounds/assembly.py). kernel.py calls it; where it is
- * not built, the numpy path runs. */
+ * numpy arrays; box_max (robust/windows.py's guide over the box in doubles) and what
+ * one pass proves per box (bounds/assembly.py) written by hand after their numpy
+ * operations, in their order. Compiled without contraction (-ffp-contract=off) and
+ * without fast-math, every result is the double numpy gives. kernel.py calls it; where
+ * it is not built, the numpy path runs. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <float.h>
@@ -7003,6 +7004,244 @@ static PyObject *py_bounds(PyObject *self, PyObject *args)
     return done(views, got, &ov, 0);
 }
 
+
+/* numpy's maximum and minimum (NaN from either operand propagated) */
+static double np_max(double a, double b) { return (a >= b || a != a) ? a : b; }
+static double np_min(double a, double b) { return (a <= b || a != a) ? a : b; }
+
+static int is_f64(const Py_buffer *v)
+{
+    const char *f = v->format;
+#if PY_LITTLE_ENDIAN
+    const char *ours = "<d";
+#else
+    const char *ours = ">d";
+#endif
+    return v->itemsize == 8 && f != NULL && (strcmp(f, "d") == 0 || strcmp(f, ours) == 0
+                                             || strcmp(f, "=d") == 0);
+}
+
+/* The largest of A m + B m r + C (m r^2 + I) over one link's box (b: m_lo, m_hi, r_lo,
+ * r_hi, I_lo, I_hi, each `step` doubles apart) for (A, B, C) and for (-A, -B, -C): the
+ * operations of robust/windows.py's _link_max_both, in its order. */
+static void link_both(double A, double B, double C, const double *b, Py_ssize_t step,
+                      double *up, double *down)
+{
+    double mlo = b[0], mhi = b[step], rlo = b[2 * step], rhi = b[3 * step];
+    double ilo = b[4 * step], ihi = b[5 * step];
+    double glo = (A + B * rlo) + (C * rlo) * rlo;
+    double ghi = (A + B * rhi) + (C * rhi) * rhi;
+    double G = np_max(glo, ghi), Gn = -np_min(glo, ghi);
+    double rs = (-B) / (2.0 * C);
+    int placed = (rs > rlo) & (rs < rhi);
+    double top = A - (B * B) / (4.0 * C);
+    if ((C < 0) & placed)
+        G = np_max(G, top);
+    if ((C > 0) & placed)
+        Gn = np_max(Gn, -top);
+    double c_lo = C * ilo, c_hi = C * ihi;
+    *up = np_max(mlo * G, mhi * G) + np_max(c_lo, c_hi);
+    *down = np_max(mlo * Gn, mhi * Gn) + (-np_min(c_lo, c_hi));
+}
+
+/* box_max(Y, k, bounds, out): robust/windows.py's phi_float after the regressor, the
+ * largest |T_j| over the box in doubles (its numpy path's operations, in its order). Y
+ * float64 (3, n, 2, 10) read with its strides: error part (e = 0, per e_x, per e_y),
+ * time, joint, BASIS; k C-contiguous (c, 3): each corner's (e_x, e_y, 1); bounds
+ * C-contiguous (6, 4): m_lo, m_hi, r_lo, r_hi, I_lo, I_hi over the links 2, 3, 4, 5;
+ * out C-contiguous (n, 2). True when done, False when a shape is not taken. */
+static PyObject *py_box_max(PyObject *self, PyObject *args)
+{
+    static const int KM[4] = {-1, 2, -1, 7}, KMR[4] = {0, 3, 5, 8}, KJ[4] = {1, 4, 6, 9};
+    PyObject *yo, *ko, *bo, *oo;
+    Py_buffer views[3], ov;
+    Py_ssize_t got = 0, n, c, i, j, q, l, e;
+    int bad = 0;
+    if (!PyArg_ParseTuple(args, "OOOO", &yo, &ko, &bo, &oo))
+        return NULL;
+    PyObject *ins[3] = {yo, ko, bo};
+    for (i = 0; i < 3 && !bad; i++) {
+        int flags = i ? PyBUF_C_CONTIGUOUS | PyBUF_FORMAT : PyBUF_STRIDES | PyBUF_FORMAT;
+        if (PyObject_GetBuffer(ins[i], &views[i], flags) < 0) {
+            PyErr_Clear();
+            bad = 1;
+        } else {
+            got++;
+            bad = !is_f64(&views[i]);
+        }
+    }
+    if (!bad)
+        bad = views[0].ndim != 4 || views[0].shape[0] != 3 || views[0].shape[2] != 2
+              || views[0].shape[3] != 10 || views[1].ndim != 2 || views[1].shape[1] != 3
+              || views[1].shape[0] < 1
+              || views[2].ndim != 2 || views[2].shape[0] != 6 || views[2].shape[1] != 4;
+    if (bad) {
+        for (i = 0; i < got; i++)
+            PyBuffer_Release(&views[i]);
+        Py_RETURN_FALSE;
+    }
+    n = views[0].shape[1];
+    c = views[1].shape[0];
+    if (take_out(oo, &ov, 2 * n) < 0) {
+        for (i = 0; i < got; i++)
+            PyBuffer_Release(&views[i]);
+        return NULL;
+    }
+    const char *yp = (const char *)views[0].buf;
+    const Py_ssize_t *st = views[0].strides;
+    const double *k = (const double *)views[1].buf, *bd = (const double *)views[2].buf;
+    double *o = (double *)ov.buf;
+#define YAT(e, i, j, q) \
+    (*(const double *)(yp + (e) * st[0] + (i) * st[1] + (j) * st[2] + (q) * st[3]))
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < 2; j++) {
+            double best_up = 0.0, best_down = 0.0;
+            for (e = 0; e < c; e++) {
+                double y[10], tot_up = 0.0, tot_down = 0.0;
+                const double *ke = k + 3 * e;
+                for (q = 0; q < 10; q++)
+                    y[q] = (ke[2] * YAT(0, i, j, q) + ke[0] * YAT(1, i, j, q))
+                           + ke[1] * YAT(2, i, j, q);
+                for (l = 0; l < 4; l++) {
+                    double up, down, B = y[KMR[l]];
+                    double A = KM[l] < 0 ? B * 0.0 : y[KM[l]];
+                    link_both(A, B, y[KJ[l]], bd + l, 4, &up, &down);
+                    tot_up = l ? tot_up + up : up;
+                    tot_down = l ? tot_down + down : down;
+                }
+                best_up = e ? np_max(best_up, tot_up) : tot_up;
+                best_down = e ? np_max(best_down, tot_down) : tot_down;
+            }
+            o[2 * i + j] = np_max(best_up, best_down);
+        }
+    }
+#undef YAT
+    return done(views, got, &ov, 0);
+}
+
+
+/* robust/regressor.py's _link_max for one link (b: m_lo, m_hi, r_lo, r_hi, I_lo, I_hi,
+ * `step` doubles apart), its operations in its order. */
+static double link_max_fb(double A, double B, double C, const double *b, Py_ssize_t step,
+                          int upper)
+{
+    double mlo = b[0], mhi = b[step], rlo = b[2 * step], rhi = b[3 * step];
+    double ilo = b[4 * step], ihi = b[5 * step];
+    double G = np_max((A + B * rlo) + (C * rlo) * rlo, (A + B * rhi) + (C * rhi) * rhi);
+    double R = fabs(rlo) >= fabs(rhi) ? fabs(rlo) : fabs(rhi);
+    double margin = 1e-9 * (R + (rhi - rlo));
+    double rs = (-B) / (2.0 * C);
+    int inside = upper ? (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
+                       : (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin);
+    if (inside)
+        G = np_max(G, A - (B * B) / (4.0 * C));
+    return np_max(mlo * G, mhi * G) + np_max(C * ilo, C * ihi);
+}
+
+/* form_bounds(mid, rad, corners, bounds, slack, upper, out): robust/regressor.py's
+ * form_bounds, its numpy operations in their order: mid, rad float64 (2, 10, 3, n) read
+ * with their strides (effort, BASIS, error part, column); corners C-contiguous (c, 2);
+ * bounds C-contiguous (6, 4) as box_max's; out C-contiguous (2, n). True when done,
+ * False when a shape is not taken. */
+static PyObject *py_form_bounds(PyObject *self, PyObject *args)
+{
+    static const int KM[4] = {-1, 2, -1, 7}, KMR[4] = {0, 3, 5, 8}, KJ[4] = {1, 4, 6, 9};
+    PyObject *mo, *ro, *co, *bo, *oo;
+    double slack;
+    int upper;
+    Py_buffer views[4], ov;
+    Py_ssize_t got = 0, n, nc, i, j, q, l, e, c;
+    int bad = 0;
+    if (!PyArg_ParseTuple(args, "OOOOdpO", &mo, &ro, &co, &bo, &slack, &upper, &oo))
+        return NULL;
+    PyObject *ins[4] = {mo, ro, co, bo};
+    for (i = 0; i < 4 && !bad; i++) {
+        int flags = i > 1 ? PyBUF_C_CONTIGUOUS | PyBUF_FORMAT : PyBUF_STRIDES | PyBUF_FORMAT;
+        if (PyObject_GetBuffer(ins[i], &views[i], flags) < 0) {
+            PyErr_Clear();
+            bad = 1;
+        } else {
+            got++;
+            bad = !is_f64(&views[i]);
+        }
+    }
+    for (i = 0; i < 2 && !bad; i++)
+        bad = views[i].ndim != 4 || views[i].shape[0] != 2 || views[i].shape[1] != 10
+              || views[i].shape[2] != 3 || views[i].shape[3] != views[0].shape[3];
+    if (!bad)
+        bad = views[2].ndim != 2 || views[2].shape[1] != 2 || views[2].shape[0] < 1
+              || views[3].ndim != 2 || views[3].shape[0] != 6 || views[3].shape[1] != 4;
+    if (bad) {
+        for (i = 0; i < got; i++)
+            PyBuffer_Release(&views[i]);
+        Py_RETURN_FALSE;
+    }
+    n = views[0].shape[3];
+    nc = views[2].shape[0];
+    if (take_out(oo, &ov, 2 * n) < 0) {
+        for (i = 0; i < got; i++)
+            PyBuffer_Release(&views[i]);
+        return NULL;
+    }
+    const double *es = (const double *)views[2].buf, *bd = (const double *)views[3].buf;
+    double *o = (double *)ov.buf;
+    double ea0 = 0.0, ea1 = 0.0; /* np.abs(es).max(axis=0) */
+    for (c = 0; c < nc; c++) {
+        ea0 = c ? np_max(ea0, fabs(es[2 * c])) : fabs(es[2 * c]);
+        ea1 = c ? np_max(ea1, fabs(es[2 * c + 1])) : fabs(es[2 * c + 1]);
+    }
+    double grow = 1.0 + slack;
+#define AT(v, j, q, e, i) \
+    (*(const double *)((const char *)views[v].buf + (j) * views[v].strides[0] \
+                       + (q) * views[v].strides[1] + (e) * views[v].strides[2] \
+                       + (i) * views[v].strides[3]))
+    for (j = 0; j < 2; j++) {
+        for (i = 0; i < n; i++) {
+            double m[10][3], r[10][3], ab[10], rho[10];
+            int finite = 1;
+            for (q = 0; q < 10; q++) {
+                for (e = 0; e < 3; e++) {
+                    double a = AT(0, j, q, e, i), b = AT(1, j, q, e, i);
+                    finite &= isfinite(a) && isfinite(b);
+                    m[q][e] = isfinite(a) ? a : 0.0;
+                    r[q][e] = isfinite(b) ? b : 0.0;
+                }
+                ab[q] = (fabs(m[q][0]) + ea0 * fabs(m[q][1])) + ea1 * fabs(m[q][2]);
+                rho[q] = (r[q][0] + ea0 * r[q][1]) + ea1 * r[q][2];
+            }
+            double best = 0.0, S = 0.0, spread = 0.0;
+            for (c = 0; c < 2 * nc; c++) {
+                double sg = c % 2 ? -1.0 : 1.0;
+                double cx = sg * es[2 * (c / 2)], cy = sg * es[2 * (c / 2) + 1];
+                double x[10], total = 0.0;
+                for (q = 0; q < 10; q++)
+                    x[q] = (sg * m[q][0] + cx * m[q][1]) + cy * m[q][2];
+                for (l = 0; l < 4; l++) {
+                    double B = x[KMR[l]], A = KM[l] < 0 ? 0.0 * B : x[KM[l]];
+                    total = total + link_max_fb(A, B, x[KJ[l]], bd + l, 4, upper);
+                }
+                best = c ? np_max(best, total) : total;
+            }
+            for (l = 0; l < 4; l++) {
+                const double *b = bd + l;
+                double M = fabs(b[0]) >= fabs(b[4]) ? fabs(b[0]) : fabs(b[4]);
+                double R = fabs(b[8]) >= fabs(b[12]) ? fabs(b[8]) : fabs(b[12]);
+                double Im = fabs(b[16]) >= fabs(b[20]) ? fabs(b[16]) : fabs(b[20]);
+                double aA = KM[l] < 0 ? 0.0 : ab[KM[l]];
+                S = (S + M * ((aA + ab[KMR[l]] * R) + (ab[KJ[l]] * R) * R)) + ab[KJ[l]] * Im;
+                spread = (spread + rho[KMR[l]] * (M * R)) + rho[KJ[l]] * ((M * R) * R + Im);
+                if (KM[l] >= 0)
+                    spread = spread + rho[KM[l]] * M;
+            }
+            double sl = (S * slack + spread) * grow + 1e-300;
+            double v = upper ? best + sl : best - sl;
+            o[j * n + i] = finite ? v : (upper ? INFINITY : -INFINITY);
+        }
+    }
+#undef AT
+    return done(views, got, &ov, 0);
+}
+
 static const Spec SPECS[] = {
     {"legs_ball", k_legs_ball, 13, rows_legs_ball, 28},
     {"torques_ball_revolute", k_torques_ball_revolute, 15, rows_torques_ball_revolute, 6},
@@ -7063,6 +7302,9 @@ static PyMethodDef methods[] = {
     {"horner", py_horner, METH_VARARGS, "horner(coefficients, xm, xr, out, n)."},
     {"bounds", py_bounds, METH_VARARGS, "bounds(Pm, Pr, where, Bm, Br, Dm, Dr, rad, lo, hi, "
      "t_last, limit, out, n)."},
+    {"box_max", py_box_max, METH_VARARGS, "box_max(Y, k, bounds, out): max |T_j| over the box."},
+    {"form_bounds", py_form_bounds, METH_VARARGS, "form_bounds(mid, rad, corners, bounds, slack,"
+     " upper, out): robust/regressor.py's form_bounds."},
     {"names", py_names, METH_NOARGS, "The kernels' (name, output rows), by index."},
     {NULL, NULL, 0, NULL},
 };

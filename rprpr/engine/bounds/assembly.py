@@ -3,7 +3,7 @@ ends and over the boxes (T and T'): the bounds of ``boxes.Bounds``, and which bo
 limit check has settled before the forms near singular instants (``settled``).
 
 Both are written here once in numpy (``_assemble``, ``_settled``: the description) and
-run in one call of the compiled kernel where it is built (``kernel_c.BOUNDS``: the same
+run in one call of the compiled kernel where it is built (``kernel_c_bounds``: the same
 IEEE operations in the same order, so the same doubles; tests/engine/bounds/
 test_assembly.py holds the two together), else in numpy.
 """
@@ -21,7 +21,7 @@ def _kernel(
     P: Ball, where: np.ndarray, B: Ball, D: Ball, box: Ball, lo: np.ndarray, hi: np.ndarray,
     t_last: float, limit: tuple[float, float] | None,
 ) -> np.ndarray | None:  # fmt: skip
-    """The kernel's ``bounds`` (``kernel_c.BOUNDS``), or None where it is not built or
+    """The kernel's ``bounds`` (``kernel_c_bounds``), or None where it is not built or
     an array is not of the shape and type it takes."""
     if KERNEL is None:
         return None

@@ -34,7 +34,8 @@ from . import balls
 from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
-from .kernel_c import BOUNDS, HEAD, HORNER, RUNTIME, TAIL
+from .kernel_c import BOX_MAX, FORM_BOUNDS, HEAD, HORNER, RUNTIME, TAIL
+from .kernel_c_bounds import BOUNDS
 
 OUT = Path(__file__).resolve().parents[2] / "_kernel.c"
 
@@ -435,6 +436,8 @@ def source() -> str:
         specs.append(f'    {{"{k.name}", k_{k.name}, {len(k.slots)}, rows_{k.name}, {nout}}},')
     parts.append(HORNER)
     parts.append(BOUNDS)
+    parts.append(BOX_MAX)
+    parts.append(FORM_BOUNDS)
     parts.append("static const Spec SPECS[] = {")
     parts += specs
     parts.append("};")

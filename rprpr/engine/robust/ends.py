@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .proofs import CLEAR, below, prove_in
+from .proofs import CLEAR, below, kernel_verdicts, prove_in
 from .windows import About, Box, ball_box, float_box, phi_float
 
 # -- the window on one side ----------------------------------------------------------------
@@ -55,20 +55,32 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
     for d, reach in narrow:
         out[d] = (_halving(ab, box, bbox, limits, d, reach), 0.0, 0)
     _refine(ab, box, fbox, lim, brackets)
+    plan = {}
     for d, bs in brackets.items():
         j = 0 if bs[0][1] >= bs[1][1] else 1
         reach = next(r for dd, r, _ in live if dd == d)
+        # (a bracket narrower than the doubles' error at its ends: from a little inside)
+        plan[d] = (j, reach, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
+    # the first candidates of both ends of every side, proven at once where the balls in
+    # double precision decide (``kernel_verdicts``); the others in arb, one by one
+    firsts: list[tuple[float, int | None]] = [
+        (d * brackets[d][j][1], None) for d, (j, reach, _) in plan.items()
+    ]
+    firsts += [(d * near, j) for d, (j, _, near) in plan.items()]
+    quick = kernel_verdicts(ab, box, limits, [h for h, _ in firsts], [j for _, j in firsts])
+    for k, (d, (j, reach, near)) in enumerate(plan.items()):
+        bs = brackets[d]
         # the window cannot reach past the first candidate at which it is proven to end
         # (at the bracket's far end itself, the quick attempt only where the doubles put
         # the largest |T_j| there clear of the limit: else it is often just over it)
         clear = bs[j][3] < -CLEAR * limits[j]
-        outer = next((h for k, h in enumerate(_outward(bs[j][1], reach))
-                      if below(ab, box, bbox, limits, d * h, quick=k > 0 or clear)),
+        outer = next((h for i, h in enumerate(_outward(bs[j][1], reach))
+                      if (i == 0 and quick[k])
+                      or below(ab, box, bbox, limits, d * h, quick=i > 0 or clear)),
                      reach)  # fmt: skip
-        # (a bracket narrower than the doubles' error at its ends: from a little inside)
-        near = min(bs[j][0], bs[j][1] * (1 - 2e-12))
-        inner = prove_in(ab, box, bbox, limits[j], j, d, near,
-                         near == bs[j][0] and bs[j][2] > CLEAR * limits[j])  # fmt: skip
+        inner = (near if near > 0 and quick[len(plan) + k] else
+                 prove_in(ab, box, bbox, limits[j], j, d, near,
+                          near == bs[j][0] and bs[j][2] > CLEAR * limits[j]))  # fmt: skip
         out[d] = (outer, inner, j)
     return out
 

@@ -15,9 +15,21 @@ from flint import arb, ctx, fmpq
 
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
+from ..certified.balls import Ball, horner
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .regressor import BASIS, LINKS, horner_at, legs_about, to_basis
+from .regressor import (
+    BASIS,
+    LINKS,
+    TIGHT_SLACK,
+    closed_form,
+    form_bounds,
+    horner_at,
+    legs_about,
+    regressor_balls,
+    regressor_columns,
+    to_basis,
+)
 from .windows import (
     PREC,
     About,
@@ -37,6 +49,8 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
     e_x, per unit e_y: [part][joint][``BASIS``]; at t_s (``at_ts``) the residual's
     coefficients as the one "joint"."""
     c, params = ab.balls()
+    if not at_ts and closed_form(params[0].mechanism):  # the RPRPR's schemes
+        return _regressor_closed(c, params[0], h)
     if type(params[0].mechanism).dynamics is dyn.Rprpr.dynamics:  # the RPRPR's terms
         return _regressor_direct(ab, c, params[0], h, at_ts)
     out = []
@@ -53,6 +67,16 @@ def _regressor_ball(ab: About, h: arb, at_ts: bool = False) -> list[list[list[An
         out.append([to_basis([v[j] for v in values]) for j in range(len(values[0]))])
     return [[[y - y0 if i else y for y, y0 in zip(row, row0, strict=True)]
              for row, row0 in zip(out[i], out[0], strict=True)] for i in range(3)]  # fmt: skip
+
+
+def _regressor_closed(c: list[list[arb]], p: dyn.Params, h: arb) -> list[list[list[arb]]]:
+    """``_regressor_ball`` from the closed form (``regressor_columns``, the efforts' columns
+    a handful of ball products each, the columns per unit e_x, e_y written out, δ in its
+    product form) on the end point's balls at t_s + h."""
+    kin = [horner_at(q, h) for q in c]
+    cols = regressor_columns(p, kin, dyn.hypot)
+    return [[[ZERO if entry[e] is None else entry[e] for entry in row] for row in cols]
+            for e in range(3)]  # fmt: skip
 
 
 def _regressor_direct(ab: About, c: list[list[arb]], p: dyn.Params, h: arb, at_ts: bool
@@ -275,6 +299,38 @@ def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
     return phi_ball(ab, h, box, bbox, width, limits) is not None
 
 
+def kernel_verdicts(ab: About, box: Box, limits: tuple[float, float], hs: Sequence[float],
+                    joints: Sequence[int | None]) -> list[bool]:  # fmt: skip
+    """At each time t_s + ``hs[i]``, whether, proven: with ``joints[i]`` None, both max
+    |T_j| <= their limits (``below``); else max |T_j| > its limit for j = ``joints[i]``
+    (``prove_in``). All at once, from the regressor's balls in double precision
+    (``regressor_balls``) and their proven bounds over the box (``form_bounds``), through
+    the compiled kernel where it is built (numpy's path otherwise: the same doubles, so
+    the same verdicts): a quick first attempt, False where it does not decide (or for
+    another scheme than the RPRPR's); ``below`` and ``prove_in`` then decide in ``arb``."""
+    if not closed_form(of(ab.robot)) or not hs:
+        return [False] * len(hs)
+    cs = ab.__dict__.get("_coefficient_balls")
+    if cs is None:  # the Taylor coefficients as balls (made once per instant)
+        cs = ab.__dict__["_coefficient_balls"] = [
+            [Ball.of_rational(v) if isinstance(v, fmpq) else Ball.of_arb(arb(v)) for v in q]
+            for q in ab.coeffs
+        ]
+    x = Ball(np.asarray(hs, dtype=float), 0.0)
+    with np.errstate(all="ignore"):
+        kin = [horner(q, x) if len(q) > 1 else q[0] + x * 0.0 for q in cs]
+        Y = regressor_balls(ab.robot, kin)
+        up = form_bounds(Y, box.links, box.corners(), True, TIGHT_SLACK)
+        low = form_bounds(Y, box.links, box.corners(), False, TIGHT_SLACK)
+    out = []
+    for i, j in enumerate(joints):
+        if j is None:
+            out.append(bool(up[0, i] <= limits[0] and up[1, i] <= limits[1]))
+        else:
+            out.append(bool(low[j, i] > limits[j]))
+    return out
+
+
 def prove_in(ab: About, box: Box, bbox: Any, lim: float, j: int, d: int, h: float,
              quick: bool = False) -> float:  # fmt: skip
     """h, or a little nearer t_s, at which max |T_j| > lim is proven (0 when none is):
@@ -293,7 +349,10 @@ def _worst_ball(ab: About, h: float, box: Box, j: int, prec: int = PREC) -> arb:
     corners of e, and per link the maximiser of ``link_max_float``), as a ball. (Any
     point of the box gives a lower bound of the largest |T_j| there; the doubles at a
     time 1e-9 |h| from t_s + h, when evaluated already, choose it as well.)"""
-    fbox = float_box(box)
+    fbox = ab.__dict__.get("_fbox")
+    if fbox is None or fbox[0] is not box:  # (made once per instant and box)
+        fbox = ab.__dict__["_fbox"] = (box, float_box(box))
+    fbox = fbox[1]
     got = ab.row(h, 1e-9)
     Ys = (got if got is not None else regressor_float(ab, np.array([h]))[:, 0])[:, j, :]  # (3, 10)
     combos, _, k = combos_of(ab, box)  # (c, 3): (e_x, e_y, s)
@@ -308,17 +367,29 @@ def _worst_ball(ab: About, h: float, box: Box, j: int, prec: int = PREC) -> arb:
     for link, km, kmr, kj in LINKS:
         A = Y[km] if km is not None else 0.0
         values[link] = _argmax(A, Y[kmr], Y[kj], box.links[link])
-    L = box.robot_links(values)
-    old = ctx.prec
-    ctx.prec = prec
-    try:
-        c = ab.balls()[0]
+    with ctx.workprec(prec):
+        c, params = ab.balls()
+        if closed_form(params[0].mechanism):  # the regressor's columns at that point
+            cols = _regressor_closed(c, params[0], arb(h))
+            bx, by = arb(ex), arb(ey)
+            total = ZERO
+            for q, pi in enumerate(_pi(values)):
+                total += pi * (cols[0][j][q] + bx * cols[1][j][q] + by * cols[2][j][q])
+            return abs(total)
+        L = box.robot_links(values)
         p = dyn.Params(to_ball(ab.robot.a1), to_ball(ab.robot.gravity), *L, of(ab.robot))  # type: ignore[call-arg]
         legs = legs_about(c, arb(h), p, arb(ex), arb(ey), dyn.hypot)
         d = dyn.dynamics(legs[0], legs[1], p)
         return abs(dyn.efforts(d, d.mu1 / d.delta, d.mu2 / d.delta)[j])
-    finally:
-        ctx.prec = old
+
+
+def _pi(values: dict[int, tuple[fmpq, fmpq, fmpq]]) -> list[arb]:
+    """π (``BASIS``: m r, J = m r² + I, m) at the links' (m, r, I), each rounded once."""
+    out = []
+    for link, what in BASIS:
+        m, r, inertia = values[link]
+        out.append(arb(m * r if what == "mr" else m * r * r + inertia if what == "J" else m))
+    return out
 
 
 def _argmax(A: float, B: float, C: float, box: Any) -> tuple[fmpq, fmpq, fmpq]:

@@ -293,6 +293,31 @@ def regressor_doubles(robot: Robot, kin: Sequence[np.ndarray]) -> np.ndarray:
     return regressor_floats(robot, kin, _root_of_squares)
 
 
+def doubles_call(robot: Robot) -> Callable[[Sequence[np.ndarray]], np.ndarray | None] | None:
+    """``regressor_doubles`` for ``robot`` as one call of the compiled kernel on the end
+    point's x, ẋ, ẍ, y, ẏ, ÿ as float64 vectors of one length (the same call, so the same
+    doubles; None from it where the kernel declines), its constants looked up once; None
+    where the kernel does not apply (not built, not the closed form)."""
+    if KERNEL is None or not closed_form(of(robot)):
+        return None
+    p = _ball_params(robot)
+    spec = INDEX.get(f"regressor_ball_{p.mechanism.name}")
+    if spec is None:
+        return None
+    consts = _consts(p)
+    size = 2 * len(BASIS) * 3
+
+    def run(kin: Sequence[np.ndarray]) -> np.ndarray | None:
+        n = len(kin[0])
+        zero = np.zeros(n)
+        out = np.empty((spec[1], n))
+        if not KERNEL.run(spec[0], (*consts, *(a for v in kin for a in (v, zero))), out, n):
+            return None
+        return out.reshape(size, 2, n)[:, 0].reshape(2, len(BASIS), 3, n)
+
+    return run
+
+
 def _root_of_squares(u: Any, v: Any) -> Any:
     """√(u·u + v·v) in doubles: the mids of the ball operations of ``equations.hypot``."""
     return np.sqrt(u * u + v * v)
@@ -301,7 +326,16 @@ def _root_of_squares(u: Any, v: Any) -> Any:
 def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> np.ndarray:
     """[effort, time]: the largest |Σ_k Y_k π_k| over the box (``corners``: the error's,
     ``box``: the links' as doubles), the error e at the corners (the efforts are affine
-    in it), in doubles, from ``regressor_floats``' Y."""
+    in it), in doubles, from ``regressor_floats``' Y. Through the compiled kernel's
+    ``box_max`` where it is built (the sign s = -1 from the same operations on -Y, which
+    give exactly the negated doubles: the same doubles, ``windows.box_max``)."""
+    if KERNEL is not None and np.ndim(Y) == 4:
+        plus = np.array([(float(ex), float(ey), 1.0) for ex, ey in corners])
+        ends = np.array([[box[link][q][e] for link, *_ in LINKS] for q in (0, 1, 2)
+                         for e in (0, 1)], dtype=float)  # fmt: skip
+        out = np.empty((np.shape(Y)[3], 2))
+        if KERNEL.box_max(np.asarray(Y, dtype=float).transpose(2, 3, 0, 1), plus, ends, out):
+            return out.T
     k = np.array([(s * float(ex), s * float(ey), s) for ex, ey in corners for s in (1.0, -1.0)])
     Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
           * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip
@@ -325,17 +359,32 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
 # inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
 
 SLACK = 1e-12  # the doubles' rounding, relative to S: tens of units of 2^-53, and room
+# Counted: x_k carries at most 4 roundings (e's double, two products, two sums), a
+# candidate's terms at most 4 more (the ends' doubles, B r, C r r, the sums), m G and C I
+# one each, the sum over the links 3: under 20 units of 2^-53 of S (to first order; the
+# vertex's B²/4C the same with |r*| <= R). So 2^-46 (128 units) is room enough too
+# (``TIGHT_SLACK``: the windows' quick proofs, ``proofs.kernel_verdicts``).
+TIGHT_SLACK = 2.0**-46
 
 
-def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool
-                ) -> np.ndarray:  # fmt: skip
+def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: bool,
+                slack_rel: float = SLACK) -> np.ndarray:  # fmt: skip
     """[effort, column]: an upper bound (``upper``) or a lower bound of the largest
     |E_j| over the box and the error's ``corners`` for efforts whose coefficients lie in
     the balls ``Y`` [effort, ``BASIS``, e = 0 / per e_x / per e_y, column], proven (see
     above); ±inf where a ball is not finite. ``box``: {link: ((m_lo, m_hi), (r_lo, r_hi),
-    (I_lo, I_hi))} exact (fmpq)."""
+    (I_lo, I_hi))} exact (fmpq). In one call of the compiled kernel where it is built
+    (``kernel_c.FORM_BOUNDS``: the numpy operations below and ``_link_max``'s, in their
+    order, so the same doubles; a change to one is a change to both)."""
     mid, rad = np.asarray(Y.mid, dtype=float), np.asarray(Y.rad, dtype=float)
     mid, rad = np.broadcast_arrays(mid, rad)
+    if KERNEL is not None and mid.ndim == 4:  # these operations in one call, the same doubles
+        es = np.array([(float(ex), float(ey)) for ex, ey in corners])
+        ends = np.array([[float(box[link][q][e]) for link, *_ in LINKS] for q in (0, 1, 2)
+                         for e in (0, 1)])  # fmt: skip
+        out = np.empty((2, mid.shape[3]))
+        if KERNEL.form_bounds(mid, rad, es, ends, slack_rel, upper, out):
+            return out
     finite = np.isfinite(mid).all(axis=(1, 2)) & np.isfinite(rad).all(axis=(1, 2))
     mid = np.where(np.isfinite(mid), mid, 0.0)
     rad = np.where(np.isfinite(rad), rad, 0.0)
@@ -362,7 +411,7 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
         if km is not None:
             spread = spread + rho[:, km] * M
     best = total.max(axis=0)  # [effort, column]
-    slack = (S * SLACK + spread) * (1 + SLACK) + 1e-300
+    slack = (S * slack_rel + spread) * (1 + slack_rel) + 1e-300
     out = best + slack if upper else best - slack
     return np.where(finite, out, np.inf if upper else -np.inf)
 

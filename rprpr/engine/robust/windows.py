@@ -40,6 +40,7 @@ from flint import arb, ctx, fmpq, fmpq_poly
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot, Uncertainty
+from ..certified.kernel import KERNEL
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 from ..exact.series import taylor
@@ -47,6 +48,7 @@ from .regressor import (
     BASIS,
     LINKS,
     closed_form,
+    doubles_call,
     efforts_of,
     horner_at,
     legs_about,
@@ -223,6 +225,12 @@ def regressor_float(ab: About, h: np.ndarray) -> np.ndarray:
     hh = np.asarray(h, dtype=float)
     if closed_form(of(ab.robot)):
         kin = [np.asarray(horner_at(q, hh), dtype=float) for q in c]
+        if "_call" not in ab.__dict__:
+            ab.__dict__["_call"] = doubles_call(ab.robot)
+        call = ab.__dict__["_call"]
+        got = call(kin) if call is not None and hh.ndim == 1 else None
+        if got is not None:  # (``regressor_doubles``' kernel call, its constants once)
+            return got.transpose(2, 3, 0, 1)
         with np.errstate(divide="ignore", invalid="ignore"):
             return regressor_doubles(ab.robot, kin).transpose(2, 3, 0, 1)
     hh = hh[:, None, None]  # (n, 1, 1)
@@ -254,14 +262,42 @@ def phi_float(ab: About, h: np.ndarray, box: Box, fbox: Any) -> np.ndarray:
     each of these times is kept (``About.rows``, for ``prove_in``)."""
     Ys = regressor_float(ab, h)
     ab.rows().append((np.asarray(h, dtype=float), Ys))
-    k = combos_of(ab, box)[1][::2]  # (corners, 3): (e_x, e_y, 1)
+    return box_max(Ys, *_kernel_box(ab, box, fbox))
+
+
+def box_max(Ys: np.ndarray, corners: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """The largest |T_i| over the box, (n, 2), in doubles, from the regressor ``Ys`` (3, n,
+    2, 10) (``regressor_float``), the error's ``corners`` (c, 3): (e_x, e_y, 1), and the
+    box's ``bounds`` (6, ``LINKS``): m_lo, m_hi, r_lo, r_hi, I_lo, I_hi. In one call of
+    the compiled kernel where it is built (``kernel_c.BOX_MAX``: these operations in this
+    order, the same doubles; a change to one is a change to both), else numpy's operations
+    below."""
+    if KERNEL is not None:
+        out = np.empty((Ys.shape[1], 2))
+        if KERNEL.box_max(Ys, corners, bounds, out):
+            return out
+    k = corners
     Y = (
         k[:, 2, None, None, None] * Ys[0][None]
         + k[:, 0, None, None, None] * Ys[1][None]
         + (k[:, 1, None, None, None] * Ys[2][None])
     )  # (corners, n, 2, 10); for s = -1 exactly -Y (rounding to nearest is symmetric)
-    up, down = _form_both(Y, box_arrays(ab, box, fbox, Y.ndim))
+    shape = (len(LINKS),) + (1,) * (Y.ndim - 1)
+    ends = [row.reshape(shape) for row in bounds]
+    up, down = _form_both(Y, ((ends[0], ends[1]), (ends[2], ends[3]), (ends[4], ends[5])))
     return np.maximum(up.max(axis=0), down.max(axis=0))
+
+
+def _kernel_box(ab: About, box: Box, fbox: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``box_max``'s corners (e_x, e_y, 1) and the box's ends (m, r, I; low, high) over
+    ``LINKS``, C-contiguous as the kernel reads them (made once per instant and box)."""
+    got = ab.__dict__.get("_kernel_box")
+    if got is None or got[0] is not box:
+        corners = np.ascontiguousarray(combos_of(ab, box)[1][::2])
+        bounds = np.array([[fbox[link][q][e] for link, *_ in LINKS] for q in (0, 1, 2)
+                           for e in (0, 1)])  # fmt: skip
+        got = ab.__dict__["_kernel_box"] = (box, corners, bounds)
+    return got[1], got[2]
 
 
 def combos_of(ab: About, box: Box) -> tuple[list[tuple[fmpq, fmpq, float]], np.ndarray, np.ndarray]:
