@@ -419,12 +419,12 @@ class Batch:
 
     def _pass(self, t: Ball, idx: np.ndarray) -> tuple[Ball, Ball]:
         x, xd, xdd, y, yd, ydd = self.jets(t, idx)
-        T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+        T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
         return full(T.v, len(idx)), full(T.d, len(idx))
 
     def _values(self, t: np.ndarray, idx: np.ndarray) -> Ball:
         x, xd, xdd, y, yd, ydd = (J.v for J in self.jets(Ball.exact(t), idx))
-        T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+        T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
         return full(T, len(idx))
 
     def bounds(

@@ -12,7 +12,7 @@ from flint import fmpq, fmpq_poly
 
 from ...model.dataclass import dataclass
 from ...model.numbers import to_float
-from ..certified.balls import Ball, centred, horner, poly_balls
+from ..certified.balls import Ball, centred, flat_coefficients, horner, poly_balls
 from ..certified.jets import Jet, y_jets, y_values
 from ..certified.kernel import INDEX, KERNEL
 from ..certified.motion import CertifiedMotion
@@ -36,36 +36,44 @@ class Polys:
         q3d = q.derivative().derivative().derivative()
         self.x = [*motion.x3, poly_balls(x3), *_fourth(x3)]
         self.q = [*q3, poly_balls(q3d), *_fourth(q3d)]
+        self.x_flat = [flat_coefficients(c) for c in self.x]  # the kernel's Horner inputs
+        self.q_flat = [flat_coefficients(c) for c in self.q]
+        # the centre subtracted before q is evaluated (w = t - c_t, or x - c), as the ball
+        # a Ball operation makes of the exact rational (``Ball.coerce``), made once
+        self.shift = Ball.of_rational(motion.t_center if self.direct else motion.center)
 
     @staticmethod
-    def _enclose(cs: list[list[Ball]], box: Ball, n: int = 4) -> list[Ball]:
+    def _enclose(
+        cs: list[list[Ball]], flat: list[tuple[np.ndarray, ...]], box: Ball, n: int = 4
+    ) -> list[Ball]:
         """The polynomial and its first three derivatives over the balls ``box``: by
         Horner's rule, or, where ``cs`` carries the fourth derivative (a degree over
         CENTRED_DEGREE), by the centred form on balls of some width (where cancellation
         makes Horner's enclosure far too wide). By Horner's rule, only the first ``n``
-        (each is evaluated on its own); the centred form makes all four."""
+        (each is evaluated on its own, ``flat``: the kernel's coefficient tuples, made
+        once); the centred form makes all four."""
         if len(cs) > 4 and bool(np.any(box.rad > 0)):
             return centred(cs, box)[:4]
-        return [horner(c, box) for c in cs[:n]]
+        return [horner(c, box, f) for c, f in zip(cs[:n], flat, strict=False)]
 
     def jets(self, motion: CertifiedMotion, box: Ball) -> tuple[Jet, Jet, Jet, Jet, Jet, Jet]:
         """x, x', x'', y, y', y'' as jets over the box: (enclosure, time derivative)."""
-        xv = self._enclose(self.x, box)
+        xv = self._enclose(self.x, self.x_flat, box)
         x, xd, xdd = Jet(xv[0], xv[1]), Jet(xv[1], xv[2]), Jet(xv[2], xv[3])
         if self.direct:
-            yv = self._enclose(self.q, box - motion.t_center)
+            yv = self._enclose(self.q, self.q_flat, box - self.shift)
             return x, xd, xdd, Jet(yv[0], yv[1]), Jet(yv[1], yv[2]), Jet(yv[2], yv[3])
-        w = xv[0] - motion.center
-        return x, xd, xdd, *y_chain(xv, self._enclose(self.q, w))
+        w = xv[0] - self.shift
+        return x, xd, xdd, *y_chain(xv, self._enclose(self.q, self.q_flat, w))
 
     def values(self, motion: CertifiedMotion, box: Ball) -> tuple[Ball, ...]:
         """x, x', x'', y, y', y'' over the box: the values of ``jets`` (the same ball
         operations in the same order, so the same balls), without the derivatives."""
-        xv = self._enclose(self.x, box, 3)
+        xv = self._enclose(self.x, self.x_flat, box, 3)
         if self.direct:
-            yv = self._enclose(self.q, box - motion.t_center, 3)
+            yv = self._enclose(self.q, self.q_flat, box - self.shift, 3)
             return xv[0], xv[1], xv[2], yv[0], yv[1], yv[2]
-        qv = self._enclose(self.q, xv[0] - motion.center, 3)
+        qv = self._enclose(self.q, self.q_flat, xv[0] - self.shift, 3)
         ins = (xv[1], xv[2], *qv[:3])
         got = _compiled(ins, "y_values", 3) or y_values(*ins)
         return xv[0], xv[1], xv[2], qv[0], got[0], got[1]
@@ -112,6 +120,8 @@ def full(b: Ball, n: int, rows: int = 2) -> Ball:
     """The ball ``b`` broadcast to ``rows`` rows (0: none) of n columns (a motion that
     does not move, x and y constant, gives balls that do not depend on t)."""
     shape = (rows, n) if rows else (n,)
+    if b.mid.shape == shape and b.rad.shape == shape:  # the usual case: a copy
+        return Ball._of(np.array(b.mid), np.array(b.rad))
     mid, rad = np.broadcast_to(b.mid, shape), np.broadcast_to(b.rad, shape)
     return Ball._of(np.array(mid), np.array(rad))
 

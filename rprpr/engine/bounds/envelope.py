@@ -34,12 +34,13 @@ import numpy as np
 from flint import arb
 
 from ...model.numbers import to_float
-from ..certified.balls import Ball, U, quiet, round_up
+from ..certified.balls import Ball, U, quiet
 from ..certified.motion import CertifiedMotion, per_robot
 from ..certified.stacked import General, Stacked, stacked_form
 from ..certified.through import Through
 from ..certified.zones import Zone
 from ..exact.singular import SingularInstant
+from . import assembly
 from .approach import min_abs_delta, min_abs_y
 from .boxes import (
     START_BOXES,
@@ -92,7 +93,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """T (stacked rows) and T' over the balls of time ``t``: first-order jets."""
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.jets(self.motion, t)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+            T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
             V, D = full(T.v, len(t.mid)), full(T.d, len(t.mid))  # t-free parts too
             for th in self.throughs:
                 V, D = self._through(th, t, V, D, poor_columns(V) | poor_columns(D))
@@ -102,10 +103,10 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """T (stacked rows) at the float times ``t``, or over the balls of time ``t``: the
         values of ``_pass`` without the derivatives (the factored form near t_A where the
         direct one is poor)."""
-        tb = t if isinstance(t, Ball) else Ball(t, np.zeros_like(t))
+        tb = t if isinstance(t, Ball) else Ball._of(np.asarray(t, float), np.zeros(np.shape(t)))
         with quiet():
             x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, tb)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y)
+            T = self.stacked.efforts(x, xd, xdd, y, yd, ydd)
             V = full(T, len(tb.mid))
             for th in self.throughs:  # rare
                 V, _ = self._through(th, tb, V, V, poor_columns(V), False)
@@ -174,42 +175,17 @@ class Envelope(LimitChecks, NearForms, Ladders):
         """One vectorised pass over the boxes and their ends (``Bounds``), with the zone
         and Taylor forms near singular instants where the direct form is poor; with a
         ``limit`` (per torque), no box Taylor model for a box whose side of the limit the
-        pass decides already (``_settled``)."""
-        n = len(lo)
+        pass decides already (``assembly.settled``); the bounds by ``assembly.assemble``."""
         times, where = unique_ends(lo, hi)
         with quiet():
             box = Ball.hull(lo, hi)
             B, D = self._pass(box)  # T and T' over the boxes
             P = self._values(times)  # T at the ends, each once (boxes share their ends)
-            settled = None if limit is None else _settled(P, B, D, where, box, limit)
-            P, B = self._near(times, lo, hi, P, B, need, settled)
-            P = Ball._of(P.mid[:, where], P.rad[:, where])
-            pa, pb = P[:, :n], P[:, n:]
-            ua, ub = pa.upper_abs(), pb.upper_abs()
-            la, lb = pa.lower_abs(), pb.lower_abs()
-            valid = np.concatenate([lo, hi]) <= self.t_last
-            la = np.where(valid[:n], la, 0.0)
-            lb = np.where(valid[n:], lb, 0.0)
-            width = 2.0 * box.rad  # >= hi - lo
-            slope = D.upper_abs()
-            # |T(t)| <= min(|T(a)| + D (t - a), |T(b)| + D (b - t)) <= the mean of the two
-            mean_value = round_up((ua + ub + slope * width) * 0.5)
-            up = np.minimum(B.upper_abs(), mean_value)
-            mono = D.lower_abs() > 0  # T monotone on the box: |T| peaks at an end
-            mono_ok = mono & np.isfinite(ua) & np.isfinite(ub)
-            up = np.where(mono_ok, np.minimum(up, np.maximum(ua, ub)), up)
-            same = mono_ok & (pa.lower() > 0) & (pb.lower() > 0) | (
-                mono_ok & (pa.upper() < 0) & (pb.upper() < 0)
+            settled = (
+                None if limit is None else assembly.settled(P, B, D, where, box, lo, hi, limit)
             )
-            around = pa + D * Ball(0.5 * width, 0.5 * width)
-            floor = np.maximum(B.lower_abs(), around.lower_abs())
-            floor = np.where(same, np.maximum(floor, np.minimum(la, lb)), floor)
-            low = np.maximum(la, lb)
-            low_t = np.where(la >= lb, lo, hi)
-        up = np.where(np.isnan(up), np.inf, up)
-        ends = (np.where(valid[:n], ua, np.inf), np.where(valid[n:], ub, np.inf), la, lb,
-                np.abs(pa.mid), np.abs(pb.mid))  # fmt: skip
-        return Bounds(lo, hi, low, low_t, up, floor, ends, same)
+            P, B = self._near(times, lo, hi, P, B, need, settled)
+            return assembly.assemble(P, where, B, D, box, lo, hi, self.t_last)
 
     def _start(self) -> Bounds:
         """The pass over the first partition, made once (shared by every verdict): the
@@ -301,23 +277,3 @@ class Envelope(LimitChecks, NearForms, Ladders):
         dist, t_y = min_abs_y(self.motion.traj, self.duration)
         lo, hi, t_delta = min_abs_delta(self.motion.traj, self.duration)
         return Approach(dist, t_y, lo, hi, t_delta)
-
-
-def _settled(
-    P: Ball, B: Ball, D: Ball, where: np.ndarray, box: Ball, limit: np.ndarray
-) -> np.ndarray:
-    """The boxes on a known side of the limit in both rows before the forms near
-    singular instants: |T_i| <= limit_i by the mean-value bound (``Envelope.bounds``)
-    or > limit_i by the value at the box's start plus T' over the box. The forms only
-    narrow P and B, so these boxes keep their side (a box Taylor model decides nothing
-    there)."""
-    n = len(box.mid)
-    P = Ball._of(P.mid[:, where], P.rad[:, where])
-    pa, pb = P[:, :n], P[:, n:]
-    width = 2.0 * box.rad
-    mean_value = round_up((pa.upper_abs() + pb.upper_abs() + D.upper_abs() * width) * 0.5)
-    up = np.minimum(B.upper_abs(), mean_value)
-    around = pa + D * Ball(0.5 * width, 0.5 * width)
-    floor = np.maximum(B.lower_abs(), around.lower_abs())
-    L = limit[:, None]
-    return np.asarray(((up <= L) | (floor > L)).all(axis=0))

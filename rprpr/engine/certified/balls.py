@@ -437,17 +437,23 @@ def _rational(q: fmpq) -> Ball:
     return Ball._of(np.array(m), np.array(0.0 if exact else _up(U * abs(m) + ETA)))
 
 
-def horner(c: list[Ball], x: Ball) -> Ball:
+def horner(c: list[Ball], x: Ball, flat: tuple[Array, ...] | None = None) -> Ball:
     """The polynomial with ball coefficients ``c`` (low to high) at ``x``, by Horner's rule
     (in one call of the compiled kernel where it is built and x is a vector of balls: the
-    same doubles, ``kernel.py``)."""
+    same doubles, ``kernel.py``). ``flat``: the coefficients as the kernel reads them
+    (``flat``), made once by a caller that evaluates ``c`` often."""
     if KERNEL is not None and len(c) > 1 and type(x) is Ball and x.mid.ndim == 1:
         n = x.mid.shape[0]
         out = np.empty((2, n))
-        cs = tuple(a for b in c for a in (b.mid, b.rad))
+        cs = flat_coefficients(c) if flat is None else flat
         if type(c[0]) is Ball and KERNEL.horner(cs, x.mid, x.rad, out, n):
             return _new(out[0], out[1])
     return _horner(c, x)
+
+
+def flat_coefficients(c: list[Ball]) -> tuple[Array, ...]:
+    """Ball coefficients as the kernel's Horner call reads them: (mid, rad) of each."""
+    return tuple(a for b in c for a in (b.mid, b.rad))
 
 
 def _horner(c: list[Ball], x: Ball) -> Ball:

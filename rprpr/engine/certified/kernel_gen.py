@@ -35,6 +35,7 @@ from . import jets as jets_
 from .balls import Ball
 from .jets import Jet
 from .kernel_c import BOX_MAX, FORM_BOUNDS, HEAD, HORNER, RUNTIME, TAIL
+from .kernel_c_bounds import BOUNDS
 
 OUT = Path(__file__).resolve().parents[2] / "_kernel.c"
 
@@ -140,7 +141,8 @@ class Sym(Ball):
 # -- the C forms of balls.Ball's operations (each: the same IEEE operations, in order) --
 _C = {k: float(v).hex() for k, v in (("U", balls.U), ("ETA", balls.ETA), ("GROW", balls._GROW),
                                      ("PAD", balls._PAD), ("TINY", balls.TINY),
-                                     ("SQ", 1 + 4 * balls.U))}  # fmt: skip
+                                     ("SQ", 1 + 4 * balls.U), ("DOWN", balls._DOWN),
+                                     ("FOURU", 4 * balls.U))}  # fmt: skip
 
 # (a, b -> c): mid m{c}, radius r{c}; t, u: scratch
 _SUM = "t = r{a} + r{b}; u = fabs(m{c}) * U; t = t + u; t = t * GROW; r{c} = t + PAD;"
@@ -154,31 +156,22 @@ _DIV = (
     "b = fabs(m{b}); m{c} = m{a} / m{b}; t = r{a} * b; u = fabs(m{a}) * r{b}; t = t + u;"
     " t = t + TINY; t = t / b; t = t + TINY; u = b - r{b}; t = t / u; u = fabs(m{c}) * U;"
     " u = u + ETA; t = t + u; t = t * GROW; r{c} = t + PAD;"
-    " if (!(b > r{b})) {{ m{c} = NAN; r{c} = INFINITY; }}"
+    " m{c} = b > r{b} ? m{c} : NAN; r{c} = b > r{b} ? r{c} : INFINITY;"
 )
 _NEG = "m{c} = -m{a}; r{c} = r{a};"
 _SQRT = (
     "m{c} = sqrt(m{a} > 0 ? m{a} : 0.0);"
-    " t = m{a} > 0 ? (r{a} * SQ) / m{c} : INFINITY; u = sqrt(r{a}); t = nanmin(t, u);"
-    " if (!(m{a} > 0)) {{ u = m{a} + r{a}; t = sqrt(nanmax(u, 0.0)); }}"
+    " t = (r{a} * SQ) / m{c}; t = m{a} > 0 ? t : INFINITY; u = sqrt(r{a}); t = nanmin(t, u);"
+    " u = m{a} + r{a}; u = sqrt(nanmax(u, 0.0)); t = m{a} > 0 ? t : u;"
     " u = U * m{c}; t = t + u; t = t * GROW; r{c} = t + PAD;"
-    " if (m{a} + r{a} < 0) {{ m{c} = NAN; r{c} = INFINITY; }}"
+    " b = m{a} + r{a}; m{c} = b < 0 ? NAN : m{c}; r{c} = b < 0 ? INFINITY : r{c};"
 )
 _FORMS = {"add": _ADD, "sub": _SUB, "mul": _MUL, "div": _DIV, "neg": _NEG, "sqrt": _SQRT}
 
 
 def emit(graph: Graph, outputs: list[int], load: dict[int, tuple[str, str]]) -> list[str]:
     """C statements computing the nodes ``outputs`` need (inputs read by ``load``)."""
-    need: set[int] = set()
-    stack = list(outputs)
-    while stack:
-        k = stack.pop()
-        if k in need:
-            continue
-        need.add(k)
-        op = graph.ops[k]
-        if op[0] in _FORMS:
-            stack.extend(op[1:])
+    need = _needed(graph, outputs)
     lines = []
     for k in sorted(need):
         op = graph.ops[k]
@@ -221,32 +214,64 @@ class Kernel:
 
     def source(self, outputs: list[Any]) -> str:
         """The C function ``k_<name>``: every column j of n, the outputs' rows (mids then
-        radii, output by output) into out[(row) * n + j]."""
-        load = {}
-        for k, op in enumerate(self.graph.ops):
-            if op[0] == "in":
-                load[k] = (f"LD(in[{op[1]}].m, {op[2]}, j)", f"LD(in[{op[1]}].r, {op[2]}, j)")
+        radii, output by output) into out[(row) * n + j]. Columns go BLK at a time: the
+        block's inputs read (with their strides) into contiguous arrays, every column
+        of the block computed by one loop without branches (which the compiler may run
+        on several columns at once: the same IEEE operations on each), the outputs
+        copied out."""
         ids = [r for o in outputs for r in o.rows]
+        used = sorted(k for k in _needed(self.graph, ids) if self.graph.ops[k][0] == "in")
+        load, gather = {}, []
+        for i, k in enumerate(used):
+            op = self.graph.ops[k]
+            load[k] = (f"I[{2 * i}][c]", f"I[{2 * i + 1}][c]")
+            gather.append(f"I[{2 * i}][c] = LD(in[{op[1]}].m, {op[2]}, j);")
+            gather.append(f"I[{2 * i + 1}][c] = LD(in[{op[1]}].r, {op[2]}, j);")
         body = emit(self.graph, ids, load)
         store, row = [], 0
         for o in outputs:
             for r in o.rows:
-                store.append(f"out[{row} * n + j] = m{r};")
-                store.append(f"out[{row + len(o.rows)} * n + j] = r{r};")
+                store.append(f"O[{row}][c] = m{r};")
+                store.append(f"O[{row + len(o.rows)}][c] = r{r};")
                 row += 1
             row += len(o.rows)
         self.rows_out = [len(o.rows) for o in outputs]
         lines = [
             f"static void k_{self.name}(Py_ssize_t n, const Slot *in, double *out)",
             "{",
-            "    double t, u, b;",
-            "    (void)b;",
-            "    for (Py_ssize_t j = 0; j < n; j++) {",
-            *(f"        {s}" for s in body + store),
+            f"    double I[{max(2 * len(used), 1)}][BLK], O[{row}][BLK];",
+            "    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {",
+            "        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;",
+            "        for (int c = 0; c < nb; c++) {",
+            "            Py_ssize_t j = j0 + c;",
+            *(f"            {s}" for s in gather),
+            "        }",
+            "        for (int c = 0; c < nb; c++) {",
+            "            double t, u, b;",
+            "            (void)b;",
+            *(f"            {s}" for s in body + store),
+            "        }",
+            f"        for (int q = 0; q < {row}; q++)",
+            "            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));",
             "    }",
             "}",
         ]
         return "\n".join(lines)
+
+
+def _needed(graph: Graph, outputs: list[int]) -> set[int]:
+    """The nodes the outputs need."""
+    need: set[int] = set()
+    stack = list(outputs)
+    while stack:
+        k = stack.pop()
+        if k in need:
+            continue
+        need.add(k)
+        op = graph.ops[k]
+        if op[0] in _FORMS:
+            stack.extend(op[1:])
+    return need
 
 
 def _stacked(kernel: Kernel, prismatic: bool) -> Any:
@@ -277,6 +302,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     fields and y; outputs T (2 rows) and δ (``Stacked.torques(lg, y)``).
     torques_at_{ball,jet}_{revolute,prismatic}: the same inputs and δ; output T
     (``Stacked.torques(lg, y, delta=δ)``).
+    efforts_{ball,jet}_{revolute,prismatic}: the constants, then x, ẋ, ẍ, y, ẏ, ÿ; output T
+    (``Stacked.efforts``: the legs and the torques in one call).
     formulas_{revolute,prismatic}: inputs the robot's parameters (``motion.PARAMS``), then
     x, ẋ, ẍ, y, ẏ, ÿ; outputs ``CertifiedMotion.formulas``' values but its arguments
     (``motion.COMPUTED``).
@@ -309,17 +336,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
             given = k.jet(1) if jets else k.ball(1)
             T, _ = st._torques(dyn.Leg(*fields), y, delta=given)
             out.append((k, _flat([T])))
-    from types import SimpleNamespace
-
-    from .motion import COMPUTED, PARAMS, CertifiedMotion
-
-    for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
-        k = Kernel(f"formulas_{mech.name}")
-        params = dyn.Params(**{f: k.ball(1) for f in PARAMS}, mechanism=mech)
-        kin = [k.ball(1) for _ in range(6)]
-        fake = SimpleNamespace(params=params, mech=mech)  # the motion's parts formulas reads
-        got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
-        out.append((k, [got[name] for name in COMPUTED]))
+            out.append(_efforts(jets, prismatic))
+    out += _formulas()
     out += _regressors()
     out += [_chain(name, n) for name, n in (("y_values", 5), ("y_jets", 7))]
     k = Kernel("horner")
@@ -327,6 +345,34 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     step = balls._horner([c, acc], x)  # acc·x + c: the loop's one step
     out.append((k, [step]))
     return out
+
+
+def _formulas() -> list[tuple[Kernel, list[Any]]]:
+    """formulas_{revolute,prismatic}: ``CertifiedMotion.formulas`` on recording balls."""
+    from types import SimpleNamespace
+
+    from ..exact import equations as dyn
+    from .motion import COMPUTED, PARAMS, CertifiedMotion
+
+    out: list[tuple[Kernel, list[Any]]] = []
+    for mech in dyn.MECHANISMS.values():  # the RPRPR's schemes
+        k = Kernel(f"formulas_{mech.name}")
+        params = dyn.Params(**{f: k.ball(1) for f in PARAMS}, mechanism=mech)
+        kin = [k.ball(1) for _ in range(6)]
+        fake = SimpleNamespace(params=params, mech=mech)  # the motion's parts formulas reads
+        got = CertifiedMotion._formulas(fake, *kin)  # type: ignore[arg-type]
+        out.append((k, [got[name] for name in COMPUTED]))
+    return out
+
+
+def _efforts(jets: bool, prismatic: bool) -> tuple[Kernel, list[Any]]:
+    """efforts_{ball,jet}_{scheme}: ``Stacked.efforts``, the legs then the torques."""
+    kind = "jet" if jets else "ball"
+    k = Kernel(f"efforts_{kind}_{'prismatic' if prismatic else 'revolute'}")
+    st = _stacked(k, prismatic)
+    kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
+    T, _ = st._torques(st._legs(*kin), kin[3])
+    return k, _flat([T])
 
 
 def _chain(name: str, n: int) -> tuple[Kernel, list[Any]]:
@@ -389,6 +435,7 @@ def source() -> str:
         nout = 2 * sum(k.rows_out)
         specs.append(f'    {{"{k.name}", k_{k.name}, {len(k.slots)}, rows_{k.name}, {nout}}},')
     parts.append(HORNER)
+    parts.append(BOUNDS)
     parts.append(BOX_MAX)
     parts.append(FORM_BOUNDS)
     parts.append("static const Spec SPECS[] = {")

@@ -27,7 +27,8 @@ _LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 def _pair(a: Any, b: Any) -> Ball:
     """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column."""
-    return stack([Ball.of_rational(a), Ball.of_rational(b)])[:, None]
+    p, q = Ball.of_rational(a), Ball.of_rational(b)
+    return Ball._of(np.array([[p.mid], [q.mid]]), np.array([[p.rad], [q.rad]]))
 
 
 class Stacked:
@@ -71,7 +72,7 @@ class Stacked:
         scheme = "prismatic" if self.prismatic else "revolute"
         self._kernels = {
             name: (INDEX.get(f"{name}_ball_{scheme}"), INDEX.get(f"{name}_jet_{scheme}"))
-            for name in ("torques", "torques_at")
+            for name in ("torques", "torques_at", "efforts")
         }  # the compiled kernels of the scheme (``kernel_gen``): (on balls, on jets)
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
@@ -84,6 +85,17 @@ class Stacked:
             if got is not None:
                 return dyn.Leg(*got)
         return self._legs(x, xd, xdd, y, yd, ydd)
+
+    def efforts(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Any:
+        """T (stacked rows) from x, ẋ, ẍ, y, ẏ, ÿ: ``torques(legs(...), y)``'s T, in one
+        call of the compiled kernel where it is built (the same doubles: the legs and the
+        torques traced as one run of ball operations, ``kernel_gen``)."""
+        if KERNEL is not None:
+            args = (x, xd, xdd, y, yd, ydd)
+            got = _compiled(self._consts, args, args[0], 1, (2,), *self._kernels["efforts"])
+            if got is not None:
+                return got[0]
+        return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y)[0]
 
     def _legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """``legs`` by numpy's ball operations (the description the kernel is made from)."""
@@ -200,6 +212,10 @@ class General:
     def delta(self, lg: Any, y: Any) -> Any:
         l1, l2 = lg
         return self.mech.delta(self.p, y, l1, l2)
+
+    def efforts(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Any:
+        """The efforts (stacked rows) from x, ẋ, ẍ, y, ẏ, ÿ."""
+        return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y)[0]
 
     def torques(
         self, lg: Any, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None

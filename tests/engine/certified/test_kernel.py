@@ -196,7 +196,12 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
             T0 = st._torques(want, jets[3], delta=given)[0]
             _same(T.v, T0.v, (trial, "T at δ"))
             _same(T.d, T0.d, (trial, "T' at δ"))
-    assert spy.took >= 6 * 60 * 0.9  # six calls a trial, and few shapes declined
+            # the legs and the torques in one call (``efforts``) against numpy's two
+            _same(st.efforts(*args), st._torques(st._legs(*args), args[3])[0], (trial, "E"))
+            E, E0 = st.efforts(*jets), st._torques(st._legs(*jets), jets[3])[0]
+            _same(E.v, E0.v, (trial, "E"))
+            _same(E.d, E0.d, (trial, "E'"))
+    assert spy.took >= 8 * 60 * 0.9  # eight calls a trial, and few shapes declined
 
 
 class _Motion(CertifiedMotion):
@@ -360,6 +365,7 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool, spy: Spy) -> None:
         with quiet():
             lg = st.legs(*boxes)
             T, d = st.torques(lg, boxes[3])
+            E = st.efforts(*boxes)  # the legs and the torques in one call
             values = _Motion(robot).formulas(*boxes)
         a1 = mpmath.mpf(int(robot.a1.p)) / int(robot.a1.q)
         for j in range(n):
@@ -374,12 +380,13 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool, spy: Spy) -> None:
                         for f, v in zip(FIELDS, _leg_values(ref, i + 1, u, y), strict=True):
                             assert _holds(getattr(lg, f), (i, j), v), (f, i, j)
                     assert _holds(T, (0, j), ref["T1"]) and _holds(T, (1, j), ref["T2"])
+                    assert _holds(E, (0, j), ref["T1"]) and _holds(E, (1, j), ref["T2"])
                     assert _holds(d, j, ref["delta"])
                     for name in COMPUTED:  # the motion's formulas
                         assert _holds(values[name], j, ref[name]), name
                     checked += 1
     assert checked >= 100  # of 144 points (a few fall where T is undefined)
-    assert (spy.took, spy.declined) == (4 * 3, 0)  # legs, torques, formulas: the kernel's
+    assert (spy.took, spy.declined) == (4 * 4, 0)  # legs, torques, efforts, formulas: kernel's
 
 
 @needs_kernel
@@ -396,6 +403,7 @@ def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool, s
         jets = [Jet(v, d) for v, d in zip(vals, ders, strict=True)]
         with quiet():
             T, d = st.torques(st.legs(*jets), jets[3])
+            E = st.efforts(*jets)  # the legs and the torques in one call
         for j in range(n):
             p, q = _points(rng, vals, j), _points(rng, ders, j)
             with mpmath.workprec(256):
@@ -408,9 +416,10 @@ def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool, s
 
                 slack = mpmath.mpf(2) ** -100
                 for row, key in ((0, "T1"), (1, "T2")):
-                    assert _holds(T.v, (row, j), along(0, key))
-                    assert _holds(T.d, (row, j), mpmath.diff(lambda t, k=key: along(t, k), 0),
-                                  slack)  # fmt: skip
+                    derivative = mpmath.diff(lambda t, k=key: along(t, k), 0)
+                    for J in (T, E):
+                        assert _holds(J.v, (row, j), along(0, key))
+                        assert _holds(J.d, (row, j), derivative, slack)
                 assert _holds(d.v, j, along(0, "delta"))
                 assert _holds(d.d, j, mpmath.diff(lambda t: along(t, "delta"), 0), slack)
-    assert (spy.took, spy.declined) == (3 * 2, 0)  # the jets' legs and torques: the kernel's
+    assert (spy.took, spy.declined) == (3 * 3, 0)  # the jets' legs, torques, efforts: kernel's
