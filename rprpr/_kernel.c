@@ -28,6 +28,7 @@
 #endif
 
 
+#define KERNEL_DIGEST "7cad847e89103721"
 #define U 0x1.0000000000000p-53
 #define ETA 0x0.0000000000001p-1022
 #define GROW 0x1.0000000000010p+0
@@ -7313,4 +7314,12 @@ static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_kernel", "rprpr's compiled ball kernel (generated).", -1, methods,
 };
 
-PyMODINIT_FUNC PyInit__kernel(void) { return PyModule_Create(&module); }
+PyMODINIT_FUNC PyInit__kernel(void)
+{
+    PyObject *m = PyModule_Create(&module);
+    if (m != NULL && PyModule_AddStringConstant(m, "DIGEST", KERNEL_DIGEST) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}

@@ -499,5 +499,13 @@ static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_kernel", "rprpr's compiled ball kernel (generated).", -1, methods,
 };
 
-PyMODINIT_FUNC PyInit__kernel(void) { return PyModule_Create(&module); }
+PyMODINIT_FUNC PyInit__kernel(void)
+{
+    PyObject *m = PyModule_Create(&module);
+    if (m != NULL && PyModule_AddStringConstant(m, "DIGEST", KERNEL_DIGEST) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}
 """

@@ -24,6 +24,7 @@ preallocated float64 array."""
 
 from __future__ import annotations
 
+import hashlib
 import sys
 from pathlib import Path
 from typing import Any
@@ -421,7 +422,7 @@ def _flat(values: list[Any]) -> list[Any]:
 
 def source() -> str:
     """The whole C file."""
-    parts = [HEAD]
+    parts = [HEAD, DIGEST_LINE]
     parts += [f"#define {k} {v}" for k, v in _C.items()]
     parts.append(RUNTIME)
     specs = []
@@ -442,7 +443,16 @@ def source() -> str:
     parts += specs
     parts.append("};")
     parts.append(TAIL.replace("NSPECS", str(len(specs))))
-    return "\n".join(parts)
+    body = "\n".join(parts)
+    return body.replace(DIGEST_LINE, digest_line(body), 1)
+
+
+DIGEST_LINE = '#define KERNEL_DIGEST ""'  # the source's own digest (kernel.py: a stale build)
+
+
+def digest_line(body: str) -> str:
+    """The line that names the source: a digest of the file with that line left empty."""
+    return f'#define KERNEL_DIGEST "{hashlib.sha256(body.encode()).hexdigest()[:16]}"'
 
 
 def main(argv: list[str]) -> int:

@@ -21,6 +21,8 @@ import subprocess
 import sys
 import sysconfig
 from fractions import Fraction
+from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import mpmath
@@ -29,7 +31,7 @@ import pytest
 from flint import fmpq
 
 from rprpr.engine.bounds import boxes
-from rprpr.engine.certified import balls, kernel_gen, motion, stacked
+from rprpr.engine.certified import balls, kernel, kernel_gen, motion, stacked
 from rprpr.engine.certified.balls import Ball, _horner, horner, quiet
 from rprpr.engine.certified.jets import Jet, y_jets, y_values
 from rprpr.engine.certified.kernel import KERNEL
@@ -67,6 +69,25 @@ def test_the_kernel_is_built_where_it_can_be_and_is_off_when_asked() -> None:
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                           text=True, check=True)  # fmt: skip
     assert done.stdout.strip() == "True"
+
+
+def test_a_kernel_built_from_another_source_is_stale(tmp_path: Path) -> None:
+    """A checkout whose _kernel.c was regenerated and not rebuilt must not run the old
+    formulas: the digest the kernel was built with names its source."""
+    text = kernel_gen.OUT.read_text(encoding="utf-8")
+    line = next(t for t in text.splitlines() if t.startswith("#define KERNEL_DIGEST"))
+    emptied = text.replace(line, kernel_gen.DIGEST_LINE, 1)
+    assert kernel_gen.digest_line(emptied) == line  # the digest of the file, that line left empty
+    assert kernel_gen.digest_line(emptied + " ") != line
+    built = SimpleNamespace(DIGEST=line.split('"')[1])
+    source = tmp_path / "_kernel.c"
+    source.write_text(text, encoding="utf-8")
+    assert not kernel.stale(built, source)
+    source.write_text(text.replace(line, kernel_gen.digest_line(emptied + " "), 1), "utf-8")
+    assert kernel.stale(built, source)
+    assert not kernel.stale(built, tmp_path / "absent.c")  # a wheel: no source beside it
+    if KERNEL is not None:
+        assert KERNEL.DIGEST == built.DIGEST, "rprpr._kernel is stale: pip install -e ."
 
 
 # -- bit for bit against numpy's path -------------------------------------------------------
