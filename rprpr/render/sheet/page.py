@@ -59,7 +59,7 @@ Indexed = list[tuple[int, Motion]]  # the motions of a column, each with its tas
 
 
 @functools.cache
-def measuring_renderer(dpi: int) -> RendererAgg:
+def measuring_renderer(dpi: float) -> RendererAgg:
     """The Agg renderer every sheet of the process measures its text with at ``dpi``.
     matplotlib keeps the size of each text a renderer has measured, and the sheets share
     most of theirs (tick labels, headings, keys); what it measures depends on its
