@@ -257,6 +257,8 @@ def test_plot_and_export_stopped_while_writing_leave_no_temporary_file(
     previous = tmp_path / output
     previous.write_text(PREVIOUS)
     args = [command, str(CONFIGS / "paper_path2.rprpr.yaml"), "-o", output, "--samples", "51"]
+    if command == "plot":  # what is drawn does not matter here, only that its writing stops
+        args += ["--panels", "delta"]
     r = Rprpr(mode, *args, cwd=tmp_path)
     r.wait_ready()
     [half] = temporaries(tmp_path)  # the half-written temporary file is there ...

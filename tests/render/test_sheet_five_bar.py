@@ -287,8 +287,12 @@ def test_an_rprpr_and_a_5r_on_one_set_of_axes_are_refused_in_one_line(tmp_path: 
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_5r_plot_checks_the_torque_limit_on_one_piece_or_several(tmp_path: Path) -> None:
-    """A torque limit is checked on a motion of one piece and of several: the sheet is drawn."""
+def test_a_5r_plot_checks_the_torque_limit_on_one_piece_or_several(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A torque limit is checked on a motion of one piece and of several: the sheet is drawn
+    (at SMALL_DPI: that it is written is read here, not its pixels)."""
+    small_pictures(monkeypatch)
     code, _, err = run_cli("plot", str(DEXTAR), "-o", str(tmp_path / "one.png"))
     assert code == 0 and (tmp_path / "one.png").exists(), err
     text = DEXTAR.read_text()

@@ -25,7 +25,7 @@ from ...model.dataclass import dataclass
 from ...model.numbers import number
 from ...model.task import Task
 from .motion import Motion
-from .page import Sheet
+from .page import Sheet, measuring_renderer
 from .style import LABEL_SIZE, POINT, pt, style, task_colour
 
 ROW = 1.5  # in
@@ -234,8 +234,9 @@ def _drawn_points(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
         a = to_axes.transform(xy)
         us.append(a[:, 0])
         vs.append(a[:, 1])
+    renderer = measuring_renderer(ax.figure.dpi)  # as drawn at the figure's resolution
     for text in ax.texts:
-        box = text.get_window_extent()  # a grid over it, weighing as a long line
+        box = text.get_window_extent(renderer)  # a grid over it, weighing as a long line
         gx, gy = np.meshgrid(np.linspace(box.x0, box.x1, 6), np.linspace(box.y0, box.y1, 4))
         a = to_axes.transform(np.column_stack([gx.ravel(), gy.ravel()]))
         us.append(np.repeat(a[:, 0], 1000))

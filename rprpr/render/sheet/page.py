@@ -21,6 +21,7 @@ seconds, and the reader compares them with the axis.
 
 from __future__ import annotations
 
+import functools
 import textwrap
 from collections.abc import Sequence
 from dataclasses import field
@@ -55,6 +56,15 @@ from .style import FONT_SCALE, LABEL_SIZE, OVERLAID, WIDTH, pt, task_colour
 from .words import instant_times, short
 
 Indexed = list[tuple[int, Motion]]  # the motions of a column, each with its task index
+
+
+@functools.cache
+def measuring_renderer(dpi: float) -> RendererAgg:
+    """The Agg renderer every sheet of the process measures its text with at ``dpi``.
+    matplotlib keeps the size of each text a renderer has measured, and the sheets share
+    most of theirs (tick labels, headings, keys); what it measures depends on its
+    resolution only, never on its canvas, which is never painted (1 x 1)."""
+    return RendererAgg(1, 1, dpi)  # type: ignore[no-untyped-call]
 
 
 @dataclass
@@ -110,7 +120,7 @@ class Sheet(Heads):
         self.width += self.lane_gap + LANE + MARGIN
         if self.size is not None:
             self.width = self.size[0]
-        self.renderer = RendererAgg(int(self.width * DPI), 400, DPI)  # type: ignore[no-untyped-call]
+        self.renderer = measuring_renderer(DPI)
         self.fig.set_dpi(DPI)
         self.fig.set_size_inches(self.width, 20.0)  # provisional: text is measured in inches
         if self.size is not None:  # a paper's figure: the decoration as measured, no more
