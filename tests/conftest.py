@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
@@ -23,9 +22,13 @@ CONFIGS = ROOT / "configs"
 # The suite starts many Python processes (xdist's workers, rprpr as a real process where
 # the process is what a test is about); without caches each compiles rprpr, and pytest
 # rewrites every test module, again (collection alone: ~7 CPU-s a process against ~3.5).
-# The caches go to __pycache__ folders, which git ignores.
+# The caches go to __pycache__ folders, which git ignores. hypothesis is imported after
+# the switch: pytest rewrites the asserts of its ~75 modules (a pytest plugin's package),
+# and without the cache it rewrites them again in every process (~1 CPU-s each).
 sys.dont_write_bytecode = False
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+
+from hypothesis import settings  # noqa: E402 (after the byte-code switch above)
 
 # -- hypothesis: random locally, derandomized in CI ---------------------------------------
 # CI (which sets CI=true) draws the same examples on every run and keeps no example database,
