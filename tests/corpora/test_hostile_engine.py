@@ -184,13 +184,20 @@ def test_sixty_irrational_instants_of_one_degree_60_factor() -> None:
 # -- the work budget ---------------------------------------------------------------------------
 
 
+def _deaf() -> None:
+    """One long wait that nothing but SIGKILL ends: every signal that can be blocked is
+    blocked (the worker's own mask: it is a forked process), so no handler runs and no
+    default action stops it, and the wait is one C call that needs no CPU. It ends after a
+    minute with no result, which the run would report as an error, not as the budget: so
+    a test fails, rather than hangs, if the budget does not stop it."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, signal.valid_signals())
+    time.sleep(60)
+
+
 def _deaf_audit(task, options=None, *, on_stage):  # type: ignore[no-untyped-def]
-    """An audit that enters root isolation and stays in one long C call (``sum`` over a
-    range runs in C and runs no signal handler): only SIGKILL stops it. It would end after
-    about a minute and return no result, which the run would report as an error, not as
-    the budget: so the test fails, rather than hangs, if the budget does not stop it."""
+    """An audit that enters root isolation and stays there, deaf (``_deaf``)."""
     on_stage(ISOLATING)
-    sum(range(10**12))
+    _deaf()
 
 
 @pytest.mark.skipif(
@@ -256,8 +263,8 @@ def test_with_two_workers_a_stopped_task_and_a_dead_worker_keep_the_task_order(
 
 
 def _deaf_envelope(self, rel=None):  # type: ignore[no-untyped-def]
-    """A torque peak that stays in one long C call (see ``_deaf_audit``)."""
-    sum(range(10**15))
+    """A torque peak that never ends, deaf (``_deaf``)."""
+    _deaf()
 
 
 @pytest.mark.skipif(

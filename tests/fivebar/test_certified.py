@@ -185,22 +185,60 @@ def maximum(f: Callable[[Q], Any], lo: Q, hi: Q, n: int) -> Any:
     return best
 
 
-@pytest.mark.parametrize("name", ["consistent", "tangent", "stop"])
+# The reference's maxima (``ref_max``: ~120 Newton-Euler evaluations at 60 digits each)
+# are stored beside this file by their case (the motion, the joint, the span, the grid),
+# like the crossings below: the reference's values never change. Written by ``python -m
+# tests.fivebar.test_certified``; a slow test recomputes every stored case, and a case not
+# stored (a new one, or one whose motion changed) is computed here.
+MAXIMA = Path(__file__).with_name("peak_maxima_reference.json")
+PEAK_NAMES = ["consistent", "tangent", "stop"]
+
+
+@cache
+def _stored_maxima() -> dict[str, str]:
+    return json.loads(MAXIMA.read_text(encoding="utf-8")) if MAXIMA.exists() else {}
+
+
+def _maximum_key(name: str, i: int, lo: Q, hi: Q, n: int) -> str:
+    return repr(("maximum", name, case(name)[1], i, str(lo), str(hi), n))
+
+
+def maximum_cases() -> list[tuple[str, Callable[[], Any]]]:
+    """(key, the reference's computation) of every maximum the peak tests read."""
+    spans = [(Q(0), TF, 60), (TS - Q(1, 1000), TS + Q(1, 1000), 40)]
+    return [
+        (_maximum_key(name, i, lo, hi, n), partial(ref_max, name, i, lo, hi, n))
+        for name in PEAK_NAMES
+        for lo, hi, n in spans
+        for i in (0, 1)
+    ]
+
+
+def stored_max(name: str, i: int, lo: Q, hi: Q, n: int = 60) -> Any:
+    """``ref_max``: stored, or computed when not."""
+    row = _stored_maxima().get(_maximum_key(name, i, lo, hi, n))
+    if row is None:
+        return ref_max(name, i, lo, hi, n)
+    with mpmath.workdps(40):  # the 30 digits stored, read back as written
+        return mpmath.mpf(row)
+
+
+@pytest.mark.parametrize("name", PEAK_NAMES)
 def test_the_peak_brackets_the_references_maximum(name: str) -> None:
     peaks = torque_peak(certified(name))
     for i, p in enumerate(peaks):
-        ref = ref_max(name, i, Q(0), TF)
+        ref = stored_max(name, i, Q(0), TF)
         assert p.certified and p.upper - p.value <= 1e-6 * p.value + 1e-9
         assert p.value <= ref + TOL * (1 + ref) and ref <= p.upper, (p, ref)
         assert close(p.value, abs(ref_torques(name, Q(p.t))[i]) - TOL)  # attained at t
 
 
-@pytest.mark.parametrize("name", ["consistent", "tangent", "stop"])
+@pytest.mark.parametrize("name", PEAK_NAMES)
 def test_the_peak_about_a_bounded_instant_is_finite_and_right(name: str) -> None:
     span = (TS - Q(1, 1000), TS + Q(1, 1000))
     peaks = torque_peak(certified(name), span=(q(span[0]), q(span[1])))
     for i, p in enumerate(peaks):
-        ref = ref_max(name, i, *span, n=40)
+        ref = stored_max(name, i, *span, n=40)
         assert math.isfinite(p.upper) and p.certified, p
         assert p.value <= ref + TOL * (1 + ref) and ref <= p.upper, (p, ref)
 
@@ -522,6 +560,14 @@ def test_the_stored_crossings_are_the_references() -> None:
         assert _encode(compute()) == _stored_crossings()[key], key
 
 
+@pytest.mark.slow  # Newton-Euler at 60 digits, dense and golden-section about each maximum
+def test_the_stored_maxima_are_the_references() -> None:
+    cases = maximum_cases()
+    assert {k for k, _ in cases} == set(_stored_maxima())  # every stored case is live
+    for key, compute in cases:
+        assert _encode([compute()]) == [_stored_maxima()[key]], key
+
+
 def _write_crossings() -> None:
     table = {key: _encode(compute()) for key, compute in _all_crossing_cases()}
     for rows in table.values():  # the tests read back the digits stored
@@ -529,5 +575,13 @@ def _write_crossings() -> None:
     CROSSINGS.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
 
 
+def _write_maxima() -> None:
+    table = {key: _encode([compute()])[0] for key, compute in maximum_cases()}
+    for row in table.values():  # the tests read back the digits stored
+        assert _encode(_decode([row])) == [row]
+    MAXIMA.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+
+
 if __name__ == "__main__":
     _write_crossings()
+    _write_maxima()

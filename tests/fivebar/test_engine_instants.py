@@ -104,12 +104,29 @@ def _cases() -> list[tuple[str, FiveBar, Motion, tuple[int, int], Q, Q]]:
     return out
 
 
-CASES = _cases()
+# The cases' names, in _cases()'s order: the tests are parametrized by them when the test
+# module is collected, and the cases themselves (their tangents: sympy) are built at first
+# use, in the one test process that runs them, not in every process that collects them.
+NAMES = [
+    "consistent", "inconsistent", "tangent", "stop", "order 3",
+    *(f"consistent in {m}" for m in ((1, 1), (-1, 1), (-1, -1))),
+    *(f"straight, irrational, {m}" for m in ALL),
+    *(f"node {m}" for m in ((1, 1), (-1, -1))),
+    *(f"{kind} σ={s} {m}" for s, m in POSES for kind in ("crossing", "touch", "stop")),
+]  # fmt: skip
+
+
+@cache
+def cases() -> list[tuple[str, FiveBar, Motion, tuple[int, int], Q, Q]]:
+    """_cases(), built at first use, in NAMES's order."""
+    built = _cases()
+    assert [c[0] for c in built] == NAMES
+    return built
 
 
 @cache
 def _engine(i: int) -> Any:
-    _, rb, m, modes, t0, t1 = CASES[i]
+    _, rb, m, modes, t0, t1 = cases()[i]
     return analyse(robot(rb, modes), q(rb.g), *polys(m), q(t0), q(t1))
 
 
@@ -131,7 +148,7 @@ STORED = Path(__file__).with_name("engine_instants_reference.json")
 
 
 def _key(i: int) -> str:
-    return repr(CASES[i][1:])
+    return repr(cases()[i][1:])
 
 
 def _encode(instants: list[Instant]) -> list[dict[str, Any]]:
@@ -170,25 +187,25 @@ def _stored() -> dict[str, list[dict[str, Any]]]:
 
 
 def _recomputed(i: int) -> list[Instant]:
-    _, rb, m, modes, t0, t1 = CASES[i]
+    _, rb, m, modes, t0, t1 = cases()[i]
     return singular_instants(rb, m, modes, t0, t1)
 
 
 def reference(i: int) -> list[Instant]:
-    """The reference's instants of CASES[i]: stored, or computed when not stored."""
+    """The reference's instants of cases()[i]: stored, or computed when not stored."""
     rows = _stored().get(_key(i))
     return _recomputed(i) if rows is None else _decode(rows)
 
 
 def _write_stored() -> None:
-    table = {_key(i): _encode(_recomputed(i)) for i in range(len(CASES))}
+    table = {_key(i): _encode(_recomputed(i)) for i in range(len(NAMES))}
     for rows in table.values():  # the tests read back the digits stored
         assert _encode(_decode(rows)) == rows
     STORED.write_text(json.dumps(table, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
 @pytest.mark.slow  # sympy's exact roots of every case, and δ at 60 digits at each
-@pytest.mark.parametrize("i", range(len(CASES)), ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("i", range(len(NAMES)), ids=NAMES)
 def test_the_stored_instants_are_the_references(i: int) -> None:
     rows = _stored().get(_key(i))
     if rows is None:
@@ -197,9 +214,9 @@ def test_the_stored_instants_are_the_references(i: int) -> None:
     assert _encode(_decode(rows)) == rows
 
 
-@pytest.mark.parametrize("i", range(len(CASES)), ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("i", range(len(NAMES)), ids=NAMES)
 def test_the_instants_orders_and_line_ups_are_the_references(i: int) -> None:
-    name, _rb, _m, modes, _t0, _t1 = CASES[i]
+    name, _rb, _m, modes, _t0, _t1 = cases()[i]
     got = _engine(i)
     want = reference(i)
     assert not got.refused
@@ -217,7 +234,7 @@ def test_the_instants_orders_and_line_ups_are_the_references(i: int) -> None:
 
 def test_the_cases_cover_every_kind_and_mode() -> None:
     seen = set()
-    for i in range(len(CASES)):
+    for i in range(len(NAMES)):
         for s in _engine(i).instants:
             kind = "rational" if s.t_exact is not None else "irrational"
             seen.add((s.modes, s.sigma, s.order, kind, s.degenerate))
@@ -225,11 +242,11 @@ def test_the_cases_cover_every_kind_and_mode() -> None:
     assert modes == {(m, sigma) for m in ALL for sigma in (1, -1)}  # every mode, both line-ups
     assert {o for _, _, o, _, _ in seen} == {1, 2, 3}
     assert any(k == "irrational" for *_, k, _ in seen) and any(d for *_, d in seen)
-    assert len(CASES) >= 20
+    assert len(cases()) >= 20
 
 
 def test_a_stop_and_a_touch_fail_their_principle_a_crossing_passes_both() -> None:
-    for i, (name, *_rest) in enumerate(CASES):
+    for i, (name, *_rest) in enumerate(cases()):
         at_zero = [s for s in _engine(i).instants if s.t_exact == 0]
         if name.startswith("crossing") or name in ("consistent", "inconsistent"):
             (s,) = at_zero
