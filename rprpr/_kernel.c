@@ -28,7 +28,7 @@
 #endif
 
 
-#define KERNEL_DIGEST "7cad847e89103721"
+#define KERNEL_DIGEST "2314b667481571fb"
 #define U 0x1.0000000000000p-53
 #define ETA 0x0.0000000000001p-1022
 #define GROW 0x1.0000000000010p+0
@@ -7135,7 +7135,7 @@ static double link_max_fb(double A, double B, double C, const double *b, Py_ssiz
     int inside = upper ? (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
                        : (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin);
     if (inside)
-        G = np_max(G, A - (B * B) / (4.0 * C));
+        G = np_max(G, A + B * (0.5 * rs)); /* A - B*B/4C without B*B's underflow */
     return np_max(mlo * G, mhi * G) + np_max(C * ilo, C * ihi);
 }
 

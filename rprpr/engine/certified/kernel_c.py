@@ -343,7 +343,7 @@ static double link_max_fb(double A, double B, double C, const double *b, Py_ssiz
     int inside = upper ? (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
                        : (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin);
     if (inside)
-        G = np_max(G, A - (B * B) / (4.0 * C));
+        G = np_max(G, A + B * (0.5 * rs)); /* A - B*B/4C without B*B's underflow */
     return np_max(mlo * G, mhi * G) + np_max(C * ilo, C * ihi);
 }
 

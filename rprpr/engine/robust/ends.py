@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .proofs import CLEAR, below, kernel_verdicts, prove_in
+from .proofs import CLEAR, below, prove_in, quick_verdicts
 from .windows import About, Box, ball_box, float_box, phi_float
 
 # -- the window on one side ----------------------------------------------------------------
@@ -62,12 +62,12 @@ def sides(ab: About, box: Box, limits: tuple[float, float], directions: Sequence
         # (a bracket narrower than the doubles' error at its ends: from a little inside)
         plan[d] = (j, reach, min(bs[j][0], bs[j][1] * (1 - 2e-12)))
     # the first candidates of both ends of every side, proven at once where the balls in
-    # double precision decide (``kernel_verdicts``); the others in arb, one by one
+    # double precision decide (``quick_verdicts``); the others in arb, one by one
     firsts: list[tuple[float, int | None]] = [
         (d * brackets[d][j][1], None) for d, (j, reach, _) in plan.items()
     ]
     firsts += [(d * near, j) for d, (j, _, near) in plan.items()]
-    quick = kernel_verdicts(ab, box, limits, [h for h, _ in firsts], [j for _, j in firsts])
+    quick = quick_verdicts(ab, box, limits, [h for h, _ in firsts], [j for _, j in firsts])
     for k, (d, (j, reach, near)) in enumerate(plan.items()):
         bs = brackets[d]
         # the window cannot reach past the first candidate at which it is proven to end

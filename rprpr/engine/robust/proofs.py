@@ -299,7 +299,7 @@ def below(ab: About, box: Box, bbox: Any, limits: tuple[float, float], h: float,
     return phi_ball(ab, h, box, bbox, width, limits) is not None
 
 
-def kernel_verdicts(ab: About, box: Box, limits: tuple[float, float], hs: Sequence[float],
+def quick_verdicts(ab: About, box: Box, limits: tuple[float, float], hs: Sequence[float],
                     joints: Sequence[int | None]) -> list[bool]:  # fmt: skip
     """At each time t_s + ``hs[i]``, whether, proven: with ``joints[i]`` None, both max
     |T_j| <= their limits (``below``); else max |T_j| > its limit for j = ``joints[i]``

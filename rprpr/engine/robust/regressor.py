@@ -298,7 +298,8 @@ def doubles_call(robot: Robot) -> Callable[[Sequence[np.ndarray]], np.ndarray | 
     point's x, ẋ, ẍ, y, ẏ, ÿ as float64 vectors of one length (the same call, so the same
     doubles; None from it where the kernel declines), its constants looked up once; None
     where the kernel does not apply (not built, not the closed form)."""
-    if KERNEL is None or not closed_form(of(robot)):
+    kernel = KERNEL  # the kernel as it is now, whatever the module's name holds later
+    if kernel is None or not closed_form(of(robot)):
         return None
     p = _ball_params(robot)
     spec = INDEX.get(f"regressor_ball_{p.mechanism.name}")
@@ -311,7 +312,7 @@ def doubles_call(robot: Robot) -> Callable[[Sequence[np.ndarray]], np.ndarray | 
         n = len(kin[0])
         zero = np.zeros(n)
         out = np.empty((spec[1], n))
-        if not KERNEL.run(spec[0], (*consts, *(a for v in kin for a in (v, zero))), out, n):
+        if not kernel.run(spec[0], (*consts, *(a for v in kin for a in (v, zero))), out, n):
             return None
         return out.reshape(size, 2, n)[:, 0].reshape(2, len(BASIS), 3, n)
 
@@ -359,11 +360,13 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
 # inside, by a margin far above its rounding), so |B²/4C| = |B| |r*|/2 <= |B| R there.
 
 SLACK = 1e-12  # the doubles' rounding, relative to S: tens of units of 2^-53, and room
-# Counted: x_k carries at most 4 roundings (e's double, two products, two sums), a
-# candidate's terms at most 4 more (the ends' doubles, B r, C r r, the sums), m G and C I
-# one each, the sum over the links 3: under 20 units of 2^-53 of S (to first order; the
-# vertex's B²/4C the same with |r*| <= R). So 2^-46 (128 units) is room enough too
-# (``TIGHT_SLACK``: the windows' quick proofs, ``proofs.kernel_verdicts``).
+
+# Counted, in units u = 2^-53 of S (to first order): x_k carries at most 4 roundings (e's
+# double, two products, two sums); a candidate's terms at most 5 more (the ends' doubles,
+# entering C r r squared, B r, C r r, the sums; the vertex's A + B r*/2 as many, with
+# |r*| <= R plus the margin); m G and C I one each; the sum over the links 3; S itself
+# and the final best ± slack one each: under 20 u. So 2^-46 (128 u) is room enough
+# (``TIGHT_SLACK``: the windows' quick proofs, ``proofs.quick_verdicts``).
 TIGHT_SLACK = 2.0**-46
 
 
@@ -433,5 +436,7 @@ def _link_max(A: np.ndarray, B: np.ndarray, C: np.ndarray, m: Span, r: Span, i: 
             inside = (C < 0) & (rs >= rlo - margin) & (rs <= rhi + margin)
         else:
             inside = (C < 0) & (rs >= rlo + margin) & (rs <= rhi - margin)
-        G = np.where(inside, np.maximum(G, A - B * B / (4 * C)), G)
+        # the value at the vertex, A - B²/4C, as A + B r*/2: B² can underflow, and /4C
+        # would magnify that past any slack relative to the terms; B r*/2 cannot
+        G = np.where(inside, np.maximum(G, A + B * (0.5 * rs)), G)
     return np.maximum(mlo * G, mhi * G) + np.maximum(C * ilo, C * ihi)

@@ -254,3 +254,49 @@ def test_the_peaks_guide_through_the_kernel_is_numpy_bit_for_bit(
         assert got.shape == want.shape == (2, n)
         assert _same_doubles(got, want), (trial, got, want)
     assert (spy.took, spy.declined) == (trials, 0)
+
+
+@needs_kernel
+def test_vertices_at_the_margins_and_unequal_corners_are_numpy_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Random regressors almost never put the parabola's vertex -B/2C at the ends of r's
+    # interval or within the margin about them, where the upper and the lower bound
+    # count it differently; nor use corners with |e_x| != |e_y|. Here B = t, C = -1/2
+    # puts the vertex exactly at t: at each end, the end ± its margin (as both paths
+    # compute it) and one unit in the last place either side, for every link.
+    spy = Spy(KERNEL)
+    rng = np.random.default_rng(43)
+    box = _exact_box(rng)
+    ends = [(float(lo), float(hi)) for _, (lo, hi), _ in (box[link] for link in (2, 3, 4, 5))]
+    targets = []
+    for rlo, rhi in ends:
+        margin = 1e-9 * (max(abs(rlo), abs(rhi)) + (rhi - rlo))
+        for t in (rlo, rhi, rlo - margin, rlo + margin, rhi - margin, rhi + margin):
+            targets += [np.nextafter(t, -np.inf), t, np.nextafter(t, np.inf)]
+    n = len(targets)
+    mid = rng.uniform(-1.0, 1.0, (2, 10, 3, n))
+    for _, _, kmr, kj in LINKS:
+        mid[:, kmr] = 0.0  # B and C the same at every corner of the error
+        mid[:, kj] = 0.0
+        mid[:, kmr, 0] = targets
+        mid[:, kj, 0] = -0.5
+    corners = [(fmpq(1, 100), fmpq(-7, 100)), (fmpq(-3, 100), fmpq(1, 20))]
+    Y = Ball(mid, np.abs(mid) * 1e-15)
+    for upper in (True, False):
+        monkeypatch.setattr(regressor, "KERNEL", spy)
+        got = form_bounds(Y, box, corners, upper)
+        monkeypatch.setattr(regressor, "KERNEL", None)
+        want = form_bounds(Y, box, corners, upper)
+        assert _same_doubles(got, want), upper
+    Ys = np.ascontiguousarray(mid.transpose(2, 3, 0, 1))
+    plain = np.array([(float(ex), float(ey), 1.0) for ex, ey in corners])
+    bounds = np.array([[ends[i][e] if q == 1 else float(box[link][q][e])
+                        for i, link in enumerate((2, 3, 4, 5))]
+                       for q in range(3) for e in (0, 1)])  # fmt: skip
+    monkeypatch.setattr(windows, "KERNEL", spy)
+    got = box_max(Ys, plain, bounds)
+    monkeypatch.setattr(windows, "KERNEL", None)
+    want = box_max(Ys, plain, bounds)
+    assert _same_doubles(got, want)
+    assert (spy.took, spy.declined) == (3, 0)

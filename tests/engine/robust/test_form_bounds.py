@@ -95,3 +95,26 @@ def test_form_bounds_hold_the_exact_maximum_for_coefficients_in_the_balls(slack:
                 size = max(abs(float(exact[j])), 1.0)
                 tol = 1e-6 if case % 2 else 1e-10  # the radii, or the rounding alone
                 assert up[j, col] - lo[j, col] <= tol * size
+
+
+@pytest.mark.parametrize("slack", [SLACK, TIGHT_SLACK])
+@pytest.mark.parametrize(("b", "c"), [(1e-162, -1e-163), (1.6e-162, -1.6e-163)])
+def test_a_vertex_below_the_doubles_range_of_squares_is_still_bounded(
+    b: float, c: float, slack: float
+) -> None:
+    # efforts of ~1e-162: B² underflows to a subnormal, and the vertex's value A - B²/4C
+    # from it is far off; the bounds must hold the exact maximum there too
+    mid = np.zeros((2, 10, 3, 1))
+    mid[:, BASIS.index((2, "mr")), 0, 0] = b
+    mid[:, BASIS.index((2, "J")), 0, 0] = c
+    box = {link: ((_f(Q(1)), _f(Q(1))), (_f(Q(4)), _f(Q(6))), (_f(Q(0)), _f(Q(0))))
+           for link in (2, 3, 4, 5)}  # fmt: skip
+    corners = [(Q(0), Q(0))]
+    Y = Ball(mid, np.zeros_like(mid))
+    fc = [(_f(ex), _f(ey)) for ex, ey in corners]
+    up = form_bounds(Y, box, fc, True, slack)
+    lo = form_bounds(Y, box, fc, False, slack)
+    y = {(j, k, e): Q(float(mid[j, k, e, 0])) for j in (0, 1) for k in range(10) for e in range(3)}
+    exact = _exact_max(y, box, corners)
+    for j in (0, 1):
+        assert Q(float(lo[j, 0])) <= exact[j] <= Q(float(up[j, 0]))

@@ -87,3 +87,32 @@ def test_the_windows_guide_is_the_same_with_and_without_the_kernel(
         assert got.shape == want.shape == (2, len(BASIS), 3, n)
         assert np.array_equal(got, want, equal_nan=True), trial
     assert (spy.took, spy.declined) == (trials, 0)
+
+
+@needs_kernel
+@pytest.mark.parametrize("prismatic", [False, True])
+def test_the_guides_call_made_once_per_instant_is_regressor_doubles(
+    prismatic: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # ``doubles_call`` packs the kernel's call once per instant (its constants looked up
+    # once): the same doubles as ``regressor_doubles`` (numpy's path), through the kernel
+    # (a spy counts it), and still the kernel it was made with when the module's name
+    # changes later
+    rng = np.random.default_rng(41 + prismatic)
+    spy = Spy(KERNEL)
+    trials = 20
+    for trial in range(trials):
+        robot = _robot(rng, prismatic, bool(rng.integers(0, 2)))
+        n = int(rng.choice([1, 3, 64]))
+        kin = [rng.uniform(-3.0, 5.0, n) for _ in range(6)]
+        kin[3] = rng.uniform(-1.0, 1.0, n) * 10.0 ** -float(rng.integers(0, 12))
+        with quiet():
+            monkeypatch.setattr(regressor, "KERNEL", spy)
+            call = regressor.doubles_call(robot)
+            monkeypatch.setattr(regressor, "KERNEL", None)
+            assert call is not None
+            got = call(kin)
+            want = regressor.regressor_doubles(robot, kin)
+        assert got is not None and got.shape == want.shape == (2, len(BASIS), 3, n)
+        assert np.array_equal(got, want, equal_nan=True), trial
+    assert (spy.took, spy.declined) == (trials, 0)
