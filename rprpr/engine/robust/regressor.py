@@ -332,8 +332,7 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
     give exactly the negated doubles: the same doubles, ``windows.box_max``)."""
     if KERNEL is not None and np.ndim(Y) == 4:
         plus = np.array([(float(ex), float(ey), 1.0) for ex, ey in corners])
-        ends = np.array([[box[link][q][e] for link, *_ in LINKS] for q in (0, 1, 2)
-                         for e in (0, 1)], dtype=float)  # fmt: skip
+        ends = box_ends(box)
         out = np.empty((np.shape(Y)[3], 2))
         if KERNEL.box_max(np.asarray(Y, dtype=float).transpose(2, 3, 0, 1), plus, ends, out):
             return out.T
@@ -341,6 +340,13 @@ def form_worst(Y: np.ndarray, corners: Sequence[tuple[Any, Any]], box: Any) -> n
     Yc = (k[:, 2, None, None, None] * Y[None, :, :, 0] + k[:, 0, None, None, None]
           * Y[None, :, :, 1] + k[:, 1, None, None, None] * Y[None, :, :, 2])  # fmt: skip
     return form_max([Yc[:, :, j] for j in range(len(BASIS))], box, False).max(axis=0)
+
+
+def box_ends(box: Any) -> np.ndarray:
+    """The links' box as the compiled kernel takes it (``box_max``, ``form_bounds``): (6, 4)
+    doubles, rows m_lo, m_hi, r_lo, r_hi, I_lo, I_hi, a column per link of ``LINKS``."""
+    return np.array([[float(box[link][q][e]) for link, *_ in LINKS] for q in (0, 1, 2)
+                     for e in (0, 1)])  # fmt: skip
 
 
 # -- the largest effort over the box from the regressor's balls, in doubles, proven -------
@@ -383,8 +389,7 @@ def form_bounds(Y: Any, box: Any, corners: Sequence[tuple[Any, Any]], upper: boo
     mid, rad = np.broadcast_arrays(mid, rad)
     if KERNEL is not None and mid.ndim == 4:  # these operations in one call, the same doubles
         es = np.array([(float(ex), float(ey)) for ex, ey in corners])
-        ends = np.array([[float(box[link][q][e]) for link, *_ in LINKS] for q in (0, 1, 2)
-                         for e in (0, 1)])  # fmt: skip
+        ends = box_ends(box)
         out = np.empty((2, mid.shape[3]))
         if KERNEL.form_bounds(mid, rad, es, ends, slack_rel, upper, out):
             return out

@@ -47,6 +47,7 @@ from ..exact.series import taylor
 from .regressor import (
     BASIS,
     LINKS,
+    box_ends,
     closed_form,
     doubles_call,
     efforts_of,
@@ -294,8 +295,7 @@ def _kernel_box(ab: About, box: Box, fbox: Any) -> tuple[np.ndarray, np.ndarray]
     got = ab.__dict__.get("_kernel_box")
     if got is None or got[0] is not box:
         corners = np.ascontiguousarray(combos_of(ab, box)[1][::2])
-        bounds = np.array([[fbox[link][q][e] for link, *_ in LINKS] for q in (0, 1, 2)
-                           for e in (0, 1)])  # fmt: skip
+        bounds = box_ends(fbox)
         got = ab.__dict__["_kernel_box"] = (box, corners, bounds)
     return got[1], got[2]
 
