@@ -35,7 +35,8 @@ from flint import arb
 
 from ...model.numbers import to_float
 from ..certified.balls import Ball, U, quiet
-from ..certified.motion import CertifiedMotion, per_robot
+from ..certified.motion import CertifiedMotion
+from ..certified.shared import per_robot
 from ..certified.stacked import General, Stacked, stacked_form
 from ..certified.through import Through
 from ..certified.zones import Zone
