@@ -13,14 +13,15 @@ way as its parent's, so it is right in either."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Hashable
 from typing import Any, TypeVar
 
 import numpy as np
+from flint import fmpq
 
 from ...model.task import Robot
 from ..exact.mechanism import of
+from .balls import Ball
 
 Shared = TypeVar("Shared")
 
@@ -52,28 +53,33 @@ def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
 def robot_key(robot: Robot) -> Hashable:
     """The robot's exact identity: the mechanism that drives it, and every field of the
     robot (its scheme's and mechanism's names, a1, gravity, each link's mass, inertia
-    and r, a 5R's own parameters) by name, type and exact value (``_exact``), so that a
-    field added to ``Robot`` is in the key too."""
+    and r, a 5R's own parameters) by name and exact value (``_exact``; exact rationals
+    are equal only when they are the same number), so that a field added to ``Robot``
+    is in the key too."""
     return of(robot), _exact(robot)
 
 
 def _exact(v: Any) -> Hashable:
-    """A value by its type and exact value: a dataclass by its fields, a mapping by its
-    sorted items, a tuple item by item, anything else (fmpq, int, str) as it is, with
-    its type (an int and an equal fmpq are two keys)."""
-    if dataclasses.is_dataclass(v) and not isinstance(v, type):
-        fields = dataclasses.fields(v)
-        return type(v), tuple((f.name, _exact(getattr(v, f.name))) for f in fields)
+    """A value as a key: a record by its fields, a mapping by its sorted items, a tuple
+    item by item, an exact rational as its numerator and denominator (flint's own hash
+    of an fmpq costs ten times as much), a name or another number as it is."""
+    if type(v) is fmpq:
+        return fmpq, v.p, v.q
     if isinstance(v, dict):
-        return dict, tuple((k, _exact(x)) for k, x in sorted(v.items()))
-    if isinstance(v, (tuple, list)):
-        return type(v), tuple(_exact(x) for x in v)
-    return type(v), v
+        return tuple((k, _exact(x)) for k, x in sorted(v.items()))
+    if isinstance(v, tuple):
+        return tuple(_exact(x) for x in v)
+    if hasattr(v, "__dataclass_fields__"):
+        return type(v), tuple((k, _exact(x)) for k, x in vars(v).items())
+    return v
 
 
 def _freeze(x: Any, depth: int = 0) -> None:
     """Every numpy array held by x (its attributes, tuples, lists, dicts, a few levels
     down: balls, pairs of balls, a form's constants) made read-only."""
+    if type(x) is Ball:
+        x.mid.flags.writeable = x.rad.flags.writeable = False
+        return
     if isinstance(x, np.ndarray):
         x.flags.writeable = False
         return
@@ -83,7 +89,7 @@ def _freeze(x: Any, depth: int = 0) -> None:
         items: Any = x
     elif isinstance(x, dict):
         items = x.values()
-    else:  # an object's attributes, in its __dict__ or its slots (a Ball's)
+    else:  # an object's attributes, in its __dict__ or its slots
         slots = (n for c in type(x).__mro__ for n in getattr(c, "__slots__", ()))
         items = [*getattr(x, "__dict__", {}).values(), *(getattr(x, n, None) for n in slots)]
     for v in items:
