@@ -52,6 +52,7 @@ from .boxes import (
     partition,
     poor_columns,
     put_narrower,
+    sorted_unique,
     unique_ends,
 )
 from .ladders import Ladders
@@ -196,7 +197,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
             lo, hi = partition(self.duration, START_BOXES)
             cuts = self._ladders(float(hi[0] - lo[0]))
             if len(cuts):
-                ends = np.unique(np.concatenate([lo, hi[-1:], cuts]))
+                ends = sorted_unique(np.concatenate([lo, hi[-1:], cuts]))
                 lo, hi = ends[:-1], ends[1:]
             self._first = self.bounds(lo, hi)
         return self._first
