@@ -116,10 +116,9 @@ BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 def _one_blas_thread() -> None:
     """One OpenBLAS thread, unless the user's environment chooses: rprpr does no linear
     algebra (its balls are elementwise), and importing numpy starts a pool of OpenBLAS
-    threads, one per core, that costs ~60-90 ms of CPU in every process that imports it
-    (more than ten audits of a task). Set before numpy is imported (by a command, or in a
-    worker: the variable is inherited); a process that has imported numpy already is not
-    changed."""
+    threads that costs ~60-110 ms of CPU per run (measured on two cores: more than ten
+    audits of a task). Set before numpy is imported (by a command, or in a worker: the
+    variable is inherited); a process that has imported numpy already is not changed."""
     if not any(os.environ.get(v) for v in BLAS_THREADS):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
