@@ -32,7 +32,8 @@ from ...model.task import Piece, Robot
 from ...model.waypoints import Segment
 from ..certified.balls import ETA, Ball, U, horner, quiet, round_up
 from ..certified.jets import Jet
-from ..certified.motion import CertifiedMotion, dyadic_middle, per_robot
+from ..certified.motion import CertifiedMotion, dyadic_middle
+from ..certified.shared import per_robot
 from ..certified.stacked import stacked_form
 from ..exact.trajectory import Trajectory
 from .approach import min_abs_y

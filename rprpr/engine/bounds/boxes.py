@@ -160,6 +160,19 @@ def partition(duration: fmpq, n: int) -> tuple[np.ndarray, np.ndarray]:
     return ends[:-1], ends[1:]
 
 
+def sorted_unique(a: np.ndarray) -> np.ndarray:
+    """``np.unique(a)`` of a 1-d array (the same values, the first of each run of equal
+    ones kept, as it keeps them), without its test for masked arrays, which imports
+    numpy.ma (~10 ms, once a process) at its first call; NaNs left to ``np.unique``."""
+    t = np.sort(a)
+    if len(t) and np.isnan(t[-1]):  # NaNs sort last
+        return np.unique(a)
+    keep = np.empty(len(t), dtype=bool)
+    keep[:1] = True
+    np.not_equal(t[1:], t[:-1], out=keep[1:])
+    return t[keep]
+
+
 def unique_ends(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The boxes' ends, each once and sorted, and where each of lo then hi is among them:
     ``np.unique(np.concatenate([lo, hi]), return_inverse=True)`` (finite floats) at a

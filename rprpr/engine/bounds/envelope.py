@@ -35,7 +35,8 @@ from flint import arb
 
 from ...model.numbers import to_float
 from ..certified.balls import Ball, U, quiet
-from ..certified.motion import CertifiedMotion, per_robot
+from ..certified.motion import CertifiedMotion
+from ..certified.shared import per_robot
 from ..certified.stacked import General, Stacked, stacked_form
 from ..certified.through import Through
 from ..certified.zones import Zone
@@ -51,6 +52,7 @@ from .boxes import (
     partition,
     poor_columns,
     put_narrower,
+    sorted_unique,
     unique_ends,
 )
 from .ladders import Ladders
@@ -195,7 +197,7 @@ class Envelope(LimitChecks, NearForms, Ladders):
             lo, hi = partition(self.duration, START_BOXES)
             cuts = self._ladders(float(hi[0] - lo[0]))
             if len(cuts):
-                ends = np.unique(np.concatenate([lo, hi[-1:], cuts]))
+                ends = sorted_unique(np.concatenate([lo, hi[-1:], cuts]))
                 lo, hi = ends[:-1], ends[1:]
             self._first = self.bounds(lo, hi)
         return self._first

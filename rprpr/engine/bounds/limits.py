@@ -20,7 +20,7 @@ from ...model.dataclass import dataclass
 from ..certified.balls import Ball, quiet
 from ..certified.motion import CertifiedMotion
 from ..exact.singular import SingularInstant
-from .boxes import START_BOXES, Bounds, partition, split
+from .boxes import START_BOXES, Bounds, partition, sorted_unique, split
 from .poles import pole_bands
 from .scalars import Scalars
 from .search import MAX_FAN, MAX_LIVE, MAX_ROUNDS
@@ -486,5 +486,5 @@ def _around_pole(
         more = steps[-1] + cap * np.arange(1, math.ceil((width - steps[-1]) / cap) + 1)
         steps = np.concatenate([steps, more])
     cuts = np.concatenate([c - steps, c + steps])
-    ends = np.unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
+    ends = sorted_unique(np.concatenate([[lo, hi], cuts[(cuts > lo) & (cuts < hi)]]))
     return ends[:-1], ends[1:]

@@ -30,6 +30,7 @@ value; an ``fmpq`` becomes the ball of its rounding (``Ball.of_rational``).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -427,14 +428,21 @@ def poly_balls(p: fmpq_poly) -> list[Ball]:
 
 
 def _rational(q: fmpq) -> Ball:
-    """``Ball.of_rational`` for an fmpq: a double m = RN(q) (correctly rounded), exact when
-    m equals q, else of radius u|m| + η/2 rounded up."""
+    """``Ball.of_rational`` for an fmpq (``rational_parts``)."""
+    m, r = rational_parts(q)
+    return Ball._of(np.array(m), np.array(r))
+
+
+def rational_parts(q: fmpq) -> tuple[float, float]:
+    """The midpoint and radius of ``Ball.of_rational(q)``, q an fmpq: a double m = RN(q)
+    (correctly rounded), exact when m equals q, else of radius u|m| + η/2 rounded up;
+    (NaN, inf) beyond the double range."""
     m = to_float(q)
     if m - m != 0.0:  # ±inf beyond the double range
-        return Ball._of(np.array(np.nan), np.array(np.inf))
+        return math.nan, math.inf
     n, d = m.as_integer_ratio()
     exact = q.q == d and q.p == n
-    return Ball._of(np.array(m), np.array(0.0 if exact else _up(U * abs(m) + ETA)))
+    return m, 0.0 if exact else _up(U * abs(m) + ETA)
 
 
 def horner(c: list[Ball], x: Ball, flat: tuple[Array, ...] | None = None) -> Ball:

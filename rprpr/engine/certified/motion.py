@@ -43,9 +43,8 @@ How (all choices depend on t alone, never on the other times asked for):
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from functools import cached_property
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly
@@ -82,6 +81,7 @@ from .pointwise import (
     Refinement,
     Values,
 )
+from .shared import per_robot
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
 # what ``formulas`` computes (the rest of its values are its arguments), in its order
@@ -161,21 +161,7 @@ class _Local:
     y: tuple[list[Ball], list[Ball], list[Ball]]
 
 
-# -- what one robot shares -------------------------------------------------------------
-
-Shared = TypeVar("Shared")
-
-_SHARED: dict[Callable[[Robot], Any], tuple[Robot, Any]] = {}
-
-
-def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
-    """make(robot), made once for the robot last given (the pieces of one motion share
-    their robot: its constants as balls are converted once, not once per piece)."""
-    hit = _SHARED.get(make)
-    if hit is None or hit[0] is not robot:
-        hit = (robot, make(robot))
-        _SHARED[make] = hit
-    return hit[1]
+# -- what one robot shares (``shared.per_robot``) ------------------------------------
 
 
 def _ball_params(robot: Robot) -> dyn.Params:

@@ -14,11 +14,12 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from flint import fmpq
 
 from ...model.task import Robot
 from ..exact import equations as dyn
 from ..exact.mechanism import of
-from .balls import Ball, hypot, stack
+from .balls import Ball, hypot, rational_parts, stack
 from .jets import Jet
 from .kernel import INDEX, KERNEL
 
@@ -26,9 +27,10 @@ _LEG_FIELDS = ("s", "cos", "sin", "s_d", "th_d", "s_dd", "th_dd")
 
 
 def _pair(a: Any, b: Any) -> Ball:
-    """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column."""
-    p, q = Ball.of_rational(a), Ball.of_rational(b)
-    return Ball._of(np.array([[p.mid], [q.mid]]), np.array([[p.rad], [q.rad]]))
+    """The exact rationals a (leg 1, row 0) and b (leg 2, row 1) as a (2, 1) ball column:
+    ``Ball.of_rational`` of each (the same doubles), stacked."""
+    (pm, pr), (qm, qr) = (rational_parts(v if type(v) is fmpq else fmpq(v)) for v in (a, b))
+    return Ball._of(np.array([[pm], [qm]]), np.array([[pr], [qr]]))
 
 
 class Stacked:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from flint import fmpq
 
-from rprpr.engine.bounds.boxes import partition, split, unique_ends
+from rprpr.engine.bounds.boxes import partition, sorted_unique, split, unique_ends
 
 
 def test_the_first_partition_has_the_nearest_doubles_to_its_exact_ends() -> None:
@@ -33,3 +33,19 @@ def test_the_ends_of_boxes_are_each_once_sorted_with_where_each_end_is() -> None
             ref, inv = np.unique(np.concatenate([los, his]), return_inverse=True)
             assert np.array_equal(t, ref) and np.array_equal(where, inv)
             assert np.array_equal(t[where], np.concatenate([los, his]))
+
+
+def test_sorted_unique_is_numpys_unique_to_the_bit() -> None:
+    """``sorted_unique`` against np.unique: the same doubles (bytes: -0.0 and 0.0 kept as
+    np.unique keeps the first of them after sorting), with infinities, subnormals, ends
+    a few ulps apart, repeats, empty input and NaNs."""
+    rng = np.random.default_rng(11)
+    pool = np.array([0.0, -0.0, 1.0, np.nextafter(1.0, 2.0), -3.0, 5e-324, 1e-300, np.inf,
+                     -np.inf])  # fmt: skip
+    for _ in range(500):
+        a = np.concatenate([rng.choice(pool, int(rng.integers(0, 12))),
+                            rng.normal(size=int(rng.integers(0, 6)))])  # fmt: skip
+        ref, got = np.unique(a), sorted_unique(a)
+        assert got.dtype == ref.dtype and got.tobytes() == ref.tobytes()
+    a = np.array([2.0, np.nan, 0.0, np.nan, 2.0])
+    assert np.array_equal(sorted_unique(a), np.unique(a), equal_nan=True)
