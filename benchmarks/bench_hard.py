@@ -210,10 +210,10 @@ def _children_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def cpu_of(argv: list[str]) -> tuple[float, bytes]:
+def cpu_of(argv: list[str], env: dict[str, str] | None = None) -> tuple[float, bytes]:
     """The CPU time [s] of a subprocess (and its workers) and its standard output."""
     before = _children_cpu()
-    done = subprocess.run(argv, capture_output=True, cwd=ROOT, check=False)
+    done = subprocess.run(argv, capture_output=True, cwd=ROOT, check=False, env=env)
     return _children_cpu() - before, done.stdout
 
 
@@ -238,11 +238,14 @@ def has_peak(python: str) -> bool:
 
 def single_over_floor(python: str, repeat: int) -> tuple[float, float]:
     """(one check of path 2, the import floor): median CPU [s] of ``repeat`` runs each,
-    interleaved."""
+    interleaved. The floor's imports run with one OpenBLAS thread (``rprpr`` sets that
+    for itself since 0.3: the pool of threads numpy's import otherwise starts costs
+    ~0.1 s), so that what a check costs over its imports is never flattered by it."""
     check, floor = [], []
+    one_thread = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
     for _ in range(repeat):
         check.append(cpu_of([*rprpr_of(python), "check", str(PATH2)])[0])
-        floor.append(cpu_of([python, "-c", FLOOR])[0])
+        floor.append(cpu_of([python, "-c", FLOOR], one_thread)[0])
     return statistics.median(check), statistics.median(floor)
 
 
