@@ -28,7 +28,7 @@
 #endif
 
 
-#define KERNEL_DIGEST "2314b667481571fb"
+#define KERNEL_DIGEST "bb2455b1528f6554"
 #define U 0x1.0000000000000p-53
 #define ETA 0x0.0000000000001p-1022
 #define GROW 0x1.0000000000010p+0
@@ -832,6 +832,175 @@ static void k_efforts_ball_revolute(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_efforts_ball_revolute[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1};
+static void k_efforts_at_ball_revolute(Py_ssize_t n, const Slot *in, double *out)
+{
+    double I[40][BLK], O[4][BLK];
+    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {
+        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;
+        for (int c = 0; c < nb; c++) {
+            Py_ssize_t j = j0 + c;
+            I[0][c] = LD(in[0].m, 0, j);
+            I[1][c] = LD(in[0].r, 0, j);
+            I[2][c] = LD(in[0].m, 1, j);
+            I[3][c] = LD(in[0].r, 1, j);
+            I[4][c] = LD(in[2].m, 0, j);
+            I[5][c] = LD(in[2].r, 0, j);
+            I[6][c] = LD(in[2].m, 1, j);
+            I[7][c] = LD(in[2].r, 1, j);
+            I[8][c] = LD(in[3].m, 0, j);
+            I[9][c] = LD(in[3].r, 0, j);
+            I[10][c] = LD(in[3].m, 1, j);
+            I[11][c] = LD(in[3].r, 1, j);
+            I[12][c] = LD(in[4].m, 0, j);
+            I[13][c] = LD(in[4].r, 0, j);
+            I[14][c] = LD(in[4].m, 1, j);
+            I[15][c] = LD(in[4].r, 1, j);
+            I[16][c] = LD(in[5].m, 0, j);
+            I[17][c] = LD(in[5].r, 0, j);
+            I[18][c] = LD(in[5].m, 1, j);
+            I[19][c] = LD(in[5].r, 1, j);
+            I[20][c] = LD(in[6].m, 0, j);
+            I[21][c] = LD(in[6].r, 0, j);
+            I[22][c] = LD(in[6].m, 1, j);
+            I[23][c] = LD(in[6].r, 1, j);
+            I[24][c] = LD(in[7].m, 0, j);
+            I[25][c] = LD(in[7].r, 0, j);
+            I[26][c] = LD(in[8].m, 0, j);
+            I[27][c] = LD(in[8].r, 0, j);
+            I[28][c] = LD(in[9].m, 0, j);
+            I[29][c] = LD(in[9].r, 0, j);
+            I[30][c] = LD(in[10].m, 0, j);
+            I[31][c] = LD(in[10].r, 0, j);
+            I[32][c] = LD(in[11].m, 0, j);
+            I[33][c] = LD(in[11].r, 0, j);
+            I[34][c] = LD(in[12].m, 0, j);
+            I[35][c] = LD(in[12].r, 0, j);
+            I[36][c] = LD(in[13].m, 0, j);
+            I[37][c] = LD(in[13].r, 0, j);
+            I[38][c] = LD(in[14].m, 0, j);
+            I[39][c] = LD(in[14].r, 0, j);
+        }
+        for (int c = 0; c < nb; c++) {
+            double t, u, b;
+            (void)b;
+            double m0 = I[0][c], r0 = I[1][c];
+            double m1 = I[2][c], r1 = I[3][c];
+            double m3 = I[4][c], r3 = I[5][c];
+            double m4 = I[6][c], r4 = I[7][c];
+            double m5 = I[8][c], r5 = I[9][c];
+            double m6 = I[10][c], r6 = I[11][c];
+            double m7 = I[12][c], r7 = I[13][c];
+            double m8 = I[14][c], r8 = I[15][c];
+            double m9 = I[16][c], r9 = I[17][c];
+            double m10 = I[18][c], r10 = I[19][c];
+            double m11 = I[20][c], r11 = I[21][c];
+            double m12 = I[22][c], r12 = I[23][c];
+            const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+            const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+            double m15 = I[24][c], r15 = I[25][c];
+            double m16 = I[26][c], r16 = I[27][c];
+            double m17 = I[28][c], r17 = I[29][c];
+            double m18 = I[30][c], r18 = I[31][c];
+            double m19 = I[32][c], r19 = I[33][c];
+            double m20 = I[34][c], r20 = I[35][c];
+            double m21 = I[36][c], r21 = I[37][c];
+            double m22 = I[38][c], r22 = I[39][c];
+            double m23, r23; m23 = m15 - m0; t = r15 + r0; u = fabs(m23) * U; t = t + u; t = t * GROW; r23 = t + PAD;
+            double m24, r24; m24 = m15 - m1; t = r15 + r1; u = fabs(m24) * U; t = t + u; t = t * GROW; r24 = t + PAD;
+            double m25, r25; m25 = m23 * m23; t = fabs(m23) + r23; t = t * r23; u = fabs(m23) * r23; t = t + u; u = fabs(m25) * U; u = u + ETA; t = t + u; t = t * GROW; r25 = t + PAD;
+            double m26, r26; m26 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m26) * U; u = u + ETA; t = t + u; t = t * GROW; r26 = t + PAD;
+            double m27, r27; m27 = m18 * m18; t = fabs(m18) + r18; t = t * r18; u = fabs(m18) * r18; t = t + u; u = fabs(m27) * U; u = u + ETA; t = t + u; t = t * GROW; r27 = t + PAD;
+            double m28, r28; m28 = m25 + m27; t = r25 + r27; u = fabs(m28) * U; t = t + u; t = t * GROW; r28 = t + PAD;
+            double m29, r29; m29 = m26 + m27; t = r26 + r27; u = fabs(m29) * U; t = t + u; t = t * GROW; r29 = t + PAD;
+            double m30, r30; m30 = sqrt(m28 > 0 ? m28 : 0.0); t = (r28 * SQ) / m30; t = m28 > 0 ? t : INFINITY; u = sqrt(r28); t = nanmin(t, u); u = m28 + r28; u = sqrt(nanmax(u, 0.0)); t = m28 > 0 ? t : u; u = U * m30; t = t + u; t = t * GROW; r30 = t + PAD; b = m28 + r28; m30 = b < 0 ? NAN : m30; r30 = b < 0 ? INFINITY : r30;
+            double m31, r31; m31 = sqrt(m29 > 0 ? m29 : 0.0); t = (r29 * SQ) / m31; t = m29 > 0 ? t : INFINITY; u = sqrt(r29); t = nanmin(t, u); u = m29 + r29; u = sqrt(nanmax(u, 0.0)); t = m29 > 0 ? t : u; u = U * m31; t = t + u; t = t * GROW; r31 = t + PAD; b = m29 + r29; m31 = b < 0 ? NAN : m31; r31 = b < 0 ? INFINITY : r31;
+            double m32, r32; m32 = m30 * m30; t = fabs(m30) + r30; t = t * r30; u = fabs(m30) * r30; t = t + u; u = fabs(m32) * U; u = u + ETA; t = t + u; t = t * GROW; r32 = t + PAD;
+            double m33, r33; m33 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD;
+            double m34, r34; m34 = m23 * m16; t = fabs(m23) + r23; t = t * r16; u = fabs(m16) * r23; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+            double m35, r35; m35 = m24 * m16; t = fabs(m24) + r24; t = t * r16; u = fabs(m16) * r24; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+            double m36, r36; m36 = m18 * m19; t = fabs(m18) + r18; t = t * r19; u = fabs(m19) * r18; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+            double m37, r37; m37 = m34 + m36; t = r34 + r36; u = fabs(m37) * U; t = t + u; t = t * GROW; r37 = t + PAD;
+            double m38, r38; m38 = m35 + m36; t = r35 + r36; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+            double m39, r39; b = fabs(m30); m39 = m37 / m30; t = r37 * b; u = fabs(m37) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD; m39 = b > r30 ? m39 : NAN; r39 = b > r30 ? r39 : INFINITY;
+            double m40, r40; b = fabs(m31); m40 = m38 / m31; t = r38 * b; u = fabs(m38) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD; m40 = b > r31 ? m40 : NAN; r40 = b > r31 ? r40 : INFINITY;
+            double m41, r41; m41 = m23 * m19; t = fabs(m23) + r23; t = t * r19; u = fabs(m19) * r23; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+            double m42, r42; m42 = m24 * m19; t = fabs(m24) + r24; t = t * r19; u = fabs(m19) * r24; t = t + u; u = fabs(m42) * U; u = u + ETA; t = t + u; t = t * GROW; r42 = t + PAD;
+            double m43, r43; m43 = m18 * m16; t = fabs(m18) + r18; t = t * r16; u = fabs(m16) * r18; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+            double m44, r44; m44 = m41 - m43; t = r41 + r43; u = fabs(m44) * U; t = t + u; t = t * GROW; r44 = t + PAD;
+            double m45, r45; m45 = m42 - m43; t = r42 + r43; u = fabs(m45) * U; t = t + u; t = t * GROW; r45 = t + PAD;
+            double m46, r46; b = fabs(m32); m46 = m44 / m32; t = r44 * b; u = fabs(m44) * r32; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r32; t = t / u; u = fabs(m46) * U; u = u + ETA; t = t + u; t = t * GROW; r46 = t + PAD; m46 = b > r32 ? m46 : NAN; r46 = b > r32 ? r46 : INFINITY;
+            double m47, r47; b = fabs(m33); m47 = m45 / m33; t = r45 * b; u = fabs(m45) * r33; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r33; t = t / u; u = fabs(m47) * U; u = u + ETA; t = t + u; t = t * GROW; r47 = t + PAD; m47 = b > r33 ? m47 : NAN; r47 = b > r33 ? r47 : INFINITY;
+            double m64, r64; m64 = m23 * m20; t = fabs(m23) + r23; t = t * r20; u = fabs(m20) * r23; t = t + u; u = fabs(m64) * U; u = u + ETA; t = t + u; t = t * GROW; r64 = t + PAD;
+            double m65, r65; m65 = m24 * m20; t = fabs(m24) + r24; t = t * r20; u = fabs(m20) * r24; t = t + u; u = fabs(m65) * U; u = u + ETA; t = t + u; t = t * GROW; r65 = t + PAD;
+            double m66, r66; m66 = m18 * m17; t = fabs(m18) + r18; t = t * r17; u = fabs(m17) * r18; t = t + u; u = fabs(m66) * U; u = u + ETA; t = t + u; t = t * GROW; r66 = t + PAD;
+            double m67, r67; m67 = m64 - m66; t = r64 + r66; u = fabs(m67) * U; t = t + u; t = t * GROW; r67 = t + PAD;
+            double m68, r68; m68 = m65 - m66; t = r65 + r66; u = fabs(m68) * U; t = t + u; t = t * GROW; r68 = t + PAD;
+            const double m69 = 0x1.0000000000000p+1, r69 = 0x0.0p+0;
+            double m70, r70; m70 = m30 * m69; t = fabs(m30) + r30; t = t * r69; u = fabs(m69) * r30; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+            double m71, r71; m71 = m31 * m69; t = fabs(m31) + r31; t = t * r69; u = fabs(m69) * r31; t = t + u; u = fabs(m71) * U; u = u + ETA; t = t + u; t = t * GROW; r71 = t + PAD;
+            double m72, r72; m72 = m70 * m39; t = fabs(m70) + r70; t = t * r39; u = fabs(m39) * r70; t = t + u; u = fabs(m72) * U; u = u + ETA; t = t + u; t = t * GROW; r72 = t + PAD;
+            double m73, r73; m73 = m71 * m40; t = fabs(m71) + r71; t = t * r40; u = fabs(m40) * r71; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+            double m74, r74; m74 = m72 * m46; t = fabs(m72) + r72; t = t * r46; u = fabs(m46) * r72; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+            double m75, r75; m75 = m73 * m47; t = fabs(m73) + r73; t = t * r47; u = fabs(m47) * r73; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+            double m76, r76; m76 = m67 - m74; t = r67 + r74; u = fabs(m76) * U; t = t + u; t = t * GROW; r76 = t + PAD;
+            double m77, r77; m77 = m68 - m75; t = r68 + r75; u = fabs(m77) * U; t = t + u; t = t * GROW; r77 = t + PAD;
+            double m78, r78; b = fabs(m32); m78 = m76 / m32; t = r76 * b; u = fabs(m76) * r32; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r32; t = t / u; u = fabs(m78) * U; u = u + ETA; t = t + u; t = t * GROW; r78 = t + PAD; m78 = b > r32 ? m78 : NAN; r78 = b > r32 ? r78 : INFINITY;
+            double m79, r79; b = fabs(m33); m79 = m77 / m33; t = r77 * b; u = fabs(m77) * r33; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r33; t = t / u; u = fabs(m79) * U; u = u + ETA; t = t + u; t = t * GROW; r79 = t + PAD; m79 = b > r33 ? m79 : NAN; r79 = b > r33 ? r79 : INFINITY;
+            double m80, r80; b = fabs(m30); m80 = m23 / m30; t = r23 * b; u = fabs(m23) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m80) * U; u = u + ETA; t = t + u; t = t * GROW; r80 = t + PAD; m80 = b > r30 ? m80 : NAN; r80 = b > r30 ? r80 : INFINITY;
+            double m81, r81; b = fabs(m31); m81 = m24 / m31; t = r24 * b; u = fabs(m24) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD; m81 = b > r31 ? m81 : NAN; r81 = b > r31 ? r81 : INFINITY;
+            double m82, r82; b = fabs(m30); m82 = m18 / m30; t = r18 * b; u = fabs(m18) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD; m82 = b > r30 ? m82 : NAN; r82 = b > r30 ? r82 : INFINITY;
+            double m83, r83; b = fabs(m31); m83 = m18 / m31; t = r18 * b; u = fabs(m18) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD; m83 = b > r31 ? m83 : NAN; r83 = b > r31 ? r83 : INFINITY;
+            double m84, r84; m84 = m30 - m5; t = r30 + r5; u = fabs(m84) * U; t = t + u; t = t * GROW; r84 = t + PAD;
+            double m85, r85; m85 = m31 - m6; t = r31 + r6; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+            double m86, r86; m86 = m84 * m84; t = fabs(m84) + r84; t = t * r84; u = fabs(m84) * r84; t = t + u; u = fabs(m86) * U; u = u + ETA; t = t + u; t = t * GROW; r86 = t + PAD;
+            double m87, r87; m87 = m85 * m85; t = fabs(m85) + r85; t = t * r85; u = fabs(m85) * r85; t = t + u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD;
+            double m88, r88; m88 = m3 * m86; t = fabs(m3) + r3; t = t * r86; u = fabs(m86) * r3; t = t + u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD;
+            double m89, r89; m89 = m4 * m87; t = fabs(m4) + r4; t = t * r87; u = fabs(m87) * r4; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+            double m90, r90; m90 = m7 + m88; t = r7 + r88; u = fabs(m90) * U; t = t + u; t = t * GROW; r90 = t + PAD;
+            double m91, r91; m91 = m8 + m89; t = r8 + r89; u = fabs(m91) * U; t = t + u; t = t * GROW; r91 = t + PAD;
+            double m92, r92; m92 = m3 * m69; t = fabs(m3) + r3; t = t * r69; u = fabs(m69) * r3; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+            double m93, r93; m93 = m4 * m69; t = fabs(m4) + r4; t = t * r69; u = fabs(m69) * r4; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+            double m94, r94; m94 = m39 * m46; t = fabs(m39) + r39; t = t * r46; u = fabs(m46) * r39; t = t + u; u = fabs(m94) * U; u = u + ETA; t = t + u; t = t * GROW; r94 = t + PAD;
+            double m95, r95; m95 = m40 * m47; t = fabs(m40) + r40; t = t * r47; u = fabs(m47) * r40; t = t + u; u = fabs(m95) * U; u = u + ETA; t = t + u; t = t * GROW; r95 = t + PAD;
+            double m96, r96; m96 = m94 * m84; t = fabs(m94) + r94; t = t * r84; u = fabs(m84) * r94; t = t + u; u = fabs(m96) * U; u = u + ETA; t = t + u; t = t * GROW; r96 = t + PAD;
+            double m97, r97; m97 = m95 * m85; t = fabs(m95) + r95; t = t * r85; u = fabs(m85) * r95; t = t + u; u = fabs(m97) * U; u = u + ETA; t = t + u; t = t * GROW; r97 = t + PAD;
+            double m98, r98; m98 = m92 * m96; t = fabs(m92) + r92; t = t * r96; u = fabs(m96) * r92; t = t + u; u = fabs(m98) * U; u = u + ETA; t = t + u; t = t * GROW; r98 = t + PAD;
+            double m99, r99; m99 = m93 * m97; t = fabs(m93) + r93; t = t * r97; u = fabs(m97) * r93; t = t + u; u = fabs(m99) * U; u = u + ETA; t = t + u; t = t * GROW; r99 = t + PAD;
+            double m100, r100; m100 = m11 * m30; t = fabs(m11) + r11; t = t * r30; u = fabs(m30) * r11; t = t + u; u = fabs(m100) * U; u = u + ETA; t = t + u; t = t * GROW; r100 = t + PAD;
+            double m101, r101; m101 = m12 * m31; t = fabs(m12) + r12; t = t * r31; u = fabs(m31) * r12; t = t + u; u = fabs(m101) * U; u = u + ETA; t = t + u; t = t * GROW; r101 = t + PAD;
+            double m102, r102; m102 = m9 + m100; t = r9 + r100; u = fabs(m102) * U; t = t + u; t = t * GROW; r102 = t + PAD;
+            double m103, r103; m103 = m10 + m101; t = r10 + r101; u = fabs(m103) * U; t = t + u; t = t * GROW; r103 = t + PAD;
+            double m104, r104; m104 = m102 * m80; t = fabs(m102) + r102; t = t * r80; u = fabs(m80) * r102; t = t + u; u = fabs(m104) * U; u = u + ETA; t = t + u; t = t * GROW; r104 = t + PAD;
+            double m105, r105; m105 = m103 * m81; t = fabs(m103) + r103; t = t * r81; u = fabs(m81) * r103; t = t + u; u = fabs(m105) * U; u = u + ETA; t = t + u; t = t * GROW; r105 = t + PAD;
+            double m106, r106; m106 = m98 + m104; t = r98 + r104; u = fabs(m106) * U; t = t + u; t = t * GROW; r106 = t + PAD;
+            double m107, r107; m107 = m99 + m105; t = r99 + r105; u = fabs(m107) * U; t = t + u; t = t * GROW; r107 = t + PAD;
+            double m124, r124; m124 = m90 * m78; t = fabs(m90) + r90; t = t * r78; u = fabs(m78) * r90; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+            double m125, r125; m125 = m91 * m79; t = fabs(m91) + r91; t = t * r79; u = fabs(m79) * r91; t = t + u; u = fabs(m125) * U; u = u + ETA; t = t + u; t = t * GROW; r125 = t + PAD;
+            double m126, r126; m126 = m124 + m106; t = r124 + r106; u = fabs(m126) * U; t = t + u; t = t * GROW; r126 = t + PAD;
+            double m127, r127; m127 = m125 + m107; t = r125 + r107; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+            double m128, r128; m128 = m82 * m21; t = fabs(m82) + r82; t = t * r21; u = fabs(m21) * r82; t = t + u; u = fabs(m128) * U; u = u + ETA; t = t + u; t = t * GROW; r128 = t + PAD;
+            double m129, r129; m129 = m83 * m21; t = fabs(m83) + r83; t = t * r21; u = fabs(m21) * r83; t = t + u; u = fabs(m129) * U; u = u + ETA; t = t + u; t = t * GROW; r129 = t + PAD;
+            double m130, r130; m130 = m80 * m22; t = fabs(m80) + r80; t = t * r22; u = fabs(m22) * r80; t = t + u; u = fabs(m130) * U; u = u + ETA; t = t + u; t = t * GROW; r130 = t + PAD;
+            double m131, r131; m131 = m81 * m22; t = fabs(m81) + r81; t = t * r22; u = fabs(m22) * r81; t = t + u; u = fabs(m131) * U; u = u + ETA; t = t + u; t = t * GROW; r131 = t + PAD;
+            double m132, r132; m132 = m128 - m130; t = r128 + r130; u = fabs(m132) * U; t = t + u; t = t * GROW; r132 = t + PAD;
+            double m133, r133; m133 = m129 - m131; t = r129 + r131; u = fabs(m133) * U; t = t + u; t = t * GROW; r133 = t + PAD;
+            double m134, r134; m134 = m30 * m132; t = fabs(m30) + r30; t = t * r132; u = fabs(m132) * r30; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+            double m135, r135; m135 = m31 * m133; t = fabs(m31) + r31; t = t * r133; u = fabs(m133) * r31; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+            double m136, r136; m136 = m13 * m134; t = fabs(m13) + r13; t = t * r134; u = fabs(m134) * r13; t = t + u; u = fabs(m136) * U; u = u + ETA; t = t + u; t = t * GROW; r136 = t + PAD;
+            double m137, r137; m137 = m14 * m135; t = fabs(m14) + r14; t = t * r135; u = fabs(m135) * r14; t = t + u; u = fabs(m137) * U; u = u + ETA; t = t + u; t = t * GROW; r137 = t + PAD;
+            double m138, r138; m138 = m126 + m136; t = r126 + r136; u = fabs(m138) * U; t = t + u; t = t * GROW; r138 = t + PAD;
+            double m139, r139; m139 = m127 + m137; t = r127 + r137; u = fabs(m139) * U; t = t + u; t = t * GROW; r139 = t + PAD;
+            O[0][c] = m138;
+            O[2][c] = r138;
+            O[1][c] = m139;
+            O[3][c] = r139;
+        }
+        for (int q = 0; q < 4; q++)
+            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));
+    }
+}
+
+static const int rows_efforts_at_ball_revolute[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1};
 static void k_torques_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
 {
     double I[52][BLK], O[6][BLK];
@@ -1373,6 +1542,147 @@ static void k_efforts_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_efforts_ball_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1};
+static void k_efforts_at_ball_prismatic(Py_ssize_t n, const Slot *in, double *out)
+{
+    double I[32][BLK], O[4][BLK];
+    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {
+        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;
+        for (int c = 0; c < nb; c++) {
+            Py_ssize_t j = j0 + c;
+            I[0][c] = LD(in[0].m, 0, j);
+            I[1][c] = LD(in[0].r, 0, j);
+            I[2][c] = LD(in[0].m, 1, j);
+            I[3][c] = LD(in[0].r, 1, j);
+            I[4][c] = LD(in[2].m, 0, j);
+            I[5][c] = LD(in[2].r, 0, j);
+            I[6][c] = LD(in[2].m, 1, j);
+            I[7][c] = LD(in[2].r, 1, j);
+            I[8][c] = LD(in[3].m, 0, j);
+            I[9][c] = LD(in[3].r, 0, j);
+            I[10][c] = LD(in[3].m, 1, j);
+            I[11][c] = LD(in[3].r, 1, j);
+            I[12][c] = LD(in[6].m, 0, j);
+            I[13][c] = LD(in[6].r, 0, j);
+            I[14][c] = LD(in[6].m, 1, j);
+            I[15][c] = LD(in[6].r, 1, j);
+            I[16][c] = LD(in[7].m, 0, j);
+            I[17][c] = LD(in[7].r, 0, j);
+            I[18][c] = LD(in[8].m, 0, j);
+            I[19][c] = LD(in[8].r, 0, j);
+            I[20][c] = LD(in[9].m, 0, j);
+            I[21][c] = LD(in[9].r, 0, j);
+            I[22][c] = LD(in[10].m, 0, j);
+            I[23][c] = LD(in[10].r, 0, j);
+            I[24][c] = LD(in[11].m, 0, j);
+            I[25][c] = LD(in[11].r, 0, j);
+            I[26][c] = LD(in[12].m, 0, j);
+            I[27][c] = LD(in[12].r, 0, j);
+            I[28][c] = LD(in[13].m, 0, j);
+            I[29][c] = LD(in[13].r, 0, j);
+            I[30][c] = LD(in[14].m, 0, j);
+            I[31][c] = LD(in[14].r, 0, j);
+        }
+        for (int c = 0; c < nb; c++) {
+            double t, u, b;
+            (void)b;
+            double m0 = I[0][c], r0 = I[1][c];
+            double m1 = I[2][c], r1 = I[3][c];
+            double m3 = I[4][c], r3 = I[5][c];
+            double m4 = I[6][c], r4 = I[7][c];
+            double m5 = I[8][c], r5 = I[9][c];
+            double m6 = I[10][c], r6 = I[11][c];
+            double m11 = I[12][c], r11 = I[13][c];
+            double m12 = I[14][c], r12 = I[15][c];
+            const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+            const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+            double m15 = I[16][c], r15 = I[17][c];
+            double m16 = I[18][c], r16 = I[19][c];
+            double m17 = I[20][c], r17 = I[21][c];
+            double m18 = I[22][c], r18 = I[23][c];
+            double m19 = I[24][c], r19 = I[25][c];
+            double m20 = I[26][c], r20 = I[27][c];
+            double m21 = I[28][c], r21 = I[29][c];
+            double m22 = I[30][c], r22 = I[31][c];
+            double m23, r23; m23 = m15 - m0; t = r15 + r0; u = fabs(m23) * U; t = t + u; t = t * GROW; r23 = t + PAD;
+            double m24, r24; m24 = m15 - m1; t = r15 + r1; u = fabs(m24) * U; t = t + u; t = t * GROW; r24 = t + PAD;
+            double m25, r25; m25 = m23 * m23; t = fabs(m23) + r23; t = t * r23; u = fabs(m23) * r23; t = t + u; u = fabs(m25) * U; u = u + ETA; t = t + u; t = t * GROW; r25 = t + PAD;
+            double m26, r26; m26 = m24 * m24; t = fabs(m24) + r24; t = t * r24; u = fabs(m24) * r24; t = t + u; u = fabs(m26) * U; u = u + ETA; t = t + u; t = t * GROW; r26 = t + PAD;
+            double m27, r27; m27 = m18 * m18; t = fabs(m18) + r18; t = t * r18; u = fabs(m18) * r18; t = t + u; u = fabs(m27) * U; u = u + ETA; t = t + u; t = t * GROW; r27 = t + PAD;
+            double m28, r28; m28 = m25 + m27; t = r25 + r27; u = fabs(m28) * U; t = t + u; t = t * GROW; r28 = t + PAD;
+            double m29, r29; m29 = m26 + m27; t = r26 + r27; u = fabs(m29) * U; t = t + u; t = t * GROW; r29 = t + PAD;
+            double m30, r30; m30 = sqrt(m28 > 0 ? m28 : 0.0); t = (r28 * SQ) / m30; t = m28 > 0 ? t : INFINITY; u = sqrt(r28); t = nanmin(t, u); u = m28 + r28; u = sqrt(nanmax(u, 0.0)); t = m28 > 0 ? t : u; u = U * m30; t = t + u; t = t * GROW; r30 = t + PAD; b = m28 + r28; m30 = b < 0 ? NAN : m30; r30 = b < 0 ? INFINITY : r30;
+            double m31, r31; m31 = sqrt(m29 > 0 ? m29 : 0.0); t = (r29 * SQ) / m31; t = m29 > 0 ? t : INFINITY; u = sqrt(r29); t = nanmin(t, u); u = m29 + r29; u = sqrt(nanmax(u, 0.0)); t = m29 > 0 ? t : u; u = U * m31; t = t + u; t = t * GROW; r31 = t + PAD; b = m29 + r29; m31 = b < 0 ? NAN : m31; r31 = b < 0 ? INFINITY : r31;
+            double m32, r32; m32 = m30 * m30; t = fabs(m30) + r30; t = t * r30; u = fabs(m30) * r30; t = t + u; u = fabs(m32) * U; u = u + ETA; t = t + u; t = t * GROW; r32 = t + PAD;
+            double m33, r33; m33 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m33) * U; u = u + ETA; t = t + u; t = t * GROW; r33 = t + PAD;
+            double m34, r34; m34 = m23 * m16; t = fabs(m23) + r23; t = t * r16; u = fabs(m16) * r23; t = t + u; u = fabs(m34) * U; u = u + ETA; t = t + u; t = t * GROW; r34 = t + PAD;
+            double m35, r35; m35 = m24 * m16; t = fabs(m24) + r24; t = t * r16; u = fabs(m16) * r24; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+            double m36, r36; m36 = m18 * m19; t = fabs(m18) + r18; t = t * r19; u = fabs(m19) * r18; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+            double m37, r37; m37 = m34 + m36; t = r34 + r36; u = fabs(m37) * U; t = t + u; t = t * GROW; r37 = t + PAD;
+            double m38, r38; m38 = m35 + m36; t = r35 + r36; u = fabs(m38) * U; t = t + u; t = t * GROW; r38 = t + PAD;
+            double m39, r39; b = fabs(m30); m39 = m37 / m30; t = r37 * b; u = fabs(m37) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD; m39 = b > r30 ? m39 : NAN; r39 = b > r30 ? r39 : INFINITY;
+            double m40, r40; b = fabs(m31); m40 = m38 / m31; t = r38 * b; u = fabs(m38) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD; m40 = b > r31 ? m40 : NAN; r40 = b > r31 ? r40 : INFINITY;
+            double m41, r41; m41 = m23 * m19; t = fabs(m23) + r23; t = t * r19; u = fabs(m19) * r23; t = t + u; u = fabs(m41) * U; u = u + ETA; t = t + u; t = t * GROW; r41 = t + PAD;
+            double m42, r42; m42 = m24 * m19; t = fabs(m24) + r24; t = t * r19; u = fabs(m19) * r24; t = t + u; u = fabs(m42) * U; u = u + ETA; t = t + u; t = t * GROW; r42 = t + PAD;
+            double m43, r43; m43 = m18 * m16; t = fabs(m18) + r18; t = t * r16; u = fabs(m16) * r18; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+            double m44, r44; m44 = m41 - m43; t = r41 + r43; u = fabs(m44) * U; t = t + u; t = t * GROW; r44 = t + PAD;
+            double m45, r45; m45 = m42 - m43; t = r42 + r43; u = fabs(m45) * U; t = t + u; t = t * GROW; r45 = t + PAD;
+            double m46, r46; b = fabs(m32); m46 = m44 / m32; t = r44 * b; u = fabs(m44) * r32; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r32; t = t / u; u = fabs(m46) * U; u = u + ETA; t = t + u; t = t * GROW; r46 = t + PAD; m46 = b > r32 ? m46 : NAN; r46 = b > r32 ? r46 : INFINITY;
+            double m47, r47; b = fabs(m33); m47 = m45 / m33; t = r45 * b; u = fabs(m45) * r33; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r33; t = t / u; u = fabs(m47) * U; u = u + ETA; t = t + u; t = t * GROW; r47 = t + PAD; m47 = b > r33 ? m47 : NAN; r47 = b > r33 ? r47 : INFINITY;
+            double m48, r48; m48 = m16 * m16; t = fabs(m16) + r16; t = t * r16; u = fabs(m16) * r16; t = t + u; u = fabs(m48) * U; u = u + ETA; t = t + u; t = t * GROW; r48 = t + PAD;
+            double m49, r49; m49 = m19 * m19; t = fabs(m19) + r19; t = t * r19; u = fabs(m19) * r19; t = t + u; u = fabs(m49) * U; u = u + ETA; t = t + u; t = t * GROW; r49 = t + PAD;
+            double m50, r50; m50 = m48 + m49; t = r48 + r49; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+            double m51, r51; m51 = m23 * m17; t = fabs(m23) + r23; t = t * r17; u = fabs(m17) * r23; t = t + u; u = fabs(m51) * U; u = u + ETA; t = t + u; t = t * GROW; r51 = t + PAD;
+            double m52, r52; m52 = m24 * m17; t = fabs(m24) + r24; t = t * r17; u = fabs(m17) * r24; t = t + u; u = fabs(m52) * U; u = u + ETA; t = t + u; t = t * GROW; r52 = t + PAD;
+            double m53, r53; m53 = m50 + m51; t = r50 + r51; u = fabs(m53) * U; t = t + u; t = t * GROW; r53 = t + PAD;
+            double m54, r54; m54 = m50 + m52; t = r50 + r52; u = fabs(m54) * U; t = t + u; t = t * GROW; r54 = t + PAD;
+            double m55, r55; m55 = m18 * m20; t = fabs(m18) + r18; t = t * r20; u = fabs(m20) * r18; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+            double m56, r56; m56 = m53 + m55; t = r53 + r55; u = fabs(m56) * U; t = t + u; t = t * GROW; r56 = t + PAD;
+            double m57, r57; m57 = m54 + m55; t = r54 + r55; u = fabs(m57) * U; t = t + u; t = t * GROW; r57 = t + PAD;
+            double m58, r58; m58 = m39 * m39; t = fabs(m39) + r39; t = t * r39; u = fabs(m39) * r39; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+            double m59, r59; m59 = m40 * m40; t = fabs(m40) + r40; t = t * r40; u = fabs(m40) * r40; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+            double m60, r60; m60 = m56 - m58; t = r56 + r58; u = fabs(m60) * U; t = t + u; t = t * GROW; r60 = t + PAD;
+            double m61, r61; m61 = m57 - m59; t = r57 + r59; u = fabs(m61) * U; t = t + u; t = t * GROW; r61 = t + PAD;
+            double m62, r62; b = fabs(m30); m62 = m60 / m30; t = r60 * b; u = fabs(m60) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD; m62 = b > r30 ? m62 : NAN; r62 = b > r30 ? r62 : INFINITY;
+            double m63, r63; b = fabs(m31); m63 = m61 / m31; t = r61 * b; u = fabs(m61) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD; m63 = b > r31 ? m63 : NAN; r63 = b > r31 ? r63 : INFINITY;
+            double m80, r80; b = fabs(m30); m80 = m23 / m30; t = r23 * b; u = fabs(m23) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m80) * U; u = u + ETA; t = t + u; t = t * GROW; r80 = t + PAD; m80 = b > r30 ? m80 : NAN; r80 = b > r30 ? r80 : INFINITY;
+            double m81, r81; b = fabs(m31); m81 = m24 / m31; t = r24 * b; u = fabs(m24) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD; m81 = b > r31 ? m81 : NAN; r81 = b > r31 ? r81 : INFINITY;
+            double m82, r82; b = fabs(m30); m82 = m18 / m30; t = r18 * b; u = fabs(m18) * r30; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r30; t = t / u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD; m82 = b > r30 ? m82 : NAN; r82 = b > r30 ? r82 : INFINITY;
+            double m83, r83; b = fabs(m31); m83 = m18 / m31; t = r18 * b; u = fabs(m18) * r31; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r31; t = t / u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD; m83 = b > r31 ? m83 : NAN; r83 = b > r31 ? r83 : INFINITY;
+            double m84, r84; m84 = m30 - m5; t = r30 + r5; u = fabs(m84) * U; t = t + u; t = t * GROW; r84 = t + PAD;
+            double m85, r85; m85 = m31 - m6; t = r31 + r6; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+            double m108, r108; m108 = m46 * m46; t = fabs(m46) + r46; t = t * r46; u = fabs(m46) * r46; t = t + u; u = fabs(m108) * U; u = u + ETA; t = t + u; t = t * GROW; r108 = t + PAD;
+            double m109, r109; m109 = m47 * m47; t = fabs(m47) + r47; t = t * r47; u = fabs(m47) * r47; t = t + u; u = fabs(m109) * U; u = u + ETA; t = t + u; t = t * GROW; r109 = t + PAD;
+            double m110, r110; m110 = m84 * m108; t = fabs(m84) + r84; t = t * r108; u = fabs(m108) * r84; t = t + u; u = fabs(m110) * U; u = u + ETA; t = t + u; t = t * GROW; r110 = t + PAD;
+            double m111, r111; m111 = m85 * m109; t = fabs(m85) + r85; t = t * r109; u = fabs(m109) * r85; t = t + u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD;
+            double m112, r112; m112 = m62 - m110; t = r62 + r110; u = fabs(m112) * U; t = t + u; t = t * GROW; r112 = t + PAD;
+            double m113, r113; m113 = m63 - m111; t = r63 + r111; u = fabs(m113) * U; t = t + u; t = t * GROW; r113 = t + PAD;
+            double m114, r114; m114 = m3 * m112; t = fabs(m3) + r3; t = t * r112; u = fabs(m112) * r3; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+            double m115, r115; m115 = m4 * m113; t = fabs(m4) + r4; t = t * r113; u = fabs(m113) * r4; t = t + u; u = fabs(m115) * U; u = u + ETA; t = t + u; t = t * GROW; r115 = t + PAD;
+            double m116, r116; m116 = m11 * m82; t = fabs(m11) + r11; t = t * r82; u = fabs(m82) * r11; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+            double m117, r117; m117 = m12 * m83; t = fabs(m12) + r12; t = t * r83; u = fabs(m83) * r12; t = t + u; u = fabs(m117) * U; u = u + ETA; t = t + u; t = t * GROW; r117 = t + PAD;
+            double m118, r118; m118 = m114 + m116; t = r114 + r116; u = fabs(m118) * U; t = t + u; t = t * GROW; r118 = t + PAD;
+            double m119, r119; m119 = m115 + m117; t = r115 + r117; u = fabs(m119) * U; t = t + u; t = t * GROW; r119 = t + PAD;
+            double m128, r128; m128 = m80 * m21; t = fabs(m80) + r80; t = t * r21; u = fabs(m21) * r80; t = t + u; u = fabs(m128) * U; u = u + ETA; t = t + u; t = t * GROW; r128 = t + PAD;
+            double m129, r129; m129 = m81 * m21; t = fabs(m81) + r81; t = t * r21; u = fabs(m21) * r81; t = t + u; u = fabs(m129) * U; u = u + ETA; t = t + u; t = t * GROW; r129 = t + PAD;
+            double m130, r130; m130 = m82 * m22; t = fabs(m82) + r82; t = t * r22; u = fabs(m22) * r82; t = t + u; u = fabs(m130) * U; u = u + ETA; t = t + u; t = t * GROW; r130 = t + PAD;
+            double m131, r131; m131 = m83 * m22; t = fabs(m83) + r83; t = t * r22; u = fabs(m22) * r83; t = t + u; u = fabs(m131) * U; u = u + ETA; t = t + u; t = t * GROW; r131 = t + PAD;
+            double m132, r132; m132 = m128 + m130; t = r128 + r130; u = fabs(m132) * U; t = t + u; t = t * GROW; r132 = t + PAD;
+            double m133, r133; m133 = m129 + m131; t = r129 + r131; u = fabs(m133) * U; t = t + u; t = t * GROW; r133 = t + PAD;
+            double m134, r134; m134 = m13 * m132; t = fabs(m13) + r13; t = t * r132; u = fabs(m132) * r13; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+            double m135, r135; m135 = m14 * m133; t = fabs(m14) + r14; t = t * r133; u = fabs(m133) * r14; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+            double m136, r136; m136 = m118 - m134; t = r118 + r134; u = fabs(m136) * U; t = t + u; t = t * GROW; r136 = t + PAD;
+            double m137, r137; m137 = m119 - m135; t = r119 + r135; u = fabs(m137) * U; t = t + u; t = t * GROW; r137 = t + PAD;
+            O[0][c] = m136;
+            O[2][c] = r136;
+            O[1][c] = m137;
+            O[3][c] = r137;
+        }
+        for (int q = 0; q < 4; q++)
+            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));
+    }
+}
+
+static const int rows_efforts_at_ball_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1};
 static void k_legs_jet(Py_ssize_t n, const Slot *in, double *out)
 {
     double I[28][BLK], O[56][BLK];
@@ -2821,6 +3131,370 @@ static void k_efforts_jet_revolute(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_efforts_jet_revolute[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+static void k_efforts_at_jet_revolute(Py_ssize_t n, const Slot *in, double *out)
+{
+    double I[56][BLK], O[8][BLK];
+    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {
+        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;
+        for (int c = 0; c < nb; c++) {
+            Py_ssize_t j = j0 + c;
+            I[0][c] = LD(in[0].m, 0, j);
+            I[1][c] = LD(in[0].r, 0, j);
+            I[2][c] = LD(in[0].m, 1, j);
+            I[3][c] = LD(in[0].r, 1, j);
+            I[4][c] = LD(in[2].m, 0, j);
+            I[5][c] = LD(in[2].r, 0, j);
+            I[6][c] = LD(in[2].m, 1, j);
+            I[7][c] = LD(in[2].r, 1, j);
+            I[8][c] = LD(in[3].m, 0, j);
+            I[9][c] = LD(in[3].r, 0, j);
+            I[10][c] = LD(in[3].m, 1, j);
+            I[11][c] = LD(in[3].r, 1, j);
+            I[12][c] = LD(in[4].m, 0, j);
+            I[13][c] = LD(in[4].r, 0, j);
+            I[14][c] = LD(in[4].m, 1, j);
+            I[15][c] = LD(in[4].r, 1, j);
+            I[16][c] = LD(in[5].m, 0, j);
+            I[17][c] = LD(in[5].r, 0, j);
+            I[18][c] = LD(in[5].m, 1, j);
+            I[19][c] = LD(in[5].r, 1, j);
+            I[20][c] = LD(in[6].m, 0, j);
+            I[21][c] = LD(in[6].r, 0, j);
+            I[22][c] = LD(in[6].m, 1, j);
+            I[23][c] = LD(in[6].r, 1, j);
+            I[24][c] = LD(in[7].m, 0, j);
+            I[25][c] = LD(in[7].r, 0, j);
+            I[26][c] = LD(in[8].m, 0, j);
+            I[27][c] = LD(in[8].r, 0, j);
+            I[28][c] = LD(in[9].m, 0, j);
+            I[29][c] = LD(in[9].r, 0, j);
+            I[30][c] = LD(in[10].m, 0, j);
+            I[31][c] = LD(in[10].r, 0, j);
+            I[32][c] = LD(in[11].m, 0, j);
+            I[33][c] = LD(in[11].r, 0, j);
+            I[34][c] = LD(in[12].m, 0, j);
+            I[35][c] = LD(in[12].r, 0, j);
+            I[36][c] = LD(in[13].m, 0, j);
+            I[37][c] = LD(in[13].r, 0, j);
+            I[38][c] = LD(in[14].m, 0, j);
+            I[39][c] = LD(in[14].r, 0, j);
+            I[40][c] = LD(in[15].m, 0, j);
+            I[41][c] = LD(in[15].r, 0, j);
+            I[42][c] = LD(in[16].m, 0, j);
+            I[43][c] = LD(in[16].r, 0, j);
+            I[44][c] = LD(in[17].m, 0, j);
+            I[45][c] = LD(in[17].r, 0, j);
+            I[46][c] = LD(in[18].m, 0, j);
+            I[47][c] = LD(in[18].r, 0, j);
+            I[48][c] = LD(in[19].m, 0, j);
+            I[49][c] = LD(in[19].r, 0, j);
+            I[50][c] = LD(in[20].m, 0, j);
+            I[51][c] = LD(in[20].r, 0, j);
+            I[52][c] = LD(in[21].m, 0, j);
+            I[53][c] = LD(in[21].r, 0, j);
+            I[54][c] = LD(in[22].m, 0, j);
+            I[55][c] = LD(in[22].r, 0, j);
+        }
+        for (int c = 0; c < nb; c++) {
+            double t, u, b;
+            (void)b;
+            double m0 = I[0][c], r0 = I[1][c];
+            double m1 = I[2][c], r1 = I[3][c];
+            double m3 = I[4][c], r3 = I[5][c];
+            double m4 = I[6][c], r4 = I[7][c];
+            double m5 = I[8][c], r5 = I[9][c];
+            double m6 = I[10][c], r6 = I[11][c];
+            double m7 = I[12][c], r7 = I[13][c];
+            double m8 = I[14][c], r8 = I[15][c];
+            double m9 = I[16][c], r9 = I[17][c];
+            double m10 = I[18][c], r10 = I[19][c];
+            double m11 = I[20][c], r11 = I[21][c];
+            double m12 = I[22][c], r12 = I[23][c];
+            const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+            const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+            double m15 = I[24][c], r15 = I[25][c];
+            double m16 = I[26][c], r16 = I[27][c];
+            double m17 = I[28][c], r17 = I[29][c];
+            double m18 = I[30][c], r18 = I[31][c];
+            double m19 = I[32][c], r19 = I[33][c];
+            double m20 = I[34][c], r20 = I[35][c];
+            double m21 = I[36][c], r21 = I[37][c];
+            double m22 = I[38][c], r22 = I[39][c];
+            double m23 = I[40][c], r23 = I[41][c];
+            double m24 = I[42][c], r24 = I[43][c];
+            double m25 = I[44][c], r25 = I[45][c];
+            double m26 = I[46][c], r26 = I[47][c];
+            double m27 = I[48][c], r27 = I[49][c];
+            double m28 = I[50][c], r28 = I[51][c];
+            double m29 = I[52][c], r29 = I[53][c];
+            double m30 = I[54][c], r30 = I[55][c];
+            double m31, r31; m31 = m15 - m0; t = r15 + r0; u = fabs(m31) * U; t = t + u; t = t * GROW; r31 = t + PAD;
+            double m32, r32; m32 = m15 - m1; t = r15 + r1; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+            const double m33 = 0x0.0p+0, r33 = 0x0.0p+0;
+            double m34, r34; m34 = m16 - m33; t = r16 + r33; u = fabs(m34) * U; t = t + u; t = t * GROW; r34 = t + PAD;
+            double m35, r35; m35 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+            double m36, r36; m36 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+            double m37, r37; m37 = m34 * m31; t = fabs(m34) + r34; t = t * r31; u = fabs(m31) * r34; t = t + u; u = fabs(m37) * U; u = u + ETA; t = t + u; t = t * GROW; r37 = t + PAD;
+            double m38, r38; m38 = m34 * m32; t = fabs(m34) + r34; t = t * r32; u = fabs(m32) * r34; t = t + u; u = fabs(m38) * U; u = u + ETA; t = t + u; t = t * GROW; r38 = t + PAD;
+            double m39, r39; m39 = m31 * m34; t = fabs(m31) + r31; t = t * r34; u = fabs(m34) * r31; t = t + u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD;
+            double m40, r40; m40 = m32 * m34; t = fabs(m32) + r32; t = t * r34; u = fabs(m34) * r32; t = t + u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD;
+            double m41, r41; m41 = m37 + m39; t = r37 + r39; u = fabs(m41) * U; t = t + u; t = t * GROW; r41 = t + PAD;
+            double m42, r42; m42 = m38 + m40; t = r38 + r40; u = fabs(m42) * U; t = t + u; t = t * GROW; r42 = t + PAD;
+            double m43, r43; m43 = m21 * m21; t = fabs(m21) + r21; t = t * r21; u = fabs(m21) * r21; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+            double m44, r44; m44 = m22 * m21; t = fabs(m22) + r22; t = t * r21; u = fabs(m21) * r22; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+            double m45, r45; m45 = m21 * m22; t = fabs(m21) + r21; t = t * r22; u = fabs(m22) * r21; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+            double m46, r46; m46 = m44 + m45; t = r44 + r45; u = fabs(m46) * U; t = t + u; t = t * GROW; r46 = t + PAD;
+            double m47, r47; m47 = m35 + m43; t = r35 + r43; u = fabs(m47) * U; t = t + u; t = t * GROW; r47 = t + PAD;
+            double m48, r48; m48 = m36 + m43; t = r36 + r43; u = fabs(m48) * U; t = t + u; t = t * GROW; r48 = t + PAD;
+            double m49, r49; m49 = m41 + m46; t = r41 + r46; u = fabs(m49) * U; t = t + u; t = t * GROW; r49 = t + PAD;
+            double m50, r50; m50 = m42 + m46; t = r42 + r46; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+            double m51, r51; m51 = sqrt(m47 > 0 ? m47 : 0.0); t = (r47 * SQ) / m51; t = m47 > 0 ? t : INFINITY; u = sqrt(r47); t = nanmin(t, u); u = m47 + r47; u = sqrt(nanmax(u, 0.0)); t = m47 > 0 ? t : u; u = U * m51; t = t + u; t = t * GROW; r51 = t + PAD; b = m47 + r47; m51 = b < 0 ? NAN : m51; r51 = b < 0 ? INFINITY : r51;
+            double m52, r52; m52 = sqrt(m48 > 0 ? m48 : 0.0); t = (r48 * SQ) / m52; t = m48 > 0 ? t : INFINITY; u = sqrt(r48); t = nanmin(t, u); u = m48 + r48; u = sqrt(nanmax(u, 0.0)); t = m48 > 0 ? t : u; u = U * m52; t = t + u; t = t * GROW; r52 = t + PAD; b = m48 + r48; m52 = b < 0 ? NAN : m52; r52 = b < 0 ? INFINITY : r52;
+            const double m53 = 0x1.0000000000000p+1, r53 = 0x0.0p+0;
+            double m54, r54; m54 = m51 * m53; t = fabs(m51) + r51; t = t * r53; u = fabs(m53) * r51; t = t + u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD;
+            double m55, r55; m55 = m52 * m53; t = fabs(m52) + r52; t = t * r53; u = fabs(m53) * r52; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+            double m56, r56; b = fabs(m54); m56 = m49 / m54; t = r49 * b; u = fabs(m49) * r54; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r54; t = t / u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD; m56 = b > r54 ? m56 : NAN; r56 = b > r54 ? r56 : INFINITY;
+            double m57, r57; b = fabs(m55); m57 = m50 / m55; t = r50 * b; u = fabs(m50) * r55; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r55; t = t / u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD; m57 = b > r55 ? m57 : NAN; r57 = b > r55 ? r57 : INFINITY;
+            double m58, r58; m58 = m51 * m51; t = fabs(m51) + r51; t = t * r51; u = fabs(m51) * r51; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+            double m59, r59; m59 = m52 * m52; t = fabs(m52) + r52; t = t * r52; u = fabs(m52) * r52; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+            double m60, r60; m60 = m56 * m51; t = fabs(m56) + r56; t = t * r51; u = fabs(m51) * r56; t = t + u; u = fabs(m60) * U; u = u + ETA; t = t + u; t = t * GROW; r60 = t + PAD;
+            double m61, r61; m61 = m57 * m52; t = fabs(m57) + r57; t = t * r52; u = fabs(m52) * r57; t = t + u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD;
+            double m62, r62; m62 = m51 * m56; t = fabs(m51) + r51; t = t * r56; u = fabs(m56) * r51; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+            double m63, r63; m63 = m52 * m57; t = fabs(m52) + r52; t = t * r57; u = fabs(m57) * r52; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+            double m64, r64; m64 = m60 + m62; t = r60 + r62; u = fabs(m64) * U; t = t + u; t = t * GROW; r64 = t + PAD;
+            double m65, r65; m65 = m61 + m63; t = r61 + r63; u = fabs(m65) * U; t = t + u; t = t * GROW; r65 = t + PAD;
+            double m66, r66; m66 = m31 * m17; t = fabs(m31) + r31; t = t * r17; u = fabs(m17) * r31; t = t + u; u = fabs(m66) * U; u = u + ETA; t = t + u; t = t * GROW; r66 = t + PAD;
+            double m67, r67; m67 = m32 * m17; t = fabs(m32) + r32; t = t * r17; u = fabs(m17) * r32; t = t + u; u = fabs(m67) * U; u = u + ETA; t = t + u; t = t * GROW; r67 = t + PAD;
+            double m68, r68; m68 = m34 * m17; t = fabs(m34) + r34; t = t * r17; u = fabs(m17) * r34; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+            double m69, r69; m69 = m31 * m18; t = fabs(m31) + r31; t = t * r18; u = fabs(m18) * r31; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+            double m70, r70; m70 = m32 * m18; t = fabs(m32) + r32; t = t * r18; u = fabs(m18) * r32; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+            double m71, r71; m71 = m68 + m69; t = r68 + r69; u = fabs(m71) * U; t = t + u; t = t * GROW; r71 = t + PAD;
+            double m72, r72; m72 = m68 + m70; t = r68 + r70; u = fabs(m72) * U; t = t + u; t = t * GROW; r72 = t + PAD;
+            double m73, r73; m73 = m21 * m23; t = fabs(m21) + r21; t = t * r23; u = fabs(m23) * r21; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+            double m74, r74; m74 = m22 * m23; t = fabs(m22) + r22; t = t * r23; u = fabs(m23) * r22; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+            double m75, r75; m75 = m21 * m24; t = fabs(m21) + r21; t = t * r24; u = fabs(m24) * r21; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+            double m76, r76; m76 = m74 + m75; t = r74 + r75; u = fabs(m76) * U; t = t + u; t = t * GROW; r76 = t + PAD;
+            double m77, r77; m77 = m66 + m73; t = r66 + r73; u = fabs(m77) * U; t = t + u; t = t * GROW; r77 = t + PAD;
+            double m78, r78; m78 = m67 + m73; t = r67 + r73; u = fabs(m78) * U; t = t + u; t = t * GROW; r78 = t + PAD;
+            double m79, r79; m79 = m71 + m76; t = r71 + r76; u = fabs(m79) * U; t = t + u; t = t * GROW; r79 = t + PAD;
+            double m80, r80; m80 = m72 + m76; t = r72 + r76; u = fabs(m80) * U; t = t + u; t = t * GROW; r80 = t + PAD;
+            double m81, r81; b = fabs(m51); m81 = m77 / m51; t = r77 * b; u = fabs(m77) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD; m81 = b > r51 ? m81 : NAN; r81 = b > r51 ? r81 : INFINITY;
+            double m82, r82; b = fabs(m52); m82 = m78 / m52; t = r78 * b; u = fabs(m78) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD; m82 = b > r52 ? m82 : NAN; r82 = b > r52 ? r82 : INFINITY;
+            double m83, r83; m83 = m81 * m56; t = fabs(m81) + r81; t = t * r56; u = fabs(m56) * r81; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+            double m84, r84; m84 = m82 * m57; t = fabs(m82) + r82; t = t * r57; u = fabs(m57) * r82; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+            double m85, r85; m85 = m79 - m83; t = r79 + r83; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+            double m86, r86; m86 = m80 - m84; t = r80 + r84; u = fabs(m86) * U; t = t + u; t = t * GROW; r86 = t + PAD;
+            double m87, r87; b = fabs(m51); m87 = m85 / m51; t = r85 * b; u = fabs(m85) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD; m87 = b > r51 ? m87 : NAN; r87 = b > r51 ? r87 : INFINITY;
+            double m88, r88; b = fabs(m52); m88 = m86 / m52; t = r86 * b; u = fabs(m86) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD; m88 = b > r52 ? m88 : NAN; r88 = b > r52 ? r88 : INFINITY;
+            double m89, r89; m89 = m31 * m23; t = fabs(m31) + r31; t = t * r23; u = fabs(m23) * r31; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+            double m90, r90; m90 = m32 * m23; t = fabs(m32) + r32; t = t * r23; u = fabs(m23) * r32; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+            double m91, r91; m91 = m34 * m23; t = fabs(m34) + r34; t = t * r23; u = fabs(m23) * r34; t = t + u; u = fabs(m91) * U; u = u + ETA; t = t + u; t = t * GROW; r91 = t + PAD;
+            double m92, r92; m92 = m31 * m24; t = fabs(m31) + r31; t = t * r24; u = fabs(m24) * r31; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+            double m93, r93; m93 = m32 * m24; t = fabs(m32) + r32; t = t * r24; u = fabs(m24) * r32; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+            double m94, r94; m94 = m91 + m92; t = r91 + r92; u = fabs(m94) * U; t = t + u; t = t * GROW; r94 = t + PAD;
+            double m95, r95; m95 = m91 + m93; t = r91 + r93; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+            double m96, r96; m96 = m21 * m17; t = fabs(m21) + r21; t = t * r17; u = fabs(m17) * r21; t = t + u; u = fabs(m96) * U; u = u + ETA; t = t + u; t = t * GROW; r96 = t + PAD;
+            double m97, r97; m97 = m22 * m17; t = fabs(m22) + r22; t = t * r17; u = fabs(m17) * r22; t = t + u; u = fabs(m97) * U; u = u + ETA; t = t + u; t = t * GROW; r97 = t + PAD;
+            double m98, r98; m98 = m21 * m18; t = fabs(m21) + r21; t = t * r18; u = fabs(m18) * r21; t = t + u; u = fabs(m98) * U; u = u + ETA; t = t + u; t = t * GROW; r98 = t + PAD;
+            double m99, r99; m99 = m97 + m98; t = r97 + r98; u = fabs(m99) * U; t = t + u; t = t * GROW; r99 = t + PAD;
+            double m100, r100; m100 = m89 - m96; t = r89 + r96; u = fabs(m100) * U; t = t + u; t = t * GROW; r100 = t + PAD;
+            double m101, r101; m101 = m90 - m96; t = r90 + r96; u = fabs(m101) * U; t = t + u; t = t * GROW; r101 = t + PAD;
+            double m102, r102; m102 = m94 - m99; t = r94 + r99; u = fabs(m102) * U; t = t + u; t = t * GROW; r102 = t + PAD;
+            double m103, r103; m103 = m95 - m99; t = r95 + r99; u = fabs(m103) * U; t = t + u; t = t * GROW; r103 = t + PAD;
+            double m104, r104; b = fabs(m58); m104 = m100 / m58; t = r100 * b; u = fabs(m100) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m104) * U; u = u + ETA; t = t + u; t = t * GROW; r104 = t + PAD; m104 = b > r58 ? m104 : NAN; r104 = b > r58 ? r104 : INFINITY;
+            double m105, r105; b = fabs(m59); m105 = m101 / m59; t = r101 * b; u = fabs(m101) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m105) * U; u = u + ETA; t = t + u; t = t * GROW; r105 = t + PAD; m105 = b > r59 ? m105 : NAN; r105 = b > r59 ? r105 : INFINITY;
+            double m106, r106; m106 = m104 * m64; t = fabs(m104) + r104; t = t * r64; u = fabs(m64) * r104; t = t + u; u = fabs(m106) * U; u = u + ETA; t = t + u; t = t * GROW; r106 = t + PAD;
+            double m107, r107; m107 = m105 * m65; t = fabs(m105) + r105; t = t * r65; u = fabs(m65) * r105; t = t + u; u = fabs(m107) * U; u = u + ETA; t = t + u; t = t * GROW; r107 = t + PAD;
+            double m108, r108; m108 = m102 - m106; t = r102 + r106; u = fabs(m108) * U; t = t + u; t = t * GROW; r108 = t + PAD;
+            double m109, r109; m109 = m103 - m107; t = r103 + r107; u = fabs(m109) * U; t = t + u; t = t * GROW; r109 = t + PAD;
+            double m110, r110; b = fabs(m58); m110 = m108 / m58; t = r108 * b; u = fabs(m108) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m110) * U; u = u + ETA; t = t + u; t = t * GROW; r110 = t + PAD; m110 = b > r58 ? m110 : NAN; r110 = b > r58 ? r110 : INFINITY;
+            double m111, r111; b = fabs(m59); m111 = m109 / m59; t = r109 * b; u = fabs(m109) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD; m111 = b > r59 ? m111 : NAN; r111 = b > r59 ? r111 : INFINITY;
+            double m161, r161; m161 = m31 * m25; t = fabs(m31) + r31; t = t * r25; u = fabs(m25) * r31; t = t + u; u = fabs(m161) * U; u = u + ETA; t = t + u; t = t * GROW; r161 = t + PAD;
+            double m162, r162; m162 = m32 * m25; t = fabs(m32) + r32; t = t * r25; u = fabs(m25) * r32; t = t + u; u = fabs(m162) * U; u = u + ETA; t = t + u; t = t * GROW; r162 = t + PAD;
+            double m163, r163; m163 = m34 * m25; t = fabs(m34) + r34; t = t * r25; u = fabs(m25) * r34; t = t + u; u = fabs(m163) * U; u = u + ETA; t = t + u; t = t * GROW; r163 = t + PAD;
+            double m164, r164; m164 = m31 * m26; t = fabs(m31) + r31; t = t * r26; u = fabs(m26) * r31; t = t + u; u = fabs(m164) * U; u = u + ETA; t = t + u; t = t * GROW; r164 = t + PAD;
+            double m165, r165; m165 = m32 * m26; t = fabs(m32) + r32; t = t * r26; u = fabs(m26) * r32; t = t + u; u = fabs(m165) * U; u = u + ETA; t = t + u; t = t * GROW; r165 = t + PAD;
+            double m166, r166; m166 = m163 + m164; t = r163 + r164; u = fabs(m166) * U; t = t + u; t = t * GROW; r166 = t + PAD;
+            double m167, r167; m167 = m163 + m165; t = r163 + r165; u = fabs(m167) * U; t = t + u; t = t * GROW; r167 = t + PAD;
+            double m168, r168; m168 = m21 * m19; t = fabs(m21) + r21; t = t * r19; u = fabs(m19) * r21; t = t + u; u = fabs(m168) * U; u = u + ETA; t = t + u; t = t * GROW; r168 = t + PAD;
+            double m169, r169; m169 = m22 * m19; t = fabs(m22) + r22; t = t * r19; u = fabs(m19) * r22; t = t + u; u = fabs(m169) * U; u = u + ETA; t = t + u; t = t * GROW; r169 = t + PAD;
+            double m170, r170; m170 = m21 * m20; t = fabs(m21) + r21; t = t * r20; u = fabs(m20) * r21; t = t + u; u = fabs(m170) * U; u = u + ETA; t = t + u; t = t * GROW; r170 = t + PAD;
+            double m171, r171; m171 = m169 + m170; t = r169 + r170; u = fabs(m171) * U; t = t + u; t = t * GROW; r171 = t + PAD;
+            double m172, r172; m172 = m161 - m168; t = r161 + r168; u = fabs(m172) * U; t = t + u; t = t * GROW; r172 = t + PAD;
+            double m173, r173; m173 = m162 - m168; t = r162 + r168; u = fabs(m173) * U; t = t + u; t = t * GROW; r173 = t + PAD;
+            double m174, r174; m174 = m166 - m171; t = r166 + r171; u = fabs(m174) * U; t = t + u; t = t * GROW; r174 = t + PAD;
+            double m175, r175; m175 = m167 - m171; t = r167 + r171; u = fabs(m175) * U; t = t + u; t = t * GROW; r175 = t + PAD;
+            double m176, r176; m176 = m56 * m53; t = fabs(m56) + r56; t = t * r53; u = fabs(m53) * r56; t = t + u; u = fabs(m176) * U; u = u + ETA; t = t + u; t = t * GROW; r176 = t + PAD;
+            double m177, r177; m177 = m57 * m53; t = fabs(m57) + r57; t = t * r53; u = fabs(m53) * r57; t = t + u; u = fabs(m177) * U; u = u + ETA; t = t + u; t = t * GROW; r177 = t + PAD;
+            double m178, r178; m178 = m54 * m81; t = fabs(m54) + r54; t = t * r81; u = fabs(m81) * r54; t = t + u; u = fabs(m178) * U; u = u + ETA; t = t + u; t = t * GROW; r178 = t + PAD;
+            double m179, r179; m179 = m55 * m82; t = fabs(m55) + r55; t = t * r82; u = fabs(m82) * r55; t = t + u; u = fabs(m179) * U; u = u + ETA; t = t + u; t = t * GROW; r179 = t + PAD;
+            double m180, r180; m180 = m176 * m81; t = fabs(m176) + r176; t = t * r81; u = fabs(m81) * r176; t = t + u; u = fabs(m180) * U; u = u + ETA; t = t + u; t = t * GROW; r180 = t + PAD;
+            double m181, r181; m181 = m177 * m82; t = fabs(m177) + r177; t = t * r82; u = fabs(m82) * r177; t = t + u; u = fabs(m181) * U; u = u + ETA; t = t + u; t = t * GROW; r181 = t + PAD;
+            double m182, r182; m182 = m54 * m87; t = fabs(m54) + r54; t = t * r87; u = fabs(m87) * r54; t = t + u; u = fabs(m182) * U; u = u + ETA; t = t + u; t = t * GROW; r182 = t + PAD;
+            double m183, r183; m183 = m55 * m88; t = fabs(m55) + r55; t = t * r88; u = fabs(m88) * r55; t = t + u; u = fabs(m183) * U; u = u + ETA; t = t + u; t = t * GROW; r183 = t + PAD;
+            double m184, r184; m184 = m180 + m182; t = r180 + r182; u = fabs(m184) * U; t = t + u; t = t * GROW; r184 = t + PAD;
+            double m185, r185; m185 = m181 + m183; t = r181 + r183; u = fabs(m185) * U; t = t + u; t = t * GROW; r185 = t + PAD;
+            double m186, r186; m186 = m178 * m104; t = fabs(m178) + r178; t = t * r104; u = fabs(m104) * r178; t = t + u; u = fabs(m186) * U; u = u + ETA; t = t + u; t = t * GROW; r186 = t + PAD;
+            double m187, r187; m187 = m179 * m105; t = fabs(m179) + r179; t = t * r105; u = fabs(m105) * r179; t = t + u; u = fabs(m187) * U; u = u + ETA; t = t + u; t = t * GROW; r187 = t + PAD;
+            double m188, r188; m188 = m184 * m104; t = fabs(m184) + r184; t = t * r104; u = fabs(m104) * r184; t = t + u; u = fabs(m188) * U; u = u + ETA; t = t + u; t = t * GROW; r188 = t + PAD;
+            double m189, r189; m189 = m185 * m105; t = fabs(m185) + r185; t = t * r105; u = fabs(m105) * r185; t = t + u; u = fabs(m189) * U; u = u + ETA; t = t + u; t = t * GROW; r189 = t + PAD;
+            double m190, r190; m190 = m178 * m110; t = fabs(m178) + r178; t = t * r110; u = fabs(m110) * r178; t = t + u; u = fabs(m190) * U; u = u + ETA; t = t + u; t = t * GROW; r190 = t + PAD;
+            double m191, r191; m191 = m179 * m111; t = fabs(m179) + r179; t = t * r111; u = fabs(m111) * r179; t = t + u; u = fabs(m191) * U; u = u + ETA; t = t + u; t = t * GROW; r191 = t + PAD;
+            double m192, r192; m192 = m188 + m190; t = r188 + r190; u = fabs(m192) * U; t = t + u; t = t * GROW; r192 = t + PAD;
+            double m193, r193; m193 = m189 + m191; t = r189 + r191; u = fabs(m193) * U; t = t + u; t = t * GROW; r193 = t + PAD;
+            double m194, r194; m194 = m172 - m186; t = r172 + r186; u = fabs(m194) * U; t = t + u; t = t * GROW; r194 = t + PAD;
+            double m195, r195; m195 = m173 - m187; t = r173 + r187; u = fabs(m195) * U; t = t + u; t = t * GROW; r195 = t + PAD;
+            double m196, r196; m196 = m174 - m192; t = r174 + r192; u = fabs(m196) * U; t = t + u; t = t * GROW; r196 = t + PAD;
+            double m197, r197; m197 = m175 - m193; t = r175 + r193; u = fabs(m197) * U; t = t + u; t = t * GROW; r197 = t + PAD;
+            double m198, r198; b = fabs(m58); m198 = m194 / m58; t = r194 * b; u = fabs(m194) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m198) * U; u = u + ETA; t = t + u; t = t * GROW; r198 = t + PAD; m198 = b > r58 ? m198 : NAN; r198 = b > r58 ? r198 : INFINITY;
+            double m199, r199; b = fabs(m59); m199 = m195 / m59; t = r195 * b; u = fabs(m195) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m199) * U; u = u + ETA; t = t + u; t = t * GROW; r199 = t + PAD; m199 = b > r59 ? m199 : NAN; r199 = b > r59 ? r199 : INFINITY;
+            double m200, r200; m200 = m198 * m64; t = fabs(m198) + r198; t = t * r64; u = fabs(m64) * r198; t = t + u; u = fabs(m200) * U; u = u + ETA; t = t + u; t = t * GROW; r200 = t + PAD;
+            double m201, r201; m201 = m199 * m65; t = fabs(m199) + r199; t = t * r65; u = fabs(m65) * r199; t = t + u; u = fabs(m201) * U; u = u + ETA; t = t + u; t = t * GROW; r201 = t + PAD;
+            double m202, r202; m202 = m196 - m200; t = r196 + r200; u = fabs(m202) * U; t = t + u; t = t * GROW; r202 = t + PAD;
+            double m203, r203; m203 = m197 - m201; t = r197 + r201; u = fabs(m203) * U; t = t + u; t = t * GROW; r203 = t + PAD;
+            double m204, r204; b = fabs(m58); m204 = m202 / m58; t = r202 * b; u = fabs(m202) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m204) * U; u = u + ETA; t = t + u; t = t * GROW; r204 = t + PAD; m204 = b > r58 ? m204 : NAN; r204 = b > r58 ? r204 : INFINITY;
+            double m205, r205; b = fabs(m59); m205 = m203 / m59; t = r203 * b; u = fabs(m203) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m205) * U; u = u + ETA; t = t + u; t = t * GROW; r205 = t + PAD; m205 = b > r59 ? m205 : NAN; r205 = b > r59 ? r205 : INFINITY;
+            double m206, r206; b = fabs(m51); m206 = m31 / m51; t = r31 * b; u = fabs(m31) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m206) * U; u = u + ETA; t = t + u; t = t * GROW; r206 = t + PAD; m206 = b > r51 ? m206 : NAN; r206 = b > r51 ? r206 : INFINITY;
+            double m207, r207; b = fabs(m52); m207 = m32 / m52; t = r32 * b; u = fabs(m32) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m207) * U; u = u + ETA; t = t + u; t = t * GROW; r207 = t + PAD; m207 = b > r52 ? m207 : NAN; r207 = b > r52 ? r207 : INFINITY;
+            double m208, r208; m208 = m206 * m56; t = fabs(m206) + r206; t = t * r56; u = fabs(m56) * r206; t = t + u; u = fabs(m208) * U; u = u + ETA; t = t + u; t = t * GROW; r208 = t + PAD;
+            double m209, r209; m209 = m207 * m57; t = fabs(m207) + r207; t = t * r57; u = fabs(m57) * r207; t = t + u; u = fabs(m209) * U; u = u + ETA; t = t + u; t = t * GROW; r209 = t + PAD;
+            double m210, r210; m210 = m34 - m208; t = r34 + r208; u = fabs(m210) * U; t = t + u; t = t * GROW; r210 = t + PAD;
+            double m211, r211; m211 = m34 - m209; t = r34 + r209; u = fabs(m211) * U; t = t + u; t = t * GROW; r211 = t + PAD;
+            double m212, r212; b = fabs(m51); m212 = m210 / m51; t = r210 * b; u = fabs(m210) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m212) * U; u = u + ETA; t = t + u; t = t * GROW; r212 = t + PAD; m212 = b > r51 ? m212 : NAN; r212 = b > r51 ? r212 : INFINITY;
+            double m213, r213; b = fabs(m52); m213 = m211 / m52; t = r211 * b; u = fabs(m211) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m213) * U; u = u + ETA; t = t + u; t = t * GROW; r213 = t + PAD; m213 = b > r52 ? m213 : NAN; r213 = b > r52 ? r213 : INFINITY;
+            double m214, r214; b = fabs(m51); m214 = m21 / m51; t = r21 * b; u = fabs(m21) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m214) * U; u = u + ETA; t = t + u; t = t * GROW; r214 = t + PAD; m214 = b > r51 ? m214 : NAN; r214 = b > r51 ? r214 : INFINITY;
+            double m215, r215; b = fabs(m52); m215 = m21 / m52; t = r21 * b; u = fabs(m21) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m215) * U; u = u + ETA; t = t + u; t = t * GROW; r215 = t + PAD; m215 = b > r52 ? m215 : NAN; r215 = b > r52 ? r215 : INFINITY;
+            double m216, r216; m216 = m214 * m56; t = fabs(m214) + r214; t = t * r56; u = fabs(m56) * r214; t = t + u; u = fabs(m216) * U; u = u + ETA; t = t + u; t = t * GROW; r216 = t + PAD;
+            double m217, r217; m217 = m215 * m57; t = fabs(m215) + r215; t = t * r57; u = fabs(m57) * r215; t = t + u; u = fabs(m217) * U; u = u + ETA; t = t + u; t = t * GROW; r217 = t + PAD;
+            double m218, r218; m218 = m22 - m216; t = r22 + r216; u = fabs(m218) * U; t = t + u; t = t * GROW; r218 = t + PAD;
+            double m219, r219; m219 = m22 - m217; t = r22 + r217; u = fabs(m219) * U; t = t + u; t = t * GROW; r219 = t + PAD;
+            double m220, r220; b = fabs(m51); m220 = m218 / m51; t = r218 * b; u = fabs(m218) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m220) * U; u = u + ETA; t = t + u; t = t * GROW; r220 = t + PAD; m220 = b > r51 ? m220 : NAN; r220 = b > r51 ? r220 : INFINITY;
+            double m221, r221; b = fabs(m52); m221 = m219 / m52; t = r219 * b; u = fabs(m219) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m221) * U; u = u + ETA; t = t + u; t = t * GROW; r221 = t + PAD; m221 = b > r52 ? m221 : NAN; r221 = b > r52 ? r221 : INFINITY;
+            double m222, r222; m222 = m51 - m5; t = r51 + r5; u = fabs(m222) * U; t = t + u; t = t * GROW; r222 = t + PAD;
+            double m223, r223; m223 = m52 - m6; t = r52 + r6; u = fabs(m223) * U; t = t + u; t = t * GROW; r223 = t + PAD;
+            double m224, r224; m224 = m56 - m33; t = r56 + r33; u = fabs(m224) * U; t = t + u; t = t * GROW; r224 = t + PAD;
+            double m225, r225; m225 = m57 - m33; t = r57 + r33; u = fabs(m225) * U; t = t + u; t = t * GROW; r225 = t + PAD;
+            double m226, r226; m226 = m222 * m222; t = fabs(m222) + r222; t = t * r222; u = fabs(m222) * r222; t = t + u; u = fabs(m226) * U; u = u + ETA; t = t + u; t = t * GROW; r226 = t + PAD;
+            double m227, r227; m227 = m223 * m223; t = fabs(m223) + r223; t = t * r223; u = fabs(m223) * r223; t = t + u; u = fabs(m227) * U; u = u + ETA; t = t + u; t = t * GROW; r227 = t + PAD;
+            double m228, r228; m228 = m224 * m222; t = fabs(m224) + r224; t = t * r222; u = fabs(m222) * r224; t = t + u; u = fabs(m228) * U; u = u + ETA; t = t + u; t = t * GROW; r228 = t + PAD;
+            double m229, r229; m229 = m225 * m223; t = fabs(m225) + r225; t = t * r223; u = fabs(m223) * r225; t = t + u; u = fabs(m229) * U; u = u + ETA; t = t + u; t = t * GROW; r229 = t + PAD;
+            double m230, r230; m230 = m222 * m224; t = fabs(m222) + r222; t = t * r224; u = fabs(m224) * r222; t = t + u; u = fabs(m230) * U; u = u + ETA; t = t + u; t = t * GROW; r230 = t + PAD;
+            double m231, r231; m231 = m223 * m225; t = fabs(m223) + r223; t = t * r225; u = fabs(m225) * r223; t = t + u; u = fabs(m231) * U; u = u + ETA; t = t + u; t = t * GROW; r231 = t + PAD;
+            double m232, r232; m232 = m228 + m230; t = r228 + r230; u = fabs(m232) * U; t = t + u; t = t * GROW; r232 = t + PAD;
+            double m233, r233; m233 = m229 + m231; t = r229 + r231; u = fabs(m233) * U; t = t + u; t = t * GROW; r233 = t + PAD;
+            double m234, r234; m234 = m226 * m3; t = fabs(m226) + r226; t = t * r3; u = fabs(m3) * r226; t = t + u; u = fabs(m234) * U; u = u + ETA; t = t + u; t = t * GROW; r234 = t + PAD;
+            double m235, r235; m235 = m227 * m4; t = fabs(m227) + r227; t = t * r4; u = fabs(m4) * r227; t = t + u; u = fabs(m235) * U; u = u + ETA; t = t + u; t = t * GROW; r235 = t + PAD;
+            double m236, r236; m236 = m232 * m3; t = fabs(m232) + r232; t = t * r3; u = fabs(m3) * r232; t = t + u; u = fabs(m236) * U; u = u + ETA; t = t + u; t = t * GROW; r236 = t + PAD;
+            double m237, r237; m237 = m233 * m4; t = fabs(m233) + r233; t = t * r4; u = fabs(m4) * r233; t = t + u; u = fabs(m237) * U; u = u + ETA; t = t + u; t = t * GROW; r237 = t + PAD;
+            double m238, r238; m238 = m234 + m7; t = r234 + r7; u = fabs(m238) * U; t = t + u; t = t * GROW; r238 = t + PAD;
+            double m239, r239; m239 = m235 + m8; t = r235 + r8; u = fabs(m239) * U; t = t + u; t = t * GROW; r239 = t + PAD;
+            double m240, r240; m240 = m236 + m33; t = r236 + r33; u = fabs(m240) * U; t = t + u; t = t * GROW; r240 = t + PAD;
+            double m241, r241; m241 = m237 + m33; t = r237 + r33; u = fabs(m241) * U; t = t + u; t = t * GROW; r241 = t + PAD;
+            double m242, r242; m242 = m3 * m53; t = fabs(m3) + r3; t = t * r53; u = fabs(m53) * r3; t = t + u; u = fabs(m242) * U; u = u + ETA; t = t + u; t = t * GROW; r242 = t + PAD;
+            double m243, r243; m243 = m4 * m53; t = fabs(m4) + r4; t = t * r53; u = fabs(m53) * r4; t = t + u; u = fabs(m243) * U; u = u + ETA; t = t + u; t = t * GROW; r243 = t + PAD;
+            double m244, r244; m244 = m81 * m104; t = fabs(m81) + r81; t = t * r104; u = fabs(m104) * r81; t = t + u; u = fabs(m244) * U; u = u + ETA; t = t + u; t = t * GROW; r244 = t + PAD;
+            double m245, r245; m245 = m82 * m105; t = fabs(m82) + r82; t = t * r105; u = fabs(m105) * r82; t = t + u; u = fabs(m245) * U; u = u + ETA; t = t + u; t = t * GROW; r245 = t + PAD;
+            double m246, r246; m246 = m87 * m104; t = fabs(m87) + r87; t = t * r104; u = fabs(m104) * r87; t = t + u; u = fabs(m246) * U; u = u + ETA; t = t + u; t = t * GROW; r246 = t + PAD;
+            double m247, r247; m247 = m88 * m105; t = fabs(m88) + r88; t = t * r105; u = fabs(m105) * r88; t = t + u; u = fabs(m247) * U; u = u + ETA; t = t + u; t = t * GROW; r247 = t + PAD;
+            double m248, r248; m248 = m81 * m110; t = fabs(m81) + r81; t = t * r110; u = fabs(m110) * r81; t = t + u; u = fabs(m248) * U; u = u + ETA; t = t + u; t = t * GROW; r248 = t + PAD;
+            double m249, r249; m249 = m82 * m111; t = fabs(m82) + r82; t = t * r111; u = fabs(m111) * r82; t = t + u; u = fabs(m249) * U; u = u + ETA; t = t + u; t = t * GROW; r249 = t + PAD;
+            double m250, r250; m250 = m246 + m248; t = r246 + r248; u = fabs(m250) * U; t = t + u; t = t * GROW; r250 = t + PAD;
+            double m251, r251; m251 = m247 + m249; t = r247 + r249; u = fabs(m251) * U; t = t + u; t = t * GROW; r251 = t + PAD;
+            double m252, r252; m252 = m244 * m222; t = fabs(m244) + r244; t = t * r222; u = fabs(m222) * r244; t = t + u; u = fabs(m252) * U; u = u + ETA; t = t + u; t = t * GROW; r252 = t + PAD;
+            double m253, r253; m253 = m245 * m223; t = fabs(m245) + r245; t = t * r223; u = fabs(m223) * r245; t = t + u; u = fabs(m253) * U; u = u + ETA; t = t + u; t = t * GROW; r253 = t + PAD;
+            double m254, r254; m254 = m250 * m222; t = fabs(m250) + r250; t = t * r222; u = fabs(m222) * r250; t = t + u; u = fabs(m254) * U; u = u + ETA; t = t + u; t = t * GROW; r254 = t + PAD;
+            double m255, r255; m255 = m251 * m223; t = fabs(m251) + r251; t = t * r223; u = fabs(m223) * r251; t = t + u; u = fabs(m255) * U; u = u + ETA; t = t + u; t = t * GROW; r255 = t + PAD;
+            double m256, r256; m256 = m244 * m224; t = fabs(m244) + r244; t = t * r224; u = fabs(m224) * r244; t = t + u; u = fabs(m256) * U; u = u + ETA; t = t + u; t = t * GROW; r256 = t + PAD;
+            double m257, r257; m257 = m245 * m225; t = fabs(m245) + r245; t = t * r225; u = fabs(m225) * r245; t = t + u; u = fabs(m257) * U; u = u + ETA; t = t + u; t = t * GROW; r257 = t + PAD;
+            double m258, r258; m258 = m254 + m256; t = r254 + r256; u = fabs(m258) * U; t = t + u; t = t * GROW; r258 = t + PAD;
+            double m259, r259; m259 = m255 + m257; t = r255 + r257; u = fabs(m259) * U; t = t + u; t = t * GROW; r259 = t + PAD;
+            double m260, r260; m260 = m252 * m242; t = fabs(m252) + r252; t = t * r242; u = fabs(m242) * r252; t = t + u; u = fabs(m260) * U; u = u + ETA; t = t + u; t = t * GROW; r260 = t + PAD;
+            double m261, r261; m261 = m253 * m243; t = fabs(m253) + r253; t = t * r243; u = fabs(m243) * r253; t = t + u; u = fabs(m261) * U; u = u + ETA; t = t + u; t = t * GROW; r261 = t + PAD;
+            double m262, r262; m262 = m258 * m242; t = fabs(m258) + r258; t = t * r242; u = fabs(m242) * r258; t = t + u; u = fabs(m262) * U; u = u + ETA; t = t + u; t = t * GROW; r262 = t + PAD;
+            double m263, r263; m263 = m259 * m243; t = fabs(m259) + r259; t = t * r243; u = fabs(m243) * r259; t = t + u; u = fabs(m263) * U; u = u + ETA; t = t + u; t = t * GROW; r263 = t + PAD;
+            double m264, r264; m264 = m51 * m11; t = fabs(m51) + r51; t = t * r11; u = fabs(m11) * r51; t = t + u; u = fabs(m264) * U; u = u + ETA; t = t + u; t = t * GROW; r264 = t + PAD;
+            double m265, r265; m265 = m52 * m12; t = fabs(m52) + r52; t = t * r12; u = fabs(m12) * r52; t = t + u; u = fabs(m265) * U; u = u + ETA; t = t + u; t = t * GROW; r265 = t + PAD;
+            double m266, r266; m266 = m56 * m11; t = fabs(m56) + r56; t = t * r11; u = fabs(m11) * r56; t = t + u; u = fabs(m266) * U; u = u + ETA; t = t + u; t = t * GROW; r266 = t + PAD;
+            double m267, r267; m267 = m57 * m12; t = fabs(m57) + r57; t = t * r12; u = fabs(m12) * r57; t = t + u; u = fabs(m267) * U; u = u + ETA; t = t + u; t = t * GROW; r267 = t + PAD;
+            double m268, r268; m268 = m264 + m9; t = r264 + r9; u = fabs(m268) * U; t = t + u; t = t * GROW; r268 = t + PAD;
+            double m269, r269; m269 = m265 + m10; t = r265 + r10; u = fabs(m269) * U; t = t + u; t = t * GROW; r269 = t + PAD;
+            double m270, r270; m270 = m266 + m33; t = r266 + r33; u = fabs(m270) * U; t = t + u; t = t * GROW; r270 = t + PAD;
+            double m271, r271; m271 = m267 + m33; t = r267 + r33; u = fabs(m271) * U; t = t + u; t = t * GROW; r271 = t + PAD;
+            double m272, r272; m272 = m268 * m206; t = fabs(m268) + r268; t = t * r206; u = fabs(m206) * r268; t = t + u; u = fabs(m272) * U; u = u + ETA; t = t + u; t = t * GROW; r272 = t + PAD;
+            double m273, r273; m273 = m269 * m207; t = fabs(m269) + r269; t = t * r207; u = fabs(m207) * r269; t = t + u; u = fabs(m273) * U; u = u + ETA; t = t + u; t = t * GROW; r273 = t + PAD;
+            double m274, r274; m274 = m270 * m206; t = fabs(m270) + r270; t = t * r206; u = fabs(m206) * r270; t = t + u; u = fabs(m274) * U; u = u + ETA; t = t + u; t = t * GROW; r274 = t + PAD;
+            double m275, r275; m275 = m271 * m207; t = fabs(m271) + r271; t = t * r207; u = fabs(m207) * r271; t = t + u; u = fabs(m275) * U; u = u + ETA; t = t + u; t = t * GROW; r275 = t + PAD;
+            double m276, r276; m276 = m268 * m212; t = fabs(m268) + r268; t = t * r212; u = fabs(m212) * r268; t = t + u; u = fabs(m276) * U; u = u + ETA; t = t + u; t = t * GROW; r276 = t + PAD;
+            double m277, r277; m277 = m269 * m213; t = fabs(m269) + r269; t = t * r213; u = fabs(m213) * r269; t = t + u; u = fabs(m277) * U; u = u + ETA; t = t + u; t = t * GROW; r277 = t + PAD;
+            double m278, r278; m278 = m274 + m276; t = r274 + r276; u = fabs(m278) * U; t = t + u; t = t * GROW; r278 = t + PAD;
+            double m279, r279; m279 = m275 + m277; t = r275 + r277; u = fabs(m279) * U; t = t + u; t = t * GROW; r279 = t + PAD;
+            double m280, r280; m280 = m260 + m272; t = r260 + r272; u = fabs(m280) * U; t = t + u; t = t * GROW; r280 = t + PAD;
+            double m281, r281; m281 = m261 + m273; t = r261 + r273; u = fabs(m281) * U; t = t + u; t = t * GROW; r281 = t + PAD;
+            double m282, r282; m282 = m262 + m278; t = r262 + r278; u = fabs(m282) * U; t = t + u; t = t * GROW; r282 = t + PAD;
+            double m283, r283; m283 = m263 + m279; t = r263 + r279; u = fabs(m283) * U; t = t + u; t = t * GROW; r283 = t + PAD;
+            double m328, r328; m328 = m238 * m198; t = fabs(m238) + r238; t = t * r198; u = fabs(m198) * r238; t = t + u; u = fabs(m328) * U; u = u + ETA; t = t + u; t = t * GROW; r328 = t + PAD;
+            double m329, r329; m329 = m239 * m199; t = fabs(m239) + r239; t = t * r199; u = fabs(m199) * r239; t = t + u; u = fabs(m329) * U; u = u + ETA; t = t + u; t = t * GROW; r329 = t + PAD;
+            double m330, r330; m330 = m240 * m198; t = fabs(m240) + r240; t = t * r198; u = fabs(m198) * r240; t = t + u; u = fabs(m330) * U; u = u + ETA; t = t + u; t = t * GROW; r330 = t + PAD;
+            double m331, r331; m331 = m241 * m199; t = fabs(m241) + r241; t = t * r199; u = fabs(m199) * r241; t = t + u; u = fabs(m331) * U; u = u + ETA; t = t + u; t = t * GROW; r331 = t + PAD;
+            double m332, r332; m332 = m238 * m204; t = fabs(m238) + r238; t = t * r204; u = fabs(m204) * r238; t = t + u; u = fabs(m332) * U; u = u + ETA; t = t + u; t = t * GROW; r332 = t + PAD;
+            double m333, r333; m333 = m239 * m205; t = fabs(m239) + r239; t = t * r205; u = fabs(m205) * r239; t = t + u; u = fabs(m333) * U; u = u + ETA; t = t + u; t = t * GROW; r333 = t + PAD;
+            double m334, r334; m334 = m330 + m332; t = r330 + r332; u = fabs(m334) * U; t = t + u; t = t * GROW; r334 = t + PAD;
+            double m335, r335; m335 = m331 + m333; t = r331 + r333; u = fabs(m335) * U; t = t + u; t = t * GROW; r335 = t + PAD;
+            double m336, r336; m336 = m328 + m280; t = r328 + r280; u = fabs(m336) * U; t = t + u; t = t * GROW; r336 = t + PAD;
+            double m337, r337; m337 = m329 + m281; t = r329 + r281; u = fabs(m337) * U; t = t + u; t = t * GROW; r337 = t + PAD;
+            double m338, r338; m338 = m334 + m282; t = r334 + r282; u = fabs(m338) * U; t = t + u; t = t * GROW; r338 = t + PAD;
+            double m339, r339; m339 = m335 + m283; t = r335 + r283; u = fabs(m339) * U; t = t + u; t = t * GROW; r339 = t + PAD;
+            double m340, r340; m340 = m214 * m27; t = fabs(m214) + r214; t = t * r27; u = fabs(m27) * r214; t = t + u; u = fabs(m340) * U; u = u + ETA; t = t + u; t = t * GROW; r340 = t + PAD;
+            double m341, r341; m341 = m215 * m27; t = fabs(m215) + r215; t = t * r27; u = fabs(m27) * r215; t = t + u; u = fabs(m341) * U; u = u + ETA; t = t + u; t = t * GROW; r341 = t + PAD;
+            double m342, r342; m342 = m220 * m27; t = fabs(m220) + r220; t = t * r27; u = fabs(m27) * r220; t = t + u; u = fabs(m342) * U; u = u + ETA; t = t + u; t = t * GROW; r342 = t + PAD;
+            double m343, r343; m343 = m221 * m27; t = fabs(m221) + r221; t = t * r27; u = fabs(m27) * r221; t = t + u; u = fabs(m343) * U; u = u + ETA; t = t + u; t = t * GROW; r343 = t + PAD;
+            double m344, r344; m344 = m214 * m28; t = fabs(m214) + r214; t = t * r28; u = fabs(m28) * r214; t = t + u; u = fabs(m344) * U; u = u + ETA; t = t + u; t = t * GROW; r344 = t + PAD;
+            double m345, r345; m345 = m215 * m28; t = fabs(m215) + r215; t = t * r28; u = fabs(m28) * r215; t = t + u; u = fabs(m345) * U; u = u + ETA; t = t + u; t = t * GROW; r345 = t + PAD;
+            double m346, r346; m346 = m342 + m344; t = r342 + r344; u = fabs(m346) * U; t = t + u; t = t * GROW; r346 = t + PAD;
+            double m347, r347; m347 = m343 + m345; t = r343 + r345; u = fabs(m347) * U; t = t + u; t = t * GROW; r347 = t + PAD;
+            double m348, r348; m348 = m206 * m29; t = fabs(m206) + r206; t = t * r29; u = fabs(m29) * r206; t = t + u; u = fabs(m348) * U; u = u + ETA; t = t + u; t = t * GROW; r348 = t + PAD;
+            double m349, r349; m349 = m207 * m29; t = fabs(m207) + r207; t = t * r29; u = fabs(m29) * r207; t = t + u; u = fabs(m349) * U; u = u + ETA; t = t + u; t = t * GROW; r349 = t + PAD;
+            double m350, r350; m350 = m212 * m29; t = fabs(m212) + r212; t = t * r29; u = fabs(m29) * r212; t = t + u; u = fabs(m350) * U; u = u + ETA; t = t + u; t = t * GROW; r350 = t + PAD;
+            double m351, r351; m351 = m213 * m29; t = fabs(m213) + r213; t = t * r29; u = fabs(m29) * r213; t = t + u; u = fabs(m351) * U; u = u + ETA; t = t + u; t = t * GROW; r351 = t + PAD;
+            double m352, r352; m352 = m206 * m30; t = fabs(m206) + r206; t = t * r30; u = fabs(m30) * r206; t = t + u; u = fabs(m352) * U; u = u + ETA; t = t + u; t = t * GROW; r352 = t + PAD;
+            double m353, r353; m353 = m207 * m30; t = fabs(m207) + r207; t = t * r30; u = fabs(m30) * r207; t = t + u; u = fabs(m353) * U; u = u + ETA; t = t + u; t = t * GROW; r353 = t + PAD;
+            double m354, r354; m354 = m350 + m352; t = r350 + r352; u = fabs(m354) * U; t = t + u; t = t * GROW; r354 = t + PAD;
+            double m355, r355; m355 = m351 + m353; t = r351 + r353; u = fabs(m355) * U; t = t + u; t = t * GROW; r355 = t + PAD;
+            double m356, r356; m356 = m340 - m348; t = r340 + r348; u = fabs(m356) * U; t = t + u; t = t * GROW; r356 = t + PAD;
+            double m357, r357; m357 = m341 - m349; t = r341 + r349; u = fabs(m357) * U; t = t + u; t = t * GROW; r357 = t + PAD;
+            double m358, r358; m358 = m346 - m354; t = r346 + r354; u = fabs(m358) * U; t = t + u; t = t * GROW; r358 = t + PAD;
+            double m359, r359; m359 = m347 - m355; t = r347 + r355; u = fabs(m359) * U; t = t + u; t = t * GROW; r359 = t + PAD;
+            double m360, r360; m360 = m51 * m356; t = fabs(m51) + r51; t = t * r356; u = fabs(m356) * r51; t = t + u; u = fabs(m360) * U; u = u + ETA; t = t + u; t = t * GROW; r360 = t + PAD;
+            double m361, r361; m361 = m52 * m357; t = fabs(m52) + r52; t = t * r357; u = fabs(m357) * r52; t = t + u; u = fabs(m361) * U; u = u + ETA; t = t + u; t = t * GROW; r361 = t + PAD;
+            double m362, r362; m362 = m56 * m356; t = fabs(m56) + r56; t = t * r356; u = fabs(m356) * r56; t = t + u; u = fabs(m362) * U; u = u + ETA; t = t + u; t = t * GROW; r362 = t + PAD;
+            double m363, r363; m363 = m57 * m357; t = fabs(m57) + r57; t = t * r357; u = fabs(m357) * r57; t = t + u; u = fabs(m363) * U; u = u + ETA; t = t + u; t = t * GROW; r363 = t + PAD;
+            double m364, r364; m364 = m51 * m358; t = fabs(m51) + r51; t = t * r358; u = fabs(m358) * r51; t = t + u; u = fabs(m364) * U; u = u + ETA; t = t + u; t = t * GROW; r364 = t + PAD;
+            double m365, r365; m365 = m52 * m359; t = fabs(m52) + r52; t = t * r359; u = fabs(m359) * r52; t = t + u; u = fabs(m365) * U; u = u + ETA; t = t + u; t = t * GROW; r365 = t + PAD;
+            double m366, r366; m366 = m362 + m364; t = r362 + r364; u = fabs(m366) * U; t = t + u; t = t * GROW; r366 = t + PAD;
+            double m367, r367; m367 = m363 + m365; t = r363 + r365; u = fabs(m367) * U; t = t + u; t = t * GROW; r367 = t + PAD;
+            double m368, r368; m368 = m360 * m13; t = fabs(m360) + r360; t = t * r13; u = fabs(m13) * r360; t = t + u; u = fabs(m368) * U; u = u + ETA; t = t + u; t = t * GROW; r368 = t + PAD;
+            double m369, r369; m369 = m361 * m14; t = fabs(m361) + r361; t = t * r14; u = fabs(m14) * r361; t = t + u; u = fabs(m369) * U; u = u + ETA; t = t + u; t = t * GROW; r369 = t + PAD;
+            double m370, r370; m370 = m366 * m13; t = fabs(m366) + r366; t = t * r13; u = fabs(m13) * r366; t = t + u; u = fabs(m370) * U; u = u + ETA; t = t + u; t = t * GROW; r370 = t + PAD;
+            double m371, r371; m371 = m367 * m14; t = fabs(m367) + r367; t = t * r14; u = fabs(m14) * r367; t = t + u; u = fabs(m371) * U; u = u + ETA; t = t + u; t = t * GROW; r371 = t + PAD;
+            double m372, r372; m372 = m336 + m368; t = r336 + r368; u = fabs(m372) * U; t = t + u; t = t * GROW; r372 = t + PAD;
+            double m373, r373; m373 = m337 + m369; t = r337 + r369; u = fabs(m373) * U; t = t + u; t = t * GROW; r373 = t + PAD;
+            double m374, r374; m374 = m338 + m370; t = r338 + r370; u = fabs(m374) * U; t = t + u; t = t * GROW; r374 = t + PAD;
+            double m375, r375; m375 = m339 + m371; t = r339 + r371; u = fabs(m375) * U; t = t + u; t = t * GROW; r375 = t + PAD;
+            O[0][c] = m372;
+            O[2][c] = r372;
+            O[1][c] = m373;
+            O[3][c] = r373;
+            O[4][c] = m374;
+            O[6][c] = r374;
+            O[5][c] = m375;
+            O[7][c] = r375;
+        }
+        for (int q = 0; q < 8; q++)
+            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));
+    }
+}
+
+static const int rows_efforts_at_jet_revolute[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 static void k_torques_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
 {
     double I[82][BLK], O[12][BLK];
@@ -3968,6 +4642,316 @@ static void k_efforts_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
 }
 
 static const int rows_efforts_jet_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+static void k_efforts_at_jet_prismatic(Py_ssize_t n, const Slot *in, double *out)
+{
+    double I[48][BLK], O[8][BLK];
+    for (Py_ssize_t j0 = 0; j0 < n; j0 += BLK) {
+        int nb = n - j0 < BLK ? (int)(n - j0) : BLK;
+        for (int c = 0; c < nb; c++) {
+            Py_ssize_t j = j0 + c;
+            I[0][c] = LD(in[0].m, 0, j);
+            I[1][c] = LD(in[0].r, 0, j);
+            I[2][c] = LD(in[0].m, 1, j);
+            I[3][c] = LD(in[0].r, 1, j);
+            I[4][c] = LD(in[2].m, 0, j);
+            I[5][c] = LD(in[2].r, 0, j);
+            I[6][c] = LD(in[2].m, 1, j);
+            I[7][c] = LD(in[2].r, 1, j);
+            I[8][c] = LD(in[3].m, 0, j);
+            I[9][c] = LD(in[3].r, 0, j);
+            I[10][c] = LD(in[3].m, 1, j);
+            I[11][c] = LD(in[3].r, 1, j);
+            I[12][c] = LD(in[6].m, 0, j);
+            I[13][c] = LD(in[6].r, 0, j);
+            I[14][c] = LD(in[6].m, 1, j);
+            I[15][c] = LD(in[6].r, 1, j);
+            I[16][c] = LD(in[7].m, 0, j);
+            I[17][c] = LD(in[7].r, 0, j);
+            I[18][c] = LD(in[8].m, 0, j);
+            I[19][c] = LD(in[8].r, 0, j);
+            I[20][c] = LD(in[9].m, 0, j);
+            I[21][c] = LD(in[9].r, 0, j);
+            I[22][c] = LD(in[10].m, 0, j);
+            I[23][c] = LD(in[10].r, 0, j);
+            I[24][c] = LD(in[11].m, 0, j);
+            I[25][c] = LD(in[11].r, 0, j);
+            I[26][c] = LD(in[12].m, 0, j);
+            I[27][c] = LD(in[12].r, 0, j);
+            I[28][c] = LD(in[13].m, 0, j);
+            I[29][c] = LD(in[13].r, 0, j);
+            I[30][c] = LD(in[14].m, 0, j);
+            I[31][c] = LD(in[14].r, 0, j);
+            I[32][c] = LD(in[15].m, 0, j);
+            I[33][c] = LD(in[15].r, 0, j);
+            I[34][c] = LD(in[16].m, 0, j);
+            I[35][c] = LD(in[16].r, 0, j);
+            I[36][c] = LD(in[17].m, 0, j);
+            I[37][c] = LD(in[17].r, 0, j);
+            I[38][c] = LD(in[18].m, 0, j);
+            I[39][c] = LD(in[18].r, 0, j);
+            I[40][c] = LD(in[19].m, 0, j);
+            I[41][c] = LD(in[19].r, 0, j);
+            I[42][c] = LD(in[20].m, 0, j);
+            I[43][c] = LD(in[20].r, 0, j);
+            I[44][c] = LD(in[21].m, 0, j);
+            I[45][c] = LD(in[21].r, 0, j);
+            I[46][c] = LD(in[22].m, 0, j);
+            I[47][c] = LD(in[22].r, 0, j);
+        }
+        for (int c = 0; c < nb; c++) {
+            double t, u, b;
+            (void)b;
+            double m0 = I[0][c], r0 = I[1][c];
+            double m1 = I[2][c], r1 = I[3][c];
+            double m3 = I[4][c], r3 = I[5][c];
+            double m4 = I[6][c], r4 = I[7][c];
+            double m5 = I[8][c], r5 = I[9][c];
+            double m6 = I[10][c], r6 = I[11][c];
+            double m11 = I[12][c], r11 = I[13][c];
+            double m12 = I[14][c], r12 = I[15][c];
+            const double m13 = 0x1.0000000000000p+0, r13 = 0x0.0p+0;
+            const double m14 = -0x1.0000000000000p+0, r14 = 0x0.0p+0;
+            double m15 = I[16][c], r15 = I[17][c];
+            double m16 = I[18][c], r16 = I[19][c];
+            double m17 = I[20][c], r17 = I[21][c];
+            double m18 = I[22][c], r18 = I[23][c];
+            double m19 = I[24][c], r19 = I[25][c];
+            double m20 = I[26][c], r20 = I[27][c];
+            double m21 = I[28][c], r21 = I[29][c];
+            double m22 = I[30][c], r22 = I[31][c];
+            double m23 = I[32][c], r23 = I[33][c];
+            double m24 = I[34][c], r24 = I[35][c];
+            double m25 = I[36][c], r25 = I[37][c];
+            double m26 = I[38][c], r26 = I[39][c];
+            double m27 = I[40][c], r27 = I[41][c];
+            double m28 = I[42][c], r28 = I[43][c];
+            double m29 = I[44][c], r29 = I[45][c];
+            double m30 = I[46][c], r30 = I[47][c];
+            double m31, r31; m31 = m15 - m0; t = r15 + r0; u = fabs(m31) * U; t = t + u; t = t * GROW; r31 = t + PAD;
+            double m32, r32; m32 = m15 - m1; t = r15 + r1; u = fabs(m32) * U; t = t + u; t = t * GROW; r32 = t + PAD;
+            const double m33 = 0x0.0p+0, r33 = 0x0.0p+0;
+            double m34, r34; m34 = m16 - m33; t = r16 + r33; u = fabs(m34) * U; t = t + u; t = t * GROW; r34 = t + PAD;
+            double m35, r35; m35 = m31 * m31; t = fabs(m31) + r31; t = t * r31; u = fabs(m31) * r31; t = t + u; u = fabs(m35) * U; u = u + ETA; t = t + u; t = t * GROW; r35 = t + PAD;
+            double m36, r36; m36 = m32 * m32; t = fabs(m32) + r32; t = t * r32; u = fabs(m32) * r32; t = t + u; u = fabs(m36) * U; u = u + ETA; t = t + u; t = t * GROW; r36 = t + PAD;
+            double m37, r37; m37 = m34 * m31; t = fabs(m34) + r34; t = t * r31; u = fabs(m31) * r34; t = t + u; u = fabs(m37) * U; u = u + ETA; t = t + u; t = t * GROW; r37 = t + PAD;
+            double m38, r38; m38 = m34 * m32; t = fabs(m34) + r34; t = t * r32; u = fabs(m32) * r34; t = t + u; u = fabs(m38) * U; u = u + ETA; t = t + u; t = t * GROW; r38 = t + PAD;
+            double m39, r39; m39 = m31 * m34; t = fabs(m31) + r31; t = t * r34; u = fabs(m34) * r31; t = t + u; u = fabs(m39) * U; u = u + ETA; t = t + u; t = t * GROW; r39 = t + PAD;
+            double m40, r40; m40 = m32 * m34; t = fabs(m32) + r32; t = t * r34; u = fabs(m34) * r32; t = t + u; u = fabs(m40) * U; u = u + ETA; t = t + u; t = t * GROW; r40 = t + PAD;
+            double m41, r41; m41 = m37 + m39; t = r37 + r39; u = fabs(m41) * U; t = t + u; t = t * GROW; r41 = t + PAD;
+            double m42, r42; m42 = m38 + m40; t = r38 + r40; u = fabs(m42) * U; t = t + u; t = t * GROW; r42 = t + PAD;
+            double m43, r43; m43 = m21 * m21; t = fabs(m21) + r21; t = t * r21; u = fabs(m21) * r21; t = t + u; u = fabs(m43) * U; u = u + ETA; t = t + u; t = t * GROW; r43 = t + PAD;
+            double m44, r44; m44 = m22 * m21; t = fabs(m22) + r22; t = t * r21; u = fabs(m21) * r22; t = t + u; u = fabs(m44) * U; u = u + ETA; t = t + u; t = t * GROW; r44 = t + PAD;
+            double m45, r45; m45 = m21 * m22; t = fabs(m21) + r21; t = t * r22; u = fabs(m22) * r21; t = t + u; u = fabs(m45) * U; u = u + ETA; t = t + u; t = t * GROW; r45 = t + PAD;
+            double m46, r46; m46 = m44 + m45; t = r44 + r45; u = fabs(m46) * U; t = t + u; t = t * GROW; r46 = t + PAD;
+            double m47, r47; m47 = m35 + m43; t = r35 + r43; u = fabs(m47) * U; t = t + u; t = t * GROW; r47 = t + PAD;
+            double m48, r48; m48 = m36 + m43; t = r36 + r43; u = fabs(m48) * U; t = t + u; t = t * GROW; r48 = t + PAD;
+            double m49, r49; m49 = m41 + m46; t = r41 + r46; u = fabs(m49) * U; t = t + u; t = t * GROW; r49 = t + PAD;
+            double m50, r50; m50 = m42 + m46; t = r42 + r46; u = fabs(m50) * U; t = t + u; t = t * GROW; r50 = t + PAD;
+            double m51, r51; m51 = sqrt(m47 > 0 ? m47 : 0.0); t = (r47 * SQ) / m51; t = m47 > 0 ? t : INFINITY; u = sqrt(r47); t = nanmin(t, u); u = m47 + r47; u = sqrt(nanmax(u, 0.0)); t = m47 > 0 ? t : u; u = U * m51; t = t + u; t = t * GROW; r51 = t + PAD; b = m47 + r47; m51 = b < 0 ? NAN : m51; r51 = b < 0 ? INFINITY : r51;
+            double m52, r52; m52 = sqrt(m48 > 0 ? m48 : 0.0); t = (r48 * SQ) / m52; t = m48 > 0 ? t : INFINITY; u = sqrt(r48); t = nanmin(t, u); u = m48 + r48; u = sqrt(nanmax(u, 0.0)); t = m48 > 0 ? t : u; u = U * m52; t = t + u; t = t * GROW; r52 = t + PAD; b = m48 + r48; m52 = b < 0 ? NAN : m52; r52 = b < 0 ? INFINITY : r52;
+            const double m53 = 0x1.0000000000000p+1, r53 = 0x0.0p+0;
+            double m54, r54; m54 = m51 * m53; t = fabs(m51) + r51; t = t * r53; u = fabs(m53) * r51; t = t + u; u = fabs(m54) * U; u = u + ETA; t = t + u; t = t * GROW; r54 = t + PAD;
+            double m55, r55; m55 = m52 * m53; t = fabs(m52) + r52; t = t * r53; u = fabs(m53) * r52; t = t + u; u = fabs(m55) * U; u = u + ETA; t = t + u; t = t * GROW; r55 = t + PAD;
+            double m56, r56; b = fabs(m54); m56 = m49 / m54; t = r49 * b; u = fabs(m49) * r54; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r54; t = t / u; u = fabs(m56) * U; u = u + ETA; t = t + u; t = t * GROW; r56 = t + PAD; m56 = b > r54 ? m56 : NAN; r56 = b > r54 ? r56 : INFINITY;
+            double m57, r57; b = fabs(m55); m57 = m50 / m55; t = r50 * b; u = fabs(m50) * r55; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r55; t = t / u; u = fabs(m57) * U; u = u + ETA; t = t + u; t = t * GROW; r57 = t + PAD; m57 = b > r55 ? m57 : NAN; r57 = b > r55 ? r57 : INFINITY;
+            double m58, r58; m58 = m51 * m51; t = fabs(m51) + r51; t = t * r51; u = fabs(m51) * r51; t = t + u; u = fabs(m58) * U; u = u + ETA; t = t + u; t = t * GROW; r58 = t + PAD;
+            double m59, r59; m59 = m52 * m52; t = fabs(m52) + r52; t = t * r52; u = fabs(m52) * r52; t = t + u; u = fabs(m59) * U; u = u + ETA; t = t + u; t = t * GROW; r59 = t + PAD;
+            double m60, r60; m60 = m56 * m51; t = fabs(m56) + r56; t = t * r51; u = fabs(m51) * r56; t = t + u; u = fabs(m60) * U; u = u + ETA; t = t + u; t = t * GROW; r60 = t + PAD;
+            double m61, r61; m61 = m57 * m52; t = fabs(m57) + r57; t = t * r52; u = fabs(m52) * r57; t = t + u; u = fabs(m61) * U; u = u + ETA; t = t + u; t = t * GROW; r61 = t + PAD;
+            double m62, r62; m62 = m51 * m56; t = fabs(m51) + r51; t = t * r56; u = fabs(m56) * r51; t = t + u; u = fabs(m62) * U; u = u + ETA; t = t + u; t = t * GROW; r62 = t + PAD;
+            double m63, r63; m63 = m52 * m57; t = fabs(m52) + r52; t = t * r57; u = fabs(m57) * r52; t = t + u; u = fabs(m63) * U; u = u + ETA; t = t + u; t = t * GROW; r63 = t + PAD;
+            double m64, r64; m64 = m60 + m62; t = r60 + r62; u = fabs(m64) * U; t = t + u; t = t * GROW; r64 = t + PAD;
+            double m65, r65; m65 = m61 + m63; t = r61 + r63; u = fabs(m65) * U; t = t + u; t = t * GROW; r65 = t + PAD;
+            double m66, r66; m66 = m31 * m17; t = fabs(m31) + r31; t = t * r17; u = fabs(m17) * r31; t = t + u; u = fabs(m66) * U; u = u + ETA; t = t + u; t = t * GROW; r66 = t + PAD;
+            double m67, r67; m67 = m32 * m17; t = fabs(m32) + r32; t = t * r17; u = fabs(m17) * r32; t = t + u; u = fabs(m67) * U; u = u + ETA; t = t + u; t = t * GROW; r67 = t + PAD;
+            double m68, r68; m68 = m34 * m17; t = fabs(m34) + r34; t = t * r17; u = fabs(m17) * r34; t = t + u; u = fabs(m68) * U; u = u + ETA; t = t + u; t = t * GROW; r68 = t + PAD;
+            double m69, r69; m69 = m31 * m18; t = fabs(m31) + r31; t = t * r18; u = fabs(m18) * r31; t = t + u; u = fabs(m69) * U; u = u + ETA; t = t + u; t = t * GROW; r69 = t + PAD;
+            double m70, r70; m70 = m32 * m18; t = fabs(m32) + r32; t = t * r18; u = fabs(m18) * r32; t = t + u; u = fabs(m70) * U; u = u + ETA; t = t + u; t = t * GROW; r70 = t + PAD;
+            double m71, r71; m71 = m68 + m69; t = r68 + r69; u = fabs(m71) * U; t = t + u; t = t * GROW; r71 = t + PAD;
+            double m72, r72; m72 = m68 + m70; t = r68 + r70; u = fabs(m72) * U; t = t + u; t = t * GROW; r72 = t + PAD;
+            double m73, r73; m73 = m21 * m23; t = fabs(m21) + r21; t = t * r23; u = fabs(m23) * r21; t = t + u; u = fabs(m73) * U; u = u + ETA; t = t + u; t = t * GROW; r73 = t + PAD;
+            double m74, r74; m74 = m22 * m23; t = fabs(m22) + r22; t = t * r23; u = fabs(m23) * r22; t = t + u; u = fabs(m74) * U; u = u + ETA; t = t + u; t = t * GROW; r74 = t + PAD;
+            double m75, r75; m75 = m21 * m24; t = fabs(m21) + r21; t = t * r24; u = fabs(m24) * r21; t = t + u; u = fabs(m75) * U; u = u + ETA; t = t + u; t = t * GROW; r75 = t + PAD;
+            double m76, r76; m76 = m74 + m75; t = r74 + r75; u = fabs(m76) * U; t = t + u; t = t * GROW; r76 = t + PAD;
+            double m77, r77; m77 = m66 + m73; t = r66 + r73; u = fabs(m77) * U; t = t + u; t = t * GROW; r77 = t + PAD;
+            double m78, r78; m78 = m67 + m73; t = r67 + r73; u = fabs(m78) * U; t = t + u; t = t * GROW; r78 = t + PAD;
+            double m79, r79; m79 = m71 + m76; t = r71 + r76; u = fabs(m79) * U; t = t + u; t = t * GROW; r79 = t + PAD;
+            double m80, r80; m80 = m72 + m76; t = r72 + r76; u = fabs(m80) * U; t = t + u; t = t * GROW; r80 = t + PAD;
+            double m81, r81; b = fabs(m51); m81 = m77 / m51; t = r77 * b; u = fabs(m77) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m81) * U; u = u + ETA; t = t + u; t = t * GROW; r81 = t + PAD; m81 = b > r51 ? m81 : NAN; r81 = b > r51 ? r81 : INFINITY;
+            double m82, r82; b = fabs(m52); m82 = m78 / m52; t = r78 * b; u = fabs(m78) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m82) * U; u = u + ETA; t = t + u; t = t * GROW; r82 = t + PAD; m82 = b > r52 ? m82 : NAN; r82 = b > r52 ? r82 : INFINITY;
+            double m83, r83; m83 = m81 * m56; t = fabs(m81) + r81; t = t * r56; u = fabs(m56) * r81; t = t + u; u = fabs(m83) * U; u = u + ETA; t = t + u; t = t * GROW; r83 = t + PAD;
+            double m84, r84; m84 = m82 * m57; t = fabs(m82) + r82; t = t * r57; u = fabs(m57) * r82; t = t + u; u = fabs(m84) * U; u = u + ETA; t = t + u; t = t * GROW; r84 = t + PAD;
+            double m85, r85; m85 = m79 - m83; t = r79 + r83; u = fabs(m85) * U; t = t + u; t = t * GROW; r85 = t + PAD;
+            double m86, r86; m86 = m80 - m84; t = r80 + r84; u = fabs(m86) * U; t = t + u; t = t * GROW; r86 = t + PAD;
+            double m87, r87; b = fabs(m51); m87 = m85 / m51; t = r85 * b; u = fabs(m85) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m87) * U; u = u + ETA; t = t + u; t = t * GROW; r87 = t + PAD; m87 = b > r51 ? m87 : NAN; r87 = b > r51 ? r87 : INFINITY;
+            double m88, r88; b = fabs(m52); m88 = m86 / m52; t = r86 * b; u = fabs(m86) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m88) * U; u = u + ETA; t = t + u; t = t * GROW; r88 = t + PAD; m88 = b > r52 ? m88 : NAN; r88 = b > r52 ? r88 : INFINITY;
+            double m89, r89; m89 = m31 * m23; t = fabs(m31) + r31; t = t * r23; u = fabs(m23) * r31; t = t + u; u = fabs(m89) * U; u = u + ETA; t = t + u; t = t * GROW; r89 = t + PAD;
+            double m90, r90; m90 = m32 * m23; t = fabs(m32) + r32; t = t * r23; u = fabs(m23) * r32; t = t + u; u = fabs(m90) * U; u = u + ETA; t = t + u; t = t * GROW; r90 = t + PAD;
+            double m91, r91; m91 = m34 * m23; t = fabs(m34) + r34; t = t * r23; u = fabs(m23) * r34; t = t + u; u = fabs(m91) * U; u = u + ETA; t = t + u; t = t * GROW; r91 = t + PAD;
+            double m92, r92; m92 = m31 * m24; t = fabs(m31) + r31; t = t * r24; u = fabs(m24) * r31; t = t + u; u = fabs(m92) * U; u = u + ETA; t = t + u; t = t * GROW; r92 = t + PAD;
+            double m93, r93; m93 = m32 * m24; t = fabs(m32) + r32; t = t * r24; u = fabs(m24) * r32; t = t + u; u = fabs(m93) * U; u = u + ETA; t = t + u; t = t * GROW; r93 = t + PAD;
+            double m94, r94; m94 = m91 + m92; t = r91 + r92; u = fabs(m94) * U; t = t + u; t = t * GROW; r94 = t + PAD;
+            double m95, r95; m95 = m91 + m93; t = r91 + r93; u = fabs(m95) * U; t = t + u; t = t * GROW; r95 = t + PAD;
+            double m96, r96; m96 = m21 * m17; t = fabs(m21) + r21; t = t * r17; u = fabs(m17) * r21; t = t + u; u = fabs(m96) * U; u = u + ETA; t = t + u; t = t * GROW; r96 = t + PAD;
+            double m97, r97; m97 = m22 * m17; t = fabs(m22) + r22; t = t * r17; u = fabs(m17) * r22; t = t + u; u = fabs(m97) * U; u = u + ETA; t = t + u; t = t * GROW; r97 = t + PAD;
+            double m98, r98; m98 = m21 * m18; t = fabs(m21) + r21; t = t * r18; u = fabs(m18) * r21; t = t + u; u = fabs(m98) * U; u = u + ETA; t = t + u; t = t * GROW; r98 = t + PAD;
+            double m99, r99; m99 = m97 + m98; t = r97 + r98; u = fabs(m99) * U; t = t + u; t = t * GROW; r99 = t + PAD;
+            double m100, r100; m100 = m89 - m96; t = r89 + r96; u = fabs(m100) * U; t = t + u; t = t * GROW; r100 = t + PAD;
+            double m101, r101; m101 = m90 - m96; t = r90 + r96; u = fabs(m101) * U; t = t + u; t = t * GROW; r101 = t + PAD;
+            double m102, r102; m102 = m94 - m99; t = r94 + r99; u = fabs(m102) * U; t = t + u; t = t * GROW; r102 = t + PAD;
+            double m103, r103; m103 = m95 - m99; t = r95 + r99; u = fabs(m103) * U; t = t + u; t = t * GROW; r103 = t + PAD;
+            double m104, r104; b = fabs(m58); m104 = m100 / m58; t = r100 * b; u = fabs(m100) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m104) * U; u = u + ETA; t = t + u; t = t * GROW; r104 = t + PAD; m104 = b > r58 ? m104 : NAN; r104 = b > r58 ? r104 : INFINITY;
+            double m105, r105; b = fabs(m59); m105 = m101 / m59; t = r101 * b; u = fabs(m101) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m105) * U; u = u + ETA; t = t + u; t = t * GROW; r105 = t + PAD; m105 = b > r59 ? m105 : NAN; r105 = b > r59 ? r105 : INFINITY;
+            double m106, r106; m106 = m104 * m64; t = fabs(m104) + r104; t = t * r64; u = fabs(m64) * r104; t = t + u; u = fabs(m106) * U; u = u + ETA; t = t + u; t = t * GROW; r106 = t + PAD;
+            double m107, r107; m107 = m105 * m65; t = fabs(m105) + r105; t = t * r65; u = fabs(m65) * r105; t = t + u; u = fabs(m107) * U; u = u + ETA; t = t + u; t = t * GROW; r107 = t + PAD;
+            double m108, r108; m108 = m102 - m106; t = r102 + r106; u = fabs(m108) * U; t = t + u; t = t * GROW; r108 = t + PAD;
+            double m109, r109; m109 = m103 - m107; t = r103 + r107; u = fabs(m109) * U; t = t + u; t = t * GROW; r109 = t + PAD;
+            double m110, r110; b = fabs(m58); m110 = m108 / m58; t = r108 * b; u = fabs(m108) * r58; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r58; t = t / u; u = fabs(m110) * U; u = u + ETA; t = t + u; t = t * GROW; r110 = t + PAD; m110 = b > r58 ? m110 : NAN; r110 = b > r58 ? r110 : INFINITY;
+            double m111, r111; b = fabs(m59); m111 = m109 / m59; t = r109 * b; u = fabs(m109) * r59; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r59; t = t / u; u = fabs(m111) * U; u = u + ETA; t = t + u; t = t * GROW; r111 = t + PAD; m111 = b > r59 ? m111 : NAN; r111 = b > r59 ? r111 : INFINITY;
+            double m112, r112; m112 = m17 * m17; t = fabs(m17) + r17; t = t * r17; u = fabs(m17) * r17; t = t + u; u = fabs(m112) * U; u = u + ETA; t = t + u; t = t * GROW; r112 = t + PAD;
+            double m113, r113; m113 = m18 * m17; t = fabs(m18) + r18; t = t * r17; u = fabs(m17) * r18; t = t + u; u = fabs(m113) * U; u = u + ETA; t = t + u; t = t * GROW; r113 = t + PAD;
+            double m114, r114; m114 = m17 * m18; t = fabs(m17) + r17; t = t * r18; u = fabs(m18) * r17; t = t + u; u = fabs(m114) * U; u = u + ETA; t = t + u; t = t * GROW; r114 = t + PAD;
+            double m115, r115; m115 = m113 + m114; t = r113 + r114; u = fabs(m115) * U; t = t + u; t = t * GROW; r115 = t + PAD;
+            double m116, r116; m116 = m23 * m23; t = fabs(m23) + r23; t = t * r23; u = fabs(m23) * r23; t = t + u; u = fabs(m116) * U; u = u + ETA; t = t + u; t = t * GROW; r116 = t + PAD;
+            double m117, r117; m117 = m24 * m23; t = fabs(m24) + r24; t = t * r23; u = fabs(m23) * r24; t = t + u; u = fabs(m117) * U; u = u + ETA; t = t + u; t = t * GROW; r117 = t + PAD;
+            double m118, r118; m118 = m23 * m24; t = fabs(m23) + r23; t = t * r24; u = fabs(m24) * r23; t = t + u; u = fabs(m118) * U; u = u + ETA; t = t + u; t = t * GROW; r118 = t + PAD;
+            double m119, r119; m119 = m117 + m118; t = r117 + r118; u = fabs(m119) * U; t = t + u; t = t * GROW; r119 = t + PAD;
+            double m120, r120; m120 = m112 + m116; t = r112 + r116; u = fabs(m120) * U; t = t + u; t = t * GROW; r120 = t + PAD;
+            double m121, r121; m121 = m115 + m119; t = r115 + r119; u = fabs(m121) * U; t = t + u; t = t * GROW; r121 = t + PAD;
+            double m122, r122; m122 = m31 * m19; t = fabs(m31) + r31; t = t * r19; u = fabs(m19) * r31; t = t + u; u = fabs(m122) * U; u = u + ETA; t = t + u; t = t * GROW; r122 = t + PAD;
+            double m123, r123; m123 = m32 * m19; t = fabs(m32) + r32; t = t * r19; u = fabs(m19) * r32; t = t + u; u = fabs(m123) * U; u = u + ETA; t = t + u; t = t * GROW; r123 = t + PAD;
+            double m124, r124; m124 = m34 * m19; t = fabs(m34) + r34; t = t * r19; u = fabs(m19) * r34; t = t + u; u = fabs(m124) * U; u = u + ETA; t = t + u; t = t * GROW; r124 = t + PAD;
+            double m125, r125; m125 = m31 * m20; t = fabs(m31) + r31; t = t * r20; u = fabs(m20) * r31; t = t + u; u = fabs(m125) * U; u = u + ETA; t = t + u; t = t * GROW; r125 = t + PAD;
+            double m126, r126; m126 = m32 * m20; t = fabs(m32) + r32; t = t * r20; u = fabs(m20) * r32; t = t + u; u = fabs(m126) * U; u = u + ETA; t = t + u; t = t * GROW; r126 = t + PAD;
+            double m127, r127; m127 = m124 + m125; t = r124 + r125; u = fabs(m127) * U; t = t + u; t = t * GROW; r127 = t + PAD;
+            double m128, r128; m128 = m124 + m126; t = r124 + r126; u = fabs(m128) * U; t = t + u; t = t * GROW; r128 = t + PAD;
+            double m129, r129; m129 = m120 + m122; t = r120 + r122; u = fabs(m129) * U; t = t + u; t = t * GROW; r129 = t + PAD;
+            double m130, r130; m130 = m120 + m123; t = r120 + r123; u = fabs(m130) * U; t = t + u; t = t * GROW; r130 = t + PAD;
+            double m131, r131; m131 = m121 + m127; t = r121 + r127; u = fabs(m131) * U; t = t + u; t = t * GROW; r131 = t + PAD;
+            double m132, r132; m132 = m121 + m128; t = r121 + r128; u = fabs(m132) * U; t = t + u; t = t * GROW; r132 = t + PAD;
+            double m133, r133; m133 = m21 * m25; t = fabs(m21) + r21; t = t * r25; u = fabs(m25) * r21; t = t + u; u = fabs(m133) * U; u = u + ETA; t = t + u; t = t * GROW; r133 = t + PAD;
+            double m134, r134; m134 = m22 * m25; t = fabs(m22) + r22; t = t * r25; u = fabs(m25) * r22; t = t + u; u = fabs(m134) * U; u = u + ETA; t = t + u; t = t * GROW; r134 = t + PAD;
+            double m135, r135; m135 = m21 * m26; t = fabs(m21) + r21; t = t * r26; u = fabs(m26) * r21; t = t + u; u = fabs(m135) * U; u = u + ETA; t = t + u; t = t * GROW; r135 = t + PAD;
+            double m136, r136; m136 = m134 + m135; t = r134 + r135; u = fabs(m136) * U; t = t + u; t = t * GROW; r136 = t + PAD;
+            double m137, r137; m137 = m129 + m133; t = r129 + r133; u = fabs(m137) * U; t = t + u; t = t * GROW; r137 = t + PAD;
+            double m138, r138; m138 = m130 + m133; t = r130 + r133; u = fabs(m138) * U; t = t + u; t = t * GROW; r138 = t + PAD;
+            double m139, r139; m139 = m131 + m136; t = r131 + r136; u = fabs(m139) * U; t = t + u; t = t * GROW; r139 = t + PAD;
+            double m140, r140; m140 = m132 + m136; t = r132 + r136; u = fabs(m140) * U; t = t + u; t = t * GROW; r140 = t + PAD;
+            double m141, r141; m141 = m81 * m81; t = fabs(m81) + r81; t = t * r81; u = fabs(m81) * r81; t = t + u; u = fabs(m141) * U; u = u + ETA; t = t + u; t = t * GROW; r141 = t + PAD;
+            double m142, r142; m142 = m82 * m82; t = fabs(m82) + r82; t = t * r82; u = fabs(m82) * r82; t = t + u; u = fabs(m142) * U; u = u + ETA; t = t + u; t = t * GROW; r142 = t + PAD;
+            double m143, r143; m143 = m87 * m81; t = fabs(m87) + r87; t = t * r81; u = fabs(m81) * r87; t = t + u; u = fabs(m143) * U; u = u + ETA; t = t + u; t = t * GROW; r143 = t + PAD;
+            double m144, r144; m144 = m88 * m82; t = fabs(m88) + r88; t = t * r82; u = fabs(m82) * r88; t = t + u; u = fabs(m144) * U; u = u + ETA; t = t + u; t = t * GROW; r144 = t + PAD;
+            double m145, r145; m145 = m81 * m87; t = fabs(m81) + r81; t = t * r87; u = fabs(m87) * r81; t = t + u; u = fabs(m145) * U; u = u + ETA; t = t + u; t = t * GROW; r145 = t + PAD;
+            double m146, r146; m146 = m82 * m88; t = fabs(m82) + r82; t = t * r88; u = fabs(m88) * r82; t = t + u; u = fabs(m146) * U; u = u + ETA; t = t + u; t = t * GROW; r146 = t + PAD;
+            double m147, r147; m147 = m143 + m145; t = r143 + r145; u = fabs(m147) * U; t = t + u; t = t * GROW; r147 = t + PAD;
+            double m148, r148; m148 = m144 + m146; t = r144 + r146; u = fabs(m148) * U; t = t + u; t = t * GROW; r148 = t + PAD;
+            double m149, r149; m149 = m137 - m141; t = r137 + r141; u = fabs(m149) * U; t = t + u; t = t * GROW; r149 = t + PAD;
+            double m150, r150; m150 = m138 - m142; t = r138 + r142; u = fabs(m150) * U; t = t + u; t = t * GROW; r150 = t + PAD;
+            double m151, r151; m151 = m139 - m147; t = r139 + r147; u = fabs(m151) * U; t = t + u; t = t * GROW; r151 = t + PAD;
+            double m152, r152; m152 = m140 - m148; t = r140 + r148; u = fabs(m152) * U; t = t + u; t = t * GROW; r152 = t + PAD;
+            double m153, r153; b = fabs(m51); m153 = m149 / m51; t = r149 * b; u = fabs(m149) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m153) * U; u = u + ETA; t = t + u; t = t * GROW; r153 = t + PAD; m153 = b > r51 ? m153 : NAN; r153 = b > r51 ? r153 : INFINITY;
+            double m154, r154; b = fabs(m52); m154 = m150 / m52; t = r150 * b; u = fabs(m150) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m154) * U; u = u + ETA; t = t + u; t = t * GROW; r154 = t + PAD; m154 = b > r52 ? m154 : NAN; r154 = b > r52 ? r154 : INFINITY;
+            double m155, r155; m155 = m153 * m56; t = fabs(m153) + r153; t = t * r56; u = fabs(m56) * r153; t = t + u; u = fabs(m155) * U; u = u + ETA; t = t + u; t = t * GROW; r155 = t + PAD;
+            double m156, r156; m156 = m154 * m57; t = fabs(m154) + r154; t = t * r57; u = fabs(m57) * r154; t = t + u; u = fabs(m156) * U; u = u + ETA; t = t + u; t = t * GROW; r156 = t + PAD;
+            double m157, r157; m157 = m151 - m155; t = r151 + r155; u = fabs(m157) * U; t = t + u; t = t * GROW; r157 = t + PAD;
+            double m158, r158; m158 = m152 - m156; t = r152 + r156; u = fabs(m158) * U; t = t + u; t = t * GROW; r158 = t + PAD;
+            double m159, r159; b = fabs(m51); m159 = m157 / m51; t = r157 * b; u = fabs(m157) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m159) * U; u = u + ETA; t = t + u; t = t * GROW; r159 = t + PAD; m159 = b > r51 ? m159 : NAN; r159 = b > r51 ? r159 : INFINITY;
+            double m160, r160; b = fabs(m52); m160 = m158 / m52; t = r158 * b; u = fabs(m158) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m160) * U; u = u + ETA; t = t + u; t = t * GROW; r160 = t + PAD; m160 = b > r52 ? m160 : NAN; r160 = b > r52 ? r160 : INFINITY;
+            double m206, r206; b = fabs(m51); m206 = m31 / m51; t = r31 * b; u = fabs(m31) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m206) * U; u = u + ETA; t = t + u; t = t * GROW; r206 = t + PAD; m206 = b > r51 ? m206 : NAN; r206 = b > r51 ? r206 : INFINITY;
+            double m207, r207; b = fabs(m52); m207 = m32 / m52; t = r32 * b; u = fabs(m32) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m207) * U; u = u + ETA; t = t + u; t = t * GROW; r207 = t + PAD; m207 = b > r52 ? m207 : NAN; r207 = b > r52 ? r207 : INFINITY;
+            double m208, r208; m208 = m206 * m56; t = fabs(m206) + r206; t = t * r56; u = fabs(m56) * r206; t = t + u; u = fabs(m208) * U; u = u + ETA; t = t + u; t = t * GROW; r208 = t + PAD;
+            double m209, r209; m209 = m207 * m57; t = fabs(m207) + r207; t = t * r57; u = fabs(m57) * r207; t = t + u; u = fabs(m209) * U; u = u + ETA; t = t + u; t = t * GROW; r209 = t + PAD;
+            double m210, r210; m210 = m34 - m208; t = r34 + r208; u = fabs(m210) * U; t = t + u; t = t * GROW; r210 = t + PAD;
+            double m211, r211; m211 = m34 - m209; t = r34 + r209; u = fabs(m211) * U; t = t + u; t = t * GROW; r211 = t + PAD;
+            double m212, r212; b = fabs(m51); m212 = m210 / m51; t = r210 * b; u = fabs(m210) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m212) * U; u = u + ETA; t = t + u; t = t * GROW; r212 = t + PAD; m212 = b > r51 ? m212 : NAN; r212 = b > r51 ? r212 : INFINITY;
+            double m213, r213; b = fabs(m52); m213 = m211 / m52; t = r211 * b; u = fabs(m211) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m213) * U; u = u + ETA; t = t + u; t = t * GROW; r213 = t + PAD; m213 = b > r52 ? m213 : NAN; r213 = b > r52 ? r213 : INFINITY;
+            double m214, r214; b = fabs(m51); m214 = m21 / m51; t = r21 * b; u = fabs(m21) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m214) * U; u = u + ETA; t = t + u; t = t * GROW; r214 = t + PAD; m214 = b > r51 ? m214 : NAN; r214 = b > r51 ? r214 : INFINITY;
+            double m215, r215; b = fabs(m52); m215 = m21 / m52; t = r21 * b; u = fabs(m21) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m215) * U; u = u + ETA; t = t + u; t = t * GROW; r215 = t + PAD; m215 = b > r52 ? m215 : NAN; r215 = b > r52 ? r215 : INFINITY;
+            double m216, r216; m216 = m214 * m56; t = fabs(m214) + r214; t = t * r56; u = fabs(m56) * r214; t = t + u; u = fabs(m216) * U; u = u + ETA; t = t + u; t = t * GROW; r216 = t + PAD;
+            double m217, r217; m217 = m215 * m57; t = fabs(m215) + r215; t = t * r57; u = fabs(m57) * r215; t = t + u; u = fabs(m217) * U; u = u + ETA; t = t + u; t = t * GROW; r217 = t + PAD;
+            double m218, r218; m218 = m22 - m216; t = r22 + r216; u = fabs(m218) * U; t = t + u; t = t * GROW; r218 = t + PAD;
+            double m219, r219; m219 = m22 - m217; t = r22 + r217; u = fabs(m219) * U; t = t + u; t = t * GROW; r219 = t + PAD;
+            double m220, r220; b = fabs(m51); m220 = m218 / m51; t = r218 * b; u = fabs(m218) * r51; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r51; t = t / u; u = fabs(m220) * U; u = u + ETA; t = t + u; t = t * GROW; r220 = t + PAD; m220 = b > r51 ? m220 : NAN; r220 = b > r51 ? r220 : INFINITY;
+            double m221, r221; b = fabs(m52); m221 = m219 / m52; t = r219 * b; u = fabs(m219) * r52; t = t + u; t = t + TINY; t = t / b; t = t + TINY; u = b - r52; t = t / u; u = fabs(m221) * U; u = u + ETA; t = t + u; t = t * GROW; r221 = t + PAD; m221 = b > r52 ? m221 : NAN; r221 = b > r52 ? r221 : INFINITY;
+            double m222, r222; m222 = m51 - m5; t = r51 + r5; u = fabs(m222) * U; t = t + u; t = t * GROW; r222 = t + PAD;
+            double m223, r223; m223 = m52 - m6; t = r52 + r6; u = fabs(m223) * U; t = t + u; t = t * GROW; r223 = t + PAD;
+            double m224, r224; m224 = m56 - m33; t = r56 + r33; u = fabs(m224) * U; t = t + u; t = t * GROW; r224 = t + PAD;
+            double m225, r225; m225 = m57 - m33; t = r57 + r33; u = fabs(m225) * U; t = t + u; t = t * GROW; r225 = t + PAD;
+            double m284, r284; m284 = m104 * m104; t = fabs(m104) + r104; t = t * r104; u = fabs(m104) * r104; t = t + u; u = fabs(m284) * U; u = u + ETA; t = t + u; t = t * GROW; r284 = t + PAD;
+            double m285, r285; m285 = m105 * m105; t = fabs(m105) + r105; t = t * r105; u = fabs(m105) * r105; t = t + u; u = fabs(m285) * U; u = u + ETA; t = t + u; t = t * GROW; r285 = t + PAD;
+            double m286, r286; m286 = m110 * m104; t = fabs(m110) + r110; t = t * r104; u = fabs(m104) * r110; t = t + u; u = fabs(m286) * U; u = u + ETA; t = t + u; t = t * GROW; r286 = t + PAD;
+            double m287, r287; m287 = m111 * m105; t = fabs(m111) + r111; t = t * r105; u = fabs(m105) * r111; t = t + u; u = fabs(m287) * U; u = u + ETA; t = t + u; t = t * GROW; r287 = t + PAD;
+            double m288, r288; m288 = m104 * m110; t = fabs(m104) + r104; t = t * r110; u = fabs(m110) * r104; t = t + u; u = fabs(m288) * U; u = u + ETA; t = t + u; t = t * GROW; r288 = t + PAD;
+            double m289, r289; m289 = m105 * m111; t = fabs(m105) + r105; t = t * r111; u = fabs(m111) * r105; t = t + u; u = fabs(m289) * U; u = u + ETA; t = t + u; t = t * GROW; r289 = t + PAD;
+            double m290, r290; m290 = m286 + m288; t = r286 + r288; u = fabs(m290) * U; t = t + u; t = t * GROW; r290 = t + PAD;
+            double m291, r291; m291 = m287 + m289; t = r287 + r289; u = fabs(m291) * U; t = t + u; t = t * GROW; r291 = t + PAD;
+            double m292, r292; m292 = m222 * m284; t = fabs(m222) + r222; t = t * r284; u = fabs(m284) * r222; t = t + u; u = fabs(m292) * U; u = u + ETA; t = t + u; t = t * GROW; r292 = t + PAD;
+            double m293, r293; m293 = m223 * m285; t = fabs(m223) + r223; t = t * r285; u = fabs(m285) * r223; t = t + u; u = fabs(m293) * U; u = u + ETA; t = t + u; t = t * GROW; r293 = t + PAD;
+            double m294, r294; m294 = m224 * m284; t = fabs(m224) + r224; t = t * r284; u = fabs(m284) * r224; t = t + u; u = fabs(m294) * U; u = u + ETA; t = t + u; t = t * GROW; r294 = t + PAD;
+            double m295, r295; m295 = m225 * m285; t = fabs(m225) + r225; t = t * r285; u = fabs(m285) * r225; t = t + u; u = fabs(m295) * U; u = u + ETA; t = t + u; t = t * GROW; r295 = t + PAD;
+            double m296, r296; m296 = m222 * m290; t = fabs(m222) + r222; t = t * r290; u = fabs(m290) * r222; t = t + u; u = fabs(m296) * U; u = u + ETA; t = t + u; t = t * GROW; r296 = t + PAD;
+            double m297, r297; m297 = m223 * m291; t = fabs(m223) + r223; t = t * r291; u = fabs(m291) * r223; t = t + u; u = fabs(m297) * U; u = u + ETA; t = t + u; t = t * GROW; r297 = t + PAD;
+            double m298, r298; m298 = m294 + m296; t = r294 + r296; u = fabs(m298) * U; t = t + u; t = t * GROW; r298 = t + PAD;
+            double m299, r299; m299 = m295 + m297; t = r295 + r297; u = fabs(m299) * U; t = t + u; t = t * GROW; r299 = t + PAD;
+            double m300, r300; m300 = m153 - m292; t = r153 + r292; u = fabs(m300) * U; t = t + u; t = t * GROW; r300 = t + PAD;
+            double m301, r301; m301 = m154 - m293; t = r154 + r293; u = fabs(m301) * U; t = t + u; t = t * GROW; r301 = t + PAD;
+            double m302, r302; m302 = m159 - m298; t = r159 + r298; u = fabs(m302) * U; t = t + u; t = t * GROW; r302 = t + PAD;
+            double m303, r303; m303 = m160 - m299; t = r160 + r299; u = fabs(m303) * U; t = t + u; t = t * GROW; r303 = t + PAD;
+            double m304, r304; m304 = m300 * m3; t = fabs(m300) + r300; t = t * r3; u = fabs(m3) * r300; t = t + u; u = fabs(m304) * U; u = u + ETA; t = t + u; t = t * GROW; r304 = t + PAD;
+            double m305, r305; m305 = m301 * m4; t = fabs(m301) + r301; t = t * r4; u = fabs(m4) * r301; t = t + u; u = fabs(m305) * U; u = u + ETA; t = t + u; t = t * GROW; r305 = t + PAD;
+            double m306, r306; m306 = m302 * m3; t = fabs(m302) + r302; t = t * r3; u = fabs(m3) * r302; t = t + u; u = fabs(m306) * U; u = u + ETA; t = t + u; t = t * GROW; r306 = t + PAD;
+            double m307, r307; m307 = m303 * m4; t = fabs(m303) + r303; t = t * r4; u = fabs(m4) * r303; t = t + u; u = fabs(m307) * U; u = u + ETA; t = t + u; t = t * GROW; r307 = t + PAD;
+            double m308, r308; m308 = m214 * m11; t = fabs(m214) + r214; t = t * r11; u = fabs(m11) * r214; t = t + u; u = fabs(m308) * U; u = u + ETA; t = t + u; t = t * GROW; r308 = t + PAD;
+            double m309, r309; m309 = m215 * m12; t = fabs(m215) + r215; t = t * r12; u = fabs(m12) * r215; t = t + u; u = fabs(m309) * U; u = u + ETA; t = t + u; t = t * GROW; r309 = t + PAD;
+            double m310, r310; m310 = m220 * m11; t = fabs(m220) + r220; t = t * r11; u = fabs(m11) * r220; t = t + u; u = fabs(m310) * U; u = u + ETA; t = t + u; t = t * GROW; r310 = t + PAD;
+            double m311, r311; m311 = m221 * m12; t = fabs(m221) + r221; t = t * r12; u = fabs(m12) * r221; t = t + u; u = fabs(m311) * U; u = u + ETA; t = t + u; t = t * GROW; r311 = t + PAD;
+            double m312, r312; m312 = m304 + m308; t = r304 + r308; u = fabs(m312) * U; t = t + u; t = t * GROW; r312 = t + PAD;
+            double m313, r313; m313 = m305 + m309; t = r305 + r309; u = fabs(m313) * U; t = t + u; t = t * GROW; r313 = t + PAD;
+            double m314, r314; m314 = m306 + m310; t = r306 + r310; u = fabs(m314) * U; t = t + u; t = t * GROW; r314 = t + PAD;
+            double m315, r315; m315 = m307 + m311; t = r307 + r311; u = fabs(m315) * U; t = t + u; t = t * GROW; r315 = t + PAD;
+            double m340, r340; m340 = m206 * m27; t = fabs(m206) + r206; t = t * r27; u = fabs(m27) * r206; t = t + u; u = fabs(m340) * U; u = u + ETA; t = t + u; t = t * GROW; r340 = t + PAD;
+            double m341, r341; m341 = m207 * m27; t = fabs(m207) + r207; t = t * r27; u = fabs(m27) * r207; t = t + u; u = fabs(m341) * U; u = u + ETA; t = t + u; t = t * GROW; r341 = t + PAD;
+            double m342, r342; m342 = m212 * m27; t = fabs(m212) + r212; t = t * r27; u = fabs(m27) * r212; t = t + u; u = fabs(m342) * U; u = u + ETA; t = t + u; t = t * GROW; r342 = t + PAD;
+            double m343, r343; m343 = m213 * m27; t = fabs(m213) + r213; t = t * r27; u = fabs(m27) * r213; t = t + u; u = fabs(m343) * U; u = u + ETA; t = t + u; t = t * GROW; r343 = t + PAD;
+            double m344, r344; m344 = m206 * m28; t = fabs(m206) + r206; t = t * r28; u = fabs(m28) * r206; t = t + u; u = fabs(m344) * U; u = u + ETA; t = t + u; t = t * GROW; r344 = t + PAD;
+            double m345, r345; m345 = m207 * m28; t = fabs(m207) + r207; t = t * r28; u = fabs(m28) * r207; t = t + u; u = fabs(m345) * U; u = u + ETA; t = t + u; t = t * GROW; r345 = t + PAD;
+            double m346, r346; m346 = m342 + m344; t = r342 + r344; u = fabs(m346) * U; t = t + u; t = t * GROW; r346 = t + PAD;
+            double m347, r347; m347 = m343 + m345; t = r343 + r345; u = fabs(m347) * U; t = t + u; t = t * GROW; r347 = t + PAD;
+            double m348, r348; m348 = m214 * m29; t = fabs(m214) + r214; t = t * r29; u = fabs(m29) * r214; t = t + u; u = fabs(m348) * U; u = u + ETA; t = t + u; t = t * GROW; r348 = t + PAD;
+            double m349, r349; m349 = m215 * m29; t = fabs(m215) + r215; t = t * r29; u = fabs(m29) * r215; t = t + u; u = fabs(m349) * U; u = u + ETA; t = t + u; t = t * GROW; r349 = t + PAD;
+            double m350, r350; m350 = m220 * m29; t = fabs(m220) + r220; t = t * r29; u = fabs(m29) * r220; t = t + u; u = fabs(m350) * U; u = u + ETA; t = t + u; t = t * GROW; r350 = t + PAD;
+            double m351, r351; m351 = m221 * m29; t = fabs(m221) + r221; t = t * r29; u = fabs(m29) * r221; t = t + u; u = fabs(m351) * U; u = u + ETA; t = t + u; t = t * GROW; r351 = t + PAD;
+            double m352, r352; m352 = m214 * m30; t = fabs(m214) + r214; t = t * r30; u = fabs(m30) * r214; t = t + u; u = fabs(m352) * U; u = u + ETA; t = t + u; t = t * GROW; r352 = t + PAD;
+            double m353, r353; m353 = m215 * m30; t = fabs(m215) + r215; t = t * r30; u = fabs(m30) * r215; t = t + u; u = fabs(m353) * U; u = u + ETA; t = t + u; t = t * GROW; r353 = t + PAD;
+            double m354, r354; m354 = m350 + m352; t = r350 + r352; u = fabs(m354) * U; t = t + u; t = t * GROW; r354 = t + PAD;
+            double m355, r355; m355 = m351 + m353; t = r351 + r353; u = fabs(m355) * U; t = t + u; t = t * GROW; r355 = t + PAD;
+            double m356, r356; m356 = m340 + m348; t = r340 + r348; u = fabs(m356) * U; t = t + u; t = t * GROW; r356 = t + PAD;
+            double m357, r357; m357 = m341 + m349; t = r341 + r349; u = fabs(m357) * U; t = t + u; t = t * GROW; r357 = t + PAD;
+            double m358, r358; m358 = m346 + m354; t = r346 + r354; u = fabs(m358) * U; t = t + u; t = t * GROW; r358 = t + PAD;
+            double m359, r359; m359 = m347 + m355; t = r347 + r355; u = fabs(m359) * U; t = t + u; t = t * GROW; r359 = t + PAD;
+            double m360, r360; m360 = m356 * m13; t = fabs(m356) + r356; t = t * r13; u = fabs(m13) * r356; t = t + u; u = fabs(m360) * U; u = u + ETA; t = t + u; t = t * GROW; r360 = t + PAD;
+            double m361, r361; m361 = m357 * m14; t = fabs(m357) + r357; t = t * r14; u = fabs(m14) * r357; t = t + u; u = fabs(m361) * U; u = u + ETA; t = t + u; t = t * GROW; r361 = t + PAD;
+            double m362, r362; m362 = m358 * m13; t = fabs(m358) + r358; t = t * r13; u = fabs(m13) * r358; t = t + u; u = fabs(m362) * U; u = u + ETA; t = t + u; t = t * GROW; r362 = t + PAD;
+            double m363, r363; m363 = m359 * m14; t = fabs(m359) + r359; t = t * r14; u = fabs(m14) * r359; t = t + u; u = fabs(m363) * U; u = u + ETA; t = t + u; t = t * GROW; r363 = t + PAD;
+            double m364, r364; m364 = m312 - m360; t = r312 + r360; u = fabs(m364) * U; t = t + u; t = t * GROW; r364 = t + PAD;
+            double m365, r365; m365 = m313 - m361; t = r313 + r361; u = fabs(m365) * U; t = t + u; t = t * GROW; r365 = t + PAD;
+            double m366, r366; m366 = m314 - m362; t = r314 + r362; u = fabs(m366) * U; t = t + u; t = t * GROW; r366 = t + PAD;
+            double m367, r367; m367 = m315 - m363; t = r315 + r363; u = fabs(m367) * U; t = t + u; t = t * GROW; r367 = t + PAD;
+            O[0][c] = m364;
+            O[2][c] = r364;
+            O[1][c] = m365;
+            O[3][c] = r365;
+            O[4][c] = m366;
+            O[6][c] = r366;
+            O[5][c] = m367;
+            O[7][c] = r367;
+        }
+        for (int q = 0; q < 8; q++)
+            memcpy(out + q * n + j0, O[q], (size_t)nb * sizeof(double));
+    }
+}
+
+static const int rows_efforts_at_jet_prismatic[] = {2, 1, 2, 2, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 static void k_formulas_revolute(Py_ssize_t n, const Slot *in, double *out)
 {
     double I[40][BLK], O[32][BLK];
@@ -7248,16 +8232,20 @@ static const Spec SPECS[] = {
     {"torques_ball_revolute", k_torques_ball_revolute, 15, rows_torques_ball_revolute, 6},
     {"torques_at_ball_revolute", k_torques_at_ball_revolute, 16, rows_torques_at_ball_revolute, 4},
     {"efforts_ball_revolute", k_efforts_ball_revolute, 13, rows_efforts_ball_revolute, 4},
+    {"efforts_at_ball_revolute", k_efforts_at_ball_revolute, 15, rows_efforts_at_ball_revolute, 4},
     {"torques_ball_prismatic", k_torques_ball_prismatic, 15, rows_torques_ball_prismatic, 6},
     {"torques_at_ball_prismatic", k_torques_at_ball_prismatic, 16, rows_torques_at_ball_prismatic, 4},
     {"efforts_ball_prismatic", k_efforts_ball_prismatic, 13, rows_efforts_ball_prismatic, 4},
+    {"efforts_at_ball_prismatic", k_efforts_at_ball_prismatic, 15, rows_efforts_at_ball_prismatic, 4},
     {"legs_jet", k_legs_jet, 19, rows_legs_jet, 56},
     {"torques_jet_revolute", k_torques_jet_revolute, 23, rows_torques_jet_revolute, 12},
     {"torques_at_jet_revolute", k_torques_at_jet_revolute, 25, rows_torques_at_jet_revolute, 8},
     {"efforts_jet_revolute", k_efforts_jet_revolute, 19, rows_efforts_jet_revolute, 8},
+    {"efforts_at_jet_revolute", k_efforts_at_jet_revolute, 23, rows_efforts_at_jet_revolute, 8},
     {"torques_jet_prismatic", k_torques_jet_prismatic, 23, rows_torques_jet_prismatic, 12},
     {"torques_at_jet_prismatic", k_torques_at_jet_prismatic, 25, rows_torques_at_jet_prismatic, 8},
     {"efforts_jet_prismatic", k_efforts_jet_prismatic, 19, rows_efforts_jet_prismatic, 8},
+    {"efforts_at_jet_prismatic", k_efforts_at_jet_prismatic, 23, rows_efforts_at_jet_prismatic, 8},
     {"formulas_revolute", k_formulas_revolute, 20, rows_formulas_revolute, 32},
     {"formulas_prismatic", k_formulas_prismatic, 20, rows_formulas_prismatic, 32},
     {"regressor_ball_revolute", k_regressor_ball_revolute, 8, rows_regressor_ball_revolute, 120},
@@ -7275,7 +8263,7 @@ static PyObject *py_run(PyObject *self, PyObject *args)
     Py_ssize_t n;
     if (!PyArg_ParseTuple(args, "iO!On", &k, &PyTuple_Type, &inputs, &out, &n))
         return NULL;
-    if (k < 0 || k >= 22 || n < 0) {
+    if (k < 0 || k >= 26 || n < 0) {
         PyErr_SetString(PyExc_ValueError, "no such kernel");
         return NULL;
     }
@@ -7284,10 +8272,10 @@ static PyObject *py_run(PyObject *self, PyObject *args)
 
 static PyObject *py_names(PyObject *self, PyObject *unused)
 {
-    PyObject *t = PyTuple_New(22);
+    PyObject *t = PyTuple_New(26);
     if (t == NULL)
         return NULL;
-    for (int i = 0; i < 22; i++) {
+    for (int i = 0; i < 26; i++) {
         PyObject *s = Py_BuildValue("(sn)", SPECS[i].name, SPECS[i].nout);
         if (s == NULL) {
             Py_DECREF(t);

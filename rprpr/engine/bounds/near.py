@@ -134,7 +134,7 @@ class NearForms:
         with quiet():
             t = Ball.hull(np.array([h0]), np.array([h1]))
             x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+            T = self.stacked.efforts_at(x, xd, xdd, y, yd, ydd, lam)
         T = T.normal()
         if not bool((T.upper_abs() <= need).all()):
             return None
@@ -149,7 +149,7 @@ class NearForms:
             eps = zone.e.eps(mid) + Ball(0.0, rad)
             lam = zone.lam(eps)
             x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
-            T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+            T = self.stacked.efforts_at(x, xd, xdd, y, yd, ydd, lam)
         return T
 
     def zone(self, k: int) -> Zone | None:
@@ -192,7 +192,7 @@ class NearForms:
             with quiet():
                 t = Ball.hull(np.array([lo]), np.array([hi]))
                 x, xd, xdd, y, yd, ydd = self.polys.values(self.motion, t)
-                T, _ = self.stacked.torques(self.stacked.legs(x, xd, xdd, y, yd, ydd), y, lam)
+                T = self.stacked.efforts_at(x, xd, xdd, y, yd, ydd, lam)
             return T[0], T[1]
         dist = min(abs(lo - e.hi), abs(hi - e.hi))
         if hi - lo > dist / 4 or self.box_models <= 0:  # too wide (bisect), or work cap

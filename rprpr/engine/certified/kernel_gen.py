@@ -305,6 +305,8 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
     (``Stacked.torques(lg, y, delta=δ)``).
     efforts_{ball,jet}_{revolute,prismatic}: the constants, then x, ẋ, ẍ, y, ẏ, ÿ; output T
     (``Stacked.efforts``: the legs and the torques in one call).
+    efforts_at_{ball,jet}_{revolute,prismatic}: the same inputs and λ1, λ2; output T
+    (``Stacked.efforts_at``: the legs and the torques at λ given, in one call).
     formulas_{revolute,prismatic}: inputs the robot's parameters (``motion.PARAMS``), then
     x, ẋ, ẍ, y, ẏ, ÿ; outputs ``CertifiedMotion.formulas``' values but its arguments
     (``motion.COMPUTED``).
@@ -338,6 +340,7 @@ def kernels() -> list[tuple[Kernel, list[Any]]]:
             T, _ = st._torques(dyn.Leg(*fields), y, delta=given)
             out.append((k, _flat([T])))
             out.append(_efforts(jets, prismatic))
+            out.append(_efforts(jets, prismatic, at=True))
     out += _formulas()
     out += _regressors()
     out += [_chain(name, n) for name, n in (("y_values", 5), ("y_jets", 7))]
@@ -366,13 +369,16 @@ def _formulas() -> list[tuple[Kernel, list[Any]]]:
     return out
 
 
-def _efforts(jets: bool, prismatic: bool) -> tuple[Kernel, list[Any]]:
-    """efforts_{ball,jet}_{scheme}: ``Stacked.efforts``, the legs then the torques."""
+def _efforts(jets: bool, prismatic: bool, at: bool = False) -> tuple[Kernel, list[Any]]:
+    """efforts_{ball,jet}_{scheme}: ``Stacked.efforts``, the legs then the torques; with
+    ``at``, efforts_at_{ball,jet}_{scheme}: the same at λ1, λ2 given (two inputs more)."""
     kind = "jet" if jets else "ball"
-    k = Kernel(f"efforts_{kind}_{'prismatic' if prismatic else 'revolute'}")
+    name = "efforts_at" if at else "efforts"
+    k = Kernel(f"{name}_{kind}_{'prismatic' if prismatic else 'revolute'}")
     st = _stacked(k, prismatic)
     kin = [k.jet(1) if jets else k.ball(1) for _ in range(6)]
-    T, _ = st._torques(st._legs(*kin), kin[3])
+    lam = tuple(k.jet(1) if jets else k.ball(1) for _ in range(2)) if at else None
+    T, _ = st._torques(st._legs(*kin), kin[3], lam)
     return k, _flat([T])
 
 

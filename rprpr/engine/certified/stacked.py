@@ -74,7 +74,7 @@ class Stacked:
         scheme = "prismatic" if self.prismatic else "revolute"
         self._kernels = {
             name: (INDEX.get(f"{name}_ball_{scheme}"), INDEX.get(f"{name}_jet_{scheme}"))
-            for name in ("torques", "torques_at", "efforts")
+            for name in ("torques", "torques_at", "efforts", "efforts_at")
         }  # the compiled kernels of the scheme (``kernel_gen``): (on balls, on jets)
 
     def legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
@@ -98,6 +98,19 @@ class Stacked:
             if got is not None:
                 return got[0]
         return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y)[0]
+
+    def efforts_at(
+        self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any, lam: tuple[Any, Any]
+    ) -> Any:
+        """T (stacked rows) from x, ẋ, ẍ, y, ẏ, ÿ at λ given (λ1, λ2: balls, or jets, of one
+        row): ``torques(legs(...), y, lam)``'s T, in one call of the compiled kernel where
+        it is built (the same doubles, ``kernel_gen``)."""
+        if KERNEL is not None:
+            args = (x, xd, xdd, y, yd, ydd, *lam)
+            got = _compiled(self._consts, args, args[0], 1, (2,), *self._kernels["efforts_at"])
+            if got is not None:
+                return got[0]
+        return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y, lam)[0]
 
     def _legs(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> dyn.Leg:
         """``legs`` by numpy's ball operations (the description the kernel is made from)."""
@@ -218,6 +231,12 @@ class General:
     def efforts(self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any) -> Any:
         """The efforts (stacked rows) from x, ẋ, ẍ, y, ẏ, ÿ."""
         return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y)[0]
+
+    def efforts_at(
+        self, x: Any, xd: Any, xdd: Any, y: Any, yd: Any, ydd: Any, lam: tuple[Any, Any]
+    ) -> Any:
+        """The efforts (stacked rows) from x, ẋ, ẍ, y, ẏ, ÿ at λ given."""
+        return self.torques(self.legs(x, xd, xdd, y, yd, ydd), y, lam)[0]
 
     def torques(
         self, lg: Any, y: Any, lam: tuple[Any, Any] | None = None, delta: Any = None

@@ -4,12 +4,14 @@ path, enclosures of an independent reference.
 - ``rprpr/_kernel.c`` is what ``kernel_gen`` writes today (regenerated like a golden).
 - On random balls (both actuation schemes, legs alike and asymmetric, vectors, scalars
   and broadcast radii, balls holding 0 under a division, unbounded and NaN inputs,
-  overflow), ``Stacked.legs``/``torques``, ``horner`` and y's derivatives over boxes
+  overflow), ``Stacked.legs``/``torques``/``efforts``/``efforts_at`` (λ given: vectors,
+  one column, scalars), ``horner`` and y's derivatives over boxes
   (``jets.y_values``/``y_jets``) through the kernel give the same
   arrays, bit for bit and of the same shapes, as their numpy path.
 - On random boxes, every output ball holds the value of the mpmath reference
   (``tests.reference``, written apart from the engine) at 256 bits at points of the
-  boxes, and each jet's derivative ball holds the reference's derivative.
+  boxes, and each jet's derivative ball holds the reference's derivative; T at λ given
+  holds the reference's T where the λ balls hold the reference's λ.
 - ``RPRPR_NO_KERNEL=1`` turns the kernel off (the numpy path alone), in a fresh process.
 """
 
@@ -225,6 +227,44 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
     assert spy.took >= 8 * 60 * 0.9  # eight calls a trial, and few shapes declined
 
 
+def _lam(rng: np.random.Generator, n: int) -> Ball:
+    """λ as the forms near an instant give it: a vector (a zone's, of ε), one column (a
+    box's Lagrange form times a power of ε), or a scalar (the form's ratio alone)."""
+    kind = rng.integers(0, 3)
+    if kind == 0:
+        return _vector(rng, n)
+    mid = _mids(rng, 1, (1,))
+    with quiet():
+        rad = np.abs(mid) * 10.0 ** rng.uniform(-17, 1)
+    return Ball(mid, rad) if kind == 1 else Ball(mid[0], rad[0])
+
+
+@needs_kernel
+@pytest.mark.parametrize("prismatic", [False, True])
+def test_efforts_at_lambda_given_through_the_kernel_are_numpy_bit_for_bit(
+    prismatic: bool, spy: Spy
+) -> None:
+    """``efforts_at`` (the legs and the torques at λ given, in one call) against numpy's
+    ``_torques(_legs(...), y, λ)``, on balls and on jets."""
+    rng = np.random.default_rng(61 + prismatic)
+    for trial in range(80):
+        st = Stacked(_robot(rng, prismatic, bool(rng.integers(0, 2))))
+        n = int(rng.choice([1, 2, 3, 17, 64]))
+        with quiet():
+            args = [_vector(rng, n)] + [_ball(rng, n) for _ in range(5)]
+            lam = (_lam(rng, n), _lam(rng, n))
+            want = st._torques(st._legs(*args), args[3], lam)[0]
+            _same(st.efforts_at(*args, lam), want, (trial, "T at λ"))
+            jets = [Jet(_vector(rng, n), _ball(rng, n))] + [
+                Jet(_ball(rng, n), _ball(rng, n)) for _ in range(5)
+            ]
+            lj = (Jet(_lam(rng, n), _lam(rng, n)), Jet(_lam(rng, n), _lam(rng, n)))
+            got, want = st.efforts_at(*jets, lj), st._torques(st._legs(*jets), jets[3], lj)[0]
+            _same(got.v, want.v, (trial, "T at λ"))
+            _same(got.d, want.d, (trial, "T' at λ"))
+    assert (spy.took, spy.declined) == (2 * 80, 0)
+
+
 class _Motion(CertifiedMotion):
     """What ``formulas`` reads of a motion: the robot's parameters and its scheme."""
 
@@ -408,6 +448,43 @@ def test_kernel_balls_enclose_the_reference(prismatic: bool, spy: Spy) -> None:
                     checked += 1
     assert checked >= 100  # of 144 points (a few fall where T is undefined)
     assert (spy.took, spy.declined) == (4 * 4, 0)  # legs, torques, efforts, formulas: kernel's
+
+
+@needs_kernel
+@pytest.mark.parametrize("prismatic", [False, True])
+def test_efforts_at_lambda_given_enclose_the_reference(prismatic: bool, spy: Spy) -> None:
+    """T over boxes at λ given, λ1 and λ2 balls holding the reference's λ at the points
+    taken in each box: T's balls hold the reference's T1, T2 at those points."""
+    rng = np.random.default_rng(71 + prismatic)
+    checked = 0
+    for _ in range(4):
+        robot = _robot(rng, prismatic, bool(rng.integers(0, 2)))
+        st = Stacked(robot)
+        n = 12
+        boxes = _boxes(rng, n)
+        refs: list[list[dict[str, Any]]] = []
+        for j in range(n):
+            with mpmath.workprec(256):
+                got = [_reference(robot, _points(rng, boxes, j)) for _ in range(3)]
+            refs.append([r for r in got if r.get("T1") is not None])
+        lam = []
+        for key in ("lambda1", "lambda2"):
+            lo, hi = np.zeros(n), np.zeros(n)
+            for j, rs in enumerate(refs):
+                v = [float(r[key]) for r in rs] or [0.0]
+                lo[j], hi[j] = min(v), max(v)
+            mid, rad = 0.5 * lo + 0.5 * hi, 0.5 * (hi - lo)
+            lam.append(Ball(mid, rad * 2 + np.abs(mid) * 1e-12 + 1e-300))  # round-off held
+        with quiet():
+            T = st.efforts_at(*boxes, (lam[0], lam[1]))
+        for j, rs in enumerate(refs):
+            for ref in rs:
+                for i, key in ((0, "lambda1"), (1, "lambda2")):
+                    assert _holds(lam[i], j, ref[key])
+                assert _holds(T, (0, j), ref["T1"]) and _holds(T, (1, j), ref["T2"])
+                checked += 1
+    assert checked >= 100  # of 144 points (a few fall where T is undefined)
+    assert (spy.took, spy.declined) == (4, 0)  # the kernel's, one call a robot
 
 
 @needs_kernel
