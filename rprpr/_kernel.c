@@ -28,7 +28,7 @@
 #endif
 
 
-#define KERNEL_DIGEST "bb2455b1528f6554"
+#define KERNEL_DIGEST "20538ea8f39de613"
 #define U 0x1.0000000000000p-53
 #define ETA 0x0.0000000000001p-1022
 #define GROW 0x1.0000000000010p+0
@@ -37,6 +37,9 @@
 #define SQ 0x1.0000000000002p+0
 #define DOWN 0x1.ffffffffffff8p-1
 #define FOURU 0x1.0000000000000p-51
+#define LINKS_M {-1, 2, -1, 7}
+#define LINKS_MR {0, 3, 5, 8}
+#define LINKS_J {1, 4, 6, 9}
 
 /* One input ball's mid and radius: a base pointer and byte strides (row, column), 0
  * where numpy broadcasts. */
@@ -121,12 +124,18 @@ static int take_in(PyObject *o, Py_buffer *v, Py_ssize_t *got, int rows, Py_ssiz
     return as_array(v, rows, n, a);
 }
 
-/* The views and the output released; True when the kernel ran (not bad). */
-static PyObject *done(Py_buffer *views, Py_ssize_t got, Py_buffer *ov, int bad)
+/* The first `got` views released. */
+static void release(Py_buffer *views, Py_ssize_t got)
 {
     Py_ssize_t i;
     for (i = 0; i < got; i++)
         PyBuffer_Release(&views[i]);
+}
+
+/* The views and the output released; True when the kernel ran (not bad). */
+static PyObject *done(Py_buffer *views, Py_ssize_t got, Py_buffer *ov, int bad)
+{
+    release(views, got);
     PyBuffer_Release(ov);
     if (bad)
         Py_RETURN_FALSE;
@@ -7994,6 +8003,10 @@ static PyObject *py_bounds(PyObject *self, PyObject *args)
 static double np_max(double a, double b) { return (a >= b || a != a) ? a : b; }
 static double np_min(double a, double b) { return (a <= b || a != a) ? a : b; }
 
+/* The regressor's columns per link 2, 3, 4, 5 (exact/regressor_form.py's LINKS, written by
+ * kernel_gen): m (-1: none), m r and the inertia about the joint. */
+static const int KM[4] = LINKS_M, KMR[4] = LINKS_MR, KJ[4] = LINKS_J;
+
 static int is_f64(const Py_buffer *v)
 {
     const char *f = v->format;
@@ -8004,6 +8017,24 @@ static int is_f64(const Py_buffer *v)
 #endif
     return v->itemsize == 8 && f != NULL && (strcmp(f, "d") == 0 || strcmp(f, ours) == 0
                                              || strcmp(f, "=d") == 0);
+}
+
+/* The inputs `ins` viewed as float64 buffers (counted in *got, to be released), those
+ * from `contiguous` on C-contiguous, the others with their strides: 0, or 1 when one is
+ * not taken (no exception left set). */
+static int take_f64(PyObject **ins, int nin, int contiguous, Py_buffer *views, Py_ssize_t *got)
+{
+    for (int i = 0; i < nin; i++) {
+        int flags = (i >= contiguous ? PyBUF_C_CONTIGUOUS : PyBUF_STRIDES) | PyBUF_FORMAT;
+        if (PyObject_GetBuffer(ins[i], &views[i], flags) < 0) {
+            PyErr_Clear();
+            return 1;
+        }
+        (*got)++;
+        if (!is_f64(&views[i]))
+            return 1;
+    }
+    return 0;
 }
 
 /* The largest of A m + B m r + C (m r^2 + I) over one link's box (b: m_lo, m_hi, r_lo,
@@ -8037,7 +8068,6 @@ static void link_both(double A, double B, double C, const double *b, Py_ssize_t 
  * out C-contiguous (n, 2). True when done, False when a shape is not taken. */
 static PyObject *py_box_max(PyObject *self, PyObject *args)
 {
-    static const int KM[4] = {-1, 2, -1, 7}, KMR[4] = {0, 3, 5, 8}, KJ[4] = {1, 4, 6, 9};
     PyObject *yo, *ko, *bo, *oo;
     Py_buffer views[3], ov;
     Py_ssize_t got = 0, n, c, i, j, q, l, e;
@@ -8045,31 +8075,20 @@ static PyObject *py_box_max(PyObject *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "OOOO", &yo, &ko, &bo, &oo))
         return NULL;
     PyObject *ins[3] = {yo, ko, bo};
-    for (i = 0; i < 3 && !bad; i++) {
-        int flags = i ? PyBUF_C_CONTIGUOUS | PyBUF_FORMAT : PyBUF_STRIDES | PyBUF_FORMAT;
-        if (PyObject_GetBuffer(ins[i], &views[i], flags) < 0) {
-            PyErr_Clear();
-            bad = 1;
-        } else {
-            got++;
-            bad = !is_f64(&views[i]);
-        }
-    }
+    bad = take_f64(ins, 3, 1, views, &got);
     if (!bad)
         bad = views[0].ndim != 4 || views[0].shape[0] != 3 || views[0].shape[2] != 2
               || views[0].shape[3] != 10 || views[1].ndim != 2 || views[1].shape[1] != 3
               || views[1].shape[0] < 1
               || views[2].ndim != 2 || views[2].shape[0] != 6 || views[2].shape[1] != 4;
     if (bad) {
-        for (i = 0; i < got; i++)
-            PyBuffer_Release(&views[i]);
+        release(views, got);
         Py_RETURN_FALSE;
     }
     n = views[0].shape[1];
     c = views[1].shape[0];
     if (take_out(oo, &ov, 2 * n) < 0) {
-        for (i = 0; i < got; i++)
-            PyBuffer_Release(&views[i]);
+        release(views, got);
         return NULL;
     }
     const char *yp = (const char *)views[0].buf;
@@ -8130,7 +8149,6 @@ static double link_max_fb(double A, double B, double C, const double *b, Py_ssiz
  * False when a shape is not taken. */
 static PyObject *py_form_bounds(PyObject *self, PyObject *args)
 {
-    static const int KM[4] = {-1, 2, -1, 7}, KMR[4] = {0, 3, 5, 8}, KJ[4] = {1, 4, 6, 9};
     PyObject *mo, *ro, *co, *bo, *oo;
     double slack;
     int upper;
@@ -8140,16 +8158,7 @@ static PyObject *py_form_bounds(PyObject *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "OOOOdpO", &mo, &ro, &co, &bo, &slack, &upper, &oo))
         return NULL;
     PyObject *ins[4] = {mo, ro, co, bo};
-    for (i = 0; i < 4 && !bad; i++) {
-        int flags = i > 1 ? PyBUF_C_CONTIGUOUS | PyBUF_FORMAT : PyBUF_STRIDES | PyBUF_FORMAT;
-        if (PyObject_GetBuffer(ins[i], &views[i], flags) < 0) {
-            PyErr_Clear();
-            bad = 1;
-        } else {
-            got++;
-            bad = !is_f64(&views[i]);
-        }
-    }
+    bad = take_f64(ins, 4, 2, views, &got);
     for (i = 0; i < 2 && !bad; i++)
         bad = views[i].ndim != 4 || views[i].shape[0] != 2 || views[i].shape[1] != 10
               || views[i].shape[2] != 3 || views[i].shape[3] != views[0].shape[3];
@@ -8157,15 +8166,13 @@ static PyObject *py_form_bounds(PyObject *self, PyObject *args)
         bad = views[2].ndim != 2 || views[2].shape[1] != 2 || views[2].shape[0] < 1
               || views[3].ndim != 2 || views[3].shape[0] != 6 || views[3].shape[1] != 4;
     if (bad) {
-        for (i = 0; i < got; i++)
-            PyBuffer_Release(&views[i]);
+        release(views, got);
         Py_RETURN_FALSE;
     }
     n = views[0].shape[3];
     nc = views[2].shape[0];
     if (take_out(oo, &ov, 2 * n) < 0) {
-        for (i = 0; i < got; i++)
-            PyBuffer_Release(&views[i]);
+        release(views, got);
         return NULL;
     }
     const double *es = (const double *)views[2].buf, *bd = (const double *)views[3].buf;

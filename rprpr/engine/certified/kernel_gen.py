@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from ..exact.regressor_form import LINKS
 from . import balls
 from . import jets as jets_
 from .balls import Ball
@@ -430,6 +431,9 @@ def source() -> str:
     """The whole C file."""
     parts = [HEAD, DIGEST_LINE]
     parts += [f"#define {k} {v}" for k, v in _C.items()]
+    for name, q in (("LINKS_M", 1), ("LINKS_MR", 2), ("LINKS_J", 3)):  # regressor_form.LINKS
+        cols = ", ".join(str(-1 if row[q] is None else row[q]) for row in LINKS)
+        parts.append(f"#define {name} {{{cols}}}")
     parts.append(RUNTIME)
     specs = []
     for k, outs in kernels():

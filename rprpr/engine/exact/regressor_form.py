@@ -14,6 +14,12 @@ from . import equations as dyn
 # the links' inertial parameters (π above): (link, what), what one of m, mr, J
 BASIS = ((2, "mr"), (2, "J"), (3, "m"), (3, "mr"), (3, "J"),
          (4, "mr"), (4, "J"), (5, "m"), (5, "mr"), (5, "J"))  # fmt: skip
+# each link's columns of BASIS: (link, m or None, m r, J)
+LINKS = tuple(
+    (k, BASIS.index((k, "m")) if (k, "m") in BASIS else None,
+     BASIS.index((k, "mr")), BASIS.index((k, "J")))
+    for k in (2, 3, 4, 5)
+)  # fmt: skip
 
 
 # -- the regressor in closed form, for ball and jet arithmetic ---------------------------

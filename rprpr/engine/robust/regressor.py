@@ -17,6 +17,7 @@ from ..certified.kernel import INDEX, KERNEL
 from ..exact import equations as dyn
 from ..exact.mechanism import of
 from ..exact.regressor_form import BASIS as BASIS
+from ..exact.regressor_form import LINKS as LINKS
 from ..exact.regressor_form import closed_form as closed_form
 from ..exact.regressor_form import regressor_columns as regressor_columns
 
@@ -140,9 +141,6 @@ def link_max_ball(A: arb, B: arb, C: arb, box: Any) -> Pair:
     mG = pair_max([(mlo * Glo, mlo * Ghi), (mhi * Glo, mhi * Ghi)])
     cI = pair_max([pair(C * ilo), pair(C * ihi)])
     return (mG[0] + cI[0]).lower(), (mG[1] + cI[1]).upper()
-
-
-LINKS = ((2, None, 0, 1), (3, 2, 3, 4), (4, None, 5, 6), (5, 7, 8, 9))  # link, m, mr, J
 
 
 def form_max(Y: Sequence[Any], box: Any, ball: bool) -> Any:
