@@ -18,22 +18,8 @@ from rprpr.engine.bounds.boxes import Bounds, partition
 from rprpr.engine.bounds.envelope import Envelope
 from rprpr.engine.certified.balls import Ball, quiet
 from rprpr.engine.certified.kernel import KERNEL
-from tests.engine.certified.test_kernel import _mids
+from tests.engine.certified.test_kernel import Spy, _mids, needs_kernel
 from tests.engine.certified.test_motion import _config, _motion
-
-needs_kernel = pytest.mark.skipif(KERNEL is None, reason="the compiled kernel is not built")
-
-
-class Spy:
-    def __init__(self, kernel: Any) -> None:
-        self.kernel = kernel
-        self.took = self.declined = 0
-
-    def bounds(self, *args: Any) -> bool:
-        done = bool(self.kernel.bounds(*args))
-        self.took += done
-        self.declined += not done
-        return done
 
 
 @pytest.fixture

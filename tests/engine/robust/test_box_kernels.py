@@ -36,28 +36,9 @@ from rprpr.engine.certified.kernel import KERNEL
 from rprpr.engine.robust import regressor, windows
 from rprpr.engine.robust.regressor import BASIS, LINKS, form_bounds
 from rprpr.engine.robust.windows import box_max
+from tests.engine.certified.test_kernel import Spy, needs_kernel
 
-needs_kernel = pytest.mark.skipif(KERNEL is None, reason="the compiled kernel is not built")
 Q = Fraction
-
-
-class Spy:
-    """The kernel, counting the ``box_max`` and ``form_bounds`` calls it took and declined."""
-
-    def __init__(self, kernel: Any) -> None:
-        self.kernel = kernel
-        self.took = self.declined = 0
-
-    def _count(self, done: bool) -> bool:
-        self.took += bool(done)
-        self.declined += not done
-        return done
-
-    def box_max(self, *args: Any) -> bool:
-        return self._count(self.kernel.box_max(*args))
-
-    def form_bounds(self, *args: Any) -> bool:
-        return self._count(self.kernel.form_bounds(*args))
 
 
 def _bounds(rng: np.random.Generator) -> np.ndarray:
