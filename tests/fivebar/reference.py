@@ -44,6 +44,9 @@ from ..lu import lu_solve
 DPS = 60  # working digits of mpmath for everything not exact
 
 
+_EXACT = (Fraction, int)
+
+
 def mp(v: Any) -> Any:
     """v as an mpf (a Fraction rounded correctly at the current precision)."""
     if isinstance(v, Fraction):
@@ -64,40 +67,63 @@ def _sqrt(v: Any) -> Any:
 
 def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
     """Fractions meet mpf as mpf; two Fractions stay exact."""
-    if isinstance(a, Fraction | int) and isinstance(b, Fraction | int):
+    if isinstance(a, _EXACT) and isinstance(b, _EXACT):
         return a, b
-    if isinstance(a, Fraction | int):
+    if isinstance(a, _EXACT):
         a = mp(a)
-    if isinstance(b, Fraction | int):
+    if isinstance(b, _EXACT):
         b = mp(b)
     return a, b
 
 
+def _floats(c: list[Any]) -> list[Any]:
+    """The coefficients c with every Fraction (or int) as an mpf: what ``_coerce`` makes
+    of each of them where it meets an mpf, made once per series."""
+    return [mp(v) if isinstance(v, _EXACT) else v for v in c]
+
+
 class Jet:
-    """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0."""
+    """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0.
 
-    __slots__ = ("c",)
+    Its coefficients are all exact (Fractions: ``exact``) or not; an operation on two
+    exact series is exact, any other meets at mpf (a Fraction rounded once, as
+    ``_coerce`` does), in plain mpf arithmetic on lists."""
 
-    def __init__(self, c: Sequence[Any]) -> None:
+    __slots__ = ("_f", "c", "exact")
+
+    def __init__(self, c: Sequence[Any], exact: bool | None = None) -> None:
         self.c = list(c)
+        self.exact = all(isinstance(v, _EXACT) for v in self.c) if exact is None else exact
+        self._f: tuple[int, list[Any]] | None = None
+
+    def floats(self) -> list[Any]:
+        """The coefficients as mpf (``_floats``), made once per working precision."""
+        prec = mpmath.mp.prec
+        if self._f is None or self._f[0] != prec:
+            self._f = (prec, _floats(self.c))
+        return self._f[1]
 
     @staticmethod
     def lift(v: Any, n: int) -> Jet:
         return v if isinstance(v, Jet) else Jet([v] + [Fraction(0)] * (n - 1))
 
-    def _pair(self, o: Any) -> tuple[Jet, Jet]:
+    def _lists(self, o: Any) -> tuple[list[Any], list[Any], bool]:
+        """The two series' coefficients, to the shorter's length, as Fractions when both
+        are exact, else as mpf; and whether they are exact."""
         o = Jet.lift(o, len(self.c))
         n = min(len(self.c), len(o.c))
-        return Jet(self.c[:n]), Jet(o.c[:n])
+        if self.exact and o.exact:
+            return self.c[:n], o.c[:n], True
+        return self.floats()[:n], o.floats()[:n], False
 
     def __add__(self, o: Any) -> Jet:
-        a, b = self._pair(o)
-        return Jet([_add(p, q) for p, q in zip(a.c, b.c, strict=True)])
+        a, b, exact = self._lists(o)
+        return Jet([p + q for p, q in zip(a, b, strict=True)], exact)
 
     __radd__ = __add__
 
     def __neg__(self) -> Jet:
-        return Jet([-p for p in self.c])
+        return Jet([-p for p in self.c], self.exact)
 
     def __sub__(self, o: Any) -> Jet:
         return self + (-Jet.lift(o, len(self.c)))
@@ -107,46 +133,57 @@ class Jet:
 
     def __mul__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
-            return Jet([_mul(p, o) for p in self.c])
-        a, b = self._pair(o)
-        n = len(a.c)
+            if self.exact and isinstance(o, _EXACT):
+                return Jet([p * o for p in self.c], True)
+            o = mp(o) if isinstance(o, _EXACT) else o
+            return Jet([p * o for p in self.floats()], False)
+        a, b, exact = self._lists(o)
         out = []
-        for k in range(n):
-            s: Any = Fraction(0)
-            for i in range(k + 1):
-                s = _add(s, _mul(a.c[i], b.c[k - i]))
+        for k in range(len(a)):
+            s = a[0] * b[k]  # 0 + x is x, exactly, in either arithmetic
+            for i in range(1, k + 1):
+                s = s + a[i] * b[k - i]
             out.append(s)
-        return Jet(out)
+        return Jet(out, exact)
 
     __rmul__ = __mul__
 
     def __truediv__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
             return self * _inv(o)
-        a, b = self._pair(o)
+        a, b, exact = self._lists(o)
+        inv = _inv(o.c[0])  # 1/b0 exact when b0 is, then rounded (as _coerce rounds it)
+        if not exact and isinstance(inv, Fraction):
+            inv = mp(inv)
         q: list[Any] = []
-        for k in range(len(a.c)):
-            s = a.c[k]
+        for k in range(len(a)):
+            s = a[k]
             for i in range(k):
-                s = _add(s, -_mul(q[i], b.c[k - i]))
-            q.append(_mul(s, _inv(b.c[0])))
-        return Jet(q)
+                s = s + -(q[i] * b[k - i])
+            q.append(s * inv)
+        return Jet(q, exact)
 
     def __rtruediv__(self, o: Any) -> Jet:
         return Jet.lift(o, len(self.c)) / self
 
     def sqrt(self) -> Jet:
-        s = [_sqrt(self.c[0])]
-        for k in range(1, len(self.c)):
-            acc = self.c[k]
+        s0 = _sqrt(self.c[0])
+        inv = _inv(2 * s0)  # exact when s0 is, then rounded (as _coerce rounds it)
+        if self.exact and isinstance(s0, Fraction):
+            c, s = self.c, [s0]
+        else:
+            c, s = self.floats(), [mp(s0) if isinstance(s0, Fraction) else s0]
+            inv = mp(inv) if isinstance(inv, Fraction) else inv
+        for k in range(1, len(c)):
+            acc = c[k]
             for i in range(1, k):
-                acc = _add(acc, -_mul(s[i], s[k - i]))
-            s.append(_mul(acc, _inv(2 * s[0])))
+                acc = acc + -(s[i] * s[k - i])
+            s.append(acc * inv)
         return Jet(s)
 
     def dt(self) -> Jet:
         """d/dt, one order shorter."""
-        return Jet([k * self.c[k] for k in range(1, len(self.c))])
+        return Jet([k * self.c[k] for k in range(1, len(self.c))], self.exact)
 
     def d(self, k: int) -> Any:
         """The k-th time derivative at t0 (exact, or at ``DPS`` digits)."""
@@ -165,7 +202,7 @@ def _mul(p: Any, q: Any) -> Any:
 
 
 def _inv(p: Any) -> Any:
-    return Fraction(1) / p if isinstance(p, Fraction | int) else 1 / p
+    return Fraction(1) / p if isinstance(p, _EXACT) else 1 / p
 
 
 # -- the robot and the motion ---------------------------------------------------------------
