@@ -20,7 +20,7 @@ from typing import Any
 import mpmath
 import sympy as sp
 
-from .locus import curve, x, y
+from .locus import curve_at
 from .reference import DPS, FiveBar, Jet, Motion, delta, elbows, mp
 
 MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
@@ -58,12 +58,14 @@ def _series_order(rb: FiveBar, motion: Motion, t: Any, modes: tuple[int, int]) -
 def _roots(rb: FiveBar, motion: Motion, t0: Fraction, t1: Fraction) -> tuple[Any, ...]:
     """(root, σ, multiplicity) for the real roots of S₊(E(t)) and S₋(E(t)) in [t0, t1]."""
     t = sp.Symbol("t")
-    xt = sum(_rat(c) * t**k for k, c in enumerate(motion.x))
-    yt = sum(_rat(c) * t**k for k, c in enumerate(motion.y))
+    # x(t), y(t) as Polys over QQ: S_σ(x(t), y(t)) is then Poly arithmetic, the same
+    # polynomial as curve(σ) with x(t), y(t) substituted and expanded
+    xt = sp.Poly([_rat(c) for c in reversed(motion.x)], t, domain="QQ")
+    yt = sp.Poly([_rat(c) for c in reversed(motion.y)], t, domain="QQ")
     params = [_rat(p) for p in (rb.a, *rb.length)]
     out = []
     for sigma in (1, -1):
-        P = sp.Poly(curve(sigma, *params).subs({x: xt, y: yt}, simultaneous=True), t)
+        P = curve_at(sigma, *params, xt, yt)
         if P.is_zero:
             raise ValueError("the path runs along a line-up curve")
         for f, m in P.factor_list()[1]:
