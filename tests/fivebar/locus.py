@@ -14,6 +14,8 @@ from __future__ import annotations
 from typing import Any
 
 import sympy as sp
+from sympy import QQ
+from sympy.polys.rings import ring
 
 x, y = sp.symbols("x y", real=True)
 
@@ -39,10 +41,21 @@ def conjugates(a: Any, l1: Any, l2: Any, l3: Any, l4: Any) -> dict[str, Any]:
 def norm(a: Any, l1: Any, l2: Any, l3: Any, l4: Any, *gens: Any) -> sp.Poly:
     """Π over the four working modes of δ·|E|²|E - B|², a polynomial (Poly in x, y and
     any symbols among the parameters, listed in gens)."""
-    p = {k: sp.Poly(v, x, y, *gens, domain="QQ") for k, v in _parts(a, l1, l2, l3, l4).items()}
+    R, *_ = ring([x, y, *gens], QQ)  # sympy's sparse polynomials: the same products
+    p = {k: R(v) for k, v in _parts(a, l1, l2, l3, l4).items()}
     A0 = p["P0"] ** 2 + p["P2"] ** 2 * p["D2"] - p["D1"] * (p["P1"] ** 2 + p["P3"] ** 2 * p["D2"])
     A1 = 2 * p["P0"] * p["P2"] - 2 * p["D1"] * p["P1"] * p["P3"]
-    return A0**2 - p["D2"] * A1**2
+    return sp.Poly.from_dict(dict(A0**2 - p["D2"] * A1**2), x, y, *gens, domain=QQ)
+
+
+def product(factors: list[Any], *gens: Any) -> sp.Poly:
+    """The product of sympy expressions in x, y (and the symbols gens) as a Poly over QQ,
+    multiplied as sympy's sparse polynomials."""
+    R, *_ = ring([x, y, *gens], QQ)
+    out = R(1)
+    for f in factors:
+        out *= R(f)
+    return sp.Poly.from_dict(dict(out), x, y, *gens, domain=QQ)
 
 
 def curve(sigma: int, a: Any, l1: Any, l2: Any, l3: Any, l4: Any) -> Any:
