@@ -69,7 +69,10 @@ def _roots(rb: FiveBar, motion: Motion, t0: Fraction, t1: Fraction) -> tuple[Any
         if P.is_zero:
             raise ValueError("the path runs along a line-up curve")
         for f, m in P.factor_list()[1]:
-            for r in sp.Poly(f, t).real_roots():
+            f = sp.Poly(f, t)
+            if not f.count_roots(_rat(t0), _rat(t1)):
+                continue  # no real root in [t0, t1] (Sturm): none to compare
+            for r in f.real_roots():
                 if _rat(t0) <= r <= _rat(t1):
                     out.append((r, sigma, m))
     return tuple(out)
@@ -99,4 +102,6 @@ def singular_instants(
         order = _series_order(rb, motion, tr, modes)
         others = tuple(size[e] for e in MODES if e != modes)
         found.append(Instant(r, sigma, m, order, others))
+    if len(found) < 2:
+        return found  # in time order already (sympy's roots are slow to evaluate)
     return sorted(found, key=lambda i: sp.N(i.t, 30))
