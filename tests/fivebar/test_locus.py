@@ -177,11 +177,11 @@ def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owne
                  (Q(1),) * 4, (Q(1),) * 4, (Q(1, 2),) * 4, Q(0))  # fmt: skip
     modes = ((1, 1), (1, -1), (-1, 1), (-1, -1))
     for sigma, expected in zip((1, -1), owners, strict=True):
-        S = curve(sigma, *robot)
+        S = sp.Poly(curve(sigma, *robot), x, y)
         seen = set()
         for i in range(-10, 20):
             xv = sp.Rational(i, 4)
-            py = sp.Poly(S.subs(x, xv), y)
+            py = sp.Poly(S.eval(x, xv), y)
             if py.degree() <= 0:
                 continue
             for r in py.nroots(n=40, maxsteps=500):
