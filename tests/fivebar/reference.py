@@ -44,12 +44,30 @@ from ..lu import lu_solve
 DPS = 60  # working digits of mpmath for everything not exact
 
 
-_EXACT = (Fraction, int)
+try:  # GMP's rationals for the series' exact arithmetic (the same rationals, faster)
+    from gmpy2 import mpq as _Q
+except ImportError:  # pragma: no cover - gmpy2 is in the test extra
+    _Q = Fraction
+_QT: type = type(_Q(0))
+_RATIONAL = (Fraction, _QT)
+_EXACT = (Fraction, int, _QT)
+
+
+def _q(v: Any) -> Any:
+    """A Fraction as the series' exact type (an mpq); anything else as it is."""
+    return _Q(v) if isinstance(v, Fraction) and _QT is not Fraction else v
+
+
+def _frac(v: Any) -> Any:
+    """An mpq as a Fraction (what the series give their callers); anything else as it is."""
+    if isinstance(v, _QT) and _QT is not Fraction:
+        return Fraction(int(v.numerator), int(v.denominator))
+    return v
 
 
 def mp(v: Any) -> Any:
     """v as an mpf (a Fraction rounded correctly at the current precision)."""
-    if isinstance(v, Fraction):
+    if isinstance(v, _RATIONAL):
         return mpmath.mpf(v.numerator) / v.denominator
     return mpmath.mpf(v)
 
@@ -58,10 +76,10 @@ def _sqrt(v: Any) -> Any:
     """√v: exact for a Fraction that is a rational square, else an mpf."""
     if v < 0:
         raise ValueError("E is out of a leg's reach (D1 or D2 < 0): no elbow")
-    if isinstance(v, Fraction):
+    if isinstance(v, _RATIONAL):
         p, q = isqrt(v.numerator), isqrt(v.denominator)
         if p * p == v.numerator and q * q == v.denominator:
-            return Fraction(p, q)
+            return type(v)(p, q)
     return mpmath.sqrt(mp(v))
 
 
@@ -85,22 +103,34 @@ def _floats(c: list[Any]) -> list[Any]:
 class Jet:
     """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0.
 
-    Its coefficients are all exact (Fractions: ``exact``) or not; an operation on two
-    exact series is exact, any other meets at mpf (a Fraction rounded once, as
-    ``_coerce`` does), in plain mpf arithmetic on lists."""
+    Its coefficients are all exact (rationals: ``exact``) or not; an operation on two
+    exact series is exact, any other meets at mpf (a rational rounded once, as
+    ``_coerce`` does), in plain mpf arithmetic on lists. The exact coefficients are kept
+    as GMP rationals (mpq) and given to callers as Fractions (``c``)."""
 
-    __slots__ = ("_f", "c", "exact")
+    __slots__ = ("_c", "_f", "_fr", "exact")
 
     def __init__(self, c: Sequence[Any], exact: bool | None = None) -> None:
-        self.c = list(c)
-        self.exact = all(isinstance(v, _EXACT) for v in self.c) if exact is None else exact
+        if exact is None:
+            c = [_q(v) for v in c]
+            exact = all(isinstance(v, _EXACT) for v in c)
+        self._c = list(c)
+        self.exact = exact
         self._f: tuple[int, list[Any]] | None = None
+        self._fr: list[Any] | None = None
+
+    @property
+    def c(self) -> list[Any]:
+        """The coefficients: Fractions (or ints) where exact, else mpf."""
+        if self._fr is None:
+            self._fr = [_frac(v) for v in self._c]
+        return self._fr
 
     def floats(self) -> list[Any]:
         """The coefficients as mpf (``_floats``), made once per working precision."""
         prec = mpmath.mp.prec
         if self._f is None or self._f[0] != prec:
-            self._f = (prec, _floats(self.c))
+            self._f = (prec, _floats(self._c))
         return self._f[1]
 
     @staticmethod
@@ -108,12 +138,12 @@ class Jet:
         return v if isinstance(v, Jet) else Jet([v] + [Fraction(0)] * (n - 1))
 
     def _lists(self, o: Any) -> tuple[list[Any], list[Any], bool]:
-        """The two series' coefficients, to the shorter's length, as Fractions when both
+        """The two series' coefficients, to the shorter's length, as rationals when both
         are exact, else as mpf; and whether they are exact."""
-        o = Jet.lift(o, len(self.c))
-        n = min(len(self.c), len(o.c))
+        o = Jet.lift(o, len(self._c))
+        n = min(len(self._c), len(o._c))
         if self.exact and o.exact:
-            return self.c[:n], o.c[:n], True
+            return self._c[:n], o._c[:n], True
         return self.floats()[:n], o.floats()[:n], False
 
     def __add__(self, o: Any) -> Jet:
@@ -123,18 +153,19 @@ class Jet:
     __radd__ = __add__
 
     def __neg__(self) -> Jet:
-        return Jet([-p for p in self.c], self.exact)
+        return Jet([-p for p in self._c], self.exact)
 
     def __sub__(self, o: Any) -> Jet:
-        return self + (-Jet.lift(o, len(self.c)))
+        return self + (-Jet.lift(o, len(self._c)))
 
     def __rsub__(self, o: Any) -> Jet:
-        return Jet.lift(o, len(self.c)) - self
+        return Jet.lift(o, len(self._c)) - self
 
     def __mul__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
             if self.exact and isinstance(o, _EXACT):
-                return Jet([p * o for p in self.c], True)
+                o = _q(o)
+                return Jet([p * o for p in self._c], True)
             o = mp(o) if isinstance(o, _EXACT) else o
             return Jet([p * o for p in self.floats()], False)
         a, b, exact = self._lists(o)
@@ -152,8 +183,8 @@ class Jet:
         if not isinstance(o, Jet):
             return self * _inv(o)
         a, b, exact = self._lists(o)
-        inv = _inv(o.c[0])  # 1/b0 exact when b0 is, then rounded (as _coerce rounds it)
-        if not exact and isinstance(inv, Fraction):
+        inv = _inv(o._c[0])  # 1/b0 exact when b0 is, then rounded (as _coerce rounds it)
+        if not exact and isinstance(inv, _RATIONAL):
             inv = mp(inv)
         q: list[Any] = []
         for k in range(len(a)):
@@ -164,16 +195,16 @@ class Jet:
         return Jet(q, exact)
 
     def __rtruediv__(self, o: Any) -> Jet:
-        return Jet.lift(o, len(self.c)) / self
+        return Jet.lift(o, len(self._c)) / self
 
     def sqrt(self) -> Jet:
-        s0 = _sqrt(self.c[0])
+        s0 = _sqrt(self._c[0])
         inv = _inv(2 * s0)  # exact when s0 is, then rounded (as _coerce rounds it)
-        if self.exact and isinstance(s0, Fraction):
-            c, s = self.c, [s0]
+        if self.exact and isinstance(s0, _RATIONAL):
+            c, s = self._c, [s0]
         else:
-            c, s = self.floats(), [mp(s0) if isinstance(s0, Fraction) else s0]
-            inv = mp(inv) if isinstance(inv, Fraction) else inv
+            c, s = self.floats(), [mp(s0) if isinstance(s0, _RATIONAL) else s0]
+            inv = mp(inv) if isinstance(inv, _RATIONAL) else inv
         for k in range(1, len(c)):
             acc = c[k]
             for i in range(1, k):
@@ -183,7 +214,7 @@ class Jet:
 
     def dt(self) -> Jet:
         """d/dt, one order shorter."""
-        return Jet([k * self.c[k] for k in range(1, len(self.c))], self.exact)
+        return Jet([k * self._c[k] for k in range(1, len(self._c))], self.exact)
 
     def d(self, k: int) -> Any:
         """The k-th time derivative at t0 (exact, or at ``DPS`` digits)."""
@@ -202,6 +233,8 @@ def _mul(p: Any, q: Any) -> Any:
 
 
 def _inv(p: Any) -> Any:
+    if isinstance(p, _QT):
+        return _Q(1) / p
     return Fraction(1) / p if isinstance(p, _EXACT) else 1 / p
 
 
@@ -232,6 +265,15 @@ def dot(u: Vec, v: Vec) -> Any:
 
 def _poly_jet(coeffs: Sequence[Fraction], t0: Any, n: int) -> Jet:
     """The polynomial Σ coeffs[k] t^k expanded about t0: n Taylor coefficients."""
+    if isinstance(t0, _EXACT):  # exact: in the series' rationals
+        t, cs = _q(t0), [_q(c) for c in coeffs]
+        exact = []
+        for k in range(n):
+            e: Any = _Q(0)
+            for j in range(k, len(cs)):
+                e = e + cs[j] * _binom(j, k) * t ** (j - k)
+            exact.append(e)
+        return Jet(exact, True)
     out = []
     for k in range(n):
         s: Any = Fraction(0)
@@ -327,7 +369,7 @@ def _links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int)
 
 
 def _val(j: Any) -> Any:
-    return mp(j.c[0]) if isinstance(j, Jet) else mp(j)
+    return mp(j._c[0]) if isinstance(j, Jet) else mp(j)
 
 
 def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
