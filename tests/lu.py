@@ -25,8 +25,9 @@ def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
     try:
         ctx.prec += 10
         wp, rnd = ctx._prec_rounding
-        M = [[ctx.convert(v)._mpf_ for v in row] for row in A]
-        y = [ctx.convert(v)._mpf_ for v in b]
+        mpf = ctx.mpf
+        M = [[v._mpf_ if type(v) is mpf else ctx.convert(v)._mpf_ for v in row] for row in A]
+        y = [v._mpf_ if type(v) is mpf else ctx.convert(v)._mpf_ for v in b]
         n = len(M)
         colmax = fzero  # max over columns of Σ_i |A_ij| (mpmath's tolerance)
         for j in range(n):

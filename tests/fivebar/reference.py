@@ -38,6 +38,7 @@ from math import factorial, isqrt
 from typing import Any
 
 import mpmath
+from mpmath.libmp import from_int, mpf_div
 
 from ..lu import lu_solve
 
@@ -51,11 +52,19 @@ except ImportError:  # pragma: no cover - gmpy2 is in the test extra
 _QT: type = type(_Q(0))
 _RATIONAL = (Fraction, _QT)
 _EXACT = (Fraction, int, _QT)
+_EXACT_TYPES = frozenset(_EXACT)
+_MPF = mpmath.mpf
+
+
+def _exact(v: Any) -> bool:
+    """isinstance(v, _EXACT), the usual types first (Fraction's is an ABC: slow to test)."""
+    t = type(v)
+    return t in _EXACT_TYPES or (t is not _MPF and isinstance(v, _EXACT))
 
 
 def _q(v: Any) -> Any:
     """A Fraction as the series' exact type (an mpq); anything else as it is."""
-    return _Q(v) if isinstance(v, Fraction) and _QT is not Fraction else v
+    return _Q(v) if type(v) is Fraction and _QT is not Fraction else v
 
 
 def _frac(v: Any) -> Any:
@@ -66,9 +75,15 @@ def _frac(v: Any) -> Any:
 
 
 def mp(v: Any) -> Any:
-    """v as an mpf (a Fraction rounded correctly at the current precision)."""
-    if isinstance(v, _RATIONAL):
-        return mpmath.mpf(v.numerator) / v.denominator
+    """v as an mpf (a Fraction rounded correctly at the current precision): its
+    numerator rounded to an mpf, divided by its denominator, as mpf(p) / q does, in
+    mpmath's own raw operations."""
+    t = type(v)
+    if t is _QT or t is Fraction or (t is not _MPF and isinstance(v, _RATIONAL)):
+        ctx = mpmath.mp
+        prec, rnd = ctx._prec_rounding
+        num = from_int(v.numerator, prec, rnd)
+        return ctx.make_mpf(mpf_div(num, from_int(v.denominator), prec, rnd))
     return mpmath.mpf(v)
 
 
@@ -85,11 +100,11 @@ def _sqrt(v: Any) -> Any:
 
 def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
     """Fractions meet mpf as mpf; two Fractions stay exact."""
-    if isinstance(a, _EXACT) and isinstance(b, _EXACT):
+    if _exact(a) and _exact(b):
         return a, b
-    if isinstance(a, _EXACT):
+    if _exact(a):
         a = mp(a)
-    if isinstance(b, _EXACT):
+    if _exact(b):
         b = mp(b)
     return a, b
 
@@ -97,7 +112,7 @@ def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
 def _floats(c: list[Any]) -> list[Any]:
     """The coefficients c with every Fraction (or int) as an mpf: what ``_coerce`` makes
     of each of them where it meets an mpf, made once per series."""
-    return [mp(v) if isinstance(v, _EXACT) else v for v in c]
+    return [v if type(v) is _MPF else mp(v) if _exact(v) else v for v in c]
 
 
 class Jet:
@@ -113,7 +128,7 @@ class Jet:
     def __init__(self, c: Sequence[Any], exact: bool | None = None) -> None:
         if exact is None:
             c = [_q(v) for v in c]
-            exact = all(isinstance(v, _EXACT) for v in c)
+            exact = all(_exact(v) for v in c)
         self._c = list(c)
         self.exact = exact
         self._f: tuple[int, list[Any]] | None = None
@@ -163,10 +178,10 @@ class Jet:
 
     def __mul__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
-            if self.exact and isinstance(o, _EXACT):
+            if self.exact and _exact(o):
                 o = _q(o)
                 return Jet([p * o for p in self._c], True)
-            o = mp(o) if isinstance(o, _EXACT) else o
+            o = mp(o) if _exact(o) else o
             return Jet([p * o for p in self.floats()], False)
         a, b, exact = self._lists(o)
         out = []
@@ -235,7 +250,7 @@ def _mul(p: Any, q: Any) -> Any:
 def _inv(p: Any) -> Any:
     if isinstance(p, _QT):
         return _Q(1) / p
-    return Fraction(1) / p if isinstance(p, _EXACT) else 1 / p
+    return Fraction(1) / p if _exact(p) else 1 / p
 
 
 # -- the robot and the motion ---------------------------------------------------------------
@@ -265,7 +280,7 @@ def dot(u: Vec, v: Vec) -> Any:
 
 def _poly_jet(coeffs: Sequence[Fraction], t0: Any, n: int) -> Jet:
     """The polynomial Σ coeffs[k] t^k expanded about t0: n Taylor coefficients."""
-    if isinstance(t0, _EXACT):  # exact: in the series' rationals
+    if _exact(t0):  # exact: in the series' rationals
         t, cs = _q(t0), [_q(c) for c in coeffs]
         exact = []
         for k in range(n):
