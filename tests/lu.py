@@ -36,10 +36,17 @@ def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
                 colmax = s
         tol = mpf_abs(mpf_mul(colmax, ctx.eps._mpf_, wp, rnd), wp, rnd)
         p: list[int] = [0] * (n - 1)
+        # Σ_{l >= j} |A_kl| of each row (by the row's identity) since it last changed: a
+        # row that a step leaves as it is has a zero in that step's column, so its sum
+        # from the next column on adds the same nonzero terms, in the same order
+        sums: dict[int, Any] = {}
         for j in range(n - 1):
             biggest = fzero
             for k in range(j, n):
-                s = mpf_sum([mpf_abs(v, wp, rnd) for v in M[k][j:] if v != fzero], wp, rnd)
+                s = sums.get(id(M[k]))
+                if s is None:
+                    s = mpf_sum([mpf_abs(v, wp, rnd) for v in M[k][j:] if v != fzero], wp, rnd)
+                    sums[id(M[k])] = s
                 if mpf_le(mpf_abs(s, wp, rnd), tol):
                     raise ZeroDivisionError("matrix is numerically singular")
                 if M[k][j] == fzero:
@@ -57,6 +64,7 @@ def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
                 row = M[i]
                 if row[j] == fzero:
                     continue  # a zero factor: the row stays as it is
+                del sums[id(row)]  # changed: its sum is made again at the next step
                 f = row[j] = mpf_div(row[j], pivot, wp, rnd)
                 for k in range(j + 1, n):
                     if row_j[k] != fzero:
