@@ -20,7 +20,7 @@ from typing import Any
 import mpmath
 import sympy as sp
 
-from .locus import curve, x, y
+from .locus import curve_at
 from .reference import DPS, FiveBar, Jet, Motion, delta, elbows, mp
 
 MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
@@ -58,16 +58,21 @@ def _series_order(rb: FiveBar, motion: Motion, t: Any, modes: tuple[int, int]) -
 def _roots(rb: FiveBar, motion: Motion, t0: Fraction, t1: Fraction) -> tuple[Any, ...]:
     """(root, σ, multiplicity) for the real roots of S₊(E(t)) and S₋(E(t)) in [t0, t1]."""
     t = sp.Symbol("t")
-    xt = sum(_rat(c) * t**k for k, c in enumerate(motion.x))
-    yt = sum(_rat(c) * t**k for k, c in enumerate(motion.y))
+    # x(t), y(t) as Polys over QQ: S_σ(x(t), y(t)) is then Poly arithmetic, the same
+    # polynomial as curve(σ) with x(t), y(t) substituted and expanded
+    xt = sp.Poly([_rat(c) for c in reversed(motion.x)], t, domain="QQ")
+    yt = sp.Poly([_rat(c) for c in reversed(motion.y)], t, domain="QQ")
     params = [_rat(p) for p in (rb.a, *rb.length)]
     out = []
     for sigma in (1, -1):
-        P = sp.Poly(curve(sigma, *params).subs({x: xt, y: yt}, simultaneous=True), t)
+        P = curve_at(sigma, *params, xt, yt)
         if P.is_zero:
             raise ValueError("the path runs along a line-up curve")
         for f, m in P.factor_list()[1]:
-            for r in sp.Poly(f, t).real_roots():
+            f = sp.Poly(f, t)
+            if not f.count_roots(_rat(t0), _rat(t1)):
+                continue  # no real root in [t0, t1] (Sturm): none to compare
+            for r in f.real_roots():
                 if _rat(t0) <= r <= _rat(t1):
                     out.append((r, sigma, m))
     return tuple(out)
@@ -97,4 +102,6 @@ def singular_instants(
         order = _series_order(rb, motion, tr, modes)
         others = tuple(size[e] for e in MODES if e != modes)
         found.append(Instant(r, sigma, m, order, others))
+    if len(found) < 2:
+        return found  # in time order already (sympy's roots are slow to evaluate)
     return sorted(found, key=lambda i: sp.N(i.t, 30))

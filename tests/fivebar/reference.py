@@ -38,16 +38,52 @@ from math import factorial, isqrt
 from typing import Any
 
 import mpmath
+from mpmath.libmp import from_int, mpf_div
 
 from ..lu import lu_solve
 
 DPS = 60  # working digits of mpmath for everything not exact
 
 
+try:  # GMP's rationals for the series' exact arithmetic (the same rationals, faster)
+    from gmpy2 import mpq as _Q
+except ImportError:  # pragma: no cover - gmpy2 is in the test extra
+    _Q = Fraction
+_QT: type = type(_Q(0))
+_RATIONAL = (Fraction, _QT)
+_EXACT = (Fraction, int, _QT)
+_EXACT_TYPES = frozenset(_EXACT)
+_MPF = mpmath.mpf
+
+
+def _exact(v: Any) -> bool:
+    """isinstance(v, _EXACT), the usual types first (Fraction's is an ABC: slow to test)."""
+    t = type(v)
+    return t in _EXACT_TYPES or (t is not _MPF and isinstance(v, _EXACT))
+
+
+def _q(v: Any) -> Any:
+    """A Fraction as the series' exact type (an mpq); anything else as it is."""
+    return _Q(v) if type(v) is Fraction and _QT is not Fraction else v
+
+
+def _frac(v: Any) -> Any:
+    """An mpq as a Fraction (what the series give their callers); anything else as it is."""
+    if isinstance(v, _QT) and _QT is not Fraction:
+        return Fraction(int(v.numerator), int(v.denominator))
+    return v
+
+
 def mp(v: Any) -> Any:
-    """v as an mpf (a Fraction rounded correctly at the current precision)."""
-    if isinstance(v, Fraction):
-        return mpmath.mpf(v.numerator) / v.denominator
+    """v as an mpf (a Fraction rounded correctly at the current precision): its
+    numerator rounded to an mpf, divided by its denominator, as mpf(p) / q does, in
+    mpmath's own raw operations."""
+    t = type(v)
+    if t is _QT or t is Fraction or (t is not _MPF and isinstance(v, _RATIONAL)):
+        ctx = mpmath.mp
+        prec, rnd = ctx._prec_rounding
+        num = from_int(v.numerator, prec, rnd)
+        return ctx.make_mpf(mpf_div(num, from_int(v.denominator), prec, rnd))
     return mpmath.mpf(v)
 
 
@@ -55,98 +91,145 @@ def _sqrt(v: Any) -> Any:
     """√v: exact for a Fraction that is a rational square, else an mpf."""
     if v < 0:
         raise ValueError("E is out of a leg's reach (D1 or D2 < 0): no elbow")
-    if isinstance(v, Fraction):
+    if isinstance(v, _RATIONAL):
         p, q = isqrt(v.numerator), isqrt(v.denominator)
         if p * p == v.numerator and q * q == v.denominator:
-            return Fraction(p, q)
+            return type(v)(p, q)
     return mpmath.sqrt(mp(v))
 
 
 def _coerce(a: Any, b: Any) -> tuple[Any, Any]:
     """Fractions meet mpf as mpf; two Fractions stay exact."""
-    if isinstance(a, Fraction | int) and isinstance(b, Fraction | int):
+    if _exact(a) and _exact(b):
         return a, b
-    if isinstance(a, Fraction | int):
+    if _exact(a):
         a = mp(a)
-    if isinstance(b, Fraction | int):
+    if _exact(b):
         b = mp(b)
     return a, b
 
 
+def _floats(c: list[Any]) -> list[Any]:
+    """The coefficients c with every Fraction (or int) as an mpf: what ``_coerce`` makes
+    of each of them where it meets an mpf, made once per series."""
+    return [v if type(v) is _MPF else mp(v) if _exact(v) else v for v in c]
+
+
 class Jet:
-    """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0."""
+    """A truncated power series c0 + c1 τ + ... + c_{n-1} τ^{n-1} in τ = t - t0.
 
-    __slots__ = ("c",)
+    Its coefficients are all exact (rationals: ``exact``) or not; an operation on two
+    exact series is exact, any other meets at mpf (a rational rounded once, as
+    ``_coerce`` does), in plain mpf arithmetic on lists. The exact coefficients are kept
+    as GMP rationals (mpq) and given to callers as Fractions (``c``)."""
 
-    def __init__(self, c: Sequence[Any]) -> None:
-        self.c = list(c)
+    __slots__ = ("_c", "_f", "_fr", "exact")
+
+    def __init__(self, c: Sequence[Any], exact: bool | None = None) -> None:
+        if exact is None:
+            c = [_q(v) for v in c]
+            exact = all(_exact(v) for v in c)
+        self._c = list(c)
+        self.exact = exact
+        self._f: tuple[int, list[Any]] | None = None
+        self._fr: list[Any] | None = None
+
+    @property
+    def c(self) -> list[Any]:
+        """The coefficients: Fractions (or ints) where exact, else mpf."""
+        if self._fr is None:
+            self._fr = [_frac(v) for v in self._c]
+        return self._fr
+
+    def floats(self) -> list[Any]:
+        """The coefficients as mpf (``_floats``), made once per working precision."""
+        prec = mpmath.mp.prec
+        if self._f is None or self._f[0] != prec:
+            self._f = (prec, _floats(self._c))
+        return self._f[1]
 
     @staticmethod
     def lift(v: Any, n: int) -> Jet:
         return v if isinstance(v, Jet) else Jet([v] + [Fraction(0)] * (n - 1))
 
-    def _pair(self, o: Any) -> tuple[Jet, Jet]:
-        o = Jet.lift(o, len(self.c))
-        n = min(len(self.c), len(o.c))
-        return Jet(self.c[:n]), Jet(o.c[:n])
+    def _lists(self, o: Any) -> tuple[list[Any], list[Any], bool]:
+        """The two series' coefficients, to the shorter's length, as rationals when both
+        are exact, else as mpf; and whether they are exact."""
+        o = Jet.lift(o, len(self._c))
+        n = min(len(self._c), len(o._c))
+        if self.exact and o.exact:
+            return self._c[:n], o._c[:n], True
+        return self.floats()[:n], o.floats()[:n], False
 
     def __add__(self, o: Any) -> Jet:
-        a, b = self._pair(o)
-        return Jet([_add(p, q) for p, q in zip(a.c, b.c, strict=True)])
+        a, b, exact = self._lists(o)
+        return Jet([p + q for p, q in zip(a, b, strict=True)], exact)
 
     __radd__ = __add__
 
     def __neg__(self) -> Jet:
-        return Jet([-p for p in self.c])
+        return Jet([-p for p in self._c], self.exact)
 
     def __sub__(self, o: Any) -> Jet:
-        return self + (-Jet.lift(o, len(self.c)))
+        return self + (-Jet.lift(o, len(self._c)))
 
     def __rsub__(self, o: Any) -> Jet:
-        return Jet.lift(o, len(self.c)) - self
+        return Jet.lift(o, len(self._c)) - self
 
     def __mul__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
-            return Jet([_mul(p, o) for p in self.c])
-        a, b = self._pair(o)
-        n = len(a.c)
+            if self.exact and _exact(o):
+                o = _q(o)
+                return Jet([p * o for p in self._c], True)
+            o = mp(o) if _exact(o) else o
+            return Jet([p * o for p in self.floats()], False)
+        a, b, exact = self._lists(o)
         out = []
-        for k in range(n):
-            s: Any = Fraction(0)
-            for i in range(k + 1):
-                s = _add(s, _mul(a.c[i], b.c[k - i]))
+        for k in range(len(a)):
+            s = a[0] * b[k]  # 0 + x is x, exactly, in either arithmetic
+            for i in range(1, k + 1):
+                s = s + a[i] * b[k - i]
             out.append(s)
-        return Jet(out)
+        return Jet(out, exact)
 
     __rmul__ = __mul__
 
     def __truediv__(self, o: Any) -> Jet:
         if not isinstance(o, Jet):
             return self * _inv(o)
-        a, b = self._pair(o)
+        a, b, exact = self._lists(o)
+        inv = _inv(o._c[0])  # 1/b0 exact when b0 is, then rounded (as _coerce rounds it)
+        if not exact and isinstance(inv, _RATIONAL):
+            inv = mp(inv)
         q: list[Any] = []
-        for k in range(len(a.c)):
-            s = a.c[k]
+        for k in range(len(a)):
+            s = a[k]
             for i in range(k):
-                s = _add(s, -_mul(q[i], b.c[k - i]))
-            q.append(_mul(s, _inv(b.c[0])))
-        return Jet(q)
+                s = s + -(q[i] * b[k - i])
+            q.append(s * inv)
+        return Jet(q, exact)
 
     def __rtruediv__(self, o: Any) -> Jet:
-        return Jet.lift(o, len(self.c)) / self
+        return Jet.lift(o, len(self._c)) / self
 
     def sqrt(self) -> Jet:
-        s = [_sqrt(self.c[0])]
-        for k in range(1, len(self.c)):
-            acc = self.c[k]
+        s0 = _sqrt(self._c[0])
+        inv = _inv(2 * s0)  # exact when s0 is, then rounded (as _coerce rounds it)
+        if self.exact and isinstance(s0, _RATIONAL):
+            c, s = self._c, [s0]
+        else:
+            c, s = self.floats(), [mp(s0) if isinstance(s0, _RATIONAL) else s0]
+            inv = mp(inv) if isinstance(inv, _RATIONAL) else inv
+        for k in range(1, len(c)):
+            acc = c[k]
             for i in range(1, k):
-                acc = _add(acc, -_mul(s[i], s[k - i]))
-            s.append(_mul(acc, _inv(2 * s[0])))
+                acc = acc + -(s[i] * s[k - i])
+            s.append(acc * inv)
         return Jet(s)
 
     def dt(self) -> Jet:
         """d/dt, one order shorter."""
-        return Jet([k * self.c[k] for k in range(1, len(self.c))])
+        return Jet([k * self._c[k] for k in range(1, len(self._c))], self.exact)
 
     def d(self, k: int) -> Any:
         """The k-th time derivative at t0 (exact, or at ``DPS`` digits)."""
@@ -165,7 +248,9 @@ def _mul(p: Any, q: Any) -> Any:
 
 
 def _inv(p: Any) -> Any:
-    return Fraction(1) / p if isinstance(p, Fraction | int) else 1 / p
+    if isinstance(p, _QT):
+        return _Q(1) / p
+    return Fraction(1) / p if _exact(p) else 1 / p
 
 
 # -- the robot and the motion ---------------------------------------------------------------
@@ -195,6 +280,15 @@ def dot(u: Vec, v: Vec) -> Any:
 
 def _poly_jet(coeffs: Sequence[Fraction], t0: Any, n: int) -> Jet:
     """The polynomial Σ coeffs[k] t^k expanded about t0: n Taylor coefficients."""
+    if _exact(t0):  # exact: in the series' rationals
+        t, cs = _q(t0), [_q(c) for c in coeffs]
+        exact = []
+        for k in range(n):
+            e: Any = _Q(0)
+            for j in range(k, len(cs)):
+                e = e + cs[j] * _binom(j, k) * t ** (j - k)
+            exact.append(e)
+        return Jet(exact, True)
     out = []
     for k in range(n):
         s: Any = Fraction(0)
@@ -290,7 +384,7 @@ def _links(rb: FiveBar, motion: Motion, t0: Any, modes: tuple[int, int], n: int)
 
 
 def _val(j: Any) -> Any:
-    return mp(j.c[0]) if isinstance(j, Jet) else mp(j)
+    return mp(j._c[0]) if isinstance(j, Jet) else mp(j)
 
 
 def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:

@@ -21,7 +21,7 @@ from flint import arb, ctx, fmpq
 from rprpr.engine.exact.five_bar_instants import FiveBarError, analyse
 
 from .instants import Instant, singular_instants
-from .locus import curve, x, y
+from .locus import curve_at, x, y
 from .reference import FiveBar, Motion, elbows
 from .standin import polys, q, robot
 from .test_dynamics import (
@@ -61,12 +61,12 @@ POSES = {
 
 def _tangent(rb: FiveBar, E: tuple[Q, Q], sigma: int) -> tuple[Q, Q]:
     """The curve's tangent at E, from the sympy curve (∇S_σ turned by 90°)."""
-    S = curve(sigma, *(sp.Rational(v.numerator, v.denominator) for v in (rb.a, *rb.length)))
-    at = {
-        x: sp.Rational(E[0].numerator, E[0].denominator),
-        y: sp.Rational(E[1].numerator, E[1].denominator),
-    }
-    gx, gy = (sp.diff(S, v).subs(at) for v in (x, y))
+    params = (sp.Rational(v.numerator, v.denominator) for v in (rb.a, *rb.length))
+    X, Y = sp.Poly(x, x, y, domain="QQ"), sp.Poly(y, x, y, domain="QQ")
+    S = curve_at(sigma, *params, X, Y)  # curve(σ) as a Poly in x, y
+    at = (sp.Rational(E[0].numerator, E[0].denominator),
+          sp.Rational(E[1].numerator, E[1].denominator))  # fmt: skip
+    gx, gy = (S.diff(v)(*at) for v in (x, y))
     scale = max(abs(gx), abs(gy))  # a unit of the larger coordinate
     gx, gy = gx / scale, gy / scale
     return Q(-int(gy.p), int(gy.q)), Q(int(gx.p), int(gx.q))

@@ -10,7 +10,7 @@ from fractions import Fraction as Q
 import pytest
 import sympy as sp
 
-from .locus import curve, norm, x, y
+from .locus import curve, norm, product, x, y
 from .reference import FiveBar, Jet, Motion, delta, elbows, lined_up
 from .theory import derive
 
@@ -26,8 +26,7 @@ def test_the_norm_is_a_sixteenth_of_R1_squared_R2_squared_S_plus_S_minus_for_eve
     a, l1, l2, l3, l4 = gens
     F = norm(a, l1, l2, l3, l4, *gens)
     rhs = [R1**2, _R2(a) ** 2, curve(1, *gens), curve(-1, *gens)]
-    product = sp.prod(sp.Poly(f, x, y, *gens, domain="QQ") for f in rhs)
-    assert (16 * F - product).is_zero
+    assert (16 * F - product(rhs, *gens)).is_zero
 
 
 ROBOTS = [
@@ -40,7 +39,7 @@ ROBOTS = [
 def test_the_norm_factors_into_the_base_circles_and_the_two_line_up_curves(robot) -> None:  # type: ignore[no-untyped-def]
     F = norm(*robot)
     a = robot[0]
-    rhs = sp.Poly(R1**2 * _R2(a) ** 2 * curve(1, *robot) * curve(-1, *robot), x, y, domain="QQ")
+    rhs = product([R1**2, _R2(a) ** 2, curve(1, *robot), curve(-1, *robot)])
     assert rhs == 16 * F
 
 
@@ -50,7 +49,7 @@ def test_equal_links_norm_is_base_circles_squared_times_a_quartic_and_a_sextic()
     q4 = x**4 - 2 * x**3 + 2 * x**2 * y**2 + x**2 - 2 * x * y**2 + y**4 - 3 * y**2
     s6 = curve(-1, 1, 1, 1, 1, 1)
     assert sp.expand(curve(1, 1, 1, 1, 1, 1) - q4) == 0
-    assert sp.Poly(R1**2 * _R2(1) ** 2 * q4 * s6, x, y, domain="QQ") == 16 * F
+    assert product([R1**2, _R2(1) ** 2, q4, s6]) == 16 * F
     for f in (q4, s6):  # irreducible over Q
         assert len(sp.factor_list(f, x, y)[1]) == 1
     # S₊ is the two circles of radius l3 about the elbows' common points (1/2, ±√3/2)
@@ -178,11 +177,11 @@ def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owne
                  (Q(1),) * 4, (Q(1),) * 4, (Q(1, 2),) * 4, Q(0))  # fmt: skip
     modes = ((1, 1), (1, -1), (-1, 1), (-1, -1))
     for sigma, expected in zip((1, -1), owners, strict=True):
-        S = curve(sigma, *robot)
+        S = sp.Poly(curve(sigma, *robot), x, y)
         seen = set()
         for i in range(-10, 20):
             xv = sp.Rational(i, 4)
-            py = sp.Poly(S.subs(x, xv), y)
+            py = sp.Poly(S.eval(x, xv), y)
             if py.degree() <= 0:
                 continue
             for r in py.nroots(n=40, maxsteps=500):

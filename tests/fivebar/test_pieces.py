@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import itertools
 from fractions import Fraction as Q
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -264,10 +265,15 @@ def _quintic(w0: Any, w1: Any, i: int) -> tuple[Q, ...]:
 
 
 def _waypoint_reference() -> list[Instant]:
+    return list(_waypoint_instants())
+
+
+@cache  # the reference's instants of WAYPOINTS, once for both forms of the test
+def _waypoint_instants() -> tuple[Instant, ...]:
     segments = []
     for w0, w1 in itertools.pairwise(WAYPOINTS):
         segments.append((w0[0], w1[0], Motion(_quintic(w0, w1, 0), _quintic(w0, w1, 1))))
-    return reference(segments)
+    return tuple(reference(segments))
 
 
 def _row(w: Any) -> list[str]:
