@@ -123,8 +123,14 @@ def _constants(r: Any) -> tuple[Any, ...]:
 def _evaluate(task: Task, motion: tuple[Any, ...], upto_delta: bool = False) -> dict[str, Any]:
     """Every quantity from the exact motion at one time, at the current precision (with
     ``upto_delta``, the kinematics and δ, δ' only)."""
-    r = task.robot
-    a1, g, m3, I3, r3, m5, I5, r5, M11_2, M33_4, m2r2, m4r4 = _constants(r)
+    kin, legs = _kinematics(task.robot, motion)
+    return kin if legs is None or upto_delta else _dynamics(task.robot, kin, legs)
+
+
+def _kinematics(r: Any, motion: tuple[Any, ...]) -> tuple[dict[str, Any], Any]:
+    """The joint values, δ and δ' from the exact motion at one time (the robot's a1 alone
+    read), and what ``_dynamics`` reads of them (None where E is at A or B)."""
+    a1 = _constants(r)[0]
     x, xd, xdd, y, yd, ydd = (_mpf(v) for v in motion)
     out = {"x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd}
     legs = []
@@ -146,17 +152,26 @@ def _evaluate(task: Task, motion: tuple[Any, ...], upto_delta: bool = False) -> 
         })  # fmt: skip
         legs.append((th, s, s_d, th_d, s_dd, th_dd, c, sn))
     if None in legs:
-        return out
+        return out, None
     (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
     # (J_u)^T of eq. (24) transposed; rows of eq. (18)
     A = [[c1, sn1], [-c2, -sn2]]
     delta = A[0][0] * A[1][1] - A[0][1] * A[1][0]  # (29)
     out["delta"] = delta
     out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
-    if upto_delta:
-        return out
-    # (the parameters from _constants, with M11's m2 r2² + I2 (M11_2), M33's m4 r4² + I4
-    # (M33_4), N1's m2 r2 and N3's m4 r4)
+    return out, (legs, A, delta)
+
+
+def _dynamics(r: Any, kin: dict[str, Any], legs: Any) -> dict[str, Any]:
+    """``kin`` (left as it is) with λ and T of the robot ``r`` (its links, gravity and
+    actuation), from ``_kinematics``'s values at the same precision: the kinematics are
+    the same for every robot of the same a1 (the corners of a box of links)."""
+    (legs, A, delta) = legs
+    (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
+    out = dict(kin)
+    # the parameters, with M11's m2 r2² + I2 (M11_2), M33's m4 r4² + I4 (M33_4), N1's
+    # m2 r2 and N3's m4 r4
+    _, g, m3, I3, r3, m5, I5, r5, M11_2, M33_4, m2r2, m4r4 = _constants(r)
     M11 = M11_2 + m3 * (s1 - r3) ** 2 + I3  # (7): m2 r2² + I2 + m3 (s1 - r3)² + I3
     M22 = m3  # (8)
     M33 = M33_4 + m5 * (s2 - r5) ** 2 + I5  # (9)
