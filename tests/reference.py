@@ -153,7 +153,7 @@ def _kinematics(r: Any, motion: tuple[Any, ...]) -> tuple[dict[str, Any], Any]:
         legs.append((th, s, s_d, th_d, s_dd, th_dd, c, sn))
     if None in legs:
         return out, None
-    (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
+    (*_, th1d, _, _, c1, sn1), (*_, th2d, _, _, c2, sn2) = legs
     # (J_u)^T of eq. (24) transposed; rows of eq. (18)
     A = [[c1, sn1], [-c2, -sn2]]
     delta = A[0][0] * A[1][1] - A[0][1] * A[1][0]  # (29)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import random
+
 import numpy as np
 import pytest
 from flint import fmpq
