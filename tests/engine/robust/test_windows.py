@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -85,6 +86,12 @@ def _moved(motion: tuple[Any, ...], e: tuple[Q, Q]) -> tuple[Any, ...]:
     return x, xd, xdd + e[0], y, yd, ydd + e[1]
 
 
+def _evaluate(task: Task, t: Q, e: tuple[Q, Q]) -> dict[str, Any]:
+    """The reference at t with the error e added to (x'', y'')."""
+    with mpmath.workdps(DPS):
+        return ref._evaluate(task, _moved(ref._motion(task, t), e))
+
+
 def _residuals(task: Task, t_s: Q, corners: list[tuple[dict[int, Link], tuple[Q, Q]]]
                ) -> list[Any]:  # fmt: skip
     """The consistency residual at t_s at each corner from the reference's joint values
@@ -101,25 +108,39 @@ def _residuals(task: Task, t_s: Q, corners: list[tuple[dict[int, Link], tuple[Q,
     return out
 
 
-def _above(task: Task, corners: list[tuple[Any, tuple[Q, Q]]], t: Q, bound: Any) -> bool:
-    """Whether |T_1(t)| or |T_2(t)| exceeds ``bound`` at some corner of the box (the
-    reference's efforts; ``corners``: the robot at each corner of the links' box, and the
-    error): max over the corners of max(|T1|, |T2|) > bound, each corner evaluated once
-    and the search stopped at the first corner above, which is moved to the front of
-    ``corners`` (the next time, bisected nearby, is most often above there too). The
-    joint values depend on the motion and the error alone (the corners' robots differ in
-    their links): they are evaluated once per error and shared by the corners' dynamics."""
+def _robots(task: Task, corners: list[tuple[dict[int, Link], tuple[Q, Q]]]
+            ) -> list[tuple[Any, tuple[Q, Q]]]:  # fmt: skip
+    """The robot at each corner of the links' box, beside its error (made once)."""
+    return [(_task_with(task, links).robot, e) for links, e in corners]
+
+
+def _at_corners(task: Task, t: Q, corners: list[tuple[Any, tuple[Q, Q]]]
+                ) -> Iterator[dict[str, Any]]:  # fmt: skip
+    """The reference at t at each corner (``_robots``: the robot and the error), what
+    ``_evaluate`` gives there, one corner at a time. The joint values depend on the motion
+    and the error alone (the corners' robots differ in their links): they are evaluated
+    once per error and shared by the corners' dynamics."""
     motion = ref._motion(task, t)
     kinematics: dict[tuple[Q, Q], Any] = {}
-    with mpmath.workdps(DPS):
-        for i, (robot, e) in enumerate(corners):
+    for robot, e in corners:
+        with mpmath.workdps(DPS):
             if e not in kinematics:
                 kinematics[e] = ref._kinematics(task.robot, _moved(motion, e))
             kin, legs = kinematics[e]
-            v = ref._dynamics(robot, kin, legs)
-            if abs(v["T1"]) > bound or abs(v["T2"]) > bound:
-                corners.insert(0, corners.pop(i))
-                return True
+            v = kin if legs is None else ref._dynamics(robot, kin, legs)
+        yield v
+
+
+def _above(task: Task, corners: list[tuple[Any, tuple[Q, Q]]], t: Q, bound: Any) -> bool:
+    """Whether |T_1(t)| or |T_2(t)| exceeds ``bound`` at some corner of the box (the
+    reference's efforts; ``corners``: ``_robots``'s): max over the corners of
+    max(|T1|, |T2|) > bound, each corner evaluated once and the search stopped at the
+    first corner above, which is moved to the front of ``corners`` (the next time,
+    bisected nearby, is most often above there too)."""
+    for i, v in enumerate(_at_corners(task, t, corners)):
+        if abs(v["T1"]) > bound or abs(v["T2"]) > bound:
+            corners.insert(0, corners.pop(i))
+            return True
     return False
 
 
@@ -130,7 +151,7 @@ def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q)
     limit = Q(int(task.checks.torque_limit[0].p), int(task.checks.torque_limit[0].q))
 
     bound = mpmath.mpf(limit.numerator) / limit.denominator  # mpmath 1.3 compares no Fraction
-    robots = [(_task_with(task, links).robot, e) for links, e in corners]  # each made once
+    robots = _robots(task, corners)
 
     def above(h: Q) -> bool:
         return _above(task, robots, t_s + d * h, bound)
