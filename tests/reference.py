@@ -127,21 +127,27 @@ def _evaluate(task: Task, motion: tuple[Any, ...], upto_delta: bool = False) -> 
     return kin if legs is None or upto_delta else _dynamics(task.robot, kin, legs)
 
 
-def _kinematics(r: Any, motion: tuple[Any, ...]) -> tuple[dict[str, Any], Any]:
+def _kinematics(r: Any, motion: tuple[Any, ...], rates: bool = True) -> tuple[dict[str, Any], Any]:
     """The joint values, δ and δ' from the exact motion at one time (the robot's a1 alone
-    read), and what ``_dynamics`` reads of them (None where E is at A or B)."""
+    read), and what ``_dynamics`` reads of them (None where E is at A or B). Without
+    ``rates``: x, y, s1, s2 and δ alone."""
     a1 = _constants(r)[0]
     x, xd, xdd, y, yd, ydd = (_mpf(v) for v in motion)
     out = {"x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd}
-    legs = []
+    if not rates:
+        out = {"x": x, "y": y}
+    legs: list[Any] = []
     for u, name in ((x, "1"), (x - a1, "2")):
         s = mpmath.sqrt(u * u + y * y)
         out[f"s{name}"] = s
         if s == 0:  # E at A or B: this leg's angle and rates are undefined
             legs.append(None)
             continue
-        th = mpmath.atan2(y, u)
         c, sn = u / s, y / s  # cos θ, sin θ of the polar decomposition (exact at y = 0)
+        if not rates:
+            legs.append((None,) * 6 + (c, sn))
+            continue
+        th = mpmath.atan2(y, u)
         s_d = xd * c + yd * sn
         th_d = (yd * c - xd * sn) / s
         s_dd = xdd * c + ydd * sn + s * th_d**2
@@ -158,7 +164,8 @@ def _kinematics(r: Any, motion: tuple[Any, ...]) -> tuple[dict[str, Any], Any]:
     A = [[c1, sn1], [-c2, -sn2]]
     delta = A[0][0] * A[1][1] - A[0][1] * A[1][0]  # (29)
     out["delta"] = delta
-    out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
+    if rates:
+        out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
     return out, (legs, A, delta)
 
 
@@ -258,7 +265,8 @@ def reference(task: Task, t: Any, dps: int = 60) -> dict[str, Any]:
 
 def delta(task: Task, t: Any, dps: int = 60) -> Any:
     """``reference(task, t)["delta"]`` alone: δ (eq. 29) by the same formulas, to the same
-    agreement (40 digits between d and d + 30 digits), without the dynamics."""
+    agreement (40 digits between d and d + 30 digits), without the angles, the rates and
+    the dynamics."""
     tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
     return _reference(_key(task), tq, dps, True)["delta"]
 
@@ -288,19 +296,24 @@ def _key(task: Task) -> tuple[Any, ...]:
 
 
 @lru_cache(maxsize=16384)
-def _reference(key: tuple[Any, ...], tq: Fraction, dps: int, upto_delta: bool) -> dict[str, Any]:
-    """``reference`` (or δ alone) of the task of ``key``; callers copy the dict."""
+def _reference(key: tuple[Any, ...], tq: Fraction, dps: int, delta_only: bool) -> dict[str, Any]:
+    """``reference`` (or x, y, s1, s2 and δ alone) of the task of ``key``; callers copy the
+    dict."""
     task = _TASK_OF[key]
     motion = _motion_of(key[0], key[1], tq)
     y = motion[3]
     # λ = μ/δ loses about -log10 |y| digits to cancellation: start above that
     lost = (y.denominator.bit_length() - abs(y.numerator).bit_length()) * 0.30103 if y else 0
     d = dps + max(0, int(lost))
+
+    def values() -> dict[str, Any]:
+        return _kinematics(task.robot, motion, False)[0] if delta_only else _evaluate(task, motion)
+
     while True:
         with mpmath.workdps(d):
-            lo = _evaluate(task, motion, upto_delta)
+            lo = values()
         with mpmath.workdps(d + 30):
-            hi = _evaluate(task, motion, upto_delta)
+            hi = values()
         if _agree(lo, hi, 40) or d > 20000:
             return {k: hi.get(k) for k in KEYS}
         d *= 2
