@@ -43,10 +43,13 @@ from rprpr.model.task import Task
 
 from .lu import lu_solve
 
-try:  # exact rationals in C (gmpy2, which mpmath runs on too): the same values as Fraction's
-    from gmpy2 import mpq as Rational
-except ImportError:  # pragma: no cover - gmpy2 is in the test extra
-    Rational = Fraction
+Rational: Any = Fraction  # exact rationals: gmpy2's in C (mpmath runs on it too), the same
+try:  # values as Fraction's, where it is installed (the test extra installs it)
+    from gmpy2 import mpq
+
+    Rational = mpq
+except ImportError:  # pragma: no cover
+    pass
 
 KEYS = (
     "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot", "theta1", "s1", "theta2", "s2",
