@@ -21,12 +21,17 @@ significant digits and more, straight from the paper's equations:
   (link 2 about A, link 3 sliding on it with its centre at s1 - r3 from A; the same for
   leg 2), for the power balance Q·q' = dE/dt.
 
-x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
-working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
-until evaluations at d and d + 30 digits agree to 40 digits. At a root of y, λ and T are
-two-sided limits (``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
+x(t), y(t) and their derivatives are exact (exact rationals at the rational t: gmpy2's
+``mpq``, Python fractions where gmpy2 is missing); the working precision starts at 60
+digits plus the digits λ = μ/δ loses (-log10 |y|) and grows until evaluations at d and
+d + 30 digits agree to 40 digits. At a root of y, λ and T are two-sided limits
+(``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
 ``theta_branch`` gives θ on its continuous branch, the crossings of the legs' branch cuts
 found by isolating the real roots of y(t) exactly (Sturm sequences over fractions).
+
+Each value is computed once per task and time in a test process (``_reference``), the
+joint values apart from the dynamics (``_kinematics``, ``_dynamics``: a box of link
+parameters shares the first), each robot's parameters once per precision.
 """
 
 from __future__ import annotations
