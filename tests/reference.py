@@ -21,12 +21,17 @@ significant digits and more, straight from the paper's equations:
   (link 2 about A, link 3 sliding on it with its centre at s1 - r3 from A; the same for
   leg 2), for the power balance Q·q' = dE/dt.
 
-x(t), y(t) and their derivatives are exact (Python fractions at the rational t); the
-working precision starts at 60 digits plus the digits λ = μ/δ loses (-log10 |y|) and grows
-until evaluations at d and d + 30 digits agree to 40 digits. At a root of y, λ and T are
-two-sided limits (``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
+x(t), y(t) and their derivatives are exact (exact rationals at the rational t: gmpy2's
+``mpq``, Python fractions where gmpy2 is missing); the working precision starts at 60
+digits plus the digits λ = μ/δ loses (-log10 |y|) and grows until evaluations at d and
+d + 30 digits agree to 40 digits. At a root of y, λ and T are two-sided limits
+(``limit``: ``None`` at a pole). ``reference`` gives θ's principal value;
 ``theta_branch`` gives θ on its continuous branch, the crossings of the legs' branch cuts
 found by isolating the real roots of y(t) exactly (Sturm sequences over fractions).
+
+Each value is computed once per task and time in a test process (``_reference``), the
+joint values apart from the dynamics (``_kinematics``, ``_dynamics``: a box of link
+parameters shares the first), each robot's parameters once per precision.
 """
 
 from __future__ import annotations
@@ -37,10 +42,19 @@ from typing import Any
 
 import mpmath
 from flint import fmpq
+from mpmath.libmp import fone, mpf_abs, mpf_add, mpf_gt, mpf_mul, mpf_sub
 
 from rprpr.model.task import Task
 
 from .lu import lu_solve
+
+Rational: Any = Fraction  # exact rationals: gmpy2's in C (mpmath runs on it too), the same
+try:  # values as Fraction's, where it is installed (the test extra installs it)
+    from gmpy2 import mpq
+
+    Rational = mpq
+except ImportError:  # pragma: no cover
+    pass
 
 KEYS = (
     "x", "y", "x_dot", "y_dot", "x_ddot", "y_ddot", "theta1", "s1", "theta2", "s2",
@@ -52,14 +66,14 @@ KEYS = (
 def _mpf(q: Any) -> Any:
     if isinstance(q, fmpq):
         return mpmath.mpf(int(q.p)) / int(q.q)
-    if isinstance(q, Fraction):
-        return mpmath.mpf(q.numerator) / q.denominator
+    if isinstance(q, (Fraction, Rational)):
+        return mpmath.mpf(int(q.numerator)) / int(q.denominator)
     return mpmath.mpf(q)
 
 
-def _poly(coeffs: tuple[Fraction, ...], x: Fraction) -> tuple[Fraction, Fraction, Fraction]:
-    """p(x), p'(x), p''(x) by Horner's scheme (exact in fractions)."""
-    v = d1 = d2 = Fraction(0)
+def _poly(coeffs: tuple[Any, ...], x: Any) -> tuple[Any, Any, Any]:
+    """p(x), p'(x), p''(x) by Horner's scheme (exact in rationals)."""
+    v = d1 = d2 = Rational(0)
     for c in reversed(coeffs):
         d2 = d2 * x + 2 * d1
         d1 = d1 * x + v
@@ -67,40 +81,81 @@ def _poly(coeffs: tuple[Fraction, ...], x: Fraction) -> tuple[Fraction, Fraction
     return v, d1, d2
 
 
-def _fractions(p: Any) -> tuple[Fraction, ...]:
-    return tuple(Fraction(int(c.p), int(c.q)) for c in p.coeffs())
+def _fractions(p: Any) -> tuple[Any, ...]:
+    """The coefficients of the fmpq_poly p, lowest degree first, as exact rationals."""
+    return tuple(Rational(int(c.p), int(c.q)) for c in p.coeffs())
 
 
-def _motion(task: Task, t: Fraction) -> tuple[Fraction, ...]:
-    """x, x', x'', y, y', y'' at the rational time t, exactly (Python fractions)."""
-    return _motion_of(_fractions(task.x_of_t), _fractions(task.path), t)
+def _motion(task: Task, t: Fraction) -> tuple[Any, ...]:
+    """x, x', x'', y, y', y'' at the rational time t, exactly (rationals)."""
+    key = _key(task)
+    return _motion_of(key[0], key[1], t)
 
 
-@lru_cache(maxsize=4096)
-def _motion_of(
-    xc: tuple[Fraction, ...], pc: tuple[Fraction, ...], t: Fraction
-) -> tuple[Fraction, ...]:
-    x, xd, xdd = _poly(xc, t)
+@lru_cache(maxsize=16384)
+def _motion_of(xc: tuple[Any, ...], pc: tuple[Any, ...], t: Fraction) -> tuple[Any, ...]:
+    x, xd, xdd = _poly(xc, Rational(t))
     p, p1, p2 = _poly(pc, x)
     return x, xd, xdd, p, p1 * xd, p2 * xd * xd + p1 * xdd
 
 
-def _evaluate(task: Task, motion: tuple[Fraction, ...], upto_delta: bool = False) -> dict[str, Any]:
+_CONSTANTS: dict[tuple[int, int], tuple[Any, tuple[Any, ...]]] = {}
+
+
+def _constants(r: Any) -> tuple[Any, ...]:
+    """The robot's parameters as mpf at the working precision (each rounded once, as
+    ``_mpf`` rounds it), and the sums and products of them alone that ``_evaluate`` forms
+    first (the same operations in the same order: the same values), once per robot object
+    (robots are frozen; each is kept beside its values, so its id names it alone) and
+    precision."""
+    known = _CONSTANTS.get((id(r), mpmath.mp.prec))
+    if known is not None and known[0] is r:
+        return known[1]
+    L = r.links
+    a1, g = _mpf(r.a1), _mpf(r.gravity)
+    m2, I2, r2 = _mpf(L[2].mass), _mpf(L[2].inertia), _mpf(L[2].r)
+    m3, I3, r3 = _mpf(L[3].mass), _mpf(L[3].inertia), _mpf(L[3].r)
+    m4, I4, r4 = _mpf(L[4].mass), _mpf(L[4].inertia), _mpf(L[4].r)
+    m5, I5, r5 = _mpf(L[5].mass), _mpf(L[5].inertia), _mpf(L[5].r)
+    out = (
+        a1, g, m3, I3, r3, m5, I5, r5,
+        m2 * r2**2 + I2, m4 * r4**2 + I4,  # the constant heads of M11 and M33
+        m2 * r2, m4 * r4,  # of N1 and N3
+    )  # fmt: skip
+    if len(_CONSTANTS) > 4096:  # robots made one per corner of a box: keep it bounded
+        _CONSTANTS.clear()
+    _CONSTANTS[id(r), mpmath.mp.prec] = (r, out)
+    return out
+
+
+def _evaluate(task: Task, motion: tuple[Any, ...], upto_delta: bool = False) -> dict[str, Any]:
     """Every quantity from the exact motion at one time, at the current precision (with
     ``upto_delta``, the kinematics and δ, δ' only)."""
-    r = task.robot
-    a1 = _mpf(r.a1)
+    kin, legs = _kinematics(task.robot, motion)
+    return kin if legs is None or upto_delta else _dynamics(task.robot, kin, legs)
+
+
+def _kinematics(r: Any, motion: tuple[Any, ...], rates: bool = True) -> tuple[dict[str, Any], Any]:
+    """The joint values, δ and δ' from the exact motion at one time (the robot's a1 alone
+    read), and what ``_dynamics`` reads of them (None where E is at A or B). Without
+    ``rates``: x, y, s1, s2 and δ alone."""
+    a1 = _constants(r)[0]
     x, xd, xdd, y, yd, ydd = (_mpf(v) for v in motion)
     out = {"x": x, "y": y, "x_dot": xd, "y_dot": yd, "x_ddot": xdd, "y_ddot": ydd}
-    legs = []
+    if not rates:
+        out = {"x": x, "y": y}
+    legs: list[Any] = []
     for u, name in ((x, "1"), (x - a1, "2")):
         s = mpmath.sqrt(u * u + y * y)
         out[f"s{name}"] = s
         if s == 0:  # E at A or B: this leg's angle and rates are undefined
             legs.append(None)
             continue
-        th = mpmath.atan2(y, u)
         c, sn = u / s, y / s  # cos θ, sin θ of the polar decomposition (exact at y = 0)
+        if not rates:
+            legs.append((None,) * 6 + (c, sn))
+            continue
+        th = mpmath.atan2(y, u)
         s_d = xd * c + yd * sn
         th_d = (yd * c - xd * sn) / s
         s_dd = xdd * c + ydd * sn + s * th_d**2
@@ -111,28 +166,34 @@ def _evaluate(task: Task, motion: tuple[Fraction, ...], upto_delta: bool = False
         })  # fmt: skip
         legs.append((th, s, s_d, th_d, s_dd, th_dd, c, sn))
     if None in legs:
-        return out
-    (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
+        return out, None
+    (*_, th1d, _, _, c1, sn1), (*_, th2d, _, _, c2, sn2) = legs
     # (J_u)^T of eq. (24) transposed; rows of eq. (18)
     A = [[c1, sn1], [-c2, -sn2]]
     delta = A[0][0] * A[1][1] - A[0][1] * A[1][0]  # (29)
     out["delta"] = delta
-    out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
-    if upto_delta:
-        return out
-    L = r.links
-    g = _mpf(r.gravity)
-    m2, I2, r2 = _mpf(L[2].mass), _mpf(L[2].inertia), _mpf(L[2].r)
-    m3, I3, r3 = _mpf(L[3].mass), _mpf(L[3].inertia), _mpf(L[3].r)
-    m4, I4, r4 = _mpf(L[4].mass), _mpf(L[4].inertia), _mpf(L[4].r)
-    m5, I5, r5 = _mpf(L[5].mass), _mpf(L[5].inertia), _mpf(L[5].r)
-    M11 = m2 * r2**2 + I2 + m3 * (s1 - r3) ** 2 + I3  # (7)
+    if rates:
+        out["delta_dot"] = (c1 * c2 + sn1 * sn2) * (th1d - th2d)  # cos(θ1 - θ2)(θ1' - θ2')
+    return out, (legs, A, delta)
+
+
+def _dynamics(r: Any, kin: dict[str, Any], legs: Any) -> dict[str, Any]:
+    """``kin`` (left as it is) with λ and T of the robot ``r`` (its links, gravity and
+    actuation), from ``_kinematics``'s values at the same precision: the kinematics are
+    the same for every robot of the same a1 (the corners of a box of links)."""
+    (legs, A, delta) = legs
+    (_, s1, s1d, th1d, s1dd, th1dd, c1, sn1), (_, s2, s2d, th2d, s2dd, th2dd, c2, sn2) = legs
+    out = dict(kin)
+    # the parameters, with M11's m2 r2² + I2 (M11_2), M33's m4 r4² + I4 (M33_4), N1's
+    # m2 r2 and N3's m4 r4
+    _, g, m3, I3, r3, m5, I5, r5, M11_2, M33_4, m2r2, m4r4 = _constants(r)
+    M11 = M11_2 + m3 * (s1 - r3) ** 2 + I3  # (7): m2 r2² + I2 + m3 (s1 - r3)² + I3
     M22 = m3  # (8)
-    M33 = m4 * r4**2 + I4 + m5 * (s2 - r5) ** 2 + I5  # (9)
+    M33 = M33_4 + m5 * (s2 - r5) ** 2 + I5  # (9)
     M44 = m5  # (10)
-    N1 = 2 * m3 * s1d * th1d * (s1 - r3) + (m2 * r2 + m3 * (s1 - r3)) * g * c1
+    N1 = 2 * m3 * s1d * th1d * (s1 - r3) + (m2r2 + m3 * (s1 - r3)) * g * c1
     N2 = -m3 * (s1 - r3) * th1d**2 + m3 * g * sn1  # (12)
-    N3 = 2 * m5 * s2d * th2d * (s2 - r5) + (m4 * r4 + m5 * (s2 - r5)) * g * c2
+    N3 = 2 * m5 * s2d * th2d * (s2 - r5) + (m4r4 + m5 * (s2 - r5)) * g * c2
     N4 = -m5 * (s2 - r5) * th2d**2 + m5 * g * sn2  # (14)
     b = [M22 * s1dd + N2, M44 * s2dd + N4]
     if delta == 0:
@@ -176,13 +237,27 @@ def energy(task: Task, t: Any) -> Any:
     return total
 
 
+_TOLERANCE: dict[tuple[int, int], Any] = {}
+
+
 def _agree(a: dict[str, Any], b: dict[str, Any], digits: int) -> bool:
-    tol = mpmath.mpf(10) ** -digits
+    """|u - v| <= 10^-digits (1 + |v|) for every key, u from ``a`` and v from ``b``, at the
+    working precision: the operations of ``abs(u - v) > tol * (1 + abs(v))`` on mpf,
+    done by mpmath's own functions on the raw values (the same roundings: the same
+    answer, without an mpf made for each intermediate)."""
+    prec, rnd = mpmath.mp._prec_rounding
+    tol = _TOLERANCE.get((digits, prec))
+    if tol is None:
+        tol = _TOLERANCE[digits, prec] = (mpmath.mpf(10) ** -digits)._mpf_
     for k in KEYS:
         u, v = a.get(k), b.get(k)
         if (u is None) != (v is None):
             return False
-        if v is not None and abs(u - v) > tol * (1 + abs(v)):
+        if v is None:
+            continue
+        gap = mpf_abs(mpf_sub(u._mpf_, v._mpf_, prec, rnd), prec, rnd)
+        if mpf_gt(gap, mpf_mul(tol, mpf_add(fone, mpf_abs(v._mpf_, prec, rnd), prec, rnd),
+                               prec, rnd)):  # fmt: skip
             return False
     return True
 
@@ -198,17 +273,23 @@ def reference(task: Task, t: Any, dps: int = 60) -> dict[str, Any]:
 
 def delta(task: Task, t: Any, dps: int = 60) -> Any:
     """``reference(task, t)["delta"]`` alone: δ (eq. 29) by the same formulas, to the same
-    agreement (40 digits between d and d + 30 digits), without the dynamics."""
+    agreement (40 digits between d and d + 30 digits), without the angles, the rates and
+    the dynamics."""
     tq = Fraction(int(t.p), int(t.q)) if isinstance(t, fmpq) else Fraction(t)
     return _reference(_key(task), tq, dps, True)["delta"]
 
 
 _TASK_OF: dict[tuple[Any, ...], Task] = {}
+_KEY_OF: dict[int, tuple[Task, tuple[Any, ...]]] = {}
 
 
 def _key(task: Task) -> tuple[Any, ...]:
     """Everything ``_motion`` and ``_evaluate`` read of a task, as a hashable value (tasks
-    with the same key have the same reference values)."""
+    with the same key have the same reference values); once per task object (tasks are
+    frozen, and each is kept here beside its key, so its id names it alone)."""
+    known = _KEY_OF.get(id(task))
+    if known is not None and known[0] is task:
+        return known[1]
     r = task.robot
     links = tuple((i, str(k.mass), str(k.inertia), str(k.r)) for i, k in sorted(r.links.items()))
     key = (
@@ -216,23 +297,31 @@ def _key(task: Task) -> tuple[Any, ...]:
         str(r.a1), str(r.gravity), r.actuation, links,
     )  # fmt: skip
     _TASK_OF.setdefault(key, task)
+    if len(_KEY_OF) > 4096:
+        _KEY_OF.clear()
+    _KEY_OF[id(task)] = (task, key)
     return key
 
 
-@lru_cache(maxsize=8192)
-def _reference(key: tuple[Any, ...], tq: Fraction, dps: int, upto_delta: bool) -> dict[str, Any]:
-    """``reference`` (or δ alone) of the task of ``key``; callers copy the dict."""
+@lru_cache(maxsize=16384)
+def _reference(key: tuple[Any, ...], tq: Fraction, dps: int, delta_only: bool) -> dict[str, Any]:
+    """``reference`` (or x, y, s1, s2 and δ alone) of the task of ``key``; callers copy the
+    dict."""
     task = _TASK_OF[key]
-    motion = _motion(task, tq)
+    motion = _motion_of(key[0], key[1], tq)
     y = motion[3]
     # λ = μ/δ loses about -log10 |y| digits to cancellation: start above that
     lost = (y.denominator.bit_length() - abs(y.numerator).bit_length()) * 0.30103 if y else 0
     d = dps + max(0, int(lost))
+
+    def values() -> dict[str, Any]:
+        return _kinematics(task.robot, motion, False)[0] if delta_only else _evaluate(task, motion)
+
     while True:
         with mpmath.workdps(d):
-            lo = _evaluate(task, motion, upto_delta)
+            lo = values()
         with mpmath.workdps(d + 30):
-            hi = _evaluate(task, motion, upto_delta)
+            hi = values()
         if _agree(lo, hi, 40) or d > 20000:
             return {k: hi.get(k) for k in KEYS}
         d *= 2

@@ -148,7 +148,8 @@ def _bands_and_crossings(task: Task, limit: float) -> int:
                 if lo <= 0.0 or hi >= tf:
                     continue
                 assert 0 <= hi - lo <= c.resolution
-                root = _root(task, key, limit, lo - 1000 * c.resolution, hi + 1000 * c.resolution)
+                width = 1000 * c.resolution
+                root = _root(task, key, limit, lo - width, hi + width, (lo, hi))
                 assert lo <= root <= hi, (key, lo, hi, root)
                 roots += 1
     return roots

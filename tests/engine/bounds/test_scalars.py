@@ -76,13 +76,22 @@ def _limited(name: str, limit: float) -> tuple[Task, Envelope]:
     return task, Envelope(_motion(task))
 
 
-def _root(task: Task, key: str, limit: float, a: float, b: float) -> mpmath.mpf:
+def _root(task: Task, key: str, limit: float, a: float, b: float,
+          within: tuple[float, float] | None = None) -> mpmath.mpf:  # fmt: skip
     """The root of |T(t)| - limit in [a, b] (one sign change) by bisection on the
-    reference alone."""
+    reference alone, 60 halvings. With ``within`` = (lo, hi), the halving stops early
+    once the bracket lies inside [lo, hi] or outside it: the root the 60 halvings would
+    give lies in every bracket on the way, so whether it is in [lo, hi] is known then
+    (and the end returned is on the same side of lo and hi as that root)."""
     lo, hi = Fraction(a), Fraction(b)
+    inner = None if within is None else (Fraction(within[0]), Fraction(within[1]))
     f_lo = abs(reference(task, lo)[key]) - limit
     assert f_lo * (abs(reference(task, hi)[key]) - limit) < 0
     for _ in range(60):
+        if inner is not None:
+            inside = inner[0] <= lo and hi <= inner[1]
+            if inside or hi < inner[0] or inner[1] < lo:
+                break
         mid = (lo + hi) / 2
         f = abs(reference(task, mid)[key]) - limit
         if (f < 0) == (f_lo < 0):
@@ -109,7 +118,7 @@ def test_point_pass_brackets_hold_the_reference_crossings(name: str, limit: floa
                     continue  # a window reaching t = 0 or t_f: no crossing there
                 assert 0 <= hi - lo <= c.resolution
                 width = 1000 * c.resolution
-                root = _root(task, key, limit, lo - width, hi + width)
+                root = _root(task, key, limit, lo - width, hi + width, (lo, hi))
                 assert lo <= root <= hi, (key, lo, hi, root)
                 ends += 1
     assert ends >= 2  # the crossings bracketed

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 from rprpr.engine.certified.balls import Ball, hypot, polyval, quiet, two_sum
 from rprpr.engine.exact import equations as dyn
+from tests.reference import Rational  # exact (gmpy2's rationals, else fractions): the hot loops
 
 # floats over the whole range, subnormals and huge values included
 finite = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e300, max_value=1e300)
@@ -23,16 +24,16 @@ radius = st.one_of(
 )
 
 
-def _members(mid: float, rad: float) -> list[Fraction]:
-    m, r = Fraction(mid), Fraction(rad)
+def _members(mid: float, rad: float) -> list[Rational]:
+    m, r = Rational(mid), Rational(rad)
     return [m - r, m, m + r, m - r / 3]
 
 
-def _inside(b: Ball, v: Fraction) -> bool:
+def _inside(b: Ball, v: Rational) -> bool:
     rad = float(b.rad)
     if not math.isfinite(rad):
         return True  # unbounded: contains everything
-    return abs(Fraction(float(b.mid)) - v) <= Fraction(rad)
+    return abs(Rational(float(b.mid)) - v) <= Rational(rad)
 
 
 EXACT = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}
@@ -69,8 +70,8 @@ def test_square_root_contains_every_exact_root(a: float, ra: float) -> None:
         C = Ball(a, ra).sqrt()
     if not math.isfinite(float(C.rad)):
         return
-    m, r = Fraction(float(C.mid)), Fraction(float(C.rad))
-    lo, hi = max(m - r, Fraction(0)), m + r
+    m, r = Rational(float(C.mid)), Rational(float(C.rad))
+    lo, hi = max(m - r, Rational(0)), m + r
     for x in _members(a, ra):
         if x >= 0:  # √x in [lo, hi] exactly when lo² <= x <= hi²
             assert lo * lo <= x <= hi * hi, (a, ra)

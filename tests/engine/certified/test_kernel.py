@@ -513,9 +513,16 @@ def test_kernel_jets_enclose_the_reference_and_its_derivative(prismatic: bool, s
                 P = [mpmath.mpf(v.numerator) / v.denominator for v in p]
                 Q = [mpmath.mpf(v.numerator) / v.denominator for v in q]
 
+                seen: dict[tuple[Any, int], dict[str, Any]] = {}  # T1, T2, δ: one evaluation
+
                 def along(tau: Any, key: str, P: list[Any] = P, Q: list[Any] = Q,
-                          robot: Robot = robot) -> Any:  # fmt: skip
-                    return _reference(robot, [a + tau * b for a, b in zip(P, Q, strict=True)])[key]
+                          robot: Robot = robot, seen: dict = seen) -> Any:  # fmt: skip
+                    at = (tau, mpmath.mp.prec)  # the values at τ, at the working precision
+                    if at not in seen:
+                        seen[at] = _reference(
+                            robot, [a + tau * b for a, b in zip(P, Q, strict=True)]
+                        )
+                    return seen[at][key]
 
                 slack = mpmath.mpf(2) ** -100
                 for row, key in ((0, "T1"), (1, "T2")):

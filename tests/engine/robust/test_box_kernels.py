@@ -14,7 +14,7 @@ balls (``kernel_c.FORM_BOUNDS``, ``robust.regressor.form_bounds``).
 - ``form_bounds`` likewise, on random balls (broadcast radii among them), both bounds,
   against its numpy path bit for bit under a spy; its enclosure of the exact maximum is
   ``test_form_bounds.py``'s (which runs whichever path is built).
-- Against an exact reference (``fractions``, written apart from the engine: every
+- Against an exact reference (exact rationals, written apart from the engine: every
   corner, both signs, each link's form at m's and I's ends and at r's ends and the
   parabola's vertex where it lies inside), the doubles are within 1e-12 of the sum of
   the terms' absolute values.
@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import itertools
 import random
-from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -37,8 +36,7 @@ from rprpr.engine.robust import regressor, windows
 from rprpr.engine.robust.regressor import BASIS, LINKS, form_bounds
 from rprpr.engine.robust.windows import box_max
 from tests.engine.certified.test_kernel import Spy, needs_kernel
-
-Q = Fraction
+from tests.reference import Rational as Q  # exact (gmpy2's rationals, else fractions)
 
 
 def _bounds(rng: np.random.Generator) -> np.ndarray:
@@ -110,14 +108,17 @@ def test_the_kernel_declines_what_it_does_not_take() -> None:
 
 def _exact(Ys: np.ndarray, corners: np.ndarray, bounds: np.ndarray) -> tuple[list, list]:
     """Per time and joint: the exact largest |T| over the box and the corners, and the sum
-    of the terms' absolute values (the scale of the doubles' rounding)."""
+    of the terms' absolute values (the scale of the doubles' rounding). (The box is a
+    product and each link's form m (A + B r + C r²) + C I a sum of a term in (m, r) and
+    one in I: its maximum is the sum of their maxima.)"""
     best, scale = [], []
     b = [[Q(float(v)) for v in row] for row in bounds]
+    errors = [(Q(float(ex)), Q(float(ey))) for ex, ey, _ in corners]
     for i, j in itertools.product(range(Ys.shape[1]), range(2)):
+        y0, yx, yy = ([Q(float(v)) for v in Ys[e, i, j, :10]] for e in range(3))
         top, size = None, Q(0)
-        for (ex, ey, _), s in itertools.product(corners, (1, -1)):
-            x = [s * (Q(float(Ys[0, i, j, k])) + Q(float(ex)) * Q(float(Ys[1, i, j, k]))
-                      + Q(float(ey)) * Q(float(Ys[2, i, j, k]))) for k in range(10)]  # fmt: skip
+        for (ex, ey), s in itertools.product(errors, (1, -1)):
+            x = [s * (y0[k] + ex * yx[k] + ey * yy[k]) for k in range(10)]
             total = Q(0)
             for li, (_, km, kmr, kj) in enumerate(LINKS):
                 A, B, C = (x[km] if km is not None else Q(0)), x[kmr], x[kj]
@@ -125,8 +126,8 @@ def _exact(Ys: np.ndarray, corners: np.ndarray, bounds: np.ndarray) -> tuple[lis
                 rs = [rl, rh]
                 if C != 0 and rl < -B / (2 * C) < rh:
                     rs.append(-B / (2 * C))
-                total += max(m * (A + B * r + C * r * r) + C * v
-                             for m in (ml, mh) for r in rs for v in (il, ih))  # fmt: skip
+                total += max(m * (A + B * r + C * r * r) for m in (ml, mh) for r in rs)
+                total += max(C * il, C * ih)
                 R = max(abs(rl), abs(rh))
                 size += max(abs(ml), abs(mh)) * (abs(A) + abs(B) * R + abs(C) * R * R)
                 size += abs(C) * max(abs(il), abs(ih))

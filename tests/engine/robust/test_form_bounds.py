@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import itertools
 import random
-from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -17,8 +16,7 @@ from flint import fmpq
 
 from rprpr.engine.certified.balls import Ball
 from rprpr.engine.robust.regressor import BASIS, SLACK, TIGHT_SLACK, form_bounds
-
-Q = Fraction
+from tests.reference import Rational as Q  # exact (gmpy2's rationals, else fractions)
 
 
 def _box(rng: random.Random) -> dict[int, tuple[tuple[fmpq, fmpq], ...]]:
@@ -35,31 +33,39 @@ def _box(rng: random.Random) -> dict[int, tuple[tuple[fmpq, fmpq], ...]]:
 
 
 def _f(v: Q) -> fmpq:
-    return fmpq(v.numerator, v.denominator)
+    return fmpq(int(v.numerator), int(v.denominator))
+
+
+_COLUMNS = [
+    (BASIS.index((link, "m")) if (link, "m") in BASIS else None,
+     BASIS.index((link, "mr")), BASIS.index((link, "J")))
+    for link in (2, 3, 4, 5)
+]  # fmt: skip
 
 
 def _exact_max(y: dict[tuple[int, int, int], Q], box: dict, corners: list[tuple[Q, Q]]
                ) -> list[Q]:  # fmt: skip
     """Per effort, max over the corners, both signs and the box of s Σ π_k x_k, exactly:
     for each link the form A m + B m r + C (m r² + I) at m's and I's ends and at r's ends
-    and the parabola's vertex where it lies inside."""
+    and the parabola's vertex where it lies inside. (The box is a product and the form
+    m (A + B r + C r²) + C I is a sum of a term in (m, r) and one in I: its maximum is the
+    sum of their maxima.)"""
+    ends = [tuple((Q(int(a.p), int(a.q)), Q(int(b.p), int(b.q))) for a, b in box[link])
+            for link in (2, 3, 4, 5)]  # fmt: skip
     out = []
     for j in (0, 1):
         best = None
         for (ex, ey), s in itertools.product(corners, (1, -1)):
-            x = {k: s * (y[j, k, 0] + ex * y[j, k, 1] + ey * y[j, k, 2]) for k in range(10)}
+            x = [s * (y[j, k, 0] + ex * y[j, k, 1] + ey * y[j, k, 2]) for k in range(10)]
             total = Q(0)
-            for link in (2, 3, 4, 5):
-                km = BASIS.index((link, "m")) if (link, "m") in BASIS else None
+            for (km, kb, kc), ((ml, mh), (rl, rh), (il, ih)) in zip(_COLUMNS, ends, strict=True):
                 A = x[km] if km is not None else Q(0)
-                B, C = x[BASIS.index((link, "mr"))], x[BASIS.index((link, "J"))]
-                (ml, mh), (rl, rh), (il, ih) = ((Q(int(a.p), int(a.q)), Q(int(b.p), int(b.q)))
-                                                 for a, b in box[link])  # fmt: skip
+                B, C = x[kb], x[kc]
                 rs = [rl, rh]
                 if C != 0 and rl < -B / (2 * C) < rh:
                     rs.append(-B / (2 * C))
-                total += max(m * (A + B * r + C * r * r) + C * i
-                             for m in (ml, mh) for r in rs for i in (il, ih))  # fmt: skip
+                total += max(m * (A + B * r + C * r * r) for m in (ml, mh) for r in rs)
+                total += max(C * il, C * ih)
             best = total if best is None else max(best, total)
         out.append(best)
     return out

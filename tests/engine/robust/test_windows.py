@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -79,25 +80,66 @@ def _task_with(task: Task, links: dict[int, Link]) -> Task:
     return dataclasses.replace(task, robot=dataclasses.replace(task.robot, links=links))
 
 
+def _moved(motion: tuple[Any, ...], e: tuple[Q, Q]) -> tuple[Any, ...]:
+    """The motion at one time with the error e added to (x'', y'')."""
+    x, xd, xdd, y, yd, ydd = motion
+    return x, xd, xdd + e[0], y, yd, ydd + e[1]
+
+
 def _evaluate(task: Task, t: Q, e: tuple[Q, Q]) -> dict[str, Any]:
-    x, xd, xdd, y, yd, ydd = ref._motion(task, t)
+    """The reference at t with the error e added to (x'', y'')."""
     with mpmath.workdps(DPS):
-        return ref._evaluate(task, (x, xd, xdd + e[0], y, yd, ydd + e[1]))
+        return ref._evaluate(task, _moved(ref._motion(task, t), e))
 
 
-def _residual(task: Task, t_s: Q, e: tuple[Q, Q]) -> Any:
-    """The consistency residual at t_s from the reference's joint values (eqs. 7-14):
-    σ(M22 s1'' + N2) + M44 s2'' + N4 (revolute), U1/s1 + σ U2/s2 (prismatic)."""
-    return box_reference.residual_of(task, task.robot.links, _evaluate(task, t_s, e))
-
-
-def _above(task: Task, corners: list[Any], t: Q, bound: Any) -> bool:
-    """Whether |T_1(t)| or |T_2(t)| exceeds ``bound`` at some corner of the box (the
-    reference's efforts): max over the corners of max(|T1|, |T2|) > bound, each corner
-    evaluated once and the search stopped at the first corner above."""
+def _residuals(task: Task, t_s: Q, corners: list[tuple[dict[int, Link], tuple[Q, Q]]]
+               ) -> list[Any]:  # fmt: skip
+    """The consistency residual at t_s at each corner from the reference's joint values
+    (eqs. 7-14): σ(M22 s1'' + N2) + M44 s2'' + N4 (revolute), U1/s1 + σ U2/s2
+    (prismatic). The joint values depend on the motion and the error alone: evaluated
+    once per error."""
+    motion = ref._motion(task, t_s)
+    joints: dict[tuple[Q, Q], dict[str, Any]] = {}
+    out = []
     for links, e in corners:
-        v = _evaluate(_task_with(task, links), t, e)
+        if e not in joints:
+            joints[e] = box_reference.joints(task, motion, e)
+        out.append(box_reference.residual_of(task, links, joints[e]))
+    return out
+
+
+def _robots(task: Task, corners: list[tuple[dict[int, Link], tuple[Q, Q]]]
+            ) -> list[tuple[Any, tuple[Q, Q]]]:  # fmt: skip
+    """The robot at each corner of the links' box, beside its error (made once)."""
+    return [(_task_with(task, links).robot, e) for links, e in corners]
+
+
+def _at_corners(task: Task, t: Q, corners: list[tuple[Any, tuple[Q, Q]]]
+                ) -> Iterator[dict[str, Any]]:  # fmt: skip
+    """The reference at t at each corner (``_robots``: the robot and the error), what
+    ``_evaluate`` gives there, one corner at a time. The joint values depend on the motion
+    and the error alone (the corners' robots differ in their links): they are evaluated
+    once per error and shared by the corners' dynamics."""
+    motion = ref._motion(task, t)
+    kinematics: dict[tuple[Q, Q], Any] = {}
+    for robot, e in corners:
+        with mpmath.workdps(DPS):
+            if e not in kinematics:
+                kinematics[e] = ref._kinematics(task.robot, _moved(motion, e))
+            kin, legs = kinematics[e]
+            v = kin if legs is None else ref._dynamics(robot, kin, legs)
+        yield v
+
+
+def _above(task: Task, corners: list[tuple[Any, tuple[Q, Q]]], t: Q, bound: Any) -> bool:
+    """Whether |T_1(t)| or |T_2(t)| exceeds ``bound`` at some corner of the box (the
+    reference's efforts; ``corners``: ``_robots``'s): max over the corners of
+    max(|T1|, |T2|) > bound, each corner evaluated once and the search stopped at the
+    first corner above, which is moved to the front of ``corners`` (the next time,
+    bisected nearby, is most often above there too)."""
+    for i, v in enumerate(_at_corners(task, t, corners)):
         if abs(v["T1"]) > bound or abs(v["T2"]) > bound:
+            corners.insert(0, corners.pop(i))
             return True
     return False
 
@@ -109,9 +151,10 @@ def _window_end(task: Task, corners: list[Any], t_s: Q, d: int, near: Q, far: Q)
     limit = Q(int(task.checks.torque_limit[0].p), int(task.checks.torque_limit[0].q))
 
     bound = mpmath.mpf(limit.numerator) / limit.denominator  # mpmath 1.3 compares no Fraction
+    robots = _robots(task, corners)
 
     def above(h: Q) -> bool:
-        return _above(task, corners, t_s + d * h, bound)
+        return _above(task, robots, t_s + d * h, bound)
 
     assert above(near) and not above(far)
     while far - near > Q(1, 10**9):
@@ -138,7 +181,7 @@ def test_the_residual_interval_holds_every_corner_and_is_tight(path: str, u: Unc
     (s,) = result.singularities
     lo, hi = result.robust[0].residual
     t_s = Q(s.t_exact)
-    values = [_residual(_task_with(task, links), t_s, e) for links, e in _corners(task, u)]
+    values = _residuals(task, t_s, _corners(task, u))
     assert lo <= min(values) and max(values) <= hi
     assert abs(lo - min(values)) < 1e-9 and abs(hi - max(values)) < 1e-9
 

@@ -25,7 +25,15 @@ from rprpr import audit, load_task
 from rprpr.engine.robust.worst import worst_efforts
 from rprpr.model.task import Link, Task, Uncertainty
 from rprpr.render.export import write_csv
-from tests.engine.robust.test_windows import P2, PRISMATIC, _evaluate, _limited, _task_with, _u
+from tests.engine.robust.test_windows import (
+    P2,
+    PRISMATIC,
+    _at_corners,
+    _evaluate,
+    _limited,
+    _robots,
+    _u,
+)
 
 Q = Fraction
 TIMES = (Q(1), Q(2), Q(19, 8), Q(13, 4))  # each a double exactly, none the instant 2.5 s
@@ -65,11 +73,10 @@ def _reference_max(task: Task, u: Uncertainty, t: Q, r_grid: int = 0) -> tuple[A
     a = u.acceleration
     errors = sorted({(sx * a, sy * a) for sx in (-1, 1) for sy in (-1, 1)})
     best = [0, 0]
-    for links in _links(task, u, r_grid):
-        for e in errors:
-            v = _evaluate(_task_with(task, links), t, e)
-            for j in (0, 1):
-                best[j] = max(best[j], abs(v[f"T{j + 1}"]))
+    corners = _robots(task, [(links, e) for links in _links(task, u, r_grid) for e in errors])
+    for v in _at_corners(task, t, corners):
+        for j in (0, 1):
+            best[j] = max(best[j], abs(v[f"T{j + 1}"]))
     return best[0], best[1]
 
 
@@ -93,8 +100,9 @@ def test_with_r_exact_the_bound_is_the_largest_corner(path: str, u: Uncertainty)
         result = audit(task, uncertainty=u)
         w1, w2 = worst_efforts(result.task, result.parts, np.array([float(t) for t in times]))
     for k, t in enumerate(times):
+        largest = _reference_max(task, u, t)
         for j, got in ((0, w1[k]), (1, w2[k])):
-            want = _reference_max(task, u, t)[j]
+            want = largest[j]
             assert float(want) <= got <= float(want) + 1e-9 * (1 + float(want))
 
 

@@ -14,7 +14,7 @@ import math
 from fractions import Fraction
 
 from rprpr import audit, load_task
-from tests.engine.robust.test_windows import P2, _evaluate, _task_with, _u
+from tests.engine.robust.test_windows import P2, _at_corners, _robots, _u
 from tests.engine.robust.test_worst import _links
 
 Q = Fraction
@@ -29,11 +29,12 @@ def test_the_peak_between_the_instants_holds_the_references_supremum() -> None:
     assert r.span is not None
     a = u.acceleration
     corners = [(lk, (sx * a, sy * a)) for lk in _links(task, u) for sx in (-1, 1) for sy in (-1, 1)]
+    robots = _robots(task, corners)  # each corner's robot made once
 
     @functools.cache
     def both(t: float) -> tuple[float, float]:
         """max over the corners of |T1(t)| and of |T2(t)|, each corner evaluated once."""
-        values = [_evaluate(_task_with(task, lk), Q(t), e) for lk, e in corners]
+        values = list(_at_corners(task, Q(t), robots))
         return max(abs(float(v["T1"])) for v in values), max(abs(float(v["T2"])) for v in values)
 
     def worst(t: float, j: int) -> float:
