@@ -1,0 +1,196 @@
+"""A real process without a new interpreter: ``Forked`` runs a function in a child forked
+from the test process, set up as Python sets up a fresh process running a script.
+
+A fresh ``python -c ...`` that imports rprpr and its dependencies costs ~0.25 CPU-s; a
+child forked from a test process that has them imported costs a few hundredths. The child
+is a process of its own (its pid, its session, its signal handlers, its exit status, death
+by a signal included), which is what tests of signals, workers and exit statuses look at.
+What a fresh interpreter sets up at start-up is set up again in the child:
+
+* signals: none blocked, none handled by Python code but SIGINT (``KeyboardInterrupt``,
+  or ignored when asked, as a job started with SIGINT ignored has it), SIGPIPE and
+  SIGXFSZ ignored, every other one at its default;
+* standard streams: new ``sys.stdin``/``stdout``/``stderr`` on descriptors 0, 1 and 2
+  (UTF-8; output strict and block-buffered, error line-buffered with backslashreplace),
+  standard input from /dev/null;
+* exit: ``SystemExit`` gives the status as the interpreter does, the standard output is
+  flushed (a failure there is status 120), the child's own ``atexit`` functions run (not
+  the test process's), and the child ends with ``os._exit``: nothing of pytest's runs
+  twice.
+
+The test process's garbage is frozen in the child (``gc.freeze``): a collection there
+never walks the objects it inherited. A test whose subject is interpreter start-up itself
+(what is imported, what a job inherits) starts a real interpreter instead.
+"""
+
+from __future__ import annotations
+
+import atexit
+import gc
+import io
+import os
+import selectors
+import signal
+import sys
+import time
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+
+
+class Forked:
+    """``target()`` in a forked child, as a script run by ``python -c`` with standard
+    output and error on pipes (``stdout``, ``stderr``: binary streams), in a session of
+    its own when ``new_session``. ``returncode`` as ``subprocess.Popen`` has it (-N: died
+    of signal N) once ``wait`` or ``communicate`` has reaped the child."""
+
+    def __init__(
+        self,
+        target: Callable[[], object],
+        *,
+        cwd: str | Path,
+        new_session: bool = True,
+        sigint: object = signal.default_int_handler,
+    ) -> None:
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # pragma: no cover (the child)
+            os.close(out_r)
+            os.close(err_r)
+            _child(target, out_w, err_w, cwd, new_session, sigint)
+        os.close(out_w)
+        os.close(err_w)
+        self.pid = pid
+        self.returncode: int | None = None
+        self.stdout = open(out_r, "rb", buffering=0)  # noqa: SIM115 (closed by communicate)
+        self.stderr = open(err_r, "rb", buffering=0)  # noqa: SIM115
+
+    def wait(self, timeout: float | None = None) -> int:
+        """The exit status, waiting for it (``TimeoutError`` after ``timeout`` s: a hang
+        guard, not a measure)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+            elif deadline is not None and time.monotonic() > deadline:
+                raise TimeoutError(f"process {self.pid} still running")
+            else:
+                time.sleep(0.01)
+        return self.returncode
+
+    def communicate(self, timeout: float | None = None) -> tuple[bytes, bytes]:
+        """What is left of standard output and error, to their end, and the child reaped
+        (``TimeoutError`` after ``timeout`` s)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        got = {self.stdout: [], self.stderr: []}  # type: dict[object, list[bytes]]
+        with selectors.DefaultSelector() as sel:
+            for stream in got:
+                if not stream.closed:
+                    sel.register(stream, selectors.EVENT_READ)
+            while sel.get_map():
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    raise TimeoutError(f"process {self.pid} still writing")
+                for key, _ in sel.select(left):
+                    chunk = os.read(key.fd, 65536)
+                    if chunk:
+                        got[key.fileobj].append(chunk)
+                    else:
+                        sel.unregister(key.fileobj)
+        self.stdout.close()
+        self.stderr.close()
+        left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        self.wait(left)
+        return b"".join(got[self.stdout]), b"".join(got[self.stderr])
+
+    def kill(self) -> None:
+        """SIGKILL to the child's process group (its session: rprpr and its workers)."""
+        try:
+            os.killpg(self.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
+def _child(
+    target: Callable[[], object],
+    out: int,
+    err: int,
+    cwd: str | Path,
+    new_session: bool,
+    sigint: object,
+) -> None:  # pragma: no cover (runs in the child)
+    code = 1
+    try:
+        gc.freeze()
+        atexit._clear()  # the test process's exit functions are not the child's
+        if new_session:
+            os.setsid()
+        _fresh_signals(sigint)
+        null = os.open(os.devnull, os.O_RDONLY)
+        os.dup2(null, 0)
+        os.dup2(out, 1)
+        os.dup2(err, 2)
+        for fd in (null, out, err):
+            os.close(fd)
+        os.chdir(cwd)
+        sys.stdin = sys.__stdin__ = io.TextIOWrapper(
+            io.BufferedReader(io.FileIO(0, "r", closefd=False)), encoding="utf-8"
+        )
+        sys.stdout = sys.__stdout__ = io.TextIOWrapper(
+            io.BufferedWriter(io.FileIO(1, "w", closefd=False)), encoding="utf-8"
+        )
+        sys.stderr = sys.__stderr__ = io.TextIOWrapper(
+            io.BufferedWriter(io.FileIO(2, "w", closefd=False)),
+            encoding="utf-8",
+            errors="backslashreplace",
+            line_buffering=True,
+        )
+        try:
+            target()
+            code = 0
+        except SystemExit as e:
+            if e.code is None:
+                code = 0
+            elif isinstance(e.code, int):
+                code = e.code
+            else:
+                print(e.code, file=sys.stderr)
+                code = 1
+        except BaseException:
+            traceback.print_exc()
+            code = 1
+        atexit._run_exitfuncs()
+        try:
+            sys.stdout.flush()
+        except OSError as exc:
+            code = 120
+            os.write(2, f"Exception ignored on flushing sys.stdout: {exc!r}\n".encode())
+        try:
+            sys.stderr.flush()
+        except OSError:
+            pass
+    finally:
+        os._exit(code)
+
+
+def _fresh_signals(sigint: object) -> None:  # pragma: no cover (runs in the child)
+    """The signal handlers and mask a fresh interpreter starts with."""
+    signal.pthread_sigmask(signal.SIG_SETMASK, set())
+    try:
+        signal.set_wakeup_fd(-1)
+    except ValueError:
+        pass
+    for signum in signal.valid_signals():
+        if signum in (signal.SIGKILL, signal.SIGSTOP):
+            continue
+        try:
+            signal.signal(signum, signal.SIG_DFL)
+        except (OSError, ValueError):
+            continue
+    signal.signal(signal.SIGINT, sigint)  # type: ignore[arg-type]
+    signal.signal(signal.SIGPIPE, signal.SIG_IGN)
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
