@@ -26,6 +26,7 @@ never walks the objects it inherited. A test whose subject is interpreter start-
 from __future__ import annotations
 
 import atexit
+import contextlib
 import gc
 import io
 import os
@@ -107,13 +108,6 @@ class Forked:
         self.wait(left)
         return b"".join(got[self.stdout]), b"".join(got[self.stderr])
 
-    def kill(self) -> None:
-        """SIGKILL to the child's process group (its session: rprpr and its workers)."""
-        try:
-            os.killpg(self.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-
 
 def _child(
     target: Callable[[], object],
@@ -169,10 +163,8 @@ def _child(
         except OSError as exc:
             code = 120
             os.write(2, f"Exception ignored on flushing sys.stdout: {exc!r}\n".encode())
-        try:
+        with contextlib.suppress(OSError):
             sys.stderr.flush()
-        except OSError:
-            pass
     finally:
         os._exit(code)
 
@@ -180,10 +172,8 @@ def _child(
 def _fresh_signals(sigint: object) -> None:  # pragma: no cover (runs in the child)
     """The signal handlers and mask a fresh interpreter starts with."""
     signal.pthread_sigmask(signal.SIG_SETMASK, set())
-    try:
+    with contextlib.suppress(ValueError):
         signal.set_wakeup_fd(-1)
-    except ValueError:
-        pass
     for signum in signal.valid_signals():
         if signum in (signal.SIGKILL, signal.SIGSTOP):
             continue
