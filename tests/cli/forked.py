@@ -43,7 +43,11 @@ class Forked:
     """``target()`` in a forked child, as a script run by ``python -c`` with standard
     output and error on pipes (``stdout``, ``stderr``: binary streams), in a session of
     its own when ``new_session``. ``returncode`` as ``subprocess.Popen`` has it (-N: died
-    of signal N) once ``wait`` or ``communicate`` has reaped the child."""
+    of signal N) once ``wait`` or ``communicate`` has reaped the child.
+
+    ``out``, ``err``: descriptors (a pseudo-terminal's, say) to give the child as its
+    standard output and error instead of pipes (the caller closes and reads them;
+    ``stdout`` and ``stderr`` are then None); ``env``: the child's whole environment."""
 
     def __init__(
         self,
@@ -52,22 +56,31 @@ class Forked:
         cwd: str | Path,
         new_session: bool = True,
         sigint: object = signal.default_int_handler,
+        out: int | None = None,
+        err: int | None = None,
+        env: dict[str, str] | None = None,
     ) -> None:
-        out_r, out_w = os.pipe()
-        err_r, err_w = os.pipe()
+        out_r, out_w = os.pipe() if out is None else (None, out)
+        err_r, err_w = os.pipe() if err is None else (None, err)
         sys.stdout.flush()
         sys.stderr.flush()
         pid = os.fork()
         if pid == 0:  # pragma: no cover (the child)
-            os.close(out_r)
-            os.close(err_r)
+            for fd in (out_r, err_r):
+                if fd is not None:
+                    os.close(fd)
+            if env is not None:
+                os.environ.clear()
+                os.environ.update(env)
             _child(target, out_w, err_w, cwd, new_session, sigint)
-        os.close(out_w)
-        os.close(err_w)
+        for r, w in ((out_r, out_w), (err_r, err_w)):
+            if r is not None:
+                os.close(w)
         self.pid = pid
         self.returncode: int | None = None
-        self.stdout = open(out_r, "rb", buffering=0)  # noqa: SIM115 (closed by communicate)
-        self.stderr = open(err_r, "rb", buffering=0)  # noqa: SIM115
+        # closed by communicate
+        self.stdout = None if out_r is None else open(out_r, "rb", buffering=0)  # noqa: SIM115
+        self.stderr = None if err_r is None else open(err_r, "rb", buffering=0)  # noqa: SIM115
 
     def wait(self, timeout: float | None = None) -> int:
         """The exit status, waiting for it (``TimeoutError`` after ``timeout`` s: a hang
@@ -87,9 +100,10 @@ class Forked:
         """What is left of standard output and error, to their end, and the child reaped
         (``TimeoutError`` after ``timeout`` s)."""
         deadline = None if timeout is None else time.monotonic() + timeout
-        got = {self.stdout: [], self.stderr: []}  # type: dict[object, list[bytes]]
+        streams = [s for s in (self.stdout, self.stderr) if s is not None]
+        got: dict[object, list[bytes]] = {s: [] for s in streams}
         with selectors.DefaultSelector() as sel:
-            for stream in got:
+            for stream in streams:
                 if not stream.closed:
                     sel.register(stream, selectors.EVENT_READ)
             while sel.get_map():
@@ -102,11 +116,11 @@ class Forked:
                         got[key.fileobj].append(chunk)
                     else:
                         sel.unregister(key.fileobj)
-        self.stdout.close()
-        self.stderr.close()
+        for stream in streams:
+            stream.close()
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
         self.wait(left)
-        return b"".join(got[self.stdout]), b"".join(got[self.stderr])
+        return tuple(b"".join(got.get(s, [])) for s in (self.stdout, self.stderr))  # type: ignore[return-value]
 
 
 def _child(
@@ -128,7 +142,7 @@ def _child(
         os.dup2(null, 0)
         os.dup2(out, 1)
         os.dup2(err, 2)
-        for fd in (null, out, err):
+        for fd in {null, out, err}:
             os.close(fd)
         os.chdir(cwd)
         sys.stdin = sys.__stdin__ = io.TextIOWrapper(
