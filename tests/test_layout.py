@@ -26,13 +26,12 @@ from __future__ import annotations
 import ast
 import functools
 import gc
-import subprocess
-import sys
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 import pytest
 
+from .cli.forked import probe
 from .conftest import ROOT
 
 PACKAGE = ROOT / "rprpr"
@@ -280,54 +279,12 @@ def test_a_circle_within_a_stage_fails() -> None:
 
 
 # -- start-up probes: fresh processes, forked from one interpreter ------------------------
-# Each probe asks what a fresh process running it imports. They all run in one
-# interpreter (``PROBER``, a module fixture) that imports nothing itself (os and sys are
-# there from start-up): each probe runs in a child forked from it, first those that start
-# bare (``BARE``), then, once the prober has imported the dependencies the others start
-# from (``FLOOR``, which those probes import first and subtract), the rest: the
-# dependencies' start-up (~0.2 CPU-s) is paid once, not once a probe.
+# Each probe asks what a fresh process running it imports. They all run in one interpreter
+# (``tests.cli.forked.probe``, in a module fixture), each in a child forked from it: first
+# those that start bare, then, once it has imported the dependencies the others start from
+# (``FLOOR``, which those probes import first and subtract), the rest: the dependencies'
+# start-up (~0.2 CPU-s) is paid once, not once a probe.
 FLOOR = "numpy, flint, yaml, click, rich.console, rich.table"
-PROBER = """
-import os, sys
-
-def run(code):
-    out_r, out_w = os.pipe()
-    err_r, err_w = os.pipe()
-    pid = os.fork()
-    if pid == 0:
-        os.dup2(out_w, 1)
-        os.dup2(err_w, 2)
-        status = 0
-        try:
-            exec(compile(code, "<string>", "exec"), {"__name__": "__main__"})
-        except SystemExit as e:
-            status = e.code if isinstance(e.code, int) else int(e.code is not None)
-        except BaseException:
-            import traceback
-            traceback.print_exc()
-            status = 1
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(status)
-    os.close(out_w)
-    os.close(err_w)
-    got = []
-    for fd in (out_r, err_r):
-        chunks = []
-        while chunk := os.read(fd, 65536):
-            chunks.append(chunk)
-        os.close(fd)
-        got.append(b"".join(chunks).decode())
-    _, status = os.waitpid(pid, 0)
-    return os.waitstatus_to_exitcode(status), *got
-
-names, results = sys.argv[1::3], {}
-for name, floor, code in zip(names, sys.argv[2::3], sys.argv[3::3]):
-    if floor:
-        exec("import " + floor)
-    results[name] = run(code)
-sys.stdout.write(repr(results))
-"""
 PROBES: dict[str, tuple[bool, str]] = {}  # name -> (starts from FLOOR, code): filled below
 
 
@@ -336,13 +293,7 @@ def probed() -> dict[str, tuple[int, str, str]]:
     """Each probe's (exit status, standard output, standard error), in one interpreter."""
     bare = [(n, "", c) for n, (floor, c) in PROBES.items() if not floor]
     floored = [(n, FLOOR, c) for n, (floor, c) in PROBES.items() if floor]
-    argv = [x for probe in (*bare, *floored) for x in probe]
-    done = subprocess.run(
-        [sys.executable, "-c", PROBER, *argv], capture_output=True, text=True, timeout=120, cwd=ROOT
-    )
-    assert done.returncode == 0, done.stderr
-    results: dict[str, tuple[int, str, str]] = ast.literal_eval(done.stdout)
-    return results
+    return probe([*bare, *floored], ROOT)
 
 
 # -- start-up: --version and --help load nothing heavy -----------------------------------

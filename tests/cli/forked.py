@@ -20,11 +20,14 @@ What a fresh interpreter sets up at start-up is set up again in the child:
 
 The test process's garbage is frozen in the child (``gc.freeze``): a collection there
 never walks the objects it inherited. A test whose subject is interpreter start-up itself
-(what is imported, what a job inherits) starts a real interpreter instead.
+(what is imported, what a job inherits) starts a real interpreter instead; where several
+such tests ask what a fresh process does, ``probe`` runs them all in one new interpreter,
+each in a child forked from it before it has imported anything of rprpr.
 """
 
 from __future__ import annotations
 
+import ast
 import atexit
 import contextlib
 import gc
@@ -32,6 +35,7 @@ import io
 import os
 import selectors
 import signal
+import subprocess
 import sys
 import time
 import traceback
@@ -198,3 +202,79 @@ def _fresh_signals(sigint: object) -> None:  # pragma: no cover (runs in the chi
     signal.signal(signal.SIGINT, sigint)  # type: ignore[arg-type]
     signal.signal(signal.SIGPIPE, signal.SIG_IGN)
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
+# -- fresh interpreters: many probes, one start-up ------------------------------------------
+PROBER = """
+import os, sys
+
+def run(code):
+    out_r, out_w = os.pipe()
+    err_r, err_w = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.dup2(out_w, 1)
+        os.dup2(err_w, 2)
+        status = 0
+        try:
+            exec(compile(code, "<string>", "exec"), {"__name__": "__main__"})
+        except SystemExit as e:
+            status = e.code if isinstance(e.code, int) else int(e.code is not None)
+        except BaseException:
+            import traceback
+            traceback.print_exc()
+            status = 1
+        import atexit
+        atexit._run_exitfuncs()
+        try:
+            sys.stdout.flush()
+        except OSError:
+            status = 120
+        sys.stderr.flush()
+        os._exit(status)
+    os.close(out_w)
+    os.close(err_w)
+    got = []
+    for fd in (out_r, err_r):
+        chunks = []
+        while chunk := os.read(fd, 65536):
+            chunks.append(chunk)
+        os.close(fd)
+        got.append(b"".join(chunks).decode())
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status), *got
+
+results = {}
+for name, floor, code in zip(sys.argv[1::3], sys.argv[2::3], sys.argv[3::3]):
+    if floor:
+        exec("import " + floor)
+    results[name] = run(code)
+sys.stdout.write(repr(results))
+"""
+
+
+def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tuple[int, str, str]]:
+    """Each probe (name, floor, code) as ``python -c CODE`` would run it in ``cwd``: (exit
+    status, standard output, standard error) by name.
+
+    One interpreter (``PROBER``) runs them in order, each in a child forked from it; it
+    imports nothing itself (os and sys are there from start-up) but, before each probe,
+    the modules its floor names ("numpy, flint": those the probe would import first and
+    takes as given), so that their start-up is paid once for all the probes after it.
+    A probe ends as a script does: ``SystemExit`` gives its status, the exit functions it
+    registered run, then standard output is flushed (status 120 if that fails); one that
+    ends its process itself (``os._exit``) skips all that, as it would alone."""
+    argv = [x for p in probes for x in p]
+    # numpy with one OpenBLAS thread, as rprpr's program (``cli.main.run``) starts it
+    env = {"OPENBLAS_NUM_THREADS": "1", **os.environ}
+    done = subprocess.run(
+        [sys.executable, "-c", PROBER, *argv],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+        env=env,
+    )
+    assert done.returncode == 0, done.stderr
+    results: dict[str, tuple[int, str, str]] = ast.literal_eval(done.stdout)
+    return results
