@@ -416,7 +416,8 @@ def test_the_other_commands_take_a_name_that_is_not_utf8(command: str, tmp_path:
     task = os.fsdecode(os.path.join(os.fsencode(tmp_path), NAME))
     shutil.copyfile(PATH1_FILE, task)
     args = {
-        "plot": ["-o", str(tmp_path / "s.svg"), "--samples", "11"],
+        # the name is in the sheet's title whatever is drawn: one panel
+        "plot": ["-o", str(tmp_path / "s.svg"), "--samples", "11", "--panels", "delta"],
         "export": ["--samples", "3", "--format", "json"],
         "repair": ["-o", str(tmp_path / "r.rprpr.yaml")],
     }[command]
