@@ -149,18 +149,25 @@ def _child(
         for fd in {null, out, err}:
             os.close(fd)
         os.chdir(cwd)
-        sys.stdin = sys.__stdin__ = io.TextIOWrapper(
-            io.BufferedReader(io.FileIO(0, "r", closefd=False)), encoding="utf-8"
-        )
-        sys.stdout = sys.__stdout__ = io.TextIOWrapper(
-            io.BufferedWriter(io.FileIO(1, "w", closefd=False)), encoding="utf-8"
-        )
-        sys.stderr = sys.__stderr__ = io.TextIOWrapper(
-            io.BufferedWriter(io.FileIO(2, "w", closefd=False)),
-            encoding="utf-8",
-            errors="backslashreplace",
-            line_buffering=True,
-        )
+        streams = {
+            "stdin": io.TextIOWrapper(
+                io.BufferedReader(io.FileIO(0, "r", closefd=False)), encoding="utf-8"
+            ),
+            "stdout": io.TextIOWrapper(  # line by line on a terminal, as Python starts
+                io.BufferedWriter(io.FileIO(1, "w", closefd=False)),
+                encoding="utf-8",
+                line_buffering=os.isatty(1),
+            ),
+            "stderr": io.TextIOWrapper(
+                io.BufferedWriter(io.FileIO(2, "w", closefd=False)),
+                encoding="utf-8",
+                errors="backslashreplace",
+                line_buffering=True,
+            ),
+        }
+        for name, stream in streams.items():
+            setattr(sys, name, stream)
+            setattr(sys, f"__{name}__", stream)
         try:
             target()
             code = 0
