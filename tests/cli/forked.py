@@ -39,6 +39,7 @@ import subprocess
 import sys
 import time
 import traceback
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -68,7 +69,11 @@ class Forked:
         err_r, err_w = os.pipe() if err is None else (None, err)
         sys.stdout.flush()
         sys.stderr.flush()
-        pid = os.fork()
+        with warnings.catch_warnings():
+            # Python >= 3.12 warns of a fork in a process with threads (a test runner's):
+            # the child runs rprpr alone, as rprpr's own forked workers do
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
         if pid == 0:  # pragma: no cover (the child)
             for fd in (out_r, err_r):
                 if fd is not None:
