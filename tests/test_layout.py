@@ -25,13 +25,13 @@ from __future__ import annotations
 
 import ast
 import functools
-import subprocess
-import sys
+import gc
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 import pytest
 
+from .cli.forked import probe
 from .conftest import ROOT
 
 PACKAGE = ROOT / "rprpr"
@@ -70,8 +70,23 @@ _READ = (ast.Import, ast.ImportFrom, ast.FunctionDef, ast.AsyncFunctionDef, ast.
 def _nodes(source: str) -> tuple[ast.AST, ...]:
     """Every node of the syntax tree of ``source`` that a rule reads (``_READ``), in
     ``ast.walk``'s order, parsed once per test process (the rules below read the
-    package's modules many times, and only read them)."""
-    return tuple(n for n in ast.walk(ast.parse(source)) if isinstance(n, _READ))
+    package's modules many times, and only read them). The collector waits while a tree
+    is built: a tree holds no reference cycle, and collecting only walked it."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        return tuple(n for n in ast.walk(ast.parse(source)) if isinstance(n, _READ))
+    finally:
+        if enabled:
+            gc.enable()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _forget_the_trees() -> Iterator[None]:
+    """The syntax trees (~350,000 objects) dropped once the module's tests are done: kept,
+    they would be walked by every later full garbage collection of the test process."""
+    yield
+    _nodes.cache_clear()
 
 
 def imported(name: str, source: str, is_package: bool, known: set[str]) -> Iterator[str]:
@@ -263,64 +278,84 @@ def test_a_circle_within_a_stage_fails() -> None:
     assert cycles(g) == [["rprpr.report.exit", "rprpr.report.run"]]
 
 
+# -- start-up probes: fresh processes, forked from one interpreter ------------------------
+# Each probe asks what a fresh process running it imports. They all run in one interpreter
+# (``tests.cli.forked.probe``, in a module fixture), each in a child forked from it: first
+# those that start bare, then, once it has imported the dependencies the others start from
+# (``FLOOR``, which those probes import first and subtract), the rest: the dependencies'
+# start-up (~0.2 CPU-s) is paid once, not once a probe.
+FLOOR = "numpy, flint, yaml, click, rich.console, rich.table"
+PROBES: dict[str, tuple[bool, str]] = {}  # name -> (starts from FLOOR, code): filled below
+
+
+@pytest.fixture(scope="module")
+def probed() -> dict[str, tuple[int, str, str]]:
+    """Each probe's (exit status, standard output, standard error), in one interpreter."""
+    bare = [(n, "", c) for n, (floor, c) in PROBES.items() if not floor]
+    floored = [(n, FLOOR, c) for n, (floor, c) in PROBES.items() if floor]
+    return probe([*bare, *floored], ROOT)
+
+
 # -- start-up: --version and --help load nothing heavy -----------------------------------
 HEAVY = ("numpy", "flint", "yaml", "matplotlib", "rich")
-
-
-@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["check", "--help"]])
-def test_version_and_help_load_no_engine_numpy_flint_or_yaml(argv: list[str]) -> None:
-    probe = (
+STARTS = [["--version"], ["--help"], ["check", "--help"]]
+for _argv in STARTS:
+    PROBES[f"start {_argv}"] = (
+        False,
         "import sys\n"
         "from rprpr.cli.main import main\n"
         "try:\n"
-        f"    main({argv!r})\n"
+        f"    main({_argv!r})\n"
         "except SystemExit as e:\n"
         "    code = e.code\n"
         f"heavy = sorted(m for m in sys.modules if m.split('.')[0] in {HEAVY!r})\n"
         "deep = sorted(m for m in sys.modules if m.startswith(('rprpr.engine', 'rprpr.io',"
         " 'rprpr.render', 'rprpr.report.records', 'rprpr.report.run')))\n"
-        "sys.stderr.write(f'EXIT={code} HEAVY={heavy} DEEP={deep}\\n')\n"
+        "sys.stderr.write(f'EXIT={code} HEAVY={heavy} DEEP={deep}\\n')\n",
     )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
-    )
-    assert done.stderr.strip().splitlines()[-1] == "EXIT=0 HEAVY=[] DEEP=[]", done.stderr
-    assert ("rprpr, version" in done.stdout) == (argv == ["--version"])
+
+
+@pytest.mark.parametrize("argv", STARTS)
+def test_version_and_help_load_no_engine_numpy_flint_or_yaml(
+    argv: list[str], probed: dict[str, tuple[int, str, str]]
+) -> None:
+    _, stdout, stderr = probed[f"start {argv}"]
+    assert stderr.strip().splitlines()[-1] == "EXIT=0 HEAVY=[] DEEP=[]", stderr
+    assert ("rprpr, version" in stdout) == (argv == ["--version"])
 
 
 # -- start-up: check loads only what the task in hand needs ---------------------------------
 BALLS = ("balls", "certified", "envelope", "zones", "batch", "sampling", "repair")
-
-
-@pytest.mark.parametrize(
-    ("config", "loaded"),
-    [
-        ("case1_crossing", []),  # unbounded torques, no limit: no pass, no ball machinery
-        ("paper_path2", ["balls", "certified", "envelope", "zones"]),  # its limit needs passes
-    ],
-)
-def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
-    config: str, loaded: list[str]
-) -> None:
-    # check_one is what a worker runs per task (the parent imports the audit before forking;
-    # these modules a task loads on demand)
-    probe_in = (  # what rprpr adds to its dependencies' own imports (an older numpy
-        # imports numpy.polynomial itself)
+NEEDS = [
+    ("case1_crossing", []),  # unbounded torques, no limit: no pass, no ball machinery
+    ("paper_path2", ["balls", "certified", "envelope", "zones"]),  # its limit needs passes
+]
+for _config, _ in NEEDS:
+    # check_one is what a worker runs per task (the parent imports the audit before
+    # forking; these modules a task loads on demand)
+    PROBES[f"check_one {_config}"] = (
+        True,
+        # what rprpr adds to its dependencies' own imports (an older numpy imports
+        # numpy.polynomial itself)
         "import sys, numpy, flint, yaml, click\n"
         "floor = set(sys.modules)\n"
         "from rprpr.cli.check import check_one\n"
         "from rprpr.cli.options import CheckOptions\n"
-        f"kind, *_ = check_one('configs/{config}.rprpr.yaml', CheckOptions())\n"
+        f"kind, *_ = check_one('configs/{_config}.rprpr.yaml', CheckOptions())\n"
         f"got = sorted(m.split('.')[-1] for m in sys.modules if m.split('.')[-1] in {BALLS!r}"
         " and m.startswith(('rprpr.engine', 'rprpr.repair')))\n"
         "got += sorted(m for m in set(sys.modules) - floor if m.startswith(('numpy.polynomial',"
         " 'multiprocessing')))\n"
-        "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
+        "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n",
     )
-    done = subprocess.run(
-        [sys.executable, "-c", probe_in], capture_output=True, text=True, timeout=60, cwd=ROOT
-    )
-    assert done.stderr.strip().splitlines()[-1] == f"KIND=report LOADED={loaded}", done.stderr
+
+
+@pytest.mark.parametrize(("config", "loaded"), NEEDS)
+def test_check_imports_the_ball_machinery_only_for_a_task_that_needs_a_pass(
+    config: str, loaded: list[str], probed: dict[str, tuple[int, str, str]]
+) -> None:
+    _, _, stderr = probed[f"check_one {config}"]
+    assert stderr.strip().splitlines()[-1] == f"KIND=report LOADED={loaded}", stderr
 
 
 # -- inside io: the loader's pipeline runs one way ----------------------------------------
@@ -349,15 +384,18 @@ def test_the_loaders_pipeline_imports_only_earlier_steps() -> None:
     assert "rprpr.io.walk" in g["rprpr.io.readers"]  # the rule sees these imports
 
 
-def test_the_messages_load_no_yaml_flint_or_numpy() -> None:
-    probe = (
-        "import sys, rprpr.io.messages\n"
-        "print(sorted(m for m in ('yaml', 'flint', 'numpy') if m in sys.modules))\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, cwd=ROOT
-    )
-    assert done.stdout.strip() == "[]", done.stderr
+PROBES["messages"] = (
+    False,
+    "import sys, rprpr.io.messages\n"
+    "print(sorted(m for m in ('yaml', 'flint', 'numpy') if m in sys.modules))\n",
+)
+
+
+def test_the_messages_load_no_yaml_flint_or_numpy(
+    probed: dict[str, tuple[int, str, str]],
+) -> None:
+    _, stdout, stderr = probed["messages"]
+    assert stdout.strip() == "[]", stderr
 
 
 # modules no `check` of a task file needs in rprpr's own process (the worker imports the ball
@@ -377,28 +415,32 @@ NOT_FOR_CHECK = (
 )  # fmt: skip
 
 
-@pytest.mark.parametrize("config", ["case1_crossing", "paper_path2"])
-def test_check_of_a_shipped_config_imports_no_repair_plot_schema_or_balls_before_forking(
-    config: str,
-) -> None:
-    probe = (  # what the check adds to its dependencies' own imports (an editable
-        # install's finder may bring pathlib; an older numpy imports numpy.polynomial, an
-        # older click or rich traceback)
-        "import sys, numpy, flint, yaml, click, rich.console, rich.table\n"
+CHECKED = ["case1_crossing", "paper_path2"]
+for _config in CHECKED:
+    PROBES[f"check {_config}"] = (
+        True,
+        # what the check adds to its dependencies' own imports (an editable install's
+        # finder may bring pathlib; an older numpy imports numpy.polynomial, an older
+        # click or rich traceback)
+        f"import sys, {FLOOR}\n"
         "before = set(sys.modules)\n"
         "from rprpr.cli.main import main\n"
         "try:\n"
-        f"    main(['check', 'configs/{config}.rprpr.yaml'])\n"
+        f"    main(['check', 'configs/{_config}.rprpr.yaml'])\n"
         "except SystemExit as e:\n"
         "    code = e.code\n"
         f"got = sorted(m for m in set(sys.modules) - before if m.startswith({NOT_FOR_CHECK!r}))\n"
-        "sys.stderr.write(f'EXIT={code} LOADED={got}\\n')\n"
+        "sys.stderr.write(f'EXIT={code} LOADED={got}\\n')\n",
     )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, cwd=ROOT
-    )
+
+
+@pytest.mark.parametrize("config", CHECKED)
+def test_check_of_a_shipped_config_imports_no_repair_plot_schema_or_balls_before_forking(
+    config: str, probed: dict[str, tuple[int, str, str]]
+) -> None:
+    _, _, stderr = probed[f"check {config}"]
     exit_code = {"case1_crossing": 1, "paper_path2": 0}[config]  # unbounded torques fail
-    assert done.stderr.strip().splitlines()[-1] == f"EXIT={exit_code} LOADED=[]", done.stderr
+    assert stderr.strip().splitlines()[-1] == f"EXIT={exit_code} LOADED=[]", stderr
 
 
 # -- inside engine: its three layers, one way -------------------------------------------------

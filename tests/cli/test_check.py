@@ -3,11 +3,13 @@
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import json
 import os
 import pty
 import re
+import runpy
 import select
 import shutil
 import subprocess
@@ -21,6 +23,7 @@ import pytest
 from rprpr.cli.check import PROGRESS_MIN_TASKS, want_progress
 from rprpr.cli.output import color_enabled, make_console
 from rprpr.cli.tasks import collect_tasks
+from tests.cli.forked import Forked
 from tests.conftest import (
     BAD_A1,
     CONFIGS,
@@ -434,19 +437,32 @@ def test_progress_only_on_a_terminal_for_more_than_a_handful() -> None:
 
 
 def _run_with_ptys(
-    args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: dict[str, str]
+    args: list[str], *, stdout_tty: bool, stderr_tty: bool, env: dict[str, str], fresh: bool
 ) -> tuple[int, bytes, bytes]:
-    """Run ``python -m rprpr ARGS`` with stdout/stderr on pseudo-terminals as asked."""
+    """Run ``python -m rprpr ARGS`` with stdout/stderr on pseudo-terminals as asked: in a
+    new interpreter (``fresh``), else in a process forked from this one and set up as a
+    fresh one (``tests/cli/forked.py``)."""
     fds: dict[str, tuple[int, int]] = {}
     for name, tty in (("out", stdout_tty), ("err", stderr_tty)):
         fds[name] = pty.openpty() if tty else os.pipe()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "rprpr", *args],
-        stdout=fds["out"][1],
-        stderr=fds["err"][1],
-        cwd=ROOT,
-        env=env,
-    )
+    proc: subprocess.Popen[bytes] | Forked
+    if fresh:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "rprpr", *args],
+            stdout=fds["out"][1],
+            stderr=fds["err"][1],
+            cwd=ROOT,
+            env=env,
+        )
+    else:
+
+        def rprpr() -> None:
+            sys.argv = ["rprpr", *args]
+            runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
+
+        proc = Forked(
+            rprpr, cwd=ROOT, new_session=False, out=fds["out"][1], err=fds["err"][1], env=env
+        )
     for _, w in fds.values():
         os.close(w)
     data = dict.fromkeys(fds, b"")
@@ -473,30 +489,33 @@ def _env(**extra: str) -> dict[str, str]:
     return env
 
 
-@pytest.mark.slow  # real processes on pseudo-terminals
+@pytest.mark.slow  # processes on pseudo-terminals (forked: see _run_with_ptys)
+@pytest.mark.real_workers  # the forked rprpr forks its workers, as rprpr does
 def test_progress_bar_goes_to_a_terminal_stderr_never_to_stdout(varied: Path) -> None:
     args = ["check", "--format", "json", *FAST, str(varied)]
-    code, out, err = _run_with_ptys(args, stdout_tty=False, stderr_tty=True, env=_env())
+    ptys = functools.partial(_run_with_ptys, fresh=False)
+    code, out, err = ptys(args, stdout_tty=False, stderr_tty=True, env=_env())
     assert code == 2
     assert b"checking" in err  # the bar, drawn on the terminal (and erased: transient)
     assert b"checking" not in out
     assert ANSI.encode() not in out
-    code2, out2, err2 = _run_with_ptys(args, stdout_tty=False, stderr_tty=False, env=_env())
+    code2, out2, err2 = ptys(args, stdout_tty=False, stderr_tty=False, env=_env())
     assert (code2, out2) == (code, out)  # stdout is the same with or without the bar
     assert b"checking" not in err2
     # a handful of tasks: no bar even on a terminal
     small = ["check", *FAST, str(CONFIGS / "paper_path2.rprpr.yaml")]
-    _, _, err3 = _run_with_ptys(small, stdout_tty=False, stderr_tty=True, env=_env())
+    _, _, err3 = ptys(small, stdout_tty=False, stderr_tty=True, env=_env())
     assert err3 == b""
 
 
 @pytest.mark.slow  # real processes on pseudo-terminals
 def test_colour_on_a_terminal_stdout_and_no_colour_with_no_color() -> None:
     args = ["check", *FAST, str(CONFIGS / "paper_path1.rprpr.yaml")]
-    code, out, _ = _run_with_ptys(args, stdout_tty=True, stderr_tty=False, env=_env())
+    ptys = functools.partial(_run_with_ptys, fresh=True)
+    code, out, _ = ptys(args, stdout_tty=True, stderr_tty=False, env=_env())
     assert code == 1
     assert ANSI.encode() in out
-    code, out, _ = _run_with_ptys(args, stdout_tty=True, stderr_tty=False, env=_env(NO_COLOR="1"))
+    code, out, _ = ptys(args, stdout_tty=True, stderr_tty=False, env=_env(NO_COLOR="1"))
     assert code == 1
     assert ANSI.encode() not in out
     assert b"verdict: FAIL" in out

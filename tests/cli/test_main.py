@@ -17,6 +17,7 @@ from rprpr._version import __version__
 from rprpr.cli.main import COMMANDS, main_group, run
 from rprpr.cli.rule import explain
 from rprpr.model.rules import RULES
+from tests.cli.forked import probe
 from tests.conftest import PATH2_FILE, ROOT, run_cli
 
 
@@ -34,14 +35,11 @@ def test_help_lists_every_command_with_its_own_help() -> None:
         assert f"  {name}" in out and summary in out
 
 
-def test_version_and_help_import_no_command_module() -> None:
-    probe = (
-        "import sys\nfrom rprpr.cli.main import main\n"
-        "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
-        "print(sorted(m for m in sys.modules if m.startswith('rprpr.cli.')), file=sys.stderr)"
-    )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
-    loaded = eval(done.stderr.strip().splitlines()[-1])
+def test_version_and_help_import_no_command_module(
+    probed: dict[str, tuple[int, str, str]],
+) -> None:
+    _, _, stderr = probed["help"]
+    loaded = eval(stderr.strip().splitlines()[-1])
     assert not set(loaded) & {f"rprpr.cli.{c}" for c in COMMANDS}
 
 
@@ -121,35 +119,43 @@ def test_a_missing_library_is_named_not_an_internal_error(
 
 
 PROGRAM = "import atexit, sys\natexit.register(lambda: print('teardown ran', file=sys.stderr))\n"
+ENDS = [
+    (
+        ["check", "--format", "json", PATH2_FILE, str(ROOT / "configs/case1_crossing.rprpr.yaml")],
+        1,
+    ),
+    (["check", "--format", "github", PATH2_FILE], 0),
+    (["rule", "RPR9"], 2),
+]
 
 
-@pytest.mark.parametrize(
-    ("args", "status"),
-    [
-        (
-            [
-                "check",
-                "--format",
-                "json",
-                PATH2_FILE,
-                str(ROOT / "configs/case1_crossing.rprpr.yaml"),
-            ],
-            1,
-        ),
-        (["check", "--format", "github", PATH2_FILE], 0),
-        (["rule", "RPR9"], 2),
-    ],
-)
+@pytest.fixture(scope="module")
+def probed() -> dict[str, tuple[int, str, str]]:
+    """Fresh processes, each forked from one interpreter (``tests.cli.forked.probe``):
+    ``--help`` from a bare start, and the program (``run``) on each of ENDS once the
+    interpreter has imported rprpr's dependencies (their start-up paid once)."""
+    help_probe = (
+        "import sys\nfrom rprpr.cli.main import main\n"
+        "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+        "print(sorted(m for m in sys.modules if m.startswith('rprpr.cli.')), file=sys.stderr)"
+    )
+    probes = [("help", "", help_probe)]
+    for args, _ in ENDS:
+        code = PROGRAM + f"from rprpr.cli.main import run\nsys.argv = ['rprpr', *{args!r}]\nrun()\n"
+        probes.append((repr(args), "numpy, flint, yaml, click, rich.console", code))
+    return probe(probes, ROOT)
+
+
+@pytest.mark.parametrize(("args", "status"), ENDS)
 def test_the_program_ends_once_its_output_is_out_with_mains_status_and_bytes(
-    args: list[str], status: int
+    args: list[str], status: int, probed: dict[str, tuple[int, str, str]]
 ) -> None:
     """``run`` (the console script, ``python -m rprpr``) flushes the standard streams and
     ends the process without the interpreter's teardown (an atexit hook never runs);
     what it wrote and its status are ``main``'s in this process."""
-    probe = PROGRAM + f"from rprpr.cli.main import run\nsys.argv = ['rprpr', *{args!r}]\nrun()\n"
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
-    assert (done.returncode, done.stdout, done.stderr) == run_cli(*args)
-    assert "teardown ran" not in done.stderr
+    returncode, stdout, stderr = probed[repr(args)]
+    assert (returncode, stdout, stderr) == run_cli(*args)
+    assert "teardown ran" not in stderr
 
 
 def test_with_multiprocessing_loaded_the_program_takes_the_ordinary_exit() -> None:

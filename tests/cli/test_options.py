@@ -28,17 +28,6 @@ WITHOUT_MATPLOTLIB = (
 )
 
 
-def light(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    """``rprpr ARGS`` in a Python where matplotlib and Pillow cannot be imported."""
-    return subprocess.run(
-        [sys.executable, "-c", WITHOUT_MATPLOTLIB, *args],
-        capture_output=True,
-        text=True,
-        timeout=300,
-        cwd=cwd,
-    )
-
-
 # several commands in one such Python, each on its own UTF-8 pipe-like streams: (exit
 # status, stdout, stderr) of each, as JSON on the real standard output
 LIGHT_BATCH = (
@@ -81,18 +70,51 @@ def test_the_shim_really_hides_matplotlib() -> None:
     assert "ModuleNotFoundError" in done.stderr
 
 
-def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(
-    tmp_path: Path,
-) -> None:
-    csv, out, new = tmp_path / "m.csv", tmp_path / "fixed.rprpr.yaml", tmp_path / "new.rprpr.yaml"
-    checked, exported, repaired, initialised, ruled, schema = light_batch(
-        ["check", "--samples", "101", PATH2_FILE, PATH1_FILE],
-        ["export", "--samples", "11", "-o", str(csv), PATH2_FILE],
-        ["repair", PATH1_FILE, "-o", str(out)],
-        ["init", str(new)],
-        ["rule", "RPR101"],
-        ["schema"],
+# the commands the tests below run without matplotlib, all in one such Python
+# (``light_runs``): those that work, and those that draw a sheet ({tmp}: a folder each)
+WORKING = {
+    "check": ["check", "--samples", "101", PATH2_FILE, PATH1_FILE],
+    "export": ["export", "--samples", "11", "-o", "{tmp}/m.csv", PATH2_FILE],
+    "repair": ["repair", PATH1_FILE, "-o", "{tmp}/fixed.rprpr.yaml"],
+    "init": ["init", "{tmp}/new.rprpr.yaml"],
+    "rule": ["rule", "RPR101"],
+    "schema": ["schema"],
+}
+SHEETS = [
+    (["plot", PATH2_FILE, "-o", "{tmp}/sheet.png"], "plot"),
+    (["plot", PATH2_FILE, "--show"], "plot"),
+    (["repair", PATH1_FILE, "-o", "{tmp}/r.rprpr.yaml", "--plot", "{tmp}/r.png"],
+     "repair --plot"),
+]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def light_runs(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> dict[str, tuple[Path, subprocess.CompletedProcess[str]]]:
+    """Each command of WORKING and SHEETS (by name, or by ``what`` and index) and ``plot
+    --help``, run in one Python without matplotlib: (its folder, what it did)."""
+    folders = {name: tmp_path_factory.mktemp("light") for name in WORKING}
+    folders |= {f"{what} {i}": tmp_path_factory.mktemp("sheet") for i, (_, what) in
+                enumerate(SHEETS)}  # fmt: skip
+    commands = {name: WORKING[name] for name in WORKING}
+    commands |= {f"{what} {i}": args for i, (args, what) in enumerate(SHEETS)}
+    folders["plot --help"], commands["plot --help"] = ROOT, ["plot", "--help"]
+    done = light_batch(
+        *([a.format(tmp=folders[name]) for a in args] for name, args in commands.items())
     )
+    return {name: (folders[name], d) for name, d in zip(commands, done, strict=True)}
+
+
+def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(
+    light_runs: dict[str, tuple[Path, subprocess.CompletedProcess[str]]],
+) -> None:
+    checked, exported, repaired, initialised, ruled, schema = (
+        light_runs[name][1] for name in WORKING
+    )
+    csv = light_runs["export"][0] / "m.csv"
+    out = light_runs["repair"][0] / "fixed.rprpr.yaml"
+    new = light_runs["init"][0] / "new.rprpr.yaml"
     done = checked
     assert done.returncode == 1, done.stderr  # path 1 fails: the audit ran
     assert "RPR101" in done.stdout and "PASS" in done.stdout and "FAIL" in done.stdout
@@ -118,19 +140,12 @@ def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(
     assert done.returncode == 0 and '"$schema"' in done.stdout
 
 
-@pytest.mark.parametrize(
-    ("args", "what"),
-    [
-        (["plot", PATH2_FILE, "-o", "{tmp}/sheet.png"], "plot"),
-        (["plot", PATH2_FILE, "--show"], "plot"),
-        (["repair", PATH1_FILE, "-o", "{tmp}/r.rprpr.yaml", "--plot", "{tmp}/r.png"],
-         "repair --plot"),
-    ],
-)  # fmt: skip
+@pytest.mark.parametrize("index", range(len(SHEETS)), ids=[what for _, what in SHEETS])
 def test_the_sheet_without_matplotlib_says_how_to_install_it(
-    tmp_path: Path, args: list[str], what: str
+    index: int, light_runs: dict[str, tuple[Path, subprocess.CompletedProcess[str]]]
 ) -> None:
-    done = light(*(a.format(tmp=tmp_path) for a in args))
+    what = SHEETS[index][1]
+    tmp_path, done = light_runs[f"{what} {index}"]
     assert done.returncode == 2
     assert done.stdout == ""
     assert done.stderr == (
@@ -139,8 +154,10 @@ def test_the_sheet_without_matplotlib_says_how_to_install_it(
     assert list(tmp_path.iterdir()) == []  # nothing written, not even the repaired task
 
 
-def test_plot_help_needs_no_matplotlib() -> None:
-    done = light("plot", "--help")
+def test_plot_help_needs_no_matplotlib(
+    light_runs: dict[str, tuple[Path, subprocess.CompletedProcess[str]]],
+) -> None:
+    _, done = light_runs["plot --help"]
     assert done.returncode == 0 and "Usage: rprpr plot" in done.stdout
 
 

@@ -9,10 +9,16 @@ that the signal lands mid-batch or mid-write every time: the audit in a worker b
 every catchable signal and sleeps (a computation in C, deaf to all but SIGKILL), or the
 writer of the sheet or the samples sleeps after writing half its file. The slow step
 says ``READY <pid>`` on standard error when it is reached; the test then sends the signal.
+
+The driver runs in a process forked from the test process and set up as a fresh one
+(``tests/cli/forked.py``: its own session, signal handlers and exit status, without the
+start-up of an interpreter importing rprpr again); two tests start a real interpreter
+(``python -c DRIVER``): SIGKILL of ``check -j 2`` and a SIGINT ignored from the start.
 """
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
 import signal
@@ -23,12 +29,16 @@ from pathlib import Path
 
 import pytest
 
+from tests.cli.forked import Forked
 from tests.conftest import CONFIGS
 
-pytestmark = pytest.mark.skipif(
-    not Path("/proc/self/stat").exists() or not hasattr(signal, "SIGKILL"),
-    reason="POSIX signals and /proc",
-)
+pytestmark = [
+    pytest.mark.skipif(
+        not Path("/proc/self/stat").exists() or not hasattr(signal, "SIGKILL"),
+        reason="POSIX signals and /proc",
+    ),
+    pytest.mark.real_workers,  # the forked rprpr forks its workers, as rprpr does
+]
 
 DRIVER = """
 import os, signal, sys, time
@@ -93,21 +103,44 @@ def _default_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+# what each mode of the driver imports, imported in the test process before it forks
+PREIMPORT = {
+    "deaf": "rprpr.engine.audit",
+    "slow": "rprpr.engine.audit",
+    "stubborn": "rprpr.report.run",
+    "sheet": "rprpr.render.sheet",
+    "samples": "rprpr.render.export",
+}
+
+
+def _driver(mode: str, args: tuple[str, ...]) -> None:
+    """The driver, run in the forked child as ``python -c DRIVER MODE ARGS`` runs it."""
+    sys.argv = ["-c", mode, *args]
+    exec(compile(DRIVER, "<string>", "exec"), {"__name__": "__main__"})
+
+
 class Rprpr:
     """One rprpr process under the driver, in a session of its own (so that a signal to
-    its process group reaches rprpr and its workers only, as Ctrl-C at a terminal does)."""
+    its process group reaches rprpr and its workers only, as Ctrl-C at a terminal does):
+    forked from the test process (``Forked``), or a new interpreter when ``fresh``."""
 
-    def __init__(self, mode: str, *args: str, cwd: Path) -> None:
-        self.proc = subprocess.Popen(
-            [sys.executable, "-c", DRIVER, mode, *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            cwd=cwd,
-            start_new_session=True,
-            # SIGINT as a terminal's job has it, whatever the test runner inherited (a
-            # background job of a script starts with SIGINT ignored, and rprpr keeps it so)
-            preexec_fn=_default_sigint,
-        )
+    def __init__(self, mode: str, *args: str, cwd: Path, fresh: bool = False) -> None:
+        self.proc: subprocess.Popen[bytes] | Forked
+        if fresh:
+            self.proc = subprocess.Popen(
+                [sys.executable, "-c", DRIVER, mode, *args],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                cwd=cwd,
+                start_new_session=True,
+                # SIGINT as a terminal's job has it, whatever the test runner inherited (a
+                # background job of a script starts with SIGINT ignored, and rprpr keeps it)
+                preexec_fn=_default_sigint,
+            )
+        else:
+            importlib.import_module(PREIMPORT[mode])
+            importlib.import_module("rprpr.cli.main")
+            self.proc = Forked(lambda: _driver(mode, args), cwd=cwd)
         self.ready: list[int] = []
 
     def wait_ready(self, count: int = 1) -> list[int]:
@@ -130,7 +163,7 @@ class Rprpr:
             os.kill(self.proc.pid, signum)
         try:
             _, err = self.proc.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
+        except (subprocess.TimeoutExpired, TimeoutError):
             os.killpg(self.proc.pid, signal.SIGKILL)
             self.proc.communicate()
             pytest.fail(f"rprpr still running 30 s after {signal.Signals(signum).name}")
@@ -201,7 +234,9 @@ def test_workers_die_with_a_parent_killed_by_sigkill(tmp_path: Path) -> None:
     """SIGKILL cannot be handled: the kernel takes the workers along (PR_SET_PDEATHSIG)."""
     if not sys.platform.startswith("linux"):
         pytest.skip("PR_SET_PDEATHSIG is Linux's")
-    r = Rprpr("deaf", "check", *NO_BUDGET, "-j", "2", str(batch(tmp_path)), cwd=tmp_path)
+    r = Rprpr(
+        "deaf", "check", *NO_BUDGET, "-j", "2", str(batch(tmp_path)), cwd=tmp_path, fresh=True
+    )
     workers = r.wait_ready(2)
     status, _ = r.stop(signal.SIGKILL)
     assert status == -signal.SIGKILL

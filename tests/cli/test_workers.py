@@ -8,38 +8,16 @@ from __future__ import annotations
 import os
 import signal
 import sys
-from typing import Any
 
 import pytest
 
 from rprpr.cli.workers import Died, Done, OverBudget, Workers
+from tests.cli.worker_tasks import work
 
 STAGES = ("begun", "sleeping")
 
 needs_fork = pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork")
 WAYS = [pytest.param(True, marks=needs_fork, id="forked"), pytest.param(False, id="spawned")]
-
-
-def work(task: Any, on_stage: Any) -> Any:
-    """Square a number; "die" kills its own process; "hang" waits in its second stage."""
-    if task == "die":
-        os.kill(os.getpid(), signal.SIGKILL)
-    if task == "hang":
-        on_stage("sleeping")
-        import time
-
-        time.sleep(60)
-    if task == "pid":
-        return os.getpid()
-    if task == "big":
-        return b"x" * (3 << 20)  # several pipe buffers
-    if task == "signals":  # what this process does with a stop signal, and what it holds back
-        held = signal.pthread_sigmask(signal.SIG_BLOCK, [])
-        return signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM), sorted(held)
-    if task == "pipes":  # the pipes this process holds open, by their inode
-        fds = (os.path.join("/proc/self/fd", fd) for fd in os.listdir("/proc/self/fd"))
-        return os.getpid(), sorted({os.readlink(f) for f in fds if os.path.exists(f)})
-    return task * task
 
 
 @pytest.mark.parametrize("fork", WAYS)

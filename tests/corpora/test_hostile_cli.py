@@ -232,7 +232,8 @@ def test_help_on_a_non_utf8_stream(env: dict[str, str], command: str) -> None:
 
 def test_export_json_on_a_non_utf8_stream_is_the_same_document(tmp_path: Path) -> None:
     task = with_name(tmp_path, "δ-path ψ", PATH2_FILE)
-    utf8 = rprpr_in({}, "export", task, "--format", "json", "--samples", "3")
+    utf8 = rprpr_encoded({"PYTHONIOENCODING": "utf-8"}, "export", task, "--format", "json",
+                         "--samples", "3")  # fmt: skip
     ascii_ = rprpr_encoded(ASCII, "export", task, "--format", "json", "--samples", "3")
     assert utf8.returncode == ascii_.returncode == 0
     assert utf8.stdout == ascii_.stdout and json.loads(utf8.stdout)["task"] == "δ-path ψ"

@@ -27,6 +27,7 @@ from rprpr.model.five_bar import FiveBar
 from rprpr.model.task import Link
 from tests.conftest import run_cli
 from tests.io.test_schema import VALIDATOR, schema_accepts
+from tests.io.test_walk import dump
 
 DATA = Path(__file__).resolve().parent / "data"
 DEXTAR = DATA / "five_bar_dextar.rprpr.yaml"
@@ -416,7 +417,7 @@ def test_a_5r_missing_a_required_key_says_which(key: str) -> None:
     for p in parent:
         mapping = mapping[int(p) if p.isdigit() else p]
     del mapping[int(last) if last.isdigit() else last]
-    e = _error(yaml.safe_dump(doc, sort_keys=False))
+    e = _error(dump(doc, sort_keys=False))
     assert e.key == f"robot.{key}"
     assert e.message.startswith(f"missing required key '{last}' in {'.'.join(parent)}")
 
@@ -565,7 +566,7 @@ def test_every_5r_number_below_its_bound_is_one_located_error(key: str, spec: Sp
     for p in parent:
         mapping = mapping[int(p) if p.isdigit() else p]
     mapping[int(last) if last.isdigit() else last] = -1
-    text = yaml.safe_dump(doc, sort_keys=False)
+    text = dump(doc, sort_keys=False)
     e = _error(text)
     op = ">" if spec.exclusive else ">="
     assert (e.key, e.message) == (key, f"expected a number {op} 0 ({spec.description}), found -1")

@@ -1,0 +1,292 @@
+"""A real process without a new interpreter: ``Forked`` runs a function in a child forked
+from the test process, set up as Python sets up a fresh process running a script.
+
+A fresh ``python -c ...`` that imports rprpr and its dependencies costs ~0.25 CPU-s; a
+child forked from a test process that has them imported costs a few hundredths. The child
+is a process of its own (its pid, its session, its signal handlers, its exit status, death
+by a signal included), which is what tests of signals, workers and exit statuses look at.
+What a fresh interpreter sets up at start-up is set up again in the child:
+
+* signals: none blocked, none handled by Python code but SIGINT (``KeyboardInterrupt``,
+  or ignored when asked, as a job started with SIGINT ignored has it), SIGPIPE and
+  SIGXFSZ ignored, every other one at its default;
+* standard streams: new ``sys.stdin``/``stdout``/``stderr`` on descriptors 0, 1 and 2
+  (UTF-8; output strict and block-buffered, error line-buffered with backslashreplace),
+  standard input from /dev/null;
+* exit: ``SystemExit`` gives the status as the interpreter does, the standard output is
+  flushed (a failure there is status 120), the child's own ``atexit`` functions run (not
+  the test process's), and the child ends with ``os._exit``: nothing of pytest's runs
+  twice.
+
+The test process's garbage is frozen in the child (``gc.freeze``): a collection there
+never walks the objects it inherited. A test whose subject is interpreter start-up itself
+(what is imported, what a job inherits) starts a real interpreter instead; where several
+such tests ask what a fresh process does, ``probe`` runs them all in one new interpreter,
+each in a child forked from it before it has imported anything of rprpr.
+"""
+
+from __future__ import annotations
+
+import ast
+import atexit
+import contextlib
+import gc
+import io
+import os
+import selectors
+import signal
+import subprocess
+import sys
+import time
+import traceback
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+
+class Forked:
+    """``target()`` in a forked child, as a script run by ``python -c`` with standard
+    output and error on pipes (``stdout``, ``stderr``: binary streams), in a session of
+    its own when ``new_session``. ``returncode`` as ``subprocess.Popen`` has it (-N: died
+    of signal N) once ``wait`` or ``communicate`` has reaped the child.
+
+    ``out``, ``err``: descriptors (a pseudo-terminal's, say) to give the child as its
+    standard output and error instead of pipes (the caller closes and reads them;
+    ``stdout`` and ``stderr`` are then None); ``env``: the child's whole environment."""
+
+    def __init__(
+        self,
+        target: Callable[[], object],
+        *,
+        cwd: str | Path,
+        new_session: bool = True,
+        sigint: object = signal.default_int_handler,
+        out: int | None = None,
+        err: int | None = None,
+        env: dict[str, str] | None = None,
+    ) -> None:
+        out_r, out_w = os.pipe() if out is None else (None, out)
+        err_r, err_w = os.pipe() if err is None else (None, err)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        with warnings.catch_warnings():
+            # Python >= 3.12 warns of a fork in a process with threads (a test runner's):
+            # the child runs rprpr alone, as rprpr's own forked workers do
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
+        if pid == 0:  # pragma: no cover (the child)
+            for fd in (out_r, err_r):
+                if fd is not None:
+                    os.close(fd)
+            if env is not None:
+                os.environ.clear()
+                os.environ.update(env)
+            _child(target, out_w, err_w, cwd, new_session, sigint)
+        for r, w in ((out_r, out_w), (err_r, err_w)):
+            if r is not None:
+                os.close(w)
+        self.pid = pid
+        self.returncode: int | None = None
+        # closed by communicate
+        self.stdout = None if out_r is None else open(out_r, "rb", buffering=0)  # noqa: SIM115
+        self.stderr = None if err_r is None else open(err_r, "rb", buffering=0)  # noqa: SIM115
+
+    def wait(self, timeout: float | None = None) -> int:
+        """The exit status, waiting for it (``TimeoutError`` after ``timeout`` s: a hang
+        guard, not a measure)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+            elif deadline is not None and time.monotonic() > deadline:
+                raise TimeoutError(f"process {self.pid} still running")
+            else:
+                time.sleep(0.01)
+        return self.returncode
+
+    def communicate(self, timeout: float | None = None) -> tuple[bytes, bytes]:
+        """What is left of standard output and error, to their end, and the child reaped
+        (``TimeoutError`` after ``timeout`` s)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        streams = [s for s in (self.stdout, self.stderr) if s is not None]
+        got: dict[object, list[bytes]] = {s: [] for s in streams}
+        with selectors.DefaultSelector() as sel:
+            for stream in streams:
+                if not stream.closed:
+                    sel.register(stream, selectors.EVENT_READ)
+            while sel.get_map():
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    raise TimeoutError(f"process {self.pid} still writing")
+                for key, _ in sel.select(left):
+                    chunk = os.read(key.fd, 65536)
+                    if chunk:
+                        got[key.fileobj].append(chunk)
+                    else:
+                        sel.unregister(key.fileobj)
+        for stream in streams:
+            stream.close()
+        left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        self.wait(left)
+        return tuple(b"".join(got.get(s, [])) for s in (self.stdout, self.stderr))  # type: ignore[return-value]
+
+
+def _child(
+    target: Callable[[], object],
+    out: int,
+    err: int,
+    cwd: str | Path,
+    new_session: bool,
+    sigint: object,
+) -> None:  # pragma: no cover (runs in the child)
+    code = 1
+    try:
+        gc.freeze()
+        atexit._clear()  # the test process's exit functions are not the child's
+        if new_session:
+            os.setsid()
+        _fresh_signals(sigint)
+        null = os.open(os.devnull, os.O_RDONLY)
+        os.dup2(null, 0)
+        os.dup2(out, 1)
+        os.dup2(err, 2)
+        for fd in {null, out, err}:
+            os.close(fd)
+        os.chdir(cwd)
+        streams = {
+            "stdin": io.TextIOWrapper(
+                io.BufferedReader(io.FileIO(0, "r", closefd=False)), encoding="utf-8"
+            ),
+            "stdout": io.TextIOWrapper(  # line by line on a terminal, as Python starts
+                io.BufferedWriter(io.FileIO(1, "w", closefd=False)),
+                encoding="utf-8",
+                line_buffering=os.isatty(1),
+            ),
+            "stderr": io.TextIOWrapper(
+                io.BufferedWriter(io.FileIO(2, "w", closefd=False)),
+                encoding="utf-8",
+                errors="backslashreplace",
+                line_buffering=True,
+            ),
+        }
+        for name, stream in streams.items():
+            setattr(sys, name, stream)
+            setattr(sys, f"__{name}__", stream)
+        try:
+            target()
+            code = 0
+        except SystemExit as e:
+            if e.code is None:
+                code = 0
+            elif isinstance(e.code, int):
+                code = e.code
+            else:
+                print(e.code, file=sys.stderr)
+                code = 1
+        except BaseException:
+            traceback.print_exc()
+            code = 1
+        atexit._run_exitfuncs()
+        try:
+            sys.stdout.flush()
+        except OSError as exc:
+            code = 120
+            os.write(2, f"Exception ignored on flushing sys.stdout: {exc!r}\n".encode())
+        with contextlib.suppress(OSError):
+            sys.stderr.flush()
+    finally:
+        os._exit(code)
+
+
+def _fresh_signals(sigint: object) -> None:  # pragma: no cover (runs in the child)
+    """The signal handlers and mask a fresh interpreter starts with."""
+    signal.pthread_sigmask(signal.SIG_SETMASK, set())
+    with contextlib.suppress(ValueError):
+        signal.set_wakeup_fd(-1)
+    for signum in signal.valid_signals():
+        if signum in (signal.SIGKILL, signal.SIGSTOP):
+            continue
+        try:
+            signal.signal(signum, signal.SIG_DFL)
+        except (OSError, ValueError):
+            continue
+    signal.signal(signal.SIGINT, sigint)  # type: ignore[arg-type]
+    signal.signal(signal.SIGPIPE, signal.SIG_IGN)
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
+# -- fresh interpreters: many probes, one start-up ------------------------------------------
+PROBER = """
+import os, sys
+
+def run(code):
+    out_r, out_w = os.pipe()
+    err_r, err_w = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.dup2(out_w, 1)
+        os.dup2(err_w, 2)
+        status = 0
+        try:
+            exec(compile(code, "<string>", "exec"), {"__name__": "__main__"})
+        except SystemExit as e:
+            status = e.code if isinstance(e.code, int) else int(e.code is not None)
+        except BaseException:
+            import traceback
+            traceback.print_exc()
+            status = 1
+        import atexit
+        atexit._run_exitfuncs()
+        try:
+            sys.stdout.flush()
+        except OSError:
+            status = 120
+        sys.stderr.flush()
+        os._exit(status)
+    os.close(out_w)
+    os.close(err_w)
+    got = []
+    for fd in (out_r, err_r):
+        chunks = []
+        while chunk := os.read(fd, 65536):
+            chunks.append(chunk)
+        os.close(fd)
+        got.append(b"".join(chunks).decode())
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status), *got
+
+results = {}
+for name, floor, code in zip(sys.argv[1::3], sys.argv[2::3], sys.argv[3::3]):
+    if floor:
+        exec("import " + floor)
+    results[name] = run(code)
+sys.stdout.write(repr(results))
+"""
+
+
+def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tuple[int, str, str]]:
+    """Each probe (name, floor, code) as ``python -c CODE`` would run it in ``cwd``: (exit
+    status, standard output, standard error) by name.
+
+    One interpreter (``PROBER``) runs them in order, each in a child forked from it; it
+    imports nothing itself (os and sys are there from start-up) but, before each probe,
+    the modules its floor names ("numpy, flint": those the probe would import first and
+    takes as given), so that their start-up is paid once for all the probes after it.
+    A probe ends as a script does: ``SystemExit`` gives its status, the exit functions it
+    registered run, then standard output is flushed (status 120 if that fails); one that
+    ends its process itself (``os._exit``) skips all that, as it would alone."""
+    argv = [x for p in probes for x in p]
+    # numpy with one OpenBLAS thread, as rprpr's program (``cli.main.run``) starts it
+    env = {"OPENBLAS_NUM_THREADS": "1", **os.environ}
+    done = subprocess.run(
+        [sys.executable, "-c", PROBER, *argv],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+        env=env,
+    )
+    assert done.returncode == 0, done.stderr
+    results: dict[str, tuple[int, str, str]] = ast.literal_eval(done.stdout)
+    return results
