@@ -410,27 +410,33 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
     assert t[5] == 2.5 and t[-1] == 5.0 and t[0] == 0.0
 
 
-def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
+@pytest.fixture(scope="module")
+def fresh_imports() -> subprocess.CompletedProcess[str]:
+    """One fresh Python process: the engine's core imported (then, on standard output, a
+    line "core:" and the modules of the command line, YAML or plotting it pulled in), and
+    then ``rprpr check`` run (then, on standard error, whether matplotlib was imported).
+    The core imports nothing of the command line, so the check runs as from a fresh
+    process; one process start serves both tests below."""
     code = (
-        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling;"
-        "import rprpr.engine.exact.singular;"
-        "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules];"
-        "print(','.join(bad))"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == ""
-
-
-def test_check_path_never_imports_matplotlib():  # type: ignore[no-untyped-def]
-    code = (
-        "import sys\nfrom rprpr.cli.main import main\n"
+        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling\n"
+        "import rprpr.engine.exact.singular\n"
+        "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules]\n"
+        "print('core:' + ','.join(bad), flush=True)\n"
+        "from rprpr.cli.main import main\n"
         "try:\n    main(['check', '--format', 'json', "
         f"{str(CONFIGS / 'paper_path2.rprpr.yaml')!r}])\n"
         "except SystemExit:\n    pass\n"
         "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert out.stderr.strip().endswith("CLEAN")
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+
+
+def test_core_imports_no_cli_yaml_or_plotting(fresh_imports):  # type: ignore[no-untyped-def]
+    assert fresh_imports.stdout.splitlines()[0] == "core:"
+
+
+def test_check_path_never_imports_matplotlib(fresh_imports):  # type: ignore[no-untyped-def]
+    assert fresh_imports.stderr.strip().endswith("CLEAN")
 
 
 # -- regressions from review --------------------------------------------------------------
