@@ -6,6 +6,9 @@ import dataclasses
 import math
 import subprocess
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 import pytest
@@ -16,7 +19,7 @@ from rprpr.engine.bounds.verdicts import LimitCheck
 from rprpr.engine.certified.sampling import grid
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.rules import Finding
-from rprpr.model.task import Task
+from rprpr.model.task import Checks, Task
 from tests.conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
 from tests.reference import reference
 
@@ -407,27 +410,33 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
     assert t[5] == 2.5 and t[-1] == 5.0 and t[0] == 0.0
 
 
-def test_core_imports_no_cli_yaml_or_plotting():  # type: ignore[no-untyped-def]
+@pytest.fixture(scope="module")
+def fresh_imports() -> subprocess.CompletedProcess[str]:
+    """One fresh Python process: the engine's core imported (then, on standard output, a
+    line "core:" and the modules of the command line, YAML or plotting it pulled in), and
+    then ``rprpr check`` run (then, on standard error, whether matplotlib was imported).
+    The core imports nothing of the command line, so the check runs as from a fresh
+    process; one process start serves both tests below."""
     code = (
-        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling;"
-        "import rprpr.engine.exact.singular;"
-        "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules];"
-        "print(','.join(bad))"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == ""
-
-
-def test_check_path_never_imports_matplotlib():  # type: ignore[no-untyped-def]
-    code = (
-        "import sys\nfrom rprpr.cli.main import main\n"
+        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling\n"
+        "import rprpr.engine.exact.singular\n"
+        "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules]\n"
+        "print('core:' + ','.join(bad), flush=True)\n"
+        "from rprpr.cli.main import main\n"
         "try:\n    main(['check', '--format', 'json', "
         f"{str(CONFIGS / 'paper_path2.rprpr.yaml')!r}])\n"
         "except SystemExit:\n    pass\n"
         "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert out.stderr.strip().endswith("CLEAN")
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+
+
+def test_core_imports_no_cli_yaml_or_plotting(fresh_imports):  # type: ignore[no-untyped-def]
+    assert fresh_imports.stdout.splitlines()[0] == "core:"
+
+
+def test_check_path_never_imports_matplotlib(fresh_imports):  # type: ignore[no-untyped-def]
+    assert fresh_imports.stderr.strip().endswith("CLEAN")
 
 
 # -- regressions from review --------------------------------------------------------------
@@ -597,7 +606,40 @@ def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
         tasks.append((name, task))
         if name not in AS_GIVEN_ONLY:
             tasks.append((f"{name} (50, 50)", _with_limit(task, (50, 50))))
-    return [(name, audit(t, samples=11), audit(t, samples=11, peak=True)) for name, t in tasks]
+    with _one_analysis_per_motion():
+        return [(name, audit(t, samples=11), audit(t, samples=11, peak=True)) for name, t in tasks]
+
+
+@contextmanager
+def _one_analysis_per_motion() -> Iterator[None]:
+    """Inside: each piece's exact singular analysis and certified motion (``pieces.part``,
+    ``Part.motion``) made once per piece, robot and margins, and shared by the audits of
+    that motion (as given and under each limit, with and without the peak). Both read
+    only the piece, the robot and the margins (checks.min_slope, checks.min_speed), none
+    of which the peak or the limit changes, and the motion's caches (its zones) are
+    filled the same whoever asks first; what the tests compare (the envelopes, limit
+    checks, peaks and findings) every audit makes afresh, on a part of its own."""
+    from rprpr.engine import pieces
+
+    real = pieces.part
+    made: list[tuple[Any, Any, Any, Any, pieces.Part]] = []
+
+    def part(piece: Any, robot: Any, checks: Checks, tell: Any) -> pieces.Part:
+        margins = (checks.min_slope, checks.min_speed)
+        for p, r, m0, m1, first in made:
+            if p is piece and r is robot and (m0, m1) == margins:
+                again = pieces.Part(piece, robot, first.analysis)
+                again.__dict__.update(traj=first.traj, motion=first.motion)
+                return again
+        fresh = real(piece, robot, checks, tell)
+        made.append((piece, robot, *margins, fresh))
+        return fresh
+
+    pieces.part = part
+    try:
+        yield
+    finally:
+        pieces.part = real
 
 
 def _decided(f: Finding) -> tuple[object, ...]:

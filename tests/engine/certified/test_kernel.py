@@ -200,6 +200,7 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
             T0, d0 = st._torques(want, args[3])
             _same(T, T0, (trial, "T"))
             _same(d, d0, (trial, "delta"))
+            numpy_balls = T0  # numpy's legs, then its torques, of these balls
             given = _ball(rng, n)  # δ given (the factored form near A or B)
             (T, d), (T0, _) = (
                 st.torques(want, args[3], delta=given),
@@ -216,6 +217,7 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
                 _same(getattr(got, f).d, getattr(want, f).d, (trial, f, "d"))
             T, d = st.torques(want, jets[3])
             T0, d0 = st._torques(want, jets[3])
+            numpy_jets = T0  # numpy's legs, then its torques, of these jets
             for a, b, w in ((T.v, T0.v, "T"), (T.d, T0.d, "T'"), (d.v, d0.v, "δ"),
                             (d.d, d0.d, "δ'")):  # fmt: skip
                 _same(a, b, (trial, w))
@@ -224,9 +226,10 @@ def test_stacked_through_the_kernel_is_numpy_bit_for_bit(
             T0 = st._torques(want, jets[3], delta=given)[0]
             _same(T.v, T0.v, (trial, "T at δ"))
             _same(T.d, T0.d, (trial, "T' at δ"))
-            # the legs and the torques in one call (``efforts``) against numpy's two
-            _same(st.efforts(*args), st._torques(st._legs(*args), args[3])[0], (trial, "E"))
-            E, E0 = st.efforts(*jets), st._torques(st._legs(*jets), jets[3])[0]
+            # the legs and the torques in one call (``efforts``) against numpy's two (made
+            # above, of the same balls and jets)
+            _same(st.efforts(*args), numpy_balls, (trial, "E"))
+            E, E0 = st.efforts(*jets), numpy_jets
             _same(E.v, E0.v, (trial, "E"))
             _same(E.d, E0.d, (trial, "E'"))
     assert spy.took >= 8 * 60 * 0.9  # eight calls a trial, and few shapes declined
