@@ -56,18 +56,53 @@ FEW_FRAMES = 12  # a GIF a test checks is animated (more than 10 frames), not it
 
 
 def few_frames(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The GIFs the commands write (``plot --animate``) with FEW_FRAMES frames for the rest
-    of the test: the same writer and code path, an eighth of the frames to draw
-    (tests/render/test_animation.py tests the frame count itself, and the real command's
-    100-frame GIF, marked slow)."""
+    """The GIFs the commands write (``plot --animate``) with FEW_FRAMES frames at SMALL_DPI
+    for the rest of the test: the same writer and code path, an eighth of the frames to
+    draw and a twentieth of their pixels (tests/render/test_animation.py tests the frame
+    count and size themselves, and the real command's 100-frame GIF, marked slow)."""
     from rprpr.render import animation as A
 
     write_gif = A.write_gif
 
     def few(*args: Any, **kwargs: Any) -> int:
-        return write_gif(*args, **{**kwargs, "frames": FEW_FRAMES})
+        return write_gif(*args, **{**kwargs, "frames": FEW_FRAMES, "dpi": SMALL_DPI})
 
     monkeypatch.setattr(A, "write_gif", few)
+
+
+@dataclass(frozen=True)
+class Gif:
+    """A GIF ``animation.write_gif`` wrote: the frame count it returned, the file, and
+    the ``Animation`` it drew the frames with (read, never changed)."""
+
+    frames: int
+    path: Path
+    animation: Any
+
+
+_GIFS = tempfile.TemporaryDirectory(prefix="rprpr-gifs-")  # removed at the process's end
+
+
+@functools.cache
+def gif(paths: tuple[str, ...], frames: int, dpi: int) -> Gif:
+    """``write_gif(motions(paths), FILE, frames=frames, dpi=dpi)`` once per test process
+    (its static parts drawn once, the frames once): the file, and the animation it drew."""
+    from rprpr.render import animation as A
+
+    seen: list[Any] = []
+    init = A.Animation.__init__
+
+    def spy(self: Any, *a: Any, **kw: Any) -> None:
+        init(self, *a, **kw)
+        seen.append(self)
+
+    name = "+".join(Path(p).name.split(".")[0] for p in paths)
+    out = Path(_GIFS.name) / f"{name}-{frames}-{dpi}.gif"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(A.Animation, "__init__", spy)
+        n = A.write_gif(motions(paths), str(out), frames=frames, dpi=dpi)
+    (animation,) = seen
+    return Gif(n, out, animation)
 
 
 @functools.cache

@@ -35,7 +35,8 @@ SMALL_FRAMES = 3  # and their GIF (tests/render/test_animation.py tests the fram
 @pytest.fixture(scope="module")
 def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[int, Outcome]:
     """Every block's outcome, README's pictures written at SMALL_DPI and its GIF with
-    SMALL_FRAMES frames (the same commands, the same code path, a fraction of the pixels)."""
+    SMALL_FRAMES frames at SMALL_DPI (the same commands, the same code path, a fraction of
+    the pixels)."""
     from rprpr.render import animation as A
     from rprpr.render import sheet as P
 
@@ -45,7 +46,7 @@ def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[int, Outcome]:
         save(*args, **{**kwargs, "dpi": SMALL_DPI})
 
     def small_gif(*args: Any, **kwargs: Any) -> int:
-        return write_gif(*args, **{**kwargs, "frames": SMALL_FRAMES})
+        return write_gif(*args, **{**kwargs, "frames": SMALL_FRAMES, "dpi": SMALL_DPI})
 
     here = tmp_path_factory.mktemp("readme")
     with pytest.MonkeyPatch.context() as mp:

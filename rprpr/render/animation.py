@@ -53,6 +53,8 @@ DPI = 90
 COLUMN_SIZE = (5.0, 5.6)  # in, per task
 MAX_COLUMNS = 3
 
+RC = {**P.RC, "font.size": 8}  # matplotlib's rcParams for the GIF: the sheet's, smaller text
+
 NEAR_EDGE = "#E69F00"  # the workspace's frame near a singular configuration
 AT_EDGE = "#D62728"  # ... at a singular instant
 
@@ -301,7 +303,7 @@ class Animation:
         if nrows > 1:  # keep the frame within one row's pixels: the file size stays bounded
             dpi = max(40, int(dpi / math.sqrt(nrows)))
         self.dpi = dpi
-        with matplotlib.rc_context({**P.RC, "font.size": 8}):
+        with matplotlib.rc_context(RC):
             size = (_inches(COLUMN_SIZE[0] * ncols, dpi), _inches(COLUMN_SIZE[1] * nrows, dpi))
             fig = Figure(figsize=size, dpi=dpi, layout="constrained")
             self.fig = fig
@@ -325,11 +327,16 @@ class Animation:
 
     def draw(self, k: int) -> None:
         """Frame k on the canvas: the static parts, then what moves, lowest z-order first."""
-        with matplotlib.rc_context({**P.RC, "font.size": 8}):
-            self.canvas.restore_region(self.background)  # type: ignore[no-untyped-call]
-            for c in self.columns:
-                for a in sorted(c.update(k), key=lambda a: a.get_zorder()):
-                    self.fig.draw_artist(a)
+        with matplotlib.rc_context(RC):
+            self._paint(k)
+
+    def _paint(self, k: int) -> None:
+        """``draw`` within the GIF's ``RC`` already set (``write_gif`` sets it once for
+        every frame: entering it costs a copy and a validation of every rcParam)."""
+        self.canvas.restore_region(self.background)  # type: ignore[no-untyped-call]
+        for c in self.columns:
+            for a in sorted(c.update(k), key=lambda a: a.get_zorder()):
+                self.fig.draw_artist(a)
 
     def rgba(self, k: int) -> np.ndarray:
         """Frame k as pixels (rows from the top, RGBA)."""
@@ -353,8 +360,8 @@ def write_gif(
     a = Animation(motions, frames, dpi)
     durations = [int(1000 * HOLD) if h else int(1000 / fps) for h in a.hold]
     writer = GifWriter(durations, fps=fps)
-    with writer.saving(a.fig, path, a.dpi):
+    with writer.saving(a.fig, path, a.dpi), matplotlib.rc_context(RC):
         for k in range(a.frames):
-            a.draw(k)
+            a._paint(k)
             writer.grab_frame()
     return a.frames

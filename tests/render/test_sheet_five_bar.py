@@ -243,7 +243,7 @@ def test_the_gif_moves_the_links_through_the_singular_pose() -> None:
     """The GIF's frame at t_s: the links at the independent pose, the marks at the
     instant's (x, y) and the Type II curves over the links."""
     (m,) = motions([STOP])
-    an = A.Animation([m], frames=9, dpi=40)
+    an = A.Animation([m], frames=9, dpi=20)  # its artists' data are read, not its pixels
     col = an.columns[0]
     (k,) = [j for j, s in enumerate(col.at) if s is not None]
     an.draw(k)

@@ -20,7 +20,7 @@ from matplotlib.lines import Line2D
 from rprpr.render import animation as A
 from rprpr.render import sheet as P
 from tests.conftest import CONFIGS
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, repaired, sheet
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, gif, motions, repaired, sheet
 
 MARK = re.compile(r"^(path|x|y|delta|gif-path|gif-delta)-singular-(\d+)-(\d+)$")
 
@@ -147,8 +147,10 @@ def test_the_repair_sheet_marks_before_and_after_at_their_data() -> None:
 
 
 def test_the_gifs_static_marks_at_their_data() -> None:
+    """The GIF of both paths side by side (tests/render/test_animation.py reads its file):
+    the marks are static, drawn once whatever the frames."""
     ms = motions([PATH1, PATH2])
-    a = A.Animation(ms, frames=5, dpi=30)
+    a = gif((PATH1, PATH2), 2, 30).animation
     check_at_data(a.fig, ms, ("gif-path", "gif-delta"))
 
 
