@@ -6,6 +6,7 @@ from __future__ import annotations
 import atexit
 import gc
 import io
+import json
 import math
 import os
 import sys
@@ -379,6 +380,67 @@ def _group(item: pytest.Item) -> str:
         if helper is not None:
             return helper
     return item.nodeid.split("::", 1)[0]
+
+
+# -- the order the groups are handed out in -------------------------------------------------
+# pytest-xdist hands the groups out most tests first, so a group of a few costly tests (the
+# two engine fuzzers, the workers waiting out their budgets) went out last and left one
+# process working alone at the end. Here the costliest groups go first, each group's cost
+# the sum of its tests' seconds in TEST_SECONDS (tests/test_seconds.json, written by
+# ``pytest -n 2 --write-test-seconds tests/test_seconds.json``; a test it does not know
+# counts SECONDS_UNKNOWN). The order decides only which process runs a group and when,
+# never what a test does: a stale table costs wall time, not a result.
+TEST_SECONDS = Path(__file__).with_name("test_seconds.json")
+SECONDS_UNKNOWN = 0.01
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--write-test-seconds",
+        metavar="PATH",
+        help="write each test's seconds (setup, call and teardown) to PATH as JSON: the "
+        "order groups are handed out in under --dist loadgroup (tests/conftest.py)",
+    )
+
+
+def _cost(nodeids: Any, table: dict[str, float]) -> float:
+    return sum(table.get(t.split("@", 1)[0], SECONDS_UNKNOWN) for t in nodeids)
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadGroupScheduling
+
+    table = json.loads(TEST_SECONDS.read_text()) if TEST_SECONDS.exists() else {}
+
+    class CostliestFirst(LoadGroupScheduling):
+        ordered = False
+
+        def _assign_work_unit(self, node: Any) -> None:
+            if not self.ordered:  # the first hand-out: the queue holds every group
+                self.ordered = True
+                units = sorted(self.workqueue.items(), key=lambda unit: -_cost(unit[1], table))
+                self.workqueue.clear()
+                self.workqueue.update(units)
+            super()._assign_work_unit(node)
+
+    return CostliestFirst(config, log)
+
+
+_TEST_SECONDS: dict[str, float] = {}
+
+
+def pytest_runtest_logreport(report: pytest.TestReport) -> None:
+    key = report.nodeid.split("@", 1)[0]
+    _TEST_SECONDS[key] = _TEST_SECONDS.get(key, 0.0) + report.duration
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    path = session.config.getoption("write_test_seconds")
+    if path and not hasattr(session.config, "workerinput"):  # xdist's controller, or -n 0
+        kept = {k: round(v, 2) for k, v in sorted(_TEST_SECONDS.items()) if v >= 0.02}
+        Path(path).write_text(json.dumps(kept, indent=0) + "\n")
 
 
 @pytest.hookimpl(trylast=True)
