@@ -403,10 +403,19 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     )
 
 
+def _test_key(nodeid: str) -> str:
+    """A test's key in TEST_SECONDS: its id without the group (cut as pytest-xdist cuts
+    it: at the last ``@`` after the parameters) and without this clone's path."""
+    if nodeid.rfind("@") > nodeid.rfind("]"):
+        nodeid = nodeid[: nodeid.rfind("@")]
+    return nodeid.replace(f"{ROOT}{os.sep}", "")
+
+
 def _cost(nodeids: Any, table: dict[str, float]) -> float:
-    return sum(table.get(t.split("@", 1)[0], SECONDS_UNKNOWN) for t in nodeids)
+    return sum(table.get(_test_key(t), SECONDS_UNKNOWN) for t in nodeids)
 
 
+@pytest.hookimpl(optionalhook=True)  # a run without pytest-xdist (-p no:xdist) knows no such hook
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     if config.getvalue("dist") != "loadgroup":
         return None
@@ -432,7 +441,7 @@ _TEST_SECONDS: dict[str, float] = {}
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
-    key = report.nodeid.split("@", 1)[0]
+    key = _test_key(report.nodeid)
     _TEST_SECONDS[key] = _TEST_SECONDS.get(key, 0.0) + report.duration
 
 
@@ -448,8 +457,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """Under ``--dist loadgroup`` (pyproject.toml) every test of a group runs in one test
     process, so that what its tests share is computed once, not once per process: each
     test is marked ``xdist_group(GROUP)`` (``_group``) unless it names its own group.
-    pytest-xdist hands the groups out most tests first, so the small groups even the two
-    processes out at the end. It schedules by a ``@GROUP`` suffix on the test's id,
+    The groups are handed out costliest first (``pytest_xdist_make_scheduler``).
+    pytest-xdist schedules by a ``@GROUP`` suffix on the test's id,
     which its worker writes to ``item._nodeid`` before this hook has marked the test, and
     pytest 9.2 keeps the id in ``item._id``: the suffix is written here when it is missing
     (on any other layout the tests spread like the others: slower, never wrong)."""
