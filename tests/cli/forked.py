@@ -32,6 +32,7 @@ import atexit
 import contextlib
 import gc
 import io
+import itertools
 import os
 import selectors
 import signal
@@ -75,13 +76,16 @@ class Forked:
             warnings.simplefilter("ignore", DeprecationWarning)
             pid = os.fork()
         if pid == 0:  # pragma: no cover (the child)
-            for fd in (out_r, err_r):
-                if fd is not None:
-                    os.close(fd)
-            if env is not None:
-                os.environ.clear()
-                os.environ.update(env)
-            _child(target, out_w, err_w, cwd, new_session, sigint)
+            try:
+                for fd in (out_r, err_r):
+                    if fd is not None:
+                        os.close(fd)
+                if env is not None:
+                    os.environ.clear()
+                    os.environ.update(env)
+                _child(target, out_w, err_w, cwd, new_session, sigint)
+            finally:  # _child ends the child itself; this, if a step before it failed
+                os._exit(1)
         for r, w in ((out_r, out_w), (err_r, err_w)):
             if r is not None:
                 os.close(w)
@@ -100,10 +104,21 @@ class Forked:
             if pid:
                 self.returncode = os.waitstatus_to_exitcode(status)
             elif deadline is not None and time.monotonic() > deadline:
-                raise TimeoutError(f"process {self.pid} still running")
+                self._kill()
+                raise TimeoutError(f"process {self.pid} still running: killed")
             else:
                 time.sleep(0.01)
         return self.returncode
+
+    def _kill(self) -> None:
+        """SIGKILL to the child and its session (new_session: its workers too), reaped."""
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(self.pid, signal.SIGKILL)
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(self.pid, signal.SIGKILL)
+        with contextlib.suppress(ChildProcessError):
+            os.waitpid(self.pid, 0)
+        self.returncode = -signal.SIGKILL
 
     def communicate(self, timeout: float | None = None) -> tuple[bytes, bytes]:
         """What is left of standard output and error, to their end, and the child reaped
@@ -118,7 +133,8 @@ class Forked:
             while sel.get_map():
                 left = None if deadline is None else deadline - time.monotonic()
                 if left is not None and left <= 0:
-                    raise TimeoutError(f"process {self.pid} still writing")
+                    self._kill()
+                    raise TimeoutError(f"process {self.pid} still writing: killed")
                 for key, _ in sel.select(left):
                     chunk = os.read(key.fd, 65536)
                     if chunk:
@@ -153,6 +169,9 @@ def _child(
         os.dup2(err, 2)
         for fd in {null, out, err}:
             os.close(fd)
+        os.closerange(3, os.sysconf("SC_OPEN_MAX"))  # the test runner's pipes and files
+        _fresh_warnings()
+        gc.set_threshold(700, 10, 10)  # Python's own (tests/conftest.py raises them)
         os.chdir(cwd)
         streams = {
             "stdin": io.TextIOWrapper(
@@ -199,6 +218,15 @@ def _child(
         os._exit(code)
 
 
+def _fresh_warnings() -> None:  # pragma: no cover (runs in the child)
+    """The warning filters a fresh interpreter starts with (not the test run's "error")."""
+    warnings.resetwarnings()
+    for category in (ResourceWarning, ImportWarning, PendingDeprecationWarning):
+        warnings.simplefilter("ignore", category)
+    warnings.simplefilter("ignore", DeprecationWarning)
+    warnings.filterwarnings("default", category=DeprecationWarning, module="__main__")
+
+
 def _fresh_signals(sigint: object) -> None:  # pragma: no cover (runs in the child)
     """The signal handlers and mask a fresh interpreter starts with."""
     signal.pthread_sigmask(signal.SIG_SETMASK, set())
@@ -231,7 +259,11 @@ def run(code):
         try:
             exec(compile(code, "<string>", "exec"), {"__name__": "__main__"})
         except SystemExit as e:
-            status = e.code if isinstance(e.code, int) else int(e.code is not None)
+            if e.code is None or isinstance(e.code, int):
+                status = e.code or 0
+            else:
+                print(e.code, file=sys.stderr)
+                status = 1
         except BaseException:
             import traceback
             traceback.print_exc()
@@ -246,15 +278,22 @@ def run(code):
         os._exit(status)
     os.close(out_w)
     os.close(err_w)
-    got = []
-    for fd in (out_r, err_r):
-        chunks = []
-        while chunk := os.read(fd, 65536):
-            chunks.append(chunk)
-        os.close(fd)
-        got.append(b"".join(chunks).decode())
+    import selectors
+    got = {out_r: [], err_r: []}
+    with selectors.DefaultSelector() as sel:  # both pipes at once: neither fills up
+        for fd in got:
+            sel.register(fd, selectors.EVENT_READ)
+        while sel.get_map():
+            for key, _ in sel.select():
+                chunk = os.read(key.fd, 65536)
+                if chunk:
+                    got[key.fd].append(chunk)
+                else:
+                    sel.unregister(key.fd)
+                    os.close(key.fd)
     _, status = os.waitpid(pid, 0)
-    return os.waitstatus_to_exitcode(status), *got
+    return (os.waitstatus_to_exitcode(status),
+            *(b"".join(got[fd]).decode() for fd in (out_r, err_r)))
 
 results = {}
 for name, floor, code in zip(sys.argv[1::3], sys.argv[2::3], sys.argv[3::3]):
@@ -276,6 +315,10 @@ def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tupl
     A probe ends as a script does: ``SystemExit`` gives its status, the exit functions it
     registered run, then standard output is flushed (status 120 if that fails); one that
     ends its process itself (``os._exit``) skips all that, as it would alone."""
+    # a floor's modules stay imported for the probes after it: a probe that asks what a
+    # fresh process imports would find them there, so the floors only grow, in order
+    floors = [{m.strip() for m in floor.split(",") if m.strip()} for _, floor, _ in probes]
+    assert all(a <= b for a, b in itertools.pairwise(floors)), "probes: smaller floors first"
     argv = [x for p in probes for x in p]
     # numpy with one OpenBLAS thread, as rprpr's program (``cli.main.run``) starts it
     env = {"OPENBLAS_NUM_THREADS": "1", **os.environ}

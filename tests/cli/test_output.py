@@ -116,6 +116,7 @@ def test_dev_null_as_output_is_written_in_place_never_replaced() -> None:
 
 
 @pytest.mark.skipif(not Path("/dev/stdout").exists(), reason="needs /dev/stdout")
+@pytest.mark.real_workers  # rprpr as a process does it: its check audits in a worker of its own
 def test_dev_stdout_on_a_pipe_is_written_in_place() -> None:
     # /dev/stdout links to /proc/self/fd/1, whose target on a pipe ("pipe:[n]") no path
     # reaches: the report goes through the name given, as to any device
