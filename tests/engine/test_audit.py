@@ -607,18 +607,22 @@ def with_and_without_peak() -> list[tuple[str, AuditResult, AuditResult]]:
         if name not in AS_GIVEN_ONLY:
             tasks.append((f"{name} (50, 50)", _with_limit(task, (50, 50))))
     with _one_analysis_per_motion():
-        return [(name, audit(t, samples=11), audit(t, samples=11, peak=True)) for name, t in tasks]
+        plain = [audit(t, samples=11) for _, t in tasks]
+    with _one_analysis_per_motion():  # the peak's audits make their own, shared among them
+        peaked = [audit(t, samples=11, peak=True) for _, t in tasks]
+    return [(name, a, b) for (name, _), a, b in zip(tasks, plain, peaked, strict=True)]
 
 
 @contextmanager
 def _one_analysis_per_motion() -> Iterator[None]:
     """Inside: each piece's exact singular analysis and certified motion (``pieces.part``,
     ``Part.motion``) made once per piece, robot and margins, and shared by the audits of
-    that motion (as given and under each limit, with and without the peak). Both read
-    only the piece, the robot and the margins (checks.min_slope, checks.min_speed), none
-    of which the peak or the limit changes, and the motion's caches (its zones) are
-    filled the same whoever asks first; what the tests compare (the envelopes, limit
-    checks, peaks and findings) every audit makes afresh, on a part of its own."""
+    that motion made inside (as given and under each limit; the fixture audits with and
+    without the peak in two such blocks, so that each way prepares its own motions). Both
+    read only the piece, the robot and the margins (checks.min_slope, checks.min_speed),
+    none of which a limit changes, and the motion's caches (its zones) are filled the same
+    whoever asks first; what the tests compare (the envelopes, limit checks, peaks and
+    findings) every audit makes afresh, on a part of its own."""
     from rprpr.engine import pieces
 
     real = pieces.part
