@@ -437,19 +437,27 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     return CostliestFirst(config, log)
 
 
-_TEST_SECONDS: dict[str, float] = {}
+class _TestSeconds:
+    """Each test's seconds (setup, call and teardown), written to ``path`` at the end:
+    registered by ``pytest_configure`` only when --write-test-seconds asks, in the
+    process that receives every report (xdist's controller, or the one of -n 0)."""
+
+    def __init__(self, path: str) -> None:
+        self.path, self.seconds = Path(path), dict[str, float]()
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        key = _test_key(report.nodeid)
+        self.seconds[key] = self.seconds.get(key, 0.0) + report.duration
+
+    def pytest_sessionfinish(self) -> None:
+        kept = {k: round(v, 2) for k, v in sorted(self.seconds.items()) if v >= 0.02}
+        self.path.write_text(json.dumps(kept, indent=0) + "\n")
 
 
-def pytest_runtest_logreport(report: pytest.TestReport) -> None:
-    key = _test_key(report.nodeid)
-    _TEST_SECONDS[key] = _TEST_SECONDS.get(key, 0.0) + report.duration
-
-
-def pytest_sessionfinish(session: pytest.Session) -> None:
-    path = session.config.getoption("write_test_seconds")
-    if path and not hasattr(session.config, "workerinput"):  # xdist's controller, or -n 0
-        kept = {k: round(v, 2) for k, v in sorted(_TEST_SECONDS.items()) if v >= 0.02}
-        Path(path).write_text(json.dumps(kept, indent=0) + "\n")
+def pytest_configure(config: pytest.Config) -> None:
+    path = config.getoption("write_test_seconds")
+    if path and not hasattr(config, "workerinput"):
+        config.pluginmanager.register(_TestSeconds(path), "rprpr-test-seconds")
 
 
 @pytest.hookimpl(trylast=True)

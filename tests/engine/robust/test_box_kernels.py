@@ -66,10 +66,6 @@ def _regressor(rng: np.random.Generator, n: int, special: bool) -> np.ndarray:
     return view if rng.integers(0, 2) else np.ascontiguousarray(view)
 
 
-def _same_doubles(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(((a == b) | (np.isnan(a) & np.isnan(b))).all())
-
-
 @needs_kernel
 def test_the_box_max_through_the_kernel_is_numpy_bit_for_bit(
     monkeypatch: pytest.MonkeyPatch,
@@ -87,7 +83,7 @@ def test_the_box_max_through_the_kernel_is_numpy_bit_for_bit(
             monkeypatch.setattr(windows, "KERNEL", None)
             want = box_max(Ys, corners, bounds)
         assert got.shape == want.shape == (n, 2)
-        assert _same_doubles(got, want), (trial, got, want)
+        assert np.array_equal(got, want, equal_nan=True), (trial, got, want)
     assert (spy.took, spy.declined) == (trials, 0)
 
 
@@ -189,7 +185,7 @@ def test_form_bounds_through_the_kernel_is_numpy_bit_for_bit(
                 monkeypatch.setattr(regressor, "KERNEL", None)
                 want = form_bounds(Y, box, corners, upper)
             assert got.shape == want.shape == (2, n)
-            assert _same_doubles(got, want), (trial, upper, got, want)
+            assert np.array_equal(got, want, equal_nan=True), (trial, upper, got, want)
     assert (spy.took, spy.declined) == (2 * trials, 0)
 
 
@@ -234,7 +230,7 @@ def test_the_peaks_guide_through_the_kernel_is_numpy_bit_for_bit(
             monkeypatch.setattr(regressor, "KERNEL", None)
             want = regressor.form_worst(Y, corners, box)
         assert got.shape == want.shape == (2, n)
-        assert _same_doubles(got, want), (trial, got, want)
+        assert np.array_equal(got, want, equal_nan=True), (trial, got, want)
     assert (spy.took, spy.declined) == (trials, 0)
 
 
@@ -270,7 +266,7 @@ def test_vertices_at_the_margins_and_unequal_corners_are_numpy_bit_for_bit(
         got = form_bounds(Y, box, corners, upper)
         monkeypatch.setattr(regressor, "KERNEL", None)
         want = form_bounds(Y, box, corners, upper)
-        assert _same_doubles(got, want), upper
+        assert np.array_equal(got, want, equal_nan=True), upper
     Ys = np.ascontiguousarray(mid.transpose(2, 3, 0, 1))
     plain = np.array([(float(ex), float(ey), 1.0) for ex, ey in corners])
     bounds = np.array([[ends[i][e] if q == 1 else float(box[link][q][e])
@@ -280,5 +276,5 @@ def test_vertices_at_the_margins_and_unequal_corners_are_numpy_bit_for_bit(
     got = box_max(Ys, plain, bounds)
     monkeypatch.setattr(windows, "KERNEL", None)
     want = box_max(Ys, plain, bounds)
-    assert _same_doubles(got, want)
+    assert np.array_equal(got, want, equal_nan=True)
     assert (spy.took, spy.declined) == (3, 0)
