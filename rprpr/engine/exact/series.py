@@ -13,6 +13,10 @@ element of K is zero exactly when its reduced representative is the zero polynom
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from operator import add as _add
+from operator import mul as _mul
+from operator import sub as _sub
+from operator import truediv as _truediv
 from typing import Any
 
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly, fmpq_series
@@ -315,7 +319,11 @@ class QSeries:
         """op on the flint series, at the shorter operand's length (a scalar operand:
         this one's)."""
         n = self.n
-        if isinstance(o, (QSeries, Series)):
+        if type(o) is QSeries:
+            if o.n < n:
+                n = o.n
+            o = o.s
+        elif isinstance(o, (QSeries, Series)):
             o = o if isinstance(o, QSeries) else QSeries(o.c)
             n = min(n, o.n)
             o = o.s
@@ -329,21 +337,21 @@ class QSeries:
             ctx.cap = old
 
     def __add__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a + b)
+        return self._run(o, _add)
 
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a - b)
+        return self._run(o, _sub)
 
     def __rsub__(self, o: Any) -> QSeries:
         return self._run(o, lambda a, b: b - a)
 
     def __neg__(self) -> QSeries:
-        return self._run(-1, lambda a, b: a * b)
+        return self._run(-1, _mul)
 
     def __mul__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a * b)
+        return self._run(o, _mul)
 
     __rmul__ = __mul__
 
@@ -352,10 +360,10 @@ class QSeries:
             o = fmpq(o)
             if o == 0:
                 raise ZeroDivisionError("division of a series by zero")
-            return self._run(1 / o, lambda a, b: a * b)
+            return self._run(1 / o, _mul)
         if o.c[0] == 0:  # flint would cancel powers of ε: Series raises here too
             raise ZeroDivisionError("division by a series without a constant term")
-        return self._run(o, lambda a, b: a / b)
+        return self._run(o, _truediv)
 
     def __rtruediv__(self, o: Any) -> QSeries:
         if self.c[0] == 0:
