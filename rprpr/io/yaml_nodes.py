@@ -193,8 +193,13 @@ class _Composer:
             )
         if anchor is not None:
             self.anchors[anchor] = node
+        return self._items(node, kind is yaml.MappingStartEvent)
+
+    def _items(self, node: Any, pairs: bool) -> yaml.Node:
+        """A collection's items up to its end event (``node`` of each; a scalar without
+        an anchor made in the loop), and its end mark."""
         items, events = node.value, self.events
-        if kind is yaml.MappingStartEvent:
+        if pairs:
             for ev in events:
                 if type(ev) in _END_EVENTS:
                     node.end_mark = ev.end_mark
