@@ -88,31 +88,6 @@ def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
     """Polynomials in t whose roots in (0, t_f) hold the roots of R = 2 y' Q - y Q'
     (``min_abs_delta``), each with whether it is square-free with no rational root.
 
-    Exact and deterministic in x, y, the path and a1, so kept for the last motions seen
-    (``_CRITICAL``): a motion audited again (with and without the peak, ``plot`` after
-    ``check``) does not factor R again (a path of degree 60 gives R of degree ~300)."""
-    key = (
-        tuple(traj.x.coeffs()),
-        tuple(traj.y.coeffs()),
-        None if traj.path is None else tuple(traj.path.coeffs()),
-        traj.a1,
-    )
-    known = _CRITICAL.get(key)
-    if known is None:
-        known = tuple(_critical(traj))
-        if len(_CRITICAL) >= _CRITICAL_MAX:
-            _CRITICAL.pop(next(iter(_CRITICAL)))  # the oldest
-        _CRITICAL[key] = known
-    return list(known)
-
-
-_CRITICAL: dict[tuple[object, ...], tuple[tuple[fmpq_poly, bool], ...]] = {}
-_CRITICAL_MAX = 64
-
-
-def _critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
-    """``_delta_critical``, worked out.
-
     With a path y = p(x), R(t) = x'(t) R~(x(t)) where R~ = 2 p' Q~ - p Q~' in x and Q~ =
     (x² + p²)((x - a1)² + p²) (degree 4 deg p, not 4 deg y): x' itself, and per
     irreducible factor f of R~, x(t) - r for a rational root r of f, or else the
