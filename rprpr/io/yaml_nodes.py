@@ -77,12 +77,15 @@ def _events_of(
     """``_events`` with the parser of ``loader``."""
     depth = nodes = 0
     explicit: dict[tuple[int, int], str] = {}
-    events = []
+    events: list[yaml.Event] = []
     parser = loader(text)
+    get, append = parser.get_event, events.append
     try:
-        while parser.check_event():
-            ev = parser.get_event()
-            events.append(ev)
+        while True:  # get_event parses what check_event would, then None after the end
+            ev = get()
+            if ev is None:
+                break
+            append(ev)
             kind = type(ev)
             if kind in _NODE_EVENTS:
                 nodes += 1
@@ -190,23 +193,62 @@ class _Composer:
             )
         if anchor is not None:
             self.anchors[anchor] = node
+        return self._items(node, kind is yaml.MappingStartEvent)
+
+    def _items(self, node: Any, pairs: bool) -> yaml.Node:
+        """A collection's items up to its end event (``node`` of each; a scalar without
+        an anchor made in the loop), and its end mark."""
         items, events = node.value, self.events
-        pairs = kind is yaml.MappingStartEvent
-        for ev in events:
-            if type(ev) in _END_EVENTS:
-                node.end_mark = ev.end_mark
-                return node
-            item = self.node(ev)
-            items.append((item, self.node(next(events))) if pairs else item)
+        if pairs:
+            for ev in events:
+                if type(ev) in _END_EVENTS:
+                    node.end_mark = ev.end_mark
+                    return node
+                item = self._scalar(ev) if _plain(ev) else self.node(ev)
+                value = next(events)
+                items.append((item, self._scalar(value) if _plain(value) else self.node(value)))
+        else:
+            for ev in events:
+                if type(ev) in _END_EVENTS:
+                    node.end_mark = ev.end_mark
+                    return node
+                items.append(self._scalar(ev) if _plain(ev) else self.node(ev))
         raise AssertionError("a collection without its end event")  # the parser pairs them
 
+    def _scalar(self, ev: Any) -> yaml.ScalarNode:
+        """``node`` of a scalar event without an anchor (most of a file's events)."""
+        tag = ev.tag
+        if tag is None or tag == "!":
+            tag = self.scalar_tag(ev.value, ev.implicit)
+        return yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, style=ev.style)
+
     def scalar_tag(self, value: str, implicit: tuple[bool, bool]) -> str:
-        """The tag PyYAML's resolver gives a scalar without one (``Resolver.resolve``)."""
-        if implicit[0]:
-            for tag, regexp in self.implicit.get(value[:1], []) + self.wildcard:
+        """The tag PyYAML's resolver gives a scalar without one (``Resolver.resolve``);
+        a function of the text alone, kept for the texts seen (``_RESOLVED``)."""
+        if not implicit[0]:
+            return _STR
+        tag = _RESOLVED.get(value)
+        if tag is None:
+            tag = _STR
+            for t, regexp in self.implicit.get(value[:1], []) + self.wildcard:
                 if regexp.match(value):
-                    return str(tag)
-        return _STR
+                    tag = str(t)
+                    break
+            if len(_RESOLVED) >= _RESOLVED_MAX:
+                _RESOLVED.clear()
+            _RESOLVED[value] = tag
+        return tag
+
+
+# the implicit tag of a plain scalar's text, as the safe loader's resolver gives it (a
+# pure function of the text: 'true', '6', '0.1', 'x'...), for the texts already seen
+_RESOLVED: dict[str, str] = {}
+_RESOLVED_MAX = 4096
+
+
+def _plain(ev: Any) -> bool:
+    """Whether ``ev`` is a scalar event without an anchor (``_Composer._scalar``)."""
+    return type(ev) is yaml.ScalarEvent and ev.anchor is None
 
 
 def span(item: yaml.Node | yaml.Event) -> tuple[int, int]:

@@ -13,6 +13,10 @@ element of K is zero exactly when its reduced representative is the zero polynom
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from operator import add as _add
+from operator import mul as _mul
+from operator import sub as _sub
+from operator import truediv as _truediv
 from typing import Any
 
 from flint import arb, arb_poly, ctx, fmpq, fmpq_poly, fmpq_series
@@ -214,7 +218,13 @@ class Series:
             return Series([a * o for a in self.c])
         n = min(len(self), len(o))
         a, b = self.c, o.c
-        product = Series([_dot(a, b, k) for k in range(n)])
+        field = _one_field(a, b, n)
+        if field is not None:  # in K: each coefficient reduced once (``_k_dot``)
+            ap = [x.p for x in a[:n]]
+            bp = ap if b is a else [x.p for x in b[:n]]
+            product = Series([KElem(_k_dot(ap, bp, k, field), field) for k in range(n)])
+        else:
+            product = Series([_dot(a, b, k) for k in range(n)])
         if o is self:
             product._square_of = self
         return product
@@ -233,6 +243,9 @@ class Series:
             return r * r
         a = self.c
         b0 = 1 / a[0] if self._head_inverse is None else self._head_inverse
+        field = _one_field(a, [b0], len(a))
+        if field is not None:  # in K: each sum reduced once, as in ``__mul__``
+            return Series(_k_invert([x.p for x in a], b0, field))
         b = [b0]
         for k in range(1, len(a)):
             acc = a[1] * b[k - 1]
@@ -256,7 +269,10 @@ class Series:
         p = self.c
         s = [s0]
         half_inverse = 1 / (s0 * 2) if len(p) > 1 else None  # one inverse for every term
-        for k in range(1, len(p)):
+        field = None if half_inverse is None else _one_field(p, [s0, half_inverse], len(p))
+        if field is not None and half_inverse is not None:  # in K: as in ``__mul__``
+            s = _k_sqrt([x.p for x in p], s0, half_inverse, field)
+        for k in range(len(s), len(p)):
             acc = p[k]
             for i in range(1, k):
                 acc = acc - s[i] * s[k - i]
@@ -303,7 +319,11 @@ class QSeries:
         """op on the flint series, at the shorter operand's length (a scalar operand:
         this one's)."""
         n = self.n
-        if isinstance(o, (QSeries, Series)):
+        if type(o) is QSeries:
+            if o.n < n:
+                n = o.n
+            o = o.s
+        elif isinstance(o, (QSeries, Series)):
             o = o if isinstance(o, QSeries) else QSeries(o.c)
             n = min(n, o.n)
             o = o.s
@@ -317,21 +337,21 @@ class QSeries:
             ctx.cap = old
 
     def __add__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a + b)
+        return self._run(o, _add)
 
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a - b)
+        return self._run(o, _sub)
 
     def __rsub__(self, o: Any) -> QSeries:
         return self._run(o, lambda a, b: b - a)
 
     def __neg__(self) -> QSeries:
-        return self._run(-1, lambda a, b: a * b)
+        return self._run(-1, _mul)
 
     def __mul__(self, o: Any) -> QSeries:
-        return self._run(o, lambda a, b: a * b)
+        return self._run(o, _mul)
 
     __rmul__ = __mul__
 
@@ -340,10 +360,10 @@ class QSeries:
             o = fmpq(o)
             if o == 0:
                 raise ZeroDivisionError("division of a series by zero")
-            return self._run(1 / o, lambda a, b: a * b)
+            return self._run(1 / o, _mul)
         if o.c[0] == 0:  # flint would cancel powers of ε: Series raises here too
             raise ZeroDivisionError("division by a series without a constant term")
-        return self._run(o, lambda a, b: a / b)
+        return self._run(o, _truediv)
 
     def __rtruediv__(self, o: Any) -> QSeries:
         if self.c[0] == 0:
@@ -362,6 +382,61 @@ class QSeries:
             if a != 0:
                 return i
         return self.n
+
+
+def _one_field(a: Sequence[Any], b: Sequence[Any], n: int) -> NumberField | None:
+    """The field K when the first n terms of ``a`` and ``b`` are all elements of K (one
+    ``NumberField``), else None (rationals, or a mix: the general path)."""
+    if not n or type(a[0]) is not KElem:
+        return None
+    field = a[0].field
+    for x in a[:n]:
+        if type(x) is not KElem or x.field is not field:
+            return None
+    for x in b[:n]:
+        if type(x) is not KElem or x.field is not field:
+            return None
+    return field
+
+
+def _reduced(p: fmpq_poly, field: NumberField) -> fmpq_poly:
+    """p's representative of degree below deg f (``KElem._wrap``'s)."""
+    return p % field.f if p.degree() >= field.degree else p
+
+
+def _k_dot(a: list[fmpq_poly], b: list[fmpq_poly], k: int, field: NumberField) -> fmpq_poly:
+    """The representative of sum a_i b_(k-i) in K = Q[t]/(f): the products summed as
+    polynomials and reduced once. An element of K has one representative of degree below
+    deg f, so this is the very polynomial ``_dot`` gives on ``KElem``s, which reduces
+    each product."""
+    acc = a[0] * b[k]
+    for i in range(1, k + 1):
+        acc += a[i] * b[k - i]
+    return _reduced(acc, field)
+
+
+def _k_invert(a: list[fmpq_poly], b0: KElem, field: NumberField) -> list[KElem]:
+    """``Series._invert``'s coefficients in K, each sum reduced once (``_k_dot``)."""
+    h = b0.p
+    b = [h]
+    for k in range(1, len(a)):
+        acc = a[1] * b[k - 1]
+        for i in range(2, k + 1):
+            acc += a[i] * b[k - i]
+        b.append(-_reduced(_reduced(acc, field) * h, field))
+    return [b0] + [KElem(p, field) for p in b[1:]]
+
+
+def _k_sqrt(p: list[fmpq_poly], s0: KElem, half: KElem, field: NumberField) -> list[KElem]:
+    """``Series.sqrt_with``'s coefficients in K, each sum reduced once (``_k_dot``)."""
+    h = half.p
+    s = [s0.p]
+    for k in range(1, len(p)):
+        acc = p[k]
+        for i in range(1, k):
+            acc = acc - s[i] * s[k - i]
+        s.append(_reduced(_reduced(acc, field) * h, field))
+    return [s0] + [KElem(q, field) for q in s[1:]]
 
 
 def _dot(a: list[Scalar], b: list[Scalar], k: int) -> Scalar:
