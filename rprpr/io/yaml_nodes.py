@@ -234,9 +234,10 @@ class _Composer:
                 if regexp.match(value):
                     tag = str(t)
                     break
-            if len(_RESOLVED) >= _RESOLVED_MAX:
-                _RESOLVED.clear()
-            _RESOLVED[value] = tag
+            if len(value) <= _RESOLVED_LEN:  # numbers, names: a file's text is not kept
+                if len(_RESOLVED) >= _RESOLVED_MAX:
+                    _RESOLVED.clear()
+                _RESOLVED[value] = tag
         return tag
 
 
@@ -244,6 +245,7 @@ class _Composer:
 # pure function of the text: 'true', '6', '0.1', 'x'...), for the texts already seen
 _RESOLVED: dict[str, str] = {}
 _RESOLVED_MAX = 4096
+_RESOLVED_LEN = 64
 
 
 def _plain(ev: Any) -> bool:
