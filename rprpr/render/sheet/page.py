@@ -27,6 +27,7 @@ from collections.abc import Sequence
 from dataclasses import field
 from typing import Any
 
+import matplotlib
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import RendererAgg
 from matplotlib.figure import Figure
@@ -65,6 +66,23 @@ def measuring_renderer(dpi: float) -> RendererAgg:
     most of theirs (tick labels, headings, keys); what it measures depends on its
     resolution only, never on its canvas, which is never painted (1 x 1)."""
     return RendererAgg(1, 1, dpi)  # type: ignore[no-untyped-call]
+
+
+@functools.lru_cache(maxsize=64)
+def _decor(width: float, settings: str) -> float:
+    """``Sheet._measured_decor`` on a figure ``width`` inches wide, measured while
+    matplotlib's settings are those ``settings`` (their values, as text) stands for."""
+    fig = Figure()
+    fig.set_layout_engine("none")
+    fig.set_dpi(DPI)
+    fig.set_size_inches(width, 20.0)
+    ax = fig.add_axes((0.2, 0.4, 0.6, 0.2))
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("t [s]")
+    renderer = measuring_renderer(DPI)
+    box = ax.get_window_extent(renderer=renderer)
+    tight = ax.get_tightbbox(renderer=renderer)
+    return float(box.y0 - (tight.y0 if tight is not None else box.y0)) / DPI + 0.02
 
 
 @dataclass
@@ -172,14 +190,11 @@ class Sheet(Heads):
 
     def _measured_decor(self) -> float:
         """The height under a time axes of its tick labels and its label [in], measured
-        (a sized figure gives the axes every inch that text does not take)."""
-        ax = self.fig.add_axes((0.2, 0.4, 0.6, 0.2))
-        ax.set_xlim(0, 1)
-        ax.set_xlabel("t [s]")
-        box = ax.get_window_extent(renderer=self.renderer)
-        tight = ax.get_tightbbox(renderer=self.renderer)
-        ax.remove()
-        return float(box.y0 - (tight.y0 if tight is not None else box.y0)) / DPI + 0.02
+        (a sized figure gives the axes every inch that text does not take): once per
+        process for each sheet width and each state of matplotlib's settings (the text
+        sizes of the font scale among them), on a figure of its own."""
+        settings = repr([matplotlib.rcParams[k] for k in matplotlib.rcParams])
+        return _decor(self.width, settings)
 
     # -- axes ------------------------------------------------------------------------------
 
