@@ -284,12 +284,13 @@ class Sheet(Heads):
                     handlelength=2.6,
                     columnspacing=1.2,
                 )
-                if ncol == 1 or self.inches(leg)[0] <= self.lane_width:
+                width, height = self.inches(leg)  # laid out once: both are read
+                if ncol == 1 or width <= self.lane_width:
                     break
                 leg.remove()
                 ncol -= 1
             self.texts.append((leg, x, top))  # type: ignore[arg-type]
-            used += self.inches(leg)[1] + (0.08 if self.size is None else 0.05)
+            used += height + (0.08 if self.size is None else 0.05)
         if notes:
             per_char = 0.56 if self.size is None else 0.45  # then measured, down to fit
             chars = int((self.lane_width - 0.05) * 72 / (per_char * pt(LABEL_SIZE)))
@@ -298,12 +299,13 @@ class Sheet(Heads):
                     textwrap.fill(n, chars, subsequent_indent="    ") for n in notes if n
                 )
                 t = self.fig.text(0, 0, text, fontsize=pt(LABEL_SIZE), va="top", ha="left")
-                if self.size is None or chars <= 20 or self.inches(t)[0] <= self.lane_width:
+                width, height = self.inches(t)
+                if self.size is None or chars <= 20 or width <= self.lane_width:
                     break
                 t.remove()
                 chars -= 2
             self.texts.append((t, x, top + used))
-            used += self.inches(t)[1] + (0.1 if self.size is None else 0.0)
+            used += height + (0.1 if self.size is None else 0.0)
         small = None
         if inset:
             small = self.fig.add_axes((0, 0, 1, 1))
