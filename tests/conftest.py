@@ -363,6 +363,16 @@ def reused_runs() -> Iterator[None]:
         check.run_checks = real
 
 
+# -- start-up probes: one fresh interpreter for the suite ----------------------------------
+@pytest.fixture(scope="session")
+def fresh(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[int, str, str]]:
+    """Each start-up probe the test modules registered (``tests.cli.forked.fresh_probe``):
+    (exit status, standard output, standard error) by name, all from one interpreter."""
+    from tests.cli.forked import run_fresh
+
+    return run_fresh(tmp_path_factory.mktemp("fresh"))
+
+
 # -- one test process per costly shared result ---------------------------------------------
 # Helper modules whose results (functools caches) several test modules read: each module
 # that imports one runs in the same test process as the others, so the result is computed
@@ -371,9 +381,11 @@ SHARED_HELPERS = {"tests.sheets": "sheets"}
 
 
 def _group(item: pytest.Item) -> str:
-    """The group a test runs in under ``--dist loadgroup``: its module's shared helper
-    (SHARED_HELPERS), else its module (the module's fixtures, caches and imports: one
-    process pays for them)."""
+    """The group a test runs in under ``--dist loadgroup``: "fresh" for the readers of the
+    start-up probes (``fresh``), else its module's shared helper (SHARED_HELPERS), else its
+    module (the module's fixtures, caches and imports: one process pays for them)."""
+    if "fresh" in getattr(item, "fixturenames", ()):
+        return "fresh"
     module = getattr(item, "module", None)
     for value in vars(module).values() if module is not None else ():
         helper = SHARED_HELPERS.get(getattr(value, "__module__", None) or "")

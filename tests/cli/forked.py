@@ -333,3 +333,39 @@ def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tupl
     assert done.returncode == 0, done.stderr
     results: dict[str, tuple[int, str, str]] = ast.literal_eval(done.stdout)
     return results
+
+
+# -- the suite's start-up probes: one interpreter for all of them ---------------------------
+# Test modules register the probes they read (``fresh_probe``, at import); the session
+# fixture ``fresh`` (tests/conftest.py) runs every registered probe in one ``probe`` call,
+# and the tests that read it run in one test process (the xdist group "fresh"), so the
+# interpreter and its floors start once for the suite, not once per test or module.
+FRESH: dict[str, tuple[str, str | Callable[[Path], str], Path | None]] = {}
+
+
+def fresh_probe(
+    name: str, floor: str, code: str | Callable[[Path], str], cwd: Path | None = None
+) -> None:
+    """Register a probe for ``fresh``: ``code`` (or ``code(folder)``, which may write files
+    into ``folder``, a new empty folder of its own, and gives the code) run as ``python -c``
+    in ``cwd`` (None: in that folder), after the modules its ``floor`` names (see ``probe``)."""
+    assert name not in FRESH, f"probe {name!r} registered twice"
+    FRESH[name] = (floor, code, cwd)
+
+
+def _modules(floor: str) -> frozenset[str]:
+    return frozenset(m.strip() for m in floor.split(",") if m.strip())
+
+
+def run_fresh(folder: Path) -> dict[str, tuple[int, str, str]]:
+    """Every registered probe's (exit status, standard output, standard error), by name: in
+    one interpreter, smaller floors first (each floor must hold the smaller ones)."""
+    probes = []
+    for i, (name, (floor, code, cwd)) in enumerate(FRESH.items()):
+        own = folder / f"probe-{i}"
+        own.mkdir()
+        text = code(own) if callable(code) else code
+        # os is there from start-up: changing directory imports nothing
+        probes.append((name, floor, f"__import__('os').chdir({str(cwd or own)!r})\n{text}"))
+    probes.sort(key=lambda p: len(_modules(p[1])))
+    return probe(probes, folder)

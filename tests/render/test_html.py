@@ -23,6 +23,7 @@ from rprpr.cli.options import CheckOptions
 from rprpr.model.options import AuditOptions
 from rprpr.render.html import inline_svg, render
 from rprpr.report.run import INPUT, REPORT, Attachment, Run
+from tests.cli.forked import fresh_probe
 from tests.conftest import BAD_A1, ROOT, run_cli
 
 P1 = "configs/paper_path1.rprpr.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
@@ -288,21 +289,26 @@ def test_without_matplotlib_the_page_says_how_to_get_the_sheets(
     assert "html report written to" in err
 
 
-def test_check_html_without_sheets_imports_no_matplotlib(tmp_path: Path) -> None:
-    probe = (
-        "import sys\n"
-        "from rprpr.cli.main import main\n"
-        "try:\n"
-        f"    main(['check', '--format', 'html', '--no-sheets', '--samples', '101', "
-        f"{str(ROOT / P2)!r}])\n"
-        "except SystemExit as e:\n"
-        "    code = e.code\n"
-        "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
-        "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, cwd=tmp_path, timeout=120
-    )
+# a start-up probe (``tests.cli.forked.fresh_probe``): a fresh process in an empty folder
+fresh_probe(
+    "test_html no sheets",
+    "numpy, flint, yaml, click, rich.console",
+    "import sys\n"
+    "from rprpr.cli.main import main\n"
+    "try:\n"
+    f"    main(['check', '--format', 'html', '--no-sheets', '--samples', '101', "
+    f"{str(ROOT / P2)!r}])\n"
+    "except SystemExit as e:\n"
+    "    code = e.code\n"
+    "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
+    "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n",
+)
+
+
+def test_check_html_without_sheets_imports_no_matplotlib(
+    fresh: dict[str, tuple[int, str, str]],
+) -> None:
+    done = subprocess.CompletedProcess("probe", *fresh["test_html no sheets"])
     assert done.stderr.strip().splitlines()[-1] == "EXIT=0 LOADED=[]", done.stderr
 
 
