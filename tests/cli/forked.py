@@ -148,6 +148,28 @@ class Forked:
         return tuple(b"".join(got.get(s, [])) for s in (self.stdout, self.stderr))  # type: ignore[return-value]
 
 
+def rprpr_main(*args: str) -> None:
+    """``python -m rprpr ARGS``, as the target of a ``Forked`` child."""
+    import runpy
+
+    sys.argv = ["rprpr", *args]
+    runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
+
+
+def run_rprpr(
+    args: list[str], cwd: str | Path, timeout: float = 120
+) -> subprocess.CompletedProcess[str]:
+    """``python -m rprpr ARGS`` in ``cwd``, in a forked child (``Forked``): its exit status
+    and its standard output and error (UTF-8), as ``subprocess.run(..., capture_output=True,
+    text=True)`` gives them for a new interpreter."""
+    proc = Forked(lambda: rprpr_main(*args), cwd=cwd)
+    out, err = proc.communicate(timeout=timeout)
+    assert proc.returncode is not None
+    return subprocess.CompletedProcess(
+        ["rprpr", *args], proc.returncode, *(b.decode().replace("\r\n", "\n") for b in (out, err))
+    )
+
+
 def _child(
     target: Callable[[], object],
     out: int,
