@@ -22,7 +22,10 @@ The test process's garbage is frozen in the child (``gc.freeze``): a collection 
 never walks the objects it inherited. A test whose subject is interpreter start-up itself
 (what is imported, what a job inherits) starts a real interpreter instead; where several
 such tests ask what a fresh process does, ``probe`` runs them all in one new interpreter,
-each in a child forked from it before it has imported anything of rprpr.
+each in a child forked from it before it has imported anything of rprpr (``fresh_probe``
+and ``run_fresh``: the suite's probes in one such interpreter). ``run_rprpr`` runs
+``python -m rprpr`` in a ``Forked`` child; ``run_served`` runs a script (the Action's, a
+hook's command line) whose ``rprpr`` commands each run in one.
 """
 
 from __future__ import annotations
