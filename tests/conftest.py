@@ -470,6 +470,25 @@ def pytest_configure(config: pytest.Config) -> None:
     path = config.getoption("write_test_seconds")
     if path and not hasattr(config, "workerinput"):
         config.pluginmanager.register(_TestSeconds(path), "rprpr-test-seconds")
+    if getattr(config.option, "numprocesses", None) and not hasattr(config, "workerinput"):
+        _unicode_tables_before_the_workers()
+
+
+def _unicode_tables_before_the_workers() -> None:
+    """hypothesis's tables of the Unicode categories and of the characters UTF-8 encodes
+    (what its text strategies draw from: ~1.4 CPU-s to build) are built by the first
+    process that draws text and kept in .hypothesis/ (which git ignores). In a fresh clone
+    every test process of a ``-n N`` run would build them; the process that starts the
+    workers builds them first, and the workers read them (where they are kept already,
+    this reads them: a few milliseconds). Only where they are kept changes, never what
+    hypothesis draws; a hypothesis without these internals builds them as it always did."""
+    try:
+        from hypothesis.internal.charmap import charmap, intervals_from_codec
+
+        charmap()
+        intervals_from_codec("utf-8")
+    except Exception:  # internals of hypothesis: another version may have others
+        return
 
 
 @pytest.hookimpl(trylast=True)
