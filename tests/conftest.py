@@ -363,6 +363,16 @@ def reused_runs() -> Iterator[None]:
         check.run_checks = real
 
 
+# -- start-up probes: one fresh interpreter for the suite ----------------------------------
+@pytest.fixture(scope="session")
+def fresh(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[int, str, str]]:
+    """Each start-up probe the test modules registered (``tests.cli.forked.fresh_probe``):
+    (exit status, standard output, standard error) by name, all from one interpreter."""
+    from tests.cli.forked import run_fresh
+
+    return run_fresh(tmp_path_factory.mktemp("fresh"))
+
+
 # -- one test process per costly shared result ---------------------------------------------
 # Helper modules whose results (functools caches) several test modules read: each module
 # that imports one runs in the same test process as the others, so the result is computed
@@ -371,9 +381,11 @@ SHARED_HELPERS = {"tests.sheets": "sheets"}
 
 
 def _group(item: pytest.Item) -> str:
-    """The group a test runs in under ``--dist loadgroup``: its module's shared helper
-    (SHARED_HELPERS), else its module (the module's fixtures, caches and imports: one
-    process pays for them)."""
+    """The group a test runs in under ``--dist loadgroup``: "fresh" for the readers of the
+    start-up probes (``fresh``), else its module's shared helper (SHARED_HELPERS), else its
+    module (the module's fixtures, caches and imports: one process pays for them)."""
+    if "fresh" in getattr(item, "fixturenames", ()):
+        return "fresh"
     module = getattr(item, "module", None)
     for value in vars(module).values() if module is not None else ():
         helper = SHARED_HELPERS.get(getattr(value, "__module__", None) or "")
@@ -458,6 +470,25 @@ def pytest_configure(config: pytest.Config) -> None:
     path = config.getoption("write_test_seconds")
     if path and not hasattr(config, "workerinput"):
         config.pluginmanager.register(_TestSeconds(path), "rprpr-test-seconds")
+    if getattr(config.option, "numprocesses", None) and not hasattr(config, "workerinput"):
+        _unicode_tables_before_the_workers()
+
+
+def _unicode_tables_before_the_workers() -> None:
+    """hypothesis's tables of the Unicode categories and of the characters UTF-8 encodes
+    (what its text strategies draw from: ~1.4 CPU-s to build) are built by the first
+    process that draws text and kept in .hypothesis/ (which git ignores). In a fresh clone
+    every test process of a ``-n N`` run would build them; the process that starts the
+    workers builds them first, and the workers read them (where they are kept already,
+    this reads them: a few milliseconds). Only where they are kept changes, never what
+    hypothesis draws; a hypothesis without these internals builds them as it always did."""
+    try:
+        from hypothesis.internal.charmap import charmap, intervals_from_codec
+
+        charmap()
+        intervals_from_codec("utf-8")
+    except Exception:  # internals of hypothesis: another version may have others
+        return
 
 
 @pytest.hookimpl(tryfirst=True)

@@ -18,6 +18,7 @@ import yaml
 
 from rprpr.model.rules import RULES
 
+from .cli.forked import run_served
 from .conftest import CONFIGS, ROOT
 
 HOOKS = ROOT / ".pre-commit-hooks.yaml"
@@ -84,9 +85,14 @@ def test_pre_commit_hook_passes_yaml_files_not_hidden_configs(hook: dict[str, An
 
 
 def _run_hook(
-    hook: dict[str, Any], repo: Path, staged: list[str]
+    hook: dict[str, Any], repo: Path, staged: list[str], *, real: bool = False
 ) -> subprocess.CompletedProcess[str]:
+    """The hook's command line on the files pre-commit would pass it, in ``repo``: the
+    console script pip installed (``real``: its interpreter's start-up included), else an
+    ``rprpr`` whose runs are forked from this process (``tests.cli.forked.run_served``)."""
     args = [*shlex.split(hook["entry"]), *hook.get("args", []), *_selected(hook, staged)]
+    if not real:
+        return run_served([*args, "--samples", "101"], cwd=repo, env=env_without_colour())
     return subprocess.run(
         [str(BIN / args[0]), *args[1:], "--samples", "101"],
         cwd=repo, capture_output=True, text=True, env=env_without_colour(), check=False,
@@ -137,7 +143,7 @@ def test_pre_commit_hook_entry_checks_the_files_it_is_given(
         ".github/workflows/ci.yml",
         "docker-compose.yml",
     ]
-    p = _run_hook(hook, repo, staged)
+    p = _run_hook(hook, repo, staged, real=True)  # the console script, as pre-commit runs it
     assert p.returncode == 1
     assert p.stderr == ""
     assert "tasks/bad_plan.rprpr.yml — Example 1 of the paper, path 1" in p.stdout
@@ -190,17 +196,20 @@ def test_the_action_and_the_hook_install_the_light_form(
 
 
 def _run_check_step(
-    action: dict[str, Any], cwd: Path = ROOT, **inputs: str
+    action: dict[str, Any], cwd: Path = ROOT, *, real: bool = False, **inputs: str
 ) -> subprocess.CompletedProcess[str]:
+    """The Action's check step, run by bash as Actions runs it, with ``inputs``: its
+    ``rprpr`` the console script pip installed (``real``: its interpreter's start-up
+    included), else one whose runs are forked from this process (``run_served``)."""
     bash = shutil.which("bash")
     if bash is None:
         pytest.skip("bash is not installed")
     script = action["runs"]["steps"][2]["run"]
     env = env_without_colour(**{f"INPUT_{k.upper()}": v for k, v in inputs.items()})
-    return subprocess.run(
-        [bash, "--noprofile", "--norc", "-eo", "pipefail", "-c", script],  # as Actions runs it
-        cwd=cwd, capture_output=True, text=True, env=env, check=False,
-    )  # fmt: skip
+    command = [bash, "--noprofile", "--norc", "-eo", "pipefail", "-c", script]
+    if not real:
+        return run_served(command, cwd=cwd, env=env)
+    return subprocess.run(command, cwd=cwd, capture_output=True, text=True, env=env, check=False)
 
 
 @pytest.mark.slow  # the Action's script, run by bash as Actions runs it
@@ -210,7 +219,7 @@ def test_action_by_default_checks_the_task_files_of_the_repository_only(
     (tmp_path / "docker-compose.yml").write_text("services: {}\n", encoding="utf-8")
     (tmp_path / "tasks").mkdir()
     shutil.copy(CONFIGS / "paper_path1.rprpr.yaml", tmp_path / "tasks" / "p1.rprpr.yaml")
-    p = _run_check_step(action, tmp_path, paths="", strict="false", args="--samples 101")
+    p = _run_check_step(action, tmp_path, real=True, paths="", strict="false", args="--samples 101")
     assert p.returncode == 1  # the task fails; docker-compose.yml is never read
     assert p.stdout.startswith("::error file=tasks/p1.rprpr.yaml,line=19,")
     assert "docker-compose" not in p.stdout + p.stderr

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pytest
 
-from .cli.forked import probe
+from .cli.forked import fresh_probe
 from .conftest import ROOT
 
 PACKAGE = ROOT / "rprpr"
@@ -280,27 +280,31 @@ def test_a_circle_within_a_stage_fails() -> None:
 
 # -- start-up probes: fresh processes, forked from one interpreter ------------------------
 # Each probe asks what a fresh process running it imports. They all run in one interpreter
-# (``tests.cli.forked.probe``, in a module fixture), each in a child forked from it: first
-# those that start bare, then, once it has imported the dependencies the others start from
-# (``FLOOR``, which those probes import first and subtract), the rest: the dependencies'
-# start-up (~0.2 CPU-s) is paid once, not once a probe.
+# with the suite's other start-up probes (``tests.cli.forked.fresh_probe``, read through the
+# session fixture ``fresh``), each in a child forked from it: first those that start bare,
+# then, once it has imported the dependencies the others start from (``FLOOR``, which those
+# probes import first and subtract), the rest: the dependencies' start-up (~0.2 CPU-s) is
+# paid once, not once a probe.
 FLOOR = "numpy, flint, yaml, click, rich.console, rich.table"
-PROBES: dict[str, tuple[bool, str]] = {}  # name -> (starts from FLOOR, code): filled below
 
 
-@pytest.fixture(scope="module")
-def probed() -> dict[str, tuple[int, str, str]]:
-    """Each probe's (exit status, standard output, standard error), in one interpreter."""
-    bare = [(n, "", c) for n, (floor, c) in PROBES.items() if not floor]
-    floored = [(n, FLOOR, c) for n, (floor, c) in PROBES.items() if floor]
-    return probe([*bare, *floored], ROOT)
+def _probe(name: str, floored: bool, code: str) -> None:
+    """A probe of this module, run in ROOT, from FLOOR when ``floored``."""
+    fresh_probe(f"test_layout {name}", FLOOR if floored else "", code, ROOT)
+
+
+@pytest.fixture
+def probed(fresh: dict[str, tuple[int, str, str]]) -> dict[str, tuple[int, str, str]]:
+    """Each probe's (exit status, standard output, standard error), by its name here."""
+    return {k.removeprefix("test_layout "): v for k, v in fresh.items()}
 
 
 # -- start-up: --version and --help load nothing heavy -----------------------------------
 HEAVY = ("numpy", "flint", "yaml", "matplotlib", "rich")
 STARTS = [["--version"], ["--help"], ["check", "--help"]]
 for _argv in STARTS:
-    PROBES[f"start {_argv}"] = (
+    _probe(
+        f"start {_argv}",
         False,
         "import sys\n"
         "from rprpr.cli.main import main\n"
@@ -333,7 +337,8 @@ NEEDS = [
 for _config, _ in NEEDS:
     # check_one is what a worker runs per task (the parent imports the audit before
     # forking; these modules a task loads on demand)
-    PROBES[f"check_one {_config}"] = (
+    _probe(
+        f"check_one {_config}",
         True,
         # what rprpr adds to its dependencies' own imports (an older numpy imports
         # numpy.polynomial itself)
@@ -384,7 +389,8 @@ def test_the_loaders_pipeline_imports_only_earlier_steps() -> None:
     assert "rprpr.io.walk" in g["rprpr.io.readers"]  # the rule sees these imports
 
 
-PROBES["messages"] = (
+_probe(
+    "messages",
     False,
     "import sys, rprpr.io.messages\n"
     "print(sorted(m for m in ('yaml', 'flint', 'numpy') if m in sys.modules))\n",
@@ -417,7 +423,8 @@ NOT_FOR_CHECK = (
 
 CHECKED = ["case1_crossing", "paper_path2"]
 for _config in CHECKED:
-    PROBES[f"check {_config}"] = (
+    _probe(
+        f"check {_config}",
         True,
         # what the check adds to its dependencies' own imports (an editable install's
         # finder may bring pathlib; an older numpy imports numpy.polynomial, an older

@@ -22,7 +22,10 @@ The test process's garbage is frozen in the child (``gc.freeze``): a collection 
 never walks the objects it inherited. A test whose subject is interpreter start-up itself
 (what is imported, what a job inherits) starts a real interpreter instead; where several
 such tests ask what a fresh process does, ``probe`` runs them all in one new interpreter,
-each in a child forked from it before it has imported anything of rprpr.
+each in a child forked from it before it has imported anything of rprpr (``fresh_probe``
+and ``run_fresh``: the suite's probes in one such interpreter). ``run_rprpr`` runs
+``python -m rprpr`` in a ``Forked`` child; ``run_served`` runs a script (the Action's, a
+hook's command line) whose ``rprpr`` commands each run in one.
 """
 
 from __future__ import annotations
@@ -33,11 +36,14 @@ import contextlib
 import gc
 import io
 import itertools
+import json
 import os
 import selectors
 import signal
+import socket
 import subprocess
 import sys
+import tempfile
 import time
 import traceback
 import warnings
@@ -110,6 +116,14 @@ class Forked:
                 time.sleep(0.01)
         return self.returncode
 
+    def poll(self) -> int | None:
+        """The exit status if the child has ended (reaped now), else None."""
+        if self.returncode is None:
+            pid, status = os.waitpid(self.pid, os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+        return self.returncode
+
     def _kill(self) -> None:
         """SIGKILL to the child and its session (new_session: its workers too), reaped."""
         with contextlib.suppress(ProcessLookupError, PermissionError):
@@ -146,6 +160,128 @@ class Forked:
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
         self.wait(left)
         return tuple(b"".join(got.get(s, [])) for s in (self.stdout, self.stderr))  # type: ignore[return-value]
+
+
+def rprpr_main(*args: str) -> None:
+    """``python -m rprpr ARGS``, as the target of a ``Forked`` child."""
+    import runpy
+
+    sys.argv = ["rprpr", *args]
+    runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
+
+
+def run_rprpr(
+    args: list[str], cwd: str | Path, timeout: float = 120
+) -> subprocess.CompletedProcess[str]:
+    """``python -m rprpr ARGS`` in ``cwd``, in a forked child (``Forked``): its exit status
+    and its standard output and error (UTF-8), as ``subprocess.run(..., capture_output=True,
+    text=True)`` gives them for a new interpreter."""
+    proc = Forked(lambda: rprpr_main(*args), cwd=cwd)
+    out, err = proc.communicate(timeout=timeout)
+    assert proc.returncode is not None
+    return subprocess.CompletedProcess(
+        ["rprpr", *args], proc.returncode, *(b.decode().replace("\r\n", "\n") for b in (out, err))
+    )
+
+
+# -- a script's rprpr commands, each in a forked child ---------------------------------------
+# The client: an ``rprpr`` executable (Python without site: ~0.01 CPU-s to start) that hands
+# its arguments, working directory, environment and standard streams (the descriptors
+# themselves) to ``run_served``'s process over a Unix socket, and exits with the status of
+# the rprpr that ran there (128 + N when it died of signal N, as a shell reports it).
+CLIENT = """
+import json, os, socket, sys
+request = json.dumps([sys.argv[1:], os.getcwd(), dict(os.environ)]).encode()
+with socket.socket(socket.AF_UNIX) as s:
+    s.connect(SERVER)
+    socket.send_fds(s, [len(request).to_bytes(8, "big") + request], [0, 1, 2])
+    s.shutdown(socket.SHUT_WR)
+    status = int(s.makefile("rb").read())
+sys.exit(status if status >= 0 else 128 - status)
+"""
+
+
+def _request(conn: socket.socket) -> tuple[list[str], str, dict[str, str], list[int]]:
+    """A client's request: (arguments, working directory, environment, its descriptors)."""
+    data, fds, _, _ = socket.recv_fds(conn, 65536, 3)
+    while len(data) < 8 or len(data) < 8 + int.from_bytes(data[:8], "big"):
+        chunk = conn.recv(65536)
+        assert chunk, "the client hung up mid-request"
+        data += chunk
+    args, cwd, env = json.loads(data[8 : 8 + int.from_bytes(data[:8], "big")])
+    return args, cwd, env, fds
+
+
+def run_served(
+    command: list[str], *, cwd: str | Path, env: dict[str, str], timeout: float = 120
+) -> subprocess.CompletedProcess[str]:
+    """``command`` (a script, a hook's command line) run as ``subprocess.run(...,
+    capture_output=True, text=True)`` runs it, with an ``rprpr`` first on its PATH whose
+    every run is ``python -m rprpr`` in a child forked from this process (``Forked``, with
+    the client's arguments, working directory, environment and standard output and error)
+    instead of a new interpreter. For the paths where rprpr's own start-up is not the
+    subject: the script's or the hook's handling of its inputs, and what rprpr answers."""
+    with tempfile.TemporaryDirectory(prefix="rprpr-") as tmp:  # short: a socket's path
+        server_path, bin_dir = os.path.join(tmp, "s"), os.path.join(tmp, "bin")
+        os.mkdir(bin_dir)
+        client = os.path.join(bin_dir, "rprpr")
+        with open(client, "w", encoding="utf-8") as f:
+            f.write(f"#!{sys.executable} -S\nSERVER = {server_path!r}\n{CLIENT}")
+        os.chmod(client, 0o755)
+        env = {**env, "PATH": f"{bin_dir}{os.pathsep}{env.get('PATH', '')}"}
+        deadline = time.monotonic() + timeout
+        with socket.socket(socket.AF_UNIX) as server:
+            server.bind(server_path)
+            server.listen()
+            proc = subprocess.Popen(
+                command, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+            )
+            assert proc.stdout is not None and proc.stderr is not None
+            got: dict[int, list[bytes]] = {proc.stdout.fileno(): [], proc.stderr.fileno(): []}
+            serving: list[tuple[socket.socket, Forked]] = []
+            try:
+                with selectors.DefaultSelector() as sel:
+                    sel.register(server, selectors.EVENT_READ)
+                    for fd in got:
+                        sel.register(fd, selectors.EVENT_READ)
+                    while len(sel.get_map()) > 1 or serving:
+                        if time.monotonic() > deadline:
+                            raise TimeoutError(f"{command[0]} still running: killed")
+                        for key, _ in sel.select(0.02 if serving else 1.0):
+                            if key.fileobj is server:
+                                conn, _ = server.accept()
+                                args, where, child_env, fds = _request(conn)
+                                try:
+                                    child = Forked(
+                                        lambda args=args: rprpr_main(*args),  # type: ignore[misc]
+                                        cwd=where, out=fds[1], err=fds[2], env=child_env,
+                                    )  # fmt: skip
+                                finally:
+                                    for fd in fds:
+                                        os.close(fd)
+                                serving.append((conn, child))
+                            elif chunk := os.read(key.fd, 65536):
+                                got[key.fd].append(chunk)
+                            else:
+                                sel.unregister(key.fd)
+                        for conn, child in list(serving):
+                            status = child.poll()
+                            if status is not None:
+                                conn.sendall(str(status).encode())
+                                conn.close()
+                                serving.remove((conn, child))
+                returncode = proc.wait(max(0.0, deadline - time.monotonic()))
+            finally:
+                for conn, child in serving:
+                    child._kill()
+                    conn.close()
+                if proc.poll() is None:
+                    proc.kill()
+                    proc.wait()
+                proc.stdout.close()
+                proc.stderr.close()
+        out, err = (b"".join(got[fd]).decode() for fd in got)
+        return subprocess.CompletedProcess(command, returncode, out, err)
 
 
 def _child(
@@ -333,3 +469,39 @@ def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tupl
     assert done.returncode == 0, done.stderr
     results: dict[str, tuple[int, str, str]] = ast.literal_eval(done.stdout)
     return results
+
+
+# -- the suite's start-up probes: one interpreter for all of them ---------------------------
+# Test modules register the probes they read (``fresh_probe``, at import); the session
+# fixture ``fresh`` (tests/conftest.py) runs every registered probe in one ``probe`` call,
+# and the tests that read it run in one test process (the xdist group "fresh"), so the
+# interpreter and its floors start once for the suite, not once per test or module.
+FRESH: dict[str, tuple[str, str | Callable[[Path], str], Path | None]] = {}
+
+
+def fresh_probe(
+    name: str, floor: str, code: str | Callable[[Path], str], cwd: Path | None = None
+) -> None:
+    """Register a probe for ``fresh``: ``code`` (or ``code(folder)``, which may write files
+    into ``folder``, a new empty folder of its own, and gives the code) run as ``python -c``
+    in ``cwd`` (None: in that folder), after the modules its ``floor`` names (see ``probe``)."""
+    assert name not in FRESH, f"probe {name!r} registered twice"
+    FRESH[name] = (floor, code, cwd)
+
+
+def _modules(floor: str) -> frozenset[str]:
+    return frozenset(m.strip() for m in floor.split(",") if m.strip())
+
+
+def run_fresh(folder: Path) -> dict[str, tuple[int, str, str]]:
+    """Every registered probe's (exit status, standard output, standard error), by name: in
+    one interpreter, smaller floors first (each floor must hold the smaller ones)."""
+    probes = []
+    for i, (name, (floor, code, cwd)) in enumerate(FRESH.items()):
+        own = folder / f"probe-{i}"
+        own.mkdir()
+        text = code(own) if callable(code) else code
+        # os is there from start-up: changing directory imports nothing
+        probes.append((name, floor, f"__import__('os').chdir({str(cwd or own)!r})\n{text}"))
+    probes.sort(key=lambda p: len(_modules(p[1])))
+    return probe(probes, folder)

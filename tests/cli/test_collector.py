@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import gc
 import subprocess
-import sys
 
 import click
 import pytest
@@ -14,24 +13,30 @@ from rprpr.cli import collector
 from rprpr.cli.main import main, main_group
 
 from ..conftest import ROOT
+from .forked import fresh_probe
+
+# a start-up probe (``tests.cli.forked.fresh_probe``): the program in a fresh process
+fresh_probe(
+    "test_collector program",
+    "numpy, flint, yaml, click, rich.console",
+    "import gc, os, sys\n"
+    "from rprpr.cli import check, main\n"
+    "real = check.check_one\n"
+    "def spy(*args, **kw):\n"
+    "    os.write(2, f'GC={gc.isenabled()} FROZEN={gc.get_freeze_count() > 0}\\n'.encode())\n"
+    "    return real(*args, **kw)\n"
+    "check.check_one = spy\n"
+    "sys.argv = ['rprpr', 'check', 'configs/case1_crossing.rprpr.yaml',"
+    " 'configs/paper_path2.rprpr.yaml']\n"
+    "main.run()\n",
+    ROOT,
+)
 
 
-def test_the_audit_of_the_program_runs_with_the_collector_on_and_the_start_up_frozen() -> None:
-    probe = (
-        "import gc, os, sys\n"
-        "from rprpr.cli import check, main\n"
-        "real = check.check_one\n"
-        "def spy(*args, **kw):\n"
-        "    os.write(2, f'GC={gc.isenabled()} FROZEN={gc.get_freeze_count() > 0}\\n'.encode())\n"
-        "    return real(*args, **kw)\n"
-        "check.check_one = spy\n"
-        "sys.argv = ['rprpr', 'check', 'configs/case1_crossing.rprpr.yaml',"
-        " 'configs/paper_path2.rprpr.yaml']\n"
-        "main.run()\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, cwd=ROOT
-    )
+def test_the_audit_of_the_program_runs_with_the_collector_on_and_the_start_up_frozen(
+    fresh: dict[str, tuple[int, str, str]],
+) -> None:
+    done = subprocess.CompletedProcess("probe", *fresh["test_collector program"])
     assert done.returncode == 1, done.stderr  # case 1's unbounded torques fail
     assert done.stderr.splitlines() == ["GC=True FROZEN=True"] * 2, done.stderr
 

@@ -17,7 +17,7 @@ from rprpr._version import __version__
 from rprpr.cli.main import COMMANDS, main_group, run
 from rprpr.cli.rule import explain
 from rprpr.model.rules import RULES
-from tests.cli.forked import probe
+from tests.cli.forked import fresh_probe
 from tests.conftest import PATH2_FILE, ROOT, run_cli
 
 
@@ -129,21 +129,31 @@ ENDS = [
 ]
 
 
-@pytest.fixture(scope="module")
-def probed() -> dict[str, tuple[int, str, str]]:
-    """Fresh processes, each forked from one interpreter (``tests.cli.forked.probe``):
-    ``--help`` from a bare start, and the program (``run``) on each of ENDS once the
-    interpreter has imported rprpr's dependencies (their start-up paid once)."""
-    help_probe = (
-        "import sys\nfrom rprpr.cli.main import main\n"
-        "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
-        "print(sorted(m for m in sys.modules if m.startswith('rprpr.cli.')), file=sys.stderr)"
+# Fresh processes, each forked from the suite's one prober (``tests.cli.forked.fresh_probe``,
+# read through the session fixture ``fresh``): ``--help`` from a bare start, and the program
+# (``run``) on each of ENDS once the prober has imported rprpr's dependencies (their
+# start-up paid once).
+fresh_probe(
+    "test_main help",
+    "",
+    "import sys\nfrom rprpr.cli.main import main\n"
+    "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+    "print(sorted(m for m in sys.modules if m.startswith('rprpr.cli.')), file=sys.stderr)",
+    ROOT,
+)
+for _args, _ in ENDS:
+    fresh_probe(
+        f"test_main {_args!r}",
+        "numpy, flint, yaml, click, rich.console",
+        PROGRAM + f"from rprpr.cli.main import run\nsys.argv = ['rprpr', *{_args!r}]\nrun()\n",
+        ROOT,
     )
-    probes = [("help", "", help_probe)]
-    for args, _ in ENDS:
-        code = PROGRAM + f"from rprpr.cli.main import run\nsys.argv = ['rprpr', *{args!r}]\nrun()\n"
-        probes.append((repr(args), "numpy, flint, yaml, click, rich.console", code))
-    return probe(probes, ROOT)
+
+
+@pytest.fixture
+def probed(fresh: dict[str, tuple[int, str, str]]) -> dict[str, tuple[int, str, str]]:
+    """The probes above: (exit status, standard output, standard error) by name here."""
+    return {k.removeprefix("test_main "): v for k, v in fresh.items()}
 
 
 @pytest.mark.parametrize(("args", "status"), ENDS)
@@ -158,15 +168,22 @@ def test_the_program_ends_once_its_output_is_out_with_mains_status_and_bytes(
     assert "teardown ran" not in stderr
 
 
-def test_with_multiprocessing_loaded_the_program_takes_the_ordinary_exit() -> None:
+fresh_probe(
+    "test_main multiprocessing",
+    "",
+    PROGRAM + "import multiprocessing\nfrom rprpr.cli.main import run\n"
+    "sys.argv = ['rprpr', 'rule', 'RPR101']\nrun()\n",
+    ROOT,
+)
+
+
+def test_with_multiprocessing_loaded_the_program_takes_the_ordinary_exit(
+    probed: dict[str, tuple[int, str, str]],
+) -> None:
     """Where the workers are spawned by multiprocessing (off Linux), its shared memory may
     live in a temporary folder that its exit handler removes: ``run`` then leaves the
     process to the ordinary exit, and the handlers run."""
-    probe = PROGRAM + (
-        "import multiprocessing\nfrom rprpr.cli.main import run\n"
-        "sys.argv = ['rprpr', 'rule', 'RPR101']\nrun()\n"
-    )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
+    done = subprocess.CompletedProcess("probe", *probed["multiprocessing"])
     assert (done.returncode, done.stdout) == run_cli("rule", "RPR101")[:2]
     assert "teardown ran" in done.stderr
 

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from rprpr.cli.options import PLOT_EXTRA
+from tests.cli.forked import fresh_probe
 from tests.conftest import PATH1_FILE, PATH2_FILE, ROOT
 
 WITHOUT_MATPLOTLIB = (
@@ -28,8 +28,9 @@ WITHOUT_MATPLOTLIB = (
 )
 
 
-# several commands in one such Python, each on its own UTF-8 pipe-like streams: (exit
-# status, stdout, stderr) of each, as JSON on the real standard output
+# several commands in one such Python (COMMANDS: each command's folder and arguments), each
+# on its own UTF-8 pipe-like streams: each one's folder and (exit status, stdout, stderr),
+# as JSON on the real standard output
 LIGHT_BATCH = (
     "import io, json, sys\n"
     "sys.modules['matplotlib'] = None\n"
@@ -37,7 +38,7 @@ LIGHT_BATCH = (
     "from contextlib import redirect_stderr, redirect_stdout\n"
     "from rprpr.cli.main import main\n"
     "done = []\n"
-    "for argv in json.loads(sys.argv[1]):\n"
+    "for _, argv in COMMANDS:\n"
     "    out, err = (io.TextIOWrapper(io.BytesIO(), encoding='utf-8', newline='',\n"
     "                                 write_through=True) for _ in 'oe')\n"
     "    with redirect_stdout(out), redirect_stderr(err):\n"
@@ -46,26 +47,19 @@ LIGHT_BATCH = (
     "        except SystemExit as e:\n"
     "            code = e.code if isinstance(e.code, int) else int(e.code is not None)\n"
     "    done.append([code, *(s.buffer.getvalue().decode() for s in (out, err))])\n"
-    "print(json.dumps(done))\n"
+    "print(json.dumps([[f, d] for (f, _), d in zip(COMMANDS, done)]))\n"
 )
 
 
-def light_batch(*commands: list[str]) -> list[subprocess.CompletedProcess[str]]:
-    """Each of ``commands`` (``rprpr ARGS``) in turn in one Python where matplotlib and
-    Pillow cannot be imported: one start-up for all."""
-    ran = subprocess.run(
-        [sys.executable, "-c", LIGHT_BATCH, json.dumps(commands)],
-        capture_output=True, text=True, timeout=300, cwd=ROOT, check=True,
-    )  # fmt: skip
-    return [
-        subprocess.CompletedProcess(c, *r)
-        for c, r in zip(commands, json.loads(ran.stdout), strict=True)
-    ]
+fresh_probe(
+    "test_options shim",
+    "",
+    "import sys\nsys.modules['matplotlib'] = None\nimport matplotlib.pyplot\n",
+)
 
 
-def test_the_shim_really_hides_matplotlib() -> None:
-    probe = "import sys\nsys.modules['matplotlib'] = None\nimport matplotlib.pyplot\n"
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+def test_the_shim_really_hides_matplotlib(fresh: dict[str, tuple[int, str, str]]) -> None:
+    done = subprocess.CompletedProcess("probe", *fresh["test_options shim"])
     assert done.returncode == 1
     assert "ModuleNotFoundError" in done.stderr
 
@@ -88,22 +82,40 @@ SHEETS = [
 ]  # fmt: skip
 
 
-@pytest.fixture(scope="module")
+def _light_batch(folder: Path) -> str:
+    """The code that runs each command of WORKING and SHEETS (by name, or by ``what`` and
+    index; {tmp}: a new folder of its own in ``folder``) and ``plot --help`` (its folder:
+    ROOT) in one Python without matplotlib (LIGHT_BATCH)."""
+    commands = dict(WORKING)
+    commands |= {f"{what} {i}": args for i, (args, what) in enumerate(SHEETS)}
+    runs = {}
+    for i, (name, args) in enumerate(commands.items()):
+        tmp = folder / f"{i}"
+        tmp.mkdir()
+        runs[name] = (str(tmp), [a.format(tmp=tmp) for a in args])
+    runs["plot --help"] = (str(ROOT), ["plot", "--help"])
+    return f"COMMANDS = {list(runs.values())!r}\n{LIGHT_BATCH}"
+
+
+# a start-up probe (``tests.cli.forked.fresh_probe``): one fresh process, from rprpr's
+# dependencies but matplotlib and Pillow, in ROOT (the commands' folders are their own)
+fresh_probe("test_options light", "numpy, flint, yaml, click, rich.console", _light_batch, ROOT)
+LIGHT_NAMES = [*WORKING, *(f"{what} {i}" for i, (_, what) in enumerate(SHEETS)), "plot --help"]
+
+
+@pytest.fixture
 def light_runs(
-    tmp_path_factory: pytest.TempPathFactory,
+    fresh: dict[str, tuple[int, str, str]],
 ) -> dict[str, tuple[Path, subprocess.CompletedProcess[str]]]:
     """Each command of WORKING and SHEETS (by name, or by ``what`` and index) and ``plot
     --help``, run in one Python without matplotlib: (its folder, what it did)."""
-    folders = {name: tmp_path_factory.mktemp("light") for name in WORKING}
-    folders |= {f"{what} {i}": tmp_path_factory.mktemp("sheet") for i, (_, what) in
-                enumerate(SHEETS)}  # fmt: skip
-    commands = {name: WORKING[name] for name in WORKING}
-    commands |= {f"{what} {i}": args for i, (args, what) in enumerate(SHEETS)}
-    folders["plot --help"], commands["plot --help"] = ROOT, ["plot", "--help"]
-    done = light_batch(
-        *([a.format(tmp=folders[name]) for a in args] for name, args in commands.items())
-    )
-    return {name: (folders[name], d) for name, d in zip(commands, done, strict=True)}
+    status, stdout, stderr = fresh["test_options light"]
+    assert status == 0, stderr
+    ran = json.loads(stdout)
+    return {
+        name: (Path(folder), subprocess.CompletedProcess(name, *done))
+        for name, (folder, done) in zip(LIGHT_NAMES, ran, strict=True)
+    }
 
 
 def test_check_export_repair_init_rule_and_schema_work_without_matplotlib(

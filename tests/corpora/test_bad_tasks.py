@@ -23,6 +23,7 @@ import yaml
 from rprpr.io import reading, source
 from rprpr.io.loader import MAX_BYTES, load_task, parse_task
 from rprpr.model.errors import TaskFileError
+from tests.cli.forked import run_rprpr
 from tests.conftest import run_cli
 
 HERE = Path(__file__).resolve().parent
@@ -713,10 +714,16 @@ timing:
 SHARED_SMOKE = ROOT.parent / "shared" / "smoke"
 
 
-def _one_line_exit_2(paths: list[Path], cwd: Path, *, process: bool = True) -> None:
-    """``rprpr check PATHS`` in ``cwd`` (as a process, or in this one): exit 2, one
-    stderr line per file naming it, no traceback, and nothing written into ``cwd``."""
-    if process:
+def _one_line_exit_2(
+    paths: list[Path], cwd: Path, *, process: bool = True, forked: bool = False
+) -> None:
+    """``rprpr check PATHS`` in ``cwd`` (as a new interpreter, as a process forked from this
+    one and set up as a fresh one (``forked``), or in this one): exit 2, one stderr line per
+    file naming it, no traceback, and nothing written into ``cwd``."""
+    if forked:
+        done = run_rprpr(["check", *map(str, paths)], cwd, timeout=60)
+        code, out, err = done.returncode, done.stdout, done.stderr
+    elif process:
         proc = subprocess.run(
             [sys.executable, "-m", "rprpr", "check", *map(str, paths)],
             capture_output=True,
@@ -768,4 +775,4 @@ def test_shared_smoke_corpus_beside_the_clone_exits_2_with_one_line_each(tmp_pat
     files = sorted(SHARED_SMOKE.glob("*.yaml")) if SHARED_SMOKE.is_dir() else []
     if not files:
         pytest.skip(f"no shared smoke corpus at {SHARED_SMOKE} (its copies above still run)")
-    _one_line_exit_2(files, tmp_path)
+    _one_line_exit_2(files, tmp_path, forked=True)  # the new interpreter's path: just above

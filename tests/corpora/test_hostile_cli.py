@@ -26,6 +26,7 @@ from typing import Any
 import pytest
 
 from rprpr.render.escape import ascii_fallback, printable
+from tests.cli.forked import Forked, rprpr_main
 from tests.conftest import PATH1_FILE, PATH2_FILE, run_cli, run_cli_encoded
 
 RPRPR = [sys.executable, "-m", "rprpr"]
@@ -278,12 +279,25 @@ def test_a_deleted_working_directory_still_gives_the_report(
 # -- 10. standard error closed or full ---------------------------------------------------------
 @pytest.mark.parametrize("redirect", ["2>&-", "2>/dev/full"])
 def test_a_lost_standard_error_keeps_the_exit_status(redirect: str) -> None:
-    if redirect.endswith("full") and not Path("/dev/full").exists():
-        pytest.skip("needs /dev/full")
-    done = subprocess.run(
-        ["sh", "-c", f'exec "$@" {redirect}', "sh", *RPRPR, "check", "missing.yaml", PATH2_FILE],
-        capture_output=True, timeout=120,
-    )  # fmt: skip
+    """Standard error closed (a new interpreter: Python starts without ``sys.stderr``), or
+    on a full device (a process forked from this one, its descriptor 2 on /dev/full, set
+    up as a fresh one: ``tests/cli/forked.py``)."""
+    if redirect.endswith("full"):
+        if not Path("/dev/full").exists():
+            pytest.skip("needs /dev/full")
+        full = os.open("/dev/full", os.O_WRONLY)
+        try:
+            args = ["check", "missing.yaml", PATH2_FILE]
+            proc = Forked(lambda: rprpr_main(*args), cwd=os.getcwd(), err=full)
+        finally:
+            os.close(full)
+        stdout, _ = proc.communicate(timeout=120)
+        done = subprocess.CompletedProcess(args, proc.returncode, stdout)
+    else:
+        done = subprocess.run(
+            ["sh", "-c", f'exec "$@" {redirect}', "sh", *RPRPR, "check", "missing.yaml",
+             PATH2_FILE], capture_output=True, timeout=120,
+        )  # fmt: skip
     assert done.returncode == 2 and b"Example 2" in done.stdout
 
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import subprocess
 import sys
 from decimal import ROUND_HALF_UP, Context, Decimal
 from pathlib import Path
@@ -31,6 +30,7 @@ from rprpr.io.loader import load_task, parse_task
 from rprpr.model.errors import TaskFileError
 from rprpr.model.numbers import rational, to_float
 from rprpr.model.task import Task
+from tests.cli.forked import run_rprpr
 
 HERE = Path(__file__).resolve().parent / "hostile" / "loader"
 VALID = re.compile(r"(?P<file>\S+\.task) valid: exit (?P<code>\d), the task of (?P<ref>\S+)")
@@ -85,16 +85,11 @@ def test_a_bad_file_is_one_line_and_exit_2(
 
 
 def test_every_bad_file_in_one_real_process(tmp_path: Path) -> None:
-    """The real command line: exit 2, the lines in order, no traceback, nothing written."""
-    proc = subprocess.run(
-        [sys.executable, "-m", "rprpr", "check", "--color", "never", *(str(HERE / n) for n in BAD)],
-        capture_output=True,
-        text=True,
-        encoding="utf-8",
-        cwd=tmp_path,
-        timeout=120,
-        check=False,
-    )
+    """The command line as a process runs it (``python -m rprpr``, in a process forked from
+    this one and set up as a fresh one: ``tests/cli/forked.py``; the new interpreter's path
+    is tests/corpora/test_bad_tasks.py's): exit 2, the lines in order, no traceback,
+    nothing written."""
+    proc = run_rprpr(["check", "--color", "never", *(str(HERE / n) for n in BAD)], tmp_path)
     assert proc.returncode == 2, proc.stderr
     assert "Traceback" not in proc.stdout + proc.stderr
     assert proc.stderr.splitlines() == [

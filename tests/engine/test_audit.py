@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import subprocess
-import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -20,6 +19,7 @@ from rprpr.engine.certified.sampling import grid
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.rules import Finding
 from rprpr.model.task import Checks, Task
+from tests.cli.forked import fresh_probe
 from tests.conftest import CONFIGS, PATH2_YAML, QUINTIC, task_text
 from tests.reference import reference
 
@@ -410,25 +410,33 @@ def test_sample_grid_is_exact_fractions_of_t_f():  # type: ignore[no-untyped-def
     assert t[5] == 2.5 and t[-1] == 5.0 and t[0] == 0.0
 
 
-@pytest.fixture(scope="module")
-def fresh_imports() -> subprocess.CompletedProcess[str]:
-    """One fresh Python process: the engine's core imported (then, on standard output, a
-    line "core:" and the modules of the command line, YAML or plotting it pulled in), and
-    then ``rprpr check`` run (then, on standard error, whether matplotlib was imported).
-    The core imports nothing of the command line, so the check runs as from a fresh
-    process; one process start serves both tests below."""
-    code = (
-        "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling\n"
-        "import rprpr.engine.exact.singular\n"
-        "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules]\n"
-        "print('core:' + ','.join(bad), flush=True)\n"
-        "from rprpr.cli.main import main\n"
-        "try:\n    main(['check', '--format', 'json', "
-        f"{str(CONFIGS / 'paper_path2.rprpr.yaml')!r}])\n"
-        "except SystemExit:\n    pass\n"
-        "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)"
-    )
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+# One fresh Python process (a start-up probe, ``tests.cli.forked.fresh_probe``, from numpy
+# and flint): the engine's core imported (then, on standard output, a line "core:" and the
+# modules of the command line, YAML or plotting it pulled in), and then ``rprpr check`` run
+# (then, on standard error, whether matplotlib was imported). The core imports nothing of
+# the command line, so the check runs as from a fresh process; one probe serves both tests
+# below.
+fresh_probe(
+    "test_audit core",
+    "numpy, flint",
+    "import sys, rprpr.engine.audit, rprpr.engine.certified.sampling\n"
+    "import rprpr.engine.exact.singular\n"
+    "bad = [m for m in ('click', 'rich', 'yaml', 'matplotlib') if m in sys.modules]\n"
+    "print('core:' + ','.join(bad), flush=True)\n"
+    "from rprpr.cli.main import main\n"
+    "try:\n    main(['check', '--format', 'json', "
+    f"{str(CONFIGS / 'paper_path2.rprpr.yaml')!r}])\n"
+    "except SystemExit:\n    pass\n"
+    "print('MPL' if 'matplotlib' in sys.modules else 'CLEAN', file=sys.stderr)",
+)
+
+
+@pytest.fixture
+def fresh_imports(
+    fresh: dict[str, tuple[int, str, str]],
+) -> subprocess.CompletedProcess[str]:
+    """The probe above, as its process ended."""
+    return subprocess.CompletedProcess("probe", *fresh["test_audit core"])
 
 
 def test_core_imports_no_cli_yaml_or_plotting(fresh_imports):  # type: ignore[no-untyped-def]

@@ -33,6 +33,7 @@ from rprpr.engine.certified.five_bar_samples import POLE, TYPE_ONE, sample
 from rprpr.engine.certified.sampling import grid
 from rprpr.engine.exact.five_bar_instants import analyse
 from rprpr.engine.five_bar_certified import limit_check, torque_peak
+from tests.cli.forked import fresh_probe
 
 from .reference import DPS, FiveBar, Motion, elbows, links, mp, newton_euler, torques
 from .reference import delta as ref_delta
@@ -425,22 +426,17 @@ def test_the_api_gives_samples_and_the_report(tmp_path: Path) -> None:
     assert report["torque_peak"][0] == result.torque_peak[0].value
 
 
-@pytest.mark.parametrize(
-    ("extra", "loaded"),
-    [
-        ("", []),  # the exact verdicts alone: no ball machinery
-        ("checks:\n  torque_limit: [1000, 1000]\n", ["certified.five_bar", "five_bar_certified"]),
-    ],
-)
-def test_check_loads_the_certified_layers_only_for_a_task_that_asks(
-    tmp_path: Path, extra: str, loaded: list[str]
-) -> None:
-    import ast
-    import subprocess
-    import sys
+LAYERS = [
+    ("", []),  # the exact verdicts alone: no ball machinery
+    ("checks:\n  torque_limit: [1000, 1000]\n", ["certified.five_bar", "five_bar_certified"]),
+]
 
-    path = _task(tmp_path, "consistent", extra)
-    probe = (
+
+def _layers_probe(extra: str, folder: Path) -> str:
+    """A fresh process's check of a task (written into ``folder``) with ``extra``: the
+    certified and bounds modules it loaded, on standard error."""
+    path = _task(folder, "consistent", extra)
+    return (
         "import sys\n"
         "from rprpr.cli.check import check_one\n"
         "from rprpr.cli.options import CheckOptions\n"
@@ -450,11 +446,25 @@ def test_check_loads_the_certified_layers_only_for_a_task_that_asks(
         " 'rprpr.engine.five_bar_certified')))\n"
         "sys.stderr.write(f'KIND={kind} LOADED={got}\\n')\n"
     )
-    root = Path(__file__).resolve().parents[2]
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, cwd=root
+
+
+for _extra, _ in LAYERS:  # start-up probes (``tests.cli.forked.fresh_probe``), in the clone
+    fresh_probe(
+        f"test_certified layers {_extra!r}",
+        "numpy, flint, yaml, click, rich.console",
+        partial(_layers_probe, _extra),
+        Path(__file__).resolve().parents[2],
     )
-    last = done.stderr.strip().splitlines()[-1]
+
+
+@pytest.mark.parametrize(("extra", "loaded"), LAYERS)
+def test_check_loads_the_certified_layers_only_for_a_task_that_asks(
+    extra: str, loaded: list[str], fresh: dict[str, tuple[int, str, str]]
+) -> None:
+    import ast
+
+    _, _, stderr = fresh[f"test_certified layers {extra!r}"]
+    last = stderr.strip().splitlines()[-1]
     assert last.startswith("KIND=report LOADED=")
     got = ast.literal_eval(last.split("LOADED=")[1])
     assert [m for m in got if "five_bar" in m] == loaded

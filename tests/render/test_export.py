@@ -7,7 +7,6 @@ import io
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,7 @@ import pytest
 from rprpr import __version__
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
+from tests.cli.forked import fresh_probe
 from tests.conftest import CONFIGS, PATH1_FILE, PATH2_FILE, run_cli, task_text
 
 # the issue's column list, written out independently of samples.COLUMNS, and the reason
@@ -248,35 +248,47 @@ def test_unwritable_output_exits_2(tmp_path: Path) -> None:
 # matplotlib stays out of check and export
 
 
-@pytest.mark.parametrize(
-    "command", [["check", PATH2_FILE], ["export", PATH2_FILE, "--samples", "5"]]
-)
-def test_check_and_export_do_not_import_matplotlib(command: list[str], tmp_path: Path) -> None:
-    probe = (
+# start-up probes (``tests.cli.forked.fresh_probe``): fresh processes, each in an empty
+# folder of its own, from rprpr's dependencies but matplotlib and Pillow
+COMMANDS = [["check", PATH2_FILE], ["export", PATH2_FILE, "--samples", "5"]]
+for _command in COMMANDS:
+    fresh_probe(
+        f"test_export {_command!r}",
+        "numpy, flint, yaml, click, rich.console",
         "import sys\n"
         "from rprpr.cli.main import main\n"
         "try:\n"
-        f"    main({command!r})\n"
+        f"    main({_command!r})\n"
         "except SystemExit as e:\n"
         "    code = e.code\n"
         "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
-        "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n"
+        "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n",
     )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, cwd=tmp_path, timeout=60
-    )
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_check_and_export_do_not_import_matplotlib(
+    command: list[str], fresh: dict[str, tuple[int, str, str]]
+) -> None:
+    done = subprocess.CompletedProcess(command, *fresh[f"test_export {command!r}"])
     tail = done.stderr.strip().splitlines()[-1]
     assert tail.startswith("EXIT=0 "), done.stderr
     assert tail.endswith("LOADED=[]"), tail
 
 
-def test_export_module_is_free_of_click_and_matplotlib() -> None:
-    probe = (
-        "import sys, rprpr.render.export\n"
-        "banned = ('click', 'matplotlib', 'yaml')\n"
-        "print(sorted(m for m in sys.modules if m.split('.')[0] in banned))\n"
-    )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+fresh_probe(
+    "test_export module",
+    "numpy, flint",
+    "import sys, rprpr.render.export\n"
+    "banned = ('click', 'matplotlib', 'yaml')\n"
+    "print(sorted(m for m in sys.modules if m.split('.')[0] in banned))\n",
+)
+
+
+def test_export_module_is_free_of_click_and_matplotlib(
+    fresh: dict[str, tuple[int, str, str]],
+) -> None:
+    done = subprocess.CompletedProcess("probe", *fresh["test_export module"])
     assert done.stdout.strip() == "[]", done.stderr
 
 

@@ -23,6 +23,7 @@ from rprpr.cli.options import CheckOptions
 from rprpr.model.options import AuditOptions
 from rprpr.render.html import inline_svg, render
 from rprpr.report.run import INPUT, REPORT, Attachment, Run
+from tests.cli.forked import fresh_probe
 from tests.conftest import BAD_A1, ROOT, run_cli
 
 P1 = "configs/paper_path1.rprpr.yaml"  # fails RPR101 (slope) and RPR201 (unbounded)
@@ -288,21 +289,26 @@ def test_without_matplotlib_the_page_says_how_to_get_the_sheets(
     assert "html report written to" in err
 
 
-def test_check_html_without_sheets_imports_no_matplotlib(tmp_path: Path) -> None:
-    probe = (
-        "import sys\n"
-        "from rprpr.cli.main import main\n"
-        "try:\n"
-        f"    main(['check', '--format', 'html', '--no-sheets', '--samples', '101', "
-        f"{str(ROOT / P2)!r}])\n"
-        "except SystemExit as e:\n"
-        "    code = e.code\n"
-        "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
-        "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", probe], capture_output=True, text=True, cwd=tmp_path, timeout=120
-    )
+# a start-up probe (``tests.cli.forked.fresh_probe``): a fresh process in an empty folder
+fresh_probe(
+    "test_html no sheets",
+    "numpy, flint, yaml, click, rich.console",
+    "import sys\n"
+    "from rprpr.cli.main import main\n"
+    "try:\n"
+    f"    main(['check', '--format', 'html', '--no-sheets', '--samples', '101', "
+    f"{str(ROOT / P2)!r}])\n"
+    "except SystemExit as e:\n"
+    "    code = e.code\n"
+    "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL'))\n"
+    "sys.stderr.write(f'EXIT={code} LOADED={loaded}\\n')\n",
+)
+
+
+def test_check_html_without_sheets_imports_no_matplotlib(
+    fresh: dict[str, tuple[int, str, str]],
+) -> None:
+    done = subprocess.CompletedProcess("probe", *fresh["test_html no sheets"])
     assert done.stderr.strip().splitlines()[-1] == "EXIT=0 LOADED=[]", done.stderr
 
 
@@ -368,9 +374,9 @@ def test_a_real_browser_shows_the_page_and_fetches_nothing(tmp_path: Path) -> No
     assert code == 1, err
     shot = tmp_path / "report.png"
     size = "--window-size=390,2000"  # a phone's width
-    done = chromium(report, tmp_path / "profile-1", f"--screenshot={shot}", size)
-    assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", done.stderr[-2000:]
-    dom = chromium(report, tmp_path / "profile-2", "--dump-dom")
+    # one browser draws the page (the screenshot) and gives the document it drew (the DOM)
+    dom = chromium(report, tmp_path / "profile-1", f"--screenshot={shot}", size, "--dump-dom")
+    assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", dom.stderr[-2000:]
     page = Page(dom.stdout)
     text = page.text
     assert "2 tasks: 1 passed, 1 failed, 0 errors" in text
@@ -382,8 +388,8 @@ def test_a_real_browser_shows_the_page_and_fetches_nothing(tmp_path: Path) -> No
         for name in ("src", "href", "xlink:href"):
             value = attrs.get(name)
             assert value is None or value.startswith("#"), (name, value)
-    for profile in ("profile-1", "profile-2"):  # and the page asked for nothing
-        assert [u for u in page_requests(tmp_path / profile) if not u.startswith("file:")] == []
+    # and the page asked for nothing
+    assert [u for u in page_requests(tmp_path / "profile-1") if not u.startswith("file:")] == []
 
 
 def test_inline_svg_makes_bidi_overrides_and_stray_bytes_visible() -> None:

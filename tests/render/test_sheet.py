@@ -21,6 +21,7 @@ from rprpr.cli.main import main
 from rprpr.engine.audit import audit
 from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
+from tests.cli.forked import fresh_probe
 from tests.conftest import task_text
 from tests.sheets import CONFIG_FILES, PATH1, PATH2, SAMPLES, SETS, drawn, motions, sheet
 
@@ -559,17 +560,18 @@ def test_show_opens_a_pyplot_window_and_writes_o(
         plt.close("all")
 
 
-def test_plot_loads_matplotlib_only_when_plotting() -> None:
-    import subprocess
-    import sys
+fresh_probe(  # a start-up probe (``tests.cli.forked.fresh_probe``): a fresh process
+    "test_sheet plot modules",
+    "numpy, flint, yaml, click, rich.console",
+    "import sys\n"
+    "import rprpr.cli.main, rprpr.cli.plot, rprpr.cli.export\n"
+    "print(any(m.split('.')[0] == 'matplotlib' for m in sys.modules))\n",
+)
 
-    probe = (
-        "import sys\n"
-        "import rprpr.cli.main, rprpr.cli.plot, rprpr.cli.export\n"
-        "print(any(m.split('.')[0] == 'matplotlib' for m in sys.modules))\n"
-    )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
-    assert done.stdout.strip() == "False", done.stderr
+
+def test_plot_loads_matplotlib_only_when_plotting(fresh: dict[str, tuple[int, str, str]]) -> None:
+    _, stdout, stderr = fresh["test_sheet plot modules"]
+    assert stdout.strip() == "False", stderr
 
 
 def test_line_styles_tell_the_tasks_apart_and_colours_the_quantities() -> None:

@@ -22,6 +22,7 @@ from rprpr.model.defaults import DEFAULT_SAMPLES
 from rprpr.model.options import AuditOptions
 from rprpr.report.exit import ExitCode, exception_status, returned_status, run_status
 from rprpr.report.run import Run
+from tests.cli.forked import fresh_probe
 from tests.conftest import PATH2_FILE, run_cli, run_cli_to, stdout_on
 
 RPRPR = [sys.executable, "-m", "rprpr"]
@@ -187,14 +188,19 @@ def test_what_changes_a_verdict_is_apart_from_the_plumbing() -> None:
         AuditOptions(samples=1)
 
 
-def test_the_report_stage_imports_no_click() -> None:
+fresh_probe(  # a start-up probe (``tests.cli.forked.fresh_probe``): a fresh process
+    "test_exit report stage",
+    "",
+    "import sys, rprpr.report.exit, rprpr.report.run, rprpr.report.records\n"
+    "print(sorted(m for m in sys.modules if m.split('.')[0] == 'click'))\n",
+)
+
+
+def test_the_report_stage_imports_no_click(fresh: dict[str, tuple[int, str, str]]) -> None:
     """The exit policy, the run and the records are plain Python: click's exceptions and
     their statuses are the command line's (``cli.errors``)."""
-    probe = (
-        "import sys, rprpr.report.exit, rprpr.report.run, rprpr.report.records\n"
-        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'click'))\n"
-    )
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    done = subprocess.CompletedProcess("probe", *fresh["test_exit report stage"])
+    done.check_returncode()
     assert done.stdout.strip() == "[]"
 
 
