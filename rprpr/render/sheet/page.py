@@ -193,7 +193,8 @@ class Sheet(Heads):
         (a sized figure gives the axes every inch that text does not take): once per
         process for each sheet width and each state of matplotlib's settings (the text
         sizes of the font scale among them), on a figure of its own."""
-        settings = repr([matplotlib.rcParams[k] for k in matplotlib.rcParams])
+        rc = matplotlib.rcParams  # all but the backend: reading it would pick one (pyplot)
+        settings = repr([rc[k] for k in rc if k != "backend"])
         return _decor(self.width, settings)
 
     # -- axes ------------------------------------------------------------------------------
