@@ -10,6 +10,7 @@ import json
 import math
 import os
 import sys
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import replace
@@ -485,8 +486,10 @@ def _unicode_tables_before_the_workers() -> None:
     try:
         from hypothesis.internal.charmap import charmap, intervals_from_codec
 
-        charmap()
-        intervals_from_codec("utf-8")
+        with warnings.catch_warnings():  # some versions warn of a storage read while pytest
+            warnings.simplefilter("ignore")  # starts (slow plugins): here it is the point
+            charmap()
+            intervals_from_codec("utf-8")
     except Exception:  # internals of hypothesis: another version may have others
         return
 
