@@ -298,6 +298,7 @@ def _workers_in_process(real: Any) -> Any:
             return InProcessWorker(work, stages)
         return real(work, jobs, stages, **kwargs)
 
+    workers.real = real  # type: ignore[attr-defined]  # for a forked rprpr (tests.cli.forked)
     return workers
 
 
@@ -499,7 +500,10 @@ def pytest_unconfigure(config: pytest.Config) -> None:
     """Before pytest's own end-of-run collections (which report what finalizers raised):
     one full collection here, which frees every cycle left (one pass on CPython) and so
     reports the same, then the survivors frozen, so pytest's collections walk only what
-    is made after them instead of the ~1 M objects a test process holds (~0.5 CPU-s each)."""
+    is made after them instead of the ~1 M objects a test process holds (~0.5 CPU-s each).
+    A cycle that another plugin's end-of-run hook releases after this one is frozen with
+    the rest, so an error in its finalizer goes unreported: no plugin of the suite's
+    releases one (the tests' own cycles are freed here)."""
     gc.collect()
     gc.freeze()
 

@@ -163,8 +163,14 @@ class Forked:
 
 
 def rprpr_main(*args: str) -> None:
-    """``python -m rprpr ARGS``, as the target of a ``Forked`` child."""
+    """``python -m rprpr ARGS``, as the target of a ``Forked`` child: with rprpr's own
+    workers (forked per check), whatever the test process audits its checks with
+    (``tests/conftest.py``'s in-process worker, which the fork inherits)."""
     import runpy
+
+    from rprpr.cli import workers
+
+    workers.Workers = getattr(workers.Workers, "real", workers.Workers)  # type: ignore[misc]
 
     sys.argv = ["rprpr", *args]
     runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
@@ -186,15 +192,17 @@ def run_rprpr(
 
 # -- a script's rprpr commands, each in a forked child ---------------------------------------
 # The client: an ``rprpr`` executable (Python without site: ~0.01 CPU-s to start) that hands
-# its arguments, working directory, environment and standard streams (the descriptors
-# themselves) to ``run_served``'s process over a Unix socket, and exits with the status of
-# the rprpr that ran there (128 + N when it died of signal N, as a shell reports it).
+# its arguments, working directory, environment and standard output and error (the
+# descriptors themselves) to ``run_served``'s process over a Unix socket, and exits with the
+# status of the rprpr that ran there (128 + N when it died of signal N, as a shell reports
+# it). The rprpr reads no standard input (a ``Forked`` child's is /dev/null): the scripts
+# served name their task files.
 CLIENT = """
 import json, os, socket, sys
 request = json.dumps([sys.argv[1:], os.getcwd(), dict(os.environ)]).encode()
 with socket.socket(socket.AF_UNIX) as s:
     s.connect(SERVER)
-    socket.send_fds(s, [len(request).to_bytes(8, "big") + request], [0, 1, 2])
+    socket.send_fds(s, [len(request).to_bytes(8, "big") + request], [1, 2])
     s.shutdown(socket.SHUT_WR)
     status = int(s.makefile("rb").read())
 sys.exit(status if status >= 0 else 128 - status)
@@ -202,8 +210,10 @@ sys.exit(status if status >= 0 else 128 - status)
 
 
 def _request(conn: socket.socket) -> tuple[list[str], str, dict[str, str], list[int]]:
-    """A client's request: (arguments, working directory, environment, its descriptors)."""
-    data, fds, _, _ = socket.recv_fds(conn, 65536, 3)
+    """A client's request: (arguments, working directory, environment, its standard
+    output and error); a client that stalls mid-request for 30 s is an error."""
+    conn.settimeout(30)
+    data, fds, _, _ = socket.recv_fds(conn, 65536, 2)
     while len(data) < 8 or len(data) < 8 + int.from_bytes(data[:8], "big"):
         chunk = conn.recv(65536)
         assert chunk, "the client hung up mid-request"
@@ -244,17 +254,24 @@ def run_served(
                     sel.register(server, selectors.EVENT_READ)
                     for fd in got:
                         sel.register(fd, selectors.EVENT_READ)
-                    while len(sel.get_map()) > 1 or serving:
+                    # until the script has ended, its streams are closed and every
+                    # rprpr it started has answered
+                    while len(sel.get_map()) > 1 or serving or proc.poll() is None:
                         if time.monotonic() > deadline:
                             raise TimeoutError(f"{command[0]} still running: killed")
-                        for key, _ in sel.select(0.02 if serving else 1.0):
+                        waiting = serving or len(sel.get_map()) == 1  # on a child, an exit
+                        for key, _ in sel.select(0.02 if waiting else 1.0):
                             if key.fileobj is server:
                                 conn, _ = server.accept()
-                                args, where, child_env, fds = _request(conn)
+                                try:
+                                    args, where, child_env, fds = _request(conn)
+                                except BaseException:
+                                    conn.close()
+                                    raise
                                 try:
                                     child = Forked(
                                         lambda args=args: rprpr_main(*args),  # type: ignore[misc]
-                                        cwd=where, out=fds[1], err=fds[2], env=child_env,
+                                        cwd=where, out=fds[0], err=fds[1], env=child_env,
                                     )  # fmt: skip
                                 finally:
                                     for fd in fds:
@@ -450,7 +467,10 @@ def probe(probes: list[tuple[str, str, str]], cwd: str | Path) -> dict[str, tupl
     takes as given), so that their start-up is paid once for all the probes after it.
     A probe ends as a script does: ``SystemExit`` gives its status, the exit functions it
     registered run, then standard output is flushed (status 120 if that fails); one that
-    ends its process itself (``os._exit``) skips all that, as it would alone."""
+    ends its process itself (``os._exit``) skips all that, as it would alone. Unlike
+    ``python -c``, its ``sys.argv`` and ``__main__`` are the prober's, the few modules the
+    prober uses (selectors, math) are imported already, and the interpreter's shutdown does
+    not run: a probe asks what rprpr imports and how its program ends, not these."""
     # a floor's modules stay imported for the probes after it: a probe that asks what a
     # fresh process imports would find them there, so the floors only grow, in order
     floors = [{m.strip() for m in floor.split(",") if m.strip()} for _, floor, _ in probes]
