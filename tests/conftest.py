@@ -3,7 +3,6 @@ run in this process, a plain terminal for every test, and hypothesis's profiles.
 
 from __future__ import annotations
 
-import atexit
 import gc
 import io
 import json
@@ -46,12 +45,6 @@ from hypothesis import settings  # noqa: E402 (after the byte-code switch above)
 # derandomized properties fail as "Unreliable assumption" under hypothesis 6.100; this
 # does not, .ci/lowest.txt). Collections that tests ask for (gc.collect) run as before.
 gc.set_threshold(10_000, 10, 100)
-# At exit, Python's finalization runs several full collections while it empties the
-# modules, each walking every object the process still holds: ~2-3 CPU-s per test process.
-# Frozen objects are left out of them (and the process frees its memory as it ends anyway).
-# atexit runs its functions last registered first, so this runs after those of pytest's
-# plugins and of the tests (registered later), just before the finalization.
-atexit.register(gc.freeze)
 
 # -- hypothesis: random locally, derandomized in CI ---------------------------------------
 # CI (which sets CI=true) draws the same examples on every run and keeps no example database,
@@ -500,7 +493,9 @@ def pytest_unconfigure(config: pytest.Config) -> None:
     """Before pytest's own end-of-run collections (which report what finalizers raised):
     one full collection here, which frees every cycle left (one pass on CPython) and so
     reports the same, then the survivors frozen, so pytest's collections walk only what
-    is made after them instead of the ~1 M objects a test process holds (~0.5 CPU-s each).
+    is made after them instead of the ~1 M objects a test process holds (~0.5 CPU-s each),
+    and so do the several full collections of Python's finalization at the process's
+    exit (~2-3 CPU-s a test process; it frees its memory as it ends anyway).
     A cycle that another plugin's end-of-run hook releases after this one is frozen with
     the rest, so an error in its finalizer goes unreported: no plugin of the suite's
     releases one (the tests' own cycles are freed here)."""

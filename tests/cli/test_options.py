@@ -19,18 +19,9 @@ from rprpr.cli.options import PLOT_EXTRA
 from tests.cli.forked import fresh_probe
 from tests.conftest import PATH1_FILE, PATH2_FILE, ROOT
 
-WITHOUT_MATPLOTLIB = (
-    "import sys\n"
-    "sys.modules['matplotlib'] = None\n"
-    "sys.modules['PIL'] = None\n"
-    "from rprpr.cli.main import main\n"
-    "main(sys.argv[1:])\n"
-)
-
-
-# several commands in one such Python (COMMANDS: each command's folder and arguments), each
-# on its own UTF-8 pipe-like streams: each one's folder and (exit status, stdout, stderr),
-# as JSON on the real standard output
+# several commands in one Python without matplotlib and Pillow (COMMANDS: each command's
+# folder and arguments), each on its own UTF-8 pipe-like streams: each one's folder and
+# (exit status, stdout, stderr), as JSON on the real standard output
 LIGHT_BATCH = (
     "import io, json, sys\n"
     "sys.modules['matplotlib'] = None\n"
