@@ -9,7 +9,6 @@ import json
 import os
 import pty
 import re
-import runpy
 import select
 import shutil
 import subprocess
@@ -23,7 +22,7 @@ import pytest
 from rprpr.cli.check import PROGRESS_MIN_TASKS, want_progress
 from rprpr.cli.output import color_enabled, make_console
 from rprpr.cli.tasks import collect_tasks
-from tests.cli.forked import Forked
+from tests.cli.forked import Forked, rprpr_main
 from tests.conftest import (
     BAD_A1,
     CONFIGS,
@@ -455,14 +454,10 @@ def _run_with_ptys(
             env=env,
         )
     else:
-
-        def rprpr() -> None:
-            sys.argv = ["rprpr", *args]
-            runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
-
         proc = Forked(
-            rprpr, cwd=ROOT, new_session=False, out=fds["out"][1], err=fds["err"][1], env=env
-        )
+            lambda: rprpr_main(*args),
+            cwd=ROOT, new_session=False, out=fds["out"][1], err=fds["err"][1], env=env,
+        )  # fmt: skip
     for _, w in fds.values():
         os.close(w)
     data = dict.fromkeys(fds, b"")

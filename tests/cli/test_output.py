@@ -13,7 +13,6 @@ import io
 import json
 import math
 import os
-import runpy
 import shutil
 import stat
 import subprocess
@@ -31,7 +30,7 @@ from rprpr.render import export as E
 from rprpr.render.json import render as json_report
 from rprpr.report.records import task_report
 from rprpr.report.run import Run
-from tests.cli.forked import Forked
+from tests.cli.forked import Forked, rprpr_main
 from tests.conftest import (
     CONFIGS,
     PATH2_FILE,
@@ -122,16 +121,10 @@ def test_dev_stdout_on_a_pipe_is_written_in_place() -> None:
     # reaches: the report goes through the name given, as to any device
     # (rprpr in a process forked from this one, its descriptor 1 a pipe: tests/cli/forked.py)
     args = ["check", "--format", "json", PATH2_FILE]
-    proc = Forked(lambda: _rprpr(*args, "-o", "/dev/stdout"), cwd=ROOT)
+    proc = Forked(lambda: rprpr_main(*args, "-o", "/dev/stdout"), cwd=ROOT)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 0 and stdout.decode() == run_cli(*args)[1]
     assert stderr.decode().endswith("json report written to /dev/stdout\n")
-
-
-def _rprpr(*args: str) -> None:
-    """``python -m rprpr ARGS``, in a forked child (``Forked``)."""
-    sys.argv = ["rprpr", *args]
-    runpy.run_module("rprpr", run_name="__main__", alter_sys=True)
 
 
 def test_atomic_file_removes_its_temporary_on_a_failed_write(tmp_path: Path) -> None:
