@@ -38,7 +38,7 @@ from math import factorial, isqrt
 from typing import Any
 
 import mpmath
-from mpmath.libmp import from_int, mpf_div
+from mpmath.libmp import from_int, fzero, mpf_div
 
 from ..lu import lu_solve
 
@@ -81,6 +81,8 @@ def mp(v: Any) -> Any:
     t = type(v)
     if t is _QT or t is Fraction or (t is not _MPF and isinstance(v, _RATIONAL)):
         ctx = mpmath.mp
+        if not v:
+            return ctx.make_mpf(fzero)  # 0/q: mpf 0 at any precision
         prec, rnd = ctx._prec_rounding
         num = from_int(v.numerator, prec, rnd)
         return ctx.make_mpf(mpf_div(num, from_int(v.denominator), prec, rnd))
