@@ -31,7 +31,7 @@ def lu_solve(A: list[list[Any]], b: list[Any]) -> list[Any]:
         n = len(M)
         colmax = fzero  # max over columns of Σ_i |A_ij| (mpmath's tolerance)
         for j in range(n):
-            s = mpf_sum([mpf_abs(M[i][j]) for i in range(n)], wp, rnd)  # fsum(absolute=1)
+            s = mpf_sum([row[j] for row in M], wp, rnd, True)  # fsum(absolute=1)
             if j == 0 or mpf_gt(s, colmax):
                 colmax = s
         tol = mpf_abs(mpf_mul(colmax, ctx.eps._mpf_, wp, rnd), wp, rnd)

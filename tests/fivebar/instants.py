@@ -78,6 +78,13 @@ def _roots(rb: FiveBar, motion: Motion, t0: Fraction, t1: Fraction) -> tuple[Any
     return tuple(out)
 
 
+@lru_cache(maxsize=1024)
+def _decimal(r: Any) -> str:
+    """The irrational root r (a CRootOf of ``_roots``, which keeps each) to DPS + 10 digits,
+    once per root: sympy refines it to 70 digits in tens of milliseconds."""
+    return str(sp.N(r, DPS + 10))
+
+
 def singular_instants(
     rb: FiveBar, motion: Motion, modes: tuple[int, int], t0: Fraction, t1: Fraction
 ) -> list[Instant]:
@@ -88,7 +95,7 @@ def singular_instants(
             if r.is_Rational:
                 tr: Any = Fraction(int(r.p), int(r.q))  # exact: δ is exactly 0
             else:
-                tr = mpmath.mpf(str(sp.N(r, DPS + 10)))
+                tr = mpmath.mpf(_decimal(r))
             xs, ys = motion.at(tr, 1)
             size = {}
             for e in MODES:

@@ -11,6 +11,7 @@ P0 = (R1 - K1)(R2 - K2) a y, P1 = (R2 - K2)(E·W), P2 = -(R1 - K1)(E·W), P3 = a
 
 from __future__ import annotations
 
+from functools import cache
 from typing import Any
 
 import sympy as sp
@@ -58,10 +59,12 @@ def product(factors: list[Any], *gens: Any) -> sp.Poly:
     return sp.Poly.from_dict(dict(out), x, y, *gens, domain=QQ)
 
 
+@cache
 def curve(sigma: int, a: Any, l1: Any, l2: Any, l3: Any, l4: Any) -> Any:
     """S_σ = l4² k1² R2 - 2σ l3 l4 k1 k2 (E·W) + l3² k2² R1 - 4 l3² l4² (a y)², with
     k1 = R1 + l3² - l1², k2 = R2 + l4² - l2²: zero iff some unit u has |E - l3 u| = l1 and
-    |E - σ l4 u - B| = l2 (the distal links lined up, E - D = σ (l4/l3)(E - C))."""
+    |E - σ l4 u - B| = l2 (the distal links lined up, E - D = σ (l4/l3)(E - C)). Expanded
+    once per robot in a test process (sympy expressions never change)."""
     return sp.expand(curve_at(sigma, a, l1, l2, l3, l4, x, y))
 
 

@@ -38,7 +38,7 @@ from math import factorial, isqrt
 from typing import Any
 
 import mpmath
-from mpmath.libmp import from_int, mpf_div
+from mpmath.libmp import from_int, fzero, mpf_div
 
 from ..lu import lu_solve
 
@@ -81,6 +81,8 @@ def mp(v: Any) -> Any:
     t = type(v)
     if t is _QT or t is Fraction or (t is not _MPF and isinstance(v, _RATIONAL)):
         ctx = mpmath.mp
+        if not v:
+            return ctx.make_mpf(fzero)  # 0/q: mpf 0 at any precision
         prec, rnd = ctx._prec_rounding
         num = from_int(v.numerator, prec, rnd)
         return ctx.make_mpf(mpf_div(num, from_int(v.denominator), prec, rnd))
@@ -387,6 +389,12 @@ def _val(j: Any) -> Any:
     return mp(j._c[0]) if isinstance(j, Jet) else mp(j)
 
 
+def _rate(j: Jet, k: int) -> Any:
+    """``mp(j.d(k))`` at the working precision (``DPS`` in ``newton_euler``): k! c_k, exact
+    for a rational c_k (the same rational as its Fraction), then rounded once."""
+    return mp(factorial(k) * j._c[k])
+
+
 def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
     """T1, T2 and the pin forces by the Newton-Euler equations of the four bodies.
 
@@ -408,8 +416,8 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
         for i, (forces, torque) in enumerate(bodies):
             G = lk.com[i]
             gx, gy = _val(G[0]), _val(G[1])
-            ax, ay = G[0].d(2), G[1].d(2)
-            alpha = lk.omega[i].d(1)
+            ax, ay = _rate(G[0], 2), _rate(G[1], 2)
+            alpha = _rate(lk.omega[i], 1)
             mass, inertia = mp(rb.mass[i]), mp(rb.inertia[i])
             for name, sign, point in forces:
                 P = lk.joints[point]
@@ -421,9 +429,9 @@ def newton_euler(rb: FiveBar, lk: Links) -> dict[str, Any]:
                 M[3 * i + 2][k + 1] += sign * px
             if torque is not None:
                 M[3 * i + 2][col[torque]] = mpmath.mpf(1)
-            rhs[3 * i] = mass * mp(ax)
-            rhs[3 * i + 1] = mass * mp(ay) + mass * mp(rb.g)
-            rhs[3 * i + 2] = inertia * mp(alpha)
+            rhs[3 * i] = mass * ax
+            rhs[3 * i + 1] = mass * ay + mass * mp(rb.g)
+            rhs[3 * i + 2] = inertia * alpha
         sol = lu_solve(M, rhs)
         out = {name: (sol[k], sol[k + 1]) for name, k in col.items() if name.startswith("F")}
         out["T1"], out["T2"] = sol[10], sol[11]

@@ -217,9 +217,14 @@ def maximum_cases() -> list[tuple[str, Callable[[], Any]]]:
 
 def stored_max(name: str, i: int, lo: Q, hi: Q, n: int = 60) -> Any:
     """``ref_max``: stored, or computed when not."""
-    row = _stored_maxima().get(_maximum_key(name, i, lo, hi, n))
+    return stored_maximum(_maximum_key(name, i, lo, hi, n), partial(ref_max, name, i, lo, hi, n))
+
+
+def stored_maximum(key: str, compute: Callable[[], Any]) -> Any:
+    """The reference's maximum of the case ``key``: stored, or computed when not."""
+    row = _stored_maxima().get(key)
     if row is None:
-        return ref_max(name, i, lo, hi, n)
+        return compute()
     with mpmath.workdps(40):  # the 30 digits stored, read back as written
         return mpmath.mpf(row)
 
@@ -570,9 +575,15 @@ def test_the_stored_crossings_are_the_references() -> None:
         assert _encode(compute()) == _stored_crossings()[key], key
 
 
+def _all_maximum_cases() -> list[tuple[str, Callable[[], Any]]]:
+    from . import test_certified_pieces
+
+    return maximum_cases() + test_certified_pieces.maximum_cases()
+
+
 @pytest.mark.slow  # Newton-Euler at 60 digits, dense and golden-section about each maximum
 def test_the_stored_maxima_are_the_references() -> None:
-    cases = maximum_cases()
+    cases = _all_maximum_cases()
     assert {k for k, _ in cases} == set(_stored_maxima())  # every stored case is live
     for key, compute in cases:
         assert _encode([compute()]) == [_stored_maxima()[key]], key
@@ -586,7 +597,7 @@ def _write_crossings() -> None:
 
 
 def _write_maxima() -> None:
-    table = {key: _encode([compute()])[0] for key, compute in maximum_cases()}
+    table = {key: _encode([compute()])[0] for key, compute in _all_maximum_cases()}
     for row in table.values():  # the tests read back the digits stored
         assert _encode(_decode([row])) == [row]
     MAXIMA.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")

@@ -24,7 +24,7 @@ import sympy as sp
 from tests.conftest import run_cli
 
 from .reference import DPS, Motion, torques
-from .test_certified import bisected, maximum, stored
+from .test_certified import bisected, maximum, stored, stored_maximum
 from .test_check import MODES, ROBOT, TF, TS, absolute, check_json, motions
 from .test_pieces import pieces_file
 
@@ -76,6 +76,22 @@ def ref_max(i: int, lo: Q, hi: Q, m: Motion, n: int = 60) -> Any:
     return maximum(f, lo, hi, n)
 
 
+def _maximum_key(i: int, lo: Q, hi: Q, m: Motion, n: int = 60) -> str:
+    return repr(("maximum over a piece", i, str(lo), str(hi), m, n))
+
+
+def maximum_cases() -> list[tuple[str, Callable[[], Any]]]:
+    """(key, the reference's computation) of the peak test's maxima here (stored beside
+    test_certified, ~360 Newton-Euler evaluations at 60 digits)."""
+    return [(_maximum_key(i, a, b, m), partial(ref_max, i, a, b, m)) for i in (0, 1)
+            for a, b, m in pieces()]  # fmt: skip
+
+
+def stored_max(i: int, lo: Q, hi: Q, m: Motion) -> Any:
+    """``ref_max``: stored beside test_certified, or computed when not."""
+    return stored_maximum(_maximum_key(i, lo, hi, m), partial(ref_max, i, lo, hi, m))
+
+
 def crossing_cases() -> list[tuple[str, Callable[[], list[Any]]]]:
     """(key, the reference's computation) of the limit test's cases here."""
     return [(_crossings_key(i), partial(_ref_crossings, i, LIMIT[i])) for i in (0, 1)]
@@ -113,7 +129,7 @@ def test_the_peak_brackets_the_references_maximum_over_both_pieces(tmp_path: Pat
     code, rep = check_json(_task(tmp_path), "--peak")
     assert code == 0 and rep["torque_peak_certified"] is True
     for i, value in enumerate(rep["torque_peak"]):
-        each = [ref_max(i, a, b, m) for a, b, m in pieces()]
+        each = [stored_max(i, a, b, m) for a, b, m in pieces()]
         top = max(each)
         assert each[1] > each[0]  # the peak is on the second piece: the max is over both
         assert value <= top + TOL * (1 + top) <= value * (1 + 2e-6) + 1e-9, (value, each)

@@ -11,6 +11,7 @@ nonzero residual w, equal to what the reference's pole says: h T1(h) tends to
 from __future__ import annotations
 
 from fractions import Fraction as Q
+from functools import cache
 from typing import Any
 
 import mpmath
@@ -146,6 +147,7 @@ def test_torques_in_exact_rationals_at_a_pose_with_rational_elbows() -> None:
 
 
 # -- at Type II instants: consistency, the high-order conditions, the limits -----------------
+@cache  # the engine's analysis of a motion, once per test process (its records are frozen)
 def _instant(rb: FiveBar, m: Motion, modes: tuple[int, int], t0: Q, t1: Q, at: Q = Z) -> Any:
     a = analyse(robot(rb, modes), q(rb.g), *polys(m), q(t0), q(t1))
     (s,) = [s for s in a.instants if s.t_exact == q(at)]

@@ -15,7 +15,7 @@ from flint import fmpq, fmpq_poly
 
 from rprpr.engine.exact import five_bar as fb
 
-from .locus import conjugates, curve, norm, x, y
+from .locus import conjugates, curve, curve_at, norm, x, y
 from .reference import FiveBar, lined_up
 from .standin import q, robot
 from .test_dynamics import ROBOT, UNEQUAL
@@ -97,11 +97,14 @@ def test_the_locus_along_a_motion_is_the_curve_composed_with_it(rb: FiveBar) -> 
     t = sp.Symbol("t")
     xs = [fmpq(1, 5), fmpq(2), fmpq(-1, 3), fmpq(1, 7)]
     ys = [fmpq(3, 5), fmpq(-1, 2), fmpq(0), fmpq(2, 9)]
-    xt = sum(sp.Rational(int(c.p), int(c.q)) * t**k for k, c in enumerate(xs))
-    yt = sum(sp.Rational(int(c.p), int(c.q)) * t**k for k, c in enumerate(ys))
+    # x(t), y(t) as Polys over QQ: S_σ(x(t), y(t)) is then Poly arithmetic (curve_at, the
+    # formula of ``curve``), the same polynomial as curve(σ) with x(t), y(t) substituted
+    # and expanded, without expanding a substituted expression of degree 18
+    xt, yt = (sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(cs)], t, domain="QQ")
+              for cs in (xs, ys))  # fmt: skip
     plus, minus = fb.FIVE_BAR.locus(_params(rb), fmpq_poly(xs), fmpq_poly(ys))
     for got, sigma in ((plus, 1), (minus, -1)):
-        want = sp.Poly(curve(sigma, *_ref(rb)).subs({x: xt, y: yt}, simultaneous=True), t)
+        want = sp.Poly(curve_at(sigma, *_ref(rb), xt, yt), t)
         assert [sp.Rational(int(c.p), int(c.q)) for c in got.coeffs()] == want.all_coeffs()[::-1]
 
 

@@ -5,7 +5,11 @@ References: sympy (locus.py) for the polynomials, the exact elbows of reference.
 
 from __future__ import annotations
 
+import json
 from fractions import Fraction as Q
+from functools import cache
+from pathlib import Path
+from typing import Any
 
 import pytest
 import sympy as sp
@@ -161,13 +165,62 @@ def test_the_equal_link_line_up_curve_has_a_node_where_two_modes_are_singular_at
         assert abs(dv.delta.c[0]) < 1e-50 and abs(dv.delta.c[1]) > 0.1
 
 
-@pytest.mark.parametrize(
-    ("robot", "owners"),
-    [
-        ((1, 1, 1, 1, 1), (3, 3)),
-        ((3, 2, sp.Rational(5, 2), sp.Rational(3, 2), sp.Rational(7, 3)), (4, 4)),
-    ],
-)
+ARCS = [
+    ((1, 1, 1, 1, 1), (3, 3)),
+    ((3, 2, sp.Rational(5, 2), sp.Rational(3, 2), sp.Rational(7, 3)), (4, 4)),
+]
+
+
+def _positive_roots(py: sp.Poly) -> list[str]:
+    """The positive real roots of py (a polynomial in y) to 40 digits, as sympy prints
+    them: ``nroots`` (mpmath's polyroots, hundreds of steps at 40 digits)."""
+    return [str(r) for r in py.nroots(n=40, maxsteps=500) if r.is_real and r > 0]
+
+
+# The positive roots of S_σ on the vertical lines of the arcs test (sympy's ``nroots``:
+# ~0.6 CPU-s for all) are stored beside this file by their polynomial: they never change.
+# Written by ``python -m tests.fivebar.test_locus``; a slow test recomputes every stored
+# case, and a polynomial not stored (a new one, or one whose curve changed) is solved here.
+ROOTS = Path(__file__).with_name("line_up_roots_reference.json")
+
+
+@cache
+def _stored_roots() -> dict[str, list[str]]:
+    return json.loads(ROOTS.read_text(encoding="utf-8")) if ROOTS.exists() else {}
+
+
+def _vertical_lines(robot: tuple[Any, ...], sigma: int) -> list[tuple[sp.Rational, sp.Poly]]:
+    """(x, S_σ(x, y)) on the lines x = i/4, i = -10 … 19, where it has a degree in y."""
+    S = sp.Poly(curve(sigma, *robot), x, y)
+    out = []
+    for i in range(-10, 20):
+        xv = sp.Rational(i, 4)
+        py = sp.Poly(S.eval(x, xv), y)
+        if py.degree() > 0:
+            out.append((xv, py))
+    return out
+
+
+def _roots_key(py: sp.Poly) -> str:
+    return str(py.as_expr())
+
+
+def positive_roots(py: sp.Poly) -> list[str]:
+    """``_positive_roots``: stored, or computed when not."""
+    rows = _stored_roots().get(_roots_key(py))
+    return _positive_roots(py) if rows is None else rows
+
+
+def _all_root_cases() -> dict[str, sp.Poly]:
+    return {
+        _roots_key(py): py
+        for robot, _ in ARCS
+        for sigma in (1, -1)
+        for _, py in _vertical_lines(robot, sigma)
+    }
+
+
+@pytest.mark.parametrize(("robot", "owners"), ARCS)
 def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owners) -> None:  # type: ignore[no-untyped-def]
     """Points of S_σ (y > 0) on vertical lines: exactly one mode is singular at each (apart
     from Type I points, where a leg's two modes meet), and the modes met are 3 or 4."""
@@ -177,18 +230,11 @@ def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owne
                  (Q(1),) * 4, (Q(1),) * 4, (Q(1, 2),) * 4, Q(0))  # fmt: skip
     modes = ((1, 1), (1, -1), (-1, 1), (-1, -1))
     for sigma, expected in zip((1, -1), owners, strict=True):
-        S = sp.Poly(curve(sigma, *robot), x, y)
         seen = set()
-        for i in range(-10, 20):
-            xv = sp.Rational(i, 4)
-            py = sp.Poly(S.eval(x, xv), y)
-            if py.degree() <= 0:
-                continue
-            for r in py.nroots(n=40, maxsteps=500):
-                if not r.is_real or r <= 0:
-                    continue
+        for xv, py in _vertical_lines(robot, sigma):
+            for r in positive_roots(py):
                 with mpmath.workdps(60):
-                    E = (mpmath.mpf(xv.p) / xv.q, mpmath.mpf(str(r)))
+                    E = (mpmath.mpf(xv.p) / xv.q, mpmath.mpf(r))
                     sizes = []
                     for m in modes:
                         try:
@@ -204,3 +250,20 @@ def test_each_line_up_curve_is_made_of_arcs_of_several_working_modes(robot, owne
                 if len(zero) == 1:
                     seen.add(zero[0])
         assert len(seen) == expected
+
+
+@pytest.mark.slow  # sympy's nroots at 40 digits on every vertical line of both robots
+def test_the_stored_roots_are_the_references() -> None:
+    cases = _all_root_cases()
+    assert set(cases) == set(_stored_roots())  # every stored case is live
+    for key, py in cases.items():
+        assert _positive_roots(py) == _stored_roots()[key], key
+
+
+def _write_roots() -> None:
+    table = {key: _positive_roots(py) for key, py in _all_root_cases().items()}
+    ROOTS.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    _write_roots()
