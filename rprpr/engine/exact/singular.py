@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import field
+from dataclasses import field, fields
 from fractions import Fraction
 from typing import Any
 
@@ -272,13 +272,24 @@ def expansion(
 ) -> tuple[Series, Series, Series, Series, Series, Series]:
     """Exact series (n terms) of x, x', x'', y, y', y'' about t_s: in Q when the rational
     t_s = ``exact`` is given, else in K = Q[t]/(f)."""
+    if exact is not None:
+        return _series(_taylor_at(traj.x, n, exact), _taylor_at(traj.y, n, exact), n, QSeries)
+    ex, ey = ([field.elem(ck) for ck in taylor(p, n + 2)] for p in (traj.x, traj.y))
+    return _series(ex, ey, n, Series)
+
+
+def _taylor_at(p: fmpq_poly, n: int, exact: fmpq) -> list[fmpq]:
+    """The n + 2 Taylor coefficients of p at the rational t_s that ``expansion`` reads."""
+    return [ck(exact) for ck in taylor(p, n + 2)]
+
+
+def _series(
+    ex: list[Any], ey: list[Any], n: int, kind: Any
+) -> tuple[Series, Series, Series, Series, Series, Series]:
+    """X, X', X'', Y, Y', Y'' (n terms) from the Taylor coefficients of x and y at t_s:
+    ``kind`` ``QSeries`` (in Q) or ``Series`` (in K)."""
     out = []
-    for p in (traj.x, traj.y):
-        c = taylor(p, n + 2)
-        e: list[Any] = (
-            [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
-        )
-        kind: Any = QSeries if exact is not None else Series
+    for e in (ex, ey):
         out.append(kind(e[:n]))
         out.append(kind([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(kind([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -331,17 +342,31 @@ def _expanded(
     sx: int, sxa: int, case: Case,
 ) -> _Expanded:  # fmt: skip
     """The exact expansions about t_s (orders 0..m: the m conditions and the limit) and
-    what the audit reads of them."""
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
-    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
+    what the audit reads of them. At a rational t_s they are a function of the Taylor
+    coefficients of x and y there, the order, the legs' signs and the robot's parameters
+    alone: made once per such data (``_MADE``), so that a motion that repeats itself (a
+    zig-zag of pieces, a cycle, a repair's candidates of one path) expands each distinct
+    instant once."""
     mech = of(robot)
     p = mech.params(robot)
+    key = None
+    if exact is not None:
+        ex, ey = _taylor_at(traj.x, m + 1, exact), _taylor_at(traj.y, m + 1, exact)
+        numbers = [getattr(p, f.name) for f in fields(p) if f.name != "mechanism"]
+        key = _key(ex + ey + numbers, (m, sx, sxa, case.sigma, p.mechanism))
+        made = None if key is None else _MADE.get(key)
+        if made is not None:
+            return made
+        X, Xd, Xdd, Y, Yd, Ydd = _series(ex, ey, m + 1, QSeries)
+    else:
+        X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1)
+    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
     leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
     d = mech.dynamics(leg1, leg2, p)
     if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
         raise AssertionError("order of δ differs from the multiplicity of y")
     valuations = (d.mu1.valuation(), d.mu2.valuation())
-    return _Expanded(
+    out = _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
         residual=mech.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
@@ -349,9 +374,28 @@ def _expanded(
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
     )
+    if key is not None:
+        if len(_MADE) >= MADE_KEPT:
+            del _MADE[next(iter(_MADE))]  # the oldest
+        _MADE[key] = out
+    return out
 
 
 Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for one factor
+
+# the expansions about rational instants, by the exact data they are made from
+# (``_expanded``): immutable rationals, at most MADE_KEPT of them, the oldest dropped
+MADE_KEPT = 512
+_MADE: dict[tuple[Any, ...], _Expanded] = {}
+
+
+def _key(numbers: list[Any], rest: tuple[Any, ...]) -> tuple[Any, ...] | None:
+    """``_MADE``'s key of exact rationals (their numerators and denominators: an fmpq's
+    own hash is a Fraction's, ten times slower) and ``rest``; None when one of them is
+    not an ``fmpq``."""
+    if any(type(v) is not fmpq for v in numbers):
+        return None
+    return (*[v.p for v in numbers], *[v.q for v in numbers], *rest)
 
 
 def _instant(
