@@ -342,16 +342,7 @@ class CertifiedMotion(AtInstants, Refinement):
         a rational instant, made once for every motion with the same exact data
         (``_zone_key``)."""
         if k not in self._zones:
-            s = self.instants[k][0]
-            key = _zone_key(self, s)
-            made = _ZONES.get(key, _NONE) if key is not None else _NONE
-            if made is _NONE:
-                made = make_zone(self, s, taylor_at_instant(self, s, TAYLOR_PREC))
-                if key is not None:
-                    if len(_ZONES) >= ZONES_KEPT:
-                        del _ZONES[next(iter(_ZONES))]  # the oldest
-                    _ZONES[key] = made
-            self._zones[k] = made  # type: ignore[assignment]
+            self._zones[k] = _kept_zone(self, self.instants[k][0])
         return self._zones[k]
 
     def _from_zones(
@@ -528,6 +519,19 @@ __all__ = [  # what a certified value is (``pointwise``) stays importable from h
 ZONES_KEPT = 64
 _ZONES: dict[Hashable, Zone | None] = {}
 _NONE = object()  # no zone kept yet (a kept zone may be None: there is none)
+
+
+def _kept_zone(motion: CertifiedMotion, s: SingularInstant) -> Zone | None:
+    """``CertifiedMotion.zone`` about ``s``: the one kept for its exact data, else made."""
+    key = _zone_key(motion, s)
+    made = _ZONES.get(key, _NONE) if key is not None else _NONE
+    if made is _NONE:
+        made = make_zone(motion, s, taylor_at_instant(motion, s, TAYLOR_PREC))
+        if key is not None:
+            if len(_ZONES) >= ZONES_KEPT:
+                del _ZONES[next(iter(_ZONES))]  # the oldest
+            _ZONES[key] = made
+    return made  # type: ignore[return-value]
 
 
 def _zone_key(motion: CertifiedMotion, s: SingularInstant) -> Hashable | None:

@@ -272,24 +272,15 @@ def expansion(
 ) -> tuple[Series, Series, Series, Series, Series, Series]:
     """Exact series (n terms) of x, x', x'', y, y', y'' about t_s: in Q when the rational
     t_s = ``exact`` is given, else in K = Q[t]/(f)."""
-    if exact is not None:
-        return _series(_taylor_at(traj.x, n, exact), _taylor_at(traj.y, n, exact), n, QSeries)
-    ex, ey = ([field.elem(ck) for ck in taylor(p, n + 2)] for p in (traj.x, traj.y))
-    return _series(ex, ey, n, Series)
+    at: Any = (lambda c: c(exact)) if exact is not None else field.elem
+    return _series([[at(c) for c in taylor(p, n + 2)] for p in (traj.x, traj.y)], n)
 
 
-def _taylor_at(p: fmpq_poly, n: int, exact: fmpq) -> list[fmpq]:
-    """The n + 2 Taylor coefficients of p at the rational t_s that ``expansion`` reads."""
-    return [ck(exact) for ck in taylor(p, n + 2)]
-
-
-def _series(
-    ex: list[Any], ey: list[Any], n: int, kind: Any
-) -> tuple[Series, Series, Series, Series, Series, Series]:
-    """X, X', X'', Y, Y', Y'' (n terms) from the Taylor coefficients of x and y at t_s:
-    ``kind`` ``QSeries`` (in Q) or ``Series`` (in K)."""
+def _series(es: list[list[Any]], n: int) -> tuple[Series, Series, Series, Series, Series, Series]:
+    """``expansion`` from the n + 2 Taylor coefficients at t_s of x and of y (``es``)."""
+    kind: Any = Series if type(es[0][0]) is KElem else QSeries
     out = []
-    for e in (ex, ey):
+    for e in es:
         out.append(kind(e[:n]))
         out.append(kind([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(kind([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -350,14 +341,18 @@ def _expanded(
     mech = of(robot)
     p = mech.params(robot)
     key = None
-    if exact is not None:
-        ex, ey = _taylor_at(traj.x, m + 1, exact), _taylor_at(traj.y, m + 1, exact)
-        numbers = [getattr(p, f.name) for f in fields(p) if f.name != "mechanism"]
-        key = _key(ex + ey + numbers, (m, sx, sxa, case.sigma, p.mechanism))
-        made = None if key is None else _MADE.get(key)
-        if made is not None:
-            return made
-        X, Xd, Xdd, Y, Yd, Ydd = _series(ex, ey, m + 1, QSeries)
+    if exact is not None:  # the key: numerators and denominators (fmpq's hash is slow)
+        es = [[c(exact) for c in taylor(q, m + 3)] for q in (traj.x, traj.y)]
+        numbers = [
+            *es[0],
+            *es[1],
+            *(getattr(p, f.name) for f in fields(p) if f.name != "mechanism"),
+        ]
+        if all(type(v) is fmpq for v in numbers):
+            key = (*[v.p for v in numbers], *[v.q for v in numbers], m, sx, sxa, p.mechanism)
+            if (made := _MADE.get(key)) is not None:
+                return made
+        X, Xd, Xdd, Y, Yd, Ydd = _series(es, m + 1)
     else:
         X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1)
     assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
@@ -387,15 +382,6 @@ Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for on
 # (``_expanded``): immutable rationals, at most MADE_KEPT of them, the oldest dropped
 MADE_KEPT = 512
 _MADE: dict[tuple[Any, ...], _Expanded] = {}
-
-
-def _key(numbers: list[Any], rest: tuple[Any, ...]) -> tuple[Any, ...] | None:
-    """``_MADE``'s key of exact rationals (their numerators and denominators: an fmpq's
-    own hash is a Fraction's, ten times slower) and ``rest``; None when one of them is
-    not an ``fmpq``."""
-    if any(type(v) is not fmpq for v in numbers):
-        return None
-    return (*[v.p for v in numbers], *[v.q for v in numbers], *rest)
 
 
 def _instant(
