@@ -310,7 +310,7 @@ class _Expanded:
     delta_m: Any  # the coefficient of ε^m of δ (eq. 29)
     mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2
     residual: tuple[Any, Any]  # the consistency residual at t_s (``dyn.consistency``)
-    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ is bounded there
+    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ bounded; in K (num, den) each
     speed2: Any  # x'(t_s)^2 + y'(t_s)^2
     y_m: Any  # the coefficient of ε^m of y
 
@@ -318,9 +318,11 @@ class _Expanded:
         """The same elements at another root of the same f."""
 
         def move(v: Any) -> Any:
+            if isinstance(v, tuple):
+                return tuple(move(x) for x in v)
             return KElem(v.p, field) if isinstance(v, KElem) else v
 
-        limit = None if self.limit is None else (move(self.limit[0]), move(self.limit[1]))
+        limit = None if self.limit is None else move(self.limit)
         return _Expanded(
             move(self.delta_m), self.mu_valuations,
             (move(self.residual[0]), move(self.residual[1])), limit,
@@ -333,11 +335,9 @@ def _expanded(
     sx: int, sxa: int, case: Case,
 ) -> _Expanded:  # fmt: skip
     """The exact expansions about t_s (orders 0..m: the m conditions and the limit) and
-    what the audit reads of them. At a rational t_s they are a function of the Taylor
-    coefficients of x and y there, the order, the legs' signs and the robot's parameters
-    alone: made once per such data (``_MADE``), so that a motion that repeats itself (a
-    zig-zag of pieces, a cycle, a repair's candidates of one path) expands each distinct
-    instant once."""
+    what the audit reads of them; at a rational t_s, made once per exact data (Taylor
+    coefficients of x and y there, order, legs' signs, robot: ``_MADE``), so that a motion
+    that repeats itself (a zig-zag, a repair's candidates) expands each instant once."""
     mech = of(robot)
     p = mech.params(robot)
     key = None
@@ -420,10 +420,11 @@ def _instant(
     speed_f = _double("speed", speed, beyond)
     residual_f = _double("consistency_residual", _residual(*e.residual), beyond)
     torque = None
-    if e.limit is not None:
+    if e.limit is not None:  # in K, the quotient at this root (``_limit_torque``)
+        t1, t2 = (_quotient(*v) if isinstance(v, tuple) else v for v in e.limit)
         torque = (
-            _double("torque_at_singularity[0]", e.limit[0], beyond),
-            _double("torque_at_singularity[1]", e.limit[1], beyond),
+            _double("torque_at_singularity[0]", t1, beyond),
+            _double("torque_at_singularity[1]", t2, beyond),
         )
     instant = SingularInstant(
         t=t,
@@ -459,7 +460,8 @@ def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     t_s is rational. In K the torque is only reported, so no inverse is taken there (an
     inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
     affine in λ, T = A + B1 λ1 + B2 λ2, so T = (A δ^(m) + B1 μ1^(m) + B2 μ2^(m)) / δ^(m)
-    with an exact numerator, and that one division is made in ball arithmetic."""
+    with an exact numerator, and that one division is made in ball arithmetic at each
+    root of f (``_instant``): here, in K, (numerator, δ^(m)) for each torque."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
         T1, T2 = mech.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
@@ -472,7 +474,7 @@ def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     for a, b1, b2 in zip(A, B1, B2, strict=True):
         a0 = a.c[0]
         numerator = a0 * D + (b1.c[0] - a0) * N1 + (b2.c[0] - a0) * N2
-        out.append(_quotient(numerator, D))
+        out.append((numerator, D))
     return out[0], out[1]
 
 
