@@ -714,6 +714,47 @@ def _same_checks(
             assert max(a.end_lo, b.end_lo) <= min(a.end_hi, b.end_hi), name
 
 
+TWO_STOPS = """\
+name: two stops at the roots of one irreducible factor
+robot:
+  a1: 6
+  gravity: 0
+  links:
+    2: {mass: 2.0, inertia: 0.10, r: 0.5}
+    3: {mass: 0, inertia: 0.05, r: 0.5}
+    4: {mass: 2.0, inertia: 0.10, r: 0.5}
+    5: {mass: 0, inertia: 0.05, r: 0.5}
+path:
+  y: x^2 - 6*x + 7
+timing:
+  duration: 4
+  x: 3 + ((t - 2)^3 - 6*(t - 2))/4
+"""
+
+
+def test_each_irrational_instant_of_one_factor_reports_its_own_limit_torque() -> None:
+    """E stops on AB at x = 3 ± √2, t_s = 2 ∓ √2: touches at the two roots of one factor
+    t^2 - 4t + 2 of y(t), with the same legs' signs (0 < x < a1), so one expansion in K
+    serves both; each instant's finite torque limit is its own, the reference's two-sided
+    limit at its t_s (mpmath, t_s to 50 digits); the first root's was reported for both."""
+    from fractions import Fraction
+    from math import isqrt
+
+    from tests.reference import limit
+
+    r = audit(parse_task(TWO_STOPS, "two_stops.yaml"), samples=11)
+    assert [(s.t_exact, s.order, s.torque_bounded) for s in r.singularities] == [
+        (None, 2, True),
+        (None, 2, True),
+    ]
+    root2 = Fraction(isqrt(2 * 10**100), 10**50)  # √2 to 50 digits
+    for s, ts in zip(r.singularities, (2 - root2, 2 + root2), strict=True):
+        want = limit(r.task, ts)
+        assert want is not None and s.torque_at_singularity is not None
+        for got, name in zip(s.torque_at_singularity, ("T1", "T2"), strict=True):
+            assert got == pytest.approx(float(want[name]), rel=1e-12), (s.t, name)
+
+
 def test_checks_peak_asks_for_the_peak() -> None:
     task = load_task(CONFIGS / "paper_path2.rprpr.yaml")
     asked = dataclasses.replace(task, checks=dataclasses.replace(task.checks, peak=True))

@@ -103,10 +103,29 @@ def _delta_critical(traj: Trajectory) -> list[tuple[fmpq_poly, bool]]:
     out: list[tuple[fmpq_poly, bool]] = [(x.derivative(), False)]
     if r.is_zero():
         return out  # δ constant along the path
-    for f, _ in r.factor()[1]:
+    for f in _factors(r):
         if f.degree() == 1:
             out.append((x - (-f[0] / f[1]), False))
         elif f.degree() > 1:
             h = f(x)
             out.append((h // h.gcd(h.derivative()), True))
     return out
+
+
+def _factors(r: fmpq_poly) -> list[fmpq_poly]:
+    """The irreducible factors of R~ (``_delta_critical``), in flint's order. R~ is made of
+    the path and a1 alone, so tasks of one path and robot (several timings of it, a
+    repair's candidates) share its factorisation, the costly step (tens of ms at degree
+    60): the last FACTORED_KEPT are kept, by R~'s exact coefficients."""
+    key = (*r.numer().coeffs(), r.denom())
+    got = _FACTORED.get(key)
+    if got is None:
+        got = [f for f, _ in r.factor()[1]]
+        if len(_FACTORED) >= FACTORED_KEPT:
+            del _FACTORED[next(iter(_FACTORED))]  # the oldest
+        _FACTORED[key] = got
+    return got
+
+
+FACTORED_KEPT = 64
+_FACTORED: dict[tuple[object, ...], list[fmpq_poly]] = {}

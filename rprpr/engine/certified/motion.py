@@ -43,6 +43,7 @@ How (all choices depend on t alone, never on the other times asked for):
 from __future__ import annotations
 
 import math
+from collections.abc import Hashable
 from functools import cached_property
 from typing import Any
 
@@ -81,7 +82,7 @@ from .pointwise import (
     Refinement,
     Values,
 )
-from .shared import per_robot
+from .shared import per_robot, robot_key
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
 # what ``formulas`` computes (the rest of its values are its arguments), in its order
@@ -337,10 +338,11 @@ class CertifiedMotion(AtInstants, Refinement):
         return bad
 
     def zone(self, k: int) -> Zone | None:
-        """The zone form of λ about the k-th singular instant (``zones.make_zone``)."""
+        """The zone form of λ about the k-th singular instant (``zones.make_zone``); about
+        a rational instant, made once for every motion with the same exact data
+        (``_zone_key``)."""
         if k not in self._zones:
-            s = self.instants[k][0]
-            self._zones[k] = make_zone(self, s, taylor_at_instant(self, s, TAYLOR_PREC))
+            self._zones[k] = _kept_zone(self, self.instants[k][0])
         return self._zones[k]
 
     def _from_zones(
@@ -510,3 +512,41 @@ __all__ = [  # what a certified value is (``pointwise``) stays importable from h
     "AT_A", "AT_B", "BEYOND_DOUBLE", "DBL_MAX", "FIELDS", "MAX_PREC", "OK", "ON_LINE", "POLE",
     "REASONS", "START_PREC", "TOL", "UNCERTIFIED", "CertifiedMotion", "CertifiedSamples",
 ]  # fmt: skip
+
+
+# the zones about rational instants, by the exact data they are made from (``_zone_key``):
+# at most ZONES_KEPT, the oldest dropped
+ZONES_KEPT = 64
+_ZONES: dict[Hashable, Zone | None] = {}
+_NONE = object()  # no zone kept yet (a kept zone may be None: there is none)
+
+
+def _kept_zone(motion: CertifiedMotion, s: SingularInstant) -> Zone | None:
+    """``CertifiedMotion.zone`` about ``s``: the one kept for its exact data, else made."""
+    key = _zone_key(motion, s)
+    made = _ZONES.get(key, _NONE) if key is not None else _NONE
+    if made is _NONE:
+        made = make_zone(motion, s, taylor_at_instant(motion, s, TAYLOR_PREC))
+        if key is not None:
+            if len(_ZONES) >= ZONES_KEPT:
+                del _ZONES[next(iter(_ZONES))]  # the oldest
+            _ZONES[key] = made
+    return made  # type: ignore[return-value]
+
+
+def _zone_key(motion: CertifiedMotion, s: SingularInstant) -> Hashable | None:
+    """What ``zones.make_zone`` reads about the rational instant ``s`` of ``motion``, as
+    exact values: the polynomials x(t), y(t) and t_f, the robot (``shared.robot_key``),
+    t_s, its order and the orders of μ there, and flint's working precision (the Taylor
+    coefficients at t_s are rounded at it); None for an irrational t_s (its zone stays
+    the motion's own)."""
+    t = s.t_rational
+    if t is None:
+        return None
+    traj = motion.traj
+    exact = [traj.x.numer(), traj.y.numer()]
+    return (
+        robot_key(motion.robot), *[tuple(p.coeffs()) for p in exact], traj.x.denom(),
+        traj.y.denom(), traj.duration.p, traj.duration.q, t.p, t.q, s.order,
+        motion.analysis.hints(s).mu_valuations, ctx.prec,
+    )  # fmt: skip

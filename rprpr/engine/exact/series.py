@@ -327,6 +327,10 @@ class QSeries:
             o = o if isinstance(o, QSeries) else QSeries(o.c)
             n = min(n, o.n)
             o = o.s
+        if n <= ctx.cap:  # flint keeps min(operands' precisions, cap) terms: n already
+            out = object.__new__(QSeries)
+            out.s, out.n = op(self.s, o), n
+            return out
         old = ctx.cap
         ctx.cap = max(n, 1)
         try:

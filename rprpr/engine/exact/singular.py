@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import field
+from dataclasses import field, fields
 from fractions import Fraction
 from typing import Any
 
@@ -272,13 +272,15 @@ def expansion(
 ) -> tuple[Series, Series, Series, Series, Series, Series]:
     """Exact series (n terms) of x, x', x'', y, y', y'' about t_s: in Q when the rational
     t_s = ``exact`` is given, else in K = Q[t]/(f)."""
+    at: Any = (lambda c: c(exact)) if exact is not None else field.elem
+    return _series([[at(c) for c in taylor(p, n + 2)] for p in (traj.x, traj.y)], n)
+
+
+def _series(es: list[list[Any]], n: int) -> tuple[Series, Series, Series, Series, Series, Series]:
+    """``expansion`` from the n + 2 Taylor coefficients at t_s of x and of y (``es``)."""
+    kind: Any = Series if type(es[0][0]) is KElem else QSeries
     out = []
-    for p in (traj.x, traj.y):
-        c = taylor(p, n + 2)
-        e: list[Any] = (
-            [ck(exact) for ck in c] if exact is not None else [field.elem(ck) for ck in c]
-        )
-        kind: Any = QSeries if exact is not None else Series
+    for e in es:
         out.append(kind(e[:n]))
         out.append(kind([(k + 1) * e[k + 1] for k in range(n)]))
         out.append(kind([(k + 1) * (k + 2) * e[k + 2] for k in range(n)]))
@@ -308,7 +310,7 @@ class _Expanded:
     delta_m: Any  # the coefficient of ε^m of δ (eq. 29)
     mu_valuations: tuple[int, int]  # orders of the first nonzero terms of μ1, μ2
     residual: tuple[Any, Any]  # the consistency residual at t_s (``dyn.consistency``)
-    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ is bounded there
+    limit: tuple[Any, Any] | None  # (T1, T2) at t_s when λ bounded; in K (num, den) each
     speed2: Any  # x'(t_s)^2 + y'(t_s)^2
     y_m: Any  # the coefficient of ε^m of y
 
@@ -316,9 +318,11 @@ class _Expanded:
         """The same elements at another root of the same f."""
 
         def move(v: Any) -> Any:
+            if isinstance(v, tuple):
+                return tuple(move(x) for x in v)
             return KElem(v.p, field) if isinstance(v, KElem) else v
 
-        limit = None if self.limit is None else (move(self.limit[0]), move(self.limit[1]))
+        limit = None if self.limit is None else move(self.limit)
         return _Expanded(
             move(self.delta_m), self.mu_valuations,
             (move(self.residual[0]), move(self.residual[1])), limit,
@@ -331,17 +335,33 @@ def _expanded(
     sx: int, sxa: int, case: Case,
 ) -> _Expanded:  # fmt: skip
     """The exact expansions about t_s (orders 0..m: the m conditions and the limit) and
-    what the audit reads of them."""
-    X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1, exact=exact)
-    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
+    what the audit reads of them; at a rational t_s, made once per exact data (Taylor
+    coefficients of x and y there, order, legs' signs, robot: ``_MADE``), so that a motion
+    that repeats itself (a zig-zag, a repair's candidates) expands each instant once."""
     mech = of(robot)
     p = mech.params(robot)
+    key = None
+    if exact is not None:  # the key: numerators and denominators (fmpq's hash is slow)
+        es = [[c(exact) for c in taylor(q, m + 3)] for q in (traj.x, traj.y)]
+        numbers = [
+            *es[0],
+            *es[1],
+            *(getattr(p, f.name) for f in fields(p) if f.name != "mechanism"),
+        ]
+        if all(type(v) is fmpq for v in numbers):
+            key = (*[v.p for v in numbers], *[v.q for v in numbers], m, sx, sxa, p.mechanism)
+            if (made := _MADE.get(key)) is not None:
+                return made
+        X, Xd, Xdd, Y, Yd, Ydd = _series(es, m + 1)
+    else:
+        X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1)
+    assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
     leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
     d = mech.dynamics(leg1, leg2, p)
     if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
         raise AssertionError("order of δ differs from the multiplicity of y")
     valuations = (d.mu1.valuation(), d.mu2.valuation())
-    return _Expanded(
+    out = _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
         residual=mech.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
@@ -349,9 +369,19 @@ def _expanded(
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
     )
+    if key is not None:
+        if len(_MADE) >= MADE_KEPT:
+            del _MADE[next(iter(_MADE))]  # the oldest
+        _MADE[key] = out
+    return out
 
 
 Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for one factor
+
+# the expansions about rational instants, by the exact data they are made from
+# (``_expanded``): immutable rationals, at most MADE_KEPT of them, the oldest dropped
+MADE_KEPT = 512
+_MADE: dict[tuple[Any, ...], _Expanded] = {}
 
 
 def _instant(
@@ -390,10 +420,11 @@ def _instant(
     speed_f = _double("speed", speed, beyond)
     residual_f = _double("consistency_residual", _residual(*e.residual), beyond)
     torque = None
-    if e.limit is not None:
+    if e.limit is not None:  # in K, the quotient at this root (``_limit_torque``)
+        t1, t2 = (_quotient(*v) if isinstance(v, tuple) else v for v in e.limit)
         torque = (
-            _double("torque_at_singularity[0]", e.limit[0], beyond),
-            _double("torque_at_singularity[1]", e.limit[1], beyond),
+            _double("torque_at_singularity[0]", t1, beyond),
+            _double("torque_at_singularity[1]", t2, beyond),
         )
     instant = SingularInstant(
         t=t,
@@ -429,7 +460,8 @@ def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     t_s is rational. In K the torque is only reported, so no inverse is taken there (an
     inverse in K can cost seconds: its numbers grow like a resultant's): eq. (28) is
     affine in λ, T = A + B1 λ1 + B2 λ2, so T = (A δ^(m) + B1 μ1^(m) + B2 μ2^(m)) / δ^(m)
-    with an exact numerator, and that one division is made in ball arithmetic."""
+    with an exact numerator, and that one division is made in ball arithmetic at each
+    root of f (``_instant``): here, in K, (numerator, δ^(m)) for each torque."""
     D, N1, N2 = d.delta.c[m], d.mu1.c[m], d.mu2.c[m]
     if not isinstance(D, KElem):
         T1, T2 = mech.efforts(d, QSeries([N1 / D]), QSeries([N2 / D]))
@@ -442,7 +474,7 @@ def _limit_torque(mech: Mechanism, d: dyn.Dynamics, m: int) -> tuple[Any, Any]:
     for a, b1, b2 in zip(A, B1, B2, strict=True):
         a0 = a.c[0]
         numerator = a0 * D + (b1.c[0] - a0) * N1 + (b2.c[0] - a0) * N2
-        out.append(_quotient(numerator, D))
+        out.append((numerator, D))
     return out[0], out[1]
 
 
