@@ -43,13 +43,17 @@ SMALL_DPI = 20  # a picture a test writes but never looks at the pixels of
 
 def small_pictures(monkeypatch: pytest.MonkeyPatch) -> None:
     """The sheets the commands write (``plot``, ``repair --plot``) at SMALL_DPI for the rest
-    of the test: the same figure and code path, a fraction of the pixels to rasterize."""
+    of the test: the same figure and code path, a fraction of the pixels to rasterize; a
+    PDF with its text in Type 3 fonts, as ``P.RC`` would say with ``pdf.fonttype`` 3: the
+    same page, without the TrueType subsetting that costs half a PDF's time (the sheet's
+    fonts embedded as TrueType are tests/render/test_sheet.py's, which reads them)."""
     save = P.save
 
     def small(*args: Any, **kwargs: Any) -> None:
         save(*args, **{**kwargs, "dpi": SMALL_DPI})
 
     monkeypatch.setattr(P, "save", small)
+    monkeypatch.setitem(P.RC, "pdf.fonttype", 3)
 
 
 FEW_FRAMES = 12  # a GIF a test checks is animated (more than 10 frames), not its frames

@@ -79,8 +79,9 @@ def time_axes(fig: Figure) -> list[Any]:
     return [ax for ax in fig.get_axes() if ax.get_gid() not in ("panel-path", "inset")]
 
 
-def check_texts(fig: Figure) -> None:
-    """No text overlaps another or leaves the figure (defects 1, 2, 4)."""
+def check_texts(fig: Figure) -> Any:
+    """No text overlaps another or leaves the figure (defects 1, 2, 4); returns the
+    renderer ``drawn`` laid the figure out with (for more measures of it as it is)."""
     renderer = drawn(fig)
     boxes = [(t.get_text(), extent(t, renderer)) for t in texts(fig)]
     page = fig.bbox
@@ -88,6 +89,7 @@ def check_texts(fig: Figure) -> None:
         assert page.x0 <= b.x0 and b.x1 <= page.x1 and page.y0 <= b.y0 and b.y1 <= page.y1, text
     clashes = [(boxes[i][0], boxes[j][0]) for i, j in overlapping([b for _, b in boxes])]
     assert not clashes, clashes[:5]
+    return renderer
 
 
 @pytest.mark.parametrize("paths", SETS, ids=lambda ps: "+".join(Path(p).stem for p in ps))

@@ -17,7 +17,7 @@ from rprpr.io.loader import load_task
 from rprpr.render import sheet as P
 from tests.conftest import run_cli
 from tests.render.test_sheet_layout import check_texts, extent, texts
-from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions
+from tests.sheets import CONFIG_FILES, PATH1, PATH2, drawn, motions, small_pictures
 
 
 def sizes(fig: Figure) -> dict[str, float]:
@@ -37,11 +37,11 @@ def sizes(fig: Figure) -> dict[str, float]:
 def test_a_sized_figure_is_exactly_that_size_and_nothing_overlaps(panel: str) -> None:
     fig = P.render(motions([PATH1, PATH2]), [panel], size=(5.0, 4.6))
     assert tuple(fig.get_size_inches()) == (5.0, 4.6)
-    check_texts(fig)  # every text inside the figure, none over another
+    renderer = check_texts(fig)  # every text inside the figure, none over another
     texts = " ".join(t.get_text() for t in fig.texts)
     assert "audit sheet" not in texts and "file:" not in texts  # no sheet title
     (ax,) = [a for a in fig.get_axes() if a.get_gid() == f"panel-{panel}"]
-    legend = fig.legends[0].get_window_extent(drawn(fig))
+    legend = fig.legends[0].get_window_extent(renderer)  # as laid out (unchanged since)
     assert legend.y1 <= ax.get_tightbbox().y0 + 1  # the legend under the axes
 
 
@@ -55,7 +55,10 @@ def test_font_scale_multiplies_every_text_size() -> None:
     assert sizes(P.render(ms, ["delta"], font_scale=1.25))["tick"] == 10.0
 
 
-def test_the_command_writes_a_pdf_page_of_the_size_asked(tmp_path: Path) -> None:
+def test_the_command_writes_a_pdf_page_of_the_size_asked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    small_pictures(monkeypatch)  # the page's size is read here, not its fonts
     out = tmp_path / "fig4.pdf"
     code, _, err = run_cli(
         "plot", PATH2, "--panels", "delta", "--size", "3.5,3", "--font-scale", "1.2",
@@ -101,8 +104,7 @@ def test_a_single_panel_paper_figure_gives_its_axes_the_height_text_leaves(
     no text overlaps, and the lane ends at the figure's foot (no empty band)."""
     m = P.motion(audit(load_task(PATH2), samples=101, peak=True), PATH2)
     fig = P.render([m], [panel], size=(3.5, 3.2), font_scale=scale)
-    check_texts(fig)
-    renderer = drawn(fig)
+    renderer = check_texts(fig)  # laid out once: the figure is only read from here on
     (ax,) = [a for a in fig.get_axes() if a.get_gid() == f"panel-{panel}"]
     assert ax.get_position().height >= 0.45, ax.get_position().height
     heading = next(t for t in fig.texts if t.get_fontweight() == "bold")
