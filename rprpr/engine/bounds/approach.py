@@ -12,6 +12,7 @@ from flint import arb, arb_poly, fmpq, fmpq_poly
 
 from ...model.numbers import to_float
 from ..certified.zones import ExactTime
+from ..exact.kept import Kept, exact_key
 from ..exact.roots import real_roots_in
 from ..exact.series import accurate, ball
 from ..exact.trajectory import Trajectory
@@ -116,16 +117,17 @@ def _factors(r: fmpq_poly) -> list[fmpq_poly]:
     """The irreducible factors of R~ (``_delta_critical``), in flint's order. R~ is made of
     the path and a1 alone, so tasks of one path and robot (several timings of it, a
     repair's candidates) share its factorisation, the costly step (tens of ms at degree
-    60): the last FACTORED_KEPT are kept, by R~'s exact coefficients."""
-    key = (*r.numer().coeffs(), r.denom())
-    got = _FACTORED.get(key)
-    if got is None:
-        got = [f for f, _ in r.factor()[1]]
-        if len(_FACTORED) >= FACTORED_KEPT:
-            del _FACTORED[next(iter(_FACTORED))]  # the oldest
-        _FACTORED[key] = got
-    return got
+    60): kept by R~'s exact coefficients (``exact.kept``), as coefficients, each caller
+    given polynomials of its own."""
+
+    def factored() -> tuple[tuple[tuple[int, ...], int], ...]:
+        return tuple(
+            (tuple(int(c) for c in f.numer().coeffs()), int(f.denom())) for f, _ in r.factor()[1]
+        )
+
+    got = _FACTORED.get(exact_key(r), factored)
+    return [fmpq_poly(list(c), d) for c, d in got]
 
 
 FACTORED_KEPT = 64
-_FACTORED: dict[tuple[object, ...], list[fmpq_poly]] = {}
+_FACTORED: Kept[tuple[tuple[tuple[int, ...], int], ...]] = Kept(FACTORED_KEPT)

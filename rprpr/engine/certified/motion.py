@@ -54,6 +54,7 @@ from ...model.dataclass import dataclass
 from ...model.numbers import to_float
 from ...model.task import Robot
 from ..exact import equations as dyn
+from ..exact.kept import Kept, exact_key, robot_key
 from ..exact.mechanism import of
 from ..exact.series import taylor
 from ..exact.singular import SingularAnalysis, SingularInstant
@@ -82,7 +83,7 @@ from .pointwise import (
     Refinement,
     Values,
 )
-from .shared import per_robot, robot_key
+from .shared import freeze, per_robot
 from .zones import TAYLOR_PREC, ExactTime, Zone, make_zone, taylor_at_instant
 
 # what ``formulas`` computes (the rest of its values are its arguments), in its order
@@ -514,39 +515,40 @@ __all__ = [  # what a certified value is (``pointwise``) stays importable from h
 ]  # fmt: skip
 
 
-# the zones about rational instants, by the exact data they are made from (``_zone_key``):
-# at most ZONES_KEPT, the oldest dropped
+# the zones about rational instants, by the exact data they are made from (``_zone_key``)
 ZONES_KEPT = 64
-_ZONES: dict[Hashable, Zone | None] = {}
-_NONE = object()  # no zone kept yet (a kept zone may be None: there is none)
+_ZONES: Kept[Zone | None] = Kept(ZONES_KEPT)
 
 
 def _kept_zone(motion: CertifiedMotion, s: SingularInstant) -> Zone | None:
-    """``CertifiedMotion.zone`` about ``s``: the one kept for its exact data, else made."""
+    """``CertifiedMotion.zone`` about ``s``: about a rational instant the one kept for its
+    exact data (frozen: read by every motion with those data), else made."""
+
+    def made() -> Zone | None:
+        return make_zone(motion, s, taylor_at_instant(motion, s, TAYLOR_PREC))
+
+    def frozen() -> Zone | None:
+        zone = made()
+        freeze(zone)
+        return zone
+
     key = _zone_key(motion, s)
-    made = _ZONES.get(key, _NONE) if key is not None else _NONE
-    if made is _NONE:
-        made = make_zone(motion, s, taylor_at_instant(motion, s, TAYLOR_PREC))
-        if key is not None:
-            if len(_ZONES) >= ZONES_KEPT:
-                del _ZONES[next(iter(_ZONES))]  # the oldest
-            _ZONES[key] = made
-    return made  # type: ignore[return-value]
+    return made() if key is None else _ZONES.get(key, frozen)
 
 
 def _zone_key(motion: CertifiedMotion, s: SingularInstant) -> Hashable | None:
     """What ``zones.make_zone`` reads about the rational instant ``s`` of ``motion``, as
-    exact values: the polynomials x(t), y(t) and t_f, the robot (``shared.robot_key``),
+    exact values (``exact.kept``): the whole trajectory (x(t), y(t), the path or none, a1,
+    t_f, the local origin and lead: how the end point is evaluated and which instants the
+    motion keeps), the robot, the instants the motion keeps (rational times and orders),
     t_s, its order and the orders of μ there, and flint's working precision (the Taylor
     coefficients at t_s are rounded at it); None for an irrational t_s (its zone stays
     the motion's own)."""
     t = s.t_rational
     if t is None:
         return None
-    traj = motion.traj
-    exact = [traj.x.numer(), traj.y.numer()]
+    kept = [(i.t_rational, i.order) for i in motion.analysis.instants]
     return (
-        robot_key(motion.robot), *[tuple(p.coeffs()) for p in exact], traj.x.denom(),
-        traj.y.denom(), traj.duration.p, traj.duration.q, t.p, t.q, s.order,
+        exact_key(motion.traj), robot_key(motion.robot), exact_key(kept), t.p, t.q, s.order,
         motion.analysis.hints(s).mu_valuations, ctx.prec,
     )  # fmt: skip

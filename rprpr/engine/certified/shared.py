@@ -4,7 +4,7 @@ for every motion of a robot with the same exact parameters.
 A planner's batch is one robot, and each task file states it again: converting its
 constants to balls (``Ball.of_rational`` of each rational, the stacked pairs of
 ``stacked.Stacked``) once per robot rather than once per task or per piece is the same
-work done once. The key is exact (``robot_key``): the mechanism that drives the robot
+work done once. The key is exact (``exact.kept.robot_key``): the mechanism that drives the robot
 and every field of the robot by type and exact value, so no two robots that differ in
 anything share a form. The forms are read-only (their arrays are frozen: a write
 raises rather than leaking into another task), the cache holds at most ``CACHED``
@@ -13,14 +13,13 @@ way as its parent's, so it is right in either."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable
+from collections.abc import Callable
 from typing import Any, TypeVar
 
 import numpy as np
-from flint import fmpq
 
 from ...model.task import Robot
-from ..exact.mechanism import of
+from ..exact.kept import Kept, robot_key
 from .balls import Ball
 
 Shared = TypeVar("Shared")
@@ -28,7 +27,7 @@ Shared = TypeVar("Shared")
 CACHED = 16  # robots whose forms are kept, per kind of form
 
 _LAST: dict[Callable[[Robot], Any], tuple[Robot, Any]] = {}  # by identity: the pieces
-_BY_KEY: dict[tuple[Callable[[Robot], Any], Hashable], Any] = {}  # by exact parameters
+_BY_KEY: Kept[Any] = Kept(CACHED)  # by exact parameters (``exact.kept``)
 
 
 def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
@@ -38,43 +37,18 @@ def per_robot(robot: Robot, make: Callable[[Robot], Shared]) -> Shared:
     hit = _LAST.get(make)
     if hit is not None and hit[0] is robot:
         return hit[1]
-    key = (make, robot_key(robot))
-    made = _BY_KEY.get(key)
-    if made is None:
+
+    def frozen() -> Shared:
         made = make(robot)
-        _freeze(made)
-        if len(_BY_KEY) >= CACHED:
-            del _BY_KEY[next(iter(_BY_KEY))]
-        _BY_KEY[key] = made
+        freeze(made)
+        return made
+
+    made: Shared = _BY_KEY.get((make, robot_key(robot)), frozen)
     _LAST[make] = (robot, made)
     return made
 
 
-def robot_key(robot: Robot) -> Hashable:
-    """The robot's exact identity: the mechanism that drives it, and every field of the
-    robot (its scheme's and mechanism's names, a1, gravity, each link's mass, inertia
-    and r, a 5R's own parameters) by name and exact value (``_exact``; exact rationals
-    are equal only when they are the same number), so that a field added to ``Robot``
-    is in the key too."""
-    return of(robot), _exact(robot)
-
-
-def _exact(v: Any) -> Hashable:
-    """A value as a key: a record by its fields, a mapping by its sorted items, a tuple
-    item by item, an exact rational as its numerator and denominator (flint's own hash
-    of an fmpq costs ten times as much), a name or another number as it is."""
-    if type(v) is fmpq:
-        return fmpq, v.p, v.q
-    if isinstance(v, dict):
-        return tuple((k, _exact(x)) for k, x in sorted(v.items()))
-    if isinstance(v, tuple):
-        return tuple(_exact(x) for x in v)
-    if hasattr(v, "__dataclass_fields__"):
-        return type(v), tuple((k, _exact(x)) for k, x in vars(v).items())
-    return v
-
-
-def _freeze(x: Any, depth: int = 0) -> None:
+def freeze(x: Any, depth: int = 0) -> None:
     """Every numpy array held by x (its attributes, tuples, lists, dicts, a few levels
     down: balls, pairs of balls, a form's constants) made read-only."""
     if type(x) is Ball:
@@ -93,4 +67,4 @@ def _freeze(x: Any, depth: int = 0) -> None:
         slots = (n for c in type(x).__mro__ for n in getattr(c, "__slots__", ()))
         items = [*getattr(x, "__dict__", {}).values(), *(getattr(x, n, None) for n in slots)]
     for v in items:
-        _freeze(v, depth + 1)
+        freeze(v, depth + 1)

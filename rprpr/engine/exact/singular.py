@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import field, fields
+from dataclasses import field
 from fractions import Fraction
 from typing import Any
 
@@ -34,6 +34,7 @@ from ...model.dataclass import dataclass
 from ...model.numbers import exact_apart, exact_number, faithful, number
 from ...model.task import Checks, Robot
 from . import equations as dyn
+from .kept import Kept, exact_key, robot_key
 from .mechanism import Mechanism, of
 from .roots import RootAt, real_roots_in
 from .series import KElem, NumberField, QSeries, Series, ball, is_zero, real, sign, taylor
@@ -340,28 +341,25 @@ def _expanded(
     that repeats itself (a zig-zag, a repair's candidates) expands each instant once."""
     mech = of(robot)
     p = mech.params(robot)
-    key = None
-    if exact is not None:  # the key: numerators and denominators (fmpq's hash is slow)
-        es = [[c(exact) for c in taylor(q, m + 3)] for q in (traj.x, traj.y)]
-        numbers = [
-            *es[0],
-            *es[1],
-            *(getattr(p, f.name) for f in fields(p) if f.name != "mechanism"),
-        ]
-        if all(type(v) is fmpq for v in numbers):
-            key = (*[v.p for v in numbers], *[v.q for v in numbers], m, sx, sxa, p.mechanism)
-            if (made := _MADE.get(key)) is not None:
-                return made
-        X, Xd, Xdd, Y, Yd, Ydd = _series(es, m + 1)
-    else:
-        X, Xd, Xdd, Y, Yd, Ydd = expansion(traj, K, m + 1)
+    if exact is None:
+        return _expand(expansion(traj, K, m + 1), mech, p, m, sx, sxa, case)
+    es = [[c(exact) for c in taylor(q, m + 3)] for q in (traj.x, traj.y)]
+    key = (exact_key(es), robot_key(robot), m, sx, sxa)
+    return _MADE.get(key, lambda: _expand(_series(es, m + 1), mech, p, m, sx, sxa, case))
+
+
+def _expand(
+    series: tuple[Any, ...], mech: Mechanism, p: Any, m: int, sx: int, sxa: int, case: Case
+) -> _Expanded:
+    """``_expanded`` from the series of x and y (with derivatives) about t_s."""
+    X, Xd, Xdd, Y, Yd, Ydd = series
     assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
     leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
     d = mech.dynamics(leg1, leg2, p)
     if d.delta.valuation() != m:  # δ = -a1 y/(s1 s2): same order as y
         raise AssertionError("order of δ differs from the multiplicity of y")
     valuations = (d.mu1.valuation(), d.mu2.valuation())
-    out = _Expanded(
+    return _Expanded(
         delta_m=d.delta.c[m],
         mu_valuations=valuations,
         residual=mech.consistency(d, case.sigma, lambda v: v.c[0]),  # exact
@@ -369,19 +367,15 @@ def _expanded(
         speed2=Xd.c[0] * Xd.c[0] + Yd.c[0] * Yd.c[0],
         y_m=Y.c[m],
     )
-    if key is not None:
-        if len(_MADE) >= MADE_KEPT:
-            del _MADE[next(iter(_MADE))]  # the oldest
-        _MADE[key] = out
-    return out
+
+
+# the expansions about rational instants, by the exact data they are made from
+# (``_expanded``; ``exact.kept``): rationals and tuples of them, never changed
+MADE_KEPT = 512
+_MADE: Kept[_Expanded] = Kept(MADE_KEPT)
 
 
 Expansions = dict[tuple[int, int], _Expanded]  # (sx, sxa) -> expansions, for one factor
-
-# the expansions about rational instants, by the exact data they are made from
-# (``_expanded``): immutable rationals, at most MADE_KEPT of them, the oldest dropped
-MADE_KEPT = 512
-_MADE: dict[tuple[Any, ...], _Expanded] = {}
 
 
 def _instant(

@@ -31,6 +31,7 @@ from rprpr.engine.audit import audit
 from rprpr.engine.bounds import batch, envelope
 from rprpr.engine.certified import motion as certified
 from rprpr.engine.certified import zones
+from rprpr.engine.exact import kept
 from rprpr.io.loader import load_task, parse_task
 from rprpr.model.task import Task
 from tests.conftest import CONFIGS
@@ -105,7 +106,7 @@ def _passes(task: Task, monkeypatch: pytest.MonkeyPatch) -> tuple[int, int, int]
     got = []
     for t, peak in ((task, False), (task, True), (dataclasses.replace(task, checks=checks), False)):
         count[0] = 0
-        monkeypatch.setattr(certified, "_ZONES", {})  # an audit's own zones, none kept before
+        kept.clear()  # an audit's own work, none kept from an audit before
         audit(t, samples=11, peak=peak)
         got.append(count[0])
     return got[0], got[1], got[2]
