@@ -27,6 +27,7 @@ from rprpr.engine.bounds.envelope import Envelope
 from rprpr.engine.certified.balls import quiet
 from rprpr.engine.certified.motion import CertifiedMotion
 from rprpr.engine.certified.sampling import grid, sample
+from rprpr.engine.exact.kept import clear
 from rprpr.engine.exact.singular import analyse
 from rprpr.engine.exact.trajectory import trajectory
 from rprpr.io.loader import parse_task
@@ -38,6 +39,7 @@ ROOT = Path(__file__).resolve().parent.parent
 def median_ms(f: Callable[[], object], repeat: int) -> float:
     times = []
     for _ in range(repeat):
+        clear()  # nothing kept from the run before (``exact.kept``): each run cold
         t0 = time.perf_counter()
         f()
         times.append(time.perf_counter() - t0)
