@@ -235,7 +235,8 @@ def test_pdf_is_one_page_naming_the_tasks_in_truetype(
     title = re.search(rb"/Title \((.*?)\)", data)
     assert title and all(m.name.encode() in title.group(1) for m in ms)
     assert b"/Count 1" in data  # one page
-    assert b"DejaVuSans" in data  # the text is there, as embedded TrueType (fonttype 42)
+    assert b"DejaVuSans" in data  # the text is there, as embedded TrueType (fonttype 42):
+    assert b"/FontFile2" in data and b"/Type3" not in data  # a TrueType font file, no Type 3
 
 
 # ---------------------------------------------------------------------------------------
