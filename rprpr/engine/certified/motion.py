@@ -529,6 +529,8 @@ def _kept_zone(motion: CertifiedMotion, s: SingularInstant) -> Zone | None:
 
     def frozen() -> Zone | None:
         zone = made()
+        if zone is not None:
+            zone.stack()  # made now, frozen with the rest
         freeze(zone)
         return zone
 

@@ -19,14 +19,14 @@ from typing import Any, TypeVar
 import numpy as np
 
 from ...model.task import Robot
-from ..exact.kept import Kept, robot_key
+from ..exact.kept import Kept, also, robot_key
 from .balls import Ball
 
 Shared = TypeVar("Shared")
 
 CACHED = 16  # robots whose forms are kept, per kind of form
 
-_LAST: dict[Callable[[Robot], Any], tuple[Robot, Any]] = {}  # by identity: the pieces
+_LAST: dict[Callable[[Robot], Any], tuple[Robot, Any]] = also({})  # by identity: the pieces
 _BY_KEY: Kept[Any] = Kept(CACHED)  # by exact parameters (``exact.kept``)
 
 

@@ -128,9 +128,9 @@ class Zone:
     den: list[Ball]
     stacked: list[Ball] | None = field(default=None, repr=False)  # (``lam``)
 
-    def lam(self, eps: Ball) -> tuple[Ball, Ball]:
-        """λ1, λ2 on balls of ε: A_1, A_2 and B by one Horner pass, stacked (the shorter
-        polynomials padded with exact zeros at the top)."""
+    def stack(self) -> list[Ball]:
+        """A_1, A_2 and B stacked for one Horner pass (the shorter polynomials padded with
+        exact zeros at the top), made once."""
         if self.stacked is None:
             polys = (*self.num, self.den)
             n = max(len(p) for p in polys)
@@ -139,7 +139,11 @@ class Zone:
                 mid[: len(p), i, 0] = [float(b.mid) for b in p]
                 rad[: len(p), i, 0] = [float(b.rad) for b in p]
             self.stacked = [Ball._of(mid[k], rad[k]) for k in range(n)]
-        v = horner(self.stacked, eps)
+        return self.stacked
+
+    def lam(self, eps: Ball) -> tuple[Ball, Ball]:
+        """λ1, λ2 on balls of ε: A_1, A_2 and B by one Horner pass (``stack``)."""
+        v = horner(self.stack(), eps)
         out = []
         for i in (0, 1):
             lam = v[i] / v[2]

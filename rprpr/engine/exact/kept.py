@@ -55,12 +55,21 @@ class Kept(Generic[Made]):
 
 
 STORES: list[Kept[Any]] = []
+BY_IDENTITY: list[dict[Any, Any]] = []  # what is kept by an object's identity (``also``)
+
+
+def also(by_identity: dict[Any, Any]) -> dict[Any, Any]:
+    """``by_identity`` (results kept for the object last given) emptied by ``clear`` too."""
+    BY_IDENTITY.append(by_identity)
+    return by_identity
 
 
 def clear() -> None:
     """Empty every store: the next audit makes everything afresh."""
     for store in STORES:
         store.clear()
+    for d in BY_IDENTITY:
+        d.clear()
 
 
 def exact_key(v: Any) -> Hashable:
@@ -90,4 +99,4 @@ def robot_key(robot: Robot) -> Hashable:
     return of(robot), exact_key(robot)
 
 
-__all__ = ["STORES", "Kept", "clear", "exact_key", "robot_key"]
+__all__ = ["BY_IDENTITY", "STORES", "Kept", "also", "clear", "exact_key", "robot_key"]

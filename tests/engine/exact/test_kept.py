@@ -104,6 +104,7 @@ def test_each_thing_the_results_are_made_from_is_in_its_key() -> None:
     assert len(robots) == 4  # path 2's, without gravity, prismatic, a heavier link 3
     assert kept.robot_key(tasks["path2"].robot) == kept.robot_key(tasks["slower"].robot)
     assert kept.exact_key(fmpq(1, 2)) != kept.exact_key(fmpq(2, 4) + fmpq(1, 4))
+    assert kept.exact_key(fmpq(1, 2)) != kept.exact_key(fmpq(1, 3))
     assert kept.exact_key(fmpq(1, 2)) == kept.exact_key(fmpq(2, 4))
     assert kept.exact_key(fmpq_poly([1, 2], 3)) != kept.exact_key(fmpq_poly([1, 2], 5))
     assert kept.exact_key((fmpq(1),)) != kept.exact_key([fmpq(1)])
@@ -118,12 +119,12 @@ def _zone_keys(task: Task) -> list[Any]:
     return out
 
 
-def test_a_zone_is_kept_by_the_trajectory_and_flints_precision() -> None:
+def test_a_zone_is_kept_by_the_trajectory_the_robot_and_flints_precision() -> None:
     tasks = twins()
     path2 = _zone_keys(tasks["path2"])
     assert path2 and all(k is not None for k in path2)  # t_s = 2.5, rational
-    assert _zone_keys(tasks["slower"]) != path2
-    assert _zone_keys(tasks["as x(t), y(t)"]) != path2  # the same x(t), y(t), no path
+    for name in ("slower", "as x(t), y(t)", "gravity 0", "prismatic", "heavier link 3"):
+        assert _zone_keys(tasks[name]) != path2, name  # (x(t), y(t) the same, no path)
     old = ctx.prec
     try:
         ctx.prec = old + 64
@@ -132,8 +133,34 @@ def test_a_zone_is_kept_by_the_trajectory_and_flints_precision() -> None:
         ctx.prec = old
 
 
+def _expansion_keys(task: Task) -> set[Any]:
+    kept.clear()
+    audit(task, samples=21)
+    return set(singular._MADE._made)
+
+
+def test_the_expansions_are_kept_by_x_and_y_about_the_instant_and_the_robot() -> None:
+    """Path 2 and the same x(t) with y + (x - 3)^3/2 (eq. 51 plus a cubic term: the same
+    crossing at t_s = 2.5 with the same slope), and path 2 without gravity."""
+    tasks = twins()
+    cubic = PATH2.replace("0.8*x^3 - 7.2*x^2 + 21.8*x - 22.2", "1.3*x^3 - 11.7*x^2 + 35.3*x - 35.7")
+    cubic = cubic.replace("[2, -1]", "[2, -1.5]").replace("[4, 1]", "[4, 1.5]")
+    path2 = _expansion_keys(tasks["path2"])
+    assert path2
+    assert _expansion_keys(parse_task(cubic, "cubic.yaml")).isdisjoint(path2)
+    assert _expansion_keys(tasks["gravity 0"]).isdisjoint(path2)
+    assert _expansion_keys(tasks["path2"]) == path2
+
+
 def test_a_store_keeps_the_newest_and_clear_empties_every_store() -> None:
     store: kept.Kept[int] = kept.Kept(2)
+    try:
+        _store_keeps_the_newest(store)
+    finally:
+        kept.STORES.remove(store)
+
+
+def _store_keeps_the_newest(store: kept.Kept[int]) -> None:
     made: list[str] = []
 
     def make(key: str) -> int:
@@ -148,9 +175,10 @@ def test_a_store_keeps_the_newest_and_clear_empties_every_store() -> None:
         store.get("d", lambda: 1 // 0)  # an interrupted make keeps nothing
     assert len(store) == 2
     assert store in kept.STORES and shared._BY_KEY in kept.STORES
+    audit(load_task(CONFIGS / "paper_path2.rprpr.yaml"), samples=21)
+    assert shared._LAST  # the per-robot forms of the robot last given, by identity
     kept.clear()
-    assert all(len(s) == 0 for s in kept.STORES)
-    kept.STORES.remove(store)
+    assert all(len(s) == 0 for s in kept.STORES) and not shared._LAST
 
 
 def test_a_kept_zone_is_read_only() -> None:
@@ -158,5 +186,5 @@ def test_a_kept_zone_is_read_only() -> None:
     audit(load_task(CONFIGS / "paper_path2.rprpr.yaml"), samples=21, peak=True)
     zones = [z for z in certified._ZONES._made.values() if z is not None]
     assert zones
-    balls = [b for z in zones for b in (*z.num[0], *z.num[1], *z.den)]
+    balls = [b for z in zones for b in (*z.num[0], *z.num[1], *z.den, *z.stack())]
     assert balls and not any(a.flags.writeable for b in balls for a in (b.mid, b.rad))
