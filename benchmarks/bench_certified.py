@@ -39,7 +39,7 @@ ROOT = Path(__file__).resolve().parent.parent
 def median_ms(f: Callable[[], object], repeat: int) -> float:
     times = []
     for _ in range(repeat):
-        clear()  # nothing kept from the run before (``exact.kept``): each run cold
+        clear()  # nothing kept between audits from the run before (``exact.kept``)
         t0 = time.perf_counter()
         f()
         times.append(time.perf_counter() - t0)

@@ -249,19 +249,29 @@ def single_over_floor(python: str, repeat: int) -> tuple[float, float]:
     return statistics.median(check), statistics.median(floor)
 
 
+def cold() -> None:
+    """Forget what the audits of this interpreter keep for the next (``exact.kept``, and
+    in a release before it the per-robot forms of ``certified.shared``), so that a task
+    audited again is timed without the exact work its first audit kept."""
+    try:
+        from rprpr.engine.exact.kept import clear
+    except ImportError:
+        try:
+            from rprpr.engine.certified import shared
+        except ImportError:
+            return
+        for name in ("_BY_KEY", "_LAST"):
+            getattr(shared, name, {}).clear()
+        return
+    clear()
+
+
 def in_process(folder: Path) -> tuple[list[tuple[float, str]], float]:
     """The CPU time of each task in this process (load, audit, report; default options),
     and the first task's one-time loading: its first time less its time again at the end."""
     from rprpr.engine.audit import audit
     from rprpr.io.loader import load_task
     from rprpr.report.records import task_report
-
-    try:  # what an audit keeps for the next in one process (exact.kept): each run cold
-        from rprpr.engine.exact.kept import clear as cold
-    except ImportError:  # an earlier release keeps nothing
-
-        def cold() -> None:
-            pass
 
     def cost(path: Path) -> float:
         start = time.process_time()

@@ -62,18 +62,12 @@ def tasks(folder: Path, per_kind: int) -> dict[str, list[Path]]:
 def inner(repeat: int, per_kind: int, only: list[str]) -> dict[str, list[float]]:
     """{kind: [CPU without, with uncertainty; the same with the peak]} [s], each the sum
     over the kind's tasks of the medians, in this interpreter."""
+    from bench_hard import cold  # nothing kept from the run before
     from flint import fmpq
 
     from rprpr import api
     from rprpr.io.loader import load_task
     from rprpr.model.task import Uncertainty
-
-    try:  # what an audit keeps for the next in one process (exact.kept): each run cold
-        from rprpr.engine.exact.kept import clear as cold
-    except ImportError:  # an earlier release keeps nothing
-
-        def cold() -> None:
-            pass
 
     rel = (fmpq(5, 100),) * 3
     u = Uncertainty(dict.fromkeys((2, 3, 4, 5), rel), fmpq(1, 100), fmpq(1, 1000))
