@@ -36,7 +36,8 @@ SMALL_FRAMES = 3  # and their GIF (tests/render/test_animation.py tests the fram
 def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[int, Outcome]:
     """Every block's outcome, README's pictures written at SMALL_DPI and its GIF with
     SMALL_FRAMES frames at SMALL_DPI (the same commands, the same code path, a fraction of
-    the pixels)."""
+    the pixels), its PDF with Type 3 fonts (nobody reads its fonts here: the sheet's
+    TrueType embedding is tests/render/test_sheet.py's)."""
     from rprpr.render import animation as A
     from rprpr.render import sheet as P
 
@@ -52,6 +53,7 @@ def outcomes(tmp_path_factory: pytest.TempPathFactory) -> dict[int, Outcome]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(P, "save", small_save)
         mp.setattr(A, "write_gif", small_gif)
+        mp.setitem(P.RC, "pdf.fonttype", 3)
         return {block.line: outcome for block, outcome in session(TEXT, here)}
 
 
