@@ -196,24 +196,20 @@ class _Composer:
         return self._items(node, kind is yaml.MappingStartEvent)
 
     def _items(self, node: Any, pairs: bool) -> yaml.Node:
-        """A collection's items up to its end event (``node`` of each; a scalar without
-        an anchor made in the loop), and its end mark."""
-        items, events = node.value, self.events
-        if pairs:
-            for ev in events:
-                if type(ev) in _END_EVENTS:
-                    node.end_mark = ev.end_mark
-                    return node
-                item = self._scalar(ev) if _plain(ev) else self.node(ev)
-                value = next(events)
-                items.append((item, self._scalar(value) if _plain(value) else self.node(value)))
-        else:
-            for ev in events:
-                if type(ev) in _END_EVENTS:
-                    node.end_mark = ev.end_mark
-                    return node
-                items.append(self._scalar(ev) if _plain(ev) else self.node(ev))
+        """A collection's items up to its end event (``_item`` of each), and its end mark."""
+        items, events, item = node.value, self.events, self._item
+        for ev in events:
+            if type(ev) in _END_EVENTS:
+                node.end_mark = ev.end_mark
+                return node
+            items.append((item(ev), item(next(events))) if pairs else item(ev))
         raise AssertionError("a collection without its end event")  # the parser pairs them
+
+    def _item(self, ev: Any) -> yaml.Node:
+        """``node`` of an item's first event, a scalar without an anchor made at once."""
+        if type(ev) is yaml.ScalarEvent and ev.anchor is None:
+            return self._scalar(ev)
+        return self.node(ev)
 
     def _scalar(self, ev: Any) -> yaml.ScalarNode:
         """``node`` of a scalar event without an anchor (most of a file's events)."""
@@ -246,11 +242,6 @@ class _Composer:
 _RESOLVED: dict[str, str] = {}
 _RESOLVED_MAX = 4096
 _RESOLVED_LEN = 64
-
-
-def _plain(ev: Any) -> bool:
-    """Whether ``ev`` is a scalar event without an anchor (``_Composer._scalar``)."""
-    return type(ev) is yaml.ScalarEvent and ev.anchor is None
 
 
 def span(item: yaml.Node | yaml.Event) -> tuple[int, int]:

@@ -339,20 +339,20 @@ def _expanded(
     what the audit reads of them; at a rational t_s, made once per exact data (Taylor
     coefficients of x and y there, order, legs' signs, robot: ``_MADE``), so that a motion
     that repeats itself (a zig-zag, a repair's candidates) expands each instant once."""
-    mech = of(robot)
-    p = mech.params(robot)
     if exact is None:
-        return _expand(expansion(traj, K, m + 1), mech, p, m, sx, sxa, case)
+        return _expand(expansion(traj, K, m + 1), robot, m, sx, sxa, case)
     es = [[c(exact) for c in taylor(q, m + 3)] for q in (traj.x, traj.y)]
     key = (exact_key(es), robot_key(robot), m, sx, sxa)
-    return _MADE.get(key, lambda: _expand(_series(es, m + 1), mech, p, m, sx, sxa, case))
+    return _MADE.get(key, lambda: _expand(_series(es, m + 1), robot, m, sx, sxa, case))
 
 
 def _expand(
-    series: tuple[Any, ...], mech: Mechanism, p: Any, m: int, sx: int, sxa: int, case: Case
+    series: tuple[Any, ...], robot: Robot, m: int, sx: int, sxa: int, case: Case
 ) -> _Expanded:
     """``_expanded`` from the series of x and y (with derivatives) about t_s."""
     X, Xd, Xdd, Y, Yd, Ydd = series
+    mech = of(robot)
+    p = mech.params(robot)
     assert all(is_zero(c) for c in Y.c[:m]) and not is_zero(Y.c[m])
     leg1, leg2 = legs(mech, p, X, Xd, Xdd, Y, Yd, Ydd, sx, sxa)
     d = mech.dynamics(leg1, leg2, p)
