@@ -44,7 +44,7 @@ import socket
 import subprocess
 import sys
 import tempfile
-import time
+import threading
 import traceback
 import warnings
 from collections.abc import Callable
@@ -102,18 +102,14 @@ class Forked:
         self.stderr = None if err_r is None else open(err_r, "rb", buffering=0)  # noqa: SIM115
 
     def wait(self, timeout: float | None = None) -> int:
-        """The exit status, waiting for it (``TimeoutError`` after ``timeout`` s: a hang
-        guard, not a measure)."""
-        deadline = None if timeout is None else time.monotonic() + timeout
-        while self.returncode is None:
-            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
-            if pid:
+        """The exit status, waiting for it (``TimeoutError`` once a ``HangGuard`` of
+        ``timeout`` s has killed the child: a hang guard, not a measure)."""
+        with HangGuard(timeout, self._signal) as guard:
+            if self.returncode is None:
+                _, status = os.waitpid(self.pid, 0)
                 self.returncode = os.waitstatus_to_exitcode(status)
-            elif deadline is not None and time.monotonic() > deadline:
-                self._kill()
-                raise TimeoutError(f"process {self.pid} still running: killed")
-            else:
-                time.sleep(0.01)
+        if guard.fired:
+            raise TimeoutError(f"process {self.pid} still running: killed")
         return self.returncode
 
     def poll(self) -> int | None:
@@ -124,42 +120,70 @@ class Forked:
                 self.returncode = os.waitstatus_to_exitcode(status)
         return self.returncode
 
-    def _kill(self) -> None:
-        """SIGKILL to the child and its session (new_session: its workers too), reaped."""
+    def _signal(self) -> None:
+        """SIGKILL to the child and its session (new_session: its workers too)."""
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.killpg(self.pid, signal.SIGKILL)
         with contextlib.suppress(ProcessLookupError):
             os.kill(self.pid, signal.SIGKILL)
+
+    def _kill(self) -> None:
+        """``_signal``, and the child reaped."""
+        self._signal()
         with contextlib.suppress(ChildProcessError):
             os.waitpid(self.pid, 0)
         self.returncode = -signal.SIGKILL
 
     def communicate(self, timeout: float | None = None) -> tuple[bytes, bytes]:
         """What is left of standard output and error, to their end, and the child reaped
-        (``TimeoutError`` after ``timeout`` s)."""
-        deadline = None if timeout is None else time.monotonic() + timeout
+        (``TimeoutError`` once a ``HangGuard`` of ``timeout`` s has killed it)."""
         streams = [s for s in (self.stdout, self.stderr) if s is not None]
         got: dict[object, list[bytes]] = {s: [] for s in streams}
-        with selectors.DefaultSelector() as sel:
+        with HangGuard(timeout, self._signal) as guard, selectors.DefaultSelector() as sel:
             for stream in streams:
                 if not stream.closed:
                     sel.register(stream, selectors.EVENT_READ)
-            while sel.get_map():
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    self._kill()
-                    raise TimeoutError(f"process {self.pid} still writing: killed")
-                for key, _ in sel.select(left):
+            while sel.get_map() and not guard.fired:  # (a killed child's workers may
+                for key, _ in sel.select(1.0):  # hold its pipes: the guard ends the wait)
                     chunk = os.read(key.fd, 65536)
                     if chunk:
                         got[key.fileobj].append(chunk)
                     else:
                         sel.unregister(key.fileobj)
-        for stream in streams:
-            stream.close()
-        left = None if deadline is None else max(0.0, deadline - time.monotonic())
-        self.wait(left)
+            for stream in streams:
+                stream.close()
+            self.wait()
+        if guard.fired:
+            raise TimeoutError(f"process {self.pid} still writing: killed")
         return tuple(b"".join(got.get(s, [])) for s in (self.stdout, self.stderr))  # type: ignore[return-value]
+
+
+class HangGuard:
+    """A hang guard: ``kill()`` from a timer thread once ``timeout`` s have passed (None:
+    never), unless the ``with`` block has ended first; ``fired`` says whether it did. The
+    waiting code reads no clock: a killed process ends the wait, which then raises, as
+    ``subprocess.run(timeout=...)`` does for a hung child (never a measure of speed)."""
+
+    def __init__(self, timeout: float | None, kill: Callable[[], object]) -> None:
+        self.fired = False
+        self._timer: threading.Timer | None = None
+        if timeout is not None:
+
+            def fire() -> None:
+                self.fired = True
+                kill()
+
+            self._timer = threading.Timer(timeout, fire)
+            self._timer.daemon = True
+
+    def __enter__(self) -> HangGuard:
+        if self._timer is not None:
+            self._timer.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
 
 
 def rprpr_main(*args: str) -> None:
@@ -239,7 +263,6 @@ def run_served(
             f.write(f"#!{sys.executable} -S\nSERVER = {server_path!r}\n{CLIENT}")
         os.chmod(client, 0o755)
         env = {**env, "PATH": f"{bin_dir}{os.pathsep}{env.get('PATH', '')}"}
-        deadline = time.monotonic() + timeout
         with socket.socket(socket.AF_UNIX) as server:
             server.bind(server_path)
             server.listen()
@@ -249,15 +272,21 @@ def run_served(
             assert proc.stdout is not None and proc.stderr is not None
             got: dict[int, list[bytes]] = {proc.stdout.fileno(): [], proc.stderr.fileno(): []}
             serving: list[tuple[socket.socket, Forked]] = []
+
+            def kill() -> None:  # the script and every rprpr it started
+                proc.kill()
+                for _, child in list(serving):
+                    child._signal()
+
             try:
-                with selectors.DefaultSelector() as sel:
+                with HangGuard(timeout, kill) as guard, selectors.DefaultSelector() as sel:
                     sel.register(server, selectors.EVENT_READ)
                     for fd in got:
                         sel.register(fd, selectors.EVENT_READ)
                     # until the script has ended, its streams are closed and every
                     # rprpr it started has answered
                     while len(sel.get_map()) > 1 or serving or proc.poll() is None:
-                        if time.monotonic() > deadline:
+                        if guard.fired:
                             raise TimeoutError(f"{command[0]} still running: killed")
                         waiting = serving or len(sel.get_map()) == 1  # on a child, an exit
                         for key, _ in sel.select(0.02 if waiting else 1.0):
@@ -287,7 +316,7 @@ def run_served(
                                 conn.sendall(str(status).encode())
                                 conn.close()
                                 serving.remove((conn, child))
-                returncode = proc.wait(max(0.0, deadline - time.monotonic()))
+                returncode = proc.wait()  # it has ended (the loop's condition)
             finally:
                 for conn, child in serving:
                     child._kill()
